@@ -1,0 +1,87 @@
+"""Linear multi-point constraints by elimination: u = T q.
+
+Fixed DOFs (u_i = 0) and rigid links (slave node follows a master node as a rigid body:
+u_s = u_m + θ_m × (x_s − x_m), θ_s = θ_m) are both written as slave DOFs expressed in other
+DOFs. ``T`` maps the independent DOFs ``q`` to all DOFs; the reduced system is Tᵀ K T q = Tᵀ f.
+The same mechanism will carry beam–solid ties.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from fem import DOFS_PER_NODE
+
+
+@dataclass(frozen=True)
+class RigidLinks:
+    """Slave nodes rigidly attached to master nodes (all six DOFs)."""
+
+    master: np.ndarray
+    slave: np.ndarray
+
+
+def rigid_link_equations(coordinates: np.ndarray, links: RigidLinks) -> dict[int, dict[int, float]]:
+    """Slave DOF → {master DOF: coefficient} for each rigid link."""
+    equations: dict[int, dict[int, float]] = {}
+    for master, slave in zip(np.asarray(links.master, int), np.asarray(links.slave, int)):
+        r = coordinates[slave] - coordinates[master]
+        m = DOFS_PER_NODE * master
+        s = DOFS_PER_NODE * slave
+        # u_s = u_m + θ × r:  (θy rz − θz ry, θz rx − θx rz, θx ry − θy rx)
+        equations[s + 0] = {m + 0: 1.0, m + 4: r[2], m + 5: -r[1]}
+        equations[s + 1] = {m + 1: 1.0, m + 5: r[0], m + 3: -r[2]}
+        equations[s + 2] = {m + 2: 1.0, m + 3: r[1], m + 4: -r[0]}
+        for k in range(3, 6):
+            equations[s + k] = {m + k: 1.0}
+    return equations
+
+
+def elimination_matrix(n_dofs: int, fixed_dofs, equations: dict[int, dict[int, float]]):
+    """Build T (n_dofs × n_free, CSR) and the list of independent DOFs.
+
+    Parameters
+    ----------
+    n_dofs : int
+    fixed_dofs : iterable of int
+        DOFs held at zero.
+    equations : dict
+        Slave DOF → {DOF: coefficient}; a right-hand DOF may itself be a slave (chains are
+        resolved) but cycles are an error.
+    """
+    fixed = set(int(d) for d in fixed_dofs)
+    resolved: dict[int, dict[int, float]] = {}
+
+    def resolve(dof: int, stack: tuple[int, ...] = ()) -> dict[int, float]:
+        if dof in fixed:
+            return {}
+        if dof not in equations:
+            return {dof: 1.0}
+        if dof in resolved:
+            return resolved[dof]
+        if dof in stack:
+            raise ValueError(f"constraint equations form a cycle through DOF {dof}")
+        combined: dict[int, float] = {}
+        for other, coefficient in equations[dof].items():
+            for base, c in resolve(other, stack + (dof,)).items():
+                combined[base] = combined.get(base, 0.0) + coefficient * c
+        resolved[dof] = combined
+        return combined
+
+    dependent = fixed | set(equations)
+    free = np.array([d for d in range(n_dofs) if d not in dependent], dtype=int)
+    column = {d: i for i, d in enumerate(free)}
+    rows, cols, vals = list(free), list(range(free.size)), [1.0] * free.size
+    for dof in sorted(equations):
+        if dof in fixed:
+            continue
+        for base, c in resolve(dof).items():
+            if base in column and c != 0.0:
+                rows.append(dof)
+                cols.append(column[base])
+                vals.append(c)
+    t = sp.csr_matrix((vals, (rows, cols)), shape=(n_dofs, free.size))
+    return t, free

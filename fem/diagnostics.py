@@ -1,0 +1,121 @@
+"""Find parts that can move as rigid bodies without deforming anything (mechanisms).
+
+For each group of nodes (a part) and for each connected set of parts, the six rigid-body
+motions of the group are tested for strain energy against K + β Cᵀ C, where C holds the
+constraint equations (fixed DOFs, rigid links). A near-zero eigenvalue of the 6 × 6 energy
+matrix is a free motion; its eigenvector names the direction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from fem import DOFS_PER_NODE
+
+MOTION_NAMES = ("translation x", "translation y", "translation z", "rotation about x",
+                "rotation about y", "rotation about z")
+
+
+@dataclass(frozen=True)
+class FreeMotion:
+    """A rigid-body motion of some parts that stores no strain energy."""
+
+    parts: tuple[str, ...]
+    directions: tuple[str, ...]
+
+    def describe(self) -> str:
+        who = ", ".join(f"'{p}'" for p in self.parts)
+        noun = "part" if len(self.parts) == 1 else "parts"
+        return f"{noun} {who} can move freely ({'; '.join(self.directions)}): no support path to ground"
+
+
+def _rigid_body_modes(coordinates: np.ndarray, nodes: np.ndarray, n_dofs: int) -> np.ndarray:
+    centre = coordinates[nodes].mean(axis=0)
+    extent = max(float(np.ptp(coordinates[nodes], axis=0).max()), 1e-3)
+    r = coordinates[nodes] - centre
+    modes = np.zeros((n_dofs, 6))
+    base = DOFS_PER_NODE * nodes
+    for axis in range(3):
+        modes[base + axis, axis] = 1.0
+        modes[base + 3 + axis, 3 + axis] = 1.0 / extent
+    # rotation θ about axis a: u = θ e_a × r, scaled so that the largest motion is about 1
+    modes[base + 1, 3] = -r[:, 2] / extent
+    modes[base + 2, 3] = r[:, 1] / extent
+    modes[base + 0, 4] = r[:, 2] / extent
+    modes[base + 2, 4] = -r[:, 0] / extent
+    modes[base + 0, 5] = -r[:, 1] / extent
+    modes[base + 1, 5] = r[:, 0] / extent
+    return modes
+
+
+def _describe_direction(vector: np.ndarray) -> str:
+    weights = np.abs(vector) / np.abs(vector).max()
+    names = [MOTION_NAMES[i] for i in np.argsort(-weights) if weights[i] > 0.3]
+    return " + ".join(names)
+
+
+def constraint_penalty(n_dofs: int, elimination: sp.csr_matrix, free_dofs: np.ndarray) -> sp.csr_matrix:
+    """Cᵀ C for the constraints encoded in T: each dependent DOF must equal its T row."""
+    dependent = np.setdiff1d(np.arange(n_dofs), free_dofs)
+    if dependent.size == 0:
+        return sp.csr_matrix((n_dofs, n_dofs))
+    selector = sp.csr_matrix((np.ones(dependent.size), (np.arange(dependent.size), dependent)),
+                             shape=(dependent.size, n_dofs))
+    expand = sp.csr_matrix((np.ones(free_dofs.size), (np.arange(free_dofs.size), free_dofs)),
+                           shape=(free_dofs.size, n_dofs))
+    c = selector - selector @ elimination @ expand
+    return (c.T @ c).tocsr()
+
+
+def find_free_motions(
+    coordinates: np.ndarray,
+    stiffness: sp.csr_matrix,
+    elimination: sp.csr_matrix,
+    free_dofs: np.ndarray,
+    node_group: np.ndarray,
+    relative_tolerance: float = 1e-9,
+) -> list[FreeMotion]:
+    """Rigid-body motions of single parts, and of connected sets of parts, with no energy."""
+    n_dofs = stiffness.shape[0]
+    scale = float(np.abs(stiffness.diagonal()).max()) or 1.0
+    k = (stiffness + scale * constraint_penalty(n_dofs, elimination, free_dofs)).tocsr()
+    groups = np.asarray(node_group)
+    names = list(dict.fromkeys(groups.tolist()))
+
+    def free_directions(nodes: np.ndarray) -> list[str]:
+        modes = _rigid_body_modes(coordinates, nodes, n_dofs)
+        energy = modes.T @ (k @ modes)
+        own = np.concatenate([DOFS_PER_NODE * nodes + a for a in range(DOFS_PER_NODE)])
+        local_scale = float(np.abs(stiffness.diagonal()[own]).max()) or scale
+        values, vectors = np.linalg.eigh(0.5 * (energy + energy.T))
+        return [_describe_direction(vectors[:, i]) for i in range(6)
+                if values[i] <= relative_tolerance * local_scale]
+
+    found: list[FreeMotion] = []
+    # connected sets of parts (through any coupling term in K + penalty)
+    node_of_dof = np.arange(n_dofs) // DOFS_PER_NODE
+    coo = k.tocoo()
+    part_index = {name: i for i, name in enumerate(names)}
+    node_part = np.array([part_index[g] for g in groups])
+    link = sp.csr_matrix((np.ones(coo.nnz), (node_part[node_of_dof[coo.row]], node_part[node_of_dof[coo.col]])),
+                         shape=(len(names), len(names)))
+    n_sets, labels = connected_components(link, directed=False)
+    reported: set[str] = set()
+    for label in range(n_sets):
+        members = [names[i] for i in np.flatnonzero(labels == label)]
+        nodes = np.flatnonzero(np.isin(groups, members))
+        directions = free_directions(nodes)
+        if directions:
+            found.append(FreeMotion(tuple(members), tuple(directions)))
+            reported.update(members)
+    for name in names:
+        if name in reported:
+            continue
+        directions = free_directions(np.flatnonzero(groups == name))
+        if directions:
+            found.append(FreeMotion((name,), tuple(directions)))
+    return found

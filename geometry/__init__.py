@@ -1,0 +1,1 @@
+"""Rig description: the TOML rig file, its validation, and the beam model built from it."""

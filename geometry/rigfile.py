@@ -1,0 +1,102 @@
+"""Reading a rig file: TOML → validated :class:`geometry.schema.Rig`, with errors a user can act on."""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from geometry.schema import Rig
+
+REFERENCE_RIG = "reference_rig.toml"
+
+
+class RigFileError(ValueError):
+    """A rig file that cannot be used; the message names the file, the keys and the reasons."""
+
+    def __init__(self, source: str, problems: list[str]):
+        self.source = source
+        self.problems = problems
+        listing = "\n".join(f"  - {p}" for p in problems)
+        super().__init__(f"rig file {source}: {len(problems)} problem(s):\n{listing}")
+
+
+def _key_path(location: tuple) -> str:
+    out = ""
+    for item in location:
+        if isinstance(item, int):
+            out += f"[{item}]"
+        else:
+            out += ("." if out else "") + str(item)
+    return out or "(top level)"
+
+
+def _describe(error: dict, data: dict) -> str:
+    location = tuple(x for x in error["loc"] if x not in ("function-after[_check()]",))
+    key = _key_path(location)
+    # name the item, e.g. parts[3] ('input_shaft')
+    if len(location) >= 2 and isinstance(location[1], int) and isinstance(data.get(location[0]), list):
+        try:
+            item = data[location[0]][location[1]]
+            label = item.get("name") or item.get("label")
+            if label:
+                key = key.replace(f"{location[0]}[{location[1]}]", f"{location[0]}[{location[1]}] ('{label}')", 1)
+        except (IndexError, AttributeError, TypeError):
+            pass
+    kind = error["type"]
+    message = error["msg"].removeprefix("Value error, ")
+    if kind == "missing":
+        return f"{key}: required key is missing"
+    if kind == "extra_forbidden":
+        return f"{key}: unknown key (misspelled? it is not part of the rig schema)"
+    value = error.get("input")
+    shown = f" (got {value!r})" if not isinstance(value, (dict, list)) and kind != "value_error" else ""
+    return f"{key}: {message}{shown}"
+
+
+def parse_rig(data: dict, source: str) -> Rig:
+    """Validate a parsed TOML document; raise :class:`RigFileError` naming every problem."""
+    try:
+        return Rig.model_validate(data)
+    except ValidationError as error:
+        problems = []
+        for e in error.errors():
+            text = _describe(e, data)
+            if e["type"] == "value_error" and not e["loc"]:
+                problems.extend(text.removeprefix("(top level): ").split("; "))
+            else:
+                problems.append(text)
+        raise RigFileError(source, problems) from None
+
+
+def load_rig(path: str | Path | None = None) -> Rig:
+    """Load and validate a rig file; ``None`` loads the built-in reference rig."""
+    if path is None:
+        text = resources.files("geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
+        source = f"<built-in {REFERENCE_RIG}>"
+    else:
+        source = str(path)
+        try:
+            raw = Path(path).read_bytes()
+        except FileNotFoundError:
+            raise RigFileError(source, ["file not found"]) from None
+        except IsADirectoryError:
+            raise RigFileError(source, ["is a directory, not a rig file"]) from None
+        except OSError as error:
+            raise RigFileError(source, [f"cannot be read: {error.strerror}"]) from None
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as error:
+            raise RigFileError(source, [f"is not UTF-8 text (byte {error.start})"]) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise RigFileError(source, [f"TOML syntax error: {error}"]) from None
+    return parse_rig(data, source)
+
+
+def reference_rig_text() -> str:
+    """The built-in reference rig file, as text (to copy and edit)."""
+    return resources.files("geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")

@@ -1,0 +1,367 @@
+"""The rig file's schema (pydantic): every key, its unit, its physical bounds.
+
+Lengths are in mm, stiffnesses in the unit their key names, as in the file. Cross-references
+(parts, materials) and geometric consistency are checked in :func:`geometry.schema.Rig`'s
+validators, so a loaded ``Rig`` is always buildable.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class RigInfo(Strict):
+    name: str
+    description: str = ""
+
+
+class Gravity(Strict):
+    enabled: bool = True
+    acceleration_m_per_s2: Positive = 9.80665
+
+
+class MeshSettings(Strict):
+    max_element_length_mm: Positive = 5.0
+
+
+class Material(Strict):
+    youngs_modulus_MPa: Positive
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5)]
+    density_kg_per_m3: Positive
+
+    @property
+    def shear_modulus_MPa(self) -> float:
+        return self.youngs_modulus_MPa / (2.0 * (1.0 + self.poisson_ratio))
+
+
+class Segment(Strict):
+    x_mm: tuple[Finite, Finite]
+    outer_diameter_mm: Positive
+    inner_diameter_mm: NonNegative = 0.0
+
+    @model_validator(mode="after")
+    def _check(self) -> Segment:
+        if not self.x_mm[1] > self.x_mm[0]:
+            raise ValueError(f"x_mm must be increasing [start, end], got {list(self.x_mm)}")
+        if not self.inner_diameter_mm < self.outer_diameter_mm:
+            raise ValueError(
+                f"inner_diameter_mm ({self.inner_diameter_mm}) must be smaller than "
+                f"outer_diameter_mm ({self.outer_diameter_mm})"
+            )
+        return self
+
+    @property
+    def volume_mm3(self) -> float:
+        return math.pi / 4 * (self.outer_diameter_mm**2 - self.inner_diameter_mm**2) * (self.x_mm[1] - self.x_mm[0])
+
+
+class Part(Strict):
+    name: Name
+    role: Literal["shaft", "body"]
+    material: str
+    mass_kg: Positive | None = None
+    segments: list[Segment] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _check(self) -> Part:
+        ordered = sorted(self.segments, key=lambda s: s.x_mm[0])
+        for a, b in zip(ordered, ordered[1:]):
+            if b.x_mm[0] < a.x_mm[1] - 1e-9:
+                raise ValueError(f"segments overlap: {list(a.x_mm)} and {list(b.x_mm)} mm")
+            if b.x_mm[0] > a.x_mm[1] + 1e-9:
+                raise ValueError(f"gap between segments {list(a.x_mm)} and {list(b.x_mm)} mm")
+        if self.role == "body" and self.mass_kg is None:
+            raise ValueError("a body needs mass_kg (its density is set so that its mass equals mass_kg)")
+        return self
+
+    @property
+    def x_range_mm(self) -> tuple[float, float]:
+        return min(s.x_mm[0] for s in self.segments), max(s.x_mm[1] for s in self.segments)
+
+    @property
+    def volume_mm3(self) -> float:
+        return sum(s.volume_mm3 for s in self.segments)
+
+
+class Location(Strict):
+    part: str
+    x_mm: Finite
+
+
+class Bearing(Strict):
+    name: Name
+    shaft: str
+    housing: str  # a part name or "ground"
+    x_mm: Finite
+    radial_stiffness_N_per_um: Positive
+    axial_stiffness_N_per_um: NonNegative = 0.0
+    tilt_stiffness_Nm_per_rad: NonNegative = 0.0
+
+
+Triple = tuple[NonNegative, NonNegative, NonNegative]
+
+
+class Mount(Strict):
+    name: Name
+    part: str
+    x_mm: Finite
+    translational_stiffness_N_per_um: Triple
+    rotational_stiffness_Nm_per_rad: Triple
+
+
+class Coupling(Strict):
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+
+    name: Name
+    from_: Location = Field(alias="from")
+    to: Location
+    centre_x_mm: Finite
+    mass_kg: NonNegative = 0.0
+    radial_stiffness_N_per_mm: Positive
+    angular_stiffness_Nm_per_rad: Positive
+    torsional_stiffness_Nm_per_rad: Positive
+    axial_stiffness_N_per_mm: Positive
+
+
+class Joint(Strict):
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+
+    name: Name
+    from_: Location = Field(alias="from")
+    to: Location
+    translational_stiffness_N_per_um: Triple
+    rotational_stiffness_Nm_per_rad: Triple
+
+
+class TorqueInput(Strict):
+    part: str
+    x_mm: Finite
+    sign: Literal[1, -1] = 1
+
+
+class Torques(Strict):
+    T1: TorqueInput
+    T2: TorqueInput
+
+
+class TorqueLateralLoad(Strict):
+    """A lateral force that appears when torque flows, applied as a pair (on / reacted_on).
+
+    Kinds
+    -----
+    gear_mesh_load_sharing
+        A gear meshing with two gears 180° apart (the RV reducer's input gear and its two
+        crankshaft gears). The difference of the two mesh loads is
+        ``W1 − W2 = imbalance · T / r + k_eff · Δε`` (two-path load sharing with a fixed sun):
+        ``imbalance = (k1 − k2) / (k1 + k2)`` from unequal mesh stiffness, ``Δε`` the position
+        error of the two meshes along their line of action, ``k_eff = 2 k1 k2 / (k1 + k2)``.
+        The net lateral force is (W1 − W2) / cos α along ``direction_deg``.
+    crank_load_sharing
+        Two crankshafts driving the output carrier at radius R: the same law with r = R and no
+        pressure angle.
+    torque_arm
+        A housing held against rotation by an arm: F = T / arm_length.
+
+    The constant part k_eff · Δε acts only while torque flows (at rest the meshes have
+    backlash); its sign follows the torque's sign.
+    """
+
+    name: Name
+    torque: Literal["T1", "T2"]
+    kind: Literal["gear_mesh_load_sharing", "crank_load_sharing", "torque_arm"]
+    on: Location
+    reacted_on: Location | None = None
+    direction_deg: Finite = 0.0
+    imbalance: Annotated[float, Field(ge=-1.0, le=1.0)] | None = None
+    position_error_um: Annotated[float, Field(ge=-1000.0, le=1000.0)] | None = None
+    mesh_stiffness_N_per_um: Positive | None = None
+    pitch_radius_mm: Positive | None = None
+    pressure_angle_deg: Annotated[float, Field(ge=0.0, lt=45.0)] | None = None
+    radius_mm: Positive | None = None
+    arm_length_mm: Positive | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> TorqueLateralLoad:
+        needed = {
+            "gear_mesh_load_sharing": ("imbalance", "position_error_um", "mesh_stiffness_N_per_um",
+                                       "pitch_radius_mm", "pressure_angle_deg"),
+            "crank_load_sharing": ("imbalance", "position_error_um", "mesh_stiffness_N_per_um", "radius_mm"),
+            "torque_arm": ("arm_length_mm",),
+        }[self.kind]
+        missing = [key for key in needed if getattr(self, key) is None]
+        if missing:
+            raise ValueError(f"kind '{self.kind}' needs {', '.join(missing)}")
+        return self
+
+    @property
+    def _line_of_action_factor(self) -> float:
+        if self.kind == "gear_mesh_load_sharing":
+            return 1.0 / math.cos(math.radians(self.pressure_angle_deg))
+        return 1.0
+
+    @property
+    def force_per_torque_N_per_Nm(self) -> float:
+        """Lateral force per unit torque (N per N·m), the torque-proportional part."""
+        if self.kind == "torque_arm":
+            return 1.0 / (self.arm_length_mm * 1e-3)
+        radius = self.pitch_radius_mm if self.kind == "gear_mesh_load_sharing" else self.radius_mm
+        return self.imbalance / (radius * 1e-3) * self._line_of_action_factor
+
+    @property
+    def engaged_force_N(self) -> float:
+        """Lateral force present whenever torque flows, independent of its size (N)."""
+        if self.kind == "torque_arm":
+            return 0.0
+        return self.mesh_stiffness_N_per_um * self.position_error_um * self._line_of_action_factor
+
+
+class ForcePair(Strict):
+    label: str
+    force_N: Finite
+    plus_at: Location
+    minus_at: Location
+
+
+class SingleForce(Strict):
+    label: str
+    force_N: Finite
+    at: Location
+
+
+class ForceTable(Strict):
+    apply: bool = False
+    pairs: list[ForcePair] = []
+    singles: list[SingleForce] = []
+
+
+class Path(Strict):
+    part: str
+    x_start_mm: Finite
+    length_mm: Positive
+    stations: Annotated[int, Field(ge=25, le=2001)] = 41
+
+
+class Paths(Strict):
+    measured_from: Literal["aligned_at_rest", "unloaded"] = "aligned_at_rest"
+    input: Path
+    output: Path
+
+
+class Rig(Strict):
+    """A whole rig file."""
+
+    schema_version: Literal[1]
+    rig: RigInfo
+    gravity: Gravity = Gravity()
+    mesh: MeshSettings = MeshSettings()
+    materials: dict[str, Material] = Field(min_length=1)
+    parts: list[Part] = Field(min_length=1)
+    bearings: list[Bearing] = []
+    mounts: list[Mount] = []
+    couplings: list[Coupling] = []
+    joints: list[Joint] = []
+    torques: Torques
+    torque_lateral_loads: list[TorqueLateralLoad] = []
+    force_table: ForceTable = ForceTable()
+    paths: Paths
+
+    @field_validator("parts")
+    @classmethod
+    def _unique_parts(cls, parts: list[Part]) -> list[Part]:
+        names = [p.name for p in parts]
+        duplicated = sorted({n for n in names if names.count(n) > 1})
+        if duplicated:
+            raise ValueError(f"part names must be unique; repeated: {', '.join(duplicated)}")
+        if "ground" in names:
+            raise ValueError("'ground' is reserved for the fixed ground and cannot name a part")
+        return parts
+
+    @model_validator(mode="after")
+    def _cross_references(self) -> Rig:
+        problems = list(self.reference_problems())
+        if problems:
+            raise ValueError("; ".join(problems))
+        return self
+
+    def part(self, name: str) -> Part:
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    def reference_problems(self):
+        """Yield one message per broken reference or inconsistent position."""
+        parts = {p.name: p for p in self.parts}
+        for i, p in enumerate(self.parts):
+            if p.material not in self.materials:
+                yield (f"parts[{i}] ('{p.name}').material: unknown material '{p.material}' "
+                       f"(known: {', '.join(sorted(self.materials))})")
+
+        def at(where: str, part: str, x: float, role: str | None = None):
+            if part not in parts:
+                yield f"{where}: unknown part '{part}' (parts: {', '.join(parts)})"
+                return
+            lo, hi = parts[part].x_range_mm
+            if not lo - 1e-9 <= x <= hi + 1e-9:
+                yield f"{where}: x_mm = {x} lies outside part '{part}' ({lo} .. {hi} mm)"
+            if role and parts[part].role != role:
+                yield f"{where}: part '{part}' is a {parts[part].role}, expected a {role}"
+
+        for i, b in enumerate(self.bearings):
+            yield from at(f"bearings[{i}] ('{b.name}').shaft", b.shaft, b.x_mm)
+            if b.housing != "ground":
+                yield from at(f"bearings[{i}] ('{b.name}').housing", b.housing, b.x_mm)
+                if b.housing == b.shaft:
+                    yield f"bearings[{i}] ('{b.name}'): shaft and housing are the same part"
+        for i, m in enumerate(self.mounts):
+            yield from at(f"mounts[{i}] ('{m.name}')", m.part, m.x_mm)
+        for group, items in (("couplings", self.couplings), ("joints", self.joints)):
+            for i, c in enumerate(items):
+                yield from at(f"{group}[{i}] ('{c.name}').from", c.from_.part, c.from_.x_mm)
+                yield from at(f"{group}[{i}] ('{c.name}').to", c.to.part, c.to.x_mm)
+                if c.from_.part == c.to.part:
+                    yield f"{group}[{i}] ('{c.name}'): from and to are the same part '{c.to.part}'"
+        for key in ("T1", "T2"):
+            t = getattr(self.torques, key)
+            yield from at(f"torques.{key}", t.part, t.x_mm)
+        for i, t in enumerate(self.torque_lateral_loads):
+            yield from at(f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
+            if t.reacted_on is not None:
+                yield from at(f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
+        for i, f in enumerate(self.force_table.pairs):
+            yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
+            yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
+        for i, f in enumerate(self.force_table.singles):
+            yield from at(f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
+        for key in ("input", "output"):
+            path = getattr(self.paths, key)
+            yield from at(f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
+            yield from at(f"paths.{key}.length_mm", path.part, path.x_start_mm + path.length_mm)
+        # overlapping supports: two supports of one part at the same place
+        seen: dict[tuple[str, float], str] = {}
+        supports = [(f"bearings '{b.name}'", b.shaft, b.x_mm) for b in self.bearings]
+        supports += [(f"mounts '{m.name}'", m.part, m.x_mm) for m in self.mounts]
+        for label, part, x in supports:
+            key = (part, round(x, 6))
+            if key in seen:
+                yield (f"{label} and {seen[key]} both support part '{part}' at x = {x} mm "
+                       "(overlapping supports; merge them into one with the summed stiffness)")
+            else:
+                seen[key] = label
+        names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
+                                         self.torque_lateral_loads) for item in group]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            yield f"names of bearings, mounts, couplings, joints and torque_lateral_loads must be unique; repeated: {', '.join(repeated)}"

@@ -1,0 +1,1 @@
+"""Sweeps, shaft-path results, the published-table check, calibration, reports and the CLI."""

@@ -1,0 +1,335 @@
+"""The ``rvcoax`` command line: sweep, check, rig show.
+
+Units shown to the user follow paper 000: torques in N·m, lengths and Y in mm, angles in degrees.
+A user mistake (bad rig file, bad load cases, unsupported model) ends with a message and exit
+status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from geometry.build import build_rig_model
+from geometry.rigfile import RigFileError, load_rig, reference_rig_text
+from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases, paper_table, read_cases
+from results import report
+from results.calibration import calibrate
+from results.check import QUANTITIES, compare, verdict
+from results.sweep import ModelError, SweepSettings, run_sweep
+from results.writers import write_csv_atomic, write_json_atomic
+
+console = Console()
+if not console.is_terminal:  # logs and pipes: wide enough for the check tables
+    console = Console(width=150)
+errors = Console(stderr=True, width=None if Console(stderr=True).is_terminal else 150)
+
+app = typer.Typer(
+    add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
+    help=(
+        "rvcoax: static coaxiality of an RV-reducer test rig (beam finite elements).\n\n"
+        "Units: torques T1 (input) and T2 (output) in N·m; positions, diameters and Y displacements in mm; "
+        "tilt angles in degrees. Y is vertical (+ up); beta = arcsin(Y_max / L) with L = the measured shaft "
+        "path length (input 120 mm, output 160 mm). Without --rig, the built-in reference RV-20E rig is used."
+    ),
+)
+rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
+app.add_typer(rig_app, name="rig")
+
+RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
+ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam (the only one available yet).")]
+OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
+
+
+class UserError(Exception):
+    """A mistake in the user's input: reported in one paragraph, exit status 2."""
+
+
+def _fail(message: str) -> None:
+    errors.print(f"[bold red]error:[/] {message}", highlight=False)
+    raise typer.Exit(code=2)
+
+
+def _rig_text(path: Path | None) -> tuple[str, str]:
+    if path is None:
+        return "built-in reference_rig.toml", reference_rig_text()
+    try:
+        return str(path), path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return str(path), ""
+
+
+def _settings(model: str, method: str = "superposition") -> SweepSettings:
+    try:
+        return SweepSettings(method=method, model=model)
+    except ValueError as error:
+        raise UserError(f"--model/--method: {error}") from None
+
+
+def _progress() -> Progress:
+    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), console=console, transient=True, disable=not console.is_terminal)
+
+
+def _run(rig, cases, settings, label: str):
+    with _progress() as progress:
+        task = progress.add_task(label, total=len(cases))
+        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i))
+
+
+def _guard(function):
+    """Turn user-input errors into a clear message and exit status 2."""
+    import functools
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except (RigFileError, LoadCaseError, UserError) as error:
+            _fail(str(error))
+        except ModelError as error:
+            _fail(f"cannot solve the rig: {error}")
+
+    return wrapper
+
+
+def _version_callback(value: bool) -> None:
+    if value:
+        console.print(f"rvcoax {report.rvcoax_version()}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: Annotated[bool, typer.Option("--version", callback=_version_callback, is_eager=True,
+                                          help="Print the version and exit.")] = False,
+) -> None:
+    """rvcoax command line."""
+
+
+def _cases(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
+    if cases_file is not None:
+        if t1 or t2:
+            raise UserError("give either --cases FILE or --t1/--t2, not both")
+        return read_cases(cases_file)
+    if t1 is None and t2 is None:
+        return paper_cases()
+    if t1 is None or t2 is None:
+        raise UserError("--t1 and --t2 go together (comma-separated torques in N·m)")
+
+    def numbers(text: str, name: str) -> list[float]:
+        try:
+            return [float(v) for v in text.split(",") if v.strip()]
+        except ValueError:
+            raise UserError(f"{name}: '{text}' is not a comma-separated list of torques in N·m") from None
+
+    values1, values2 = numbers(t1, "--t1"), numbers(t2, "--t2")
+    return grid_cases(values1, values2) if grid else paired_cases(values1, values2)
+
+
+def _write_sweep(out: Path, sweep, rig_source: str, rig_text: str, calibration=None, stem: str = "sweep") -> list[Path]:
+    return [
+        write_csv_atomic(out / f"{stem}.csv", report.sweep_rows(sweep)),
+        write_csv_atomic(out / f"{stem}_paths.csv", report.path_rows(sweep)),
+        write_json_atomic(out / f"{stem}.json", report.sweep_document(sweep, rig_source, rig_text, calibration)),
+    ]
+
+
+def _sweep_table(sweep) -> Table:
+    table = Table(title=f"{sweep.rig.rig.name}: {len(sweep.cases)} load cases ({sweep.settings.method})")
+    for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
+        table.add_column(column, justify="right")
+    for case in sweep.cases:
+        i, o = case.paths["input"], case.paths["output"]
+        table.add_row(f"{case.case.input_torque_Nm:g}", f"{case.case.output_torque_Nm:g}",
+                      f"{i.y_max_mm:.5g}", f"{i.beta_deg:.3g}", f"{i.station_of_max_mm:g}",
+                      f"{o.y_max_mm:.5g}", f"{o.beta_deg:.3g}", f"{o.station_of_max_mm:g}")
+    return table
+
+
+@app.command()
+@_guard
+def sweep(
+    rig: RigOption = None,
+    model: ModelOption = "beam",
+    out: OutOption = Path("rvcoax_out"),
+    cases: Annotated[Path | None, typer.Option("--cases", help="CSV (columns T1_input_Nm, T2_output_Nm) or TOML ([[cases]]) of load cases.")] = None,
+    t1: Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")] = None,
+    t2: Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")] = None,
+    grid: Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2 (default: pair them in order).")] = False,
+    method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
+) -> None:
+    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json."""
+    settings = _settings(model, method)
+    rig_model = load_rig(rig)
+    load_cases = _cases(cases, t1, t2, grid)
+    result = _run(rig_model, load_cases, settings, "solving load cases")
+    console.print(_sweep_table(result))
+    console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
+                  "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
+                  if method == "superposition" else "each case solved directly")
+    source, text = _rig_text(rig)
+    for path in _write_sweep(out, result, source, text):
+        console.print(f"wrote {path}")
+
+
+def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -> Table:
+    table = Table(title=f"{shaft} shaft: published (paper 000) vs rvcoax", title_justify="left")
+    for column in ("T1 N·m", "T2 N·m", "fit", "Y pub mm", "Y blind mm", "blind err", "Y cal mm", "cal err",
+                   "β pub °", "β cal °", "β cal err", "ok"):
+        table.add_column(column, justify="right")
+    y, b = f"Y_{shaft}_mm", f"beta_{shaft}_deg"
+    for i, row in enumerate(rows):
+        ok = comparison_cal.within[y][i] and comparison_cal.within[b][i]
+        table.add_row(
+            f"{row.case.input_torque_Nm:g}", f"{row.case.output_torque_Nm:g}", "fit" if i in fit_rows else "",
+            f"{comparison_cal.published[y][i]:.5g}", f"{comparison_blind.model[y][i]:.4g}",
+            f"{100 * comparison_blind.relative_error[y][i]:+.1f} %",
+            f"{comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
+            f"{comparison_cal.published[b][i]:.3g}", f"{comparison_cal.model[b][i]:.4g}",
+            f"{100 * comparison_cal.relative_error[b][i]:+.2f} %",
+            "[green]yes[/]" if ok else "[red]NO[/]",
+        )
+    return table
+
+
+@app.command()
+@_guard
+def check(
+    rig: RigOption = None,
+    model: ModelOption = "beam",
+    out: OutOption = None,
+) -> None:
+    """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
+
+    Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on
+    the rows T2 = 10 and T2 = 200 N·m only; the other 18 rows are predictions. Exit status 0 only
+    when every held-out row is within tolerance (2 % of Y and β, or 1e-7 mm next to the input
+    sign change).
+    """
+    settings = _settings(model)
+    rig_model = load_rig(rig)
+    rows = paper_table()
+    cases = tuple(r.case for r in rows)
+    blind = _run(rig_model, cases, settings, "blind sweep")
+    with console.status("calibrating (least squares on rows T2 = 10 and 200 N·m)"):
+        calibration = calibrate(rig_model, rows)
+    calibrated = _run(calibration.rig, cases, settings, "calibrated sweep")
+    comparison_blind, comparison_cal = compare(rows, blind), compare(rows, calibrated)
+    held_out = report.held_out_mask(len(rows), calibration.fit_rows)
+    result = verdict(comparison_cal, held_out)
+    blind_result = verdict(comparison_blind, np.ones(len(rows), dtype=bool))
+
+    for shaft in ("input", "output"):
+        console.print(_check_table(shaft, comparison_blind, comparison_cal, calibration.fit_rows, rows))
+    _print_calibration(calibration)
+    console.print(
+        f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
+        f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
+        f"{blind_result.failures} of {len(rows) * len(QUANTITIES)} values outside tolerance."
+    )
+    worst = rows[result.worst_row].case
+    console.print(
+        f"Calibrated, on the {int(held_out.sum())} rows not used to fit: worst relative error "
+        f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
+        f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
+    )
+    console.print("[bold green]VERDICT: within tolerance[/]" if result.passed else "[bold red]VERDICT: outside tolerance[/]")
+    if out is not None:
+        source, text = _rig_text(rig)
+        written = [write_csv_atomic(out / "check.csv", report.check_rows(comparison_blind, comparison_cal, rows,
+                                                                         calibration.fit_rows))]
+        written += _write_sweep(out, calibrated, source, text, calibration)
+        written += _write_sweep(out, blind, source, text, stem="blind_sweep")
+        for path in written:
+            console.print(f"wrote {path}")
+    raise typer.Exit(code=0 if result.passed else 1)
+
+
+def _print_calibration(calibration) -> None:
+    table = Table(title="Calibrated parameters (fitted on T2 = 10 and 200 N·m)", title_justify="left")
+    for column in ("parameter", "shaft", "reference", "fitted", "unit", "plausible range", "plausible?"):
+        table.add_column(column)
+    for p in calibration.parameters:
+        lo, hi = p.parameter.plausible
+        table.add_row(p.parameter.address, p.parameter.shaft, f"{p.reference_value:.4g}", f"{p.fitted_value:.4g}",
+                      p.parameter.unit, f"{lo:g} .. {hi:g}", "[green]yes[/]" if p.plausible else "[red]NO[/]")
+    console.print(table)
+    for p in calibration.parameters:
+        if not p.plausible:
+            console.print(f"[yellow]note:[/] {p.parameter.address} = {p.fitted_value:.4g} {p.parameter.unit} lies "
+                          f"outside the physically plausible range ({p.parameter.meaning}).")
+    for alternative in calibration.alternatives:
+        values = ", ".join(f"{p.parameter.address.split('.')[-1]} = {p.fitted_value:.4g}" for p in alternative)
+        console.print(f"[dim]another exact fit of the two fitting rows ({alternative[0].parameter.shaft} shaft): "
+                      f"{values}; not used (farther from the reference values)[/]")
+
+
+@rig_app.command("show")
+@_guard
+def rig_show(rig: RigOption = None) -> None:
+    """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
+    rig_model = load_rig(rig)
+    built = build_rig_model(rig_model)
+    parts = Table(title=f"{rig_model.rig.name}: parts (x along the drivetrain, mm)", title_justify="left")
+    for column in ("part", "role", "x from", "x to", "Ø outer mm", "material", "E GPa", "density kg/m³", "mass kg"):
+        parts.add_column(column)
+    for p in rig_model.parts:
+        lo, hi = p.x_range_mm
+        diameters = sorted({s.outer_diameter_mm for s in p.segments})
+        material = rig_model.materials[p.material]
+        density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
+        parts.add_row(p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
+                      f"{material.youngs_modulus_MPa / 1e3:g}",
+                      f"{density:.0f}" + (" (equiv.)" if p.name in built.equivalent_density else ""),
+                      f"{built.part_mass_kg[p.name]:.3f}")
+    console.print(parts)
+    console.print(f"total mass {sum(built.part_mass_kg.values()):.2f} kg; beam model: {built.structure.n_nodes} nodes, "
+                  f"{built.structure.n_dofs} DOF")
+    springs = Table(title="Supports and connections", title_justify="left")
+    for column in ("kind", "name", "between", "x mm", "stiffness"):
+        springs.add_column(column)
+    for b in rig_model.bearings:
+        springs.add_row("bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}",
+                        f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm")
+    for m in rig_model.mounts:
+        springs.add_row("mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
+                        f"{list(m.translational_stiffness_N_per_um)} N/µm, {list(m.rotational_stiffness_Nm_per_rad)} N·m/rad")
+    for c in rig_model.couplings:
+        springs.add_row("coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
+                        f"radial {c.radial_stiffness_N_per_mm:g} N/mm, angular {c.angular_stiffness_Nm_per_rad:g} N·m/rad, "
+                        f"torsional {c.torsional_stiffness_Nm_per_rad:g} N·m/rad; {c.mass_kg:g} kg")
+    for j in rig_model.joints:
+        springs.add_row("joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
+                        f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
+    console.print(springs)
+    paths = Table(title="How torque becomes a lateral load", title_justify="left")
+    for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
+        paths.add_column(column)
+    for t in rig_model.torque_lateral_loads:
+        paths.add_row(t.name, t.torque, t.kind, f"{t.on.part} @ {t.on.x_mm:g}", f"{t.force_per_torque_N_per_Nm:.4g}",
+                      f"{t.engaged_force_N:.4g}", f"{t.direction_deg:g}")
+    console.print(paths)
+    console.print(f"gravity: {'on' if rig_model.gravity.enabled else 'off'}; paper force table applied: "
+                  f"{rig_model.force_table.apply}; Y measured from: {rig_model.paths.measured_from}; paths: input "
+                  f"{rig_model.paths.input.part} {rig_model.paths.input.x_start_mm:g} + {rig_model.paths.input.length_mm:g} mm, "
+                  f"output {rig_model.paths.output.part} {rig_model.paths.output.x_start_mm:g} + "
+                  f"{rig_model.paths.output.length_mm:g} mm")
+
+
+@rig_app.command("reference")
+def rig_reference() -> None:
+    """Print the built-in reference rig file (copy it to start your own)."""
+    sys.stdout.write(reference_rig_text())
+
+
+def run() -> None:
+    """Console-script entry point."""
+    app()
