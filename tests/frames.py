@@ -107,6 +107,19 @@ def polyline(points, n_per_segment: int, section: CircularSection, reference=(0.
     return coordinates, beams
 
 
+def join(*parts) -> tuple[np.ndarray, BeamElements]:
+    """Put several ``(coordinates, beams)`` parts into one node and element numbering.
+
+    Nodes of part ``k`` follow those of parts ``0 .. k−1``; nothing connects the parts.
+    """
+    offsets = np.cumsum([0] + [len(coordinates) for coordinates, _ in parts[:-1]])
+    tables = [beams for _, beams in parts]
+    fields = {name: np.concatenate([vars(table)[name] for table in tables])
+              for name in vars(tables[0]) if name != "connectivity"}
+    connectivity = np.vstack([table.connectivity + offset for table, offset in zip(tables, offsets)])
+    return np.vstack([coordinates for coordinates, _ in parts]), BeamElements(connectivity=connectivity, **fields)
+
+
 def no_beams() -> BeamElements:
     """An empty beam table (models made of bushings only)."""
     empty = np.zeros(0)
