@@ -30,7 +30,7 @@ def machine() -> str:
 
 def record(section: str, rows: list[tuple[str, str]]) -> None:
     """Append a dated block of (figure, value) rows under ``section`` in RESULTS.md."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     lines = [f"\n### {section} — {stamp}\n", f"Machine: {machine()}\n", "\n| figure | value |\n|---|---|\n"]
     lines += [f"| {name} | {value} |\n" for name, value in rows]
     if not RESULTS.exists():

@@ -53,6 +53,10 @@ def elimination_matrix(n_dofs: int, fixed_dofs, equations: dict[int, dict[int, f
         resolved) but cycles are an error.
     """
     fixed = set(int(d) for d in fixed_dofs)
+    both = sorted(fixed & set(equations))
+    if both:
+        raise ValueError(f"DOFs {both[:6]} are both held fixed and driven by a rigid link; "
+                         "fix the master node instead")
     resolved: dict[int, dict[int, float]] = {}
 
     def resolve(dof: int, stack: tuple[int, ...] = ()) -> dict[int, float]:
@@ -76,8 +80,6 @@ def elimination_matrix(n_dofs: int, fixed_dofs, equations: dict[int, dict[int, f
     column = {d: i for i, d in enumerate(free)}
     rows, cols, vals = list(free), list(range(free.size)), [1.0] * free.size
     for dof in sorted(equations):
-        if dof in fixed:
-            continue
         for base, c in resolve(dof).items():
             if base in column and c != 0.0:
                 rows.append(dof)

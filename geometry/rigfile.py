@@ -65,7 +65,7 @@ def parse_rig(data: dict, source: str) -> Rig:
         for e in error.errors():
             text = _describe(e, data)
             if e["type"] == "value_error" and not e["loc"]:
-                problems.extend(text.removeprefix("(top level): ").split("; "))
+                problems.extend(text.removeprefix("(top level): ").split("\n"))
             else:
                 problems.append(text)
         raise RigFileError(source, problems) from None

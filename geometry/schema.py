@@ -12,9 +12,10 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
+# strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 
 
@@ -38,7 +39,7 @@ class MeshSettings(Strict):
 
 class Material(Strict):
     youngs_modulus_MPa: Positive
-    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5)]
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
     density_kg_per_m3: Positive
 
     @property
@@ -121,12 +122,17 @@ class Mount(Strict):
     rotational_stiffness_Nm_per_rad: Triple
 
 
-class Coupling(Strict):
+class Connection(Strict):
+    """Something joining two parts: ``from`` and ``to`` locations."""
+
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
     name: Name
     from_: Location = Field(alias="from")
     to: Location
+
+
+class Coupling(Connection):
     centre_x_mm: Finite
     mass_kg: NonNegative = 0.0
     radial_stiffness_N_per_mm: Positive
@@ -135,12 +141,7 @@ class Coupling(Strict):
     axial_stiffness_N_per_mm: Positive
 
 
-class Joint(Strict):
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
-
-    name: Name
-    from_: Location = Field(alias="from")
-    to: Location
+class Joint(Connection):
     translational_stiffness_N_per_um: Triple
     rotational_stiffness_Nm_per_rad: Triple
 
@@ -184,11 +185,11 @@ class TorqueLateralLoad(Strict):
     on: Location
     reacted_on: Location | None = None
     direction_deg: Finite = 0.0
-    imbalance: Annotated[float, Field(ge=-1.0, le=1.0)] | None = None
-    position_error_um: Annotated[float, Field(ge=-1000.0, le=1000.0)] | None = None
+    imbalance: Annotated[float, Field(ge=-1.0, le=1.0, strict=True)] | None = None
+    position_error_um: Annotated[float, Field(ge=-1000.0, le=1000.0, strict=True)] | None = None
     mesh_stiffness_N_per_um: Positive | None = None
     pitch_radius_mm: Positive | None = None
-    pressure_angle_deg: Annotated[float, Field(ge=0.0, lt=45.0)] | None = None
+    pressure_angle_deg: Annotated[float, Field(ge=0.0, lt=45.0, strict=True)] | None = None
     radius_mm: Positive | None = None
     arm_length_mm: Positive | None = None
 
@@ -250,7 +251,7 @@ class Path(Strict):
     part: str
     x_start_mm: Finite
     length_mm: Positive
-    stations: Annotated[int, Field(ge=25, le=2001)] = 41
+    stations: Annotated[int, Field(ge=25, le=2001, strict=True)] = 41
 
 
 class Paths(Strict):
@@ -292,7 +293,7 @@ class Rig(Strict):
     def _cross_references(self) -> Rig:
         problems = list(self.reference_problems())
         if problems:
-            raise ValueError("; ".join(problems))
+            raise ValueError("\n".join(problems))  # one problem a line (messages may hold "; ")
         return self
 
     def part(self, name: str) -> Part:
@@ -348,7 +349,12 @@ class Rig(Strict):
         for key in ("input", "output"):
             path = getattr(self.paths, key)
             yield from at(f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
-            yield from at(f"paths.{key}.length_mm", path.part, path.x_start_mm + path.length_mm)
+            if path.part in parts:
+                lo, hi = parts[path.part].x_range_mm
+                end = path.x_start_mm + path.length_mm
+                if end > hi + 1e-9:
+                    yield (f"paths.{key}.length_mm: the path x_start_mm + length_mm = {path.x_start_mm:g} + "
+                           f"{path.length_mm:g} = {end:g} mm runs past the end of part '{path.part}' ({lo:g} .. {hi:g} mm)")
         # overlapping supports: two supports of one part at the same place
         seen: dict[tuple[str, float], str] = {}
         supports = [(f"bearings '{b.name}'", b.shaft, b.x_mm) for b in self.bearings]

@@ -73,7 +73,9 @@ def paired_cases(t1_values, t2_values, source: str = "command line") -> tuple[Lo
     return _validated([(float(a), float(b)) for a, b in zip(t1_values, t2_values)], source)
 
 
-def _number(text: str, source: str, where: str) -> float:
+def _number(text: str | None, source: str, where: str) -> float:
+    if text is None:  # a row with fewer fields than the header
+        raise LoadCaseError(source, f"{where}: value is missing")
     try:
         return float(text)
     except ValueError:
@@ -114,6 +116,8 @@ def read_cases(path: str | Path) -> tuple[LoadCase, ...]:
             raise LoadCaseError(source, "expected [[cases]] tables with T1_input_Nm and T2_output_Nm")
         pairs = []
         for i, case in enumerate(cases, start=1):
+            if not isinstance(case, dict):
+                raise LoadCaseError(source, f"cases[{i}]: {case!r} is not a table with T1_input_Nm and T2_output_Nm")
             for key in ("T1_input_Nm", "T2_output_Nm"):
                 if key not in case:
                     raise LoadCaseError(source, f"cases[{i}]: missing key {key}")

@@ -14,6 +14,7 @@ from typing import Annotated
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
@@ -21,7 +22,7 @@ from geometry.build import build_rig_model
 from geometry.rigfile import RigFileError, load_rig, reference_rig_text
 from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases, paper_table, read_cases
 from results import report
-from results.calibration import calibrate
+from results.calibration import DEFAULT_PARAMETERS, calibrate
 from results.check import QUANTITIES, compare, verdict
 from results.sweep import ModelError, SweepSettings, run_sweep
 from results.writers import write_csv_atomic, write_json_atomic
@@ -53,7 +54,7 @@ class UserError(Exception):
 
 
 def _fail(message: str) -> None:
-    errors.print(f"[bold red]error:[/] {message}", highlight=False)
+    errors.print(f"[bold red]error:[/] {escape(message)}", highlight=False)  # the message is plain text, not markup
     raise typer.Exit(code=2)
 
 
@@ -95,7 +96,9 @@ def _guard(function):
         except (RigFileError, LoadCaseError, UserError) as error:
             _fail(str(error))
         except ModelError as error:
-            _fail(f"cannot solve the rig: {error}")
+            _fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot solve the rig: {error}")
+        except OSError as error:  # reading is handled above, so this is writing the results (--out)
+            _fail(f"cannot write {error.filename}: {error.strerror}")
 
     return wrapper
 
@@ -143,7 +146,7 @@ def _write_sweep(out: Path, sweep, rig_source: str, rig_text: str, calibration=N
 
 
 def _sweep_table(sweep) -> Table:
-    table = Table(title=f"{sweep.rig.rig.name}: {len(sweep.cases)} load cases ({sweep.settings.method})")
+    table = Table(title=escape(f"{sweep.rig.rig.name}: {len(sweep.cases)} load cases ({sweep.settings.method})"))
     for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
         table.add_column(column, justify="right")
     for case in sweep.cases:
@@ -220,7 +223,11 @@ def check(
     cases = tuple(r.case for r in rows)
     blind = _run(rig_model, cases, settings, "blind sweep")
     with console.status("calibrating (least squares on rows T2 = 10 and 200 N·m)"):
-        calibration = calibrate(rig_model, rows)
+        try:
+            calibration = calibrate(rig_model, rows)
+        except KeyError as error:  # the rig lacks a parameter that the calibration fits
+            raise UserError(f"rig file {_rig_text(rig)[0]}: cannot calibrate: {error.args[0]} (the check fits "
+                            + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None
     calibrated = _run(calibration.rig, cases, settings, "calibrated sweep")
     comparison_blind, comparison_cal = compare(rows, blind), compare(rows, calibrated)
     held_out = report.held_out_mask(len(rows), calibration.fit_rows)
@@ -278,7 +285,7 @@ def rig_show(rig: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     rig_model = load_rig(rig)
     built = build_rig_model(rig_model)
-    parts = Table(title=f"{rig_model.rig.name}: parts (x along the drivetrain, mm)", title_justify="left")
+    parts = Table(title=escape(f"{rig_model.rig.name}: parts (x along the drivetrain, mm)"), title_justify="left")
     for column in ("part", "role", "x from", "x to", "Ø outer mm", "material", "E GPa", "density kg/m³", "mass kg"):
         parts.add_column(column)
     for p in rig_model.parts:
@@ -286,7 +293,7 @@ def rig_show(rig: RigOption = None) -> None:
         diameters = sorted({s.outer_diameter_mm for s in p.segments})
         material = rig_model.materials[p.material]
         density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
-        parts.add_row(p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
+        parts.add_row(p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), escape(p.material),
                       f"{material.youngs_modulus_MPa / 1e3:g}",
                       f"{density:.0f}" + (" (equiv.)" if p.name in built.equivalent_density else ""),
                       f"{built.part_mass_kg[p.name]:.3f}")

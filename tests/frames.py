@@ -90,7 +90,7 @@ def polyline(points, n_per_segment: int, section: CircularSection, reference=(0.
     """
     points = np.asarray(points, dtype=float)
     t = np.linspace(0.0, 1.0, n_per_segment + 1)[1:, None]
-    coordinates = np.vstack([points[:1]] + [a + t * (b - a) for a, b in zip(points[:-1], points[1:])])
+    coordinates = np.vstack([points[:1]] + [a + t * (b - a) for a, b in zip(points[:-1], points[1:], strict=True)])
     n = coordinates.shape[0] - 1
     ones = np.ones(n)
     beams = BeamElements(
@@ -116,7 +116,7 @@ def join(*parts) -> tuple[np.ndarray, BeamElements]:
     tables = [beams for _, beams in parts]
     fields = {name: np.concatenate([vars(table)[name] for table in tables])
               for name in vars(tables[0]) if name != "connectivity"}
-    connectivity = np.vstack([table.connectivity + offset for table, offset in zip(tables, offsets)])
+    connectivity = np.vstack([table.connectivity + offset for table, offset in zip(tables, offsets, strict=True)])
     return np.vstack([coordinates for coordinates, _ in parts]), BeamElements(connectivity=connectivity, **fields)
 
 
