@@ -8,13 +8,20 @@ OUT    ?= rvcoax_out
 
 .PHONY: run test lint bench system-deps clean
 
-# System packages: only what a bare Debian 12 lacks for a Python venv (python3-venv). Installed
-# when missing and when we are root (CI, fresh machines); otherwise a clear message.
+# System packages a bare Debian 12 lacks: python3-venv; the shared libraries gmsh loads at run time
+# (libGLU, libGL, X client libraries, OpenMP); EGL + Mesa for off-screen VTK rendering. Only the
+# missing ones are installed, and only when we are root (CI, fresh machines); otherwise a message.
+DEBIAN_PACKAGES := python3-venv libglu1-mesa libgl1 libxcursor1 libxft2 libxinerama1 libgomp1 \
+                   libegl1 libegl-mesa0 libgl1-mesa-dri
 system-deps:
-	@if ! $(PYTHON) -c "import venv, ensurepip" >/dev/null 2>&1; then \
+	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ] && command -v dpkg-query >/dev/null; then \
 	  if [ "$$(id -u)" = "0" ] && command -v apt-get >/dev/null; then \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv; \
-	  else echo "python3-venv is missing: run 'sudo apt-get install python3-venv'"; exit 1; fi; \
+	    echo "installing Debian packages:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	  else echo "missing Debian packages:$$missing (run: sudo apt-get install$$missing)"; exit 1; fi; \
 	fi
 
 $(BIN)/rvcoax: pyproject.toml | system-deps
