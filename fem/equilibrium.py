@@ -1,4 +1,8 @@
-"""Reactions at the ground and the global equilibrium check."""
+"""Reactions at the ground and the global equilibrium check.
+
+Works on any DOF layout: each DOF has a position and a component (0–2 force along x/y/z,
+3–5 moment about x/y/z), so frame nodes (six DOFs) and solid nodes (three DOFs) mix freely.
+"""
 
 from __future__ import annotations
 
@@ -9,12 +13,35 @@ import numpy as np
 from fem import DOFS_PER_NODE, bushing
 
 
+@dataclass(frozen=True, eq=False)
+class DofTable:
+    """Where each DOF sits (m) and which component it is (0–5)."""
+
+    position: np.ndarray
+    component: np.ndarray
+
+
+def frame_dof_table(coordinates: np.ndarray) -> DofTable:
+    """Six DOFs per node, in node order."""
+    return DofTable(np.repeat(coordinates, DOFS_PER_NODE, axis=0),
+                    np.tile(np.arange(DOFS_PER_NODE), coordinates.shape[0]))
+
+
+def resultant_of(table: DofTable, vector: np.ndarray) -> np.ndarray:
+    """Total force and moment about the origin of a vector of DOF forces/moments (6,)."""
+    v = np.asarray(vector)
+    unit = np.zeros((v.size, 3))
+    translational = table.component < 3
+    unit[translational, table.component[translational]] = v[translational]
+    moment = np.cross(table.position, unit).sum(axis=0)
+    for axis in range(3):
+        moment[axis] += v[table.component == 3 + axis].sum()
+    return np.concatenate([unit.sum(axis=0), moment])
+
+
 def resultant(coordinates: np.ndarray, nodal_vector: np.ndarray) -> np.ndarray:
-    """Total force and moment about the origin of a nodal force vector (6,)."""
-    v = np.asarray(nodal_vector).reshape(-1, DOFS_PER_NODE)
-    force = v[:, :3].sum(axis=0)
-    moment = (np.cross(coordinates, v[:, :3]) + v[:, 3:]).sum(axis=0)
-    return np.concatenate([force, moment])
+    """Total force and moment about the origin of a six-DOF nodal vector (6,)."""
+    return resultant_of(frame_dof_table(coordinates), nodal_vector)
 
 
 @dataclass(frozen=True)
@@ -28,32 +55,40 @@ class Equilibrium:
 
 def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, np.ndarray]:
     """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,)."""
+    frame = displacement[: model.n_dofs]
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     # spring_forces is what a spring exerts on its node a (here the ground); the ground
     # therefore pushes the structure with the opposite
-    forces = np.where(grounded[:, None], -bushing.spring_forces(model.coordinates, model.bushings, displacement), 0.0)
-    fixed = np.zeros(model.n_dofs)
+    forces = np.where(grounded[:, None], -bushing.spring_forces(model.coordinates, model.bushings, frame), 0.0)
+    fixed = np.zeros(displacement.shape[0])
     dofs = np.asarray(model.fixed_dofs, dtype=int)
     if dofs.size:
         fixed[dofs] = (stiffness @ displacement - load)[dofs]
     return forces, fixed
 
 
-def check_equilibrium(model, stiffness, displacement, load) -> Equilibrium:
-    """Compare the resultant of applied loads with the resultant of all ground reactions."""
+def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None) -> Equilibrium:
+    """Compare the resultant of applied loads with the resultant of all ground reactions.
+
+    ``model`` is the frame (:class:`fem.model.StructuralModel`) holding the ground springs and fixed
+    DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids).
+    """
+    table = dofs if dofs is not None else frame_dof_table(model.coordinates)
     bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load)
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     points = np.asarray(model.bushings.point_m)[grounded]
     bf = bushing_forces[grounded]
-    reaction = resultant(model.coordinates, fixed)
+    reaction = resultant_of(table, fixed)
     reaction[:3] += bf[:, :3].sum(axis=0)
     reaction[3:] += (np.cross(points, bf[:, :3]) + bf[:, 3:]).sum(axis=0)
-    applied = resultant(model.coordinates, load)
-    magnitude = np.abs(np.asarray(load).reshape(-1, DOFS_PER_NODE))
-    extent = max(float(np.ptp(model.coordinates, axis=0).max()), 1.0)
+    applied = resultant_of(table, load)
+    magnitude = np.abs(np.asarray(load))
+    forces = magnitude[table.component < 3].sum()
+    moments = magnitude[table.component >= 3].sum()
+    extent = max(float(np.ptp(table.position, axis=0).max()), 1.0)
     # force scale includes applied moments over the model size: a pure-moment load has reaction
     # forces that are zero only up to rounding
-    scale = max(magnitude[:, :3].sum() + magnitude[:, 3:].sum() / extent, 1e-300)
+    scale = max(forces + moments / extent, 1e-300)
     total = applied + reaction
     error = max(np.abs(total[:3]).max() / scale, np.abs(total[3:]).max() / (scale * extent))
     return Equilibrium(applied, reaction, float(error))

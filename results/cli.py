@@ -45,7 +45,7 @@ rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 app.add_typer(rig_app, name="rig")
 
 RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
-ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam (the only one available yet).")]
+ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam, hybrid (measured shafts as solids) or solid.")]
 OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
 
 

@@ -198,8 +198,10 @@ def test_direct_equals_superposition(rig):
 def test_unknown_settings_are_rejected():
     with pytest.raises(ValueError, match="'superposition' or 'direct'"):
         SweepSettings(method="iterative")
-    with pytest.raises(ValueError, match="only 'beam'"):
-        SweepSettings(model="solid")
+    with pytest.raises(ValueError, match="beam, hybrid, solid"):
+        SweepSettings(model="shell")
+    with pytest.raises(ValueError, match="solver must be"):
+        SweepSettings(solver="cg")
 
 
 # ----------------------------------------------------------------------------------------------

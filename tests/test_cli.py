@@ -238,9 +238,9 @@ def _user_error(tmp_path: Path, *args: str) -> str:
     return flat(result.stderr)
 
 
-def test_solid_model_is_not_available(tmp_path):
-    message = _user_error(tmp_path, "sweep", "--model", "solid", "--out", str(tmp_path / "out"))
-    assert "'solid'" in message and "only 'beam'" in message
+def test_unknown_model_is_rejected(tmp_path):
+    message = _user_error(tmp_path, "sweep", "--model", "shell", "--out", str(tmp_path / "out"))
+    assert "'shell'" in message and "beam, hybrid, solid" in message
     assert not (tmp_path / "out").exists()
 
 
