@@ -70,7 +70,8 @@ def _path_stations(path) -> np.ndarray:
     return path.x_start_mm + np.linspace(0.0, path.length_mm, path.stations)
 
 
-def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
+def attachment_positions(rig: Rig) -> dict[str, list[float]]:
+    """Positions where springs attach to each part (bearings, mounts, couplings, joints)."""
     refs: dict[str, list[float]] = {p.name: [] for p in rig.parts}
     for b in rig.bearings:
         refs[b.shaft].append(b.x_mm)
@@ -81,6 +82,11 @@ def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
     for c in list(rig.couplings) + list(rig.joints):
         refs[c.from_.part].append(c.from_.x_mm)
         refs[c.to.part].append(c.to.x_mm)
+    return refs
+
+
+def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
+    refs = attachment_positions(rig)
     for t in (rig.torques.T1, rig.torques.T2):
         refs[t.part].append(t.x_mm)
     for t in rig.torque_lateral_loads:
@@ -116,9 +122,14 @@ def _segment_at(part, x_mid: float):
     raise ValueError(f"no segment of part '{part.name}' at x = {x_mid} mm")
 
 
-def build_rig_model(rig: Rig) -> RigModel:
-    """Build the beam model of a validated rig."""
+def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
+    """Build the beam model of a validated rig.
+
+    Parts named in ``solid_parts`` get no beams: only reference nodes where springs attach (the
+    solid model ties them to faces), and no mass (the solid carries it).
+    """
     referenced = _referenced_positions(rig)
+    attachments = attachment_positions(rig)
     node_part: list[str] = []
     node_x: list[float] = []
     element_rows: list[tuple] = []
@@ -129,6 +140,11 @@ def build_rig_model(rig: Rig) -> RigModel:
         if part.role == "body":
             density = part.mass_kg / (part.volume_mm3 * MM**3)
             equivalent_density[part.name] = density
+        if part.name in solid_parts:
+            positions = np.unique(np.round(np.array(attachments[part.name], dtype=float), 9))
+            node_part.extend([part.name] * positions.size)
+            node_x.extend(positions.tolist())
+            continue
         positions = _part_positions(part, referenced[part.name], rig.mesh.max_element_length_mm)
         first = len(node_x)
         node_part.extend([part.name] * positions.size)
@@ -150,7 +166,7 @@ def build_rig_model(rig: Rig) -> RigModel:
         hit = np.flatnonzero((node_part_arr == part) & np.isclose(node_x_arr, x_mm, atol=1e-6))
         return int(hit[0])
 
-    table = np.array(element_rows, dtype=float)
+    table = np.array(element_rows, dtype=float).reshape(-1, 9)
     beams = BeamElements(
         connectivity=table[:, :2].astype(int), area_m2=table[:, 2], second_moment_m4=table[:, 3],
         polar_moment_m4=table[:, 4], shear_coefficient=table[:, 5], youngs_modulus_pa=table[:, 6],

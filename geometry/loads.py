@@ -33,6 +33,7 @@ class LocatedLoad:
     x_mm: float
     force_N: tuple[float, float, float]
     moment_Nm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    band_mm: tuple[float, float] | None = None
 
 
 def _direction(direction_deg: float) -> np.ndarray:
@@ -49,9 +50,10 @@ def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
             continue
         size = lateral.force_per_torque_N_per_Nm if part == "proportional" else lateral.engaged_force_N
         force = size * _direction(lateral.direction_deg)
-        out.append(LocatedLoad(lateral.on.part, lateral.on.x_mm, tuple(force)))
+        out.append(LocatedLoad(lateral.on.part, lateral.on.x_mm, tuple(force), band_mm=lateral.on.band_mm))
         if lateral.reacted_on is not None:
-            out.append(LocatedLoad(lateral.reacted_on.part, lateral.reacted_on.x_mm, tuple(-force)))
+            reacted = lateral.reacted_on
+            out.append(LocatedLoad(reacted.part, reacted.x_mm, tuple(-force), band_mm=reacted.band_mm))
     return out
 
 

@@ -73,6 +73,7 @@ class Part(Strict):
     role: Literal["shaft", "body"]
     material: str
     mass_kg: Positive | None = None
+    mesh_size_mm: Positive | None = None
     segments: list[Segment] = Field(min_length=1)
 
     @model_validator(mode="after")
@@ -97,8 +98,19 @@ class Part(Strict):
 
 
 class Location(Strict):
+    """A place on a part. On a solid part it is a face: ``band_mm`` (a band of the lateral surface),
+    the end face when x is at the part's end, or a band ``[solid] attachment_band_mm`` wide."""
+
     part: str
     x_mm: Finite
+    band_mm: tuple[Finite, Finite] | None = None
+    tie: Literal["distributing", "rigid"] = "distributing"
+
+    @model_validator(mode="after")
+    def _check_band(self) -> Location:
+        if self.band_mm is not None and not self.band_mm[0] < self.band_mm[1]:
+            raise ValueError(f"band_mm must be increasing [start, end], got {list(self.band_mm)}")
+        return self
 
 
 class Bearing(Strict):
@@ -109,6 +121,7 @@ class Bearing(Strict):
     radial_stiffness_N_per_um: Positive
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
+    width_mm: Positive = 15.0
 
 
 Triple = tuple[NonNegative, NonNegative, NonNegative]
@@ -134,6 +147,7 @@ class Connection(Strict):
 
 class Coupling(Connection):
     centre_x_mm: Finite
+    hub_length_mm: Positive = 20.0
     mass_kg: NonNegative = 0.0
     radial_stiffness_N_per_mm: Positive
     angular_stiffness_Nm_per_rad: Positive
@@ -247,6 +261,15 @@ class ForceTable(Strict):
     singles: list[SingleForce] = []
 
 
+class SolidSettings(Strict):
+    """Solid and hybrid models: which parts are solid in ``hybrid``, and mesh sizes."""
+
+    hybrid_parts: list[str] | None = None
+    mesh_size_mm: Positive = 4.0
+    elements_per_diameter: Positive = 6.0
+    attachment_band_mm: Positive = 10.0
+
+
 class Path(Strict):
     part: str
     x_start_mm: Finite
@@ -277,6 +300,7 @@ class Rig(Strict):
     torque_lateral_loads: list[TorqueLateralLoad] = []
     force_table: ForceTable = ForceTable()
     paths: Paths
+    solid: SolidSettings = SolidSettings()
 
     @field_validator("parts")
     @classmethod
@@ -295,6 +319,12 @@ class Rig(Strict):
         if problems:
             raise ValueError("\n".join(problems))  # one problem a line (messages may hold "; ")
         return self
+
+    def hybrid_solid_parts(self) -> tuple[str, ...]:
+        """Parts modelled as solids in the hybrid model (default: the two measured shafts)."""
+        if self.solid.hybrid_parts is not None:
+            return tuple(self.solid.hybrid_parts)
+        return tuple(dict.fromkeys((self.paths.input.part, self.paths.output.part)))
 
     def part(self, name: str) -> Part:
         for p in self.parts:
@@ -366,6 +396,9 @@ class Rig(Strict):
                        "(overlapping supports; merge them into one with the summed stiffness)")
             else:
                 seen[key] = label
+        for name in self.solid.hybrid_parts or []:
+            if name not in parts:
+                yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
         names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
                                          self.torque_lateral_loads) for item in group]
         repeated = sorted({n for n in names if names.count(n) > 1})
