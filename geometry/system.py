@@ -11,6 +11,7 @@ something attaches to a solid), then each solid part's block of three DOFs per P
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -72,10 +73,19 @@ class RigSystem:
     probes: dict
     dofs: DofTable
     solids: tuple = field(default_factory=tuple)
+    load_builder: object = None
 
     @property
     def n_dofs(self) -> int:
         return int(self.stiffness.shape[0])
+
+    def with_loads_of(self, rig: Rig) -> RigSystem:
+        """The same structure with the unit loads of ``rig``, whose structure must be this one's.
+
+        Used when only load parameters change (calibration of load-sharing parameters), so that
+        the mesh, the stiffness and its factorisation are reused.
+        """
+        return dataclasses.replace(self, rig=rig, unit_loads=self.load_builder(rig))
 
 
 def nodal_vector(frame: RigModel, loads: list[LocatedLoad], n_dofs: int) -> np.ndarray:
@@ -106,11 +116,17 @@ def assemble_beam(rig: Rig) -> RigSystem:
     n = structure.n_dofs
     stiffness = fem_model.stiffness_matrix(structure)
     elimination, _ = fem_model.constraint_elimination(structure)
-    located = located_unit_loads(rig)
-    loads = {name: nodal_vector(frame, located[name], n) for name in UNIT_LOADS}
-    loads["gravity"] = loads["gravity"] + fem_model.gravity_load_vector(structure, gravity_vector(rig))
+    gravity = fem_model.gravity_load_vector(structure, gravity_vector(rig))
+
+    def loads_of(loaded: Rig) -> dict:
+        located = located_unit_loads(loaded)
+        loads = {name: nodal_vector(frame, located[name], n) for name in UNIT_LOADS}
+        loads["gravity"] = loads["gravity"] + gravity
+        return loads
+
     probes = {which: frame_path_probe(frame, which, n) for which in ("input", "output")}
-    return RigSystem(rig, "beam", frame, stiffness, elimination, loads, probes, frame_dof_table(structure.coordinates))
+    return RigSystem(rig, "beam", frame, stiffness, elimination, loads_of(rig), probes,
+                     frame_dof_table(structure.coordinates), load_builder=loads_of)
 
 
 def assemble_rig(rig: Rig, kind: str = "beam", **options) -> RigSystem:

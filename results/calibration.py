@@ -20,7 +20,7 @@ from scipy.optimize import least_squares
 from geometry.parameters import get_parameter, with_parameters
 from geometry.schema import Rig
 from loadcases.cases import PublishedRow
-from results.sweep import SHAFTS, run_sweep
+from results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep
 
 
 @dataclass(frozen=True)
@@ -99,8 +99,11 @@ class Calibration:
         return {p.parameter.address: p.fitted_value for p in self.parameters}
 
 
-def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str) -> np.ndarray:
-    sweep = run_sweep(rig, tuple(r.case for r in rows))
+LOAD_GROUPS = ("torque_lateral_loads.",)
+
+
+def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.ndarray:
+    sweep = run_sweep(rig, tuple(r.case for r in rows), prepared=prepared)
     return np.array([c.paths[shaft].y_max_mm for c in sweep.cases])
 
 
@@ -108,7 +111,7 @@ def _published(rows: list[PublishedRow], shaft: str) -> np.ndarray:
     return np.array([r.y_input_mm if shaft == "input" else r.y_output_mm for r in rows])
 
 
-def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[PublishedRow], shaft: str):
+def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[PublishedRow], shaft: str, prepared=None):
     """All exact solutions for one shaft's parameters (list of value arrays, best first by cost)."""
     target = _published(rows, shaft)
     scale = np.array([p.scale for p in parameters])
@@ -118,7 +121,7 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
 
     def residual(x):
         trial = with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
-        return (_y_max(trial, rows, shaft) - target) / target
+        return (_y_max(trial, rows, shaft, prepared) - target) / target
 
     solutions = []
     for signs in itertools.product((1.0, -1.0), repeat=len(parameters)):
@@ -143,8 +146,18 @@ def calibrate(
     published: tuple[PublishedRow, ...],
     fit_output_torques_Nm=(10.0, 200.0),
     parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS,
+    settings: SweepSettings | None = None,
+    prepared=None,
 ) -> Calibration:
-    """Fit ``parameters`` to the published Y of the rows whose T2 is in ``fit_output_torques_Nm``."""
+    """Fit ``parameters`` to the published Y of the rows whose T2 is in ``fit_output_torques_Nm``.
+
+    When every parameter is a load parameter, the model is assembled and factorised once
+    (``prepared`` may pass one in) and only the unit loads change between evaluations.
+    """
+    if prepared is None and all(p.address.startswith(LOAD_GROUPS) for p in parameters):
+        prepared = prepare_model(rig, settings or SweepSettings())
+    if prepared is not None and not all(p.address.startswith(LOAD_GROUPS) for p in parameters):
+        prepared = None  # a stiffness parameter changes the matrix: assemble per evaluation
     fit_rows = tuple(i for i, r in enumerate(published) if r.case.output_torque_Nm in fit_output_torques_Nm)
     if len(fit_rows) < 2:
         raise ValueError(f"need at least two fitting rows, found {len(fit_rows)} for T2 in {fit_output_torques_Nm}")
@@ -159,7 +172,7 @@ def calibrate(
             continue
         if len(own) > 2:
             raise ValueError(f"at most two calibrated parameters per shaft; {shaft} has {len(own)}")
-        solutions, cost = _fit_shaft(current, own, rows, shaft)
+        solutions, cost = _fit_shaft(current, own, rows, shaft, prepared)
         worst = max(worst, cost)
         reference = np.array([get_parameter(rig, p.address) for p in own])
         width = np.array([p.plausible[1] - p.plausible[0] for p in own])
@@ -175,6 +188,7 @@ def calibrate(
                    if p.address in chosen)
     final = with_parameters(rig, chosen)
     residual = max(
-        float(np.max(np.abs((_y_max(final, rows, s) - _published(rows, s)) / _published(rows, s)))) for s in SHAFTS
+        float(np.max(np.abs((_y_max(final, rows, s, prepared) - _published(rows, s)) / _published(rows, s))))
+        for s in SHAFTS
     )
     return Calibration(final, fitted, fit_rows, residual, tuple(alternatives))

@@ -24,7 +24,7 @@ from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases
 from results import report
 from results.calibration import DEFAULT_PARAMETERS, calibrate
 from results.check import QUANTITIES, compare, verdict
-from results.sweep import ModelError, SweepSettings, run_sweep
+from results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 from results.writers import write_csv_atomic, write_json_atomic
 
 console = Console()
@@ -47,6 +47,8 @@ app.add_typer(rig_app, name="rig")
 RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
 ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam, hybrid (measured shafts as solids) or solid.")]
 OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
+SolverOption = Annotated[str, typer.Option("--solver", help="Linear solver for solid/hybrid models: auto (by size), superlu, pardiso or amg.")]
+MeshOption = Annotated[float | None, typer.Option("--mesh-size-mm", help="Global solid mesh size in mm (default: the rig file's [solid] mesh_size_mm).")]
 
 
 class UserError(Exception):
@@ -67,11 +69,20 @@ def _rig_text(path: Path | None) -> tuple[str, str]:
         return str(path), ""
 
 
-def _settings(model: str, method: str = "superposition") -> SweepSettings:
+def _settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
     try:
-        return SweepSettings(method=method, model=model)
+        return SweepSettings(method=method, model=model, solver=solver, mesh_size_mm=mesh_size_mm)
     except ValueError as error:
-        raise UserError(f"--model/--method: {error}") from None
+        raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
+
+
+def _prepare(rig, settings):
+    with console.status(f"assembling the {settings.model} model and setting up the solver"):
+        prepared = prepare_model(rig, settings)
+    system = prepared.system
+    console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
+                  + (f", {len(system.solids)} solid part(s)" if system.solids else ""))
+    return prepared
 
 
 def _progress() -> Progress:
@@ -79,10 +90,11 @@ def _progress() -> Progress:
                     TimeElapsedColumn(), console=console, transient=True, disable=not console.is_terminal)
 
 
-def _run(rig, cases, settings, label: str):
+def _run(rig, cases, settings, label: str, prepared=None):
     with _progress() as progress:
         task = progress.add_task(label, total=len(cases))
-        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i))
+        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
+                         prepared=prepared)
 
 
 def _guard(function):
@@ -168,12 +180,14 @@ def sweep(
     t2: Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")] = None,
     grid: Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2 (default: pair them in order).")] = False,
     method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
+    solver: SolverOption = "auto",
+    mesh_size_mm: MeshOption = None,
 ) -> None:
     """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json."""
-    settings = _settings(model, method)
+    settings = _settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = _cases(cases, t1, t2, grid)
-    result = _run(rig_model, load_cases, settings, "solving load cases")
+    result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
     console.print(_sweep_table(result))
     console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
                   "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
@@ -209,6 +223,8 @@ def check(
     rig: RigOption = None,
     model: ModelOption = "beam",
     out: OutOption = None,
+    solver: SolverOption = "auto",
+    mesh_size_mm: MeshOption = None,
 ) -> None:
     """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
 
@@ -217,18 +233,19 @@ def check(
     when every held-out row is within tolerance (2 % of Y and β, or 1e-7 mm next to the input
     sign change).
     """
-    settings = _settings(model)
+    settings = _settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     rows = paper_table()
     cases = tuple(r.case for r in rows)
-    blind = _run(rig_model, cases, settings, "blind sweep")
+    prepared = _prepare(rig_model, settings)
+    blind = _run(rig_model, cases, settings, "blind sweep", prepared)
     with console.status("calibrating (least squares on rows T2 = 10 and 200 N·m)"):
         try:
-            calibration = calibrate(rig_model, rows)
+            calibration = calibrate(rig_model, rows, settings=settings, prepared=prepared)
         except KeyError as error:  # the rig lacks a parameter that the calibration fits
             raise UserError(f"rig file {_rig_text(rig)[0]}: cannot calibrate: {error.args[0]} (the check fits "
                             + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None
-    calibrated = _run(calibration.rig, cases, settings, "calibrated sweep")
+    calibrated = _run(calibration.rig, cases, settings, "calibrated sweep", prepared)
     comparison_blind, comparison_cal = compare(rows, blind), compare(rows, calibrated)
     held_out = report.held_out_mask(len(rows), calibration.fit_rows)
     result = verdict(comparison_cal, held_out)

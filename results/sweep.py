@@ -157,17 +157,37 @@ def rigid_body_modes(system: RigSystem) -> np.ndarray:
     return modes
 
 
+@dataclass(frozen=True, eq=False)
+class PreparedModel:
+    """An assembled system with its solver set up (one factorisation), reusable across sweeps."""
+
+    system: RigSystem
+    solve: object
+    solver_name: str
+    report: object
+
+
+def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
+    """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver."""
+    check_supports(rig)
+    options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
+    system = assemble_rig(rig, settings.model, **options)
+    return PreparedModel(system, *_prepare(system, settings))
+
+
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
-              system: RigSystem | None = None) -> Sweep:
+              prepared: PreparedModel | None = None) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case.
 
-    ``system`` may be passed to reuse an assembled model of the same rig and settings.
+    ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
+    parameters may differ: the unit loads are rebuilt from ``rig``).
     """
-    if system is None:
-        check_supports(rig)
-        options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
-        system = assemble_rig(rig, settings.model, **options)
-    solve, solver_name, report = _prepare(system, settings)
+    if prepared is None:
+        prepared = prepare_model(rig, settings)
+        system = prepared.system
+    else:
+        system = prepared.system.with_loads_of(rig)
+    solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     loads = system.unit_loads
     unit = solve(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
