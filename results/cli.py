@@ -182,12 +182,16 @@ def sweep(
     method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
     solver: SolverOption = "auto",
     mesh_size_mm: MeshOption = None,
+    fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
 ) -> None:
     """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json."""
     settings = _settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = _cases(cases, t1, t2, grid)
     result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
+    if fields:
+        for path in _write_fields(out / "fields", result):
+            console.print(f"wrote {path}")
     console.print(_sweep_table(result))
     console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
                   "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
@@ -195,6 +199,16 @@ def sweep(
     source, text = _rig_text(rig)
     for path in _write_sweep(out, result, source, text):
         console.print(f"wrote {path}")
+
+
+def _write_fields(folder: Path, result) -> list[Path]:
+    from results.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
+
+    mesh, _ = sweep_field_mesh(result)
+    cases = sweep_field_cases(result)
+    written = [write_vtu(folder / f"case_{i:02d}.vtu", mesh, case) for i, case in enumerate(cases)]
+    written += list(write_xdmf_series(folder / "sweep.xdmf", mesh, cases).values())
+    return written
 
 
 def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -> Table:
@@ -272,6 +286,10 @@ def check(
                                                                          calibration.fit_rows))]
         written += _write_sweep(out, calibrated, source, text, calibration)
         written += _write_sweep(out, blind, source, text, stem="blind_sweep")
+        from results.pictures import plot_y_vs_torque
+
+        written.append(plot_y_vs_torque({"blind": blind, "calibrated": calibrated}, out / f"check_{model}.png",
+                                        published=rows, title=f"{rig_model.rig.name}: {model} model vs paper 000"))
         for path in written:
             console.print(f"wrote {path}")
     raise typer.Exit(code=0 if result.passed else 1)
@@ -294,6 +312,60 @@ def _print_calibration(calibration) -> None:
         values = ", ".join(f"{p.parameter.address.split('.')[-1]} = {p.fitted_value:.4g}" for p in alternative)
         console.print(f"[dim]another exact fit of the two fitting rows ({alternative[0].parameter.shaft} shaft): "
                       f"{values}; not used (farther from the reference values)[/]")
+
+
+@app.command()
+@_guard
+def picture(
+    rig: RigOption = None,
+    model: ModelOption = "beam",
+    out: OutOption = Path("rvcoax_out"),
+    cases: Annotated[Path | None, typer.Option("--cases", help="Load cases file (as for sweep).")] = None,
+    t1: Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")] = None,
+    t2: Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")] = None,
+    warp_fraction: Annotated[float, typer.Option("--warp-fraction", help="Largest displacement drawn as this fraction of the rig length.")] = 0.05,
+    solver: SolverOption = "auto",
+    mesh_size_mm: MeshOption = None,
+) -> None:
+    """Off-screen pictures: the deformed rig per case (u_y in µm, same colour limits across the sweep,
+    measured paths drawn) and Y against torque with the published points."""
+    from results.fields import sweep_field_cases, sweep_field_mesh
+    from results.pictures import (
+        RenderingUnavailableError,
+        enclosing_parts,
+        plot_y_vs_torque,
+        render_deformed,
+        sweep_colour_limits_um,
+    )
+
+    if not 0 < warp_fraction < 1:
+        raise UserError(f"--warp-fraction must be in (0, 1), got {warp_fraction}")
+    settings = _settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    rig_model = load_rig(rig)
+    load_cases = _cases(cases, t1, t2, False)
+    result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
+    mesh, paths = sweep_field_mesh(result)
+    field_cases = sweep_field_cases(result)
+    limits = sweep_colour_limits_um(field_cases)
+    housings = enclosing_parts(mesh)
+    folder = out / "pictures"
+    try:
+        with _progress() as progress:
+            task = progress.add_task("rendering", total=len(field_cases))
+            for i, case in enumerate(field_cases):
+                info = render_deformed(mesh, case, folder / f"deformed_{model}_{i:02d}.png", paths=paths,
+                                       warp_fraction=warp_fraction, colour_limits_um=limits,
+                                       translucent_parts=housings,
+                                       title=f"{rig_model.rig.name} ({model}): T1 = {case.T1_input_Nm:g} N·m, "
+                                             f"T2 = {case.T2_output_Nm:g} N·m")
+                progress.update(task, completed=i + 1)
+    except RenderingUnavailableError as error:
+        raise UserError(str(error)) from None
+    published = paper_table() if cases is None and t1 is None else None
+    plot = plot_y_vs_torque(result, folder / f"y_vs_torque_{model}.png", published=published,
+                            title=f"{rig_model.rig.name} ({model} model)")
+    console.print(f"wrote {len(field_cases)} pictures to {folder} (colour limits {limits[0]:.3g} .. {limits[1]:.3g} µm, "
+                  f"last warp factor {info['warp_factor']:.3g}) and {plot}")
 
 
 @rig_app.command("show")

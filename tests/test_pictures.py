@@ -1,0 +1,139 @@
+"""Pictures: off-screen renders of the deformed rig and the Y-against-torque plot are drawn and not blank."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from geometry.rigfile import load_rig
+from loadcases.cases import paper_cases, paper_table
+from results import pictures
+from results.fields import FieldCase, FieldMesh, beam_field_cases, beam_field_mesh, path_point_indices, path_polylines
+from results.pictures import (
+    RenderingUnavailableError,
+    enclosing_parts,
+    plot_y_vs_torque,
+    render_deformed,
+    sweep_colour_limits_um,
+)
+from results.sweep import run_sweep
+
+SIZE = (800, 300)
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    return run_sweep(load_rig(), paper_cases()[::9])  # 3 cases: first, middle, last row
+
+
+@pytest.fixture(scope="module")
+def beam(sweep):
+    return beam_field_mesh(sweep.model), beam_field_cases(sweep.model, sweep.cases)
+
+
+@pytest.fixture(scope="module")
+def rendered(tmp_path_factory, sweep, beam):
+    """Two cases of a sweep rendered with the sweep's colour limits."""
+    mesh, cases = beam
+    folder = tmp_path_factory.mktemp("pictures")
+    limits = sweep_colour_limits_um(cases)
+    housings = enclosing_parts(mesh)
+    infos = [render_deformed(mesh, case, folder / f"case{i}.png", rig_length_m=None,
+                             paths=path_point_indices(sweep.model), colour_limits_um=limits,
+                             translucent_parts=housings, title=case.label, window_size=SIZE)
+             for i, case in enumerate(cases[:2])]
+    return folder, limits, infos
+
+
+def _pixels(path) -> np.ndarray:
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGB"), dtype=float)
+
+
+def _assert_not_blank(path, size, min_fraction=0.02):
+    pixels = _pixels(path)
+    assert pixels.shape == (size[1], size[0], 3)
+    assert pixels.std() > 10.0
+    drawn = np.any(np.abs(pixels - 255.0) > 30.0, axis=2)
+    assert drawn.sum() > min_fraction * drawn.size
+
+
+def test_deformed_pictures_exist_have_size_and_content(rendered):
+    folder, _, infos = rendered
+    for info in infos:
+        assert info["path"].exists()
+        _assert_not_blank(info["path"], SIZE)
+    assert sorted(p.name for p in folder.iterdir()) == ["case0.png", "case1.png"]  # no temporary left
+
+
+def test_sweep_pictures_share_colour_limits(rendered, beam):
+    _, limits, infos = rendered
+    _, cases = beam
+    assert infos[0]["colour_limits_um"] == infos[1]["colour_limits_um"] == limits
+    largest = max(np.abs(c.displacement_y_um).max() for c in cases)
+    assert limits == (-largest, largest)
+    # the scalar bars (right-hand strip with its labels) are drawn identically
+    bars = [_pixels(info["path"])[int(0.1 * SIZE[1]):int(0.9 * SIZE[1]), int(0.89 * SIZE[0]):] for info in infos]
+    np.testing.assert_array_equal(bars[0], bars[1])
+
+
+def test_warp_factor_and_translucent_housings(rendered, beam):
+    mesh, cases = beam
+    _, _, infos = rendered
+    length = float(np.ptp(mesh.points, axis=0).max())
+    for info, case in zip(infos, cases):
+        largest = np.linalg.norm(case.displacement_m, axis=1).max()
+        assert info["max_displacement_m"] == pytest.approx(largest)
+        assert info["warp_factor"] * largest == pytest.approx(0.05 * length)
+    housings = set(infos[0]["translucent_parts"])
+    assert {"reducer", "input_bearing_block", "output_bearing_block", "brake_housing"} <= housings
+    assert not housings & {"input_shaft", "output_shaft", "motor_shaft"}
+
+
+def test_render_hybrid_mesh_and_default_limits(tmp_path):
+    corners = np.array([[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]], float)
+    edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+    points = np.vstack([corners, [(corners[a] + corners[b]) / 2 for a, b in edges], [[-0.2, 0, 0]]])
+    mesh = FieldMesh(points, [[10, 0]], [0.01], [0], ("shaft", "block"), [list(range(10))], [1])
+    u = np.zeros((11, 3))
+    u[:, 1] = np.linspace(-1e-6, 2e-6, 11)
+    case = FieldCase("hybrid", 1.0, 100.0, u)
+    info = render_deformed(mesh, case, tmp_path / "h.png", rig_length_m=0.3, paths=[[10, 0]],
+                           window_size=(400, 200))
+    _assert_not_blank(info["path"], (400, 200))
+    assert info["colour_limits_um"] == pytest.approx((-2.0, 2.0))
+
+
+def test_paths_given_as_coordinates(beam, sweep, tmp_path):
+    mesh, cases = beam
+    # input and output shafts overlap housings: their nodes coincide with housing nodes
+    with pytest.raises(ValueError, match="point indices"):
+        render_deformed(mesh, cases[0], tmp_path / "x.png", paths=list(path_polylines(sweep.model).values()))
+    with pytest.raises(ValueError, match="unknown parts"):
+        render_deformed(mesh, cases[0], tmp_path / "x.png", translucent_parts=["no_such_part"])
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_missing_rendering_libraries_are_named(monkeypatch):
+    monkeypatch.setattr(pictures, "_probe_result", None)
+    monkeypatch.setattr(pictures, "_try_window", lambda window: (False, f"{window} failed (exit status -11)"))
+    monkeypatch.delenv("VTK_DEFAULT_OPENGL_WINDOW", raising=False)
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    with pytest.raises(RenderingUnavailableError, match="libegl1 libegl-mesa0 libgl1-mesa-dri"):
+        pictures.check_offscreen_rendering()
+
+
+def test_y_vs_torque_plot(tmp_path, sweep):
+    path = plot_y_vs_torque(sweep, tmp_path / "y.png", published=paper_table(), title="reference rig")
+    _assert_not_blank(path, Image.open(path).size, min_fraction=0.01)
+    rows = {
+        "T1_input_Nm": [c.case.input_torque_Nm for c in sweep.cases],
+        "T2_output_Nm": [c.case.output_torque_Nm for c in sweep.cases],
+        "Y_input_mm": [c.paths["input"].y_max_mm for c in sweep.cases],
+        "Y_output_mm": [c.paths["output"].y_max_mm for c in sweep.cases],
+    }
+    two = plot_y_vs_torque({"blind": sweep, "as arrays": rows}, tmp_path / "two.png", path_lengths_mm=(120, 160))
+    _assert_not_blank(two, Image.open(two).size, min_fraction=0.01)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["two.png", "y.png"]
