@@ -125,10 +125,11 @@ def _prepare(system: RigSystem, settings: SweepSettings):
 
     reduced = (system.elimination.T @ system.stiffness @ system.elimination).tocsr()
     near_null = None
-    if settings.solver == "amg" or (settings.solver == "auto" and reduced.shape[0] > solvers.PARDISO_LIMIT):
+    method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
+    if method == "amg":
         near_null = system.elimination.T @ rigid_body_modes(system)
     try:
-        prepared = solvers.prepare(reduced, method=settings.solver, near_null_space=near_null)
+        prepared = solvers.prepare(reduced, method=method, near_null_space=near_null)
     except solvers.SingularMatrixError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
 

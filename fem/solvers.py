@@ -1,0 +1,318 @@
+"""Sparse symmetric positive definite solvers: one set-up, any number of right-hand sides.
+
+Matrices and vectors only (no meshes). Three methods, measured on this stack
+(shared/notes/fe-stack-debian12.md):
+
+- ``"superlu"``: scipy's SuperLU (``splu``), symmetric mode. Robust, no extra dependency; best
+  for small systems (time and memory grow fast: 14 GB at 300 k DOF).
+- ``"pardiso"``: Intel MKL PARDISO through pypardiso in SPD mode (``mtype=2``, upper triangle
+  only; the default unsymmetric mode costs twice the time and memory). Fastest up to a few
+  100 k DOF; all right-hand sides in one call. x86-64 only.
+- ``"amg"``: pyamg smoothed aggregation (near null space: the rigid-body modes) as a
+  preconditioner of scipy's conjugate gradients. Least memory; the hierarchy is built once.
+
+``"auto"`` picks SuperLU below ``superlu_max_dofs`` (20 k), PARDISO up to ``pardiso_max_dofs``
+(400 k) when pypardiso can be loaded, AMG above (or without pypardiso).
+"""
+
+from __future__ import annotations
+
+import functools
+import resource
+import time
+import weakref
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fem.solve import SingularModelError
+
+METHODS = ("superlu", "pardiso", "amg")
+SUPERLU_MAX_DOFS = 20_000
+PARDISO_MAX_DOFS = 400_000
+SINGULAR_PIVOT_RATIO = 1e-14  # |pivot| / max |pivot| below this: numerically singular (as fem.solve)
+DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
+
+
+class SolverError(RuntimeError):
+    """A linear solve failed (iterative solver did not converge, bad input, solver library error)."""
+
+
+class SingularMatrixError(SolverError, SingularModelError):
+    """A direct factorisation found the matrix singular (a part can move without deforming)."""
+
+
+@dataclass(frozen=True)
+class SolverReport:
+    """What a prepared solver did.
+
+    Attributes
+    ----------
+    name : str
+        Method and library, e.g. ``"pardiso (MKL PARDISO, SPD, mtype=2)"``.
+    n_dofs : int
+    setup_seconds : float
+        Factorisation (direct) or AMG hierarchy (iterative), wall time.
+    solve_seconds : float
+        Wall time of the latest :meth:`PreparedSolver.solve` call (all its right-hand sides).
+    peak_memory_MB : float
+        Peak resident memory of the whole process so far (``ru_maxrss``), which includes C and
+        Fortran allocations (MKL, SuperLU) that tracemalloc does not see. It is a process-wide
+        high-water mark: it includes whatever ran before the solver.
+    peak_memory_increase_MB : float
+        How much that high-water mark rose during set-up and solves (0 when an earlier peak was
+        higher): a lower bound of the solver's own memory.
+    relative_residuals : tuple of float
+        ‖A x − b‖ / ‖b‖ per right-hand side of the latest solve.
+    iterations : tuple of int
+        CG iterations per right-hand side (AMG only; empty for direct methods).
+    """
+
+    name: str
+    n_dofs: int
+    setup_seconds: float
+    solve_seconds: float = 0.0
+    peak_memory_MB: float = 0.0
+    peak_memory_increase_MB: float = 0.0
+    relative_residuals: tuple[float, ...] = ()
+    iterations: tuple[int, ...] = ()
+
+
+def _peak_rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+
+
+@functools.cache
+def pardiso_available() -> bool:
+    """Whether pypardiso imports and finds MKL (x86-64); checked once per process."""
+    try:
+        import pypardiso
+
+        pypardiso.PyPardisoSolver()
+    except (ImportError, OSError):
+        return False
+    return True
+
+
+def choose_method(
+    n_dofs: int, superlu_max_dofs: int = SUPERLU_MAX_DOFS, pardiso_max_dofs: int = PARDISO_MAX_DOFS
+) -> str:
+    """The ``"auto"`` choice for a system of ``n_dofs`` unknowns."""
+    if n_dofs < superlu_max_dofs:
+        return "superlu"
+    if n_dofs <= pardiso_max_dofs and pardiso_available():
+        return "pardiso"
+    return "amg"
+
+
+class PreparedSolver:
+    """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
+
+    def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,
+                 release=None):
+        self.matrix = matrix
+        self._solve_block = solve_block
+        self._rss_before = rss_before
+        self._direct = not name.startswith("amg")
+        # library memory outside Python (PARDISO's factor) is freed when this object goes away
+        self._finalizer = weakref.finalize(self, release) if release is not None else None
+        peak = _peak_rss_mb()
+        self._report = SolverReport(name, matrix.shape[0], setup_seconds, 0.0, peak, max(0.0, peak - rss_before))
+
+    def release(self) -> None:
+        """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
+        if self._finalizer is not None:
+            self._finalizer()
+        self._solve_block = None
+
+    def __enter__(self) -> PreparedSolver:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+    @property
+    def report(self) -> SolverReport:
+        """Report of the set-up and the latest solve."""
+        return self._report
+
+    @property
+    def n_dofs(self) -> int:
+        return self.matrix.shape[0]
+
+    def solve(self, rhs) -> np.ndarray:
+        """Solution of A x = b for b of shape (n,) or (n, m) (all columns in one go), same shape."""
+        b = np.asarray(rhs, dtype=float)
+        if b.ndim not in (1, 2) or b.shape[0] != self.n_dofs:
+            raise ValueError(f"right-hand side must have shape ({self.n_dofs},) or ({self.n_dofs}, m), got {b.shape}")
+        block = b.reshape(self.n_dofs, -1)
+        if self._solve_block is None:
+            raise SolverError(f"{self._report.name}: solver was released")
+        start = time.perf_counter()
+        x, iterations = self._solve_block(block)
+        elapsed = time.perf_counter() - start
+        if not np.all(np.isfinite(x)):
+            raise SingularMatrixError(f"{self._report.name}: the solution contains NaN or inf (singular matrix)")
+        scale = np.linalg.norm(block, axis=0)
+        residuals = np.linalg.norm(self.matrix @ x - block, axis=0) / np.where(scale > 0.0, scale, 1.0)
+        if self._direct and np.any(residuals > DIRECT_RESIDUAL_LIMIT):
+            raise SingularMatrixError(
+                f"{self._report.name}: relative residual {residuals.max():.1e} after a direct solve; "
+                "the matrix is numerically singular (a part can move without deforming?)"
+            )
+        peak = _peak_rss_mb()
+        self._report = replace(
+            self._report,
+            solve_seconds=elapsed,
+            peak_memory_MB=peak,
+            peak_memory_increase_MB=max(0.0, peak - self._rss_before),
+            relative_residuals=tuple(float(r) for r in residuals),
+            iterations=tuple(iterations),
+        )
+        return x.reshape(b.shape)
+
+
+def _symmetric_csr(matrix) -> sp.csr_matrix:
+    if not sp.issparse(matrix):
+        raise TypeError(f"expected a scipy sparse matrix, got {type(matrix).__name__}")
+    a = sp.csr_matrix(matrix, dtype=float)
+    if a.shape[0] != a.shape[1]:
+        raise ValueError(f"matrix must be square, got shape {a.shape}")
+    a.sum_duplicates()
+    a.sort_indices()
+    return a
+
+
+def _setup_superlu(a: sp.csr_matrix):
+    try:
+        lu = spla.splu(
+            a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+        )
+    except RuntimeError as error:  # "Factor is exactly singular"
+        raise SingularMatrixError(f"SuperLU: {error}") from error
+    pivots = np.abs(lu.U.diagonal())
+    if pivots.size and pivots.min() <= SINGULAR_PIVOT_RATIO * pivots.max():
+        raise SingularMatrixError(
+            f"SuperLU: pivot ratio {pivots.min() / pivots.max():.1e} at equation {int(np.argmin(pivots))}: "
+            "the matrix is numerically singular"
+        )
+
+    def solve(block):
+        return lu.solve(block), ()
+
+    return "superlu (scipy SuperLU, symmetric mode)", solve, None
+
+
+def _setup_pardiso(a: sp.csr_matrix):
+    try:
+        import pypardiso
+    except ImportError as error:
+        raise SolverError("method 'pardiso' needs pypardiso (x86-64 only): pip install pypardiso") from error
+    solver = pypardiso.PyPardisoSolver(mtype=2)  # real SPD: Cholesky-type, upper triangle
+    upper = sp.triu(a, format="csr")
+    upper.sort_indices()
+    try:
+        solver.factorize(upper)
+    except (pypardiso.pardiso_wrapper.PyPardisoError, ValueError) as error:
+        equation = int(solver.get_iparm(30)) - 1
+        try:
+            solver.free_memory(everything=True)
+        except pypardiso.pardiso_wrapper.PyPardisoError:
+            pass
+        if isinstance(error, ValueError):  # pypardiso refuses empty rows
+            raise SingularMatrixError(f"PARDISO: {error}") from error
+        if error.value == -4:  # zero pivot in the numerical factorisation
+            raise SingularMatrixError(
+                f"PARDISO: zero or negative pivot at equation {equation}: "
+                "the matrix is singular or not positive definite"
+            ) from error
+        raise SolverError(f"PARDISO factorisation failed with error {error.value}") from error
+
+    def solve(block):
+        try:
+            return solver.solve(upper, np.asfortranarray(block)).reshape(block.shape), ()
+        except pypardiso.pardiso_wrapper.PyPardisoError as error:
+            raise SolverError(f"PARDISO solve failed with error {error.value}") from error
+
+    def release():
+        solver.free_memory(everything=True)  # pypardiso never frees MKL's copy of the factor by itself
+
+    return "pardiso (MKL PARDISO, SPD, mtype=2)", solve, release
+
+
+def _setup_amg(a: sp.csr_matrix, near_null_space, rtol: float, maxiter: int | None):
+    import pyamg
+
+    b = None if near_null_space is None else np.asarray(near_null_space, dtype=float).reshape(a.shape[0], -1)
+    hierarchy = pyamg.smoothed_aggregation_solver(a, B=b, symmetry="symmetric", coarse_solver="splu")
+    preconditioner = hierarchy.aspreconditioner(cycle="V")
+
+    def solve(block):
+        x = np.zeros_like(block)
+        iterations = []
+        for j in range(block.shape[1]):
+            if not np.any(block[:, j]):
+                iterations.append(0)
+                continue
+            count = [0]
+
+            def callback(_, count=count):
+                count[0] += 1
+
+            x[:, j], info = spla.cg(a, block[:, j], rtol=rtol, atol=0.0, maxiter=maxiter, M=preconditioner,
+                                    callback=callback)
+            if info != 0:
+                raise SolverError(f"AMG-preconditioned CG did not reach rtol {rtol:.0e} in {count[0]} iterations")
+            iterations.append(count[0])
+        return x, iterations
+
+    n_modes = 1 if b is None else b.shape[1]
+    return f"amg (pyamg smoothed aggregation, {n_modes} near-null-space vectors, scipy CG)", solve, None
+
+
+def prepare(
+    matrix,
+    method: str = "auto",
+    near_null_space=None,
+    *,
+    superlu_max_dofs: int = SUPERLU_MAX_DOFS,
+    pardiso_max_dofs: int = PARDISO_MAX_DOFS,
+    rtol: float = 1e-10,
+    maxiter: int | None = None,
+) -> PreparedSolver:
+    """Set up a symmetric positive definite matrix for solving.
+
+    Parameters
+    ----------
+    matrix : scipy sparse (n, n)
+        Symmetric positive definite (constraints already eliminated).
+    method : {"auto", "superlu", "pardiso", "amg"}
+    near_null_space : (n, k) array, optional
+        AMG only: the rigid-body modes of the unconstrained structure (``fem.solid.rigid_body_modes``)
+        restricted to the free DOFs. Without them AMG converges slowly on elasticity.
+    superlu_max_dofs, pardiso_max_dofs : int
+        Size thresholds of ``"auto"``.
+    rtol, maxiter : AMG-preconditioned CG stopping rule (relative residual).
+
+    Raises
+    ------
+    SingularMatrixError
+        A direct factorisation found the matrix singular.
+    SolverError
+        Unknown method, pypardiso missing for ``"pardiso"``, or a solver library error.
+    """
+    rss_before = _peak_rss_mb()
+    a = _symmetric_csr(matrix)
+    chosen = choose_method(a.shape[0], superlu_max_dofs, pardiso_max_dofs) if method == "auto" else method
+    start = time.perf_counter()
+    if chosen == "superlu":
+        name, solve, release = _setup_superlu(a)
+    elif chosen == "pardiso":
+        name, solve, release = _setup_pardiso(a)
+    elif chosen == "amg":
+        name, solve, release = _setup_amg(a, near_null_space, rtol, maxiter)
+    else:
+        raise SolverError(f"unknown solver method '{method}': choose one of auto, {', '.join(METHODS)}")
+    return PreparedSolver(a, name, solve, time.perf_counter() - start, rss_before, release)

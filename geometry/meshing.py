@@ -1,0 +1,368 @@
+"""Solid mesh of one round part (stepped, hollow shaft along x) as curved quadratic tetrahedra.
+
+The part is built with gmsh's OpenCASCADE kernel: one cylinder (minus its bore) for every interval
+between consecutive breakpoints (segment ends and the extra split planes), fragmented together so
+that the volumes are conforming and every surface is split at every breakpoint: facets never
+straddle a band edge where a load or a bearing attaches. The mesh is second order with mid-edge
+nodes on the true (curved) geometry: straight-sided P2 tets overestimate a shaft's deflection by
+0.6–2 % (shared/notes/fe-stack-debian12.md). gmsh runs with one thread, so the same geometry
+always gives the same mesh.
+
+Meshes are cached on disk (compressed ``.npz``, checksummed, written atomically); a corrupt entry
+is detected, deleted and rebuilt. Coordinates of the returned mesh are in metres.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import math
+import os
+import tempfile
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import skfem
+
+logger = logging.getLogger(__name__)
+
+MESHER_VERSION = 1
+"""Bump whenever a change here changes the meshes produced (invalidates every cache entry)."""
+
+MM = 1e-3
+_TOL_MM = 1e-6  # breakpoints closer than this are one plane
+_ELEMENTS_PER_CIRCLE = 8  # gmsh Mesh.MeshSizeFromCurvature
+
+# gmsh's 10-node tetrahedron lists the mid-edge nodes of edges (0,1), (1,2), (2,0), (3,0), (3,2),
+# (3,1); scikit-fem expects (0,1), (1,2), (0,2), (0,3), (1,3), (2,3): swap the last two.
+_GMSH_TO_SKFEM_TET10 = np.array([0, 1, 2, 3, 4, 5, 6, 7, 9, 8])
+
+
+class MeshingError(RuntimeError):
+    """gmsh failed, or produced a mesh that cannot be used (inverted curved elements)."""
+
+
+@dataclass(frozen=True)
+class SolidPartGeometry:
+    """A round part on the global x axis, in millimetres.
+
+    Parameters
+    ----------
+    name : str
+        For messages only (not part of the cache key: equal shapes share one cache entry).
+    segments : tuple of (x_start_mm, x_end_mm, outer_diameter_mm, inner_diameter_mm)
+        Contiguous along x (each segment starts where the previous one ends); inner diameter 0
+        for a solid segment.
+    split_x_mm : tuple of float
+        Extra planes x = const where the volume and its surfaces are split (edges of the bands
+        where loads or bearings attach), strictly inside the part.
+    mesh_size_mm : float
+        Target (largest) element edge length.
+    """
+
+    name: str
+    segments: tuple[tuple[float, float, float, float], ...]
+    split_x_mm: tuple[float, ...] = ()
+    mesh_size_mm: float = 5.0
+
+    def __post_init__(self) -> None:
+        segments = tuple(tuple(float(v) for v in segment) for segment in self.segments)
+        splits = tuple(sorted(float(x) for x in self.split_x_mm))
+        object.__setattr__(self, "segments", segments)
+        object.__setattr__(self, "split_x_mm", splits)
+        object.__setattr__(self, "mesh_size_mm", float(self.mesh_size_mm))
+        where = f"part '{self.name}'"
+        if not segments:
+            raise ValueError(f"{where}: no segments")
+        for k, segment in enumerate(segments):
+            if len(segment) != 4 or not all(math.isfinite(v) for v in segment):
+                raise ValueError(f"{where}, segment {k}: expected 4 finite numbers, got {segment}")
+            x0, x1, outer, inner = segment
+            if not x1 > x0:
+                raise ValueError(f"{where}, segment {k}: x_end {x1} must be > x_start {x0}")
+            if not outer > 0.0:
+                raise ValueError(f"{where}, segment {k}: outer diameter must be > 0, got {outer}")
+            if not 0.0 <= inner < outer:
+                raise ValueError(f"{where}, segment {k}: inner diameter must be in [0, {outer}), got {inner}")
+            if k and abs(x0 - segments[k - 1][1]) > _TOL_MM:
+                raise ValueError(
+                    f"{where}: segment {k} starts at x = {x0} mm, the previous one ends at {segments[k - 1][1]} mm"
+                )
+        start, end = segments[0][0], segments[-1][1]
+        for x in splits:
+            if not (math.isfinite(x) and start < x < end):
+                raise ValueError(f"{where}: split plane x = {x} mm is not strictly inside ({start}, {end}) mm")
+        if not (math.isfinite(self.mesh_size_mm) and self.mesh_size_mm > 0.0):
+            raise ValueError(f"{where}: mesh size must be > 0, got {self.mesh_size_mm}")
+
+    @property
+    def breakpoints_mm(self) -> tuple[float, ...]:
+        """Sorted planes x = const bounding the meshed intervals (segment ends and split planes)."""
+        candidates = sorted([s[0] for s in self.segments] + [self.segments[-1][1]] + list(self.split_x_mm))
+        merged = [candidates[0]]
+        for x in candidates[1:]:
+            if x - merged[-1] > _TOL_MM:
+                merged.append(x)
+        return tuple(merged)
+
+    def section_at(self, x_mm: float) -> tuple[float, float]:
+        """(outer, inner) diameter in mm of the segment containing ``x_mm`` (first one on a boundary)."""
+        for x0, x1, outer, inner in self.segments:
+            if x0 - _TOL_MM <= x_mm <= x1 + _TOL_MM:
+                return outer, inner
+        raise ValueError(f"x = {x_mm} mm is outside part '{self.name}'")
+
+    @property
+    def volume_mm3(self) -> float:
+        """Exact volume of the part."""
+        return sum(math.pi / 4.0 * (o * o - i * i) * (x1 - x0) for x0, x1, o, i in self.segments)
+
+    @property
+    def surface_mm2(self) -> float:
+        """Exact surface area (mantles, bores, end faces and shoulder rings)."""
+        area = sum(math.pi * (o + i) * (x1 - x0) for x0, x1, o, i in self.segments)
+        first, last = self.segments[0], self.segments[-1]
+        area += math.pi / 4.0 * (first[2] ** 2 - first[3] ** 2 + last[2] ** 2 - last[3] ** 2)
+        for a, b in zip(self.segments[:-1], self.segments[1:]):
+            area += math.pi / 4.0 * abs(a[2] ** 2 - b[2] ** 2) + math.pi / 4.0 * abs(a[3] ** 2 - b[3] ** 2)
+        return area
+
+    def cache_key(self) -> str:
+        """SHA-256 over the shape, the mesh size, gmsh's version and :data:`MESHER_VERSION`."""
+        import gmsh
+
+        payload = {
+            "segments": [list(s) for s in self.segments],
+            "split_x_mm": list(self.split_x_mm),
+            "mesh_size_mm": self.mesh_size_mm,
+            "gmsh": gmsh.__version__,
+            "mesher_version": MESHER_VERSION,
+        }
+        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+# --------------------------------------------------------------------------------------------- cache
+
+
+def default_cache_dir() -> Path:
+    """``$RVCOAX_CACHE_DIR`` if set, else ``~/.cache/rvcoax/meshes``."""
+    env = os.environ.get("RVCOAX_CACHE_DIR")
+    return Path(env) if env else Path.home() / ".cache" / "rvcoax" / "meshes"
+
+
+def cache_path(geometry: SolidPartGeometry, cache_dir: Path | None = None) -> Path:
+    """The cache file of ``geometry`` (whether or not it exists)."""
+    directory = default_cache_dir() if cache_dir is None else Path(cache_dir)
+    return directory / f"{geometry.cache_key()}.npz"
+
+
+def _checksum(doflocs: np.ndarray, t: np.ndarray) -> str:
+    digest = hashlib.sha256()
+    for array in (doflocs, t):
+        digest.update(f"{array.dtype.str}{array.shape}".encode())
+        digest.update(np.ascontiguousarray(array).tobytes())
+    return digest.hexdigest()
+
+
+def _write_cache(path: Path, mesh: skfem.MeshTet2) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    doflocs, t = np.ascontiguousarray(mesh.doflocs), np.ascontiguousarray(mesh.t)
+    handle = tempfile.NamedTemporaryFile(dir=path.parent, prefix=path.stem + ".", suffix=".tmp", delete=False)
+    try:
+        with handle:
+            np.savez_compressed(handle, doflocs=doflocs, t=t, checksum=np.array(_checksum(doflocs, t)))
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.chmod(handle.name, 0o644)  # mkstemp creates 0600
+        os.replace(handle.name, path)
+    except BaseException:
+        Path(handle.name).unlink(missing_ok=True)
+        raise
+
+
+def _read_cache(path: Path) -> skfem.MeshTet2 | None:
+    """The cached mesh, or None when absent; a damaged entry is deleted (and None returned)."""
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            doflocs, t, checksum = data["doflocs"], data["t"], str(data["checksum"])
+        if checksum != _checksum(doflocs, t) or doflocs.ndim != 2 or doflocs.shape[0] != 3 or t.shape[0] != 4:
+            raise ValueError("checksum or shape mismatch")
+        return skfem.MeshTet2(doflocs, t)
+    except Exception as error:  # truncated zip, missing key, bad checksum, ...
+        logger.warning("mesh cache entry %s is damaged (%s): deleted, meshing again", path, error)
+        path.unlink(missing_ok=True)
+        return None
+
+
+# ------------------------------------------------------------------------------------------- meshing
+
+
+def _build_occ_model(gmsh, geometry: SolidPartGeometry) -> None:
+    occ = gmsh.model.occ
+    volumes = []
+    breakpoints = geometry.breakpoints_mm
+    for x0, x1 in zip(breakpoints[:-1], breakpoints[1:]):
+        outer, inner = geometry.section_at(0.5 * (x0 + x1))
+        tag = occ.addCylinder(x0, 0.0, 0.0, x1 - x0, 0.0, 0.0, 0.5 * outer)
+        if inner > 0.0:
+            bore = occ.addCylinder(x0, 0.0, 0.0, x1 - x0, 0.0, 0.0, 0.5 * inner)
+            cut, _ = occ.cut([(3, tag)], [(3, bore)])
+            volumes.extend(cut)
+        else:
+            volumes.append((3, tag))
+    if len(volumes) > 1:
+        occ.fragment(volumes[:1], volumes[1:])
+    occ.synchronize()
+
+
+def _gmsh_tet10(gmsh) -> tuple[np.ndarray, np.ndarray]:
+    """Node coordinates (3, n) in mm and 10-node tets (10, n_tets) in scikit-fem's node order."""
+    node_tags, coordinates, _ = gmsh.model.mesh.getNodes()
+    element_types, _, element_nodes = gmsh.model.mesh.getElements(3)
+    tet10 = gmsh.model.mesh.getElementType("Tetrahedron", 2)
+    if list(element_types) != [tet10]:
+        raise MeshingError(f"expected only 10-node tetrahedra, gmsh produced element types {list(element_types)}")
+    index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
+    index[node_tags.astype(np.int64)] = np.arange(node_tags.size)
+    t = index[np.asarray(element_nodes[0], dtype=np.int64).reshape(-1, 10)][:, _GMSH_TO_SKFEM_TET10]
+    if np.any(t < 0):
+        raise MeshingError("a tetrahedron refers to a node gmsh did not list")
+    return coordinates.reshape(-1, 3).T, t.T
+
+
+def _to_skfem(coordinates_mm: np.ndarray, t: np.ndarray) -> skfem.MeshTet2:
+    return skfem.MeshTet2(np.ascontiguousarray(coordinates_mm * MM), np.ascontiguousarray(t))
+
+
+def _inverted_elements(mesh: skfem.MeshTet2) -> np.ndarray:
+    """Indices of curved tets whose Jacobian determinant changes sign over their 10 nodes."""
+    det = mesh._mapping().detDF(skfem.ElementTetP2().doflocs.T)  # (n_tets, 10)
+    return np.flatnonzero(det.min(axis=1) * det.max(axis=1) <= 0.0)
+
+
+def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
+    """Mesh with gmsh. gmsh is a process-wide singleton: if someone else has initialised it, mesh in
+    a model of our own and remove it afterwards (our options stay set); otherwise initialise and
+    always finalise."""
+    import gmsh
+
+    owner = not gmsh.isInitialized()
+    if owner:
+        # gmsh's SIGINT handler can only be installed from the main thread
+        gmsh.initialize(readConfigFiles=False, interruptible=threading.current_thread() is threading.main_thread())
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.Verbosity", 2)
+        gmsh.option.setNumber("General.NumThreads", 1)  # 2 threads give different node counts per run
+        gmsh.model.add(geometry.name or "part")
+        _build_occ_model(gmsh, geometry)
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        # at least ~8 elements around every circle: a small bore under a coarse size would otherwise
+        # give intersecting facets (gmsh "PLC Error") or inverted curved tets
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", _ELEMENTS_PER_CIRCLE)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", geometry.mesh_size_mm)
+        gmsh.option.setNumber("Mesh.ElementOrder", 2)
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-edge nodes on the curved geometry
+        gmsh.model.mesh.generate(3)
+        mesh = _to_skfem(*_gmsh_tet10(gmsh))
+        if _inverted_elements(mesh).size:
+            # curving boundary edges of coarse tets can invert them; gmsh's high-order optimiser
+            # moves the interior high-order nodes (cheap, deterministic, only needed when coarse)
+            gmsh.model.mesh.optimize("HighOrder")
+            mesh = _to_skfem(*_gmsh_tet10(gmsh))
+    except MeshingError:
+        raise
+    except Exception as error:
+        raise MeshingError(f"gmsh failed to mesh part '{geometry.name}': {error}") from error
+    finally:
+        if owner:
+            gmsh.finalize()
+        elif gmsh.isInitialized():
+            gmsh.model.remove()
+    bad = _inverted_elements(mesh)
+    if bad.size:
+        raise MeshingError(
+            f"part '{geometry.name}': {bad.size} curved tetrahedra are inverted (Jacobian changes sign); "
+            "use a smaller mesh size"
+        )
+    return mesh
+
+
+def mesh_part(
+    geometry: SolidPartGeometry, cache_dir: Path | None = None, use_cache: bool = True
+) -> skfem.MeshTet2:
+    """Curved quadratic tetrahedral mesh of ``geometry``, coordinates in metres.
+
+    Parameters
+    ----------
+    geometry : SolidPartGeometry
+    cache_dir : Path, optional
+        Where cached meshes live; None: :func:`default_cache_dir`.
+    use_cache : bool
+        False: neither read nor write the cache (always run gmsh).
+
+    Returns
+    -------
+    skfem.MeshTet2
+        Vertex nodes first, then one mid-edge node per edge (scikit-fem's order), in metres.
+
+    Raises
+    ------
+    MeshingError
+        When gmsh fails or a curved element is inverted.
+    """
+    path = cache_path(geometry, cache_dir) if use_cache else None
+    if path is not None:
+        cached = _read_cache(path)
+        if cached is not None:
+            return cached
+    mesh = _run_gmsh(geometry)
+    if path is not None:
+        try:
+            _write_cache(path, mesh)
+        except OSError as error:
+            logger.warning("could not write mesh cache entry %s: %s", path, error)
+    return mesh
+
+
+# Fit to gmsh 4.15 (one thread, curvature sizing as above) on 6 solid, hollow and stepped shafts with
+# h = 2–15 mm (35 meshes of 1.3 k–184 k nodes): estimate / actual node count within 0.82–1.28.
+_NODES_PER_VOLUME = 4.85
+_NODES_PER_AREA = 5.9
+
+
+def _surface_size(h: float, diameter: float) -> float:
+    """Element size gmsh uses on a cylinder of ``diameter``: h, or less on small circles."""
+    return min(h, math.pi * diameter / _ELEMENTS_PER_CIRCLE) if diameter > 0.0 else h
+
+
+def estimate_dofs(geometry: SolidPartGeometry) -> int:
+    """Rough number of P2 displacement DOFs :func:`mesh_part` will produce (no meshing).
+
+    ``DOFs ≈ 3 Σ_segments (a V / h_v³ + b Σ_surfaces A / h_s²)``, with h_s = min(h, π D / 8) the
+    size on a cylinder of diameter D (gmsh's curvature sizing), h_v = √(h_outer h_bore) the size
+    inside a segment (h_bore = h for a solid one), end faces and shoulder rings meshed at the
+    smaller size of their segment, and a = 4.85, b = 5.9 nodes fitted to gmsh's output (vertices
+    plus mid-edge nodes). Measured within a factor of 1.3 of the actual count for h = 2–15 mm.
+    Use it to warn before building a huge model.
+    """
+    h = geometry.mesh_size_mm
+    segments = geometry.segments
+    volume_term = surface_term = 0.0
+    for k, (x0, x1, outer, inner) in enumerate(segments):
+        h_outer, h_bore = _surface_size(h, outer), _surface_size(h, inner)
+        volume_term += math.pi / 4.0 * (outer**2 - inner**2) * (x1 - x0) / (h_outer * h_bore) ** 1.5
+        surface_term += math.pi * (x1 - x0) * (outer / h_outer**2 + inner / h_bore**2)
+        face = math.pi / 4.0 * (outer**2 - inner**2) / min(h_outer, h_bore) ** 2
+        surface_term += face * ((k == 0) + (k == len(segments) - 1))
+        if k:
+            previous_outer, previous_inner = segments[k - 1][2], segments[k - 1][3]
+            surface_term += math.pi / 4.0 * abs(outer**2 - previous_outer**2) / h_outer**2
+            surface_term += math.pi / 4.0 * abs(inner**2 - previous_inner**2) / h_bore**2
+    return int(round(3.0 * (_NODES_PER_VOLUME * volume_term + _NODES_PER_AREA * surface_term)))

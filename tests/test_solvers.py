@@ -1,0 +1,171 @@
+"""Sparse SPD solvers: agreement of the methods, many right-hand sides, reports, auto choice, singularity."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from fem import solid, solvers
+from fem.assembly import assemble_matrix
+from fem.solve import SingularModelError
+from fem.solvers import SingularMatrixError, SolverError, SolverReport, pardiso_available, prepare
+from geometry.meshing import SolidPartGeometry, mesh_part
+
+HAS_PARDISO = pardiso_available()
+METHODS = [
+    "superlu",
+    pytest.param("pardiso", marks=pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso/MKL not available")),
+    "amg",
+]
+
+
+def laplacian_2d(n: int) -> sp.csr_matrix:
+    """SPD 5-point Laplacian on an n × n grid plus a small shift."""
+    one_d = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    eye = sp.identity(n)
+    return (sp.kron(one_d, eye) + sp.kron(eye, one_d) + 1e-3 * sp.identity(n * n)).tocsr()
+
+
+@pytest.fixture(scope="module")
+def cantilever(tmp_path_factory):
+    """Reduced stiffness, load vectors (3 cases) and rigid-body modes of a clamped solid bar."""
+    geometry = SolidPartGeometry("bar", ((0.0, 160.0, 20.0, 0.0),), (), 8.0)
+    mesh = mesh_part(geometry, cache_dir=tmp_path_factory.mktemp("meshes"))
+    basis = solid.solid_basis(mesh)
+    k = assemble_matrix(basis.N, [solid.stiffness_triplets(basis, 2.1e11, 0.3)])
+    tip = mesh.facets_satisfying(lambda x: np.isclose(x[0], 0.160))
+    clamp = mesh.facets_satisfying(lambda x: np.isclose(x[0], 0.0))
+    free = np.setdiff1d(np.arange(basis.N), basis.get_dofs(clamp).all())
+    loads = np.column_stack([
+        solid.force_traction_vector(mesh, tip, [0.0, -1000.0, 0.0]),
+        solid.force_traction_vector(mesh, tip, [500.0, 0.0, 200.0]),
+        solid.torque_traction_vector(mesh, tip, [0, 0, 0], [1, 0, 0], 50.0),
+    ])[free]
+    modes = solid.rigid_body_modes(basis.doflocs.T)[free]
+    return k[free][:, free].tocsr(), loads, modes, k
+
+
+def relative_difference(a, b):
+    return np.abs(a - b).max() / np.abs(b).max()
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_methods_agree_on_a_small_spd_system(method):
+    a = laplacian_2d(20)
+    rhs = np.random.default_rng(1).normal(size=a.shape[0])
+    reference = np.linalg.solve(a.toarray(), rhs)
+    solver = prepare(a, method)
+    assert relative_difference(solver.solve(rhs), reference) < 1e-8
+    assert solver.report.name.startswith(method)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_methods_agree_on_a_solid_cantilever(cantilever, method):
+    k, loads, modes, _ = cantilever
+    reference = prepare(k, "superlu").solve(loads)
+    solution = prepare(k, method, near_null_space=modes).solve(loads)
+    for j in range(loads.shape[1]):
+        assert relative_difference(solution[:, j], reference[:, j]) < 1e-8
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_many_right_hand_sides_equal_single_solves(cantilever, method):
+    k, loads, modes, _ = cantilever
+    solver = prepare(k, method, near_null_space=modes)
+    together = solver.solve(loads)
+    assert together.shape == loads.shape
+    assert len(solver.report.relative_residuals) == loads.shape[1]
+    for j in range(loads.shape[1]):
+        single = solver.solve(loads[:, j])
+        assert single.shape == (k.shape[0],)
+        assert relative_difference(together[:, j], single) < 1e-10
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_report_fields_are_filled(cantilever, method):
+    k, loads, modes, _ = cantilever
+    solver = prepare(k, method, near_null_space=modes)
+    before = solver.report
+    assert isinstance(before, SolverReport)
+    assert before.solve_seconds == 0.0 and before.relative_residuals == ()
+    solver.solve(loads)
+    report = solver.report
+    assert report.name.startswith(method)
+    assert report.n_dofs == k.shape[0]
+    assert report.setup_seconds > 0.0 and report.solve_seconds > 0.0
+    assert report.peak_memory_MB > 0.0 and report.peak_memory_increase_MB >= 0.0
+    assert len(report.relative_residuals) == loads.shape[1]
+    assert max(report.relative_residuals) < 1e-9
+    if method == "amg":
+        assert len(report.iterations) == loads.shape[1] and min(report.iterations) > 0
+    else:
+        assert report.iterations == ()
+
+
+def test_zero_right_hand_side_gives_zero(cantilever):
+    k, _, modes, _ = cantilever
+    for method in ("superlu", "amg"):
+        x = prepare(k, method, near_null_space=modes).solve(np.zeros(k.shape[0]))
+        assert not np.any(x)
+
+
+def test_auto_picks_by_size(monkeypatch):
+    a = laplacian_2d(10)  # 100 DOFs
+    assert prepare(a, "auto").report.name.startswith("superlu")
+    assert prepare(a, "auto", superlu_max_dofs=50, pardiso_max_dofs=80).report.name.startswith("amg")
+    if HAS_PARDISO:
+        assert prepare(a, "auto", superlu_max_dofs=50, pardiso_max_dofs=1000).report.name.startswith("pardiso")
+    # without pypardiso the middle range goes to AMG
+    monkeypatch.setattr(solvers, "pardiso_available", lambda: False)
+    assert solvers.choose_method(30_000) == "amg"
+    assert solvers.choose_method(10_000) == "superlu"
+    assert prepare(a, "auto", superlu_max_dofs=50).report.name.startswith("amg")
+
+
+def test_default_thresholds():
+    assert solvers.choose_method(19_999) == "superlu"
+    assert solvers.choose_method(1_000_000) == "amg"
+    assert solvers.choose_method(100_000) == ("pardiso" if HAS_PARDISO else "amg")
+
+
+@pytest.mark.parametrize("method", [m for m in METHODS if m != "amg"])
+def test_singular_matrix_raises(cantilever, method):
+    _, _, _, unconstrained = cantilever  # the free solid: six rigid-body motions
+    with pytest.raises(SingularMatrixError, match="singular"):
+        prepare(unconstrained, method)
+    # two springs in series, nothing grounded: exactly singular
+    springs = sp.csr_matrix(np.array([[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]))
+    with pytest.raises(SingularMatrixError):
+        prepare(springs, method)
+    # the beam model's error type catches it too
+    with pytest.raises(SingularModelError):
+        prepare(springs, method)
+
+
+def test_bad_input_is_rejected():
+    a = laplacian_2d(5)
+    with pytest.raises(SolverError, match="unknown solver method"):
+        prepare(a, "cholesky")
+    with pytest.raises(ValueError, match="square"):
+        prepare(sp.csr_matrix(np.ones((2, 3))))
+    with pytest.raises(TypeError):
+        prepare(np.eye(3))
+    with pytest.raises(ValueError, match="right-hand side"):
+        prepare(a).solve(np.ones(7))
+
+
+def test_amg_reports_non_convergence(cantilever):
+    k, loads, modes, _ = cantilever
+    with pytest.raises(SolverError, match="did not reach"):
+        prepare(k, "amg", near_null_space=modes, maxiter=2).solve(loads[:, 0])
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_release_frees_the_solver(cantilever, method):
+    k, loads, modes, _ = cantilever
+    with prepare(k, method, near_null_space=modes) as solver:
+        solver.solve(loads[:, 0])
+    with pytest.raises(SolverError, match="released"):
+        solver.solve(loads[:, 0])
+    solver.release()  # twice is harmless
