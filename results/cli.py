@@ -429,3 +429,7 @@ def rig_reference() -> None:
 def run() -> None:
     """Console-script entry point."""
     app()
+
+
+if __name__ == "__main__":
+    run()

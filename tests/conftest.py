@@ -1,0 +1,17 @@
+"""Test-wide settings: meshes are cached in a per-session temporary folder, never in the user's cache."""
+
+import os
+
+import pytest
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _mesh_cache(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("mesh-cache")
+    previous = os.environ.get("RVCOAX_CACHE_DIR")
+    os.environ["RVCOAX_CACHE_DIR"] = str(folder)
+    yield folder
+    if previous is None:
+        os.environ.pop("RVCOAX_CACHE_DIR", None)
+    else:
+        os.environ["RVCOAX_CACHE_DIR"] = previous

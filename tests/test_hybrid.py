@@ -1,0 +1,153 @@
+"""Hybrid and solid models of the reference rig: ties, consistency with the beam model, outputs.
+
+A coarse solid mesh (8 mm) keeps these tests fast; accuracy against the converged mesh is the
+subject of benchmarks/bench_convergence.py.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import meshio
+import numpy as np
+import pytest
+
+from fem.ties import FaceNodes, distributing_tie_operator, rigid_tie_equations
+from geometry.loads import UNIT_LOADS
+from geometry.rigfile import load_rig
+from loadcases.cases import LoadCase, paper_cases
+from results.sweep import SweepSettings, prepare_model, run_sweep
+
+COARSE = 8.0
+HYBRID = SweepSettings(model="hybrid", mesh_size_mm=COARSE)
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return load_rig()
+
+
+@pytest.fixture(scope="module")
+def prepared(rig):
+    return prepare_model(rig, HYBRID)
+
+
+@pytest.fixture(scope="module")
+def hybrid(rig, prepared):
+    return run_sweep(rig, paper_cases(), HYBRID, prepared=prepared)
+
+
+@pytest.fixture(scope="module")
+def beam(rig):
+    return run_sweep(rig, paper_cases())
+
+
+def _ring(n=24, seed=3):
+    rng = np.random.default_rng(seed)
+    phi = rng.uniform(0, 2 * np.pi, n)
+    points = np.c_[0.3 + rng.uniform(-0.01, 0.01, n), 0.02 * np.cos(phi), 0.02 * np.sin(phi)]
+    return FaceNodes(points, np.arange(3 * n).reshape(n, 3), rng.uniform(0.5, 1.5, n))
+
+
+def test_distributing_tie_follows_rigid_motion_and_spreads_loads_statically():
+    face = _ring()
+    centre = np.array([0.3, 0.001, -0.002])
+    op = distributing_tie_operator(centre, face)
+    u0, theta = np.array([1e-3, -2e-3, 3e-4]), np.array([0.01, 0.02, -0.03])
+    motion = u0 + np.cross(theta, face.coordinates - centre)
+    np.testing.assert_allclose(op @ motion.ravel(), np.r_[u0, theta], rtol=1e-12, atol=1e-15)
+    # a force and moment on the reference node become face forces (opᵀ) with the same resultant
+    load = np.array([10.0, -20.0, 5.0, 1.5, -0.5, 2.0])
+    forces = (op.T @ load).reshape(-1, 3)
+    np.testing.assert_allclose(forces.sum(axis=0), load[:3], rtol=1e-12)
+    moment = np.cross(face.coordinates - centre, forces).sum(axis=0)
+    np.testing.assert_allclose(moment, load[3:], rtol=1e-10, atol=1e-12)
+
+
+def test_rigid_tie_moves_face_as_rigid_body():
+    face = _ring(6)
+    centre = np.array([0.3, 0.0, 0.0])
+    equations = rigid_tie_equations(0, centre, face)
+    u_ref = np.array([1e-3, 2e-3, -1e-3, 0.01, -0.02, 0.005])
+    for node, dofs in zip(face.coordinates, face.dofs):
+        expected = u_ref[:3] + np.cross(u_ref[3:], node - centre)
+        got = [sum(c * u_ref[d] for d, c in equations[int(dof)].items()) for dof in dofs]
+        np.testing.assert_allclose(got, expected, rtol=1e-12)
+
+
+def test_hybrid_model_has_two_solid_shafts_and_beams(prepared):
+    system = prepared.system
+    assert {s.name for s in system.solids} == {"input_shaft", "output_shaft"}
+    assert system.n_dofs > system.frame.structure.n_dofs + 10_000
+    assert len(system.frame.structure.beams.connectivity) > 100  # the rest stays beams
+
+
+def test_hybrid_equilibrium_and_residual_in_every_case(hybrid):
+    assert max(c.equilibrium_error for c in hybrid.cases) < 1e-9
+    assert max(c.residual for c in hybrid.cases) < 1e-8
+
+
+@pytest.mark.parametrize("load, shaft", [("T1", "input"), ("T2", "output"), ("gravity", "input"),
+                                         ("gravity", "output")])
+def test_hybrid_agrees_with_beam_model(hybrid, beam, load, shaft):
+    """The same rig at two fidelities: the largest |u_y| of each unit response agrees within 5 %."""
+    a = hybrid.unit_paths[load][shaft]
+    b = beam.unit_paths[load][shaft]
+    assert a.station_of_max_mm == b.station_of_max_mm
+    assert a.y_max_signed_mm == pytest.approx(b.y_max_signed_mm, rel=0.05)
+
+
+def test_hybrid_direct_equals_superposition(rig, prepared):
+    cases = (LoadCase(1.43, 200.0), LoadCase(0.28, 40.0))
+    direct = run_sweep(rig, cases, SweepSettings(model="hybrid", mesh_size_mm=COARSE, method="direct"),
+                       prepared=prepared)
+    superposed = run_sweep(rig, cases, HYBRID, prepared=prepared)
+    for a, b in zip(direct.cases, superposed.cases):
+        for shaft in ("input", "output"):
+            np.testing.assert_allclose(a.paths[shaft].uy_mm, b.paths[shaft].uy_mm, rtol=1e-7,
+                                       atol=1e-7 * np.abs(b.paths[shaft].uy_mm).max())
+
+
+def test_torque_reaches_the_solid_shafts_as_torsion(hybrid):
+    """T2 = 1 N·m twists the output shaft: its rotation about x is not zero, its Y paths stay tiny."""
+    system = hybrid.system
+    unit = hybrid.unit_displacements[:, UNIT_LOADS.index("T2")]
+    output = next(s for s in system.solids if s.name == "output_shaft")
+    block = unit[output.offset: output.offset + output.n_dofs].reshape(-1, 3)
+    assert np.abs(block).max() > 0
+
+
+def test_hybrid_fields_and_picture(tmp_path, hybrid):
+    from results.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
+    from results.pictures import render_deformed
+
+    mesh, paths = sweep_field_mesh(hybrid)
+    cases = sweep_field_cases(hybrid)[:2]
+    assert mesh.tetra10.shape[0] > 1000
+    vtu = write_vtu(tmp_path / "c.vtu", mesh, cases[0])
+    back = meshio.read(vtu)
+    assert "tetra10" in {c.type for c in back.cells}
+    np.testing.assert_allclose(back.point_data["displacement"], cases[0].displacement_m)
+    files = write_xdmf_series(tmp_path / "s.xdmf", mesh, cases)
+    assert files["xdmf"].exists()
+    # the path points carry the probed u_y of the sweep
+    uy = cases[0].displacement_m[paths["input"], 1] * 1e3
+    np.testing.assert_allclose(uy, hybrid.cases[0].paths["input"].uy_mm, rtol=1e-12)
+    info = render_deformed(mesh, cases[0], tmp_path / "h.png", paths=paths, window_size=(800, 300))
+    from PIL import Image
+
+    image = np.asarray(Image.open(info["path"]))
+    assert image.shape[:2] == (300, 800) and image.std() > 5
+
+
+def test_cli_check_hybrid_and_solid_models(tmp_path):
+    """rvcoax check runs at hybrid and solid fidelity (coarse mesh) and passes on held-out rows."""
+    for model in ("hybrid", "solid"):
+        out = tmp_path / model
+        run = subprocess.run([sys.executable, "-m", "results.cli", "check", "--model", model,
+                              "--mesh-size-mm", "10", "--out", str(out)], capture_output=True, text=True,
+                             timeout=600)
+        assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+        assert "VERDICT: within tolerance" in run.stdout
+        assert (out / "check.csv").exists() and (out / f"check_{model}.png").exists()
