@@ -39,8 +39,16 @@ test: $(BIN)/rvcoax
 lint: $(BIN)/rvcoax
 	$(BIN)/ruff check .
 
+# Benchmarks print their figures and append them to benchmarks/RESULTS.md. CalculiX (the peer of
+# bench_calculix.py) is installed from Debian when missing and we are root.
 bench: $(BIN)/rvcoax
+	@command -v ccx >/dev/null || { [ "$$(id -u)" = "0" ] && apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends calculix-ccx; } || true
 	$(BIN)/python benchmarks/bench_sweep.py
+	$(BIN)/python benchmarks/bench_convergence.py
+	$(BIN)/python benchmarks/bench_fidelity.py
+	$(BIN)/python benchmarks/bench_calculix.py
+	$(BIN)/python benchmarks/bench_solid_scaling.py
 
 clean:
 	rm -rf $(VENV) $(OUT) build *.egg-info
