@@ -1,0 +1,373 @@
+"""Solid model at ~50 k, ~300 k and ~1 M DOF: time and peak memory of every phase.
+
+The model is the reference rig's output shaft as a cantilever: Ø35/30/35/30/30 mm steps over
+160 mm (shifted to start at x = 0), Q460 (E = 206 GPa, ν = 0.28), clamped on its end face x = 0,
+100 N in −y as a uniform traction on the end face x = 160 mm. Curved quadratic tets from
+geometry.meshing (gmsh, one thread) at three mesh sizes:
+
+    50k   h = 4.0 mm    52,698 DOF
+    300k  h = 2.1 mm   298,017 DOF
+    1M    h = 1.35 mm 1,043,940 DOF
+
+Phases: meshing (gmsh, cache bypassed), basis (scikit-fem), element matrices (fem.solid),
+sparse assembly (fem.assembly), load vector, constraint elimination (slicing out the clamped
+DOFs), solver set-up and solve (fem.solvers.prepare, method "auto": PARDISO up to 400 k DOF,
+AMG above) and probing (interpolation at 41 points on the axis, tip-face mean). Each size runs in a
+fresh Python process, so the peak resident memory read after every phase (VmHWM, the process's
+high-water mark of resident memory: ru_maxrss without the parent's share) is that size's own; the
+table also gives the rise of that high-water mark during each phase, and the CPU time (user and
+system, all threads) of each phase.
+
+Up to 400 k DOF the child also times the previous assembly (scipy ``coo_matrix(...).tocsr()``,
+kept below as :func:`scipy_reference_assembly`) against :func:`fem.assembly.assemble_matrix`
+(best of 3, alternating) and checks that both give the same matrix.
+
+Run: ``.venv/bin/python benchmarks/bench_solid_scaling.py [--sizes 50k,300k,1M]``. Prints the
+figures and appends them to benchmarks/RESULTS.md (``--no-record``: print only).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from machine import record  # noqa: E402
+
+# the reference rig's output shaft, shifted to x = 0: (x_start, x_end, outer Ø, inner Ø) in mm
+SEGMENTS = ((0.0, 15.0, 35.0, 0.0), (15.0, 35.0, 30.0, 0.0), (35.0, 85.0, 35.0, 0.0),
+            (85.0, 105.0, 30.0, 0.0), (105.0, 160.0, 30.0, 0.0))
+LENGTH_MM = 160.0
+YOUNGS_PA, POISSON = 206e9, 0.28  # Q460, paper 000
+TIP_FORCE_N = (0.0, -100.0, 0.0)
+SIZES = {"50k": 4.0, "300k": 2.1, "1M": 1.35}  # label -> mesh size (mm)
+COMPARE_ASSEMBLY_MAX_DOFS = 400_000
+N_PROBES = 41
+
+
+def geometry(label: str):
+    from geometry.meshing import SolidPartGeometry
+
+    return SolidPartGeometry(f"cantilever_{label}", SEGMENTS, (), SIZES[label])
+
+
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process so far, MB.
+
+    VmHWM from /proc/self/status: the high-water mark of this program's own address space. (The
+    ru_maxrss of a child started by subprocess also carries the parent's resident memory at the
+    time of the fork, which VmHWM, reset by exec, does not.) ru_maxrss where there is no /proc.
+    """
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def nodes_at_x(basis, x_m: float, tol: float = 1e-9):
+    """Node coordinates (k, 3) and DOFs (k, 3) of all P2 nodes on the plane x = x_m."""
+    from fem import solid
+
+    coordinates, dofs = solid.dof_locations(basis)
+    on_plane = abs(coordinates[:, 0] - x_m) < tol
+    return coordinates[on_plane], dofs[on_plane]
+
+
+def scipy_reference_assembly(n_dofs, pieces):
+    """fem.assembly.assemble_matrix before the counting-sort rewrite (scipy's COO -> CSR)."""
+    import numpy as np
+    import scipy.sparse as sp
+
+    rows, cols, vals = [], [], []
+    for r, c, v in pieces:
+        rows.append(np.asarray(r, dtype=np.int64))
+        cols.append(np.asarray(c, dtype=np.int64))
+        vals.append(np.asarray(v, dtype=float))
+    matrix = sp.coo_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n_dofs, n_dofs)
+    ).tocsr()
+    matrix.sum_duplicates()
+    return matrix
+
+
+def first_touch_seconds_per_gib() -> tuple[float, float]:
+    """Seconds to allocate and fill 1 GiB: memory new to this process, then the same amount again at once.
+
+    On a virtual machine whose host backs guest memory lazily (and takes free pages back, e.g.
+    virtio-balloon free page reporting) the first figure can be 5–10× the second: every phase that
+    raises a process's memory high-water mark pays it, in system time.
+    """
+    import numpy as np
+
+    seconds = []
+    for _ in range(2):
+        start = time.perf_counter()
+        block = np.ones(2**27)
+        seconds.append(time.perf_counter() - start)
+        del block
+    return seconds[0], seconds[1]
+
+
+class Phases:
+    """Wall time, CPU time (user, system; all threads) and ru_maxrss after each phase."""
+
+    def __init__(self) -> None:
+        self.rows: list[dict] = []
+        self._rss = peak_rss_mb()
+        self.baseline_mb = self._rss
+
+    def run(self, name: str, function, *args):
+        before = resource.getrusage(resource.RUSAGE_SELF)
+        start = time.perf_counter()
+        result = function(*args)
+        elapsed = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_SELF)
+        rss = peak_rss_mb()
+        self.rows.append({"phase": name, "seconds": elapsed, "peak_rss_mb": rss, "increase_mb": rss - self._rss,
+                          "user_seconds": after.ru_utime - before.ru_utime,
+                          "system_seconds": after.ru_stime - before.ru_stime})
+        self._rss = rss
+        return result
+
+
+def run_one(label: str) -> dict:
+    """One size in this process: every phase timed; returns the figures."""
+    import numpy as np
+
+    from fem import solid
+    from fem.assembly import assemble_matrix
+    from fem.solvers import prepare
+    from geometry.meshing import mesh_part
+
+    load_before = os.getloadavg()[0]
+    phases = Phases()
+    mesh = phases.run("meshing (gmsh, 1 thread)", lambda: mesh_part(geometry(label), use_cache=False))
+    basis = phases.run("basis (scikit-fem, intorder 2)", lambda: solid.solid_basis(mesh))
+    n = int(basis.N)
+    triplets = phases.run("element matrices", lambda: solid.stiffness_triplets(basis, YOUNGS_PA, POISSON))
+    n_triplets = int(triplets[0].size)
+    stiffness = phases.run("sparse assembly", assemble_matrix, n, [triplets])
+    del triplets
+
+    def load_vector():
+        tip_facets = mesh.facets_satisfying(lambda x: np.isclose(x[0], LENGTH_MM * 1e-3, rtol=0.0, atol=1e-9))
+        return solid.force_traction_vector(mesh, tip_facets, TIP_FORCE_N)
+
+    force = phases.run("load vector (tip traction)", load_vector)
+
+    def eliminate(stiffness):
+        _, clamped = nodes_at_x(basis, 0.0)
+        keep = np.ones(n, dtype=bool)
+        keep[clamped.ravel()] = False
+        free = np.flatnonzero(keep)
+        return free, stiffness[free][:, free], force[free]
+
+    free, reduced, reduced_force = phases.run("constraint elimination (slice out clamped DOFs)", eliminate, stiffness)
+    del stiffness
+
+    def set_up():
+        modes = solid.rigid_body_modes(basis.doflocs.T)[free]
+        return prepare(reduced, method="auto", near_null_space=modes)
+
+    solver = phases.run("solver set-up", set_up)
+    q = phases.run("solve", lambda: solver.solve(reduced_force))
+    report = solver.report
+    solver.release()
+
+    def probe():
+        u = np.zeros(n)
+        u[free] = q
+        _, tip_dofs = nodes_at_x(basis, LENGTH_MM * 1e-3)
+        points = np.column_stack([np.linspace(0.0, LENGTH_MM * 1e-3, N_PROBES), np.zeros(N_PROBES), np.zeros(N_PROBES)])
+        along_axis = (solid.probe_matrix(basis, points) @ u).reshape(-1, 3)
+        return float(u[tip_dofs[:, 1]].mean()), along_axis
+
+    tip_mean_uy, along_axis = phases.run("probing (41 axis points + tip-face mean)", probe)
+    load_after = os.getloadavg()[0]
+
+    result = {
+        "label": label,
+        "mesh_size_mm": SIZES[label],
+        "n_dofs": n,
+        "n_free": int(free.size),
+        "n_tets": int(mesh.t.shape[1]),
+        "n_nodes": int(mesh.doflocs.shape[1]),
+        "n_triplets": n_triplets,
+        "nnz": int(reduced.nnz),
+        "phases": phases.rows,
+        "baseline_rss_mb": phases.baseline_mb,
+        "solver": report.name,
+        "iterations": [int(i) for i in report.iterations],
+        "residual": max(report.relative_residuals),
+        "tip_mean_uy_um": 1e6 * tip_mean_uy,
+        "axis_tip_uy_um": 1e6 * float(along_axis[-1, 1]),
+        "load_average": [load_before, load_after],
+    }
+    if n <= COMPARE_ASSEMBLY_MAX_DOFS:
+        result["assembly_comparison"] = compare_assembly(basis)
+    return result
+
+
+def _status_mb(key: str) -> float | None:
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith(key + ":"):
+                    return int(line.split()[1]) / 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _reset_peak() -> bool:
+    """Reset this process's VmHWM to its current resident size (Linux ≥ 4.0: clear_refs 5)."""
+    try:
+        with open("/proc/self/clear_refs", "w", encoding="ascii") as refs:
+            refs.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def compare_assembly(basis, repeats: int = 3) -> dict:
+    """Best-of-``repeats`` times of the new and the previous sparse assembly (and element matrices).
+
+    The two run alternately, in turn first; each call's extra peak memory (peak resident memory
+    during the call minus the resident memory before it) is measured by resetting VmHWM.
+    """
+    import numpy as np
+
+    from fem import solid
+    from fem.assembly import assemble_matrix
+
+    previous = "previous (scipy coo->csr)"
+    times = {"element matrices": [], "new": [], previous: []}
+    extra_mb = {"new": [], previous: []}
+    matrices = {}
+    for repeat in range(repeats):
+        start = time.perf_counter()
+        triplets = solid.stiffness_triplets(basis, YOUNGS_PA, POISSON)
+        times["element matrices"].append(time.perf_counter() - start)
+        order = [("new", assemble_matrix), (previous, scipy_reference_assembly)]
+        for name, function in order if repeat % 2 == 0 else order[::-1]:
+            matrices.pop(name, None)
+            resettable = _reset_peak()
+            before = _status_mb("VmRSS")
+            start = time.perf_counter()
+            matrix = function(basis.N, [triplets])
+            times[name].append(time.perf_counter() - start)
+            peak = _status_mb("VmHWM")
+            if resettable and before is not None and peak is not None:
+                extra_mb[name].append(peak - before)
+            matrices[name] = matrix
+            del matrix
+        del triplets
+    new, old = matrices["new"], matrices[previous]
+    same_pattern = bool(np.array_equal(new.indptr, old.indptr) and np.array_equal(new.indices, old.indices))
+    difference = float(np.abs(new.data - old.data).max() / np.abs(old.data).max()) if same_pattern else float("nan")
+    return {"best_seconds": {k: min(v) for k, v in times.items()}, "all_seconds": times,
+            "extra_peak_mb": {k: max(v) for k, v in extra_mb.items() if v},
+            "same_pattern": same_pattern, "max_relative_difference": difference}
+
+
+def fmt_mb(mb: float) -> str:
+    return f"{mb / 1024:.2f} GB" if mb >= 1024 else f"{mb:.0f} MB"
+
+
+def figures_of(result: dict) -> list[tuple[str, str]]:
+    tag = f"{result['label']} ({result['n_dofs']:,} DOF)"
+    rows = [(f"{tag}: model", f"h = {result['mesh_size_mm']} mm, {result['n_tets']:,} tets, {result['n_nodes']:,} nodes, "
+                              f"{result['n_triplets']:,} triplets, {result['nnz']:,} nonzeros after elimination")]
+    total = 0.0
+    for row in result["phases"]:
+        total += row["seconds"]
+        rows.append((f"{tag}: {row['phase']}",
+                     f"{row['seconds']:.2f} s (CPU user {row['user_seconds']:.2f} s, system {row['system_seconds']:.2f} s), "
+                     f"peak RSS {fmt_mb(row['peak_rss_mb'])} (+{fmt_mb(row['increase_mb'])})"))
+    by_name = {row["phase"]: row["seconds"] for row in result["phases"]}
+    assembly = by_name["element matrices"] + by_name["sparse assembly"]
+    rows.append((f"{tag}: total", f"{total:.1f} s (meshing to probed displacement); peak RSS "
+                                  f"{fmt_mb(result['phases'][-1]['peak_rss_mb'])}, of which {fmt_mb(result['baseline_rss_mb'])} "
+                                  "before meshing (interpreter and imports)"))
+    rows.append((f"{tag}: element matrices + sparse assembly", f"{assembly:.2f} s = {result['n_dofs'] / assembly / 1e3:.0f} k DOF/s"))
+    iterations = f", {result['iterations'][0]} CG iterations" if result["iterations"] else ""
+    rows.append((f"{tag}: solver", f"{result['solver']}{iterations}, relative residual {result['residual']:.1e}"))
+    rows.append((f"{tag}: tip deflection", f"tip-face node mean u_y {result['tip_mean_uy_um']:.4f} µm, "
+                                           f"axis point at the tip {result['axis_tip_uy_um']:.4f} µm"))
+    comparison = result.get("assembly_comparison")
+    if comparison:
+        best = comparison["best_seconds"]
+        element, new, old = best["element matrices"], best["new"], best["previous (scipy coo->csr)"]
+        rows.append((f"{tag}: sparse assembly, previous → new (best of 3)",
+                     f"{old:.2f} s → {new:.2f} s ({old / new:.1f}× faster); same pattern: {comparison['same_pattern']}, "
+                     f"values differ by ≤ {comparison['max_relative_difference']:.1e} (relative to max)"))
+        extra = comparison.get("extra_peak_mb", {})
+        if extra:
+            rows.append((f"{tag}: sparse assembly, extra peak memory during the call, previous → new",
+                         f"{fmt_mb(extra['previous (scipy coo->csr)'])} → {fmt_mb(extra['new'])} "
+                         f"(triplets {fmt_mb(result['n_triplets'] * 24 / 2**20)}, held by the caller)"))
+        runs = comparison["all_seconds"]
+        rows.append((f"{tag}: sparse assembly, every run, previous / new",
+                     f"{', '.join(f'{t:.2f}' for t in runs['previous (scipy coo->csr)'])} s / "
+                     f"{', '.join(f'{t:.2f}' for t in runs['new'])} s"))
+        rows.append((f"{tag}: element matrices + sparse assembly, previous → new (best of 3)",
+                     f"{element + old:.2f} s → {element + new:.2f} s = {result['n_dofs'] / (element + old) / 1e3:.0f} → "
+                     f"{result['n_dofs'] / (element + new) / 1e3:.0f} k DOF/s"))
+    rows.append((f"{tag}: load average (1 min) before / after", "{:.2f} / {:.2f}".format(*result["load_average"])))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sizes", default=",".join(SIZES), help=f"comma-separated, from {', '.join(SIZES)}")
+    parser.add_argument("--no-record", action="store_true", help="print only, do not append to RESULTS.md")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        print(json.dumps(run_one(args.child)))
+        return
+    labels = [s.strip() for s in args.sizes.split(",") if s.strip()]
+    unknown = [s for s in labels if s not in SIZES]
+    if unknown:
+        parser.error(f"unknown size(s) {unknown}: choose from {', '.join(SIZES)}")
+    cold, warm = first_touch_seconds_per_gib()
+    figures: list[tuple[str, str]] = [
+        ("model", f"stepped cantilever (output shaft, L = {LENGTH_MM:.0f} mm), clamped at x = 0, "
+                  f"{-TIP_FORCE_N[1]:.0f} N tip traction; curved P2 tets; one fresh process per size"),
+        ("machine: allocate + fill 1 GiB", f"{cold:.2f} s new to the process, {warm:.2f} s reused at once "
+                                           "(the difference is paid by every phase that raises the peak memory)"),
+    ]
+    for name, value in figures:
+        print(f"{name}: {value}", flush=True)
+    for label in labels:
+        start = time.perf_counter()
+        completed = subprocess.run([sys.executable, __file__, "--child", label], capture_output=True, text=True)
+        wall = time.perf_counter() - start
+        if completed.returncode != 0:
+            print(completed.stderr, file=sys.stderr)
+            last = (completed.stderr.strip().splitlines() or ["(no message)"])[-1]
+            figures.append((f"{label}: FAILED", f"exit status {completed.returncode} after {wall:.0f} s: {last}"))
+            continue
+        result = json.loads(completed.stdout.strip().splitlines()[-1])
+        rows = figures_of(result)
+        rows.append((f"{label} ({result['n_dofs']:,} DOF): child process wall time", f"{wall:.1f} s"))
+        for name, value in rows:
+            print(f"{name}: {value}", flush=True)
+        figures += rows
+    if not args.no_record:
+        record("bench_solid_scaling.py: solid cantilever, time and peak memory per phase", figures)
+
+
+if __name__ == "__main__":
+    main()
