@@ -17,9 +17,9 @@ Both codes then start from that mesh:
   (slicing out the clamped DOFs), PARDISO (SPD) set-up and solve, tip-face displacements; run in
   a fresh Python process that loads the cached mesh first, so its peak memory is its own.
 
-Node order: scikit-fem's curved P2 tet lists its mid-edge nodes on edges (0,1), (1,2), (0,2),
-(0,3), (1,3), (2,3); Abaqus C3D10 lists (1,2), (2,3), (3,1), (1,4), (2,4), (3,4): the same
-sequence, so the conversion is the identity (plus a swap of corners 2 and 3, with their edges, in
+Node order: scikit-fem's curved P2 tet (like VTK's quadratic tetra and meshio's tetra10) lists its
+mid-edge nodes on edges (0,1), (1,2), (0,2), (0,3), (1,3), (2,3); Abaqus C3D10 lists (1,2), (2,3),
+(3,1), (1,4), (2,4), (3,4): the same sequence, so the conversion is the identity (plus a swap of corners 2 and 3, with their edges, in
 any tet that is negatively oriented). The script checks it: the C3D10 shape functions of the Abaqus
 manual, evaluated on the written connectivity, must give a positive Jacobian everywhere and the
 same volume as scikit-fem's mapping (same quadrature); and the tip deflections must agree within

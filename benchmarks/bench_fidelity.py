@@ -330,7 +330,7 @@ def write_csv(cases, published, blind, calibrated) -> None:
             for model in MODELS:
                 line += [f"{table[model][i, 0]:.9g}", f"{table[model][i, 1]:.9g}"]
             for model in MODELS[1:]:
-                line += [f"{pct(table[model][i, k], table['beam'][i, k]):.5f}" for k in (0, 1)]
+                line += [f"{pct(table[model][i, k], table['beam'][i, k]):.6g}" for k in (0, 1)]
         lines.append(line)
     temporary = CSV_PATH.with_suffix(".csv.tmp")
     with temporary.open("w", newline="", encoding="utf-8") as stream:
