@@ -140,9 +140,12 @@ def _load_face(rig: Rig, part: Part, load: LocatedLoad) -> FaceSpec:
 
 
 def mesh_size_of(rig: Rig, part: Part, global_size_mm: float) -> float:
-    """Per-part mesh size: the part's own, else max(global, largest diameter / elements per diameter)."""
+    """Per-part mesh size: the part's own; else the global size for a shaft, and for a body (housing)
+    max(global, largest diameter / elements per diameter), so that a Ø330 brake is not meshed at 4 mm."""
     if part.mesh_size_mm is not None:
         return part.mesh_size_mm
+    if part.role == "shaft":
+        return global_size_mm
     largest = max(s.outer_diameter_mm for s in part.segments)
     return max(global_size_mm, largest / rig.solid.elements_per_diameter)
 
