@@ -66,16 +66,6 @@ def stiffness_matrix(model: StructuralModel) -> sp.csr_matrix:
     )
 
 
-def mass_matrix(model: StructuralModel) -> sp.csr_matrix:
-    """Lumped mass matrix of the point masses (beam mass enters as lumped translational mass)."""
-    beam_mass = beam.element_masses_kg(model.coordinates, model.beams) if len(model.beams.connectivity) else np.zeros(0)
-    nodes = np.asarray(model.beams.connectivity, int).ravel()
-    lumped = loads.PointMasses(nodes, np.repeat(beam_mass / 2.0, 2), np.zeros((nodes.size, 3)))
-    return assemble_matrix(
-        model.n_dofs, [loads.point_mass_triplets(model.point_masses), loads.point_mass_triplets(lumped)]
-    )
-
-
 def constraint_elimination(model: StructuralModel):
     """Elimination matrix T (u = T q) and the independent DOF numbers."""
     equations = rigid_link_equations(model.coordinates, model.rigid_links)
@@ -88,8 +78,3 @@ def gravity_load_vector(model: StructuralModel, acceleration_m_s2) -> np.ndarray
     return beam.gravity_load(model.coordinates, model.beams, g, model.n_dofs) + loads.point_mass_gravity(
         model.point_masses, g, model.n_dofs
     )
-
-
-def total_mass_kg(model: StructuralModel) -> float:
-    beam_mass = beam.element_masses_kg(model.coordinates, model.beams).sum() if len(model.beams.connectivity) else 0.0
-    return float(beam_mass + np.sum(model.point_masses.mass_kg))

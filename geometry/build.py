@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import bushing
 from fem.beam import BeamElements
 from fem.bushing import GROUND, Bushings
 from fem.loads import PointMasses
@@ -220,9 +219,3 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     for n, m in zip(hub_nodes, hub_masses):
         part_mass[node_part[n]] += float(m)
     return RigModel(rig, structure, node_part_arr, node_x_arr, tuple(names), part_mass, equivalent_density)
-
-
-def bushing_forces(model: RigModel, displacement: np.ndarray) -> dict[str, np.ndarray]:
-    """Force and moment (N, N·m, global axes) carried by each named spring, on its 'from' side."""
-    forces = bushing.spring_forces(model.structure.coordinates, model.structure.bushings, displacement)
-    return dict(zip(model.bushing_names, forces))

@@ -70,10 +70,6 @@ class Attachment:
     tie: str
 
 
-def _part_range(part: Part) -> tuple[float, float]:
-    return part.x_range_mm
-
-
 def _has_bore(part: Part, x_mm: float) -> bool:
     for s in part.segments:
         if s.x_mm[0] - TOL_MM <= x_mm <= s.x_mm[1] + TOL_MM and s.inner_diameter_mm > 0:
@@ -83,7 +79,7 @@ def _has_bore(part: Part, x_mm: float) -> bool:
 
 def face_at(part: Part, x_mm: float, width_mm: float | None, band_mm=None, surface: str = "outer") -> FaceSpec:
     """The face of ``part`` that something at ``x_mm`` acts on."""
-    lo, hi = _part_range(part)
+    lo, hi = part.x_range_mm
     if band_mm is not None:
         return FaceSpec("band", max(lo, band_mm[0]), min(hi, band_mm[1]), surface)
     if width_mm is None:
@@ -95,7 +91,7 @@ def face_at(part: Part, x_mm: float, width_mm: float | None, band_mm=None, surfa
 
 
 def _location_face(rig: Rig, part: Part, x_mm: float, band_mm=None) -> FaceSpec:
-    lo, hi = _part_range(part)
+    lo, hi = part.x_range_mm
     if band_mm is None and (abs(x_mm - lo) < TOL_MM or abs(x_mm - hi) < TOL_MM):
         return FaceSpec("end", x_mm, x_mm)
     return face_at(part, x_mm, rig.solid.attachment_band_mm, band_mm)
@@ -152,7 +148,7 @@ def mesh_size_of(rig: Rig, part: Part, global_size_mm: float) -> float:
 
 def solid_geometry(rig: Rig, part: Part, faces: list[FaceSpec], global_size_mm: float) -> SolidPartGeometry:
     """The part's solid geometry with split planes at every band edge."""
-    lo, hi = _part_range(part)
+    lo, hi = part.x_range_mm
     splits = sorted({round(x, 6) for f in faces if f.kind == "band" for x in (f.x0_mm, f.x1_mm)
                      if lo + 1e-3 < x < hi - 1e-3})
     segments = tuple((s.x_mm[0], s.x_mm[1], s.outer_diameter_mm, s.inner_diameter_mm)
