@@ -13,24 +13,30 @@ from typing import Annotated
 
 import numpy as np
 import typer
-from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from geometry.build import build_rig_model
-from geometry.rigfile import RigFileError, load_rig, reference_rig_text
-from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases, paper_table, read_cases
+from geometry.rigfile import load_rig, reference_rig_text
+from loadcases.cases import grid_cases, paired_cases, paper_cases, paper_table, read_cases
 from results import report
 from results.calibration import DEFAULT_PARAMETERS, calibrate
 from results.check import QUANTITIES, compare, verdict
-from results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
+from results.cli_support import (
+    MeshOption,
+    ModelOption,
+    OutOption,
+    RigOption,
+    SolverOption,
+    UserError,
+    console,
+    guard,
+    rig_text,
+    sweep_settings,
+)
+from results.sweep import prepare_model, run_sweep
 from results.writers import write_csv_atomic, write_json_atomic
-
-console = Console()
-if not console.is_terminal:  # logs and pipes: wide enough for the check tables
-    console = Console(width=150)
-errors = Console(stderr=True, width=None if Console(stderr=True).is_terminal else 150)
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
@@ -43,38 +49,6 @@ app = typer.Typer(
 )
 rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 app.add_typer(rig_app, name="rig")
-
-RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
-ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam, hybrid (measured shafts as solids) or solid.")]
-OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
-SolverOption = Annotated[str, typer.Option("--solver", help="Linear solver for solid/hybrid models: auto (by size), superlu, pardiso or amg.")]
-MeshOption = Annotated[float | None, typer.Option("--mesh-size-mm", help="Global solid mesh size in mm (default: the rig file's [solid] mesh_size_mm).")]
-
-
-class UserError(Exception):
-    """A mistake in the user's input: reported in one paragraph, exit status 2."""
-
-
-def _fail(message: str) -> None:
-    errors.print(f"[bold red]error:[/] {escape(message)}", highlight=False)  # the message is plain text, not markup
-    raise typer.Exit(code=2)
-
-
-def _rig_text(path: Path | None) -> tuple[str, str]:
-    if path is None:
-        return "built-in reference_rig.toml", reference_rig_text()
-    try:
-        return str(path), path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return str(path), ""
-
-
-def _settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
-    try:
-        return SweepSettings(method=method, model=model, solver=solver, mesh_size_mm=mesh_size_mm)
-    except ValueError as error:
-        raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
-
 
 def _prepare(rig, settings):
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
@@ -95,24 +69,6 @@ def _run(rig, cases, settings, label: str, prepared=None):
         task = progress.add_task(label, total=len(cases))
         return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
                          prepared=prepared)
-
-
-def _guard(function):
-    """Turn user-input errors into a clear message and exit status 2."""
-    import functools
-
-    @functools.wraps(function)
-    def wrapper(*args, **kwargs):
-        try:
-            return function(*args, **kwargs)
-        except (RigFileError, LoadCaseError, UserError) as error:
-            _fail(str(error))
-        except ModelError as error:
-            _fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot solve the rig: {error}")
-        except OSError as error:  # reading is handled above, so this is writing the results (--out)
-            _fail(f"cannot write {error.filename}: {error.strerror}")
-
-    return wrapper
 
 
 def _version_callback(value: bool) -> None:
@@ -170,7 +126,7 @@ def _sweep_table(sweep) -> Table:
 
 
 @app.command()
-@_guard
+@guard
 def sweep(
     rig: RigOption = None,
     model: ModelOption = "beam",
@@ -185,7 +141,7 @@ def sweep(
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
 ) -> None:
     """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json."""
-    settings = _settings(model, method, solver, mesh_size_mm)
+    settings = sweep_settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = _cases(cases, t1, t2, grid)
     result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
@@ -196,7 +152,7 @@ def sweep(
     console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
                   "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
                   if method == "superposition" else "each case solved directly")
-    source, text = _rig_text(rig)
+    source, text = rig_text(rig)
     for path in _write_sweep(out, result, source, text):
         console.print(f"wrote {path}")
 
@@ -232,7 +188,7 @@ def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -
 
 
 @app.command()
-@_guard
+@guard
 def check(
     rig: RigOption = None,
     model: ModelOption = "beam",
@@ -247,7 +203,7 @@ def check(
     when every held-out row is within tolerance (2 % of Y and β, or 1e-7 mm next to the input
     sign change).
     """
-    settings = _settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     rows = paper_table()
     cases = tuple(r.case for r in rows)
@@ -257,7 +213,7 @@ def check(
         try:
             calibration = calibrate(rig_model, rows, settings=settings, prepared=prepared)
         except KeyError as error:  # the rig lacks a parameter that the calibration fits
-            raise UserError(f"rig file {_rig_text(rig)[0]}: cannot calibrate: {error.args[0]} (the check fits "
+            raise UserError(f"rig file {rig_text(rig)[0]}: cannot calibrate: {error.args[0]} (the check fits "
                             + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None
     calibrated = _run(calibration.rig, cases, settings, "calibrated sweep", prepared)
     comparison_blind, comparison_cal = compare(rows, blind), compare(rows, calibrated)
@@ -281,7 +237,7 @@ def check(
     )
     console.print("[bold green]VERDICT: within tolerance[/]" if result.passed else "[bold red]VERDICT: outside tolerance[/]")
     if out is not None:
-        source, text = _rig_text(rig)
+        source, text = rig_text(rig)
         written = [write_csv_atomic(out / "check.csv", report.check_rows(comparison_blind, comparison_cal, rows,
                                                                          calibration.fit_rows))]
         written += _write_sweep(out, calibrated, source, text, calibration)
@@ -315,7 +271,7 @@ def _print_calibration(calibration) -> None:
 
 
 @app.command()
-@_guard
+@guard
 def picture(
     rig: RigOption = None,
     model: ModelOption = "beam",
@@ -340,7 +296,7 @@ def picture(
 
     if not 0 < warp_fraction < 1:
         raise UserError(f"--warp-fraction must be in (0, 1), got {warp_fraction}")
-    settings = _settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = _cases(cases, t1, t2, False)
     result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
@@ -369,7 +325,7 @@ def picture(
 
 
 @rig_app.command("show")
-@_guard
+@guard
 def rig_show(rig: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     rig_model = load_rig(rig)
@@ -424,6 +380,21 @@ def rig_show(rig: RigOption = None) -> None:
 def rig_reference() -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     sys.stdout.write(reference_rig_text())
+
+
+# Command families that live in their own modules; each module has ``register(app)``.
+COMMAND_MODULES: tuple[str, ...] = (
+)
+
+
+def _register_command_modules() -> None:
+    import importlib
+
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(app)
+
+
+_register_command_modules()
 
 
 def run() -> None:

@@ -1,0 +1,75 @@
+"""What every ``rvcoax`` command shares: consoles, option types, and the user-error guard.
+
+A user mistake ends with one paragraph on stderr and exit status 2, never a traceback. Command
+modules (``results/*_cli.py``) import from here and register their commands on the main app.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+
+from geometry.rigfile import RigFileError, reference_rig_text
+from loadcases.cases import LoadCaseError
+from results.sweep import ModelError, SweepSettings
+
+console = Console()
+if not console.is_terminal:  # logs and pipes: wide enough for the check tables
+    console = Console(width=150)
+errors = Console(stderr=True, width=None if Console(stderr=True).is_terminal else 150)
+
+RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
+ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam, hybrid (measured shafts as solids) or solid.")]
+OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
+SolverOption = Annotated[str, typer.Option("--solver", help="Linear solver for solid/hybrid models: auto (by size), superlu, pardiso or amg.")]
+MeshOption = Annotated[float | None, typer.Option("--mesh-size-mm", help="Global solid mesh size in mm (default: the rig file's [solid] mesh_size_mm).")]
+
+
+class UserError(Exception):
+    """A mistake in the user's input: reported in one paragraph, exit status 2."""
+
+
+def fail(message: str) -> None:
+    """Print ``message`` as an error and exit with status 2."""
+    errors.print(f"[bold red]error:[/] {escape(message)}", highlight=False)  # the message is plain text, not markup
+    raise typer.Exit(code=2)
+
+
+def rig_text(path: Path | None) -> tuple[str, str]:
+    """(source name, text) of the rig file, or of the built-in reference rig when ``path`` is None."""
+    if path is None:
+        return "built-in reference_rig.toml", reference_rig_text()
+    try:
+        return str(path), path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return str(path), ""
+
+
+def sweep_settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
+    """Validated :class:`SweepSettings` from command-line options."""
+    try:
+        return SweepSettings(method=method, model=model, solver=solver, mesh_size_mm=mesh_size_mm)
+    except ValueError as error:
+        raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
+
+
+def guard(function):
+    """Turn user-input errors into a clear message and exit status 2."""
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except (RigFileError, LoadCaseError, UserError) as error:
+            fail(str(error))
+        except ModelError as error:
+            fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot solve the rig: {error}")
+        except OSError as error:  # reading is handled above, so this is writing the results (--out)
+            fail(f"cannot write {error.filename}: {error.strerror}")
+
+    return wrapper
