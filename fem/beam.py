@@ -27,6 +27,7 @@ class BeamElements:
     connectivity : (n, 2) int array
         Node indices of each element.
     area_m2, second_moment_m4, polar_moment_m4, shear_coefficient : (n,) arrays
+        ``shear_coefficient = inf`` makes Φ = 0: an Euler–Bernoulli element (no shear flexibility).
     youngs_modulus_pa, shear_modulus_pa, density_kg_m3 : (n,) arrays
     reference_vector : (n, 3) array
         A vector not parallel to the element axis that fixes local y.
@@ -82,7 +83,8 @@ def local_stiffness(length_m, elements: BeamElements) -> np.ndarray:
     A = elements.area_m2
     inertia = elements.second_moment_m4
     J = elements.polar_moment_m4
-    phi = 12.0 * E * inertia / (elements.shear_coefficient * G * A * L**2)
+    kappa = np.asarray(elements.shear_coefficient, dtype=float)
+    phi = np.where(np.isinf(kappa), 0.0, 12.0 * E * inertia / (kappa * G * A * L**2))  # κ = ∞: Euler–Bernoulli
     k = np.zeros((L.size, 12, 12))
 
     def put(i, j, value):

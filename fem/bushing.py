@@ -95,3 +95,168 @@ def spring_forces(coordinates: np.ndarray, bushings: Bushings, displacement: np.
     u = np.where(dofs >= 0, displacement[np.maximum(dofs, 0)], 0.0)
     delta = np.einsum("eij,ej->ei", operator, u)
     return np.asarray(bushings.stiffness, float) * delta
+
+
+def prestrain_load(coordinates: np.ndarray, bushings: Bushings, stress_free: np.ndarray, n_dofs: int) -> np.ndarray:
+    """Equivalent nodal load of bushings that are free of load at a relative motion Δ0 ≠ 0.
+
+    A bushing with a stress-free relative motion Δ0 (a misaligned coupling, a raised mount) exerts
+    diag(k) (Δ − Δ0): on the straight, unloaded structure it pushes its nodes with
+    f = Opᵀ diag(k) Δ0 (Op the relative-motion operator). The pair on two nodes is
+    self-equilibrated; on a ground bushing it is reacted by the ground. ``stress_free`` is (n, 6).
+    """
+    load = np.zeros(n_dofs)
+    stress_free = np.asarray(stress_free, dtype=float)
+    if len(bushings.node_b) == 0 or not np.any(stress_free):
+        return load
+    operator, dofs = relative_motion_operator(coordinates, bushings)
+    nodal = np.einsum("eji,ej->ei", operator, np.asarray(bushings.stiffness, float) * stress_free)
+    keep = dofs >= 0
+    np.add.at(load, dofs[keep], nodal[keep])
+    return load
+
+
+# ---- radial clearance (bearings with play) ----------------------------------------------------------
+# A bearing with radial clearance c carries F = k (|d| − c) d/|d| for |d| > c, else nothing, d the
+# radial (y, z) relative motion at the bearing. The structure is linear elsewhere, so the problem
+# is condensed on the 2m radial motions d of the m gapped bearings. With K the stiffness *with*
+# the radial springs fully engaged (c = 0; the model as assembled), U the radial operator,
+# W = K⁻¹ Uᵀ and S = U W (2m × 2m):
+#     K_lin u + Uᵀ F(U u) = f   ⇔   u = K⁻¹ f + W G(d),  d = U u,  G(d) = k d − F(d),
+# so d solves R(d) = d − U K⁻¹ f − S G(d) = 0, a small nonlinear system solved by Newton's method
+# on the tangent (active set: open springs have G' = k I, closed ones k c/|d| (I − n nᵀ)).
+
+
+@dataclass(frozen=True, eq=False)
+class RadialGaps:
+    """Bearings with radial clearance, condensed for repeated nonlinear solves (SI).
+
+    Attributes
+    ----------
+    operator : (2m, n) sparse matrix
+        U: the (y, z) relative motion at each gapped bushing, rows 2i and 2i + 1.
+    stiffness, clearance : (m,) arrays
+        Radial stiffness k (N/m) and clearance c (m, > 0).
+    influence : (n, 2m) array
+        W = K⁻¹ Uᵀ with K the stiffness with every radial spring engaged.
+    compliance : (2m, 2m) array
+        S = U W.
+    """
+
+    operator: object
+    stiffness: np.ndarray
+    clearance: np.ndarray
+    influence: np.ndarray
+    compliance: np.ndarray
+
+
+@dataclass(frozen=True)
+class GapSolution:
+    """A converged solution with gaps: displacement, radial motions, which gaps are closed."""
+
+    displacement: np.ndarray
+    radial_motion: np.ndarray  # (m, 2) m
+    closed: np.ndarray  # (m,) bool
+    iterations: int
+    condensed_residual: float
+
+
+class GapConvergenceError(RuntimeError):
+    """The clearance iteration did not converge."""
+
+
+def radial_operator(coordinates: np.ndarray, bushings: Bushings, rows, n_dofs: int):
+    """U (2m × n_dofs, CSR): the y and z relative motion at the point of each bushing in ``rows``."""
+    import scipy.sparse as sp
+
+    rows = np.asarray(rows, dtype=int)
+    subset = Bushings(np.asarray(bushings.node_a)[rows], np.asarray(bushings.node_b)[rows],
+                      np.asarray(bushings.point_m)[rows], np.asarray(bushings.stiffness)[rows])
+    operator, dofs = relative_motion_operator(coordinates, subset)
+    r, c, v = [], [], []
+    for i in range(rows.size):
+        for local, component in enumerate((1, 2)):
+            keep = dofs[i] >= 0
+            r.extend([2 * i + local] * int(keep.sum()))
+            c.extend(dofs[i][keep].tolist())
+            v.extend(operator[i, component][keep].tolist())
+    return sp.csr_matrix((v, (r, c)), shape=(2 * rows.size, n_dofs))
+
+
+def prepare_radial_gaps(solve, operator, stiffness, clearance) -> RadialGaps:
+    """Condense the gapped bearings on a solver ``solve`` of the fully engaged stiffness K."""
+    influence = np.asarray(solve(operator.T.toarray()), dtype=float).reshape(operator.shape[1], -1)
+    return RadialGaps(operator, np.asarray(stiffness, float), np.asarray(clearance, float), influence,
+                      np.asarray(operator @ influence))
+
+
+def gap_forces(radial_motion: np.ndarray, stiffness: np.ndarray, clearance: np.ndarray) -> np.ndarray:
+    """F = k (|d| − c) d/|d| where |d| > c, else 0; ``radial_motion`` (m, 2) → (m, 2) (N)."""
+    d = np.asarray(radial_motion, dtype=float).reshape(-1, 2)
+    size = np.linalg.norm(d, axis=1)
+    closed = size > clearance
+    scale = np.where(closed, stiffness * (1.0 - clearance / np.where(closed, size, 1.0)), 0.0)
+    return scale[:, None] * d
+
+
+def _released(d: np.ndarray, gaps: RadialGaps) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """G(d) = k d − F(d) (m, 2), its tangent (2m × 2m) and the closed states."""
+    k, c = gaps.stiffness, gaps.clearance
+    size = np.linalg.norm(d, axis=1)
+    closed = size > c
+    value = k[:, None] * d - gap_forces(d, k, c)
+    tangent = np.zeros((2 * k.size, 2 * k.size))
+    for i in range(k.size):
+        block = slice(2 * i, 2 * i + 2)
+        if closed[i]:
+            n = d[i] / size[i]
+            tangent[block, block] = k[i] * c[i] / size[i] * (np.eye(2) - np.outer(n, n))
+        else:
+            tangent[block, block] = k[i] * np.eye(2)
+    return value, tangent, closed
+
+
+def solve_with_gaps(gaps: RadialGaps, solve, load: np.ndarray, tolerance: float = 1e-12,
+                    max_iterations: int = 100) -> GapSolution:
+    """Static solution of a structure whose gapped bearings follow the clearance law.
+
+    Newton's method on the condensed equations, from the solution without clearance, with a
+    backtracking line search on ‖R‖. Converged when the closed/open states did not change in the
+    last step and ‖R‖ ≤ ``tolerance`` × (largest of |d| and c).
+
+    Raises
+    ------
+    GapConvergenceError
+        No convergence within ``max_iterations``.
+    """
+    linear = np.asarray(solve(load), dtype=float)
+    start = np.asarray(gaps.operator @ linear).reshape(-1, 2)
+    S = gaps.compliance
+    eye = np.eye(S.shape[0])
+
+    def residual(d):
+        value, tangent, closed = _released(d, gaps)
+        return d.ravel() - start.ravel() - S @ value.ravel(), tangent, closed, value
+
+    d = start.copy()
+    r, tangent, closed, value = residual(d)
+    previous = closed  # the solution without clearance may already obey the law (e.g. no load)
+    for iteration in range(1, max_iterations + 1):
+        scale = max(float(np.abs(d).max()), float(gaps.clearance.max()))
+        norm = float(np.linalg.norm(r))
+        if np.array_equal(previous, closed) and norm <= tolerance * scale:
+            u = linear + gaps.influence @ value.ravel()
+            return GapSolution(u, d, closed, iteration - 1, norm / scale)
+        jacobian = eye - S @ tangent
+        step, *_ = np.linalg.lstsq(jacobian, -r, rcond=1e-14)
+        t = 1.0
+        while True:
+            trial = d + t * step.reshape(-1, 2)
+            r_trial, tangent_trial, closed_trial, value_trial = residual(trial)
+            if np.linalg.norm(r_trial) < norm or t < 1e-6:
+                break
+            t *= 0.5
+        previous = closed
+        d, r, tangent, closed, value = trial, r_trial, tangent_trial, closed_trial, value_trial
+    raise GapConvergenceError(f"the bearing-clearance iteration did not converge in {max_iterations} steps "
+                              f"(relative residual {np.linalg.norm(r) / max(np.abs(d).max(), 1e-300):.1e})")

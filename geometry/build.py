@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.beam import BeamElements
-from fem.bushing import GROUND, Bushings
+from fem.bushing import GROUND, Bushings, prestrain_load
 from fem.loads import PointMasses
 from fem.model import StructuralModel
 from fem.sections import CircularSection
@@ -22,6 +22,8 @@ from geometry.schema import Rig
 MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
 N_PER_MM = 1e3  # N/mm → N/m
+UM = 1e-6
+MRAD = 1e-3
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,6 +131,7 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     """
     referenced = _referenced_positions(rig)
     attachments = attachment_positions(rig)
+    shaft_shear = rig.beam.shear_factor  # shafts' Φ × factor: κ / factor (∞ when 0: Euler–Bernoulli)
     node_part: list[str] = []
     node_x: list[float] = []
     element_rows: list[tuple] = []
@@ -146,6 +149,7 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
             continue
         positions = _part_positions(part, referenced[part.name], rig.mesh.max_element_length_mm)
         first = len(node_x)
+        shear_factor = shaft_shear if part.role == "shaft" else 1.0
         node_part.extend([part.name] * positions.size)
         node_x.extend(positions.tolist())
         for i in range(positions.size - 1):
@@ -153,7 +157,8 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
             section = CircularSection(segment.outer_diameter_mm * MM, segment.inner_diameter_mm * MM)
             element_rows.append((
                 first + i, first + i + 1, section.area_m2, section.second_moment_m4,
-                section.polar_moment_m4, section.shear_coefficient(material.poisson_ratio),
+                section.polar_moment_m4,
+                section.shear_coefficient(material.poisson_ratio) / shear_factor if shear_factor > 0 else np.inf,
                 material.youngs_modulus_MPa * 1e6, material.shear_modulus_MPa * 1e6, density,
             ))
     node_part_arr = np.array(node_part)
@@ -219,3 +224,38 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     for n, m in zip(hub_nodes, hub_masses):
         part_mass[node_part[n]] += float(m)
     return RigModel(rig, structure, node_part_arr, node_x_arr, tuple(names), part_mass, equivalent_density)
+
+
+def stress_free_motions(rig: Rig) -> np.ndarray:
+    """Relative motion Δ0 (n_bushings, 6) at which each bushing of ``rig`` is free of load (SI).
+
+    Rows in the order :func:`build_rig_model` builds the bushings (bearings, mounts, couplings,
+    joints). A mount raised by ``vertical_offset_um`` has Δ0 = (0, δ, 0, 0, 0, 0); a coupling with
+    a parallel offset δ and an angular misalignment α towards direction e = (0, cos φ, sin φ) has
+    Δ0 = (δ e, α x × e): its ``to`` hub is free of load δ away from the ``from`` hub and rotated
+    by α towards e. Everything else is zero.
+    """
+    rows = [np.zeros(6) for _ in rig.bearings]
+    for m in rig.mounts:
+        rows.append(np.array([0.0, m.vertical_offset_um * UM, 0.0, 0.0, 0.0, 0.0]))
+    for c in rig.couplings:
+        phi = np.radians(c.misalignment_direction_deg)
+        direction = np.array([0.0, np.cos(phi), np.sin(phi)])
+        rotation_axis = np.cross([1.0, 0.0, 0.0], direction)  # x rotated towards e: about x × e
+        rows.append(np.concatenate([c.parallel_offset_um * UM * direction,
+                                    c.angular_misalignment_mrad * MRAD * rotation_axis]))
+    rows.extend(np.zeros(6) for _ in rig.joints)
+    return np.array(rows, dtype=float).reshape(-1, 6)
+
+
+def prestrain_load_vector(model: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
+    """Equivalent load of the bushings' prestrain, K Δ0 through their rigid arms (length ``n_dofs``).
+
+    ``rig`` gives the offsets (it may differ from ``model.rig`` in offsets only). Zero when every
+    coupling is aligned and every mount at its nominal height.
+    """
+    vector = np.zeros(n_dofs)
+    structure = model.structure
+    vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
+                                                structure.n_dofs)
+    return vector

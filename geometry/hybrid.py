@@ -23,8 +23,8 @@ from fem.assembly import assemble_matrix
 from fem.constraints import elimination_matrix, rigid_link_equations
 from fem.equilibrium import DofTable, frame_dof_table
 from fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equations
-from geometry.build import RigModel, build_rig_model
-from geometry.loads import UNIT_LOADS, LocatedLoad, gravity_vector, located_unit_loads
+from geometry.build import RigModel, build_rig_model, prestrain_load_vector
+from geometry.loads import GRAVITY_DIRECTION, UNIT_LOADS, LocatedLoad, gravity_acceleration, located_unit_loads
 from geometry.meshing import SolidPartGeometry, mesh_part
 from geometry.schema import Part, Rig
 from geometry.system import PathProbe, RigSystem, frame_path_probe, nodal_vector
@@ -320,18 +320,19 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         equations.update(tie(reference, point, nodes))
     elimination, _ = elimination_matrix(n, structure.fixed_dofs, equations)
 
-    g = gravity_vector(rig)
-    gravity = np.zeros(n)
-    gravity[: structure.n_dofs] = fem_model.gravity_load_vector(structure, g)
+    unit_gravity = np.zeros(n)  # weight per m/s² of g
+    unit_gravity[: structure.n_dofs] = fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION)
     for s in solids.values():
-        gravity[s.offset: s.offset + s.n_dofs] = solid.body_force_vector(s.basis, s.density_kg_m3, g)
+        unit_gravity[s.offset: s.offset + s.n_dofs] = solid.body_force_vector(s.basis, s.density_kg_m3,
+                                                                              GRAVITY_DIRECTION)
 
     traction = SolidLoads(rig, solids)
 
     def loads_of(loaded: Rig) -> dict:
         located_loads = located_unit_loads(loaded)
         loads = {name: traction.vector(frame, located_loads[name], n) for name in UNIT_LOADS}
-        loads["gravity"] = loads["gravity"] + gravity
+        loads["gravity"] = loads["gravity"] + gravity_acceleration(loaded) * unit_gravity
+        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)  # bushings act on frame nodes
         return loads
 
     probes = {}

@@ -1,6 +1,7 @@
 """The rig's unit loads, as loads at rig locations (part, x) plus self-weight.
 
 ``gravity``        self-weight of every part (zero when switched off)
+``prestrain``      the prestrain of misaligned couplings and raised mounts, K d0 (zero when aligned)
 ``force_table``    paper 000's force table as interpreted in the rig file (empty unless applied)
 ``engaged_T1``     the constant lateral loads present while T1 flows (load-sharing position errors)
 ``engaged_T2``     the same for T2
@@ -9,7 +10,8 @@
 A model turns each :class:`LocatedLoad` into a load vector: nodal forces on a beam part, a face
 traction on a solid part. For a linear model the response to (T1, T2) is
 ``u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2`` with
-``u_rest = u_gravity + u_force_table``.
+``u_rest = u_gravity + u_prestrain + u_force_table``. Prestrain is not a located load: it is built
+from the bushings where they are assembled (:func:`geometry.build.prestrain_load_vector`).
 """
 
 from __future__ import annotations
@@ -21,8 +23,8 @@ import numpy as np
 
 from geometry.schema import Rig
 
-UNIT_LOADS = ("gravity", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
-REST_LOADS = ("gravity", "force_table")
+UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
+REST_LOADS = ("gravity", "prestrain", "force_table")
 
 
 @dataclass(frozen=True)
@@ -65,23 +67,25 @@ def torque_loads(rig: Rig, which: str) -> list[LocatedLoad]:
 
 
 def force_table_loads(rig: Rig) -> list[LocatedLoad]:
-    """Paper 000's force pairs and single forces as Y forces, as interpreted in the rig file."""
+    """Paper 000's force pairs and single forces as Y forces, as interpreted in the rig file, times ``scale``."""
     table = rig.force_table
     if not table.apply:
         return []
     out = []
     for pair in table.pairs:
-        out.append(LocatedLoad(pair.plus_at.part, pair.plus_at.x_mm, (0.0, pair.force_N, 0.0)))
-        out.append(LocatedLoad(pair.minus_at.part, pair.minus_at.x_mm, (0.0, -pair.force_N, 0.0)))
+        size = table.scale * pair.force_N
+        out.append(LocatedLoad(pair.plus_at.part, pair.plus_at.x_mm, (0.0, size, 0.0)))
+        out.append(LocatedLoad(pair.minus_at.part, pair.minus_at.x_mm, (0.0, -size, 0.0)))
     for single in table.singles:
-        out.append(LocatedLoad(single.at.part, single.at.x_mm, (0.0, single.force_N, 0.0)))
+        out.append(LocatedLoad(single.at.part, single.at.x_mm, (0.0, table.scale * single.force_N, 0.0)))
     return out
 
 
 def located_unit_loads(rig: Rig) -> dict[str, list[LocatedLoad]]:
-    """Every unit load except self-weight, as located loads (self-weight is a body load)."""
+    """Every unit load except self-weight and prestrain, as located loads (those two are built with the model)."""
     return {
         "gravity": [],
+        "prestrain": [],
         "force_table": force_table_loads(rig),
         "engaged_T1": _lateral_loads(rig, "T1", "engaged"),
         "engaged_T2": _lateral_loads(rig, "T2", "engaged"),
@@ -90,18 +94,21 @@ def located_unit_loads(rig: Rig) -> dict[str, list[LocatedLoad]]:
     }
 
 
-def gravity_vector(rig: Rig) -> np.ndarray:
-    """Acceleration of gravity (m/s², global axes); zero when self-weight is off."""
-    if not rig.gravity.enabled:
-        return np.zeros(3)
-    return np.array([0.0, -rig.gravity.acceleration_m_per_s2, 0.0])
+GRAVITY_DIRECTION = np.array([0.0, -1.0, 0.0])
+"""Gravity acts along −Y."""
+
+
+def gravity_acceleration(rig: Rig) -> float:
+    """Size of the acceleration of gravity (m/s²); zero when self-weight is off."""
+    return rig.gravity.acceleration_m_per_s2 if rig.gravity.enabled else 0.0
 
 
 def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: bool) -> dict[str, float]:
-    """Multipliers of the unit loads for one case; ``include_rest`` adds self-weight and force table."""
+    """Multipliers of the unit loads for one case; ``include_rest`` adds self-weight, prestrain and force table."""
     rest = 1.0 if include_rest else 0.0
     return {
         "gravity": rest,
+        "prestrain": rest,
         "force_table": rest,
         "engaged_T1": float(np.sign(input_torque_Nm)),
         "engaged_T2": float(np.sign(output_torque_Nm)),

@@ -37,6 +37,27 @@ class MeshSettings(Strict):
     max_element_length_mm: Positive = 5.0
 
 
+class BeamSettings(Strict):
+    """Shaft beams: Timoshenko (shear flexibility, default) or Euler–Bernoulli.
+
+    ``shear_deformation = false`` makes the beams of every shaft (``role = "shaft"``)
+    Euler–Bernoulli (Φ = 0: infinite shear stiffness). ``shear_flexibility_factor`` (0…1)
+    multiplies their Φ = 12EI/(κGAL²) when shear is on: 1 is the exact Timoshenko beam, 0 is
+    Euler–Bernoulli (a blend for the discrepancy workflow). Bodies (housings: equivalent round
+    bodies) stay Timoshenko: their short, thick elements without shear flexibility would be
+    ~1e16 N/m stiff and make the system numerically singular (pivot ratio 5e-16 on the
+    reference rig). Solid parts are elastic continua and are not affected.
+    """
+
+    shear_deformation: bool = True
+    shear_flexibility_factor: Annotated[float, Field(ge=0.0, le=1.0, strict=True)] = 1.0
+
+    @property
+    def shear_factor(self) -> float:
+        """The factor applied to Φ: 0 when shear deformation is off."""
+        return self.shear_flexibility_factor if self.shear_deformation else 0.0
+
+
 class Material(Strict):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
@@ -122,6 +143,9 @@ class Bearing(Strict):
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
+    # radial play: the radial spring carries F = k (|d| - c) d/|d| only for |d| > c (d: radial
+    # relative displacement in the YZ plane, c measured from the centred position); nonlinear
+    radial_clearance_um: Annotated[float, Field(ge=0.0, le=1000.0, allow_inf_nan=False, strict=True)] = 0.0
 
 
 Triple = tuple[NonNegative, NonNegative, NonNegative]
@@ -133,6 +157,9 @@ class Mount(Strict):
     x_mm: Finite
     translational_stiffness_N_per_um: Triple
     rotational_stiffness_Nm_per_rad: Triple
+    # ground side raised by this much (+Y): thermal growth of a housing, shims; the mount's spring
+    # is free of load when the part's attachment point sits this far above its nominal position
+    vertical_offset_um: Annotated[float, Field(ge=-1e4, le=1e4, allow_inf_nan=False, strict=True)] = 0.0
 
 
 class Connection(Strict):
@@ -153,6 +180,13 @@ class Coupling(Connection):
     angular_stiffness_Nm_per_rad: Positive
     torsional_stiffness_Nm_per_rad: Positive
     axial_stiffness_N_per_mm: Positive
+    # Misalignment of the coupling as installed between collinear shafts: free of load, the coupling
+    # holds the `to` hub's axis parallel_offset_um away from the `from` hub's axis and rotated by
+    # angular_misalignment_mrad towards misalignment_direction_deg (0 = +Y, 90 = +Z). The straight
+    # rig therefore carries the prestrain force/moment K_c d0 on both hubs, at rest and in every case.
+    parallel_offset_um: Annotated[float, Field(ge=-1e4, le=1e4, allow_inf_nan=False, strict=True)] = 0.0
+    angular_misalignment_mrad: Annotated[float, Field(ge=-100.0, le=100.0, allow_inf_nan=False, strict=True)] = 0.0
+    misalignment_direction_deg: Finite = 0.0
 
 
 class Joint(Connection):
@@ -188,6 +222,10 @@ class TorqueLateralLoad(Strict):
         pressure angle.
     torque_arm
         A housing held against rotation by an arm: F = T / arm_length.
+    proportional
+        A lateral force ``force_per_torque_N_per_Nm`` (signed, N per N·m) times the torque: a
+        lateral gear-mesh force proportional to T1 at the reducer input, or a lateral reaction
+        proportional to T2 on a housing (a torque arm, an asymmetric pedestal).
 
     The constant part k_eff · Δε acts only while torque flows (at rest the meshes have
     backlash); its sign follows the torque's sign.
@@ -195,7 +233,7 @@ class TorqueLateralLoad(Strict):
 
     name: Name
     torque: Literal["T1", "T2"]
-    kind: Literal["gear_mesh_load_sharing", "crank_load_sharing", "torque_arm"]
+    kind: Literal["gear_mesh_load_sharing", "crank_load_sharing", "torque_arm", "proportional"]
     on: Location
     reacted_on: Location | None = None
     direction_deg: Finite = 0.0
@@ -206,6 +244,9 @@ class TorqueLateralLoad(Strict):
     pressure_angle_deg: Annotated[float, Field(ge=0.0, lt=45.0, strict=True)] | None = None
     radius_mm: Positive | None = None
     arm_length_mm: Positive | None = None
+    # kind "proportional": the file key is force_per_torque_N_per_Nm (the property of that name gives
+    # the torque-proportional force of every kind)
+    proportional_force_N_per_Nm: Finite | None = Field(None, alias="force_per_torque_N_per_Nm")
 
     @model_validator(mode="after")
     def _check(self) -> TorqueLateralLoad:
@@ -214,10 +255,13 @@ class TorqueLateralLoad(Strict):
                                        "pitch_radius_mm", "pressure_angle_deg"),
             "crank_load_sharing": ("imbalance", "position_error_um", "mesh_stiffness_N_per_um", "radius_mm"),
             "torque_arm": ("arm_length_mm",),
+            "proportional": ("proportional_force_N_per_Nm",),
         }[self.kind]
-        missing = [key for key in needed if getattr(self, key) is None]
+        missing = [type(self).model_fields[key].alias or key for key in needed if getattr(self, key) is None]
         if missing:
             raise ValueError(f"kind '{self.kind}' needs {', '.join(missing)}")
+        if self.kind != "proportional" and self.proportional_force_N_per_Nm is not None:
+            raise ValueError(f"kind '{self.kind}' does not take force_per_torque_N_per_Nm (only kind 'proportional')")
         return self
 
     @property
@@ -229,6 +273,8 @@ class TorqueLateralLoad(Strict):
     @property
     def force_per_torque_N_per_Nm(self) -> float:
         """Lateral force per unit torque (N per N·m), the torque-proportional part."""
+        if self.kind == "proportional":
+            return self.proportional_force_N_per_Nm
         if self.kind == "torque_arm":
             return 1.0 / (self.arm_length_mm * 1e-3)
         radius = self.pitch_radius_mm if self.kind == "gear_mesh_load_sharing" else self.radius_mm
@@ -237,7 +283,7 @@ class TorqueLateralLoad(Strict):
     @property
     def engaged_force_N(self) -> float:
         """Lateral force present whenever torque flows, independent of its size (N)."""
-        if self.kind == "torque_arm":
+        if self.kind in ("torque_arm", "proportional"):
             return 0.0
         return self.mesh_stiffness_N_per_um * self.position_error_um * self._line_of_action_factor
 
@@ -257,6 +303,7 @@ class SingleForce(Strict):
 
 class ForceTable(Strict):
     apply: bool = False
+    scale: Finite = 1.0  # multiplies every force of the table when applied
     pairs: list[ForcePair] = []
     singles: list[SingleForce] = []
 
@@ -290,6 +337,7 @@ class Rig(Strict):
     rig: RigInfo
     gravity: Gravity = Gravity()
     mesh: MeshSettings = MeshSettings()
+    beam: BeamSettings = BeamSettings()
     materials: dict[str, Material] = Field(min_length=1)
     parts: list[Part] = Field(min_length=1)
     bearings: list[Bearing] = []

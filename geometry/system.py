@@ -21,8 +21,8 @@ from fem import DOFS_PER_NODE
 from fem import model as fem_model
 from fem.equilibrium import DofTable, frame_dof_table
 from fem.loads import NodalLoads, nodal_load_vector
-from geometry.build import RigModel, build_rig_model
-from geometry.loads import UNIT_LOADS, LocatedLoad, gravity_vector, located_unit_loads
+from geometry.build import RigModel, build_rig_model, prestrain_load_vector
+from geometry.loads import GRAVITY_DIRECTION, UNIT_LOADS, LocatedLoad, gravity_acceleration, located_unit_loads
 from geometry.schema import Rig
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
@@ -82,8 +82,9 @@ class RigSystem:
     def with_loads_of(self, rig: Rig) -> RigSystem:
         """The same structure with the unit loads of ``rig``, whose structure must be this one's.
 
-        Used when only load parameters change (calibration of load-sharing parameters), so that
-        the mesh, the stiffness and its factorisation are reused.
+        Used when only load parameters change (calibration of load-sharing parameters; gravity,
+        force-table scale, coupling and mount offsets), so that the mesh, the stiffness and its
+        factorisation are reused.
         """
         return dataclasses.replace(self, rig=rig, unit_loads=self.load_builder(rig))
 
@@ -116,12 +117,13 @@ def assemble_beam(rig: Rig) -> RigSystem:
     n = structure.n_dofs
     stiffness = fem_model.stiffness_matrix(structure)
     elimination, _ = fem_model.constraint_elimination(structure)
-    gravity = fem_model.gravity_load_vector(structure, gravity_vector(rig))
+    unit_gravity = fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION)  # weight per m/s² of g
 
     def loads_of(loaded: Rig) -> dict:
         located = located_unit_loads(loaded)
         loads = {name: nodal_vector(frame, located[name], n) for name in UNIT_LOADS}
-        loads["gravity"] = loads["gravity"] + gravity
+        loads["gravity"] = loads["gravity"] + gravity_acceleration(loaded) * unit_gravity
+        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)
         return loads
 
     probes = {which: frame_path_probe(frame, which, n) for which in ("input", "output")}

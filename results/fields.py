@@ -557,19 +557,14 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
 def sweep_field_cases(sweep) -> list[FieldCase]:
     """Point displacements (m) of every case of a solved sweep, measured as the sweep measures Y."""
     system = sweep.system
-    unit_by_name = {k: sweep.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
-    rest = sum(unit_by_name[k] for k in REST_LOADS)
-    from_rest = system.rig.paths.measured_from == "aligned_at_rest"
     n_frame = system.frame.structure.n_nodes
     solid_dofs = [_solid_point_dofs(part) for part in system.solids]
     solid_paths = [which for which in ("input", "output")
                    if any(p.name == getattr(system.rig.paths, which).part for p in system.solids)]
     out = []
-    for result in sweep.cases:
+    for i, result in enumerate(sweep.cases):
         case = result.case
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
-        u = sum(weights[k] * unit_by_name[k] for k in UNIT_LOADS)
-        measured = u - rest if from_rest else u
+        measured = sweep.measured_displacement(i)  # also for a nonlinear (bearing clearance) sweep
         blocks = [measured[: 6 * n_frame].reshape(-1, 6)[:, :3]]
         blocks += [measured[dofs] for dofs in solid_dofs]
         for which in solid_paths:

@@ -7,6 +7,10 @@ each case's own load vector and solves it instead (same factorisation), as a che
 
 Y is read from the aligned rig at rest (``paths.measured_from = "aligned_at_rest"``: u − u_rest)
 or from the unloaded geometry (``"unloaded"``: u). Both are kept per case.
+
+A rig with a bearing clearance (``radial_clearance_um > 0``) is not linear: the rest state and
+every case are then solved on their own by the active-set Newton iteration of
+:func:`fem.bushing.solve_with_gaps` (beam model only), on the same factorisation.
 """
 
 from __future__ import annotations
@@ -15,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem import diagnostics, equilibrium
+from fem import bushing, diagnostics, equilibrium
 from fem import model as fem_model
 from fem.solve import SingularModelError, factorize
 from geometry.build import RigModel
@@ -85,6 +89,17 @@ class Sweep:
     system: RigSystem | None = None
     unit_displacements: np.ndarray | None = None
     solver_report: dict = field(default_factory=dict)
+    case_displacements: np.ndarray | None = None  # (n_dofs, n_cases), as measured; nonlinear sweeps only
+
+    def measured_displacement(self, index: int) -> np.ndarray:
+        """The displacement of case ``index`` measured as Y is (u − u_rest when aligned at rest, else u)."""
+        if self.case_displacements is not None:
+            return self.case_displacements[:, index]
+        unit = {k: self.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
+        case = self.cases[index].case
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
+        u = sum(weights[k] * unit[k] for k in UNIT_LOADS)
+        return u - sum(unit[k] for k in REST_LOADS) if self.rig.paths.measured_from == "aligned_at_rest" else u
 
 
 class ModelError(RuntimeError):
@@ -168,8 +183,19 @@ class PreparedModel:
     report: object
 
 
+def check_clearance_model(rig: Rig, kind: str) -> list[str]:
+    """The bearings with radial clearance; raise :class:`ModelError` if there are any and ``kind`` is not beam."""
+    gapped = [b.name for b in rig.bearings if b.radial_clearance_um > 0]
+    if gapped and kind != "beam":
+        raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0), which "
+                         "makes the model nonlinear; only the beam model solves it (use --model beam, or set "
+                         "radial_clearance_um = 0)")
+    return gapped
+
+
 def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
     """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver."""
+    check_clearance_model(rig, settings.model)
     check_supports(rig)
     options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
     system = assemble_rig(rig, settings.model, **options)
@@ -181,14 +207,18 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case.
 
     ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
-    parameters may differ: the unit loads are rebuilt from ``rig``).
+    parameters may differ: the unit loads are rebuilt from ``rig``). A rig with bearing clearance
+    is solved case by case (:func:`run_gap_sweep`).
     """
+    gapped = check_clearance_model(rig, settings.model if prepared is None else prepared.system.kind)
     if prepared is None:
         prepared = prepare_model(rig, settings)
         system = prepared.system
     else:
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
+    if gapped:
+        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress)
     loads = system.unit_loads
     unit = solve(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -220,6 +250,66 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     summary = report if isinstance(report, dict) else _report_dict(report)
     return Sweep(rig, system.frame, settings, tuple(results), unit_paths, solver_name, system.n_dofs, system, unit,
                  summary)
+
+
+def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
+                  progress=None) -> Sweep:
+    """The sweep of a beam model with bearing clearances: the rest state and each case solved on its own.
+
+    ``solve`` solves the model as assembled (every radial spring engaged); the gaps are condensed
+    on it once (:func:`fem.bushing.prepare_radial_gaps`). Each solution is checked: the residual
+    ‖Tᵀ(K_lin u + Uᵀ F(U u) − f)‖ / ‖Tᵀ f‖ must be below 1e-9, and the global equilibrium uses the
+    bearing forces of the clearance law. No unit responses exist: ``unit_paths`` is empty and
+    ``unit_displacements`` None; ``case_displacements`` holds each case's displacement as measured.
+    """
+    frame = system.frame.structure
+    names = [f"bearing:{b.name}" for b in rig.bearings if b.radial_clearance_um > 0]
+    rows = [system.frame.bushing_names.index(name) for name in names]
+    operator = bushing.radial_operator(frame.coordinates, frame.bushings, rows, system.n_dofs)
+    stiffness = frame.bushings.stiffness[rows, 1]
+    clearance = np.array([b.radial_clearance_um * 1e-6 for b in rig.bearings if b.radial_clearance_um > 0])
+    gaps = bushing.prepare_radial_gaps(solve, operator, stiffness, clearance)
+    loads = system.unit_loads
+
+    def solve_case(weights: dict, label: str):
+        load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
+        try:
+            solution = bushing.solve_with_gaps(gaps, solve, load)
+        except bushing.GapConvergenceError as error:
+            raise ModelError(f"case {label}: {error}") from None
+        u = solution.displacement
+        # the gap correction as a load: K u = f + Uᵀ G(U u) is the clearance law's equilibrium
+        released = stiffness[:, None] * (operator @ u).reshape(-1, 2) - bushing.gap_forces(operator @ u, stiffness,
+                                                                                              clearance)
+        effective = load + operator.T @ released.ravel()
+        reduced_residual = system.elimination.T @ (system.stiffness @ u - effective)
+        scale = np.linalg.norm(system.elimination.T @ load)
+        residual = float(np.linalg.norm(reduced_residual) / scale) if scale > 0 else 0.0
+        if not np.all(np.isfinite(u)) or residual > 1e-9:
+            raise ModelError(f"case {label}: the bearing-clearance solution has a relative residual of {residual:.1e} "
+                             "(> 1e-9)")
+        check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
+        return u, solution, check.relative_error, residual
+
+    rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
+    from_rest = rig.paths.measured_from == "aligned_at_rest"
+    results, iterations, measured_all = [], [rest_solution.iterations], []
+    for i, case in enumerate(cases):
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
+        u, solution, error, residual = solve_case(weights, case.label)
+        iterations.append(solution.iterations)
+        measured = u - rest_u if from_rest else u
+        measured_all.append(measured)
+        results.append(CaseResult(case, {s: read_path(system, measured, s) for s in SHAFTS},
+                                  {s: read_path(system, u, s) for s in SHAFTS}, error, residual))
+        if progress is not None:
+            progress(i + 1, len(cases))
+    summary = dict(report if isinstance(report, dict) else _report_dict(report))
+    summary.update({"nonlinear": "bearing clearance, active-set Newton on the condensed radial motions",
+                    "gapped_bearings": [name.removeprefix("bearing:") for name in names],
+                    "newton_iterations_max": int(max(iterations))})
+    return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
+                 np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
 
 
 def _report_dict(prepared) -> dict:

@@ -1,0 +1,395 @@
+"""The physical effects library: named, bounded augmentations of a rig model.
+
+An :class:`Effect` is one physically meaningful change of the rig with one bounded parameter at
+one location, named in a stable vocabulary (``coupling_offset@C3``, ``bearing_clearance@input_B1``,
+``self_weight``, …). Parameters are **increments relative to the rig as given**: zero leaves the
+rig's results unchanged, so every candidate is available on any rig and the base model is
+"all parameters zero". :func:`candidate_effects` lists every candidate at every location of a rig.
+
+Each effect is expressed as rig-file changes: :meth:`Effect.rig_changes` gives parameter
+addresses (:mod:`geometry.parameters`) and their new values, :meth:`Effect.new_items` the
+entries it adds to a list (e.g. a new ``[[torque_lateral_loads]]`` of kind ``proportional``), and
+:meth:`Effect.apply` the validated rig with both. ``geometry.rigwrite.updated_rig_text`` writes such
+a rig into the user's file.
+
+Vocabulary (parameter, unit, whether Y is affine in it):
+
+=============================  ==================================  =====  ==========
+effect                         parameter                           unit   linear
+=============================  ==================================  =====  ==========
+``self_weight``                ``extra_weight_factor``             –      yes
+``force_pairs``                ``force_table_scale_added``         –      yes
+``bearing_stiffness@B``        ``log2_stiffness_factor``           –      no
+``bearing_clearance@B``        ``clearance_um``                    µm     no
+``mount_compliance@P``         ``compliance_factor``               –      no
+``coupling_offset@C``          ``offset_um``                       µm     yes
+``coupling_angle@C``           ``angle_mrad``                      mrad   yes
+``mesh_force@reducer_input``   ``force_per_torque_N_per_Nm``       N/N·m  yes
+``torque_reaction@P``          ``force_per_torque_N_per_Nm``       N/N·m  yes
+``shear_deformation``          ``shear_fraction``                  –      no
+``thermal_growth@P``           ``lift_um``                         µm     yes
+=============================  ==================================  =====  ==========
+
+"linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
+(the model is nonlinear), and every effect is then flagged ``linear = False``.
+
+With ``paths.measured_from = "aligned_at_rest"`` (the reference rig) Y is u − u_rest, so an effect
+that does not depend on torque (self-weight, force table, offsets, thermal growth) leaves Y
+unchanged on a linear rig: that is physics, not a bug. Such effects are observable when Y is
+measured from the unloaded geometry (``measured_from = "unloaded"``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from pydantic import ValidationError
+
+from geometry.parameters import get_parameter, with_parameters
+from geometry.schema import Rig
+
+STANDARD_GRAVITY = 9.80665  # m/s²
+
+
+@dataclass(frozen=True)
+class EffectParameter:
+    """One parameter of an effect.
+
+    Attributes
+    ----------
+    name : str
+        With its unit in the name (``offset_um``).
+    unit : str
+    lower, upper : float
+        Physical bounds of the increment on this rig; a fit outside them is rejected.
+    typical : float
+        A realistic magnitude on the reference rig (scale for fitting and synthetic tests).
+    """
+
+    name: str
+    unit: str
+    lower: float
+    upper: float
+    typical: float
+
+
+@dataclass(frozen=True)
+class RigChange:
+    """What an effect does to a rig file: new values at addresses, and new list entries."""
+
+    values: dict = field(default_factory=dict)
+    new_items: dict = field(default_factory=dict)  # group → list of entries (file keys)
+
+
+@dataclass(frozen=True)
+class Effect:
+    """A named physical augmentation of a rig with bounded parameters (increments; zero = rig as given).
+
+    Attributes
+    ----------
+    name : str
+        Stable vocabulary, ``<kind>@<location>`` or ``<kind>`` for a global effect.
+    kind : str
+    location : str or None
+    parameters : tuple of EffectParameter
+    linear : bool
+        Y is exactly affine in the parameters.
+    description : str
+        One physical sentence.
+    """
+
+    name: str
+    kind: str
+    location: str | None
+    parameters: tuple[EffectParameter, ...]
+    linear: bool
+    description: str
+    change: Callable[[Rig, tuple[float, ...]], RigChange] = field(repr=False, compare=False, default=None)
+
+    def _values(self, values: Sequence[float]) -> tuple[float, ...]:
+        values = tuple(float(v) for v in (values if isinstance(values, Sequence) else list(values)))
+        if len(values) != len(self.parameters):
+            raise ValueError(f"{self.name} takes {len(self.parameters)} value(s) "
+                             f"({', '.join(p.name for p in self.parameters)}), got {len(values)}")
+        bad = [p.name for p, v in zip(self.parameters, values) if not math.isfinite(v)]
+        if bad:
+            raise ValueError(f"{self.name}: {', '.join(bad)} must be finite")
+        return values
+
+    def rig_changes(self, rig: Rig, values: Sequence[float]) -> dict[str, float]:
+        """Parameter addresses → new values (a true/false key as 1.0/0.0); new entries are in :meth:`new_items`."""
+        return dict(self.change(rig, self._values(values)).values)
+
+    def new_items(self, rig: Rig, values: Sequence[float]) -> dict[str, list[dict]]:
+        """Entries the effect appends to lists of the rig file (group → entries), e.g. a new lateral load."""
+        return {group: [dict(item) for item in items]
+                for group, items in self.change(rig, self._values(values)).new_items.items()}
+
+    def apply(self, rig: Rig, values: Sequence[float]) -> Rig:
+        """A new, validated rig with the effect; ``values`` all zero gives the same results as ``rig``.
+
+        Raises
+        ------
+        ValueError
+            The values make an invalid rig (the reason names the key).
+        """
+        change = self.change(rig, self._values(values))
+        try:
+            changed = rig
+            if change.new_items:
+                data = rig.model_dump(by_alias=True)
+                for group, items in change.new_items.items():
+                    data[group] = list(data[group]) + [dict(item) for item in items]
+                changed = Rig.model_validate(data)
+            return with_parameters(changed, change.values) if change.values else changed
+        except ValidationError as error:
+            reasons = "; ".join(f"{'.'.join(str(x) for x in e['loc']) or 'rig'}: {e['msg']}" for e in error.errors())
+            raise ValueError(f"{self.name} = {list(values)}: {reasons}") from None
+
+    def out_of_bounds(self, values: Sequence[float]) -> list[str]:
+        """One reason per value outside its physical bounds (empty when all are inside)."""
+        return [f"{p.name} = {v:g} {p.unit} lies outside its physical bounds [{p.lower:g}, {p.upper:g}] {p.unit}"
+                for p, v in zip(self.parameters, self._values(values)) if not p.lower <= v <= p.upper]
+
+
+# ---- the effects ------------------------------------------------------------------------------------------
+
+def _self_weight(rig: Rig) -> Effect:
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        (p,) = v
+        if r.gravity.enabled:
+            return RigChange({"gravity.acceleration_m_per_s2": r.gravity.acceleration_m_per_s2 * (1.0 + p)})
+        if p == 0.0:
+            return RigChange()
+        return RigChange({"gravity.enabled": 1.0, "gravity.acceleration_m_per_s2": STANDARD_GRAVITY * p})
+
+    # 0…3: housing masses are [R]/[A] catalogue estimates (rig_reference.md); a factor 3 covers a
+    # brake of 46 kg [A] that weighs 4× more, or fixtures forgotten in the model. With gravity off,
+    # 1 is the full self-weight.
+    off = "" if rig.gravity.enabled else " (gravity is off in this rig: 1 is the full self-weight)"
+    return Effect("self_weight", "self_weight", None,
+                  (EffectParameter("extra_weight_factor", "-", 0.0, 3.0, 0.5),), True,
+                  "Every part weighs (1 + factor) times its modelled weight: masses of housings and fixtures "
+                  f"underestimated{off}.", change)
+
+
+def _force_pairs(rig: Rig) -> Effect:
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        (p,) = v
+        if r.force_table.apply:
+            return RigChange({"force_table.scale": r.force_table.scale + p})
+        if p == 0.0:
+            return RigChange()
+        return RigChange({"force_table.apply": 1.0, "force_table.scale": p})
+
+    # ±2: paper 000 gives the pairs without saying where or in which direction they act
+    # (rig_reference.md), so the sign is open; 1 is the table as published.
+    return Effect("force_pairs", "force_pairs", None,
+                  (EffectParameter("force_table_scale_added", "-", -2.0, 2.0, 1.0),), True,
+                  "Paper 000's force table (F1 … F9, as interpreted in the rig file) added with this scale.", change)
+
+
+def _bearing_stiffness(rig: Rig, name: str) -> Effect:
+    address = f"bearings.{name}.radial_stiffness_N_per_um"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) * 2.0 ** v[0]})
+
+    # 1/16 … 2: a ball bearing's radial stiffness depends on preload and clearance; the reference
+    # 40–65 N/µm [S] holds for a preloaded 6204/6206 and drops by an order of magnitude near zero
+    # load with internal clearance.
+    return Effect(f"bearing_stiffness@{name}", "bearing_stiffness", name,
+                  (EffectParameter("log2_stiffness_factor", "-", -4.0, 1.0, -1.0),), False,
+                  f"The radial stiffness of bearing {name} times 2^factor (preload, clearance, seat fit).", change)
+
+
+def _bearing_clearance(rig: Rig, name: str) -> Effect:
+    address = f"bearings.{name}.radial_clearance_um"
+    current = get_parameter(rig, address)
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    # the gap c is measured from the centred position, half the radial internal clearance: CN group
+    # 5–20 µm for 6204/6206 [S] (rig_reference.md) → c = 2.5–10 µm; C3 up to 28 µm → 14 µm. Total ≥ 0.
+    return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
+                  (EffectParameter("clearance_um", "µm", -current, 15.0 - current, 5.0),), False,
+                  f"Radial play of bearing {name}: no radial force until the shaft has moved the gap "
+                  "(a dead band, nonlinear).", change)
+
+
+def _mount_compliance(rig: Rig, part: str) -> Effect:
+    addresses = [f"mounts.{m.name}.translational_stiffness_N_per_um[1]" for m in rig.mounts if m.part == part]
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({a: get_parameter(r, a) / (1.0 + v[0]) for a in addresses})
+
+    # -0.5 … 20: the mounts are [A] 100–500 N/µm; a bolted pedestal or bracket on a bed can be an
+    # order of magnitude softer (joint compliance), seldom much stiffer (×2 at most).
+    return Effect(f"mount_compliance@{part}", "mount_compliance", part,
+                  (EffectParameter("compliance_factor", "-", -0.5, 20.0, 1.0),), False,
+                  f"The vertical stiffness of the mounts of {part} divided by (1 + factor): a softer pedestal, "
+                  "bracket or bolted joint.", change)
+
+
+def _coupling(rig: Rig, name: str, key: str, kind: str, parameter: EffectParameter, what: str) -> Effect:
+    address = f"couplings.{name}.{key}"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    coupling = next(c for c in rig.couplings if c.name == name)
+    plane = ("vertical" if math.isclose(math.cos(math.radians(coupling.misalignment_direction_deg)), 1.0)
+             else f"at {coupling.misalignment_direction_deg:g}° from +Y")
+    return Effect(f"{kind}@{name}", kind, name, (parameter,), True,
+                  f"{what} of coupling {name} ({plane}, its misalignment_direction_deg), a prestrain present at "
+                  "rest and in every case.", change)
+
+
+def _coupling_offset(rig: Rig, name: str) -> Effect:
+    # ±100 µm: allowed parallel offset of the C1/C3 bellows couplings 0.1 mm [S] (rig_reference.md);
+    # 20 µm is a good dial-indicator alignment.
+    return _coupling(rig, name, "parallel_offset_um", "coupling_offset",
+                     EffectParameter("offset_um", "µm", -100.0, 100.0, 20.0), "Parallel misalignment")
+
+
+def _coupling_angle(rig: Rig, name: str) -> Effect:
+    # ±17.45 mrad: allowed angular misalignment 1° [S] (rig_reference.md); 0.5 mrad (0.05 mm per
+    # 100 mm) is a good alignment.
+    return _coupling(rig, name, "angular_misalignment_mrad", "coupling_angle",
+                     EffectParameter("angle_mrad", "mrad", -17.45, 17.45, 0.5), "Angular misalignment")
+
+
+def _proportional(rig: Rig, item: str, torque: str, on: dict, reacted_on: dict | None) -> Callable:
+    """change() adding p to the proportional lateral load ``item`` (created when the rig has none)."""
+    address = f"torque_lateral_loads.{item}.force_per_torque_N_per_Nm"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        if any(t.name == item for t in r.torque_lateral_loads):
+            return RigChange({address: get_parameter(r, address) + v[0]})
+        entry = {"name": item, "torque": torque, "kind": "proportional", "on": on, "direction_deg": 0.0,
+                 "force_per_torque_N_per_Nm": v[0]}
+        if reacted_on is not None:
+            entry["reacted_on"] = reacted_on
+        return RigChange(new_items={"torque_lateral_loads": [entry]})
+
+    return change
+
+
+def _location(location) -> dict:
+    return location.model_dump(exclude_none=True)
+
+
+def _mesh_force(rig: Rig) -> Effect | None:
+    mesh = next((t for t in rig.torque_lateral_loads if t.kind == "gear_mesh_load_sharing" and t.torque == "T1"), None)
+    if mesh is None:
+        return None
+    reacted = _location(mesh.reacted_on) if mesh.reacted_on is not None else None
+    change = _proportional(rig, "mesh_force_reducer_input", "T1", _location(mesh.on), reacted)
+    # ±100 N per N·m: the input gear's tangential force per N·m is 1/r = 100 N at r = 10 mm [A]; a
+    # lateral mesh force cannot exceed it. 2 N per N·m is the reference imbalance 0.02 / r / cos 20°.
+    return Effect("mesh_force@reducer_input", "mesh_force", "reducer_input",
+                  (EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -100.0, 100.0, 2.0),), True,
+                  f"A vertical gear-mesh force proportional to T1 on {mesh.on.part} at x = {mesh.on.x_mm:g} mm "
+                  "(where the input gear meshes), reacted on the reducer.", change)
+
+
+def _torque_reaction(rig: Rig, part: str) -> Effect:
+    body = rig.part(part)
+    lo, hi = body.x_range_mm
+    change = _proportional(rig, f"torque_reaction_{part}", "T2", {"part": part, "x_mm": 0.5 * (lo + hi)}, None)
+    # ±20 N per N·m: a torque arm of ≥ 50 mm; 2 N per N·m is an arm of 0.5 m, or an asymmetric
+    # pedestal turning a tenth of the torque into a vertical force at 50 mm.
+    return Effect(f"torque_reaction@{part}", "torque_reaction", part,
+                  (EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -20.0, 20.0, 2.0),), True,
+                  f"A vertical reaction proportional to T2 on the housing {part} (torque arm, asymmetric pedestal), "
+                  "carried to the ground by its mounts.", change)
+
+
+def _shear(rig: Rig) -> Effect:
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        if v[0] == 0.0:
+            return RigChange()
+        return RigChange({"beam.shear_deformation": 1.0, "beam.shear_flexibility_factor": v[0]})
+
+    # 0…1: the shear flexibility Φ of the Timoshenko beam blended in, 1 = full Timoshenko (a
+    # continuous parameter instead of a switch, so it can be fitted).
+    return Effect("shear_deformation", "shear_deformation", None,
+                  (EffectParameter("shear_fraction", "-", 0.0, 1.0, 1.0),), False,
+                  "The beams' shear deformation (Timoshenko), blended in from the Euler–Bernoulli model.", change)
+
+
+def _thermal_growth(rig: Rig, part: str) -> Effect:
+    addresses = [f"mounts.{m.name}.vertical_offset_um" for m in rig.mounts if m.part == part]
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({a: get_parameter(r, a) + v[0] for a in addresses})
+
+    # ±50 µm: a cast-iron housing (α ≈ 11e-6/K) with its axis ≈ 200 mm above the bed [A]
+    # (rig_reference.md) grows 44 µm for 20 K; 10 µm is ≈ 5 K, or a shim.
+    return Effect(f"thermal_growth@{part}", "thermal_growth", part,
+                  (EffectParameter("lift_um", "µm", -50.0, 50.0, 10.0),), True,
+                  f"Every mount of {part} raised by the same height: thermal growth of the housing, or a shim.",
+                  change)
+
+
+def _with_linearity(effect: Effect, linear_rig: bool) -> Effect:
+    if effect.linear and not linear_rig:
+        return Effect(effect.name, effect.kind, effect.location, effect.parameters, False, effect.description,
+                      effect.change)
+    return effect
+
+
+def _torque_reaction_parts(rig: Rig, mounted: list[str]) -> list[str]:
+    """Mounted housings between the T1 and T2 application points (reducer, sensors, brake, blocks)."""
+    x1, x2 = sorted((rig.torques.T1.x_mm, rig.torques.T2.x_mm))
+    out = []
+    for name in mounted:
+        lo, hi = rig.part(name).x_range_mm
+        if rig.part(name).role == "body" and hi > x1 and lo < x2:
+            out.append(name)
+    return out
+
+
+def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
+    """Every candidate effect at every location of ``rig``.
+
+    Couplings: offset and angle; bearings: stiffness and clearance; parts with mounts: mount
+    compliance and thermal growth; mounted housings between T1 and T2: torque reaction; the
+    reducer input (the first ``gear_mesh_load_sharing`` on T1): mesh force; global: self-weight,
+    force pairs (when the rig has a force table), shear deformation (when it is off).
+    """
+    linear_rig = not any(b.radial_clearance_um > 0 for b in rig.bearings)
+    mounted = list(dict.fromkeys(m.part for m in rig.mounts))
+    effects: list[Effect | None] = [_self_weight(rig)]
+    if rig.force_table.pairs or rig.force_table.singles:
+        effects.append(_force_pairs(rig))
+    for b in rig.bearings:
+        effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
+    for part in mounted:
+        effects.append(_mount_compliance(rig, part))
+    for c in rig.couplings:
+        effects += [_coupling_offset(rig, c.name), _coupling_angle(rig, c.name)]
+    effects.append(_mesh_force(rig))
+    effects += [_torque_reaction(rig, part) for part in _torque_reaction_parts(rig, mounted)]
+    if not rig.beam.shear_deformation:
+        effects.append(_shear(rig))
+    effects += [_thermal_growth(rig, part) for part in mounted]
+    return tuple(_with_linearity(e, linear_rig) for e in effects if e is not None)
+
+
+def effect_by_name(rig: Rig, name: str) -> Effect:
+    """The candidate effect ``name`` of ``rig``.
+
+    Raises
+    ------
+    KeyError
+        No such candidate on this rig (the message lists them).
+    """
+    effects = candidate_effects(rig)
+    for effect in effects:
+        if effect.name == name:
+            return effect
+    raise KeyError(f"no effect '{name}' on rig '{rig.rig.name}'; candidates: {', '.join(e.name for e in effects)}")
