@@ -47,6 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from results.fields import FieldCase, FieldMesh
+from results.writers import write_png_atomic
 
 RENDER_PACKAGES = ("libegl1", "libegl-mesa0", "libgl1-mesa-dri")
 BACKGROUND = (255, 255, 255)
@@ -595,15 +596,7 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
         ax.legend(loc="upper left", fontsize=9)
     if title:
         figure.suptitle(title)
-    target = Path(path_png)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
-    try:
-        figure.savefig(temporary, format="png", facecolor="white")
-        os.replace(temporary, target)
-    finally:
-        temporary.unlink(missing_ok=True)
-    return target
+    return write_png_atomic(path_png, figure)
 
 
 __all__ = [

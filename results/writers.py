@@ -10,8 +10,12 @@ import tempfile
 from pathlib import Path
 
 
-def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` so that a reader never sees a half-written file."""
+def write_text_atomic(path: str | Path, text: str, durable: bool = True) -> Path:
+    """Write ``text`` to ``path`` so that a reader never sees a half-written file.
+
+    ``durable=False`` skips the fsync: still atomic, but after a power cut the file may be empty
+    (for files that are checked when read again, such as Monte Carlo samples).
+    """
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
@@ -19,7 +23,8 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
         with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
             stream.write(text)
             stream.flush()
-            os.fsync(stream.fileno())
+            if durable:
+                os.fsync(stream.fileno())
         os.replace(temporary, target)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
@@ -49,5 +54,19 @@ def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
     return write_text_atomic(path, buffer.getvalue())
 
 
-def write_json_atomic(path: str | Path, data) -> Path:
-    return write_text_atomic(path, json.dumps(data, indent=2, sort_keys=False, ensure_ascii=False, default=float) + "\n")
+def write_json_atomic(path: str | Path, data, durable: bool = True) -> Path:
+    return write_text_atomic(path, json.dumps(data, indent=2, sort_keys=False, ensure_ascii=False, default=float) + "\n",
+                             durable)
+
+
+def write_png_atomic(path: str | Path, figure, **options) -> Path:
+    """Save a matplotlib ``figure`` as a PNG (white background unless ``options`` say otherwise), atomically."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+    try:
+        figure.savefig(temporary, format="png", **{"facecolor": "white", **options})
+        os.replace(temporary, target)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return target

@@ -1,0 +1,107 @@
+"""Relative motion and force of the rig's springs in every load case of a sweep.
+
+Every bearing, mount, coupling and joint is a bushing (:mod:`fem.bushing`) between two frame nodes,
+or a node and the ground, at a point c reached by rigid arms. Its relative motion is
+Δ = B_b u_b − B_a u_a: the motion at c of side b (the shaft of a bearing, the ``to`` end of a
+coupling or joint, the part of a mount) minus that of side a (the housing, the ``from`` end, the
+ground). The spring exerts diag(k) Δ on side a and the opposite on side b.
+
+A spring may be free of load at a relative motion Δ0 ≠ 0 (a coupling installed with a parallel
+offset or angle, a raised mount: :func:`geometry.build.stress_free_motions`); it then exerts
+diag(k) (Δ − Δ0). The *deformation* reported here is Δ − Δ0 (from the unloaded geometry) or the
+change of Δ since the rest state (from rest, where Δ0 cancels), so that force = diag(k) × deformation
+in both references. For a coupling it is its misalignment: parallel offset (translation in y and z)
+and angle (rotation about y and z) of the ``to`` hub relative to the ``from`` hub at the coupling
+centre. For a bearing, −diag(k) × deformation is the reaction the bearing exerts on its shaft.
+
+In hybrid and solid models the same bushings attach to the reference nodes tied to solid faces
+(:mod:`geometry.hybrid`), so everything here works on the frame part of the displacement vector at
+every fidelity.
+
+The displacements of a case are rebuilt from the sweep's unit responses,
+u = Σ_k w_k u_k (:func:`geometry.loads.case_weights`); with ``method="direct"`` the sweep solved
+each case on its own, which agrees with this superposition to solver precision.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fem import bushing
+from geometry.build import stress_free_motions
+from geometry.loads import UNIT_LOADS, case_weights
+from results.sweep import Sweep
+
+REFERENCES = ("measured", "unloaded")
+"""``measured``: from the state the rig's ``[paths] measured_from`` names (the aligned rig at rest by
+default, u − u_rest), as Y and β are; ``unloaded``: from the unloaded geometry (u, self-weight included)."""
+
+
+@dataclass(frozen=True, eq=False)
+class ConnectionStates:
+    """Relative motion and force of every named spring in every case (SI, global axes).
+
+    Attributes
+    ----------
+    names : tuple of str
+        ``"<kind>:<name>"`` per spring (``bearing``, ``mount``, ``coupling``, ``joint``).
+    point_m : (n_springs, 3) array
+        Where each spring sits.
+    deformation : (n_cases, n_springs, 6) array
+        Translation (m) and rotation (rad) of side b relative to side a at the spring point, less
+        the stress-free Δ0 (or since the rest state).
+    force_on_b : (n_cases, n_springs, 6) array
+        Force (N) and moment about the spring point (N·m) that the spring exerts on side b.
+    """
+
+    names: tuple[str, ...]
+    point_m: np.ndarray
+    deformation: np.ndarray
+    force_on_b: np.ndarray
+
+    def index(self, kind: str, name: str) -> int:
+        """Row of the spring ``name`` of ``kind`` (bearing, mount, coupling, joint)."""
+        try:
+            return self.names.index(f"{kind}:{name}")
+        except ValueError:
+            raise KeyError(f"no {kind} named '{name}'") from None
+
+
+class ConnectionsUnavailableError(ValueError):
+    """The sweep cannot give per-case spring states (the message says why)."""
+
+
+def _from_rest(sweep: Sweep, reference: str) -> bool:
+    if reference not in REFERENCES:
+        raise ValueError(f"reference must be one of {', '.join(REFERENCES)}, got {reference!r}")
+    return reference == "measured" and sweep.rig.paths.measured_from == "aligned_at_rest"
+
+
+def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
+    """Displacement vectors of every case, (n_dofs, n_cases), from ``reference`` (see :data:`REFERENCES`)."""
+    from_rest = _from_rest(sweep, reference)
+    if sweep.unit_displacements is None:
+        raise ConnectionsUnavailableError(
+            "spring forces and coupling misalignments need a linear model (unit responses); this rig has "
+            "bearings with radial clearance, whose sweep is solved case by case without them")
+    unit = np.asarray(sweep.unit_displacements)
+    weights = np.array([[case_weights(c.case.input_torque_Nm, c.case.output_torque_Nm,
+                                      include_rest=not from_rest)[k] for k in UNIT_LOADS] for c in sweep.cases])
+    return unit @ weights.T
+
+
+def connection_states(sweep: Sweep, reference: str = "measured") -> ConnectionStates:
+    """Relative motion and force of every spring of the sweep's rig in every case."""
+    frame = sweep.model.structure
+    springs = frame.bushings
+    displacements = case_displacements(sweep, reference)[: frame.n_dofs]
+    operator, dofs = bushing.relative_motion_operator(frame.coordinates, springs)
+    gathered = np.where((dofs >= 0)[:, :, None], displacements[np.maximum(dofs, 0)], 0.0)  # (springs, 12, cases)
+    deformation = np.einsum("sij,sjc->csi", operator, gathered)
+    if not _from_rest(sweep, reference):
+        deformation = deformation - stress_free_motions(sweep.rig)[None, :, :]
+    force_on_b = -np.asarray(springs.stiffness, float)[None, :, :] * deformation
+    return ConnectionStates(tuple(sweep.model.bushing_names), np.asarray(springs.point_m, float), deformation,
+                            force_on_b)

@@ -1,0 +1,418 @@
+"""Dynamics export: lever arms, coupling misalignment, bearing reactions, CSV/JSON, ADAMS fragment, ROSS adapter.
+
+The beam-model sweep of paper 000's 20 cases is solved once per module. One hybrid test (8 mm
+mesh) checks that the spring states also balance a solid shaft. The ROSS tests skip when ROSS is
+not installed (``pip install "rvcoax[ross]"``); its absence is reported clearly (tested always).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import sys
+import tomllib
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from fem import DOFS_PER_NODE
+from fem.bushing import GROUND
+from fem.equilibrium import DofTable, resultant_of
+from geometry.loads import UNIT_LOADS, case_weights
+from geometry.rigfile import load_rig, parse_rig, reference_rig_text
+from loadcases.cases import LoadCase, grid_cases, paired_cases, paper_cases
+from results.adams import (
+    MARKER_BASE_ID,
+    AdamsExportError,
+    AdamsSyntaxError,
+    adams_fragment,
+    marker_z_axis,
+    parse_adm,
+    spline_data,
+)
+from results.cli import app
+from results.connections import ConnectionsUnavailableError, case_displacements, connection_states
+from results.export import (
+    CSV_TABLES,
+    IT3_RADIAL_DISPLACEMENT_MM,
+    dynamics_export,
+    export_document,
+    export_tables,
+    lever_arms_mm,
+    read_csv_table,
+    shaft_stages,
+    tilt_direction,
+    write_csv,
+    write_json,
+)
+from results.ross_adapter import RossUnavailableError, import_ross
+from results.sweep import SweepSettings, read_path, run_sweep
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return load_rig()
+
+
+@pytest.fixture(scope="module")
+def sweep(rig):
+    return run_sweep(rig, paper_cases())
+
+
+@pytest.fixture(scope="module")
+def export(sweep):
+    return dynamics_export(sweep)
+
+
+def test_stages_of_the_reference_shafts_are_numbered_from_the_reducer(rig):
+    def table(which):
+        return [(s.number, s.x_from_mm, s.x_to_mm, s.outer_diameter_mm, s.inner_diameter_mm)
+                for s in shaft_stages(rig, which)]
+
+    # the input shaft is paper 000's four-stage hollow shaft: the Ø20 journal and the sun gear are one stage
+    assert table("input") == [(1, 308, 340, 20, 8), (2, 262, 308, 18, 8), (3, 248, 262, 20, 8), (4, 220, 248, 18, 8)]
+    assert table("output") == [(1, 405, 420, 35, 0), (2, 420, 440, 30, 0), (3, 440, 490, 35, 0), (4, 490, 565, 30, 0)]
+
+
+def test_lever_arm_against_a_hand_calculation():
+    # β = 30°, a = 1 mm, l = (10, 20) mm, d = (4, 6) mm: tan 30° = 1/√3, a / cos 30° = 2/√3
+    arms, tilts = lever_arms_mm(30.0, 1.0, [10.0, 20.0], [4.0, 6.0])
+    third = 1.0 / math.sqrt(3.0)
+    np.testing.assert_allclose(arms, [5 * third + 2 / 3 + 2, 15 * third + 2 / 3 + 3], rtol=1e-14)
+    np.testing.assert_allclose(tilts, arms - [2.0, 3.0], rtol=1e-14)
+    # no tilt: the lever arm is the stage's radius
+    np.testing.assert_array_equal(lever_arms_mm(0.0, 0.002, [32, 46], [20, 18])[0], [10.0, 9.0])
+
+
+def test_exported_lever_arms_follow_the_formula_with_the_sweeps_beta(export, sweep):
+    rows = [r for r in export_tables(export)["stages"] if r["shaft"] == "input"]
+    case = sweep.cases[0]
+    beta = math.radians(case.paths["input"].beta_deg)
+    a = IT3_RADIAL_DISPLACEMENT_MM["input"]
+    previous = 0.0
+    for row in rows[:4]:
+        length = row["length_mm"]
+        tilt = math.tan(beta) * ((length + previous) / 2 + a / math.cos(beta))
+        assert row["tilt_term_mm"] == pytest.approx(tilt, rel=1e-13)
+        assert row["lever_arm_mm"] == pytest.approx(tilt + row["outer_diameter_mm"] / 2, rel=1e-15)
+        previous = length
+    assert [r["stage"] for r in rows[:4]] == [1, 2, 3, 4]
+
+
+def test_radial_displacement_defaults_to_it3_and_can_be_set(sweep, export):
+    shafts = export_tables(export)["shafts"]
+    assert {r["shaft"]: r["radial_displacement_a_mm"] for r in shafts} == {"input": 0.002, "output": 0.003}
+    other = dynamics_export(sweep, {"output": 0.01})
+    assert other.radial_mm == {"input": 0.002, "output": 0.01}
+    with pytest.raises(ValueError, match="output shaft"):
+        dynamics_export(sweep, {"output": -1.0})
+
+
+def test_case_displacements_reproduce_the_sweeps_paths(sweep):
+    for reference, attribute in (("measured", "paths"), ("unloaded", "absolute_paths")):
+        u = case_displacements(sweep, reference)
+        for i, case in enumerate(sweep.cases):
+            for shaft in ("input", "output"):
+                np.testing.assert_allclose(read_path(sweep.system, u[:, i], shaft).uy_mm,
+                                           getattr(case, attribute)[shaft].uy_mm, rtol=1e-12, atol=1e-18)
+
+
+def _point_motion(u, frame, part, x_mm, centre_mm):
+    """Translation and rotation at x = centre of a rigid arm from the node (part, x): read off u directly."""
+    node = frame.node(part, x_mm)
+    ux, uy, uz, rx, ry, rz = u[DOFS_PER_NODE * node: DOFS_PER_NODE * node + 6]
+    arm = (centre_mm - x_mm) * 1e-3
+    return np.array([uy + rz * arm, uz - ry * arm]), np.array([rx, ry, rz])
+
+
+@pytest.mark.parametrize("reference, suffix", [("measured", ""), ("unloaded", "_unloaded_ref")])
+def test_coupling_offsets_and_angles_from_the_nodal_displacements(sweep, export, reference, suffix):
+    u = case_displacements(sweep, reference)
+    rows = export_tables(export)["couplings"]
+    for coupling in sweep.rig.couplings:
+        mine = [r for r in rows if r["coupling"] == coupling.name]
+        for i, row in enumerate(mine):
+            t_from, r_from = _point_motion(u[:, i], sweep.model, coupling.from_.part, coupling.from_.x_mm,
+                                           coupling.centre_x_mm)
+            t_to, r_to = _point_motion(u[:, i], sweep.model, coupling.to.part, coupling.to.x_mm, coupling.centre_x_mm)
+            offset_um, angle_deg = (t_to - t_from) * 1e6, np.degrees(r_to - r_from)
+            scale = max(abs(offset_um).max(), 1e-9)
+            assert row[f"offset_y{suffix}_um"] == pytest.approx(offset_um[0], abs=1e-12 * scale)
+            assert row[f"offset_z{suffix}_um"] == pytest.approx(offset_um[1], abs=1e-12 * scale)
+            assert row[f"angle_about_z{suffix}_deg"] == pytest.approx(angle_deg[2], rel=1e-12, abs=1e-20)
+            assert row[f"twist{suffix}_deg"] == pytest.approx(angle_deg[0], rel=1e-12, abs=1e-20)
+            assert row[f"force_y{suffix}_N"] == pytest.approx(
+                -coupling.radial_stiffness_N_per_mm * 1e3 * offset_um[0] * 1e-6, rel=1e-12, abs=1e-15)
+    # the couplings carry the torques: C2 transmits T1 to the input shaft, C3 T2 from the output shaft
+    c2 = [r for r in rows if r["coupling"] == "C2"]
+    assert [r["torque_Nm"] for r in c2] == pytest.approx([c.case.input_torque_Nm for c in sweep.cases], rel=1e-9)
+
+
+def _part_dofs(system, part: str) -> np.ndarray:
+    """Every DOF of ``part``: its frame nodes, and its solid block in a hybrid model."""
+    nodes = np.flatnonzero(system.frame.node_part == part)
+    dofs = [(DOFS_PER_NODE * nodes[:, None] + np.arange(DOFS_PER_NODE)).ravel()]
+    for solid in system.solids:
+        if solid.name == part:
+            dofs.append(np.arange(solid.offset, solid.offset + solid.n_dofs))
+    return np.concatenate(dofs)
+
+
+def _spring_resultant_on(states, frame, part: str, case: int) -> tuple[np.ndarray, np.ndarray]:
+    """Force and moment about the origin of every spring acting on ``part`` (N, N·m), and their sizes."""
+    total, size = np.zeros(6), np.zeros(2)
+    node_a, node_b = np.asarray(frame.structure.bushings.node_a), np.asarray(frame.structure.bushings.node_b)
+    for s in range(len(states.names)):
+        on_b = frame.node_part[node_b[s]] == part
+        on_a = node_a[s] != GROUND and frame.node_part[node_a[s]] == part
+        if on_a == on_b:
+            continue  # not touching the part (or a spring inside it)
+        load = states.force_on_b[case, s] * (1.0 if on_b else -1.0)
+        moment = np.cross(states.point_m[s], load[:3]) + load[3:]
+        total += np.concatenate([load[:3], moment])
+        size += [np.abs(load[:3]).sum(), np.abs(moment).sum() + np.abs(load[3:]).sum()]
+    return total, size
+
+
+def _assert_each_shaft_in_equilibrium(sweep, states, reference: str, parts):
+    """Springs on each part balance its external loads to 1e-9 of their sizes, and to 10 × the solve's
+    relative residual times the total applied load (the hybrid model's PARDISO solve leaves ~1e-10)."""
+    system = sweep.system
+    from_rest = reference == "measured"
+    for i, case in enumerate(sweep.cases):
+        weights = case_weights(case.case.input_torque_Nm, case.case.output_torque_Nm, include_rest=not from_rest)
+        # external loads only: the prestrain "load" K Δ0 is the springs' own force, in their Δ − Δ0
+        load = sum(weights[k] * system.unit_loads[k] for k in UNIT_LOADS if k != "prestrain")
+        full = sum(w * system.unit_loads[k] for k, w in case_weights(case.case.input_torque_Nm,
+                                                                      case.case.output_torque_Nm, True).items())
+        floor = 10.0 * case.residual * np.abs(full).sum()
+        for part in parts:
+            dofs = _part_dofs(system, part)
+            table = DofTable(system.dofs.position[dofs], system.dofs.component[dofs])
+            applied = resultant_of(table, load[dofs])
+            springs, size = _spring_resultant_on(states, sweep.model, part, i)
+            size += np.abs(resultant_of(table, np.abs(load[dofs]))).reshape(2, 3).sum(axis=1)
+            error = np.abs(springs + applied)
+            assert error[:3].max() <= 1e-9 * size[0] + floor, (part, i, error, size)
+            assert error[3:].max() <= 1e-9 * size[1] + floor, (part, i, error, size)
+            assert size[0] > 0 or part not in ("input_shaft", "output_shaft")
+
+
+@pytest.mark.parametrize("reference", ["measured", "unloaded"])
+def test_bearing_reactions_balance_the_applied_loads_on_every_shaft(sweep, reference):
+    shafts = [p.name for p in sweep.rig.parts if p.role == "shaft"]
+    _assert_each_shaft_in_equilibrium(sweep, connection_states(sweep, reference), reference, shafts)
+
+
+def test_input_shaft_bearings_carry_the_sun_gear_load(sweep, export):
+    # from rest, the input shaft carries only the load-sharing force at its sun gear, C2 and its bearings
+    rows = export_tables(export)
+    lateral = sweep.rig.torque_lateral_loads[0]
+    for i, case in enumerate(sweep.cases):
+        t1 = case.case.input_torque_Nm
+        gear = lateral.force_per_torque_N_per_Nm * t1 + lateral.engaged_force_N * np.sign(t1)
+        bearings = sum(r["force_y_N"] for r in rows["bearings"] if r["shaft"] == "input_shaft"
+                       and (r["T1_input_Nm"], r["T2_output_Nm"]) == (t1, case.case.output_torque_Nm))
+        coupling = [r for r in rows["couplings"] if r["coupling"] == "C2"][i]["force_y_N"]
+        assert bearings + coupling + gear == pytest.approx(0.0, abs=1e-10 * abs(gear))
+
+
+def test_an_installed_coupling_misalignment_is_the_unloaded_reference(rig):
+    data = tomllib.loads(reference_rig_text())
+    c3 = next(c for c in data["couplings"] if c["name"] == "C3")
+    c3["parallel_offset_um"] = 20.0
+    shifted = parse_rig(data, "test")
+    result = run_sweep(shifted, paired_cases([0.5, 1.0], [70.0, 140.0]))
+    states = connection_states(result, "unloaded")
+    row = states.index("coupling", "C3")
+    # the coupling pulls its hubs towards its free shape: force = k (Δ − Δ0), Δ0 = 20 µm in y
+    assert states.force_on_b[0, row, 1] == pytest.approx(-2.5e6 * states.deformation[0, row, 1], rel=1e-12)
+    assert -20e-6 < states.deformation[0, row, 1] < -10e-6
+    _assert_each_shaft_in_equilibrium(result, states, "unloaded", ["output_shaft", "output_sensor_shaft"])
+    # from rest the installed offset cancels: same as the aligned rig
+    aligned = connection_states(run_sweep(rig, paired_cases([0.5, 1.0], [70.0, 140.0])), "measured")
+    np.testing.assert_allclose(connection_states(result, "measured").force_on_b, aligned.force_on_b, atol=1e-12)
+
+
+def test_hybrid_model_springs_balance_the_solid_input_shaft(rig):
+    settings = SweepSettings(model="hybrid", mesh_size_mm=8.0)
+    result = run_sweep(rig, paired_cases([0.07, 1.43], [10.0, 200.0]), settings)
+    for reference in ("measured", "unloaded"):
+        _assert_each_shaft_in_equilibrium(result, connection_states(result, reference), reference,
+                                          ["input_shaft", "output_shaft"])
+
+
+def test_a_sweep_without_unit_responses_is_refused(sweep):
+    with pytest.raises(ConnectionsUnavailableError, match="radial clearance"):
+        connection_states(dataclasses.replace(sweep, unit_displacements=None))
+
+
+def test_csv_and_json_round_trip(export, tmp_path):
+    tables = export_tables(export)
+    paths = write_csv(export, tmp_path)
+    assert [p.name for p in paths] == [f"dynamics_{name}.csv" for name in CSV_TABLES]
+    document = json.loads(write_json(export, tmp_path / "dynamics.json", "test", "text").read_text(encoding="utf-8"))
+    assert document["measured_from"] == "aligned_at_rest"
+    assert document["radial_displacement_a_mm"] == IT3_RADIAL_DISPLACEMENT_MM
+    assert [s["length_mm"] for s in document["stages"]["input"]] == [32, 46, 14, 28]
+    for name, path in zip(CSV_TABLES, paths):
+        back = read_csv_table(path)
+        assert document["tables"][name] == tables[name]  # JSON keeps every digit
+        assert len(back) == len(tables[name]) and list(back[0]) == list(tables[name][0])
+        for read, row in zip(back, tables[name]):
+            for key, value in row.items():
+                if isinstance(value, str):
+                    assert read[key] == value
+                else:  # CSV keeps 10 significant digits
+                    assert read[key] == pytest.approx(value, rel=1e-9, abs=1e-300), (name, key)
+    assert export_document(export, "test", "text")["tables"]["shafts"][0]["beta_deg"] == \
+        export.sweep.cases[0].paths["input"].beta_deg
+
+
+def test_adams_fragment_parses_back_with_the_sweeps_beta(export, sweep):
+    text = adams_fragment(export)
+    assert max(len(line) for line in text.splitlines()) <= 80
+    statements = parse_adm(text)
+    splines = {s.id: s for s in statements if s.name == "SPLINE"}
+    markers = {s.id: s for s in statements if s.name == "MARKER"}
+    assert len(markers) == 2 * len(sweep.cases)
+    for shaft, torque in (("input", "input_torque_Nm"), ("output", "output_torque_Nm")):
+        base = MARKER_BASE_ID[shaft]
+        x, curves = spline_data(splines[base])
+        order = np.argsort([getattr(c.case, torque) for c in sweep.cases])
+        np.testing.assert_array_equal(x, [getattr(sweep.cases[i].case, torque) for i in order])
+        assert curves[0][0] is None
+        np.testing.assert_array_equal(curves[0][1], [sweep.cases[i].paths[shaft].beta_deg for i in order])
+        start = getattr(sweep.rig.paths, shaft).x_start_mm
+        for i, case in enumerate(sweep.cases):
+            marker = markers[base + i + 1]
+            axis = marker_z_axis(marker)
+            tilt = math.degrees(math.atan2(axis[1], axis[0]))
+            path = case.paths[shaft]
+            assert tilt == pytest.approx(tilt_direction(path) * path.beta_deg, abs=1e-12)
+            assert abs(axis[2]) < 1e-15
+            assert [float(v) for v in marker.values("QP")[0]] == [start, 0.0, 0.0]
+    assert "LINEAR_EXTRAPOLATE" in dict(splines[MARKER_BASE_ID["input"]].arguments)
+
+
+def test_adams_grid_cases_give_a_family_of_curves(rig):
+    result = run_sweep(rig, grid_cases([0.3, 0.7, 1.0, 1.4], [20.0, 70.0, 140.0, 200.0]))
+    statements = parse_adm(adams_fragment(dynamics_export(result)))
+    spline = next(s for s in statements if s.name == "SPLINE" and s.id == MARKER_BASE_ID["input"])
+    x, curves = spline_data(spline)
+    np.testing.assert_array_equal(x, [0.3, 0.7, 1.0, 1.4])
+    assert [z for z, _ in curves] == [20.0, 70.0, 140.0, 200.0]
+    beta = {(c.case.input_torque_Nm, c.case.output_torque_Nm): c.paths["input"].beta_deg for c in result.cases}
+    for z, values in curves:
+        np.testing.assert_array_equal(values, [beta[(t1, z)] for t1 in x])
+    # repeated torques that are not a full grid cannot be written as a SPLINE
+    few = run_sweep(rig, (LoadCase(1.0, 10.0), LoadCase(1.0, 20.0), LoadCase(1.0, 30.0), LoadCase(0.5, 30.0)))
+    with pytest.raises(AdamsExportError, match="full grid|at least 4"):
+        adams_fragment(dynamics_export(few))
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("MARKER/1, PART=1, QP=0,0,0, REULER=0D,0D,0D, " + "0" * 60, "characters"),
+    (", X=1", "continuation"),
+    ("SPLINE/1, X=1,2,3, Y=1,2,3", "at least 4"),
+    ("SPLINE/1, X=1,3,2,4, Y=1,2,3,4", "increasing"),
+    ("SPLINE/1, X=1,2,3,4, Y=1,2,3", "Y needs"),
+    ("MARKER/1, QP=0,0,0, REULER=0,0,0", "PART"),
+    ("MARKER/1, PART=1, QP=0,0, REULER=0,0,0", "QP"),
+    ("MARKER/1, PART=1, QP=0,0,0, REULER=0,0,0\nMARKER/1, PART=1, QP=0,0,0, REULER=0,0,0", "twice"),
+    ("MARKER/1, PART=1, QP=0,,0, REULER=0,0,0", "empty"),
+    ("MARKER, PART=1, QP=0,0,0, REULER=0,0,0", "needs an id"),
+    ("MARKER/1, PART=1, QP=0,0,0, REULER=0,0,0, 1.5.2", "neither"),
+])
+def test_adams_reader_rejects_broken_datasets(text, problem):
+    with pytest.raises(AdamsSyntaxError, match=problem):
+        parse_adm(text)
+
+
+def test_adams_reader_accepts_comments_continuations_and_radians():
+    statements = parse_adm("! a comment\nMARKER/7 ! inline\n, PART=3\n, QP=1.0D+01, 0, -2.5E-1\n"
+                           ", REULER=1.5707963267948966, 90D\n, 0\nEND\n")
+    marker = statements[0]
+    assert (marker.name, marker.id, marker.values("PART")) == ("MARKER", 7, [("3",)])
+    np.testing.assert_allclose(marker_z_axis(marker), [1.0, 0.0, 0.0], atol=1e-15)
+    assert statements[1].name == "END"
+
+
+def test_export_command_writes_every_text_format(tmp_path):
+    runner = CliRunner()
+    for output_format, names in (("csv", [f"dynamics_{t}.csv" for t in CSV_TABLES]), ("json", ["dynamics.json"]),
+                                 ("adams", ["dynamics.adm"])):
+        result = runner.invoke(app, ["export", "--format", output_format, "--t1", "0.2,0.5,1,1.4",
+                                     "--t2", "30,70,140,200", "--output-radial-mm", "0.005", "--out", str(tmp_path)])
+        assert result.exit_code == 0, result.output
+        for name in names:
+            assert (tmp_path / name).stat().st_size > 0
+    shafts = read_csv_table(tmp_path / "dynamics_shafts.csv")
+    assert len(shafts) == 8 and {r["radial_displacement_a_mm"] for r in shafts} == {0.002, 0.005}
+    assert len(parse_adm((tmp_path / "dynamics.adm").read_text(encoding="utf-8"))) == 2 * 4 + 2
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--format", "xml"], "not one of json, csv, adams, ross"),
+    (["--input-radial-mm", "-1"], "--input-radial-mm"),
+    (["--format", "adams", "--t1", "1,2", "--t2", "10,20"], "at least 4"),
+])
+def test_export_command_rejects_bad_options(tmp_path, args, message):
+    result = CliRunner().invoke(app, ["export", *args, "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert message in " ".join(result.output.split()), result.output
+    assert "Traceback" not in result.output
+
+
+def test_missing_ross_is_reported_with_the_install_instruction(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "ross", None)  # makes `import ross` fail
+    with pytest.raises(RossUnavailableError, match=r'pip install "rvcoax\[ross\]"'):
+        import_ross()
+    result = CliRunner().invoke(app, ["export", "--format", "ross", "--out", str(tmp_path)])
+    assert result.exit_code == 2 and "rvcoax[ross]" in result.output
+
+
+@pytest.fixture(scope="module")
+def ross():
+    try:
+        return import_ross()
+    except RossUnavailableError:
+        pytest.skip("ROSS is not installed (pip install 'rvcoax[ross]')")
+
+
+@pytest.mark.parametrize("which", ["input", "output"])
+def test_ross_gravity_deflection_equals_ours_on_rigid_supports(ross, rig, which):
+    from results.ross_adapter import compare_static
+
+    rotor, comparison = compare_static(rig, which, ross)
+    line = comparison.line
+    np.testing.assert_allclose(np.asarray(rotor.nodes_pos) * 1e3, line.node_x_mm - line.node_x_mm[0], atol=1e-9)
+    assert {b.n for b in rotor.bearing_elements} == {line.node_at(s.x_mm) for s in line.supports}
+    # the same mass: shaft plus hubs, as in the rvcoax beam model
+    from geometry.build import build_rig_model
+
+    assert rotor.m == pytest.approx(build_rig_model(rig).part_mass_kg[line.part], rel=1e-12)
+    # sag of tens of nm; ROSS's rigid supports are 1e20 N/m springs, ours exact constraints
+    assert comparison.largest_sag_m > 1e-8
+    assert comparison.relative_difference < 1e-8
+
+
+def test_ross_misalignment_faults_carry_our_coupling_misalignment(ross, rig, export):
+    from results.ross_adapter import build_rotor, misalignment_fault, misalignment_parameters, shaft_line
+
+    line = shaft_line(rig, "output")
+    rotor = build_rotor(line, ross)
+    rows = misalignment_parameters(export, line)
+    couplings = [r for r in export_tables(export)["couplings"] if r["coupling"] == "C3"]
+    assert len(rows) == len(couplings) == len(export.sweep.cases)
+    for row, coupling in zip(rows, couplings):
+        assert row["mis_distance_y_m"] == pytest.approx(coupling["offset_y_um"] * 1e-6, rel=1e-12)
+        assert row["mis_distance_x_m"] == pytest.approx(-coupling["offset_z_um"] * 1e-6, abs=1e-20)
+        assert row["mis_angle_rad"] == pytest.approx(math.radians(coupling["angle_deg"]), rel=1e-12)
+    fault = misalignment_fault(rotor, rows[0], ross)
+    assert fault.shaft_elem.n == rows[0]["n"]
+    hub = line.node_at(570 - 27.5)  # the C3 hub at 542.5 mm is a node of the fault's element
+    assert hub in (fault.shaft_elem.n_l, fault.shaft_elem.n_r)
+    assert fault.delta_y == rows[0]["mis_distance_y_m"] and fault.radial_stiffness == 2.5e6
