@@ -1,0 +1,19 @@
+"""Built-in data files (``results/data``) and the user files that replace them."""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+
+def read_data_text(path: str | Path | None, builtin: str, error: type[Exception], what: str) -> tuple[str, str]:
+    """(source name, text) of ``path``, or of the built-in ``results/data/<builtin>`` when ``path`` is None.
+
+    A file that cannot be read raises ``error("<what> <path>: cannot be read (<reason>)")``.
+    """
+    if path is None:
+        return f"<built-in {builtin}>", resources.files("results").joinpath("data", builtin).read_text(encoding="utf-8")
+    try:
+        return str(path), Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as reason:
+        raise error(f"{what} {path}: cannot be read ({reason})") from None
