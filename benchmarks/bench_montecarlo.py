@@ -1,0 +1,181 @@
+"""Monte Carlo throughput: samples per second, beam and hybrid, serial and on a local Dask cluster.
+
+Run: ``.venv/bin/python benchmarks/bench_montecarlo.py [--beam-samples N] [--hybrid-samples N]``.
+Prints the figures and appends them to benchmarks/RESULTS.md with the machine and date.
+
+Measured, each with the example tolerance file (loadcases/data/example_tolerances.toml, 16
+parameters, 2 load cases) on the reference rig:
+
+- beam model, serial, one sample = 2 load cases, for the three reuse strategies: ``loads`` (only
+  the load parameters of the file toleranced), ``frame`` (the whole file: springs change) and
+  ``full`` (the whole file, every sample assembled from scratch);
+- beam model through :func:`results.distributed.run_samples`: serial, and a local Dask cluster of
+  1 and 2 worker processes, end to end (cluster start included) and in steady state (first to
+  last result);
+- hybrid model (default 4 mm mesh), ``frame`` strategy: nominal set-up and per-sample time
+  serially, a local cluster of 2 workers, the peak memory of a worker, and the largest difference
+  between a sample on the reused model and the same sample assembled from scratch.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from machine import record  # noqa: E402
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "loadcases" / "data" / "example_tolerances.toml"
+
+
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process (MB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def load_only(tolerances):
+    """The tolerance file restricted to the parameters that only change loads."""
+    from results.montecarlo import classify_parameter
+    from results.tolerances import study_rig
+
+    rig = study_rig(RIG, tolerances)
+    kept = tuple(p for p in tolerances.parameters
+                 if classify_parameter(rig, p.address, float(p.distribution.quantile(0.9))) == "loads")
+    return dataclasses.replace(tolerances, parameters=kept)
+
+
+def serial_rate(study, values) -> tuple[float, float]:
+    """(seconds for the first sample, samples per second after it), evaluated in this process."""
+    from results.montecarlo import evaluate_sample
+
+    start = time.perf_counter()
+    evaluate_sample(study, values[0])
+    first = time.perf_counter() - start
+    start = time.perf_counter()
+    for row in values[1:]:
+        evaluate_sample(study, row)
+    return first, (len(values) - 1) / (time.perf_counter() - start)
+
+
+def cluster_run(study, values, scheduler: str, workers: int | None) -> dict:
+    """End-to-end and steady-state rate of :func:`run_samples`, and the workers' peak memory."""
+    from results.distributed import run_samples
+    from results.montecarlo import evaluate_sample
+
+    stamps = []
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        _, report = run_samples(evaluate_sample, study, values, folder, f"bench-{scheduler}-{workers}", scheduler,
+                                workers, on_result=lambda index, result: stamps.append(time.perf_counter()))
+        total = time.perf_counter() - start
+    steady = (len(stamps) - 1) / (stamps[-1] - stamps[0]) if len(stamps) > 1 else float("nan")
+    return {"total_s": total, "end_to_end": len(values) / total, "steady": steady, "first_result_s": stamps[0] - start,
+            "workers": report.workers}
+
+
+def worker_memory(study, values, workers: int) -> tuple[dict, list[float]]:
+    """Run on a local cluster and read every worker's peak memory (MB) before it closes."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    from results.distributed import run_samples
+    from results.montecarlo import evaluate_sample
+
+    stamps = []
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        with tempfile.TemporaryDirectory() as folder:
+            start = time.perf_counter()
+            run_samples(evaluate_sample, study, values, folder, "bench-hybrid", cluster.scheduler_address,
+                        on_result=lambda index, result: stamps.append(time.perf_counter()))
+            total = time.perf_counter() - start
+        memory = list(client.run(peak_rss_mb).values())
+    steady = (len(stamps) - 1) / (stamps[-1] - stamps[0]) if len(stamps) > 1 else float("nan")
+    return {"total_s": total, "end_to_end": len(values) / total, "steady": steady,
+            "first_result_s": stamps[0] - start}, memory
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--beam-samples", type=int, default=400)
+    parser.add_argument("--hybrid-samples", type=int, default=8)
+    args = parser.parse_args()
+
+    import numpy as np
+
+    from results.montecarlo import Study, evaluate_sample, plan_study
+    from results.sampling import sample_values
+    from results.sweep import SweepSettings
+    from results.tolerances import load_tolerances
+
+    started = time.perf_counter()
+    load_before = os.getloadavg()[0]
+    tolerances = load_tolerances(EXAMPLE, RIG)
+    values = sample_values(tolerances.distributions, args.beam_samples, "lhs", seed=1)
+    figures: list[tuple[str, str]] = [("tolerance file", f"{EXAMPLE.name}: {len(tolerances.parameters)} parameters, "
+                                                         f"{len(tolerances.cases)} load cases per sample")]
+
+    loads_file = load_only(tolerances)
+    loads_study = plan_study(RIG, loads_file)
+    loads_values = sample_values(loads_file.distributions, args.beam_samples, "lhs", seed=1)
+    frame_study = plan_study(RIG, tolerances)
+    full_study = Study(frame_study.rig, frame_study.cases, frame_study.settings, frame_study.addresses, "full",
+                       frame_study.key + "-full")
+    for study, rows in ((loads_study, loads_values), (frame_study, values),
+                        (full_study, values[: max(20, args.beam_samples // 4)])):
+        first, rate = serial_rate(study, rows)
+        figures.append((f"beam, strategy {study.strategy} ({len(study.addresses)} parameters), serial in process",
+                        f"{rate:.1f} samples/s ({1e3 / rate:.1f} ms per sample; first sample with set-up "
+                        f"{1e3 * first:.0f} ms)"))
+        print(figures[-1])
+
+    for scheduler, workers in (("serial", None), ("local", 1), ("local", 2)):
+        found = cluster_run(frame_study, values, scheduler, workers)
+        label = "serial (run_samples, files written)" if scheduler == "serial" else f"local cluster, {workers} worker(s)"
+        figures.append((f"beam, strategy frame, {args.beam_samples} samples, {label}",
+                        f"{found['end_to_end']:.1f} samples/s end to end ({found['total_s']:.1f} s, first result "
+                        f"after {found['first_result_s']:.1f} s); steady {found['steady']:.1f} samples/s"))
+        print(figures[-1])
+
+    hybrid = plan_study(RIG, tolerances, SweepSettings(model="hybrid"))
+    hybrid_values = sample_values(tolerances.distributions, args.hybrid_samples, "lhs", seed=2)
+    before = peak_rss_mb()
+    first, rate = serial_rate(hybrid, hybrid_values)
+    figures.append((f"hybrid (4 mm), strategy {hybrid.strategy}, {args.hybrid_samples} samples, serial in process",
+                    f"nominal set-up + first sample {first:.1f} s, then {rate:.3f} samples/s "
+                    f"({1 / rate:.2f} s per sample); peak memory {peak_rss_mb():.0f} MB (before: {before:.0f} MB)"))
+    print(figures[-1])
+    fresh = Study(hybrid.rig, hybrid.cases, hybrid.settings, hybrid.addresses, "full", hybrid.key + "-full")
+    reused, rebuilt = evaluate_sample(hybrid, hybrid_values[0]), evaluate_sample(fresh, hybrid_values[0])
+    difference = np.abs(np.subtract(reused["Y_max_mm"], rebuilt["Y_max_mm"])).max() / np.abs(rebuilt["Y_max_mm"]).max()
+    figures.append(("hybrid: reused model (frame) vs the sample assembled from scratch, largest ΔY / largest Y",
+                    f"{difference:.2e}"))
+    print(figures[-1])
+    found, memory = worker_memory(hybrid, hybrid_values, 2)
+    figures.append((f"hybrid (4 mm), strategy frame, {args.hybrid_samples} samples, local cluster, 2 workers",
+                    f"{found['end_to_end']:.3f} samples/s end to end ({found['total_s']:.1f} s, first result after "
+                    f"{found['first_result_s']:.1f} s); steady {found['steady']:.3f} samples/s"))
+    figures.append(("hybrid: peak memory per worker (MB)", ", ".join(f"{m:.0f}" for m in memory)))
+    print(figures[-2:])
+
+    figures.append(("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}"))
+    figures.append(("script runtime", f"{time.perf_counter() - started:.0f} s"))
+    width = max(len(name) for name, _ in figures)
+    for name, value in figures:
+        print(f"{name:<{width}}  {value}")
+    record("bench_montecarlo.py: Monte Carlo samples per second, serial and Dask", figures)
+
+
+if __name__ == "__main__":  # worker processes are spawned: nothing runs on import
+    from geometry.rigfile import load_rig
+
+    RIG = load_rig()
+    main()
