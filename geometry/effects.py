@@ -28,6 +28,7 @@ effect                         parameter                           unit   linear
 ``torque_reaction@P``          ``force_per_torque_N_per_Nm``       N/N·m  yes
 ``shear_deformation``          ``shear_fraction``                  –      no
 ``thermal_growth@P``           ``lift_um``                         µm     yes
+``mesh_position_error@L``      ``position_error_um``               µm     yes
 =============================  ==================================  =====  ==========
 
 "linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
@@ -335,6 +336,20 @@ def _thermal_growth(rig: Rig, part: str) -> Effect:
                   change)
 
 
+def _mesh_position_error(rig: Rig, name: str) -> Effect:
+    address = f"torque_lateral_loads.{name}.position_error_um"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    # ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; pitch and
+    # runout errors of ISO grade 5–6 gears reach 5–10 µm. The force k_eff·Δε acts while torque flows.
+    return Effect(f"mesh_position_error@{name}", "mesh_position_error", name,
+                  (EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), True,
+                  f"A position error of the two load-sharing meshes of {name}: a lateral force k_eff·Δε that "
+                  "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change)
+
+
 def _with_linearity(effect: Effect, linear_rig: bool) -> Effect:
     if effect.linear and not linear_rig:
         return Effect(effect.name, effect.kind, effect.location, effect.parameters, False, effect.description,
@@ -373,6 +388,8 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     for c in rig.couplings:
         effects += [_coupling_offset(rig, c.name), _coupling_angle(rig, c.name)]
     effects.append(_mesh_force(rig))
+    effects += [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
+                if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
     effects += [_torque_reaction(rig, part) for part in _torque_reaction_parts(rig, mounted)]
     if not rig.beam.shear_deformation:
         effects.append(_shear(rig))

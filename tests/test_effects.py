@@ -34,6 +34,8 @@ GLOBAL_SHAFTS = {
     "self_weight": {"input", "output"},
     "force_pairs": {"input"},  # F3, F5, F9 act at one point each (cancel); F1 and F2 sit upstream
     "mesh_force@reducer_input": {"input", "output"},  # on the input gear, reacted on the reducer
+    "mesh_position_error@sun_gear_load_sharing": {"input", "output"},  # same place as the mesh force
+    "mesh_position_error@crankshaft_load_sharing": {"output"},  # on the output carrier, reacted in the reducer
 }
 
 
@@ -73,7 +75,9 @@ def test_reference_rig_candidates(rig):
                 | {f"{kind}@{c.name}" for c in rig.couplings for kind in ("coupling_offset", "coupling_angle")}
                 | {f"{kind}@{m.part}" for m in rig.mounts for kind in ("mount_compliance", "thermal_growth")}
                 | {f"torque_reaction@{p}" for p in ("input_sensor_housing", "input_bearing_block", "reducer",
-                                                    "output_bearing_block", "output_sensor_housing", "brake_housing")})
+                                                    "output_bearing_block", "output_sensor_housing", "brake_housing")}
+                | {f"mesh_position_error@{t.name}" for t in rig.torque_lateral_loads
+                   if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")})
     assert names == expected  # no shear_deformation: the reference rig already has it
     for effect in candidate_effects(rig):
         assert len(effect.parameters) == 1 and effect.description
@@ -82,7 +86,8 @@ def test_reference_rig_candidates(rig):
         assert effect.kind == effect.name.split("@")[0]
         assert effect.location == (effect.name.split("@")[1] if "@" in effect.name else None)
         assert effect.linear == (effect.kind in ("self_weight", "force_pairs", "coupling_offset", "coupling_angle",
-                                                 "mesh_force", "torque_reaction", "thermal_growth"))
+                                                 "mesh_force", "torque_reaction", "thermal_growth",
+                                                 "mesh_position_error"))
 
 
 def test_every_effect_at_zero_is_the_base_rig(rig, responses):

@@ -44,7 +44,7 @@ class DiscrepancySettings:
     parallel_cosine: float = 0.999
     model_form_fraction: float = 0.02
     hold_out_every: int = 3
-    max_effects: int = 3
+    max_effects: int = 4
     max_rounds: int = 2
     candidates: tuple[str, ...] | None = None  # effect names or kinds; None: the whole library
 
