@@ -119,3 +119,62 @@ def find_free_motions(
         if directions:
             found.append(FreeMotion((name,), tuple(directions)))
     return found
+
+
+def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 5) -> float:
+    """Estimated 1-norm condition number of the Jacobi-scaled matrix D^-½ A D^-½ (D = diag A).
+
+    The scaling removes what only reflects units (N/m next to N·m/rad), so the number measures how
+    many digits a solve loses (about log10 κ of 16). ‖A⁻¹‖₁ is estimated by Hager's method as
+    refined by Higham (LAPACK's ``xLACON``) from a few solves with the existing factorisation
+    ``solve`` (a symmetric A: A⁻ᵀ = A⁻¹); deterministic, unlike scipy's randomised ``onenormest``.
+    A lower bound of κ, usually within a factor of 3 of it (exact on the reference rig).
+
+    Parameters
+    ----------
+    matrix : sparse (n, n)
+        Symmetric positive definite.
+    solve : callable
+        x = A⁻¹ b for a vector b.
+    max_iterations : int
+        Hager–Higham iterations (each one solve and one transposed solve).
+    """
+    a = sp.csr_matrix(matrix)
+    n = a.shape[0]
+    if n == 0:
+        return 1.0
+    diagonal = a.diagonal()
+    if np.any(diagonal <= 0) or not np.all(np.isfinite(diagonal)):
+        return float("inf")
+    root = np.sqrt(diagonal)
+    scaled = sp.diags(1.0 / root) @ a @ sp.diags(1.0 / root)
+    norm = float(abs(scaled).sum(axis=0).max())
+
+    def inverse(b: np.ndarray) -> np.ndarray:  # (D^-½ A D^-½)⁻¹ b = D^½ A⁻¹ D^½ b
+        return root * np.asarray(solve(root * b), dtype=float).reshape(n)
+
+    x = np.full(n, 1.0 / n)
+    y = inverse(x)
+    estimate = float(np.abs(y).sum())
+    if n == 1 or not np.isfinite(estimate):
+        return estimate * norm
+    sign = np.where(y >= 0, 1.0, -1.0)
+    j = int(np.argmax(np.abs(inverse(sign))))
+    for _ in range(max_iterations - 1):
+        x = np.zeros(n)
+        x[j] = 1.0
+        y = inverse(x)
+        new = float(np.abs(y).sum())
+        new_sign = np.where(y >= 0, 1.0, -1.0)
+        if new <= estimate or np.array_equal(new_sign, sign):
+            estimate = max(estimate, new)
+            break
+        estimate, sign = new, new_sign
+        z = inverse(sign)
+        k = int(np.argmax(np.abs(z)))
+        if k == j:
+            break
+        j = k
+    alternating = (-1.0) ** np.arange(n) * (1.0 + np.arange(n) / max(n - 1, 1))
+    estimate = max(estimate, 2.0 * float(np.abs(inverse(alternating)).sum()) / (3.0 * n))
+    return estimate * norm

@@ -41,6 +41,10 @@ class FactorizedSystem:
             raise SingularModelError("the solution contains NaN or inf: the model is singular")
         return u
 
+    def solve_reduced(self, reduced_load: np.ndarray) -> np.ndarray:
+        """q = (Tᵀ K T)⁻¹ r for a load ``r`` in the independent DOFs (no NaN check)."""
+        return self._solve(np.asarray(reduced_load, dtype=float))
+
     def relative_residual(self, displacement: np.ndarray, load: np.ndarray) -> np.ndarray:
         """‖Tᵀ (K u − f)‖ / ‖Tᵀ f‖ per load vector."""
         f = np.asarray(load, dtype=float)

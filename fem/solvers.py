@@ -32,7 +32,7 @@ from fem.solve import SingularModelError
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
 PARDISO_MAX_DOFS = 400_000
-SINGULAR_PIVOT_RATIO = 1e-14  # |pivot| / max |pivot| below this: numerically singular (as fem.solve)
+SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
 
 
@@ -116,6 +116,7 @@ class PreparedSolver:
         self._solve_block = solve_block
         self._rss_before = rss_before
         self._direct = not name.startswith("amg")
+        self._condition: float | None = None
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
         peak = _peak_rss_mb()
@@ -141,6 +142,20 @@ class PreparedSolver:
     @property
     def n_dofs(self) -> int:
         return self.matrix.shape[0]
+
+    def condition_estimate(self) -> float | None:
+        """Estimated condition number of the Jacobi-scaled matrix (:func:`fem.diagnostics.scaled_condition_estimate`).
+
+        About ten solves with the factorisation, computed once. None for AMG, where every solve is a
+        full CG run (a preconditioned solve that converges is its own evidence of conditioning).
+        """
+        if not self._direct:
+            return None
+        if self._condition is None:
+            from fem.diagnostics import scaled_condition_estimate
+
+            self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b.reshape(-1, 1))[0])
+        return self._condition
 
     def solve(self, rhs) -> np.ndarray:
         """Solution of A x = b for b of shape (n,) or (n, m) (all columns in one go), same shape."""
@@ -192,10 +207,14 @@ def _setup_superlu(a: sp.csr_matrix):
         )
     except RuntimeError as error:  # "Factor is exactly singular"
         raise SingularMatrixError(f"SuperLU: {error}") from error
+    # each pivot against its own diagonal entry (diagonal pivoting: U_kk pairs with a_kk of the permuted
+    # order), so that N/m and N·m/rad equations compare fairly; for an SPD matrix the ratio lies in (0, 1]
     pivots = np.abs(lu.U.diagonal())
-    if pivots.size and pivots.min() <= SINGULAR_PIVOT_RATIO * pivots.max():
+    diagonal = np.abs(a.diagonal())[np.argsort(lu.perm_c)]
+    relative = pivots / np.where(diagonal > 0.0, diagonal, np.inf)
+    if relative.size and relative.min() <= SINGULAR_PIVOT_RATIO:
         raise SingularMatrixError(
-            f"SuperLU: pivot ratio {pivots.min() / pivots.max():.1e} at equation {int(np.argmin(pivots))}: "
+            f"SuperLU: pivot {relative.min():.1e} times its diagonal entry at equation {int(np.argmin(relative))}: "
             "the matrix is numerically singular"
         )
 

@@ -22,6 +22,9 @@ from geometry.schema import Rig
 MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
 N_PER_MM = 1e3  # N/mm → N/m
+# Positions on one part closer than this (mm) share a node: a shorter beam element would be so stiff next to
+# its neighbours that the stiffness loses its digits (a bearing 8 nm from a segment end: condition number ×1e3)
+NODE_MERGE_MM = 1e-3
 UM = 1e-6
 MRAD = 1e-3
 
@@ -53,11 +56,8 @@ class RigModel:
     equivalent_density: dict
 
     def node(self, part: str, x_mm: float) -> int:
-        """The node of ``part`` at ``x_mm`` (exact; every referenced position is a node)."""
-        candidates = np.flatnonzero((self.node_part == part) & np.isclose(self.node_x_mm, x_mm, atol=1e-6))
-        if candidates.size != 1:
-            raise KeyError(f"no node of part '{part}' at x = {x_mm} mm")
-        return int(candidates[0])
+        """The node of ``part`` at ``x_mm`` (every referenced position is a node, within :data:`NODE_MERGE_MM`)."""
+        return _nearest_node(self.node_part, self.node_x_mm, part, x_mm)
 
     def path_nodes(self, which: str) -> tuple[np.ndarray, np.ndarray]:
         """Node indices and station positions along a shaft path (mm from the path start)."""
@@ -105,10 +105,25 @@ def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
     return refs
 
 
+def _nearest_node(node_part: np.ndarray, node_x_mm: np.ndarray, part: str, x_mm: float) -> int:
+    own = np.flatnonzero(node_part == part)
+    distance = np.abs(node_x_mm[own] - x_mm)
+    if own.size == 0 or distance.min() > NODE_MERGE_MM:
+        raise KeyError(f"no node of part '{part}' at x = {x_mm} mm")
+    return int(own[np.argmin(distance)])
+
+
 def _part_positions(part, referenced: list[float], max_length: float) -> np.ndarray:
-    """Sorted node positions of one part (mm): breakpoints refined to max_length."""
-    breaks = {s.x_mm[0] for s in part.segments} | {s.x_mm[1] for s in part.segments} | set(referenced)
-    breaks = np.unique(np.round(np.array(sorted(breaks)), 9))
+    """Sorted node positions of one part (mm): breakpoints refined to max_length. A referenced position
+    within :data:`NODE_MERGE_MM` of a segment end or of another one shares its node."""
+    ends = np.unique([x for s in part.segments for x in s.x_mm])
+    kept: list[float] = []
+    for x in np.unique(np.asarray(referenced, dtype=float)):
+        k = np.searchsorted(ends, x)
+        near_end = min(abs(x - ends[max(k - 1, 0)]), abs(x - ends[min(k, ends.size - 1)]))
+        if near_end > NODE_MERGE_MM and (not kept or x - kept[-1] > NODE_MERGE_MM):
+            kept.append(float(x))
+    breaks = np.unique(np.round(np.concatenate([ends, kept]), 9))
     positions = [breaks[0]]
     for a, b in zip(breaks[:-1], breaks[1:]):
         pieces = max(1, int(np.ceil((b - a) / max_length - 1e-9)))
@@ -167,8 +182,7 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     coordinates[:, 0] = node_x_arr * MM
 
     def node(part: str, x_mm: float) -> int:
-        hit = np.flatnonzero((node_part_arr == part) & np.isclose(node_x_arr, x_mm, atol=1e-6))
-        return int(hit[0])
+        return _nearest_node(node_part_arr, node_x_arr, part, x_mm)
 
     table = np.array(element_rows, dtype=float).reshape(-1, 9)
     beams = BeamElements(

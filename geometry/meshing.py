@@ -192,8 +192,10 @@ def _read_cache(path: Path) -> skfem.MeshTet2 | None:
             doflocs, t, checksum = data["doflocs"], data["t"], str(data["checksum"])
         if checksum != _checksum(doflocs, t) or doflocs.ndim != 2 or doflocs.shape[0] != 3 or t.shape[0] != 4:
             raise ValueError("checksum or shape mismatch")
-        return skfem.MeshTet2(doflocs, t)
-    except Exception as error:  # truncated zip, missing key, bad checksum, ...
+        mesh = skfem.MeshTet2(doflocs, t)
+        check_mesh(mesh, path.stem)
+        return mesh
+    except Exception as error:  # truncated zip, missing key, bad checksum, inverted elements, ...
         logger.warning("mesh cache entry %s is damaged (%s): deleted, meshing again", path, error)
         path.unlink(missing_ok=True)
         return None
@@ -245,6 +247,39 @@ def _inverted_elements(mesh: skfem.MeshTet2) -> np.ndarray:
     return np.flatnonzero(det.min(axis=1) * det.max(axis=1) <= 0.0)
 
 
+MIN_SHAPE_QUALITY = 1e-3
+"""Tets of their vertices' shape quality 6√2 V / l_rms³ below this (1 = regular; gmsh's are > 0.05) are
+degenerate: flat or needle-like, with a stiffness matrix that is numerically singular."""
+
+
+def shape_quality(mesh: skfem.MeshTet2) -> np.ndarray:
+    """Shape quality 6√2 V / l_rms³ of each tet's straight vertex tetrahedron (1 regular, 0 flat); signed by V."""
+    corners = mesh.p[:, mesh.t]  # (3, 4, n_tets)
+    a, b, c = (corners[:, k] - corners[:, 0] for k in (1, 2, 3))
+    volume = np.einsum("ij,ij->j", a, np.cross(b, c, axis=0)) / 6.0
+    pairs = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+    squares = sum(np.sum((corners[:, i] - corners[:, j]) ** 2, axis=0) for i, j in pairs) / 6.0
+    return 6.0 * np.sqrt(2.0) * volume / np.maximum(squares, 1e-300) ** 1.5
+
+
+def check_mesh(mesh: skfem.MeshTet2, name: str) -> None:
+    """Raise :class:`MeshingError` naming part ``name`` when a curved tet is inverted (its Jacobian changes
+    sign or vanishes) or degenerate (|shape quality| below :data:`MIN_SHAPE_QUALITY`)."""
+    problems = []
+    inverted = _inverted_elements(mesh)
+    if inverted.size:
+        problems.append(f"{inverted.size} curved tetrahedra are inverted (Jacobian changes sign or vanishes, first "
+                        f"element {int(inverted[0])})")
+    quality = np.abs(shape_quality(mesh))
+    degenerate = np.flatnonzero(quality < MIN_SHAPE_QUALITY)
+    if degenerate.size:
+        problems.append(f"{degenerate.size} tetrahedra are degenerate (shape quality down to {quality.min():.1e} < "
+                        f"{MIN_SHAPE_QUALITY:g}: flat or needle-like, first element {int(degenerate[0])})")
+    if problems:
+        raise MeshingError(f"part '{name}': " + "; ".join(problems) + "; use a smaller mesh size (or set the "
+                           "part's mesh_size_mm)")
+
+
 def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
     """Mesh with gmsh. gmsh is a process-wide singleton: if someone else has initialised it, mesh in
     a model of our own and remove it afterwards (our options stay set); otherwise initialise and
@@ -285,12 +320,7 @@ def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
             gmsh.finalize()
         elif gmsh.isInitialized():
             gmsh.model.remove()
-    bad = _inverted_elements(mesh)
-    if bad.size:
-        raise MeshingError(
-            f"part '{geometry.name}': {bad.size} curved tetrahedra are inverted (Jacobian changes sign); "
-            "use a smaller mesh size"
-        )
+    check_mesh(mesh, geometry.name)
     return mesh
 
 

@@ -8,9 +8,11 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
+from geometry.inputfiles import InputFileError, read_input_text, toml_error_text
 from geometry.schema import Rig
 
 REFERENCE_RIG = "reference_rig.toml"
+MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 
 
 class RigFileError(ValueError):
@@ -79,21 +81,13 @@ def load_rig(path: str | Path | None = None) -> Rig:
     else:
         source = str(path)
         try:
-            raw = Path(path).read_bytes()
-        except FileNotFoundError:
-            raise RigFileError(source, ["file not found"]) from None
-        except IsADirectoryError:
-            raise RigFileError(source, ["is a directory, not a rig file"]) from None
-        except OSError as error:
-            raise RigFileError(source, [f"cannot be read: {error.strerror}"]) from None
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError as error:
-            raise RigFileError(source, [f"is not UTF-8 text (byte {error.start})"]) from None
+            text = read_input_text(path, MAX_RIG_BYTES, "a rig file")
+        except InputFileError as error:
+            raise RigFileError(source, [str(error)]) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        raise RigFileError(source, [f"TOML syntax error: {error}"]) from None
+        raise RigFileError(source, [f"TOML syntax error: {toml_error_text(error, text)}"]) from None
     return parse_rig(data, source)
 
 

@@ -380,6 +380,35 @@ class Rig(Strict):
                 return p
         raise KeyError(name)
 
+    def _overlapping_shafts(self):
+        """Two shafts whose material occupies the same space: on the one axis of the rig, an x range
+        where both have a segment and their rings (inner/2 … outer/2) intersect. A shaft may pass
+        through another's bore; housings (``role = "body"``) are equivalent round bodies that enclose
+        shafts by design and are not checked."""
+        shafts = [(i, p) for i, p in enumerate(self.parts) if p.role == "shaft"]
+        for k, (i, a) in enumerate(shafts):
+            for j, b in shafts[k + 1:]:
+                for sa in a.segments:
+                    clash = next((sb for sb in b.segments
+                                  if min(sa.x_mm[1], sb.x_mm[1]) - max(sa.x_mm[0], sb.x_mm[0]) > 1e-6
+                                  and max(sa.inner_diameter_mm, sb.inner_diameter_mm)
+                                  < min(sa.outer_diameter_mm, sb.outer_diameter_mm) - 1e-9), None)
+                    if clash is not None:
+                        x0, x1 = max(sa.x_mm[0], clash.x_mm[0]), min(sa.x_mm[1], clash.x_mm[1])
+                        yield (f"parts[{i}] ('{a.name}') and parts[{j}] ('{b.name}'): overlapping parts: both "
+                               f"shafts fill x = {x0:g} … {x1:g} mm at the same radii (Ø{sa.outer_diameter_mm:g} and "
+                               f"Ø{clash.outer_diameter_mm:g} mm); check their segments' x_mm")
+                        break
+
+    def _metre_scale(self):
+        """A rig whose every length is tiny was written in metres, not in the keys' millimetres."""
+        lo = min(p.x_range_mm[0] for p in self.parts)
+        hi = max(p.x_range_mm[1] for p in self.parts)
+        largest = max(s.outer_diameter_mm for p in self.parts for s in p.segments)
+        if hi - lo < 5.0 or largest < 1.0:
+            yield (f"parts: the rig spans {hi - lo:g} mm along x with outer diameters up to {largest:g} mm: the "
+                   "lengths look like metres; x_mm and *_diameter_mm keys are in mm")
+
     def reference_problems(self):
         """Yield one message per broken reference or inconsistent position."""
         parts = {p.name: p for p in self.parts}
@@ -444,6 +473,8 @@ class Rig(Strict):
                        "(overlapping supports; merge them into one with the summed stiffness)")
             else:
                 seen[key] = label
+        yield from self._overlapping_shafts()
+        yield from self._metre_scale()
         for name in self.solid.hybrid_parts or []:
             if name not in parts:
                 yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"

@@ -17,7 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
+from geometry.inputfiles import InputFileError, read_input_text, toml_error_text
+
 PAPER_TABLE = "paper000_coaxiality_table.csv"
+MAX_CASE_FILE_BYTES = 20_000_000  # about a million load cases
 
 
 class LoadCaseError(ValueError):
@@ -39,19 +42,22 @@ class LoadCase:
         return f"T1={self.input_torque_Nm:g}Nm_T2={self.output_torque_Nm:g}Nm"
 
 
-def _validated(pairs: list[tuple[float, float]], source: str) -> tuple[LoadCase, ...]:
+def _validated(pairs: list[tuple[float, float]], source: str, where: list[str] | None = None) -> tuple[LoadCase, ...]:
+    """Check finiteness, magnitude and uniqueness; ``where`` names each pair's place (default ``case i``)."""
     if not pairs:
         raise LoadCaseError(source, "no load cases")
-    seen = set()
-    for i, (t1, t2) in enumerate(pairs, start=1):
+    places = where if where is not None else [f"case {i}" for i in range(1, len(pairs) + 1)]
+    seen: dict[tuple[float, float], str] = {}
+    for place, (t1, t2) in zip(places, pairs):
         for name, value in (("T1_input_Nm", t1), ("T2_output_Nm", t2)):
             if not math.isfinite(value):
-                raise LoadCaseError(source, f"case {i}: {name} = {value} is not a finite number")
+                raise LoadCaseError(source, f"{place}: {name} = {value} is not a finite number")
             if abs(value) > 1e6:
-                raise LoadCaseError(source, f"case {i}: {name} = {value} N·m is beyond any plausible rig torque")
+                raise LoadCaseError(source, f"{place}: {name} = {value} N·m is beyond any plausible rig torque")
         if (t1, t2) in seen:
-            raise LoadCaseError(source, f"case {i}: duplicated load case T1 = {t1}, T2 = {t2} N·m")
-        seen.add((t1, t2))
+            raise LoadCaseError(source, f"{place}: duplicated load case T1 = {t1}, T2 = {t2} N·m "
+                                f"(the same as {seen[(t1, t2)]})")
+        seen[(t1, t2)] = place
     return tuple(LoadCase(float(a), float(b)) for a, b in pairs)
 
 
@@ -82,35 +88,53 @@ def _number(text: str | None, source: str, where: str) -> float:
         raise LoadCaseError(source, f"{where}: '{text}' is not a number (torques are plain numbers in N·m)") from None
 
 
+def separator_hint(header: str) -> str:
+    """A hint when a CSV header is written with ';' or tabs (spreadsheets in many locales), else ''."""
+    for mark, name in ((";", "semicolons"), ("\t", "tabs")):
+        if mark in header and "," not in header:
+            return f"; the header is separated by {name}: save the file as comma-separated CSV (with '.' decimals)"
+    return ""
+
+
 def _read_csv_text(text: str, source: str) -> tuple[LoadCase, ...]:
-    reader = csv.DictReader(io.StringIO(text))
-    columns = reader.fieldnames or []
+    reader = csv.reader(io.StringIO(text))
+    header = next(reader, None)
+    columns = [c.strip() for c in header or []]
     missing = [c for c in ("T1_input_Nm", "T2_output_Nm") if c not in columns]
     if missing:
-        raise LoadCaseError(source, f"missing column(s) {', '.join(missing)} (found: {', '.join(columns) or 'none'})")
-    pairs = []
-    for line, row in enumerate(reader, start=2):
-        pairs.append((_number(row["T1_input_Nm"], source, f"line {line}, T1_input_Nm"),
-                      _number(row["T2_output_Nm"], source, f"line {line}, T2_output_Nm")))
-    return _validated(pairs, source)
+        hint = separator_hint(",".join(header or []))
+        raise LoadCaseError(source, f"line 1: missing column(s) {', '.join(missing)} "
+                            f"(found: {', '.join(columns) or 'none'}){hint}")
+    repeated = sorted({c for c in columns if c and columns.count(c) > 1})
+    if repeated:
+        raise LoadCaseError(source, f"line 1: column(s) {', '.join(repeated)} appear more than once")
+    pairs, places = [], []
+    for values in reader:
+        line = reader.line_num
+        if not any(v.strip() for v in values):
+            continue  # a blank line
+        if len(values) > len(columns):
+            raise LoadCaseError(source, f"line {line}: {len(values)} values but {len(columns)} columns in the header "
+                                "(a ',' decimal separator, or a stray comma?)")
+        row = dict(zip(columns, values))
+        pairs.append((_number(row.get("T1_input_Nm"), source, f"line {line}, T1_input_Nm"),
+                      _number(row.get("T2_output_Nm"), source, f"line {line}, T2_output_Nm")))
+        places.append(f"line {line} (case {len(pairs)})")
+    return _validated(pairs, source, places)
 
 
 def read_cases(path: str | Path) -> tuple[LoadCase, ...]:
     """Read load cases from a CSV or TOML file."""
     source = str(path)
     try:
-        text = Path(path).read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise LoadCaseError(source, "file not found") from None
-    except UnicodeDecodeError:
-        raise LoadCaseError(source, "not UTF-8 text") from None
-    except OSError as error:
-        raise LoadCaseError(source, f"cannot be read: {error.strerror}") from None
+        text = read_input_text(path, MAX_CASE_FILE_BYTES, "a load-case file")
+    except InputFileError as error:
+        raise LoadCaseError(source, str(error)) from None
     if source.lower().endswith(".toml"):
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as error:
-            raise LoadCaseError(source, f"TOML syntax error: {error}") from None
+            raise LoadCaseError(source, f"TOML syntax error: {toml_error_text(error, text)}") from None
         cases = data.get("cases")
         if not isinstance(cases, list):
             raise LoadCaseError(source, "expected [[cases]] tables with T1_input_Nm and T2_output_Nm")

@@ -34,9 +34,12 @@ from results.cli_support import (
     guard,
     rig_text,
     sweep_settings,
+    warn,
 )
+from results.preflight import sag_warnings
 from results.sweep import prepare_model, run_sweep
-from results.writers import write_csv_atomic, write_json_atomic
+from results.sweep_files import CaseStore, case_inputs, sweep_inputs, write_sweep_files
+from results.writers import write_csv_atomic
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
@@ -51,6 +54,8 @@ rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 app.add_typer(rig_app, name="rig")
 
 def _prepare(rig, settings):
+    for message in sag_warnings(rig):
+        warn(message)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
         prepared = prepare_model(rig, settings)
     system = prepared.system
@@ -64,11 +69,11 @@ def _progress() -> Progress:
                     TimeElapsedColumn(), console=console, transient=True, disable=not console.is_terminal)
 
 
-def _run(rig, cases, settings, label: str, prepared=None):
+def _run(rig, cases, settings, label: str, prepared=None, on_case=None):
     with _progress() as progress:
         task = progress.add_task(label, total=len(cases))
         return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
-                         prepared=prepared)
+                         prepared=prepared, on_case=on_case)
 
 
 def _version_callback(value: bool) -> None:
@@ -106,23 +111,51 @@ def _cases(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
 
 
 def _write_sweep(out: Path, sweep, rig_source: str, rig_text: str, calibration=None, stem: str = "sweep") -> list[Path]:
-    return [
-        write_csv_atomic(out / f"{stem}.csv", report.sweep_rows(sweep)),
-        write_csv_atomic(out / f"{stem}_paths.csv", report.path_rows(sweep)),
-        write_json_atomic(out / f"{stem}.json", report.sweep_document(sweep, rig_source, rig_text, calibration)),
-    ]
+    header = report.sweep_header(sweep.rig, report.model_section(sweep), rig_source, rig_text, calibration)
+    return write_sweep_files(out, stem, header, [report.case_record(case) for case in sweep.cases])
 
 
-def _sweep_table(sweep) -> Table:
-    table = Table(title=escape(f"{sweep.rig.rig.name}: {len(sweep.cases)} load cases ({sweep.settings.method})"))
+def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
+    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method})"))
     for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
         table.add_column(column, justify="right")
-    for case in sweep.cases:
-        i, o = case.paths["input"], case.paths["output"]
-        table.add_row(f"{case.case.input_torque_Nm:g}", f"{case.case.output_torque_Nm:g}",
-                      f"{i.y_max_mm:.5g}", f"{i.beta_deg:.3g}", f"{i.station_of_max_mm:g}",
-                      f"{o.y_max_mm:.5g}", f"{o.beta_deg:.3g}", f"{o.station_of_max_mm:g}")
+    for row in rows:
+        cells = [f"{row['T1_input_Nm']:g}", f"{row['T2_output_Nm']:g}"]
+        for shaft in ("input", "output"):
+            cells += [f"{row[f'Y_{shaft}_mm']:.5g}", f"{row[f'beta_{shaft}_deg']:.3g}",
+                      f"{row[f'station_of_max_{shaft}_mm']:g}"]
+        table.add_row(*cells)
     return table
+
+
+def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, resume: bool):
+    """Solve the cases not yet in ``store`` (all of them without ``resume``), saving each as it is solved.
+
+    Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
+    or None when every case was reused).
+    """
+    sha = report.text_sha256(text)
+    inputs = [case_inputs(sha, case, settings) for case in load_cases]
+    model_inputs = sweep_inputs(sha, settings)
+    if not resume:
+        store.clear()
+    records = store.load(inputs) if resume else {}
+    missing = [i for i in range(len(load_cases)) if i not in records]
+    model = store.load_model(model_inputs) if resume else None
+    if resume:
+        console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {store.folder}, "
+                      f"{len(missing)} to solve")
+    result = None
+    if missing or model is None:
+        def save(k: int, case_result) -> None:
+            records[missing[k]] = report.case_record(case_result)
+            store.save(missing[k], inputs[missing[k]], records[missing[k]])
+
+        result = _run(rig_model, tuple(load_cases[i] for i in missing), settings, "solving load cases",
+                      _prepare(rig_model, settings), on_case=save)
+        model = report.model_section(result)
+        store.save_model(model_inputs, model)
+    return [records[i] for i in range(len(load_cases))], model, result
 
 
 @app.command()
@@ -139,21 +172,31 @@ def sweep(
     solver: SolverOption = "auto",
     mesh_size_mm: MeshOption = None,
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
+    resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already saved in OUT/cases (same rig file, torques and settings) and solve only the others.")] = False,
 ) -> None:
-    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json."""
+    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json.
+
+    Each case is saved to OUT/cases/case_NNNN.json as soon as it is solved; after an interruption,
+    the same command with --resume solves only the missing cases and writes the same files.
+    """
+    if resume and fields:
+        raise UserError("--fields needs every case's displacement field, which --resume does not keep: "
+                        "run without --resume")
     settings = sweep_settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = _cases(cases, t1, t2, grid)
-    result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
+    source, text = rig_text(rig)
+    records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
+                                                  resume)
     if fields:
         for path in _write_fields(out / "fields", result):
             console.print(f"wrote {path}")
-    console.print(_sweep_table(result))
+    console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
     console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
                   "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
                   if method == "superposition" else "each case solved directly")
-    source, text = rig_text(rig)
-    for path in _write_sweep(out, result, source, text):
+    header = report.sweep_header(rig_model, model_section, source, text)
+    for path in write_sweep_files(out, "sweep", header, records):
         console.print(f"wrote {path}")
 
 
@@ -384,6 +427,10 @@ def rig_reference() -> None:
 
 # Command families that live in their own modules; each module has ``register(app)``.
 COMMAND_MODULES: tuple[str, ...] = (
+    "results.discrepancy_cli",
+    "results.montecarlo_cli",
+    "results.export_cli",
+    "results.doe_cli",
 )
 
 

@@ -7,6 +7,7 @@ modules (``results/*_cli.py``) import from here and register their commands on t
 from __future__ import annotations
 
 import functools
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -14,6 +15,8 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
+from fem.solvers import SolverError
+from geometry.meshing import MeshingError
 from geometry.rigfile import RigFileError, reference_rig_text
 from loadcases.cases import LoadCaseError
 from results.sweep import ModelError, SweepSettings
@@ -40,6 +43,11 @@ def fail(message: str) -> None:
     raise typer.Exit(code=2)
 
 
+def warn(message: str) -> None:
+    """Print ``message`` as a warning on stderr (the command goes on)."""
+    errors.print(f"[bold yellow]warning:[/] {escape(message)}", highlight=False)
+
+
 def rig_text(path: Path | None) -> tuple[str, str]:
     """(source name, text) of the rig file, or of the built-in reference rig when ``path`` is None."""
     if path is None:
@@ -52,6 +60,8 @@ def rig_text(path: Path | None) -> tuple[str, str]:
 
 def sweep_settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
     """Validated :class:`SweepSettings` from command-line options."""
+    if mesh_size_mm is not None and not math.isfinite(mesh_size_mm):
+        raise UserError(f"--mesh-size-mm: {mesh_size_mm} is not a finite size in mm")
     try:
         return SweepSettings(method=method, model=model, solver=solver, mesh_size_mm=mesh_size_mm)
     except ValueError as error:
@@ -69,6 +79,11 @@ def guard(function):
             fail(str(error))
         except ModelError as error:
             fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot solve the rig: {error}")
+        except MeshingError as error:
+            fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot mesh the rig: {error}")
+        except SolverError as error:
+            fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: the solver failed: {error} "
+                 "(try another --solver)")
         except OSError as error:  # reading is handled above, so this is writing the results (--out)
             fail(f"cannot write {error.filename}: {error.strerror}")
 

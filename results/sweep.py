@@ -20,13 +20,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fem import bushing, diagnostics, equilibrium
-from fem import model as fem_model
 from fem.solve import SingularModelError, factorize
 from geometry.build import RigModel
 from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights
 from geometry.schema import Rig
 from geometry.system import MODEL_KINDS, RigSystem, assemble_beam, assemble_rig
 from loadcases.cases import LoadCase
+from results import preflight
 from results.paths import ShaftPathResult
 
 SHAFTS = ("input", "output")
@@ -114,39 +114,66 @@ def read_path(system: RigSystem, displacement: np.ndarray, which: str) -> ShaftP
 
 
 def check_supports(rig: Rig) -> None:
-    """Raise :class:`ModelError` naming every part that can move without deforming anything.
+    """Raise :class:`ModelError` naming every part that can move without deforming anything
+    (:func:`results.preflight.support_problem`: on the rig's beam model, cheap at any fidelity)."""
+    problem = preflight.support_problem(rig)
+    if problem:
+        raise ModelError(problem)
 
-    The test runs on the rig's beam model, which has the same parts and connections at any
-    fidelity, so it is cheap also for solid models.
-    """
-    frame = assemble_beam(rig).frame.structure
-    stiffness = fem_model.stiffness_matrix(frame)
-    elimination, free = fem_model.constraint_elimination(frame)
-    motions = diagnostics.find_free_motions(frame.coordinates, stiffness, elimination, free, frame.node_group)
-    if motions:
-        raise ModelError("the model is singular: " + "; ".join(m.describe() for m in motions)
-                         + ". Add a bearing, mount or joint with stiffness in those directions.")
+
+CONDITION_LIMIT = preflight.CONDITION_LIMIT
+EQUILIBRIUM_LIMIT = 1e-6  # relative error of the ground reactions' resultant, and of the reduced residual
+
+
+def check_condition(kappa: float | None) -> None:
+    """Raise :class:`ModelError` when the estimated condition number says the solution has no digits left."""
+    if kappa is not None and not kappa <= CONDITION_LIMIT:
+        raise ModelError(f"the stiffness matrix is ill-conditioned: estimated condition number {kappa:.2g} "
+                         f"(Jacobi-scaled, 1-norm; limit {CONDITION_LIMIT:.0e}), so a solve would keep fewer than 5 "
+                         "correct digits. Stiffness values many orders of magnitude apart (a unit mistake in a "
+                         "stiffness key?) or an almost free part cause this")
+
+
+def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual: float) -> None:
+    """Raise :class:`ModelError` when a solution holds NaN/inf or does not satisfy equilibrium."""
+    if not np.all(np.isfinite(u)):
+        raise ModelError(f"case {label}: the solution contains NaN or inf")
+    for name, value in (("equilibrium error (ground reactions vs applied loads)", equilibrium_error),
+                        ("relative residual", residual)):
+        if not value <= EQUILIBRIUM_LIMIT:
+            raise ModelError(f"case {label}: {name} {value:.2g} exceeds {EQUILIBRIUM_LIMIT:g}: the solution is not "
+                             "trustworthy (ill-conditioned stiffness?)")
 
 
 def _prepare(system: RigSystem, settings: SweepSettings):
     """A solver for the reduced system; returns (solve function, name, report dict)."""
+    from fem import solvers
+
+    method = None
     if system.kind == "beam" and settings.solver in ("auto", "superlu"):
         try:
             factorised = factorize(system.stiffness, system.elimination)
-        except SingularModelError as error:
-            raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
-        return factorised.solve, factorised.solver_name, {"solver": factorised.solver_name, "n_dofs": system.n_dofs}
-    from fem import solvers
-
+        except SingularModelError:
+            # its pivot test compares N/m with N·m/rad pivots; the symmetric SuperLU of fem.solvers compares
+            # each pivot with its own diagonal entry, and the condition number below decides
+            method = "superlu"
+        else:
+            reduced = system.elimination.T @ system.stiffness @ system.elimination
+            kappa = diagnostics.scaled_condition_estimate(reduced, factorised.solve_reduced)
+            check_condition(kappa)
+            return factorised.solve, factorised.solver_name, {"solver": factorised.solver_name,
+                                                              "n_dofs": system.n_dofs, "condition_estimate": kappa}
     reduced = (system.elimination.T @ system.stiffness @ system.elimination).tocsr()
     near_null = None
-    method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
+    if method is None:
+        method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
     if method == "amg":
         near_null = system.elimination.T @ rigid_body_modes(system)
     try:
         prepared = solvers.prepare(reduced, method=method, near_null_space=near_null)
     except solvers.SingularMatrixError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
+    check_condition(prepared.condition_estimate())
 
     def solve(load):
         return system.elimination @ prepared.solve(system.elimination.T @ load)
@@ -197,14 +224,18 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
     """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver."""
     check_clearance_model(rig, settings.model)
     check_supports(rig)
+    too_big = preflight.memory_problem(rig, settings.model, settings.mesh_size_mm, settings.solver)
+    if too_big:
+        raise ModelError(too_big)
     options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
     system = assemble_rig(rig, settings.model, **options)
     return PreparedModel(system, *_prepare(system, settings))
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
-              prepared: PreparedModel | None = None) -> Sweep:
-    """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case.
+              prepared: PreparedModel | None = None, on_case=None) -> Sweep:
+    """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case, and
+    ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
 
     ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
     parameters may differ: the unit loads are rebuilt from ``rig``). A rig with bearing clearance
@@ -218,7 +249,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
-        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress)
+        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case)
     loads = system.unit_loads
     unit = solve(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -236,6 +267,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         reduced_residual = system.elimination.T @ (system.stiffness @ u - load)
         scale = np.linalg.norm(system.elimination.T @ load)
         residual = float(np.linalg.norm(reduced_residual) / scale) if scale > 0 else 0.0
+        check_solution(case.label, u, check.relative_error, residual)
         measured = u - rest if from_rest else u
         results.append(CaseResult(
             case,
@@ -244,6 +276,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             check.relative_error,
             residual,
         ))
+        if on_case is not None:
+            on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
     unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in SHAFTS} for k in UNIT_LOADS}
@@ -253,7 +287,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
 
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
-                  progress=None) -> Sweep:
+                  progress=None, on_case=None) -> Sweep:
     """The sweep of a beam model with bearing clearances: the rest state and each case solved on its own.
 
     ``solve`` solves the model as assembled (every radial spring engaged); the gaps are condensed
@@ -289,6 +323,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
             raise ModelError(f"case {label}: the bearing-clearance solution has a relative residual of {residual:.1e} "
                              "(> 1e-9)")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
+        check_solution(label, u, check.relative_error, residual)
         return u, solution, check.relative_error, residual
 
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
@@ -302,6 +337,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         measured_all.append(measured)
         results.append(CaseResult(case, {s: read_path(system, measured, s) for s in SHAFTS},
                                   {s: read_path(system, u, s) for s in SHAFTS}, error, residual))
+        if on_case is not None:
+            on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
     summary = dict(report if isinstance(report, dict) else _report_dict(report))
@@ -314,8 +351,11 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
 
 def _report_dict(prepared) -> dict:
     r = prepared.report
-    return {key: getattr(r, key) for key in ("name", "n_dofs", "setup_seconds", "solve_seconds", "peak_memory_MB")
-            if hasattr(r, key)}
+    out = {key: getattr(r, key) for key in ("name", "n_dofs", "setup_seconds", "solve_seconds", "peak_memory_MB")
+           if hasattr(r, key)}
+    if hasattr(prepared, "condition_estimate"):
+        out["condition_estimate"] = prepared.condition_estimate()
+    return out
 
 
 def solve_unit_responses(model: RigModel):

@@ -1,4 +1,9 @@
-"""Atomic writing of result files (temporary file in the same folder, then rename)."""
+"""Atomic writing of result files (temporary file in the same folder, then rename).
+
+A reader never sees a half-written file, and a process killed while writing leaves at most a
+hidden ``.name.*.tmp`` file next to the old one. Result files get the permissions an ordinary
+``open()`` would give them (0666 less the umask, typically 0644), not mkstemp's 0600.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,19 @@ import json
 import os
 import tempfile
 from pathlib import Path
+
+
+def _umask() -> int:
+    """The process umask, read without changing it (Linux: /proc/self/status), else by setting it back."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def write_text_atomic(path: str | Path, text: str, durable: bool = True) -> Path:
@@ -20,6 +38,7 @@ def write_text_atomic(path: str | Path, text: str, durable: bool = True) -> Path
     target.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
+        os.fchmod(handle, 0o666 & ~_umask())
         with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
             stream.write(text)
             stream.flush()

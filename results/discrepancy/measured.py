@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry.inputfiles import InputFileError, check_readable_file
+from geometry.inputfiles import InputFileError, read_input_text
 from loadcases.cases import LoadCase, separator_hint
 
 SHAFTS = ("input", "output")
@@ -214,21 +214,9 @@ def read_measured(path: str | Path) -> MeasuredData:
     """Read and validate a measured-data CSV file (table or paths schema)."""
     source = str(path)
     try:
-        check_readable_file(path, MAX_BYTES, "measured data")
-        raw = Path(path).read_bytes()
-        text = raw.decode("utf-8-sig")
+        text = read_input_text(path, MAX_BYTES, "measured data")
     except InputFileError as error:
         raise MeasuredDataError(source, str(error)) from None
-    except FileNotFoundError:
-        raise MeasuredDataError(source, "file not found") from None
-    except IsADirectoryError:
-        raise MeasuredDataError(source, "is a folder, not a CSV file") from None
-    except UnicodeDecodeError as error:
-        line = raw[: error.start].count(b"\n") + 1
-        raise MeasuredDataError(source, f"line {line}: not UTF-8 text (byte {error.start}); save the file as UTF-8") \
-            from None
-    except OSError as error:
-        raise MeasuredDataError(source, f"cannot be read: {error.strerror}") from None
     return parse_measured(text, source)
 
 

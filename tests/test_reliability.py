@@ -1,0 +1,382 @@
+"""Reliability: unusable models named before solving, checked solutions, sweeps that survive being
+killed, byte-identical result files, a memory limit checked before meshing, damaged mesh caches.
+
+The interruption test runs ``rvcoax sweep`` as a real process, kills it with SIGKILL once a few
+cases are saved (``RVCOAX_CASE_DELAY_S`` slows the per-case saving so that there is time to), then
+resumes it and compares the final files, byte for byte, with an uninterrupted run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from importlib.metadata import version
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import skfem
+from typer.testing import CliRunner
+
+from fem import solvers
+from fem.diagnostics import scaled_condition_estimate
+from geometry import meshing
+from geometry.meshing import MeshingError, SolidPartGeometry, cache_path, check_mesh, mesh_part
+from geometry.rigfile import parse_rig
+from geometry.system import assemble_beam
+from loadcases.cases import LoadCase
+from results import preflight
+from results.cli import app
+from results.report import text_sha256
+from results.sweep import (
+    ModelError,
+    PreparedModel,
+    SweepSettings,
+    _prepare,
+    check_condition,
+    prepare_model,
+    run_sweep,
+)
+from results.writers import write_csv_atomic, write_json_atomic
+from tests.test_rigfile_errors import dump_toml, reference_data
+
+RESULT_FILES = ("sweep.csv", "sweep_paths.csv", "sweep.json")
+CASE = (LoadCase(1.0, 100.0),)
+
+
+def flat(text: str) -> str:
+    return " ".join(text.split())
+
+
+def invoke(*args: str):
+    result = CliRunner().invoke(app, [str(a) for a in args])
+    assert result.exit_code == 0, (result.stdout, result.stderr, result.exception)
+    return result
+
+
+def write_rig(folder: Path, data: dict) -> Path:
+    path = folder / "rig.toml"
+    path.write_text(dump_toml(data), encoding="utf-8")
+    return path
+
+
+def brake_on_coupling_only(data: dict) -> dict:
+    """The brake shaft without its bearings and powder gap: it hangs on coupling C4 alone."""
+    data["bearings"] = [b for b in data["bearings"] if b["name"] not in ("brake_a", "brake_b")]
+    data["joints"] = [j for j in data["joints"] if j["name"] != "brake_powder_gap"]
+    return data
+
+
+def scaled_mounts(data: dict, factor: float) -> dict:
+    for mount in data["mounts"]:
+        mount["translational_stiffness_N_per_um"] = [v * factor for v in mount["translational_stiffness_N_per_um"]]
+        mount["rotational_stiffness_Nm_per_rad"] = [v * factor for v in mount["rotational_stiffness_Nm_per_rad"]]
+    return data
+
+
+# ------------------------------------------------------------------------------------------ before solving
+
+
+def test_a_zero_stiffness_spring_that_leaves_a_mechanism_is_named():
+    data = reference_data()
+    data["bearings"] = [b for b in data["bearings"] if b["name"] not in ("brake_a", "brake_b")]
+    feet = next(m for m in data["mounts"] if m["name"] == "brake_feet")
+    feet["translational_stiffness_N_per_um"] = [0, 0, 0]
+    feet["rotational_stiffness_Nm_per_rad"] = [0, 0, 0]
+    message = preflight.support_problem(parse_rig(data, "zero.toml"))
+    assert "part 'brake_housing' can move freely" in message
+    assert "no support path to ground" in message
+    # rotation about x stays held by the powder gap's torsional stiffness: not listed
+    assert "mount 'brake_feet' (translation x, translation y, translation z, rotation about y, rotation about z)" \
+        in message
+    assert "joint 'brake_powder_gap' (translation x, translation y, translation z, rotation about y" in message
+    with pytest.raises(ModelError, match="brake_housing"):
+        run_sweep(parse_rig(data, "zero.toml"), CASE)
+
+
+def test_the_reference_rig_passes_every_check():
+    rig = parse_rig(reference_data(), "reference")
+    assert preflight.support_problem(rig) is None
+    assert preflight.sag_warnings(rig) == []  # largest sag 1.6 µm
+    assert preflight.memory_problem(rig, "hybrid") is None
+
+
+def test_a_part_hanging_on_a_coupling_only_is_warned_about(tmp_path):
+    rig = parse_rig(brake_on_coupling_only(reference_data()), "hanging")
+    warnings = preflight.sag_warnings(rig)
+    assert len(warnings) == 1
+    assert "part 'brake_shaft' hangs only on flexible coupling(s) (coupling 'C4')" in warnings[0]
+    sag_mm = float(warnings[0].split("it sags ")[1].split(" mm")[0])
+    assert 0.5 < sag_mm < 10  # 1.9 mm: solvable, but no test rig
+    result = invoke("sweep", "--rig", write_rig(tmp_path, brake_on_coupling_only(reference_data())),
+                    "--t1", "1", "--t2", "100", "--out", tmp_path / "out")
+    assert "warning: part 'brake_shaft' hangs only on flexible coupling(s)" in flat(result.stderr)
+    assert (tmp_path / "out" / "sweep.csv").is_file()
+
+
+def test_stiffness_in_the_wrong_unit_is_reported_as_ill_conditioning():
+    data = reference_data()
+    data["joints"][1]["translational_stiffness_N_per_um"] = [5e14, 5e14, 5e14]  # N/m written as N/µm, twice
+    message = preflight.support_problem(parse_rig(data, "stiff.toml"))
+    assert "numerically singular although every part is held" in message
+    assert "stiffest spring: joint 'reducer_output_flange' 5e+14 N/µm" in message
+    assert "no support path" not in message
+
+
+def test_the_condition_number_is_estimated_and_checked():
+    # the Jacobi-scaled estimate against the exact 1-norm condition number, on a graded SPD matrix
+    rng = np.random.default_rng(4)
+    q, _ = np.linalg.qr(rng.standard_normal((120, 120)))
+    a = (q * np.logspace(0, 9, 120)) @ q.T
+    a = 0.5 * (a + a.T)
+    d = 1.0 / np.sqrt(np.diag(a))
+    exact = np.linalg.cond(d[:, None] * a * d[None, :], 1)
+    estimate = scaled_condition_estimate(sp.csr_matrix(a), lambda b: np.linalg.solve(a, b))
+    assert exact / 3 <= estimate <= exact * (1 + 1e-9)
+    assert estimate == scaled_condition_estimate(sp.csr_matrix(a), lambda b: np.linalg.solve(a, b))  # deterministic
+    # the reference rig: κ ≈ 3.2e7, recorded in the result
+    sweep = run_sweep(parse_rig(reference_data(), "reference"), CASE)
+    assert 1e7 < sweep.solver_report["condition_estimate"] < 1e8
+    with pytest.raises(ModelError, match=r"ill-conditioned: estimated condition number 2e\+11 .* fewer than 5"):
+        check_condition(2e11)
+    check_condition(9e10)
+    # mounts 3e7 times too soft: factorisable, but κ ≈ 4e13 (the support check is bypassed here)
+    system = assemble_beam(parse_rig(scaled_mounts(reference_data(), 3e-8), "soft"))
+    for solver in ("auto", "pardiso") if solvers.pardiso_available() else ("auto",):
+        with pytest.raises(ModelError, match=r"ill-conditioned: estimated condition number 4\.\de\+13"):
+            _prepare(system, SweepSettings(solver=solver))
+
+
+def test_positions_nanometres_apart_share_a_node():
+    """A bearing 8 nm from a segment end (found by the property test) once made an 8 nm beam element and a
+    condition number 1700 times the reference's; it now shares the segment end's node."""
+    results = {}
+    for x in (420.0, 420.0000083):
+        data = reference_data()
+        data["bearings"][6]["x_mm"] = x
+        sweep = run_sweep(parse_rig(data, "close"), CASE)
+        assert sweep.solver_report["condition_estimate"] < 1e8
+        results[x] = sweep.cases[0].paths["output"].y_max_mm
+    assert results[420.0000083] == pytest.approx(results[420.0], rel=1e-9)
+
+
+def test_nan_and_equilibrium_are_checked_after_solving():
+    rig = parse_rig(reference_data(), "reference")
+    good = prepare_model(rig)
+    nan = PreparedModel(good.system, lambda f: np.full(np.shape(f), np.nan), "broken solver", {})
+    with pytest.raises(ModelError, match="contains NaN or inf"):
+        run_sweep(rig, CASE, prepared=nan)
+    off = PreparedModel(good.system, lambda f: 0.999 * good.solve(f), "inexact solver", {})
+    with pytest.raises(ModelError, match=r"equilibrium error .* exceeds 1e-06"):
+        run_sweep(rig, CASE, prepared=off, settings=SweepSettings(method="direct"))
+    sweep = run_sweep(rig, CASE, prepared=good)
+    assert sweep.cases[0].equilibrium_error < 1e-9 and sweep.cases[0].residual < 1e-9
+
+
+def test_inverted_and_degenerate_elements_are_named():
+    corners = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float).T
+    good = skfem.MeshTet2.from_mesh(skfem.MeshTet(corners, np.array([[0, 1, 2, 3]]).T))
+    check_mesh(good, "good")
+    doflocs = good.doflocs.copy()
+    doflocs[:, 4] += [0.0, 0.9, 0.9]  # a mid-edge node pushed through the opposite face
+    with pytest.raises(MeshingError, match=r"part 'shaft': 1 curved tetrahedra are inverted \(Jacobian changes sign"):
+        check_mesh(skfem.MeshTet2(doflocs, good.t), "shaft")
+    sliver = corners.copy()
+    sliver[:, 3] = [1.0, 1.0, 1e-6]  # four corners almost in one plane
+    flat_tet = skfem.MeshTet2.from_mesh(skfem.MeshTet(sliver, np.array([[0, 1, 2, 3]]).T))
+    with pytest.raises(MeshingError, match=r"part 'housing': 1 tetrahedra are degenerate \(shape quality down to 9"):
+        check_mesh(flat_tet, "housing")
+
+
+def test_a_cache_entry_with_inverted_elements_is_rebuilt(tmp_path):
+    geometry = SolidPartGeometry("tiny", ((0.0, 20.0, 10.0, 0.0),), (), 4.0)
+    reference = mesh_part(geometry, cache_dir=tmp_path)
+    path = cache_path(geometry, tmp_path)
+    with np.load(path) as data:
+        doflocs, t = data["doflocs"].copy(), data["t"]
+    doflocs[:, t.max() + 1 + reference.t2e[0, 0]] += 0.01  # a mid-edge node moved 10 mm: inverted tets
+    assert meshing._inverted_elements(skfem.MeshTet2(doflocs, t)).size
+    with open(path, "wb") as handle:  # behind a valid checksum
+        np.savez_compressed(handle, doflocs=doflocs, t=t, checksum=np.array(meshing._checksum(doflocs, t)))
+    rebuilt = mesh_part(geometry, cache_dir=tmp_path)
+    np.testing.assert_array_equal(rebuilt.t, reference.t)
+    np.testing.assert_array_equal(rebuilt.doflocs, reference.doflocs)
+    with np.load(path) as data:
+        np.testing.assert_array_equal(data["doflocs"], reference.doflocs)  # the entry was rewritten
+
+
+def test_a_mesh_too_large_for_memory_is_refused_before_meshing(tmp_path, monkeypatch):
+    def no_meshing(*_):
+        raise AssertionError("gmsh must not run")
+
+    monkeypatch.setattr(meshing, "_run_gmsh", no_meshing)
+    start = time.perf_counter()
+    result = CliRunner().invoke(app, ["sweep", "--model", "solid", "--mesh-size-mm", "0.2", "--t1", "1", "--t2", "100",
+                                      "--out", str(tmp_path)])
+    elapsed = time.perf_counter() - start
+    message = flat(result.stderr)
+    assert result.exit_code == 2, (message, result.exception)
+    assert "the solid model at mesh size 0.2 mm would have about 1.4" in message  # ≈ 1.45e9 DOF
+    assert "GB of memory are available" in message and "Nothing was meshed" in message
+    assert "--mesh-size-mm" in message and "--model hybrid" in message
+    assert elapsed < 20 and not list(tmp_path.glob("*.csv"))
+
+
+def test_the_memory_estimate_follows_the_dof_estimate():
+    rig = parse_rig(reference_data(), "reference")
+    hybrid = preflight.estimate_memory(rig, "hybrid")
+    assert set(hybrid.part_dofs) == {"input_shaft", "output_shaft"}
+    assert 87_687 / 1.3 < hybrid.dofs < 87_687 * 1.3  # the measured hybrid model at 4 mm
+    assert hybrid.solver in ("pardiso", "amg") and hybrid.bytes_needed == pytest.approx(
+        preflight.BASE_BYTES + preflight.BYTES_PER_DOF[hybrid.solver] * hybrid.dofs)
+    finer = preflight.estimate_memory(rig, "hybrid", mesh_size_mm=2.0)
+    assert 5 < finer.dofs / hybrid.dofs < 10  # DOFs grow about as h^-3
+    assert preflight.available_memory_bytes() > 0
+
+
+def test_a_meshing_failure_ends_with_a_message(tmp_path, monkeypatch):
+    import geometry.hybrid
+
+    def failing(geometry, **_):
+        raise MeshingError(f"part '{geometry.name}': 3 curved tetrahedra are inverted; use a smaller mesh size")
+
+    monkeypatch.setattr(geometry.hybrid, "mesh_part", failing)
+    result = CliRunner().invoke(app, ["sweep", "--model", "hybrid", "--t1", "1", "--t2", "100", "--out", str(tmp_path)])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit)
+    assert "cannot mesh the rig: part 'input_shaft': 3 curved tetrahedra are inverted" in flat(result.stderr)
+
+
+# ------------------------------------------------------------------------------------------ resume
+
+
+def _case_file(folder: Path, n: int = 24) -> Path:
+    path = folder / "cases.csv"
+    torques = [(round(0.07 + 0.06 * i, 2), 10.0 + 8.0 * i) for i in range(n)]
+    path.write_text("T1_input_Nm,T2_output_Nm\n" + "".join(f"{a},{b}\n" for a, b in torques), encoding="utf-8")
+    return path
+
+
+def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
+    cases = _case_file(tmp_path)
+    killed = tmp_path / "killed"
+    script = Path(sys.executable).with_name("rvcoax")
+    process = subprocess.Popen([str(script), "sweep", "--cases", str(cases), "--method", "direct", "--out", str(killed)],
+                               env=dict(os.environ, RVCOAX_CASE_DELAY_S="0.25"), stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 90
+    try:
+        while len(list((killed / "cases").glob("case_*.json"))) < 5:
+            assert process.poll() is None, "the sweep ended before it could be killed"
+            assert time.monotonic() < deadline, "no case saved in 90 s"
+            time.sleep(0.05)
+    finally:
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=30)
+    assert process.returncode == -signal.SIGKILL
+    saved = sorted((killed / "cases").glob("case_*.json"))
+    assert 5 <= len(saved) < 24
+    assert not (killed / "sweep.csv").exists()
+    for path in saved:  # atomic writes: every saved case is complete
+        assert "record" in json.loads(path.read_text(encoding="utf-8"))
+    stamps = {path.name: path.stat().st_mtime_ns for path in saved}
+
+    resumed = invoke("sweep", "--cases", cases, "--method", "direct", "--out", killed, "--resume")
+    assert f"resuming: {len(saved)} of 24 case(s) already solved" in flat(resumed.stdout)
+    assert f"{24 - len(saved)} to solve" in flat(resumed.stdout)
+    assert {p.name: p.stat().st_mtime_ns for p in saved} == stamps  # reused, not solved again
+    assert len(list((killed / "cases").glob("case_*.json"))) == 24
+    assert not list((killed / "cases").glob(".*.tmp"))
+
+    straight = tmp_path / "straight"
+    invoke("sweep", "--cases", cases, "--method", "direct", "--out", straight)
+    for name in RESULT_FILES:
+        assert (killed / name).read_bytes() == (straight / name).read_bytes(), name
+
+
+def test_resume_reuses_only_cases_with_the_same_inputs(tmp_path):
+    cases = _case_file(tmp_path, 6)
+    out = tmp_path / "out"
+    invoke("sweep", "--cases", cases, "--out", out)
+    first = {name: (out / name).read_bytes() for name in RESULT_FILES}
+    (out / "cases" / "case_0003.json").write_text('{"format": 1, "inputs": {', encoding="utf-8")  # damaged
+    (out / "cases" / "model.json").unlink()
+    result = invoke("sweep", "--cases", cases, "--out", out, "--resume")
+    assert "resuming: 5 of 6 case(s) already solved" in flat(result.stdout)
+    assert {name: (out / name).read_bytes() for name in RESULT_FILES} == first
+    result = invoke("sweep", "--cases", cases, "--out", out, "--resume")
+    assert "resuming: 6 of 6 case(s) already solved" in flat(result.stdout) and "0 to solve" in flat(result.stdout)
+    assert "DOF, solver" not in result.stdout  # nothing to solve: the model is not even assembled
+    assert {name: (out / name).read_bytes() for name in RESULT_FILES} == first
+    other = invoke("sweep", "--cases", cases, "--out", out, "--resume", "--method", "direct")
+    assert "resuming: 0 of 6 case(s) already solved" in flat(other.stdout)
+    rig = write_rig(tmp_path, reference_data() | {"gravity": {"enabled": False}})
+    changed = invoke("sweep", "--cases", cases, "--out", out, "--resume", "--rig", rig)
+    assert "resuming: 0 of 6 case(s) already solved" in flat(changed.stdout)
+
+
+def test_resume_and_fields_do_not_go_together(tmp_path):
+    result = CliRunner().invoke(app, ["sweep", "--resume", "--fields", "--out", str(tmp_path)])
+    assert result.exit_code == 2 and "--fields needs every case's displacement field" in flat(result.stderr)
+
+
+# ------------------------------------------------------------------------------------------ byte identity
+
+
+def test_sweep_files_are_byte_identical_and_record_their_provenance(tmp_path):
+    rig = write_rig(tmp_path, reference_data())
+    for folder in ("a", "b"):
+        invoke("sweep", "--rig", rig, "--out", tmp_path / folder)
+    for name in RESULT_FILES:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    document = json.loads((tmp_path / "a" / "sweep.json").read_text(encoding="utf-8"))
+    assert document["rvcoax_version"] == version("rvcoax")
+    assert document["rig"]["source"] == str(rig)
+    assert document["rig"]["sha256"] == text_sha256(rig.read_text(encoding="utf-8"))
+    model = document["model"]
+    assert model["solver"].startswith("SuperLU") and model["solver_requested"] == "auto"
+    assert model["method"] == "superposition" and model["kind"] == "beam" and model["dofs"] == 2748
+    assert model["beam_max_element_length_mm"] == 5.0 and 1e7 < model["condition_number_estimate"] < 1e8
+    text = (tmp_path / "a" / "sweep.json").read_text(encoding="utf-8")
+    assert "seconds" not in text and "memory" not in text  # no wall-clock time, nothing machine-dependent
+
+
+def test_hybrid_files_record_the_mesh_and_are_byte_identical(tmp_path):
+    data = reference_data()
+    data["solid"]["hybrid_parts"] = ["input_shaft"]
+    rig = write_rig(tmp_path, data)
+    for folder in ("a", "b"):  # the second run meshes from the cache
+        invoke("sweep", "--rig", rig, "--model", "hybrid", "--mesh-size-mm", "10", "--t1", "1", "--t2", "100",
+               "--out", tmp_path / folder)
+    for name in RESULT_FILES:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    model = json.loads((tmp_path / "a" / "sweep.json").read_text(encoding="utf-8"))["model"]
+    assert model["kind"] == "hybrid" and model["mesh_size_mm"] == 10.0
+    part = model["solid_parts"]["input_shaft"]
+    assert part["mesh_size_mm"] == 10.0 and part["elements"] > 100 and part["dofs"] == 3 * part["nodes"]
+
+
+def test_check_files_are_byte_identical(tmp_path):
+    for folder in ("a", "b"):
+        result = CliRunner().invoke(app, ["check", "--out", str(tmp_path / folder)])
+        assert result.exit_code in (0, 1), (result.stderr, result.exception)
+    for name in ("check.csv", *RESULT_FILES, "blind_sweep.csv", "blind_sweep_paths.csv", "blind_sweep.json"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    calibration = json.loads((tmp_path / "a" / "sweep.json").read_text(encoding="utf-8"))["calibration"]
+    assert calibration["parameters"]
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077, 0o002])
+def test_result_files_honour_the_umask(tmp_path, umask):
+    previous = os.umask(umask)
+    try:
+        csv_path = write_csv_atomic(tmp_path / "a.csv", [{"x": 1.0}])
+        json_path = write_json_atomic(tmp_path / "a.json", {"x": 1.0})
+    finally:
+        os.umask(previous)
+    for path in (csv_path, json_path):
+        assert path.stat().st_mode & 0o777 == 0o666 & ~umask
