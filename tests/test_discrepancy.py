@@ -161,7 +161,7 @@ def _out_of_library(rig, shaft: str, schema: str, noise: float, seed: int) -> Me
 
 @pytest.mark.parametrize("shaft", ("input", "output"))
 def test_effect_outside_the_library_is_unexplained(rig, library, shaft):
-    for seed in (41, 42):
+    for seed in (41,):  # each run rebuilds the library once (a gap remains after round 1): ~45 s
         result = run_discrepancy(rig, _out_of_library(rig, shaft, "paths", 0.01, seed), DiscrepancySettings(),
                                  library=library)
         assert result.verdict == "unexplained", [s.name for s in result.selected]
