@@ -31,6 +31,10 @@ ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam,
 OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
 SolverOption = Annotated[str, typer.Option("--solver", help="Linear solver for solid/hybrid models: auto (by size), superlu, pardiso or amg.")]
 MeshOption = Annotated[float | None, typer.Option("--mesh-size-mm", help="Global solid mesh size in mm (default: the rig file's [solid] mesh_size_mm).")]
+CasesOption = Annotated[Path | None, typer.Option("--cases", help="CSV (columns T1_input_Nm, T2_output_Nm) or TOML ([[cases]]) of load cases.")]
+T1Option = Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")]
+T2Option = Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")]
+GridOption = Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2 (default: pair them in order).")]
 
 
 class UserError(Exception):

@@ -16,11 +16,15 @@ from rich.table import Table
 
 from geometry.rigfile import load_rig
 from results.cli_support import (
+    CasesOption,
+    GridOption,
     MeshOption,
     ModelOption,
     OutOption,
     RigOption,
     SolverOption,
+    T1Option,
+    T2Option,
     UserError,
     console,
     guard,
@@ -141,10 +145,10 @@ def register(app: typer.Typer) -> None:
         rig: RigOption = None,
         model: ModelOption = "beam",
         out: OutOption = Path("rvcoax_out"),
-        cases: Annotated[Path | None, typer.Option("--cases", help="Load cases file (as for sweep).")] = None,
-        t1: Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")] = None,
-        t2: Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")] = None,
-        grid: Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2.")] = False,
+        cases: CasesOption = None,
+        t1: T1Option = None,
+        t2: T2Option = None,
+        grid: GridOption = False,
         input_radial_mm: Annotated[float | None, typer.Option(
             "--input-radial-mm", help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
         output_radial_mm: Annotated[float | None, typer.Option(
