@@ -14,12 +14,11 @@ from typing import Annotated
 import numpy as np
 import typer
 from rich.markup import escape
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from geometry.build import build_rig_model
 from geometry.rigfile import load_rig, reference_rig_text
-from loadcases.cases import grid_cases, paired_cases, paper_cases, paper_table, read_cases
+from loadcases.cases import paper_table
 from results import report
 from results.calibration import DEFAULT_PARAMETERS, calibrate
 from results.check import QUANTITIES, compare, verdict
@@ -34,14 +33,15 @@ from results.cli_support import (
     T1Option,
     T2Option,
     UserError,
+    cases_from_options,
     console,
     guard,
+    prepare_with_status,
+    progress_bar,
     rig_text,
+    run_with_progress,
     sweep_settings,
-    warn,
 )
-from results.preflight import sag_warnings
-from results.sweep import prepare_model, run_sweep
 from results.sweep_files import CaseStore, case_inputs, sweep_inputs, write_sweep_files
 from results.writers import write_csv_atomic
 
@@ -57,29 +57,6 @@ app = typer.Typer(
 rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 app.add_typer(rig_app, name="rig")
 
-def _prepare(rig, settings):
-    for message in sag_warnings(rig):
-        warn(message)
-    with console.status(f"assembling the {settings.model} model and setting up the solver"):
-        prepared = prepare_model(rig, settings)
-    system = prepared.system
-    console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
-                  + (f", {len(system.solids)} solid part(s)" if system.solids else ""))
-    return prepared
-
-
-def _progress() -> Progress:
-    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), console=console, transient=True, disable=not console.is_terminal)
-
-
-def _run(rig, cases, settings, label: str, prepared=None, on_case=None):
-    with _progress() as progress:
-        task = progress.add_task(label, total=len(cases))
-        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
-                         prepared=prepared, on_case=on_case)
-
-
 def _version_callback(value: bool) -> None:
     if value:
         console.print(f"rvcoax {report.rvcoax_version()}")
@@ -92,26 +69,6 @@ def main(
                                           help="Print the version and exit.")] = False,
 ) -> None:
     """rvcoax command line."""
-
-
-def _cases(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
-    if cases_file is not None:
-        if t1 or t2:
-            raise UserError("give either --cases FILE or --t1/--t2, not both")
-        return read_cases(cases_file)
-    if t1 is None and t2 is None:
-        return paper_cases()
-    if t1 is None or t2 is None:
-        raise UserError("--t1 and --t2 go together (comma-separated torques in N·m)")
-
-    def numbers(text: str, name: str) -> list[float]:
-        try:
-            return [float(v) for v in text.split(",") if v.strip()]
-        except ValueError:
-            raise UserError(f"{name}: '{text}' is not a comma-separated list of torques in N·m") from None
-
-    values1, values2 = numbers(t1, "--t1"), numbers(t2, "--t2")
-    return grid_cases(values1, values2) if grid else paired_cases(values1, values2)
 
 
 def _write_sweep(out: Path, sweep, rig_source: str, rig_text: str, calibration=None, stem: str = "sweep") -> list[Path]:
@@ -155,8 +112,8 @@ def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, r
             records[missing[k]] = report.case_record(case_result)
             store.save(missing[k], inputs[missing[k]], records[missing[k]])
 
-        result = _run(rig_model, tuple(load_cases[i] for i in missing), settings, "solving load cases",
-                      _prepare(rig_model, settings), on_case=save)
+        result = run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings, "solving load cases",
+                      prepare_with_status(rig_model, settings), on_case=save)
         model = report.model_section(result)
         store.save_model(model_inputs, model)
     return [records[i] for i in range(len(load_cases))], model, result
@@ -188,7 +145,7 @@ def sweep(
                         "run without --resume")
     settings = sweep_settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
-    load_cases = _cases(cases, t1, t2, grid)
+    load_cases = cases_from_options(cases, t1, t2, grid)
     source, text = rig_text(rig)
     records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
                                                   resume)
@@ -254,15 +211,15 @@ def check(
     rig_model = load_rig(rig)
     rows = paper_table()
     cases = tuple(r.case for r in rows)
-    prepared = _prepare(rig_model, settings)
-    blind = _run(rig_model, cases, settings, "blind sweep", prepared)
+    prepared = prepare_with_status(rig_model, settings)
+    blind = run_with_progress(rig_model, cases, settings, "blind sweep", prepared)
     with console.status("calibrating (least squares on rows T2 = 10 and 200 N·m)"):
         try:
             calibration = calibrate(rig_model, rows, settings=settings, prepared=prepared)
         except KeyError as error:  # the rig lacks a parameter that the calibration fits
             raise UserError(f"rig file {rig_text(rig)[0]}: cannot calibrate: {error.args[0]} (the check fits "
                             + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None
-    calibrated = _run(calibration.rig, cases, settings, "calibrated sweep", prepared)
+    calibrated = run_with_progress(calibration.rig, cases, settings, "calibrated sweep", prepared)
     comparison_blind, comparison_cal = compare(rows, blind), compare(rows, calibrated)
     held_out = report.held_out_mask(len(rows), calibration.fit_rows)
     result = verdict(comparison_cal, held_out)
@@ -345,15 +302,15 @@ def picture(
         raise UserError(f"--warp-fraction must be in (0, 1), got {warp_fraction}")
     settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
-    load_cases = _cases(cases, t1, t2, False)
-    result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
+    load_cases = cases_from_options(cases, t1, t2, False)
+    result = run_with_progress(rig_model, load_cases, settings, "solving load cases", prepare_with_status(rig_model, settings))
     mesh, paths = sweep_field_mesh(result)
     field_cases = sweep_field_cases(result)
     limits = sweep_colour_limits_um(field_cases)
     housings = enclosing_parts(mesh)
     folder = out / "pictures"
     try:
-        with _progress() as progress:
+        with progress_bar() as progress:
             task = progress.add_task("rendering", total=len(field_cases))
             for i, case in enumerate(field_cases):
                 info = render_deformed(mesh, case, folder / f"deformed_{model}_{i:02d}.png", paths=paths,

@@ -14,12 +14,14 @@ from typing import Annotated
 import typer
 from rich.console import Console
 from rich.markup import escape
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from fem.solvers import SolverError
 from geometry.meshing import MeshingError
 from geometry.rigfile import RigFileError, reference_rig_text
-from loadcases.cases import LoadCaseError
-from results.sweep import ModelError, SweepSettings
+from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases, read_cases
+from results.preflight import sag_warnings
+from results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 
 console = Console()
 if not console.is_terminal:  # logs and pipes: wide enough for the check tables
@@ -92,3 +94,49 @@ def guard(function):
             fail(f"cannot write {error.filename}: {error.strerror}")
 
     return wrapper
+
+
+def prepare_with_status(rig, settings):
+    """Assemble the model and set up its solver, with a status line and the sag warnings."""
+    for message in sag_warnings(rig):
+        warn(message)
+    with console.status(f"assembling the {settings.model} model and setting up the solver"):
+        prepared = prepare_model(rig, settings)
+    system = prepared.system
+    console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
+                  + (f", {len(system.solids)} solid part(s)" if system.solids else ""))
+    return prepared
+
+
+def progress_bar() -> Progress:
+    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), console=console, transient=True, disable=not console.is_terminal)
+
+
+def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
+    """A sweep with a progress bar."""
+    with progress_bar() as progress:
+        task = progress.add_task(label, total=len(cases))
+        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
+                         prepared=prepared, on_case=on_case)
+
+
+def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
+    """Load cases from --cases, or --t1/--t2 (paired or --grid), or the paper's 20 pairs."""
+    if cases_file is not None:
+        if t1 or t2:
+            raise UserError("give either --cases FILE or --t1/--t2, not both")
+        return read_cases(cases_file)
+    if t1 is None and t2 is None:
+        return paper_cases()
+    if t1 is None or t2 is None:
+        raise UserError("--t1 and --t2 go together (comma-separated torques in N·m)")
+
+    def numbers(text: str, name: str) -> list[float]:
+        try:
+            return [float(v) for v in text.split(",") if v.strip()]
+        except ValueError:
+            raise UserError(f"{name}: '{text}' is not a comma-separated list of torques in N·m") from None
+
+    values1, values2 = numbers(t1, "--t1"), numbers(t2, "--t2")
+    return grid_cases(values1, values2) if grid else paired_cases(values1, values2)

@@ -26,9 +26,12 @@ from results.cli_support import (
     T1Option,
     T2Option,
     UserError,
+    cases_from_options,
     console,
     guard,
+    prepare_with_status,
     rig_text,
+    run_with_progress,
     sweep_settings,
 )
 from results.writers import write_csv_atomic, write_text_atomic
@@ -158,7 +161,6 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
         000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
-        from results.cli import _cases, _prepare, _run
         from results.connections import ConnectionsUnavailableError
         from results.export import dynamics_export, write_csv, write_json
 
@@ -175,10 +177,11 @@ def register(app: typer.Typer) -> None:
                 raise UserError(str(error)) from None
         settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
         rig_model = load_rig(rig)
-        load_cases = _cases(cases, t1, t2, grid)
+        load_cases = cases_from_options(cases, t1, t2, grid)
         if output_format == "adams":
             _check_adams_cases(load_cases)
-        result = _run(rig_model, load_cases, settings, "solving load cases", _prepare(rig_model, settings))
+        result = run_with_progress(rig_model, load_cases, settings, "solving load cases",
+                                   prepare_with_status(rig_model, settings))
         try:
             exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
         except ConnectionsUnavailableError as error:

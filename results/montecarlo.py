@@ -40,7 +40,7 @@ from geometry.hybrid import attachments
 from geometry.schema import Rig
 from geometry.system import RigSystem, assemble_beam
 from loadcases.cases import LoadCase
-from results.sweep import SHAFTS, ModelError, PreparedModel, SweepSettings, _prepare, prepare_model, run_sweep
+from results.sweep import SHAFTS, ModelError, PreparedModel, SweepSettings, prepare_model, prepare_system, run_sweep
 from results.tolerances import Tolerances, apply_values, parameter_value, study_rig
 
 STRATEGIES = ("loads", "frame", "full")
@@ -253,7 +253,7 @@ def evaluate_sample(study: Study, values) -> dict:
             prepared = nominal.prepared
         else:
             system = _frame_system(nominal.prepared.system, nominal.fixed, rig)
-            prepared = PreparedModel(system, *_prepare(system, study.settings))
+            prepared = prepare_system(system, study.settings)
         sweep = run_sweep(rig, study.cases, study.settings, prepared=prepared)
     return {
         "Y_max_mm": [[c.paths[s].y_max_mm for s in SHAFTS] for c in sweep.cases],

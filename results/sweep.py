@@ -228,7 +228,11 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
     if too_big:
         raise ModelError(too_big)
     options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
-    system = assemble_rig(rig, settings.model, **options)
+    return prepare_system(assemble_rig(rig, settings.model, **options), settings)
+
+
+def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
+    """Set up the solver of an already assembled system (e.g. one whose springs a sample changed)."""
     return PreparedModel(system, *_prepare(system, settings))
 
 
