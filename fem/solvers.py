@@ -5,19 +5,19 @@ Matrices and vectors only (no meshes). Three methods, measured on this stack
 
 - ``"superlu"``: scipy's SuperLU (``splu``), symmetric mode. Robust, no extra dependency; best
   for small systems (time and memory grow fast: 14 GB at 300 k DOF).
-- ``"pardiso"``: Intel MKL PARDISO through pypardiso in SPD mode (``mtype=2``, upper triangle
-  only; the default unsymmetric mode costs twice the time and memory). Fastest up to a few
-  100 k DOF; all right-hand sides in one call. x86-64 only.
+- ``"pardiso"``: Intel MKL PARDISO (:mod:`fem.pardiso`) in SPD mode (``mtype=2``, upper triangle
+  only; the unsymmetric mode costs twice the time and memory), in 3 × 3 blocks when the matrix
+  is made of them (a solid). Fastest up to a few 100 k DOF; all right-hand sides in one call.
+  x86-64 only.
 - ``"amg"``: pyamg smoothed aggregation (near null space: the rigid-body modes) as a
   preconditioner of scipy's conjugate gradients. Least memory; the hierarchy is built once.
 
 ``"auto"`` picks SuperLU below ``superlu_max_dofs`` (20 k), PARDISO up to ``pardiso_max_dofs``
-(400 k) when pypardiso can be loaded, AMG above (or without pypardiso).
+(400 k) when MKL can be loaded, AMG above (or without MKL).
 """
 
 from __future__ import annotations
 
-import functools
 import resource
 import time
 import weakref
@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from fem import pardiso
 from fem.solve import SingularModelError
 
 METHODS = ("superlu", "pardiso", "amg")
@@ -84,16 +85,9 @@ def _peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
 
 
-@functools.cache
 def pardiso_available() -> bool:
-    """Whether pypardiso imports and finds MKL (x86-64); checked once per process."""
-    try:
-        import pypardiso
-
-        pypardiso.PyPardisoSolver()
-    except (ImportError, OSError):
-        return False
-    return True
+    """Whether MKL PARDISO can be loaded (x86-64 with the ``mkl`` package); checked once per process."""
+    return pardiso.available()
 
 
 def choose_method(
@@ -224,64 +218,33 @@ def _setup_superlu(a: sp.csr_matrix):
     return "superlu (scipy SuperLU, symmetric mode)", solve, None
 
 
-@functools.cache
-def _mkl_runtime() -> str | None:
-    """Path of MKL's runtime library where pip installs it (``<prefix>/lib``), looked up once per process.
-
-    Without a hint pypardiso walks the whole environment tree (``glob('**')``) for every solver it
-    creates and once on import: 0.45 s per call in this project's environment, a third of the
-    PARDISO set-up at 50 k DOF. pypardiso reads the hint from ``PYPARDISO_MKL_RT``.
-    """
-    import glob
-    import sys
-
-    for prefix in dict.fromkeys((sys.prefix, sys.base_prefix)):
-        found = sorted(glob.glob(f"{prefix}/lib/libmkl_rt.so*") + glob.glob(f"{prefix}/Library/bin/mkl_rt*.dll"),
-                       key=len)
-        if found:
-            return found[0]
-    return None
-
-
 def _setup_pardiso(a: sp.csr_matrix):
-    import os
-
-    if "PYPARDISO_MKL_RT" not in os.environ and _mkl_runtime() is not None:
-        os.environ["PYPARDISO_MKL_RT"] = _mkl_runtime()
+    if not pardiso.available():
+        raise SolverError("method 'pardiso' needs Intel MKL (x86-64 only): pip install mkl")
+    diagonal = a.diagonal()
+    if np.any(diagonal <= 0.0):  # an SPD matrix has a positive diagonal; PARDISO may crash on an empty row
+        equation = int(np.flatnonzero(diagonal <= 0.0)[0])
+        raise SingularMatrixError(f"PARDISO: diagonal entry {diagonal[equation]:.1e} at equation {equation}: "
+                                  "the matrix is singular or not positive definite")
+    storage = pardiso.upper_storage(a)
     try:
-        import pypardiso
-    except ImportError as error:
-        raise SolverError("method 'pardiso' needs pypardiso (x86-64 only): pip install pypardiso") from error
-    solver = pypardiso.PyPardisoSolver(mtype=2)  # real SPD: Cholesky-type, upper triangle
-    upper = sp.triu(a, format="csr")
-    upper.sort_indices()
-    try:
-        solver.factorize(upper)
-    except (pypardiso.pardiso_wrapper.PyPardisoError, ValueError) as error:
-        equation = int(solver.get_iparm(30)) - 1
-        try:
-            solver.free_memory(everything=True)
-        except pypardiso.pardiso_wrapper.PyPardisoError:
-            pass
-        if isinstance(error, ValueError):  # pypardiso refuses empty rows
-            raise SingularMatrixError(f"PARDISO: {error}") from error
-        if error.value == -4:  # zero pivot in the numerical factorisation
+        factor = pardiso.Factorization(storage)
+    except pardiso.PardisoError as error:
+        if error.code == pardiso.ZERO_PIVOT:
             raise SingularMatrixError(
-                f"PARDISO: zero or negative pivot at equation {equation}: "
+                f"PARDISO: zero or negative pivot at equation {error.equation}: "
                 "the matrix is singular or not positive definite"
             ) from error
-        raise SolverError(f"PARDISO factorisation failed with error {error.value}") from error
+        raise SolverError(str(error)) from error
 
     def solve(block):
         try:
-            return solver.solve(upper, np.asfortranarray(block)).reshape(block.shape), ()
-        except pypardiso.pardiso_wrapper.PyPardisoError as error:
-            raise SolverError(f"PARDISO solve failed with error {error.value}") from error
+            return factor.solve(block), ()
+        except pardiso.PardisoError as error:
+            raise SolverError(str(error)) from error
 
-    def release():
-        solver.free_memory(everything=True)  # pypardiso never frees MKL's copy of the factor by itself
-
-    return "pardiso (MKL PARDISO, SPD, mtype=2)", solve, release
+    blocks = " 3×3 blocks," if storage.block_size == 3 else ""
+    return f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release
 
 
 def _setup_amg(a: sp.csr_matrix, near_null_space, rtol: float, maxiter: int | None):
@@ -343,7 +306,7 @@ def prepare(
     SingularMatrixError
         A direct factorisation found the matrix singular.
     SolverError
-        Unknown method, pypardiso missing for ``"pardiso"``, or a solver library error.
+        Unknown method, MKL missing for ``"pardiso"``, or a solver library error.
     """
     rss_before = _peak_rss_mb()
     a = _symmetric_csr(matrix)

@@ -15,7 +15,7 @@ from geometry.meshing import SolidPartGeometry, mesh_part
 HAS_PARDISO = pardiso_available()
 METHODS = [
     "superlu",
-    pytest.param("pardiso", marks=pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso/MKL not available")),
+    pytest.param("pardiso", marks=pytest.mark.skipif(not HAS_PARDISO, reason="MKL PARDISO not available")),
     "amg",
 ]
 
@@ -116,7 +116,7 @@ def test_auto_picks_by_size(monkeypatch):
     assert prepare(a, "auto", superlu_max_dofs=50, pardiso_max_dofs=80).report.name.startswith("amg")
     if HAS_PARDISO:
         assert prepare(a, "auto", superlu_max_dofs=50, pardiso_max_dofs=1000).report.name.startswith("pardiso")
-    # without pypardiso the middle range goes to AMG
+    # without MKL the middle range goes to AMG
     monkeypatch.setattr(solvers, "pardiso_available", lambda: False)
     assert solvers.choose_method(30_000) == "amg"
     assert solvers.choose_method(10_000) == "superlu"

@@ -1,0 +1,111 @@
+"""MKL PARDISO binding: upper-triangle storages (3 × 3 blocks or scalar CSR), factor, solves, release."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fem import pardiso
+
+pytestmark = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO not available (x86-64 with mkl only)")
+
+
+def spd_block_matrix(n_nodes: int, seed: int = 0) -> sp.csr_matrix:
+    """Random SPD matrix made of full 3 × 3 blocks on a random symmetric node graph (like a solid's stiffness)."""
+    rng = np.random.default_rng(seed)
+    graph = sp.random(n_nodes, n_nodes, density=0.05, random_state=rng, format="csr")
+    graph = ((graph + graph.T + sp.identity(n_nodes)) != 0).astype(float)
+    dense_blocks = sp.kron(graph, np.ones((3, 3)), format="csr")
+    values = dense_blocks.multiply(rng.normal(size=dense_blocks.shape))
+    values = values + values.T
+    matrix = values + sp.identity(3 * n_nodes) * (abs(values).sum(axis=1).max() + 1.0)  # diagonally dominant
+    matrix = sp.csr_matrix(matrix)
+    matrix.sum_duplicates()
+    matrix.sort_indices()
+    return matrix
+
+
+def expand(storage: pardiso.UpperStorage) -> np.ndarray:
+    """Dense upper triangle of a storage, for comparisons."""
+    if storage.block_size == 1:
+        return sp.csr_matrix((storage.data, storage.indices, storage.indptr), shape=(storage.n, storage.n)).toarray()
+    bsr = sp.bsr_matrix((storage.data, storage.indices, storage.indptr), shape=(storage.n, storage.n))
+    return np.triu(bsr.toarray())
+
+
+def test_block_matrix_is_stored_in_3x3_blocks_and_equals_its_upper_triangle():
+    a = spd_block_matrix(40)
+    storage = pardiso.upper_storage(a)
+    assert storage.block_size == 3
+    assert storage.data.shape[1:] == (3, 3)
+    assert storage.indptr.dtype == np.int32 and storage.indices.dtype == np.int32
+    np.testing.assert_array_equal(expand(storage), np.triu(a.toarray()))
+    # diagonal blocks are kept whole (lower part included), off-diagonal blocks only above the diagonal
+    block_rows = np.repeat(np.arange(storage.n // 3), np.diff(storage.indptr))
+    assert np.all(storage.indices >= block_rows)
+
+
+@pytest.mark.parametrize("damage", ["missing entry", "odd size", "shifted blocks"])
+def test_matrices_not_made_of_aligned_blocks_fall_back_to_scalar_csr(damage):
+    a = spd_block_matrix(30, seed=1).tolil()
+    if damage == "missing entry":  # one coupling inside an off-diagonal block removed on both sides
+        i, j = 0, int(a.rows[0][-1])
+        a[i, j] = 0.0
+        a[j, i] = 0.0
+    a = sp.csr_matrix(a)
+    a.eliminate_zeros()
+    if damage == "odd size":
+        a = sp.block_diag([a, sp.identity(1)], format="csr")
+    if damage == "shifted blocks":
+        a = sp.block_diag([sp.identity(1), a], format="csr")
+    a.sort_indices()
+    storage = pardiso.upper_storage(a)
+    assert storage.block_size == 1
+    np.testing.assert_array_equal(expand(storage), np.triu(a.toarray()))
+
+
+def test_upper_csr_equals_scipy_triu():
+    a = spd_block_matrix(25, seed=2)
+    storage = pardiso.upper_csr(a)
+    reference = sp.triu(a, format="csr")
+    reference.sort_indices()
+    np.testing.assert_array_equal(storage.indptr, reference.indptr)
+    np.testing.assert_array_equal(storage.indices, reference.indices)
+    np.testing.assert_array_equal(storage.data, reference.data)
+
+
+def test_unsorted_input_is_refused():
+    a = spd_block_matrix(5)
+    a.has_sorted_indices = False
+    with pytest.raises(ValueError, match="sorted"):
+        pardiso.upper_storage(a)
+
+
+@pytest.mark.parametrize("storage_kind", ["blocks", "scalar"])
+def test_factor_solves_like_superlu_for_several_right_hand_sides(storage_kind):
+    a = spd_block_matrix(60, seed=3)
+    storage = pardiso.upper_storage(a) if storage_kind == "blocks" else pardiso.upper_csr(a)
+    assert storage.block_size == (3 if storage_kind == "blocks" else 1)
+    rhs = np.random.default_rng(4).normal(size=(a.shape[0], 3))
+    factor = pardiso.Factorization(storage)
+    x = factor.solve(rhs)
+    reference = spla.splu(a.tocsc()).solve(rhs)
+    assert x.shape == rhs.shape and x.flags.c_contiguous
+    assert np.abs(x - reference).max() < 1e-10 * np.abs(reference).max()
+    assert factor.factor_nonzeros > 0 and factor.memory_MB > 0.0
+    factor.release()
+    factor.release()  # idempotent
+    with pytest.raises(RuntimeError, match="released"):
+        factor.solve(rhs)
+
+
+def test_indefinite_matrix_raises_a_zero_pivot_error():
+    a = spd_block_matrix(20, seed=5)
+    shifted = sp.csr_matrix(a - sp.identity(a.shape[0]) * 2.0 * abs(a).sum(axis=1).max())  # negative definite
+    shifted.sort_indices()
+    with pytest.raises(pardiso.PardisoError) as raised:
+        pardiso.Factorization(pardiso.upper_storage(shifted))
+    assert raised.value.code == pardiso.ZERO_PIVOT
+    assert raised.value.equation is not None and "pivot" in str(raised.value)
