@@ -27,7 +27,11 @@ same volume as scikit-fem's mapping (same quadrature); and the tip deflections m
 
 The comparison is the mean u_y over the tip-face nodes (all P2 nodes at x = 160 mm).
 
-Run: ``.venv/bin/python benchmarks/bench_calculix.py [--sizes 50k,300k]``; needs ``ccx``
+Each code runs ``--repeat`` times (default 3) per size, taking turns, each run in a fresh process;
+the median times are compared and every run is listed (on these virtual machines a run's time
+varies by up to 30 %, mostly with how long fresh memory takes to fault in).
+
+Run: ``.venv/bin/python benchmarks/bench_calculix.py [--sizes 50k,300k] [--repeat 3]``; needs ``ccx``
 (Debian: ``apt-get install calculix-ccx``), else it exits with status 2. Prints the figures and
 appends them to benchmarks/RESULTS.md (``--no-record``: print only). ``--keep DIR`` keeps the
 ``.inp``/``.dat`` files.
@@ -296,7 +300,51 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
 # ---------------------------------------------------------------------------------------------- main
 
 
-def compare_size(label: str, cache_dir: Path, keep: Path | None) -> tuple[list[tuple[str, str]], bool]:
+def run_rvcoax(label: str, cache_dir: Path, tip: np.ndarray) -> dict:
+    """One rvcoax run in a fresh Python process (:func:`rvcoax_child`)."""
+    completed = subprocess.run([sys.executable, __file__, "--child", label, "--cache-dir", str(cache_dir)],
+                               capture_output=True, text=True)
+    if completed.returncode != 0:
+        raise RuntimeError(f"rvcoax child failed:\n{completed.stderr}")
+    ours = json.loads(completed.stdout.strip().splitlines()[-1])
+    if ours["tip_nodes"] != tip.tolist():
+        raise RuntimeError("the child found other tip nodes")
+    return ours
+
+
+def run_calculix(label: str, keep: Path | None, coordinates, connectivity, fixed, tip, nodal_forces) -> dict:
+    """One CalculiX run, end to end from writing the .inp to reading the .dat."""
+    with tempfile.TemporaryDirectory(prefix="rvcoax_ccx_") as scratch:
+        work = Path(scratch)
+        job = f"cantilever_{label}"
+        start = time.perf_counter()
+        write_inp(work / f"{job}.inp", coordinates, connectivity, fixed, tip, nodal_forces)
+        written = time.perf_counter()
+        ccx = run_ccx(work, job)
+        read_start = time.perf_counter()
+        displacements = read_dat_displacements(work / f"{job}.dat")
+        ccx["tip"] = np.array([displacements[int(k) + 1] for k in tip])
+        finished = time.perf_counter()
+        ccx["inp_mb"] = (work / f"{job}.inp").stat().st_size / 2**20
+        if keep is not None:
+            keep.mkdir(parents=True, exist_ok=True)
+            for suffix in (".inp", ".dat", ".log", ".sta"):
+                if (work / f"{job}{suffix}").exists():
+                    shutil.copy2(work / f"{job}{suffix}", keep / f"{job}{suffix}")
+    ccx.update(total=finished - start, write_seconds=written - start, read_seconds=finished - read_start)
+    return ccx
+
+
+def median_run(runs: list[dict], key: str) -> dict:
+    """The run whose ``key`` is the median (the lower middle one for an even count)."""
+    return sorted(runs, key=lambda run: run[key])[(len(runs) - 1) // 2]
+
+
+def runs_text(runs: list[dict], key: str) -> str:
+    return ", ".join(f"{run[key]:.2f}" for run in runs) + " s"
+
+
+def compare_size(label: str, cache_dir: Path, keep: Path | None, repeat: int) -> tuple[list[tuple[str, str]], bool]:
     from skfem.quadrature import get_quadrature
     from skfem.refdom import RefTet
 
@@ -328,41 +376,22 @@ def compare_size(label: str, cache_dir: Path, keep: Path | None) -> tuple[list[t
         raise RuntimeError(f"the traction vector loads nodes off the tip face ({off_face:.1e} N)")
     del basis
 
-    # rvcoax, in a fresh process
-    completed = subprocess.run([sys.executable, __file__, "--child", label, "--cache-dir", str(cache_dir)],
-                               capture_output=True, text=True)
-    if completed.returncode != 0:
-        raise RuntimeError(f"rvcoax child failed:\n{completed.stderr}")
-    ours = json.loads(completed.stdout.strip().splitlines()[-1])
-    if ours["tip_nodes"] != tip.tolist():
-        raise RuntimeError("the child found other tip nodes")
-    ours_tip = np.array(ours["tip_u"])
-
-    # CalculiX, end to end from writing the .inp to reading the .dat
-    with tempfile.TemporaryDirectory(prefix="rvcoax_ccx_") as scratch:
-        work = Path(scratch)
-        job = f"cantilever_{label}"
-        start = time.perf_counter()
-        write_inp(work / f"{job}.inp", coordinates, connectivity, fixed, tip, nodal_forces)
-        written = time.perf_counter()
-        ccx = run_ccx(work, job)
-        read_start = time.perf_counter()
-        displacements = read_dat_displacements(work / f"{job}.dat")
-        ccx_tip = np.array([displacements[int(k) + 1] for k in tip])
-        finished = time.perf_counter()
-        inp_mb = (work / f"{job}.inp").stat().st_size / 2**20
-        if keep is not None:
-            keep.mkdir(parents=True, exist_ok=True)
-            for suffix in (".inp", ".dat", ".log", ".sta"):
-                if (work / f"{job}{suffix}").exists():
-                    shutil.copy2(work / f"{job}{suffix}", keep / f"{job}{suffix}")
-    ccx_total = finished - start
+    # the two codes take turns, each run in a fresh process; the medians are compared
+    ours_runs, ccx_runs = [], []
+    for _ in range(repeat):
+        ours_runs.append(run_rvcoax(label, cache_dir, tip))
+        ccx_runs.append(run_calculix(label, keep, coordinates, connectivity, fixed, tip, nodal_forces))
+    ours = median_run(ours_runs, "seconds")
+    ccx = median_run(ccx_runs, "total")
+    ours_tip, ccx_tip, ccx_total = np.array(ours["tip_u"]), ccx["tip"], ccx["total"]
+    written, inp_mb = ccx["write_seconds"], ccx["inp_mb"]
 
     ours_mean, ccx_mean = float(ours_tip[:, 1].mean()), float(ccx_tip[:, 1].mean())
     relative = abs(ours_mean - ccx_mean) / abs(ccx_mean)
     nodewise = float(np.abs(ours_tip - ccx_tip).max() / np.abs(ccx_tip).max())
     verdict = "PASS" if relative <= AGREEMENT else "FAIL"
     ratio = ccx_total / ours["seconds"]
+    run_ratios = ", ".join(f"{c['total'] / o['seconds']:.2f}" for o, c in zip(ours_runs, ccx_runs))
     phase_text = ", ".join(f"{name} {seconds:.2f}" for name, seconds in ours["phases"])
     rows = [
         (f"{tag}: mesh", f"h = {SIZES[label]} mm, {mesh.t.shape[1]:,} tets, {n_nodes:,} nodes "
@@ -373,17 +402,22 @@ def compare_size(label: str, cache_dir: Path, keep: Path | None) -> tuple[list[t
                                 f"{skfem_volume * 1e9:.4f} mm³ (scikit-fem), exact {exact_volume * 1e9:.4f} mm³; "
                                 f"min det J > 0; {flipped} tets re-oriented"),
         (f"{tag}: CalculiX end to end (.inp → .dat)",
-         f"{ccx_total:.2f} s = write .inp {written - start:.2f} s ({inp_mb:.0f} MB) + ccx {ccx['run_seconds']:.2f} s "
-         f"+ read .dat {finished - read_start:.3f} s; ccx CPU user {ccx['cpu'][0]:.1f} s, system {ccx['cpu'][1]:.1f} s; "
+         f"{ccx_total:.2f} s (median of {repeat}; runs {runs_text(ccx_runs, 'total')}) = write .inp {written:.2f} s "
+         f"({inp_mb:.0f} MB) + ccx {ccx['run_seconds']:.2f} s + read .dat {ccx['read_seconds']:.3f} s; "
+         f"ccx CPU user {ccx['cpu'][0]:.1f} s, system {ccx['cpu'][1]:.1f} s; "
          f"{ccx['solver']}; "
          f"{'; '.join(ccx['cpus']) or 'cpus not reported'}"),
         (f"{tag}: CalculiX peak memory", f"{fmt_mb(ccx['peak_mb'])} ({ccx['memory_source']})"),
-        (f"{tag}: rvcoax mesh → displacement", f"{ours['seconds']:.2f} s ({phase_text}); CPU user {ours['cpu'][0]:.1f} s, "
+        (f"{tag}: rvcoax mesh → displacement", f"{ours['seconds']:.2f} s (median of {repeat}; runs "
+                                               f"{runs_text(ours_runs, 'seconds')}; phases of the median run: "
+                                               f"{phase_text}); CPU user {ours['cpu'][0]:.1f} s, "
                                                f"system {ours['cpu'][1]:.1f} s; {ours['solver']}, "
                                                f"residual {ours['residual']:.1e}"),
         (f"{tag}: rvcoax peak memory", f"{fmt_mb(ours['peak_mb'])} (process peak RSS, VmHWM; "
                                        f"{fmt_mb(ours['baseline_mb'])} after imports and loading the mesh)"),
-        (f"{tag}: time ratio CalculiX / rvcoax", f"{ratio:.2f}× (target ≥ 2×: {'met' if ratio >= 2.0 else 'NOT met'})"),
+        (f"{tag}: time ratio CalculiX / rvcoax", f"{ratio:.2f}× of the medians (target ≥ 2×: "
+                                                 f"{'met' if ratio >= 2.0 else 'NOT met'}); run by run "
+                                                 f"{run_ratios}×"),
         (f"{tag}: tip deflection (mean u_y, tip-face nodes)",
          f"rvcoax {1e6 * ours_mean:.5f} µm, CalculiX {1e6 * ccx_mean:.5f} µm, difference {relative:.1e} "
          f"(≤ {AGREEMENT:.1e}: {verdict}); node by node ≤ {nodewise:.1e} of the largest tip displacement"),
@@ -398,6 +432,8 @@ def fmt_mb(mb: float) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", default=",".join(DEFAULT_SIZES), help=f"comma-separated, from {', '.join(SIZES)}")
+    parser.add_argument("--repeat", type=int, default=3,
+                        help="runs of each code per size, taking turns; the medians are compared (default 3)")
     parser.add_argument("--no-record", action="store_true", help="print only, do not append to RESULTS.md")
     parser.add_argument("--keep", type=Path, help="copy the .inp, .dat and ccx log files into this folder")
     parser.add_argument("--child", help=argparse.SUPPRESS)
@@ -430,7 +466,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="rvcoax_meshes_") as cache_dir:
         for label in labels:
             try:
-                rows, agrees = compare_size(label, Path(cache_dir), args.keep)
+                rows, agrees = compare_size(label, Path(cache_dir), args.keep, args.repeat)
                 failed = failed or not agrees
             except RuntimeError as error:
                 rows = [(f"{label}: FAILED", str(error).splitlines()[0] if str(error) else repr(error))]
