@@ -145,11 +145,12 @@ def run_one(label: str) -> dict:
     """One size in this process: every phase timed; returns the figures."""
     import numpy as np
 
-    from fem import solid
+    from fem import hugepages, solid
     from fem.assembly import assemble_matrix
     from fem.solvers import prepare
     from geometry.meshing import mesh_part
 
+    hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
     load_before = os.getloadavg()[0]
     phases = Phases()
     mesh = phases.run("meshing (gmsh, 1 thread)", lambda: mesh_part(geometry(label), use_cache=False))
@@ -285,6 +286,21 @@ def fmt_mb(mb: float) -> str:
     return f"{mb / 1024:.2f} GB" if mb >= 1024 else f"{mb:.0f} MB"
 
 
+def hugepage_policy() -> str:
+    """How the measured runs treat numpy's huge-page requests (fem/hugepages.py), in words."""
+    from fem import hugepages
+
+    try:
+        defrag = hugepages.selected_mode(hugepages.THP_DEFRAG.read_text())
+    except OSError:
+        defrag = None
+    if "NUMPY_MADVISE_HUGEPAGE" in os.environ:
+        return f"as set in the environment (NUMPY_MADVISE_HUGEPAGE={os.environ['NUMPY_MADVISE_HUGEPAGE']})"
+    if hugepages.compaction_stalls():
+        return f"off, as in the rvcoax command (THP defrag = {defrag}: a first touch would wait for compaction)"
+    return f"numpy's default, as in the rvcoax command (THP defrag = {defrag})"
+
+
 def figures_of(result: dict) -> list[tuple[str, str]]:
     tag = f"{result['label']} ({result['n_dofs']:,} DOF)"
     rows = [(f"{tag}: model", f"h = {result['mesh_size_mm']} mm, {result['n_tets']:,} tets, {result['n_nodes']:,} nodes, "
@@ -347,6 +363,7 @@ def main() -> None:
                   f"{-TIP_FORCE_N[1]:.0f} N tip traction; curved P2 tets; one fresh process per size"),
         ("machine: allocate + fill 1 GiB", f"{cold:.2f} s new to the process, {warm:.2f} s reused at once "
                                            "(the difference is paid by every phase that raises the peak memory)"),
+        ("numpy huge-page requests", hugepage_policy()),
     ]
     for name, value in figures:
         print(f"{name}: {value}", flush=True)

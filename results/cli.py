@@ -16,6 +16,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from fem import hugepages
 from geometry.build import build_rig_model
 from geometry.rigfile import load_rig, reference_rig_text
 from loadcases.cases import paper_table
@@ -407,6 +408,7 @@ _register_command_modules()
 
 def run() -> None:
     """Console-script entry point."""
+    hugepages.avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
     app()
 
 
