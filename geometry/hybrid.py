@@ -34,6 +34,10 @@ RING_POINTS = 8
 TOL_MM = 1e-6
 
 
+class SolidModelError(ValueError):
+    """The rig cannot be built as a hybrid or solid model (conflicting faces, unsupported loads); names the part."""
+
+
 @dataclass(frozen=True)
 class FaceSpec:
     """A face of a round part: ``band`` of the lateral surface [x0, x1] (outer or inner), or ``end`` at x0."""
@@ -85,7 +89,8 @@ def face_at(part: Part, x_mm: float, width_mm: float | None, band_mm=None, surfa
     if width_mm is None:
         if abs(x_mm - lo) < TOL_MM or abs(x_mm - hi) < TOL_MM:
             return FaceSpec("end", x_mm, x_mm)
-        raise ValueError("no width")
+        raise SolidModelError(f"part '{part.name}': something attaches at x = {x_mm} mm, away from the part's ends, "
+                              "without a width to choose its face on the solid ([solid] attachment_band_mm)")
     x0, x1 = max(lo, x_mm - width_mm / 2), min(hi, x_mm + width_mm / 2)
     return FaceSpec("band", x0, x1, surface)
 
@@ -125,7 +130,7 @@ def attachments(rig: Rig, solid_parts: tuple[str, ...]) -> list[Attachment]:
     for a in out:
         key = (a.part, round(a.x_mm, 6))
         if key in merged and (merged[key].face != a.face or merged[key].tie != a.tie):
-            raise ValueError(f"two attachments to solid part '{a.part}' at x = {a.x_mm} mm use different faces "
+            raise SolidModelError(f"two attachments to solid part '{a.part}' at x = {a.x_mm} mm use different faces "
                              f"({merged[key].face} and {a.face}); move one of them")
         merged[key] = a
     return list(merged.values())
@@ -177,7 +182,7 @@ def select_facets(part: SolidPart, face: FaceSpec) -> np.ndarray:
         keep = inside & lateral & ((radius_mm > middle) if face.surface == "outer" else (radius_mm < middle))
     selected = facets[keep]
     if selected.size == 0:
-        raise ValueError(f"solid part '{part.name}': no boundary facets on {face}")
+        raise SolidModelError(f"solid part '{part.name}': no boundary facets on {face}")
     return selected
 
 
@@ -266,7 +271,7 @@ class SolidLoads:
                 continue
             moment = np.asarray(load.moment_Nm, dtype=float)
             if np.any(moment[1:]):
-                raise ValueError(f"a bending moment load on solid part '{load.part}' is not supported")
+                raise SolidModelError(f"a bending moment load on solid part '{load.part}' is not supported")
             part = self._solids[load.part]
             face = _load_face(self._rig, self._parts[load.part], load)
             weights = np.concatenate([np.asarray(load.force_N, dtype=float), moment[:1]])

@@ -17,6 +17,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from fem.solvers import SolverError
+from geometry.hybrid import SolidModelError
 from geometry.meshing import MeshingError
 from geometry.rigfile import RigFileError, reference_rig_text
 from loadcases.cases import LoadCaseError, grid_cases, paired_cases, paper_cases, read_cases
@@ -87,6 +88,8 @@ def guard(function):
             fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot solve the rig: {error}")
         except MeshingError as error:
             fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot mesh the rig: {error}")
+        except SolidModelError as error:
+            fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: cannot build the solid parts: {error}")
         except SolverError as error:
             fail(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}: the solver failed: {error} "
                  "(try another --solver)")

@@ -251,6 +251,20 @@ def test_a_meshing_failure_ends_with_a_message(tmp_path, monkeypatch):
     assert "cannot mesh the rig: part 'input_shaft': 3 curved tetrahedra are inverted" in flat(result.stderr)
 
 
+def test_attachments_on_different_faces_at_one_place_end_with_a_message(tmp_path):
+    data = reference_data()
+    b1 = next(b for b in data["bearings"] if b["name"] == "input_B1")
+    c2 = next(c for c in data["couplings"] if c["name"] == "C2")
+    c2["to"]["x_mm"] = b1["x_mm"]  # the coupling hub (17 mm band) where bearing B1 sits (14 mm band)
+    rig = write_rig(tmp_path, data)
+    result = CliRunner().invoke(app, ["sweep", "--rig", str(rig), "--model", "hybrid", "--t1", "1", "--t2", "100",
+                                      "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.exception
+    message = flat(result.stderr)
+    assert f"rig file {rig}: cannot build the solid parts: two attachments to solid part 'input_shaft'" in message
+    assert "move one of them" in message and "Traceback" not in message
+
+
 # ------------------------------------------------------------------------------------------ resume
 
 
