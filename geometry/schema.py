@@ -17,6 +17,7 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 
 
 class Strict(BaseModel):
@@ -29,7 +30,7 @@ class RigInfo(Strict):
 
 
 class Gravity(Strict):
-    enabled: bool = True
+    enabled: Flag = True
     acceleration_m_per_s2: Positive = 9.80665
 
 
@@ -49,7 +50,7 @@ class BeamSettings(Strict):
     reference rig). Solid parts are elastic continua and are not affected.
     """
 
-    shear_deformation: bool = True
+    shear_deformation: Flag = True
     shear_flexibility_factor: Annotated[float, Field(ge=0.0, le=1.0, strict=True)] = 1.0
 
     @property
@@ -302,7 +303,7 @@ class SingleForce(Strict):
 
 
 class ForceTable(Strict):
-    apply: bool = False
+    apply: Flag = False
     scale: Finite = 1.0  # multiplies every force of the table when applied
     pairs: list[ForcePair] = []
     singles: list[SingleForce] = []

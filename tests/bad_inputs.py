@@ -256,6 +256,9 @@ def wrong_type_cases() -> list[BadInput]:
         (("materials", "Q460"), 5, "valid dictionary"),
         (("bearings",), {"a": 1}, "valid list"),
         (("mounts", 0, "translational_stiffness_N_per_um"), [500, 500], "required key is missing"),
+        (("gravity", "enabled"), "yes", "valid boolean"),
+        (("gravity", "enabled"), 1, "valid boolean"),
+        (("force_table", "apply"), "true", "valid boolean"),
     )
     for path, value, reason in others:
         where = _key_path(data, path)
