@@ -154,9 +154,15 @@ def sweep(
         for path in _write_fields(out / "fields", result):
             console.print(f"wrote {path}")
     console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
-    console.print(f"Y measured from: {rig_model.paths.measured_from}; each case built from unit responses "
-                  "(self-weight, force table, engaged load sharing, T1 = 1 N·m, T2 = 1 N·m)"
-                  if method == "superposition" else "each case solved directly")
+    if model_section.get("nonlinear"):
+        how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
+               f"{', '.join(model_section['gapped_bearings'])})")
+    elif method == "superposition":
+        how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "
+               "T1 = 1 N·m, T2 = 1 N·m)")
+    else:
+        how = "each case solved directly"
+    console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
     header = report.sweep_header(rig_model, model_section, source, text)
     for path in write_sweep_files(out, "sweep", header, records):
         console.print(f"wrote {path}")

@@ -138,6 +138,9 @@ def model_section(sweep: Sweep) -> dict:
     for key in ("nonlinear", "gapped_bearings", "newton_iterations_max"):
         if key in sweep.solver_report:
             section[key] = sweep.solver_report[key]
+    if "nonlinear" in sweep.solver_report:  # clearance: every case solved on its own, nothing superposed
+        section["method"] = "direct (nonlinear: each case solved by Newton iteration)"
+        del section["superposition"], section["unit_loads"]
     return canonical(section)
 
 

@@ -21,6 +21,7 @@ from geometry.loads import REST_LOADS
 from geometry.schema import Rig
 from geometry.system import assemble_beam
 from loadcases.cases import LoadCase
+from results.report import model_section
 from results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 from tests.frames import POISSON, YOUNGS_MODULUS, assert_close, rigidities
 
@@ -236,6 +237,9 @@ def test_bearing_clearance_dead_band_and_contact(direction_deg, housing):
         assert_close(result.paths["input"].uy_mm[-1] * MM, radial * math.cos(math.radians(direction_deg)), TOL)
         assert result.residual < 1e-9 and result.equilibrium_error < 1e-9
     assert sweep.unit_displacements is None and sweep.solver_report["gapped_bearings"] == ["tip_bearing"]
+    section = model_section(sweep)  # the result files say how the cases were solved: no superposition here
+    assert section["method"].startswith("direct (nonlinear") and "superposition" not in section
+    assert section["gapped_bearings"] == ["tip_bearing"]
     probe = sweep.system.probes["input"]  # the fields of each case are the solved ones
     for i, result in enumerate(sweep.cases):
         assert np.array_equal(probe.uy @ sweep.measured_displacement(i) * 1e3, result.paths["input"].uy_mm)
