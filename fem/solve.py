@@ -6,7 +6,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 
 class SingularModelError(RuntimeError):
@@ -23,27 +22,33 @@ class FactorizedSystem:
         Full stiffness K (n × n).
     elimination : csr_matrix
         T, mapping independent DOFs to all DOFs.
-    solver_name : str
+    solver : fem.solvers.PreparedSolver
+        The factorisation of Tᵀ K T.
     """
 
     stiffness: sp.csr_matrix
     elimination: sp.csr_matrix
-    solver_name: str
-    _solve: object
+    solver: object
+
+    @property
+    def solver_name(self) -> str:
+        return self.solver.report.name
 
     def solve(self, load: np.ndarray) -> np.ndarray:
         """Displacements for one load vector (n,) or several (n, m), full DOF numbering."""
         f = np.asarray(load, dtype=float)
-        reduced = self.elimination.T @ f
-        q = self._solve(reduced)
-        u = self.elimination @ q
+        u = self.elimination @ self.solver.solve(self.elimination.T @ f)
         if not np.all(np.isfinite(u)):
             raise SingularModelError("the solution contains NaN or inf: the model is singular")
         return u
 
     def solve_reduced(self, reduced_load: np.ndarray) -> np.ndarray:
-        """q = (Tᵀ K T)⁻¹ r for a load ``r`` in the independent DOFs (no NaN check)."""
-        return self._solve(np.asarray(reduced_load, dtype=float))
+        """q = (Tᵀ K T)⁻¹ r for a load ``r`` in the independent DOFs."""
+        return self.solver.solve(np.asarray(reduced_load, dtype=float))
+
+    def condition_estimate(self) -> float:
+        """Estimated condition number of the Jacobi-scaled Tᵀ K T (:func:`fem.diagnostics.scaled_condition_estimate`)."""
+        return self.solver.condition_estimate()
 
     def relative_residual(self, displacement: np.ndarray, load: np.ndarray) -> np.ndarray:
         """‖Tᵀ (K u − f)‖ / ‖Tᵀ f‖ per load vector."""
@@ -54,16 +59,15 @@ class FactorizedSystem:
 
 
 def factorize(stiffness: sp.csr_matrix, elimination: sp.csr_matrix) -> FactorizedSystem:
-    """Factorise Tᵀ K T with SuperLU (sparse direct; beam models have a few thousand DOFs)."""
-    reduced = (elimination.T @ stiffness @ elimination).tocsc()
-    reduced = (reduced + reduced.T) * 0.5
-    try:
-        lu = spla.splu(reduced.tocsc(), permc_spec="MMD_AT_PLUS_A")
-    except RuntimeError as error:  # "Factor is exactly singular"
-        raise SingularModelError(str(error)) from error
-    diagonal = np.abs(lu.U.diagonal())
-    if diagonal.size and diagonal.min() <= 1e-14 * diagonal.max():
-        raise SingularModelError(
-            f"pivot ratio {diagonal.min() / diagonal.max():.1e}: the stiffness is numerically singular"
-        )
-    return FactorizedSystem(stiffness, elimination, "SuperLU (scipy.sparse.linalg.splu)", lu.solve)
+    """Factorise Tᵀ K T with SuperLU (beam models have a few thousand DOFs).
+
+    The factorisation is :func:`fem.solvers.prepare`'s ``"superlu"`` method, the one SuperLU path of
+    the project: symmetric mode, and a singularity test that compares each pivot with its own
+    diagonal entry, so that N/m and N·m/rad equations are judged fairly. Every solve checks its
+    residual and raises :class:`SingularModelError` on NaN or a residual above 1e-6.
+    """
+    from fem import solvers  # fem.solvers imports this module for SingularModelError
+
+    reduced = (elimination.T @ stiffness @ elimination).tocsr()
+    prepared = solvers.prepare((reduced + reduced.T) * 0.5, method="superlu")
+    return FactorizedSystem(stiffness, elimination, prepared)

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem import bushing, diagnostics, equilibrium
+from fem import bushing, equilibrium
 from fem.solve import SingularModelError, factorize
 from geometry.build import RigModel
 from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights
@@ -149,24 +149,18 @@ def _prepare(system: RigSystem, settings: SweepSettings):
     """A solver for the reduced system; returns (solve function, name, report dict)."""
     from fem import solvers
 
-    method = None
     if system.kind == "beam" and settings.solver in ("auto", "superlu"):
         try:
             factorised = factorize(system.stiffness, system.elimination)
-        except SingularModelError:
-            # its pivot test compares N/m with N·m/rad pivots; the symmetric SuperLU of fem.solvers compares
-            # each pivot with its own diagonal entry, and the condition number below decides
-            method = "superlu"
-        else:
-            reduced = system.elimination.T @ system.stiffness @ system.elimination
-            kappa = diagnostics.scaled_condition_estimate(reduced, factorised.solve_reduced)
-            check_condition(kappa)
-            return factorised.solve, factorised.solver_name, {"solver": factorised.solver_name,
-                                                              "n_dofs": system.n_dofs, "condition_estimate": kappa}
+        except SingularModelError as error:
+            raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
+        kappa = factorised.condition_estimate()
+        check_condition(kappa)
+        return factorised.solve, factorised.solver_name, {"solver": factorised.solver_name,
+                                                          "n_dofs": system.n_dofs, "condition_estimate": kappa}
     reduced = (system.elimination.T @ system.stiffness @ system.elimination).tocsr()
     near_null = None
-    if method is None:
-        method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
+    method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
     if method == "amg":
         near_null = system.elimination.T @ rigid_body_modes(system)
     try:

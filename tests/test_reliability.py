@@ -352,7 +352,7 @@ def test_sweep_files_are_byte_identical_and_record_their_provenance(tmp_path):
     assert document["rig"]["source"] == str(rig)
     assert document["rig"]["sha256"] == text_sha256(rig.read_text(encoding="utf-8"))
     model = document["model"]
-    assert model["solver"].startswith("SuperLU") and model["solver_requested"] == "auto"
+    assert model["solver"].startswith("superlu") and model["solver_requested"] == "auto"
     assert model["method"] == "superposition" and model["kind"] == "beam" and model["dofs"] == 2748
     assert model["beam_max_element_length_mm"] == 5.0 and 1e7 < model["condition_number_estimate"] < 1e8
     text = (tmp_path / "a" / "sweep.json").read_text(encoding="utf-8")
