@@ -290,13 +290,10 @@ def hugepage_policy() -> str:
     """How the measured runs treat numpy's huge-page requests (fem/hugepages.py), in words."""
     from fem import hugepages
 
-    try:
-        defrag = hugepages.selected_mode(hugepages.THP_DEFRAG.read_text())
-    except OSError:
-        defrag = None
+    defrag = hugepages.defrag_mode()
     if "NUMPY_MADVISE_HUGEPAGE" in os.environ:
         return f"as set in the environment (NUMPY_MADVISE_HUGEPAGE={os.environ['NUMPY_MADVISE_HUGEPAGE']})"
-    if hugepages.compaction_stalls():
+    if defrag in hugepages.STALLING_DEFRAG_MODES:
         return f"off, as in the rvcoax command (THP defrag = {defrag}: a first touch would wait for compaction)"
     return f"numpy's default, as in the rvcoax command (THP defrag = {defrag})"
 

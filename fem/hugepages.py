@@ -36,13 +36,17 @@ def selected_mode(text: str) -> str | None:
     return None
 
 
+def defrag_mode(defrag_path: Path = THP_DEFRAG) -> str | None:
+    """The kernel's THP defrag mode (``madvise``, ``always`` …), or None where it cannot be read."""
+    try:
+        return selected_mode(defrag_path.read_text())
+    except OSError:  # not Linux, or no THP support
+        return None
+
+
 def compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:
     """Whether numpy's huge-page requests make first touches wait for compaction on this machine."""
-    try:
-        mode = selected_mode(defrag_path.read_text())
-    except OSError:  # not Linux, or no THP support
-        return False
-    return mode in STALLING_DEFRAG_MODES
+    return defrag_mode(defrag_path) in STALLING_DEFRAG_MODES
 
 
 def avoid_compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:

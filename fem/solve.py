@@ -35,16 +35,11 @@ class FactorizedSystem:
         return self.solver.report.name
 
     def solve(self, load: np.ndarray) -> np.ndarray:
-        """Displacements for one load vector (n,) or several (n, m), full DOF numbering."""
-        f = np.asarray(load, dtype=float)
-        u = self.elimination @ self.solver.solve(self.elimination.T @ f)
-        if not np.all(np.isfinite(u)):
-            raise SingularModelError("the solution contains NaN or inf: the model is singular")
-        return u
+        """Displacements for one load vector (n,) or several (n, m), full DOF numbering.
 
-    def solve_reduced(self, reduced_load: np.ndarray) -> np.ndarray:
-        """q = (Tᵀ K T)⁻¹ r for a load ``r`` in the independent DOFs."""
-        return self.solver.solve(np.asarray(reduced_load, dtype=float))
+        Raises :class:`SingularModelError` (from the solver) on NaN or a residual above 1e-6.
+        """
+        return self.elimination @ self.solver.solve(self.elimination.T @ np.asarray(load, dtype=float))
 
     def condition_estimate(self) -> float:
         """Estimated condition number of the Jacobi-scaled Tᵀ K T (:func:`fem.diagnostics.scaled_condition_estimate`)."""

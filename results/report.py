@@ -123,10 +123,13 @@ def model_section(sweep: Sweep) -> dict:
     kappa = sweep.solver_report.get("condition_estimate")
     section = {"kind": settings.model, "dofs": sweep.n_dofs, "solver": sweep.solver,
                "solver_requested": settings.solver, "method": settings.method,
-               "condition_number_estimate": None if kappa is None else float(f"{kappa:.3g}"),
-               "superposition": "u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2",
-               "unit_loads": list(UNIT_LOADS),
-               "beam_max_element_length_mm": sweep.rig.mesh.max_element_length_mm}
+               "condition_number_estimate": None if kappa is None else float(f"{kappa:.3g}")}
+    if "nonlinear" in sweep.solver_report:  # clearance: every case solved on its own, nothing superposed
+        section["method"] = "direct (nonlinear: each case solved by Newton iteration)"
+    else:
+        section["superposition"] = "u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2"
+        section["unit_loads"] = list(UNIT_LOADS)
+    section["beam_max_element_length_mm"] = sweep.rig.mesh.max_element_length_mm
     if settings.model != "beam":
         section["mesh_size_mm"] = settings.mesh_size_mm if settings.mesh_size_mm is not None \
             else sweep.rig.solid.mesh_size_mm
@@ -138,9 +141,6 @@ def model_section(sweep: Sweep) -> dict:
     for key in ("nonlinear", "gapped_bearings", "newton_iterations_max"):
         if key in sweep.solver_report:
             section[key] = sweep.solver_report[key]
-    if "nonlinear" in sweep.solver_report:  # clearance: every case solved on its own, nothing superposed
-        section["method"] = "direct (nonlinear: each case solved by Newton iteration)"
-        del section["superposition"], section["unit_loads"]
     return canonical(section)
 
 
