@@ -192,6 +192,20 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
     return [results[i] for i in range(total)], report
 
 
+def future_outcome(future) -> tuple[object, BaseException | None]:
+    """The result of a completed Dask future, or the error that ended it: ``(result, None)`` or ``(None, error)``.
+
+    The future's state is read again here rather than trusted from the moment it completed: a
+    worker that dies right after finishing a task loses the result it held, the future goes back to
+    ``lost``/``pending`` and the scheduler computes it again, so ``result()`` waits for that second
+    run instead of the sample being taken for failed.
+    """
+    try:
+        return future.result(), None
+    except (CancelledError, Exception) as error:  # the task raised, its workers died, or it was dropped
+        return None, error
+
+
 def _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries) -> int:
     """Submit every pending sample, store results as they complete; returns the number resubmitted."""
     from distributed import KilledWorker, as_completed
@@ -210,16 +224,11 @@ def _run_on_cluster(client, function, shared, rows, pending, fingerprint, store,
     queue = as_completed(list(owner))
     for future in queue:
         index = owner.pop(future)
-        if future.status == "finished":
-            outcome = future.result()
-            future.release()
+        outcome, error = future_outcome(future)
+        future.release()
+        if error is None:
             store(index, outcome)
             continue
-        try:
-            error = future.exception()
-        except CancelledError as cancelled:  # the scheduler dropped it (e.g. it restarted)
-            error = cancelled
-        future.release()
         if isinstance(error, (KilledWorker, CancelledError)) and attempts[index] < retries:
             attempts[index] += 1
             resubmitted += 1

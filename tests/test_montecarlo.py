@@ -11,6 +11,7 @@ import logging
 import math
 import os
 import signal
+import time
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ from typer.testing import CliRunner
 
 from geometry.rigfile import load_rig
 from results.cli import app
-from results.distributed import ResumeError, run_samples, sample_path
+from results.distributed import ResumeError, future_outcome, run_samples, sample_path
 from results.montecarlo import (
     Study,
     classify_parameter,
@@ -314,3 +315,25 @@ def test_killed_worker_loses_only_its_in_flight_samples(cluster, tmp_path):
     assert killed and victim not in after.values()  # the worker died mid-run and the nanny replaced it
     assert report.computed == 200 and results == serial
     assert len(list((tmp_path / "cluster").glob("sample_*.json"))) == 200
+
+
+def test_result_lost_with_its_worker_after_completing_is_waited_for(cluster):
+    """The race behind a CI failure: a task completes, then the worker holding its result dies.
+
+    The future goes from ``finished`` back to ``lost``/``pending`` and is computed again; reading
+    it as failed (its ``exception()`` is ``None`` once the re-run finishes) aborted a whole sweep.
+    """
+    from distributed import Client
+
+    with Client(cluster.scheduler_address) as client:
+        terms = 40_000_000  # about a second of work, so the second run can be watched
+        future = client.submit(sum, range(terms), pure=False)
+        assert future.result() == terms * (terms - 1) // 2
+        holder = client.who_has([future])[future.key][0]
+        os.kill(client.run(os.getpid, workers=[holder])[holder], signal.SIGKILL)
+        deadline = time.monotonic() + 60
+        while future.status == "finished" and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert future.status != "finished"  # the client has heard that the result is gone
+        assert future_outcome(future) == (terms * (terms - 1) // 2, None)
+        client.wait_for_workers(2, timeout=120)
