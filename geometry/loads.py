@@ -115,3 +115,21 @@ def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: 
         "T1": float(input_torque_Nm),
         "T2": float(output_torque_Nm),
     }
+
+
+def superpose(unit_responses: dict[str, np.ndarray], input_torque_Nm: float, output_torque_Nm: float,
+              from_rest: bool) -> np.ndarray:
+    """The response of a linear model to the case (T1, T2), from its responses to the unit loads.
+
+    Parameters
+    ----------
+    unit_responses : dict
+        The response to each load of :data:`UNIT_LOADS`, by name (arrays of one shape).
+    input_torque_Nm, output_torque_Nm : float
+        The case's torques, N·m.
+    from_rest : bool
+        Subtract ``u_rest`` (Y measured from the aligned rig at rest) instead of returning ``u``.
+    """
+    weights = case_weights(input_torque_Nm, output_torque_Nm, include_rest=True)
+    response = sum(weights[k] * unit_responses[k] for k in UNIT_LOADS)
+    return response - sum(unit_responses[k] for k in REST_LOADS) if from_rest else response

@@ -57,7 +57,7 @@ from meshio.xdmf.common import (
 )
 
 from geometry.build import RigModel
-from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights
+from geometry.loads import UNIT_LOADS, superpose
 
 LINE = "line"
 TETRA10 = "tetra10"
@@ -235,14 +235,11 @@ def beam_field_cases(model: RigModel, cases: Iterable, unit_responses=None) -> l
 
         unit_responses = solve_unit_responses(model)[2]
     unit_by_name = {k: unit_responses[:, i] for i, k in enumerate(UNIT_LOADS)}
-    rest = sum(unit_by_name[k] for k in REST_LOADS)
     from_rest = model.rig.paths.measured_from == "aligned_at_rest"
     out = []
     for item in cases:
         case = _load_case(item)
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
-        u = sum(weights[k] * unit_by_name[k] for k in UNIT_LOADS)
-        measured = u - rest if from_rest else u
+        measured = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest)
         out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm,
                              measured.reshape(-1, 6)[:, :3]))
     return out

@@ -22,7 +22,7 @@ import numpy as np
 from fem import bushing, equilibrium
 from fem.solve import SingularModelError, factorize
 from geometry.build import RigModel
-from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights
+from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
 from geometry.schema import Rig
 from geometry.system import MODEL_KINDS, RigSystem, assemble_beam, assemble_rig
 from loadcases.cases import LoadCase
@@ -97,9 +97,8 @@ class Sweep:
             return self.case_displacements[:, index]
         unit = {k: self.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
         case = self.cases[index].case
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
-        u = sum(weights[k] * unit[k] for k in UNIT_LOADS)
-        return u - sum(unit[k] for k in REST_LOADS) if self.rig.paths.measured_from == "aligned_at_rest" else u
+        return superpose(unit, case.input_torque_Nm, case.output_torque_Nm,
+                         self.rig.paths.measured_from == "aligned_at_rest")
 
 
 class ModelError(RuntimeError):
@@ -256,9 +255,9 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     frame = system.frame.structure
     results = []
     for i, case in enumerate(cases):
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
-        load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
-        u = sum(weights[k] * unit_by_name[k] for k in UNIT_LOADS) if settings.method == "superposition" else solve(load)
+        load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
+        u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
+             if settings.method == "superposition" else solve(load))
         if not np.all(np.isfinite(u)):
             raise ModelError(f"case {case.label}: the solution contains NaN or inf")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)

@@ -217,3 +217,17 @@ def test_grid_and_paired_errors_name_their_source():
 
 def test_load_case_error_is_a_value_error():
     assert issubclass(LoadCaseError, ValueError)
+
+
+def test_superpose_weights_each_unit_response():
+    """u = u_rest + sign(T1) u_e1 + sign(T2) u_e2 + T1 u_T1 + T2 u_T2; from rest drops u_rest."""
+    from geometry.loads import UNIT_LOADS, superpose
+
+    unit = {name: np.eye(len(UNIT_LOADS))[i] for i, name in enumerate(UNIT_LOADS)}  # one slot per load
+    u = superpose(unit, -0.5, 120.0, from_rest=False)
+    expected = {"gravity": 1.0, "prestrain": 1.0, "force_table": 1.0, "engaged_T1": -1.0, "engaged_T2": 1.0,
+                "T1": -0.5, "T2": 120.0}
+    assert u.tolist() == [expected[name] for name in UNIT_LOADS]
+    measured = superpose(unit, -0.5, 120.0, from_rest=True)
+    assert measured.tolist() == [0.0, 0.0, 0.0, -1.0, 1.0, -0.5, 120.0]
+    assert superpose(unit, 0.0, 0.0, from_rest=True).tolist() == [0.0] * len(UNIT_LOADS)
