@@ -16,9 +16,11 @@ Both upper triangles are cut from the full, sorted CSR matrix by masks (no COO r
 The library is MKL's single dynamic runtime ``libmkl_rt`` (pip package ``mkl``), looked up once per
 process in the environment's ``lib`` folder and then by the dynamic loader. Settings: METIS nested
 dissection in its OpenMP version (``iparm[1] = 3``: 0.05 s faster than the serial one at 52 k DOF,
-0.25 s on the hybrid model; repeated runs gave bit-identical solutions, equal to the serial
-ordering's), zero-based indices (``iparm[34] = 1``), no iterative refinement, in-core. The factor
-lives in MKL memory until :meth:`Factorization.release`.
+0.25 s on the hybrid model), zero-based indices (``iparm[34] = 1``), no iterative refinement,
+in-core. The factor lives in MKL memory until :meth:`Factorization.release`. Repeated runs gave
+bit-identical solutions on the 52 k-DOF solid (10 of 10) and the hybrid rig (6 of 6), equal to the
+serial ordering's; the threaded factorisation is not bitwise reproducible in general (a 3.9 k-DOF
+solid in scalar storage: 2 runs of 120 differed, by 4.4e-16 relative).
 """
 
 from __future__ import annotations
@@ -47,15 +49,22 @@ _ERRORS = {
     -9: "not enough memory for out-of-core",
     -10: "error opening out-of-core files",
     -11: "read/write error with out-of-core files",
+    -13: "undocumented error (seen in the numerical factorisation of singular matrices in 3 × 3 blocks)",
 }
 ZERO_PIVOT = -4
+RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
+"""Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
 
 
 class PardisoError(RuntimeError):
-    """PARDISO returned an error code; ``code`` is that code and ``equation`` the failing unknown or None."""
+    """PARDISO returned an error code.
+
+    ``code`` is that code, ``phase`` the step that failed (``"analysis"``, ``"factorisation"``,
+    ``"solve"``, ``"release"``) and ``equation`` the failing unknown or None.
+    """
 
     def __init__(self, code: int, phase: str, equation: int | None = None):
-        self.code, self.equation = code, equation
+        self.code, self.phase, self.equation = code, phase, equation
         super().__init__(f"PARDISO {phase} failed with error {code}: {_ERRORS.get(code, 'unknown error')}")
 
 
@@ -170,6 +179,10 @@ class Factorization:
 
     Raises :class:`PardisoError` from the constructor when the analysis or factorisation fails
     (``code == -4`` and ``equation``: a zero or negative pivot, i.e. the matrix is singular).
+    Whether a *singular* matrix fails here is a matter of rounding: the tiny pivots of its
+    rigid-body motions come out with either sign, and the threaded factorisation does not round
+    the same way every time (a free 3.9 k-DOF solid: 129 of 150 runs failed with −4, 1 with −13,
+    20 succeeded), so a caller that must know tests the factor (:mod:`fem.solvers` does).
     """
 
     def __init__(self, storage: UpperStorage):
@@ -186,7 +199,9 @@ class Factorization:
         iparm[36] = storage.block_size if storage.block_size > 1 else 0
         self._alive = True
         try:
-            self._call(12, np.zeros((storage.n, 1), order="F"), "factorisation")
+            no_rhs = np.zeros((storage.n, 1), order="F")
+            self._call(11, no_rhs, "analysis")  # ordering and symbolic factorisation: the pattern only
+            self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
         except PardisoError:
             self.release()
             raise
@@ -226,7 +241,8 @@ class Factorization:
             ctypes.byref(error),
         )
         if error.value:
-            equation = int(self._iparm[29]) if error.value == ZERO_PIVOT else None
+            # iparm[29] names the unknown of a zero pivot in scalar storage (in blocks it is not one)
+            equation = int(self._iparm[29]) if error.value == ZERO_PIVOT and s.block_size == 1 else None
             raise PardisoError(error.value, what, equation)
         return x
 

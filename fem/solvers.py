@@ -28,12 +28,14 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from fem import pardiso
+from fem.diagnostics import scaled_inverse_norm_bound
 from fem.solve import SingularModelError
 
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
 PARDISO_MAX_DOFS = 400_000
 SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
+SINGULAR_INVERSE_NORM = 1.0 / SINGULAR_PIVOT_RATIO  # PARDISO: 1/λ_min of the Jacobi-scaled matrix above this
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
 
 
@@ -230,9 +232,10 @@ def _setup_pardiso(a: sp.csr_matrix):
     try:
         factor = pardiso.Factorization(storage)
     except pardiso.PardisoError as error:
-        if error.code == pardiso.ZERO_PIVOT:
+        if error.phase == "factorisation" and error.code not in pardiso.RESOURCE_ERRORS:
+            where = f" at equation {error.equation}" if error.code == pardiso.ZERO_PIVOT else ""
             raise SingularMatrixError(
-                f"PARDISO: zero or negative pivot at equation {error.equation}: "
+                f"PARDISO: numerical factorisation failed{where} (error {error.code}): "
                 "the matrix is singular or not positive definite"
             ) from error
         raise SolverError(str(error)) from error
@@ -242,6 +245,17 @@ def _setup_pardiso(a: sp.csr_matrix):
             return factor.solve(block), ()
         except pardiso.PardisoError as error:
             raise SolverError(str(error)) from error
+
+    # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
+    # (it does so at random: the threaded factorisation does not round the same way every time);
+    # two solves of inverse iteration tell it apart from any usable matrix, every time.
+    bound, equation = scaled_inverse_norm_bound(a, lambda b: solve(b.reshape(-1, 1))[0])
+    if bound > SINGULAR_INVERSE_NORM:
+        factor.release()
+        raise SingularMatrixError(
+            f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
+            f"{equation}): the matrix is numerically singular"
+        )
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release

@@ -101,11 +101,17 @@ def test_factor_solves_like_superlu_for_several_right_hand_sides(storage_kind):
         factor.solve(rhs)
 
 
-def test_indefinite_matrix_raises_a_zero_pivot_error():
+@pytest.mark.parametrize("storage_kind", ["blocks", "csr"])
+def test_indefinite_matrix_raises_a_zero_pivot_error_in_the_numerical_factorisation(storage_kind):
     a = spd_block_matrix(20, seed=5)
     shifted = sp.csr_matrix(a - sp.identity(a.shape[0]) * 2.0 * abs(a).sum(axis=1).max())  # negative definite
     shifted.sort_indices()
+    storage = pardiso.upper_storage(shifted) if storage_kind == "blocks" else pardiso.upper_csr(shifted)
     with pytest.raises(pardiso.PardisoError) as raised:
-        pardiso.Factorization(pardiso.upper_storage(shifted))
-    assert raised.value.code == pardiso.ZERO_PIVOT
-    assert raised.value.equation is not None and "pivot" in str(raised.value)
+        pardiso.Factorization(storage)
+    assert raised.value.code == pardiso.ZERO_PIVOT and "pivot" in str(raised.value)
+    assert raised.value.phase == "factorisation"  # the analysis (pattern only) went through
+    if storage_kind == "csr":  # the unknown is named only where PARDISO's number is one
+        assert 0 <= raised.value.equation < shifted.shape[0]
+    else:
+        assert raised.value.equation is None

@@ -8,6 +8,7 @@ resumes it and compares the final files, byte for byte, with an uninterrupted ru
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import signal
@@ -24,7 +25,7 @@ import skfem
 from typer.testing import CliRunner
 
 from fem import solvers
-from fem.diagnostics import scaled_condition_estimate
+from fem.diagnostics import scaled_condition_estimate, scaled_inverse_norm_bound
 from geometry import meshing
 from geometry.meshing import MeshingError, SolidPartGeometry, cache_path, check_mesh, mesh_part
 from geometry.rigfile import parse_rig
@@ -126,6 +127,23 @@ def test_stiffness_in_the_wrong_unit_is_reported_as_ill_conditioning():
     assert "numerically singular although every part is held" in message
     assert "stiffest spring: joint 'reducer_output_flange' 5e+14 N/µm" in message
     assert "no support path" not in message
+
+
+def test_inverse_iteration_bounds_the_smallest_scaled_eigenvalue():
+    """Two solves single out a weak motion: the bound lies below 1/λ_min(S) and close to it."""
+    rng = np.random.default_rng(7)
+    q, _ = np.linalg.qr(rng.standard_normal((200, 200)))
+    for weakest in (1e-3, 1e-7, 1e-11):  # from well- to ill-conditioned (eigvalsh is exact enough there)
+        a = (q * np.r_[weakest, np.logspace(-1, 2, 199)]) @ q.T
+        a = 0.5 * (a + a.T) * np.outer(np.arange(1, 201), np.arange(1, 201)) ** 0.5  # unequal units
+        d = 1.0 / np.sqrt(np.diag(a))
+        exact = 1.0 / np.linalg.eigvalsh(d[:, None] * a * d[None, :])[0]
+        solve = functools.partial(np.linalg.solve, a)
+        bound, equation = scaled_inverse_norm_bound(sp.csr_matrix(a), solve)
+        assert 0.9 * exact <= bound <= exact * (1 + 1e-6)
+        assert bound == scaled_inverse_norm_bound(sp.csr_matrix(a), solve)[0]  # deterministic
+        weak_mode = np.linalg.eigh(d[:, None] * a * d[None, :])[1][:, 0]
+        assert abs(weak_mode[equation]) >= 0.5 * np.abs(weak_mode).max()  # where the weak motion is large
 
 
 def test_the_condition_number_is_estimated_and_checked():

@@ -132,8 +132,11 @@ def test_default_thresholds():
 @pytest.mark.parametrize("method", [m for m in METHODS if m != "amg"])
 def test_singular_matrix_raises(cantilever, method):
     _, _, _, unconstrained = cantilever  # the free solid: six rigid-body motions
-    with pytest.raises(SingularMatrixError, match="singular"):
-        prepare(unconstrained, method)
+    # every time: PARDISO's threaded factorisation of this matrix succeeds about one run in five,
+    # its rigid-body pivots rounded to tiny positive values, fails with -4 or -13 otherwise
+    for _ in range(12):
+        with pytest.raises(SingularMatrixError, match="singular"):
+            prepare(unconstrained, method)
     # two springs in series, nothing grounded: exactly singular
     springs = sp.csr_matrix(np.array([[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]))
     with pytest.raises(SingularMatrixError):
