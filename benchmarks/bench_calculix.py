@@ -64,6 +64,7 @@ from bench_solid_scaling import (  # noqa: E402
     first_touch_seconds_per_gib,
     geometry,
     hugepage_policy,
+    openblas_policy,
     peak_rss_mb,
 )
 from machine import record  # noqa: E402
@@ -236,12 +237,13 @@ def run_ccx(work: Path, job: str) -> dict:
 
 def rvcoax_child(label: str, cache_dir: str) -> dict:
     """Mesh (from the cache) to tip displacement in this fresh process; phases timed."""
-    from fem import hugepages, solid
+    from fem import blas_threads, hugepages, solid
     from fem.assembly import assemble_matrix
     from fem.solvers import pardiso_available, prepare
     from geometry.meshing import mesh_part
 
     hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
+    blas_threads.single_threaded_openblas()
     mesh = mesh_part(geometry(label), cache_dir=Path(cache_dir))
     baseline = peak_rss_mb()
     phases: list[tuple[str, float]] = []
@@ -462,6 +464,7 @@ def main() -> None:
                                            "(both codes pay the first figure for their peak memory)"
                                            .format(*first_touch_seconds_per_gib())),
         ("numpy huge-page requests (rvcoax runs)", hugepage_policy()),
+        ("OpenBLAS threads (rvcoax runs)", openblas_policy()),
     ]
     for name, value in figures:
         print(f"{name}: {value}", flush=True)

@@ -145,12 +145,13 @@ def run_one(label: str) -> dict:
     """One size in this process: every phase timed; returns the figures."""
     import numpy as np
 
-    from fem import hugepages, solid
+    from fem import blas_threads, hugepages, solid
     from fem.assembly import assemble_matrix
     from fem.solvers import prepare
     from geometry.meshing import mesh_part
 
     hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
+    blas_threads.single_threaded_openblas()
     load_before = os.getloadavg()[0]
     phases = Phases()
     mesh = phases.run("meshing (gmsh, 1 thread)", lambda: mesh_part(geometry(label), use_cache=False))
@@ -298,6 +299,15 @@ def hugepage_policy() -> str:
     return f"numpy's default, as in the rvcoax command (THP defrag = {defrag})"
 
 
+def openblas_policy() -> str:
+    """How many threads OpenBLAS gets in the measured runs (fem/blas_threads.py), in words."""
+    from fem import blas_threads
+
+    if blas_threads.ENVIRONMENT_KEY in os.environ:
+        return f"as set in the environment ({blas_threads.ENVIRONMENT_KEY}={os.environ[blas_threads.ENVIRONMENT_KEY]})"
+    return "1, as in the rvcoax command (its spinning threads would take the cores MKL PARDISO needs)"
+
+
 def figures_of(result: dict) -> list[tuple[str, str]]:
     tag = f"{result['label']} ({result['n_dofs']:,} DOF)"
     rows = [(f"{tag}: model", f"h = {result['mesh_size_mm']} mm, {result['n_tets']:,} tets, {result['n_nodes']:,} nodes, "
@@ -361,6 +371,7 @@ def main() -> None:
         ("machine: allocate + fill 1 GiB", f"{cold:.2f} s new to the process, {warm:.2f} s reused at once "
                                            "(the difference is paid by every phase that raises the peak memory)"),
         ("numpy huge-page requests", hugepage_policy()),
+        ("OpenBLAS threads", openblas_policy()),
     ]
     for name, value in figures:
         print(f"{name}: {value}", flush=True)

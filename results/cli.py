@@ -16,7 +16,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from fem import hugepages
+from fem import blas_threads, hugepages
 from geometry.build import build_rig_model
 from geometry.rigfile import load_rig, reference_rig_text
 from loadcases.cases import paper_table
@@ -415,6 +415,7 @@ _register_command_modules()
 def run() -> None:
     """Console-script entry point."""
     hugepages.avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
+    blas_threads.single_threaded_openblas()  # process-wide too: see fem/blas_threads.py
     app()
 
 
