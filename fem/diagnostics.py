@@ -138,6 +138,8 @@ def scaled_inverse_norm_bound(matrix: sp.spmatrix, solve, steps: int = 2, seed: 
         The unknown that moves most in the last iterate (where the weakest motion lives).
     """
     a = sp.csr_matrix(matrix)
+    if a.shape[0] == 0:
+        return 0.0, 0
     root = np.sqrt(a.diagonal())
     y = np.random.default_rng(seed).standard_normal(a.shape[0])
     bound = 0.0

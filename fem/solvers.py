@@ -249,7 +249,11 @@ def _setup_pardiso(a: sp.csr_matrix):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
-    bound, equation = scaled_inverse_norm_bound(a, lambda b: solve(b.reshape(-1, 1))[0])
+    try:
+        bound, equation = scaled_inverse_norm_bound(a, lambda b: solve(b.reshape(-1, 1))[0])
+    except SolverError:
+        factor.release()
+        raise
     if bound > SINGULAR_INVERSE_NORM:
         factor.release()
         raise SingularMatrixError(
