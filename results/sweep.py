@@ -258,8 +258,6 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
         u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
              if settings.method == "superposition" else solve(load))
-        if not np.all(np.isfinite(u)):
-            raise ModelError(f"case {case.label}: the solution contains NaN or inf")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
         reduced_residual = system.elimination.T @ (system.stiffness @ u - load)
         scale = np.linalg.norm(system.elimination.T @ load)
