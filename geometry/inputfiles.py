@@ -7,6 +7,12 @@ one (an export of the wrong table, a disk image): both are refused with a messag
 
 from __future__ import annotations
 
+import csv
+import io
+import math
+import re
+import tomllib
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -72,3 +78,101 @@ def read_input_text(path: str | Path, max_bytes: int, what: str) -> str:
     except UnicodeDecodeError as error:
         line = raw[: error.start].count(b"\n") + 1
         raise InputFileError(f"line {line}: is not UTF-8 text (byte {error.start}); save the file as UTF-8") from None
+
+
+# ------------------------------------------------------------------------------ shared parsing of input text
+# Every reader of user files (rig TOML, load cases, measured data, study files) parses through these three,
+# so that a number, a line end or a nesting depth means the same thing in every file.
+
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def plain_number(text: str) -> float:
+    """The value of a plain ASCII decimal number, or ValueError saying why ``text`` is not one.
+
+    Accepted: ``70``, ``-1.5``, ``+.5``, ``6e-05``, ``1.43E+2`` (what spreadsheets, pandas, numpy and
+    Python's ``repr`` write). Refused although :func:`float` takes them: digit separators (``1_00``),
+    non-ASCII digits (Arabic-Indic ``٧٠``, full-width ``７０``), ``nan``/``inf``, hexadecimal and
+    anything with a unit or a decimal comma.
+
+    Parameters
+    ----------
+    text : str
+        One cell or option value; surrounding spaces and tabs are ignored.
+
+    Returns
+    -------
+    float
+        A finite value (an exponent that overflows, ``1e999``, is refused too).
+    """
+    stripped = text.strip(" \t")
+    if _PLAIN_NUMBER.fullmatch(stripped):
+        value = float(stripped)
+        if math.isfinite(value):
+            return value
+        raise ValueError(f"'{stripped}' is beyond the range of a floating-point number")
+    lowered = stripped.lower().lstrip("+-")
+    if lowered in ("nan", "inf", "infinity"):
+        raise ValueError(f"'{stripped}' is not a finite number")
+    if not stripped:
+        raise ValueError("the value is empty")
+    if not stripped.isascii():
+        raise ValueError(f"'{stripped}' is not a plain number: it has characters that are not ASCII "
+                         "(write the digits 0-9, '.', 'e')")
+    if "_" in stripped:
+        raise ValueError(f"'{stripped}' is not a plain number: '_' digit separators are not accepted")
+    if "," in stripped:
+        raise ValueError(f"'{stripped}' is not a plain number: write '.' as the decimal point")
+    raise ValueError(f"'{stripped}' is not a number")
+
+
+def csv_rows(text: str) -> Iterator[tuple[int, list[str]]]:
+    """The rows of CSV ``text`` as (line number, cells), with LF, CRLF or CR-only (old Mac) line ends.
+
+    Raises
+    ------
+    InputFileError
+        ``line N: ...`` where the csv module cannot read a row (a field over the csv module's
+        131 072-character limit, a quote left open at the end of the file).
+    """
+    reader = csv.reader(io.StringIO(text.replace("\r\n", "\n").replace("\r", "\n")))
+    while True:
+        try:
+            cells = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as error:
+            raise InputFileError(f"line {reader.line_num}: cannot be read as CSV ({error})") from None
+        yield reader.line_num, cells
+
+
+def parse_toml(text: str) -> dict:
+    """``tomllib.loads(text)``, with every failure as :class:`InputFileError` naming the line.
+
+    Arrays or inline tables nested thousands deep make tomllib recurse until Python's stack limit;
+    that is refused as a nesting error instead of a RecursionError.
+    """
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise InputFileError(f"TOML syntax error: {toml_error_text(error, text)}") from None
+    except RecursionError:
+        depth_line = _deepest_line(text)
+        raise InputFileError(f"line {depth_line}: arrays or inline tables are nested too deeply (no key of an "
+                             "rvcoax input needs more than a few levels)") from None
+
+
+def _deepest_line(text: str) -> int:
+    """The line where bracket nesting (outside strings, roughly) is deepest: for the message only."""
+    depth = best = 0
+    best_line = line = 1
+    for char in text:
+        if char == "\n":
+            line += 1
+        elif char in "[{":
+            depth += 1
+            if depth > best:
+                best, best_line = depth, line
+        elif char in "]}":
+            depth -= 1
+    return best_line

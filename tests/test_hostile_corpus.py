@@ -1,0 +1,48 @@
+"""Issue 12's hostile corpus through the real command line (``tests/hostile/``).
+
+Each case runs in process (typer's CliRunner on ``results.cli.app``) with its own environment
+variables. It must end with its documented exit status, print the expected words (file or option,
+line or key, reason), and print no traceback; an exit status of 2 must come from the CLI's own
+error path (a ``SystemExit``), never from an exception that escaped.
+"""
+
+from __future__ import annotations
+
+import pytest
+from typer.testing import CliRunner
+
+from results.cli import app
+from tests.hostile import CLASSES, all_cases
+
+CORPUS = all_cases()
+
+
+def flat(text: str) -> str:
+    return " ".join(text.split())
+
+
+def test_the_corpus_covers_every_class():
+    assert len({case.name for case in CORPUS}) == len(CORPUS)  # unique ids
+    present = {case.klass for case in CORPUS}
+    assert present == set(CLASSES), f"classes without cases: {set(CLASSES) - present}"
+    assert len(CORPUS) >= 150
+
+
+@pytest.mark.parametrize("case", CORPUS, ids=[c.name for c in CORPUS])
+def test_hostile_input(case, tmp_path, monkeypatch):
+    for key, value in case.env.items():
+        monkeypatch.setenv(key, value)
+    args = case.argv(tmp_path)
+    result = CliRunner().invoke(app, args)
+    context = (f"rvcoax {' '.join(args)}\nexit {result.exit_code}\nstdout: {result.stdout}\n"
+               f"stderr: {result.stderr}\nexception: {result.exception!r}")
+    assert result.exit_code == case.exit_code, context
+    assert result.exception is None or isinstance(result.exception, SystemExit), context  # nothing escaped
+    assert "Traceback" not in result.output, context
+    if case.exit_code == 2:
+        assert flat(result.stderr).startswith("error:"), context
+    text = flat(result.stderr if case.stream == "stderr" else result.output)
+    for words in case.expected:
+        assert words in text, f"{words!r} missing\n{context}"
+    if case.check is not None:
+        case.check(tmp_path, result.stdout, result.stderr)
