@@ -126,8 +126,11 @@ def plain_number(text: str) -> float:
     raise ValueError(f"'{stripped}' is not a number")
 
 
-def csv_rows(text: str) -> Iterator[tuple[int, list[str]]]:
+def csv_rows(text: str, comment: str | None = None) -> Iterator[tuple[int, list[str]]]:
     """The rows of CSV ``text`` as (line number, cells), with LF, CRLF or CR-only (old Mac) line ends.
+
+    With ``comment`` (e.g. ``"#"``), lines that start with it (after blanks) are skipped before the CSV
+    is read, so that a quote in a comment cannot open a field; line numbers stay those of the file.
 
     Raises
     ------
@@ -135,14 +138,19 @@ def csv_rows(text: str) -> Iterator[tuple[int, list[str]]]:
         ``line N: ...`` where the csv module cannot read a row (a field over the csv module's
         131 072-character limit, a quote left open at the end of the file).
     """
-    reader = csv.reader(io.StringIO(text.replace("\r\n", "\n").replace("\r", "\n")))
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    if comment is not None:
+        lines = ["" if line.lstrip().startswith(comment) else line for line in lines]
+    reader = csv.reader(io.StringIO("\n".join(lines)), strict=True)
     while True:
+        start = reader.line_num + 1  # the line where the row that fails begins (a quoted field may span lines)
         try:
             cells = next(reader)
         except StopIteration:
             return
         except csv.Error as error:
-            raise InputFileError(f"line {reader.line_num}: cannot be read as CSV ({error})") from None
+            hint = "; is a quote left open?" if "end of data" in str(error) else ""
+            raise InputFileError(f"line {start}: cannot be read as CSV ({error}{hint})") from None
         yield reader.line_num, cells
 
 

@@ -60,9 +60,18 @@ def get_parameter(rig: Rig, address: str) -> float:
     if name is None:
         raise KeyError(f"'{group if item is None else f'{group}.{item}'}' has no key '{key}'")
     value = getattr(entry, name)
-    value = value if index is None else value[index]
+    if index is not None:
+        if not isinstance(value, (list, tuple)):
+            raise KeyError(f"'{address}': the key holds one value, not a list to index")
+        if index >= len(value):
+            raise KeyError(f"'{address}': index {index} is beyond the {len(value)} values of the key (0 … {len(value) - 1})")
+        value = value[index]
     if value is None:
         raise KeyError(f"'{address}' is not set in this rig")
+    if isinstance(value, (list, tuple)) and index is None:
+        raise KeyError(f"'{address}' holds {len(value)} values: name one with an index, e.g. {address}[0]")
+    if not isinstance(value, (int, float)):
+        raise KeyError(f"'{address}' is not a number (it holds {value!r}): only numeric keys can be varied")
     return float(value)
 
 

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import tomllib
 from importlib import resources
 from pathlib import Path
 
 from pydantic import ValidationError
 
-from geometry.inputfiles import InputFileError, read_input_text, toml_error_text
+from geometry.inputfiles import InputFileError, parse_toml, read_input_text
 from geometry.schema import Rig
 
 REFERENCE_RIG = "reference_rig.toml"
@@ -85,9 +84,9 @@ def load_rig(path: str | Path | None = None) -> Rig:
         except InputFileError as error:
             raise RigFileError(source, [str(error)]) from None
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise RigFileError(source, [f"TOML syntax error: {toml_error_text(error, text)}"]) from None
+        data = parse_toml(text)
+    except InputFileError as error:
+        raise RigFileError(source, [str(error)]) from None
     return parse_rig(data, source)
 
 

@@ -16,6 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
+MESH_SIZE_RANGE_MM = (0.05, 1000.0)  # finer than 0.05 mm meshes no rig part in memory; coarser than 1 m is no mesh
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 
@@ -314,7 +315,7 @@ class SolidSettings(Strict):
 
     hybrid_parts: list[str] | None = None
     mesh_size_mm: Positive = 4.0
-    elements_per_diameter: Positive = 6.0
+    elements_per_diameter: Annotated[float, Field(ge=1, le=1000, allow_inf_nan=False, strict=True)] = 6.0
     attachment_band_mm: Positive = 10.0
 
 
@@ -410,6 +411,17 @@ class Rig(Strict):
             yield (f"parts: the rig spans {hi - lo:g} mm along x with outer diameters up to {largest:g} mm: the "
                    "lengths look like metres; x_mm and *_diameter_mm keys are in mm")
 
+    def _mesh_sizes(self):
+        """Mesh sizes outside the range that ``--mesh-size-mm`` accepts (checked after the metre scale, which
+        explains a rig written in metres better)."""
+        low, high = MESH_SIZE_RANGE_MM
+        sizes = [("solid.mesh_size_mm", self.solid.mesh_size_mm)]
+        sizes += [(f"parts[{i}] ('{p.name}').mesh_size_mm", p.mesh_size_mm) for i, p in enumerate(self.parts)
+                  if p.mesh_size_mm is not None]
+        for where, size in sizes:
+            if not low <= size <= high:
+                yield f"{where}: {size:g} mm is outside {low:g} … {high:g} mm (the range of --mesh-size-mm)"
+
     def reference_problems(self):
         """Yield one message per broken reference or inconsistent position."""
         parts = {p.name: p for p in self.parts}
@@ -476,6 +488,7 @@ class Rig(Strict):
                 seen[key] = label
         yield from self._overlapping_shafts()
         yield from self._metre_scale()
+        yield from self._mesh_sizes()
         for name in self.solid.hybrid_parts or []:
             if name not in parts:
                 yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"

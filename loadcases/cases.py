@@ -10,17 +10,17 @@ from __future__ import annotations
 import csv
 import io
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from geometry.inputfiles import InputFileError, read_input_text, toml_error_text
+from geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
 
 PAPER_TABLE = "paper000_coaxiality_table.csv"
 MAX_CASE_FILE_BYTES = 20_000_000  # about a million load cases
+MAX_TORQUE_NM = 1e6  # |T1|, |T2| beyond this are no rig torque (RV-20E: 1.43 and 200 N·m); every reader uses it
 
 
 class LoadCaseError(ValueError):
@@ -52,8 +52,9 @@ def _validated(pairs: list[tuple[float, float]], source: str, where: list[str] |
         for name, value in (("T1_input_Nm", t1), ("T2_output_Nm", t2)):
             if not math.isfinite(value):
                 raise LoadCaseError(source, f"{place}: {name} = {value} is not a finite number")
-            if abs(value) > 1e6:
-                raise LoadCaseError(source, f"{place}: {name} = {value} N·m is beyond any plausible rig torque")
+            if abs(value) > MAX_TORQUE_NM:
+                raise LoadCaseError(source, f"{place}: {name} = {value:g} N·m is beyond any plausible rig torque "
+                                    f"(|T| ≤ {MAX_TORQUE_NM:g} N·m)")
         if (t1, t2) in seen:
             raise LoadCaseError(source, f"{place}: duplicated load case T1 = {t1}, T2 = {t2} N·m "
                                 f"(the same as {seen[(t1, t2)]})")
@@ -82,10 +83,12 @@ def paired_cases(t1_values, t2_values, source: str = "command line") -> tuple[Lo
 def _number(text: str | None, source: str, where: str) -> float:
     if text is None:  # a row with fewer fields than the header
         raise LoadCaseError(source, f"{where}: value is missing")
+    if not text.strip():
+        raise LoadCaseError(source, f"{where}: '' is not a number (the cell is empty; torques are plain numbers in N·m)")
     try:
-        return float(text)
-    except ValueError:
-        raise LoadCaseError(source, f"{where}: '{text}' is not a number (torques are plain numbers in N·m)") from None
+        return plain_number(text)
+    except ValueError as error:
+        raise LoadCaseError(source, f"{where}: {error} (torques are plain numbers in N·m)") from None
 
 
 def separator_hint(header: str) -> str:
@@ -97,8 +100,11 @@ def separator_hint(header: str) -> str:
 
 
 def _read_csv_text(text: str, source: str) -> tuple[LoadCase, ...]:
-    reader = csv.reader(io.StringIO(text))
-    header = next(reader, None)
+    try:
+        rows = list(csv_rows(text))
+    except InputFileError as error:
+        raise LoadCaseError(source, str(error)) from None
+    header = rows[0][1] if rows else None
     columns = [c.strip() for c in header or []]
     missing = [c for c in ("T1_input_Nm", "T2_output_Nm") if c not in columns]
     if missing:
@@ -109,8 +115,7 @@ def _read_csv_text(text: str, source: str) -> tuple[LoadCase, ...]:
     if repeated:
         raise LoadCaseError(source, f"line 1: column(s) {', '.join(repeated)} appear more than once")
     pairs, places = [], []
-    for values in reader:
-        line = reader.line_num
+    for line, values in rows[1:]:
         if not any(v.strip() for v in values):
             continue  # a blank line
         if len(values) > len(columns):
@@ -132,9 +137,9 @@ def read_cases(path: str | Path) -> tuple[LoadCase, ...]:
         raise LoadCaseError(source, str(error)) from None
     if source.lower().endswith(".toml"):
         try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as error:
-            raise LoadCaseError(source, f"TOML syntax error: {toml_error_text(error, text)}") from None
+            data = parse_toml(text)
+        except InputFileError as error:
+            raise LoadCaseError(source, str(error)) from None
         cases = data.get("cases")
         if not isinstance(cases, list):
             raise LoadCaseError(source, "expected [[cases]] tables with T1_input_Nm and T2_output_Nm")

@@ -32,9 +32,7 @@ Units: inputs in mm, N and degrees as in the files; the computation is SI; resul
 
 from __future__ import annotations
 
-import csv
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,6 +41,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number
 from geometry.schema import Part, Rig
 from results.datafiles import read_data_text
 
@@ -375,9 +374,9 @@ def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
     """Read a stage data file (default: the built-in RV-20E file), taking rig parts' stages from ``rig``."""
     source, text = read_data_text(path, STAGE_DATA, ChainDataError, "stage data")
     try:
-        data = _StageFile.model_validate(tomllib.loads(text))
-    except tomllib.TOMLDecodeError as error:
-        raise ChainDataError(f"stage data {source}: TOML syntax error: {error}") from None
+        data = _StageFile.model_validate(parse_toml(text))
+    except InputFileError as error:
+        raise ChainDataError(f"stage data {source}: {error}") from None
     except ValidationError as error:
         problems = "; ".join(f"{_key(e['loc'])}: {e['msg']}" for e in error.errors())
         raise ChainDataError(f"stage data {source}: {problems}") from None
@@ -393,36 +392,36 @@ def read_stage_forces(path: str | Path, model: ChainModel) -> dict[str, np.ndarr
 
     ``stage`` is 1-based; stages not listed carry no force. Errors name the file, line and reason.
     """
-    source = str(path)
+    source, text = read_data_text(path, "", ChainDataError, "forces file")
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise ChainDataError(f"forces file {source}: cannot be read ({error})") from None
-    reader = csv.DictReader(line for line in text.splitlines() if not line.lstrip().startswith("#"))
-    missing = [c for c in ("component", "stage", "force_N") if c not in (reader.fieldnames or [])]
+        numbered = [(line, cells) for line, cells in csv_rows(text, comment="#") if any(c.strip() for c in cells)]
+    except InputFileError as error:
+        raise ChainDataError(f"forces file {source}: {error}") from None
+    header = [h.strip() for h in numbered[0][1]] if numbered else []
+    missing = [c for c in ("component", "stage", "force_N") if c not in header]
     if missing:
         raise ChainDataError(f"forces file {source}: missing column(s) {', '.join(missing)} "
                              "(columns: component, stage, force_N)")
     forces = {c.name: np.zeros(len(c.stages)) for c in model.components}
     seen: set[tuple[str, int]] = set()
-    lines = [i + 1 for i, line in enumerate(text.splitlines()) if line.strip() and not line.lstrip().startswith("#")]
-    for line, row in zip(lines[1:], reader):
+    for line, cells in numbered[1:]:
         where = f"forces file {source}, line {line}"
-        name = (row["component"] or "").strip()
+        row = dict(zip(header, cells))
+        if len(cells) < len(header):
+            raise ChainDataError(f"{where}: {len(cells)} values for {len(header)} columns")
+        name = row["component"].strip()
         if name not in forces:
             raise ChainDataError(f"{where}: unknown component '{name}' (known: {', '.join(forces)})")
-        try:
-            stage = int(row["stage"])
-        except (TypeError, ValueError):
-            raise ChainDataError(f"{where}: stage '{row['stage']}' is not a whole number") from None
+        stage_text = row["stage"].strip()
+        if not stage_text.isascii() or not stage_text.isdigit():
+            raise ChainDataError(f"{where}: stage '{stage_text}' is not a whole number (digits 0-9)")
+        stage = int(stage_text)
         if not 1 <= stage <= forces[name].size:
             raise ChainDataError(f"{where}: stage {stage} of {name} does not exist (1 … {forces[name].size})")
         try:
-            value = float(row["force_N"])
-        except (TypeError, ValueError):
-            raise ChainDataError(f"{where}: force_N '{row['force_N']}' is not a number") from None
-        if not math.isfinite(value):
-            raise ChainDataError(f"{where}: force_N must be finite, got {value}")
+            value = plain_number(row["force_N"])
+        except ValueError as error:
+            raise ChainDataError(f"{where}: force_N: {error}") from None
         if (name, stage) in seen:
             raise ChainDataError(f"{where}: stage {stage} of {name} is given twice")
         seen.add((name, stage))

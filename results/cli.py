@@ -34,16 +34,27 @@ from results.cli_support import (
     T1Option,
     T2Option,
     UserError,
+    add_text_row,
     cases_from_options,
     console,
     guard,
+    number_option,
     prepare_with_status,
     progress_bar,
+    report_written,
     rig_text,
     run_with_progress,
     sweep_settings,
 )
-from results.sweep_files import CaseStore, case_inputs, sweep_inputs, write_sweep_files
+from results.sweep_files import (
+    CaseStore,
+    JournalReading,
+    case_inputs,
+    inputs_sha256,
+    sweep_inputs,
+    write_sweep_files,
+)
+from results.workload import REPORT_AFTER_S, sweep_workload
 from results.writers import write_csv_atomic
 
 app = typer.Typer(
@@ -77,11 +88,16 @@ def _write_sweep(out: Path, sweep, rig_source: str, rig_text: str, calibration=N
     return write_sweep_files(out, stem, header, [report.case_record(case) for case in sweep.cases])
 
 
+TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (every case is in sweep.csv)
+
+
 def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
-    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method})"))
+    shown = rows[:TABLE_ROWS]
+    more = (f"; first {len(shown)} shown, every case in sweep.csv" if len(rows) > len(shown) else "")
+    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method}{more})"))
     for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
         table.add_column(column, justify="right")
-    for row in rows:
+    for row in shown:
         cells = [f"{row['T1_input_Nm']:g}", f"{row['T2_output_Nm']:g}"]
         for shaft in ("input", "output"):
             cells += [f"{row[f'Y_{shaft}_mm']:.5g}", f"{row[f'beta_{shaft}_deg']:.3g}",
@@ -91,32 +107,38 @@ def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
 
 
 def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, resume: bool):
-    """Solve the cases not yet in ``store`` (all of them without ``resume``), saving each as it is solved.
+    """Solve the cases not yet in ``store`` (all of them without ``resume``), journalling each as it is solved.
 
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
     or None when every case was reused).
     """
     sha = report.text_sha256(text)
-    inputs = [case_inputs(sha, case, settings) for case in load_cases]
-    model_inputs = sweep_inputs(sha, settings)
-    if not resume:
-        store.clear()
-    records = store.load(inputs) if resume else {}
-    missing = [i for i in range(len(load_cases)) if i not in records]
-    model = store.load_model(model_inputs) if resume else None
+    common = sweep_inputs(sha, settings)
+    case_hashes = [inputs_sha256(case_inputs(sha, case, settings, common)) for case in load_cases]
+    model_hash = inputs_sha256(common)
     if resume:
-        console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {store.folder}, "
+        reading = store.load(case_hashes, model_hash)
+    else:
+        store.clear()
+        reading = JournalReading()
+    records, model = reading.cases, reading.model
+    missing = [i for i in range(len(load_cases)) if i not in records]
+    if resume:
+        console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {escape(str(store.folder))}, "
                       f"{len(missing)} to solve")
+        if reading.rejected:
+            console.print(f"not reused from {escape(str(store.path))} (solved again): {reading.describe_rejections()}")
     result = None
     if missing or model is None:
-        def save(k: int, case_result) -> None:
-            records[missing[k]] = report.case_record(case_result)
-            store.save(missing[k], inputs[missing[k]], records[missing[k]])
+        with store:
+            def save(k: int, case_result) -> None:
+                records[missing[k]] = report.case_record(case_result)
+                store.save(missing[k], case_hashes[missing[k]], records[missing[k]])
 
-        result = run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings, "solving load cases",
-                      prepare_with_status(rig_model, settings), on_case=save)
-        model = report.model_section(result)
-        store.save_model(model_inputs, model)
+            result = run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings,
+                                       "solving load cases", prepare_with_status(rig_model, settings), on_case=save)
+            model = report.model_section(result)
+            store.save_model(model_hash, model)
     return [records[i] for i in range(len(load_cases))], model, result
 
 
@@ -134,12 +156,13 @@ def sweep(
     solver: SolverOption = "auto",
     mesh_size_mm: MeshOption = None,
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
-    resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already saved in OUT/cases (same rig file, torques and settings) and solve only the others.")] = False,
+    resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
 ) -> None:
     """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json.
 
-    Each case is saved to OUT/cases/case_NNNN.json as soon as it is solved; after an interruption,
-    the same command with --resume solves only the missing cases and writes the same files.
+    Each case is appended to OUT/cases/journal.jsonl (with a checksum) as soon as it is solved; after
+    an interruption, the same command with --resume solves only the missing cases and writes the same
+    files.
     """
     if resume and fields:
         raise UserError("--fields needs every case's displacement field, which --resume does not keep: "
@@ -147,12 +170,14 @@ def sweep(
     settings = sweep_settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = cases_from_options(cases, t1, t2, grid)
+    work = sweep_workload(len(load_cases))
+    if work.seconds > REPORT_AFTER_S:
+        console.print(f"{work.what}: {work.describe()} (estimated)")
     source, text = rig_text(rig)
     records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
                                                   resume)
     if fields:
-        for path in _write_fields(out / "fields", result):
-            console.print(f"wrote {path}")
+        report_written(_write_fields(out / "fields", result))
     console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
     if model_section.get("nonlinear"):
         how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
@@ -164,8 +189,7 @@ def sweep(
         how = "each case solved directly"
     console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
     header = report.sweep_header(rig_model, model_section, source, text)
-    for path in write_sweep_files(out, "sweep", header, records):
-        console.print(f"wrote {path}")
+    report_written(write_sweep_files(out, "sweep", header, records))
 
 
 def _write_fields(folder: Path, result) -> list[Path]:
@@ -257,8 +281,7 @@ def check(
 
         written.append(plot_y_vs_torque({"blind": blind, "calibrated": calibrated}, out / f"check_{model}.png",
                                         published=rows, title=f"{rig_model.rig.name}: {model} model vs paper 000"))
-        for path in written:
-            console.print(f"wrote {path}")
+        report_written(written)
     raise typer.Exit(code=0 if result.passed else 1)
 
 
@@ -290,7 +313,7 @@ def picture(
     cases: Annotated[Path | None, typer.Option("--cases", help="Load cases file (as for sweep).")] = None,
     t1: Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")] = None,
     t2: Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")] = None,
-    warp_fraction: Annotated[float, typer.Option("--warp-fraction", help="Largest displacement drawn as this fraction of the rig length.")] = 0.05,
+    warp_fraction: Annotated[float, number_option("--warp-fraction", 0.0, 1.0, exclusive=True, help="Largest displacement drawn as this fraction of the rig length, in (0, 1).")] = 0.05,
     solver: SolverOption = "auto",
     mesh_size_mm: MeshOption = None,
 ) -> None:
@@ -305,8 +328,6 @@ def picture(
         sweep_colour_limits_um,
     )
 
-    if not 0 < warp_fraction < 1:
-        raise UserError(f"--warp-fraction must be in (0, 1), got {warp_fraction}")
     settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = cases_from_options(cases, t1, t2, False)
@@ -331,8 +352,8 @@ def picture(
     published = paper_table() if cases is None and t1 is None else None
     plot = plot_y_vs_torque(result, folder / f"y_vs_torque_{model}.png", published=published,
                             title=f"{rig_model.rig.name} ({model} model)")
-    console.print(f"wrote {len(field_cases)} pictures to {folder} (colour limits {limits[0]:.3g} .. {limits[1]:.3g} µm, "
-                  f"last warp factor {info['warp_factor']:.3g}) and {plot}")
+    console.print(f"wrote {len(field_cases)} pictures to {escape(str(folder))} (colour limits {limits[0]:.3g} .. {limits[1]:.3g} µm, "
+                  f"last warp factor {info['warp_factor']:.3g}) and {escape(str(plot))}")
 
 
 @rig_app.command("show")
@@ -349,7 +370,7 @@ def rig_show(rig: RigOption = None) -> None:
         diameters = sorted({s.outer_diameter_mm for s in p.segments})
         material = rig_model.materials[p.material]
         density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
-        parts.add_row(p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), escape(p.material),
+        add_text_row(parts, p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
                       f"{material.youngs_modulus_MPa / 1e3:g}",
                       f"{density:.0f}" + (" (equiv.)" if p.name in built.equivalent_density else ""),
                       f"{built.part_mass_kg[p.name]:.3f}")
@@ -360,24 +381,24 @@ def rig_show(rig: RigOption = None) -> None:
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)
     for b in rig_model.bearings:
-        springs.add_row("bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}",
+        add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}",
                         f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm")
     for m in rig_model.mounts:
-        springs.add_row("mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
+        add_text_row(springs, "mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
                         f"{list(m.translational_stiffness_N_per_um)} N/µm, {list(m.rotational_stiffness_Nm_per_rad)} N·m/rad")
     for c in rig_model.couplings:
-        springs.add_row("coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
+        add_text_row(springs, "coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
                         f"radial {c.radial_stiffness_N_per_mm:g} N/mm, angular {c.angular_stiffness_Nm_per_rad:g} N·m/rad, "
                         f"torsional {c.torsional_stiffness_Nm_per_rad:g} N·m/rad; {c.mass_kg:g} kg")
     for j in rig_model.joints:
-        springs.add_row("joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
+        add_text_row(springs, "joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
                         f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
     console.print(springs)
     paths = Table(title="How torque becomes a lateral load", title_justify="left")
     for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
         paths.add_column(column)
     for t in rig_model.torque_lateral_loads:
-        paths.add_row(t.name, t.torque, t.kind, f"{t.on.part} @ {t.on.x_mm:g}", f"{t.force_per_torque_N_per_Nm:.4g}",
+        add_text_row(paths, t.name, t.torque, t.kind, f"{t.on.part} @ {t.on.x_mm:g}", f"{t.force_per_torque_N_per_Nm:.4g}",
                       f"{t.engaged_force_N:.4g}", f"{t.direction_deg:g}")
     console.print(paths)
     console.print(f"gravity: {'on' if rig_model.gravity.enabled else 'off'}; paper force table applied: "

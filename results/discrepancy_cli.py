@@ -11,14 +11,24 @@ from rich.table import Table
 
 from geometry.rigfile import load_rig
 from results import report as sweep_report
-from results.cli_support import ModelOption, OutOption, RigOption, UserError, console, guard, rig_text, sweep_settings
+from results.cli_support import (
+    ModelOption,
+    OutOption,
+    RigOption,
+    UserError,
+    console,
+    guard,
+    number_option,
+    rig_text,
+    sweep_settings,
+)
 from results.writers import write_csv_atomic, write_json_atomic, write_text_atomic
 
 
 def _print_result(result, lengths_mm) -> None:
     from results.discrepancy.report import rms_table
 
-    console.print(f"measured data: {result.data.source} ({result.data.schema}, {result.data.n} observations in "
+    console.print(f"measured data: {escape(str(result.data.source))} ({result.data.schema}, {result.data.n} observations in "
                   f"{len(result.data.cases)} load cases, {int((~result.fit_mask).sum())} observations held out)")
     for shaft, sigma in result.noise.noise_mm.items():
         console.print(f"  noise σ {shaft}: {1e3 * sigma:.4g} µm ({result.noise.method[shaft]})")
@@ -76,12 +86,15 @@ def register(app: typer.Typer) -> None:
         rig: RigOption = None,
         out: OutOption = None,
         model: ModelOption = "beam",
-        hold_out_every: Annotated[int, typer.Option("--hold-out-every", help="Hold out every N-th load case (by "
-                                                    "torque) from the fit and report the gap on it; 0: fit on all.")] = 3,
-        model_form_percent: Annotated[float, typer.Option("--model-form-percent", help="Model-form allowance added "
-                                                          "to the noise, in % of the signal.")] = 2.0,
-        alpha: Annotated[float, typer.Option("--alpha", help="Significance level of the χ² tests.")] = 0.01,
-        margin: Annotated[float, typer.Option("--margin", help="ΔBIC an effect must gain to be added.")] = 10.0,
+        hold_out_every: Annotated[int, number_option("--hold-out-every", 0, 1000, integer=True, help="Hold out every "
+                                                     "N-th load case (by torque) from the fit and report the gap on "
+                                                     "it; 0: fit on all.")] = 3,
+        model_form_percent: Annotated[float, number_option("--model-form-percent", 0.0, 50.0, "%", help="Model-form "
+                                                           "allowance added to the noise, in % of the signal.")] = 2.0,
+        alpha: Annotated[float, number_option("--alpha", 0.0, 0.5, exclusive=True,
+                                              help="Significance level of the χ² tests, in (0, 0.5).")] = 0.01,
+        margin: Annotated[float, number_option("--margin", 0.0, 1000.0, help="ΔBIC an effect must gain to be "
+                                               "added, 0 … 1000.")] = 10.0,
         effects: Annotated[str | None, typer.Option("--effects", help="Comma-separated effect kinds or names to "
                                                    "consider (default: the whole library).")] = None,
     ) -> None:
@@ -96,12 +109,6 @@ def register(app: typer.Typer) -> None:
         from results.discrepancy.measured import MeasuredDataError, read_measured
         from results.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 
-        if not 0 < alpha < 0.5:
-            raise UserError(f"--alpha: {alpha} must lie between 0 and 0.5")
-        if not 0 <= model_form_percent < 50:
-            raise UserError(f"--model-form-percent: {model_form_percent} must lie in 0 … 50 %")
-        if margin < 0 or hold_out_every < 0:
-            raise UserError("--margin and --hold-out-every must be ≥ 0")
         try:
             data = read_measured(measured)
         except MeasuredDataError as error:
@@ -147,5 +154,5 @@ def register(app: typer.Typer) -> None:
             written.append(write_csv_atomic(out / "discrepancy_observations.csv", report.observation_rows(result)))
             written.append(report.plot(result, lengths, out / "discrepancy.png", title=rig_model.rig.name))
             for path in written:
-                console.print(f"wrote {path}")
+                console.print(f"wrote {escape(str(path))}")
         raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)

@@ -9,7 +9,6 @@ error vector model with the tilts and offsets of a sweep of the rig.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 from typing import Annotated
 
@@ -18,8 +17,9 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from geometry.rigfile import load_rig
-from loadcases.cases import LoadCase
+from loadcases.cases import MAX_TORQUE_NM, LoadCase
 from results import cli_support as options
 from results.chain_error import (
     ChainDataError,
@@ -30,7 +30,8 @@ from results.chain_error import (
     torsion_constant_deg_per_m,
 )
 from results.cli_support import UserError, console, guard, sweep_settings
-from results.doe.design import DesignError, read_design, read_levels
+from results.doe.analysis import ALPHA_RANGE, POOL_BELOW_F_RANGE
+from results.doe.design import MAX_TABLE_BYTES, DesignError, read_design, read_levels
 from results.doe.regression import parse_term
 from results.doe.report import (
     Analysis,
@@ -47,9 +48,12 @@ doe_app = typer.Typer(no_args_is_help=True, help=(
     "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
     "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig)."))
 
-AlphaOption = Annotated[float, typer.Option("--alpha", help="Significance level of the F tests.")]
-PoolOption = Annotated[float, typer.Option(
-    "--pool-below-F", help="Pool sources whose F (against the empty-column error) is below this; 0: no pooling.")]
+AlphaOption = Annotated[float, options.number_option("--alpha", *ALPHA_RANGE, exclusive=True,
+                                                    help="Significance level of the F tests, in (0, 0.5).")]
+PoolOption = Annotated[float, options.number_option(
+    "--pool-below-F", *POOL_BELOW_F_RANGE, help="Pool sources whose F (against the empty-column error) is below "
+    f"this, {POOL_BELOW_F_RANGE[0]:g} … {POOL_BELOW_F_RANGE[1]:g}; 0: no pooling.")]
+TORQUE_RANGE_NM = (-MAX_TORQUE_NM, MAX_TORQUE_NM)
 GoalOption = Annotated[str, typer.Option("--goal", help="min (smaller response is better) or max.")]
 
 
@@ -64,22 +68,28 @@ def _terms_option(text: str, n_factors: int):
     """(terms or keyword, published coefficients or None) from --terms."""
     if text in ("auto", "full", "stepwise"):
         return text, None
+    if not text.strip(" ,"):
+        raise UserError(f"--terms '{text}': no terms (give auto, full, stepwise, a comma list such as 1,x1,x1^2 or a CSV)")
     path = Path(text)
     if path.suffix.lower() == ".csv" or path.exists():
         try:
-            with path.open(encoding="utf-8-sig", newline="") as stream:
-                rows = list(csv.DictReader(stream))
-        except OSError as error:
-            raise UserError(f"--terms {path}: cannot be read ({error.strerror})") from None
-        if not rows or "term" not in rows[0]:
+            rows = list(csv_rows(read_input_text(path, MAX_TABLE_BYTES, "a terms file")))
+        except InputFileError as error:
+            raise UserError(f"--terms {path}: {error}") from None
+        rows = [(line, [c.strip() for c in cells]) for line, cells in rows if any(c.strip() for c in cells)]
+        header = rows[0][1] if rows else []
+        if "term" not in header:
             raise UserError(f"--terms {path}: needs a column 'term' (1, x1, x1^2, x1*x2, …)")
-        texts = [r["term"] for r in rows]
+        records = [(line, dict(zip(header, cells))) for line, cells in rows[1:]]
+        texts = [r.get("term", "") for _, r in records]
         published = None
-        if "coefficient" in rows[0]:
-            try:
-                published = [float(r["coefficient"]) for r in rows]
-            except ValueError:
-                raise UserError(f"--terms {path}: column coefficient holds a value that is not a number") from None
+        if "coefficient" in header:
+            published = []
+            for line, record in records:
+                try:
+                    published.append(plain_number(record.get("coefficient", "")))
+                except ValueError as error:
+                    raise UserError(f"--terms {path}, line {line}, column coefficient: {error}") from None
     else:
         texts, published = [t for t in text.split(",") if t.strip()], None
     try:
@@ -166,7 +176,7 @@ def _print_analysis(analysis: Analysis, published_coefficients=None) -> None:
         console.print(f"[yellow]note:[/] {escape(fit.note)}")
     document = regression_document(analysis)
     console.print("variables: " + ", ".join(f"{k} = {escape(v)}" for k, v in document["variables"].items()))
-    console.print(f"outliers removed: {removed}; {int(fit.used.sum())} runs; r² = {fit.r2:.4f} "
+    console.print(f"outliers removed: {escape(removed)}; {int(fit.used.sum())} runs; r² = {fit.r2:.4f} "
                   f"(adjusted {fit.adjusted_r2:.4f}), F = {fit.F:.4g}, p = {fit.p:.3g}; prediction at "
                   f"{document['prediction_at_optimum']['levels']}: {document['prediction_at_optimum']['y']:.6g}")
 
@@ -190,6 +200,8 @@ def doe_analyze(
     json_file: Annotated[Path | None, typer.Option("--json", help="Write range, anova and regression to this JSON file.")] = None,
 ) -> None:
     """Analyse an orthogonal experiment: range analysis, ANOVA with pooling, optimal levels, regression."""
+    if goal not in ("min", "max"):
+        raise UserError(f"--goal: must be min or max, got '{goal}'")
     try:
         factors = read_levels(levels)
         design = read_design(design_file, factors, response)
@@ -197,6 +209,10 @@ def doe_analyze(
         raise UserError(str(error)) from None
     chosen, published = _terms_option(terms, len(design.factors))
     pooled_names = tuple(p.strip() for p in pool.split(",") if p.strip()) if pool else ()
+    sources = [s.name for s in design.sources if s.kind != "empty"]
+    unknown = [p for p in pooled_names if p not in sources]
+    if unknown:
+        raise UserError(f"--pool: {', '.join(unknown)} is not a source of {design_file} (sources: {', '.join(sources)})")
     try:
         analysis = analyse(design, alpha, pool_below_F or None, pooled_names, goal, chosen,
                            _outliers_option(outliers, design.runs))
@@ -204,7 +220,7 @@ def doe_analyze(
         raise UserError(f"{design_file}: {error}") from None
     _print_analysis(analysis, published)
     if json_file is not None:
-        console.print(f"wrote {write_json_atomic(json_file, analysis_document(analysis))}")
+        options.report_written([write_json_atomic(json_file, analysis_document(analysis))])
 
 
 # -- doe rig -------------------------------------------------------------------------------------
@@ -277,15 +293,14 @@ def doe_rig(
         raise UserError(str(error)) from None
     s = plan.study
     console.print(f"{escape(s.name)}: {s.array}, {len(plan.factors)} factors on columns "
-                  + ", ".join(f"{k} → {c}" for k, c in result.columns.items())
+                  + escape(", ".join(f"{k} → {c}" for k, c in result.columns.items()))
                   + f"; case T1 = {s.T1_input_Nm:g} N·m, T2 = {s.T2_output_Nm:g} N·m; Y measured from: {s.measured_from}")
     analyses = []
     for name in result.responses:
         analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, "auto", "auto")
         _print_analysis(analysis)
         analyses.append(analysis)
-    for path in _study_outputs(result, analyses, out, str(rig) if rig else "built-in reference_rig.toml", model):
-        console.print(f"wrote {path}")
+    options.report_written(_study_outputs(result, analyses, out, str(rig) if rig else "built-in reference_rig.toml", model))
 
 
 # -- chain-error ---------------------------------------------------------------------------------
@@ -294,11 +309,11 @@ def chain_error_command(
     forces: Annotated[Path, typer.Option("--forces", help="CSV of stage forces: component, stage (1-based), force_N.")],
     rig: options.RigOption = None,
     stages: Annotated[Path | None, typer.Option("--stages", help="Stage data file (TOML). Default: the built-in RV-20E stages.")] = None,
-    t1: Annotated[float, typer.Option("--t1", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
-    t2: Annotated[float, typer.Option("--t2", help="Output torque T2 (N·m) of that case.")] = 200.0,
+    t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
+    t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
     tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
-    a_input_mm: Annotated[float | None, typer.Option("--a-input-mm", help="Radial offset a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
-    a_output_mm: Annotated[float | None, typer.Option("--a-output-mm", help="Radial offset a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003).")] = None,
+    a_input_mm: Annotated[float | None, options.number_option("--a-input-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
+    a_output_mm: Annotated[float | None, options.number_option("--a-output-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003).")] = None,
     model: options.ModelOption = "beam",
     out: options.OutOption = None,
 ) -> None:
@@ -336,8 +351,8 @@ def chain_error_command(
     for p in result.contributions:
         c = p.component
         loaded = ",".join(str(i + 1) for i in np.flatnonzero(p.forces_N))
-        table.add_row(c.name, c.symbol, loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
-                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{c.transmission} = {c.transmission_factor:.4g}",
+        table.add_row(escape(c.name), escape(c.symbol), loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
+                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{escape(c.transmission)} = {c.transmission_factor:.4g}",
                       f"{p.twist_deg:.4g}", f"{p.baseline_deg:.4g}", f"{p.value_deg:.6g}",
                       f"{p.coaxiality_part_deg:.3g}", "+" if c.sign > 0 else "−")
         rows.append({"component": c.name, "symbol": c.symbol, "coaxiality": c.coaxiality,
@@ -357,5 +372,4 @@ def chain_error_command(
                     "shafts": {s: vars(c) for s, c in shafts.items()}, "contributions": rows,
                     "total_deg": result.total_deg, "total_beta0_deg": result.baseline_total_deg,
                     "sign_convention": "clockwise positive: θ_total = Σ sign · θ (paper 000: θ22 − θ11 − θ44 − θ55)"}
-        for path in (write_csv_atomic(out / "chain_error.csv", rows), write_json_atomic(out / "chain_error.json", document)):
-            console.print(f"wrote {path}")
+        options.report_written((write_csv_atomic(out / "chain_error.csv", rows), write_json_atomic(out / "chain_error.json", document)))

@@ -16,6 +16,7 @@ from rich.table import Table
 
 from geometry.rigfile import load_rig
 from results.cli_support import (
+    RADIAL_OFFSET_RANGE_MM,
     CasesOption,
     GridOption,
     MeshOption,
@@ -29,7 +30,9 @@ from results.cli_support import (
     cases_from_options,
     console,
     guard,
+    number_option,
     prepare_with_status,
+    report_written,
     rig_text,
     run_with_progress,
     sweep_settings,
@@ -37,12 +40,6 @@ from results.cli_support import (
 from results.writers import write_csv_atomic, write_text_atomic
 
 FORMATS = ("json", "csv", "adams", "ross")
-
-
-def _radial(value: float | None, option: str) -> float | None:
-    if value is not None and not (math.isfinite(value) and value >= 0.0):
-        raise UserError(f"{option}: the radial displacement a must be a number ≥ 0 mm, got {value}")
-    return value
 
 
 def _summary(export) -> Table:
@@ -152,10 +149,12 @@ def register(app: typer.Typer) -> None:
         t1: T1Option = None,
         t2: T2Option = None,
         grid: GridOption = False,
-        input_radial_mm: Annotated[float | None, typer.Option(
-            "--input-radial-mm", help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
-        output_radial_mm: Annotated[float | None, typer.Option(
-            "--output-radial-mm", help="Radial displacement a of the output shaft in mm (default 0.003, IT3, paper 000).")] = None,
+        input_radial_mm: Annotated[float | None, number_option(
+            "--input-radial-mm", *RADIAL_OFFSET_RANGE_MM, "mm",
+            help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
+        output_radial_mm: Annotated[float | None, number_option(
+            "--output-radial-mm", *RADIAL_OFFSET_RANGE_MM, "mm",
+            help="Radial displacement a of the output shaft in mm (default 0.003, IT3, paper 000).")] = None,
         solver: SolverOption = "auto",
         mesh_size_mm: MeshOption = None,
     ) -> None:
@@ -166,8 +165,7 @@ def register(app: typer.Typer) -> None:
 
         if output_format not in FORMATS:
             raise UserError(f"--format: '{output_format}' is not one of {', '.join(FORMATS)}")
-        radial = {"input": _radial(input_radial_mm, "--input-radial-mm"),
-                  "output": _radial(output_radial_mm, "--output-radial-mm")}
+        radial = {"input": input_radial_mm, "output": output_radial_mm}
         if output_format == "ross":
             from results.ross_adapter import RossUnavailableError, import_ross
 
@@ -199,5 +197,4 @@ def register(app: typer.Typer) -> None:
         console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
                       f"couplings, bearings and β from the {exported.measured_from} state "
                       "(columns *_unloaded_ref: from the unloaded geometry)")
-        for path in written:
-            console.print(f"wrote {path}")
+        report_written(written)

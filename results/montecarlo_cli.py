@@ -20,7 +20,20 @@ from rich.table import Table
 
 from geometry.rigfile import load_rig
 from results import tolerance_report as report
-from results.cli_support import MeshOption, ModelOption, RigOption, UserError, console, guard, rig_text, sweep_settings
+from results.cli_support import (
+    SEED_RANGE,
+    MeshOption,
+    ModelOption,
+    RigOption,
+    UserError,
+    console,
+    guard,
+    number_option,
+    report_written,
+    rig_text,
+    scheduler_address,
+    sweep_settings,
+)
 from results.distributed import ClusterError, ResumeError, SampleError, run_samples
 from results.montecarlo import STRATEGY_TEXT, evaluate_sample, parameters_needing, plan_study
 from results.sampling import SAMPLING_METHODS, sample_values, to_values
@@ -35,6 +48,7 @@ from results.sensitivity import (
 )
 from results.sweep import SHAFTS
 from results.tolerances import ToleranceFileError, load_tolerances, parameter_value
+from results.workload import REPORT_AFTER_S, check_study, check_workers, count_text
 from results.writers import write_csv_atomic, write_json_atomic
 
 TolerancesOption = Annotated[Path, typer.Option(
@@ -43,12 +57,15 @@ TolerancesOption = Annotated[Path, typer.Option(
 SchedulerOption = Annotated[str, typer.Option(
     "--scheduler", help="local (a Dask cluster on this machine, default), tcp://HOST:PORT (an existing Dask "
                         "scheduler) or serial (no Dask, in this process).")]
-WorkersOption = Annotated[int | None, typer.Option(
-    "--workers", min=1, help="Worker processes of the local cluster (default: one per core).")]
+WorkersOption = Annotated[int | None, number_option(
+    "--workers", 1, 1024, integer=True, help="Worker processes of the local cluster, 1 … 1024 (default: one per core).")]
 ResumeOption = Annotated[bool, typer.Option(
     "--resume", help="Keep the samples already in OUT/samples (same study) and compute only the missing ones. "
                      "Without it, samples left in OUT/samples are deleted first.")]
-SeedOption = Annotated[int, typer.Option("--seed", min=0, help="Seed of the sampling design (same seed, same samples).")]
+SeedOption = Annotated[int, number_option("--seed", *SEED_RANGE, integer=True,
+                                          help="Seed of the sampling design (same seed, same samples), "
+                                               f"{SEED_RANGE[0]} … {SEED_RANGE[1]}.")]
+MAX_SAMPLES = 10_000_000  # every sample is a solve: ten million beam solves is days of work
 
 
 def _progress() -> Progress:
@@ -91,7 +108,8 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
     where = "this process" if scheduler == "serial" else (
         f"a local Dask cluster ({f'{workers} workers' if workers else 'one worker per core'})" if scheduler == "local"
         else f"the Dask scheduler at {scheduler}")
-    console.print(f"{len(values)} samples on {where}; each sample is written to {out / 'samples'} as it arrives")
+    console.print(f"{len(values)} samples on {escape(where)}; each sample is written to {escape(str(out / 'samples'))} "
+                  "as it arrives")
     try:
         with _progress() as progress:
             task = progress.add_task("solving samples", total=len(values))
@@ -108,18 +126,21 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
     return records, run
 
 
+def _check_size(n_solves: int, tol, study, option: str, what: str) -> None:
+    """Refuse a design too large for this machine before it is drawn; announce a long one."""
+    work = check_study(n_solves, len(tol.parameters), len(study.cases), option,
+                       f"{what} × {len(study.cases)} load case(s)", study.settings.model, study.strategy)
+    if work.seconds > REPORT_AFTER_S:
+        console.print(f"{work.what}: {work.describe()} on one core (estimated)")
+
+
 def _fingerprint(*items) -> str:
     return hashlib.sha256(repr(items).encode()).hexdigest()
 
 
-def _check_scheduler(scheduler: str) -> None:
-    if scheduler not in ("local", "serial") and "://" not in scheduler:
-        raise UserError(f"--scheduler: '{scheduler}' is not local, serial or an address such as tcp://HOST:8786")
-
-
 def montecarlo(
     tolerances: TolerancesOption,
-    samples: Annotated[int, typer.Option("--samples", min=1, help="Number of samples (each a solve of every load case).")] = 1000,
+    samples: Annotated[int, number_option("--samples", 1, MAX_SAMPLES, integer=True, help="Number of samples (each a solve of every load case).")] = 1000,
     sampling: Annotated[str, typer.Option("--sampling", help="lhs (Latin hypercube, default), sobol (scrambled Sobol', a power of two samples) or random.")] = "lhs",
     rig: RigOption = None,
     model: ModelOption = "beam",
@@ -135,10 +156,12 @@ def montecarlo(
     Writes montecarlo_samples.csv (every sample), montecarlo_distribution.csv, montecarlo_exceedance.csv,
     montecarlo.json and montecarlo_beta_histogram.png.
     """
-    _check_scheduler(scheduler)
+    scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
         raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
+    check_workers(workers if scheduler == "local" else None)
     tol, study = _setup(rig, tolerances, model, mesh_size_mm)
+    _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
     except ValueError as error:
@@ -161,8 +184,7 @@ def montecarlo(
         report.plot_beta_histograms(study, tol, records, found, out / "montecarlo_beta_histogram.png"),
     ]
     console.print(_distribution_table(study, records, found))
-    for path in written:
-        console.print(f"wrote {path}")
+    report_written(written)
 
 
 def _distribution_table(study, records, found) -> Table:
@@ -186,7 +208,7 @@ def _distribution_table(study, records, found) -> Table:
 
 def sensitivity(
     tolerances: TolerancesOption,
-    samples: Annotated[int, typer.Option("--samples", min=2, help="sobol: base samples N, a power of two (N (d + 2) solves for d parameters); morris: trajectories r (r (d + 1) solves).")] = 256,
+    samples: Annotated[int, number_option("--samples", 2, MAX_SAMPLES, integer=True, help="sobol: base samples N, a power of two (N (d + 2) solves for d parameters); morris: trajectories r (r (d + 1) solves).")] = 256,
     method: Annotated[str, typer.Option("--method", help="sobol (first-order and total indices, default) or morris (cheaper screening).")] = "sobol",
     rig: RigOption = None,
     model: ModelOption = "beam",
@@ -201,11 +223,14 @@ def sensitivity(
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
-    _check_scheduler(scheduler)
+    scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:
         raise UserError(f"--method: must be sobol or morris, got '{method}'")
+    check_workers(workers if scheduler == "local" else None)
     tol, study = _setup(rig, tolerances, model, mesh_size_mm)
     d = len(tol.parameters)
+    _check_size(design_runs(method, samples, d), tol, study, "--samples",
+                f"{count_text(design_runs(method, samples, d))} solves ({method}: --samples {samples}, {d} parameters)")
     try:
         points = sobol_design(samples, d, seed) if method == "sobol" else morris_design(samples, d, seed)
     except ValueError as error:
@@ -241,8 +266,7 @@ def sensitivity(
         measure = "ST" if method == "sobol" else "μ* (°)"
         console.print(f"β {shaft}, {report.case_label(study.cases[c])}: tighten first "
                       + "; ".join(f"{escape(name)} ({measure} {score:.3g})" for name, score in ranked[:3]))
-    for path in written:
-        console.print(f"wrote {path}")
+    report_written(written)
 
 
 def register(app: typer.Typer) -> None:

@@ -1,8 +1,10 @@
 """Checks made before solving a rig, so that an unusable model is named in the user's terms.
 
-- :func:`support_problem`: a part (or a set of parts) that can move without deforming anything,
-  with its free directions and the springs whose zero stiffness leaves it free; or stiffness values
-  so far apart that the solve would lose every digit (named: the stiffest and softest springs).
+- :func:`support_problem`: a beam model too large for this machine (counted from the geometry
+  before anything is built: :func:`results.workload.rig_problem`); a part (or a set of parts) that
+  can move without deforming anything, with its free directions and the springs whose zero
+  stiffness leaves it free; or stiffness values so far apart that the solve would lose every digit
+  (named: the stiffest and softest springs).
 - :func:`sag_warnings`: a part that hangs only on couplings, or sags absurdly under its own weight
   (not singular, but not a test rig either).
 - :func:`estimate_memory`: DOFs and memory of a solid or hybrid model from the rig alone, before
@@ -128,6 +130,11 @@ def support_problem(rig: Rig) -> str | None:
     number decides: above :data:`CONDITION_LIMIT` the message says so (stiffnesses many orders of
     magnitude apart, often a unit mistake) instead of "no support path"; below, the rig is solvable.
     """
+    from results.workload import rig_problem
+
+    too_big = rig_problem(rig)
+    if too_big:
+        return too_big
     frame = _frame(rig)
     motions = _free_motions(frame.structure)
     if not motions:
@@ -166,8 +173,13 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     The beam model is solved once for standard gravity (whether or not the rig switches gravity
     on): a property of the supports, not of the load case. Returns one sentence per part, empty
     when the rig is plausible (the reference rig's largest sag is 1.6 µm). A rig that cannot be
-    factorised gives no warning here (:func:`support_problem` names it).
+    factorised, or is too large to build (:func:`results.workload.rig_problem`), gives no warning
+    here (:func:`support_problem` names it).
     """
+    from results.workload import rig_problem
+
+    if rig_problem(rig):
+        return []  # too large to build: support_problem says so
     frame = _frame(rig)
     structure = frame.structure
     try:

@@ -6,7 +6,6 @@ are named by their address, whose key carries the unit.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,7 @@ from results.report import rvcoax_version, text_sha256
 from results.sensitivity import SobolIndices
 from results.sweep import SHAFTS
 from results.tolerances import Tolerances
+from results.writers import write_png_atomic
 
 
 def case_label(case) -> str:
@@ -126,15 +126,7 @@ def ranking(indices, names) -> list[tuple[str, float]]:
 
 
 def _save(figure, path_png: str | Path) -> Path:
-    target = Path(path_png)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    temporary = target.with_name(f".{target.stem}.{os.getpid()}.part.png")
-    try:
-        figure.savefig(temporary, format="png", facecolor="white", dpi=110)
-        os.replace(temporary, target)
-    finally:
-        temporary.unlink(missing_ok=True)
-    return target
+    return write_png_atomic(path_png, figure, dpi=110)
 
 
 def _short(address: str) -> str:

@@ -35,13 +35,13 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from geometry.inputfiles import InputFileError, parse_toml, read_input_text
 from geometry.parameters import get_parameter, with_parameters
 from geometry.schema import Rig
 from loadcases.cases import LoadCase, LoadCaseError, paired_cases
@@ -50,7 +50,8 @@ from results.sampling import Distribution
 UNIT_SUFFIXES = ("N_per_um", "N_per_mm", "Nm_per_rad", "N_per_Nm", "m_per_s2", "kg_per_m3", "MPa", "mrad", "rad", "deg", "um", "mm", "kg", "Nm", "N")
 STATISTICS = ("mean", "std", "low", "high")
 PART_DEVIATION_KEY = "outer_diameter_deviation_mm"
-DEFAULT_CASES = ((1.43, 200.0),)  # the largest torque pair of paper 000's table [P]
+DEFAULT_CASES = ((1.43, 200.0),)
+MAX_TOLERANCE_FILE_BYTES = 1_000_000  # a tolerance file lists tens of parameters: a few kB  # the largest torque pair of paper 000's table [P]
 
 Number = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 
@@ -307,9 +308,9 @@ def _limit(limit: _Limit, rig: Rig) -> BetaLimit:
 def parse_tolerances(text: str, source: str, rig: Rig) -> Tolerances:
     """Validate a tolerance file's text against ``rig``; raise :class:`ToleranceFileError` naming every problem."""
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise ToleranceFileError(source, [f"TOML syntax error: {error}"]) from None
+        data = parse_toml(text)
+    except InputFileError as error:
+        raise ToleranceFileError(source, [str(error)]) from None
     problems: list[str] = []
     normalised = dict(data)
     if isinstance(data.get("parameters"), list):
@@ -343,15 +344,9 @@ def load_tolerances(path: str | Path, rig: Rig) -> Tolerances:
     """Read and validate a tolerance file against ``rig``."""
     source = str(path)
     try:
-        text = Path(path).read_bytes().decode("utf-8")
-    except FileNotFoundError:
-        raise ToleranceFileError(source, ["file not found"]) from None
-    except IsADirectoryError:
-        raise ToleranceFileError(source, ["is a directory, not a tolerance file"]) from None
-    except UnicodeDecodeError as error:
-        raise ToleranceFileError(source, [f"is not UTF-8 text (byte {error.start})"]) from None
-    except OSError as error:
-        raise ToleranceFileError(source, [f"cannot be read: {error.strerror}"]) from None
+        text = read_input_text(path, MAX_TOLERANCE_FILE_BYTES, "a tolerance file")
+    except InputFileError as error:
+        raise ToleranceFileError(source, [str(error)]) from None
     return parse_tolerances(text, source, rig)
 
 

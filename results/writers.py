@@ -7,11 +7,14 @@ hidden ``.name.*.tmp`` file next to the old one. Result files get the permission
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import errno
 import io
 import json
 import os
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -28,26 +31,43 @@ def _umask() -> int:
     return mask
 
 
+@contextlib.contextmanager
+def naming_errors(target: Path) -> Iterator[None]:
+    """Re-raise an OSError as one naming ``target``, the result file being written, so that the user
+    reads which file and why: a full disk's ENOSPC comes from ``write()`` without a file name, and a
+    failed ``mkstemp`` names a hidden temporary file the user never asked for."""
+    try:
+        yield
+    except OSError as error:
+        if error.filename == str(target) and error.errno is not None:
+            raise
+        code = error.errno if error.errno is not None else errno.EIO
+        reason = error.strerror or os.strerror(code)
+        raise OSError(code, reason, str(target)) from error
+
+
 def write_text_atomic(path: str | Path, text: str, durable: bool = True) -> Path:
     """Write ``text`` to ``path`` so that a reader never sees a half-written file.
 
     ``durable=False`` skips the fsync: still atomic, but after a power cut the file may be empty
-    (for files that are checked when read again, such as Monte Carlo samples).
+    (for files that are checked when read again, such as Monte Carlo samples). An OSError names
+    ``path`` (see :func:`naming_errors`).
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        os.fchmod(handle, 0o666 & ~_umask())
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
-            stream.write(text)
-            stream.flush()
-            if durable:
-                os.fsync(stream.fileno())
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    with naming_errors(target):
+        target.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        try:
+            os.fchmod(handle, 0o666 & ~_umask())
+            with os.fdopen(handle, "w", encoding="utf-8", newline="") as stream:
+                stream.write(text)
+                stream.flush()
+                if durable:
+                    os.fsync(stream.fileno())
+            os.replace(temporary, target)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
     return target
 
 
@@ -79,13 +99,22 @@ def write_json_atomic(path: str | Path, data, durable: bool = True) -> Path:
 
 
 def write_png_atomic(path: str | Path, figure, **options) -> Path:
-    """Save a matplotlib ``figure`` as a PNG (white background unless ``options`` say otherwise), atomically."""
+    """Save a matplotlib ``figure`` as a PNG (white background unless ``options`` say otherwise), atomically.
+
+    Every text of the figure is drawn as typed: titles and labels carry the user's names (a rig called
+    ``$\\frac{x$`` or ``50 %``), which matplotlib would otherwise parse as mathtext and fail on.
+    """
+    from matplotlib.text import Text
+
+    for text in figure.findobj(Text):
+        text.set_parse_math(False)
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
-    try:
-        figure.savefig(temporary, format="png", **{"facecolor": "white", **options})
-        os.replace(temporary, target)
-    finally:
-        temporary.unlink(missing_ok=True)
+    with naming_errors(target):
+        target.parent.mkdir(parents=True, exist_ok=True)
+        temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+        try:
+            figure.savefig(temporary, format="png", **{"facecolor": "white", **options})
+            os.replace(temporary, target)
+        finally:
+            temporary.unlink(missing_ok=True)
     return target

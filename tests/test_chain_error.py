@@ -162,7 +162,7 @@ def test_tilt_and_offset_validation():
 @pytest.mark.parametrize(("text", "message"), [
     ("component,stage,force_N\ncrank,2,10\n", "line 2: unknown component 'crank'"),
     ("component,stage,force_N\ncrankshaft,9,10\n", "line 2: stage 9 of crankshaft does not exist"),
-    ("# note\ncomponent,stage,force_N\npin_shaft,1,ten\n", "line 3: force_N 'ten' is not a number"),
+    ("# note\ncomponent,stage,force_N\npin_shaft,1,ten\n", "line 3: force_N: 'ten' is not a number"),
     ("component,stage,force_N\npin_shaft,1,1\npin_shaft,1,2\n", "line 3: stage 1 of pin_shaft is given twice"),
     ("component,force_N\npin_shaft,1\n", "missing column(s) stage"),
     ("component,stage,force_N\n", "no forces"),

@@ -259,7 +259,7 @@ def test_non_numeric_torque(tmp_path):
     (("--t1", "1,2", "--t2", "100"), "2 T1 values but 1 T2 values"),
     (("--t1", "1"), "--t1 and --t2 go together"),
     (("--t1", "1", "--t2", "1", "--cases", "cases.csv"), "either --cases FILE or --t1/--t2"),
-    (("--t1", "nan", "--t2", "1"), "T1_input_Nm = nan is not a finite number"),
+    (("--t1", "nan", "--t2", "1"), "--t1 'nan', item 1 of 1: 'nan' is not a finite number"),
     (("--cases", "missing.csv"), "load cases missing.csv: file not found"),
 ], ids=["unequal lists", "t1 alone", "cases and t1", "nan", "missing cases file"])
 def test_bad_load_cases(tmp_path, args, expected):

@@ -147,8 +147,8 @@ CSV_ERRORS = {
                         ["case 3", "duplicated load case T1 = 1.0, T2 = 100.0"]),
     "empty file": ("", ["missing column(s) T1_input_Nm, T2_output_Nm", "found: none"]),
     "header only": ("T1_input_Nm,T2_output_Nm\n", ["no load cases"]),
-    "NaN": ("T1_input_Nm,T2_output_Nm\n1,100\nnan,70\n", ["case 2", "T1_input_Nm = nan is not a finite number"]),
-    "infinite": ("T1_input_Nm,T2_output_Nm\n1,inf\n", ["case 1", "T2_output_Nm = inf is not a finite number"]),
+    "NaN": ("T1_input_Nm,T2_output_Nm\n1,100\nnan,70\n", ["line 3, T1_input_Nm", "'nan' is not a finite number"]),
+    "infinite": ("T1_input_Nm,T2_output_Nm\n1,inf\n", ["line 2, T2_output_Nm", "'inf' is not a finite number"]),
     "implausible torque": ("T1_input_Nm,T2_output_Nm\n1,2e7\n", ["case 1", "beyond any plausible rig torque"]),
 }
 

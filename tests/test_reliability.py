@@ -9,6 +9,7 @@ resumes it and compares the final files, byte for byte, with an uninterrupted ru
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 import os
 import signal
@@ -293,6 +294,13 @@ def _case_file(folder: Path, n: int = 24) -> Path:
     return path
 
 
+def _case_lines(out: Path) -> list[bytes]:
+    """The journal lines of solved cases (not the model line) in ``out/cases/journal.jsonl``."""
+    path = out / "cases" / "journal.jsonl"
+    lines = path.read_bytes().splitlines(keepends=True) if path.exists() else []
+    return [line for line in lines if b'"kind":"case"' in line]
+
+
 def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
     cases = _case_file(tmp_path)
     killed = tmp_path / "killed"
@@ -302,7 +310,7 @@ def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
                                stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 90
     try:
-        while len(list((killed / "cases").glob("case_*.json"))) < 5:
+        while len(_case_lines(killed)) < 5:
             assert process.poll() is None, "the sweep ended before it could be killed"
             assert time.monotonic() < deadline, "no case saved in 90 s"
             time.sleep(0.05)
@@ -310,18 +318,19 @@ def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
         process.send_signal(signal.SIGKILL)
         process.wait(timeout=30)
     assert process.returncode == -signal.SIGKILL
-    saved = sorted((killed / "cases").glob("case_*.json"))
+    saved = _case_lines(killed)
     assert 5 <= len(saved) < 24
     assert not (killed / "sweep.csv").exists()
-    for path in saved:  # atomic writes: every saved case is complete
-        assert "record" in json.loads(path.read_text(encoding="utf-8"))
-    stamps = {path.name: path.stat().st_mtime_ns for path in saved}
+    for line in saved:  # every journalled case is complete and verifies
+        checksum, _, text = line.rstrip(b"\n").partition(b" ")
+        assert hashlib.sha256(text).hexdigest().encode() == checksum and "record" in json.loads(text)
 
     resumed = invoke("sweep", "--cases", cases, "--method", "direct", "--out", killed, "--resume")
     assert f"resuming: {len(saved)} of 24 case(s) already solved" in flat(resumed.stdout)
     assert f"{24 - len(saved)} to solve" in flat(resumed.stdout)
-    assert {p.name: p.stat().st_mtime_ns for p in saved} == stamps  # reused, not solved again
-    assert len(list((killed / "cases").glob("case_*.json"))) == 24
+    assert "not reused" not in resumed.stdout
+    assert _case_lines(killed)[:len(saved)] == saved  # reused as they were, not solved again
+    assert len(_case_lines(killed)) == 24
     assert not list((killed / "cases").glob(".*.tmp"))
 
     straight = tmp_path / "straight"
@@ -330,22 +339,37 @@ def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
         assert (killed / name).read_bytes() == (straight / name).read_bytes(), name
 
 
+def _tamper(out: Path, index: int, change) -> None:
+    """Rewrite case ``index``'s journal line with ``change(line) -> line``."""
+    path = out / "cases" / "journal.jsonl"
+    lines = path.read_bytes().splitlines(keepends=True)
+    at = next(k for k, line in enumerate(lines) if f'"kind":"case","index":{index},'.encode() in line)
+    lines[at] = change(lines[at])
+    path.write_bytes(b"".join(lines))
+
+
 def test_resume_reuses_only_cases_with_the_same_inputs(tmp_path):
     cases = _case_file(tmp_path, 6)
     out = tmp_path / "out"
     invoke("sweep", "--cases", cases, "--out", out)
     first = {name: (out / name).read_bytes() for name in RESULT_FILES}
-    (out / "cases" / "case_0003.json").write_text('{"format": 1, "inputs": {', encoding="utf-8")  # damaged
-    (out / "cases" / "model.json").unlink()
+    _tamper(out, 3, lambda line: line[:len(line) // 2] + b"\n")  # cut short (a torn write)
+    _tamper(out, 1, lambda line: line.replace(b'"Y_input_mm":', b'"Y_input_mm":1.5,"x":'))  # hand-edited Y
+    journal = out / "cases" / "journal.jsonl"
+    journal.write_bytes(b"".join(line for line in journal.read_bytes().splitlines(keepends=True)
+                                 if b'"kind":"model"' not in line))
     result = invoke("sweep", "--cases", cases, "--out", out, "--resume")
-    assert "resuming: 5 of 6 case(s) already solved" in flat(result.stdout)
+    assert "resuming: 4 of 6 case(s) already solved" in flat(result.stdout)
+    assert "(solved again): 2 (checksum does not match (edited or cut short))" in flat(result.stdout)
     assert {name: (out / name).read_bytes() for name in RESULT_FILES} == first
     result = invoke("sweep", "--cases", cases, "--out", out, "--resume")
     assert "resuming: 6 of 6 case(s) already solved" in flat(result.stdout) and "0 to solve" in flat(result.stdout)
     assert "DOF, solver" not in result.stdout  # nothing to solve: the model is not even assembled
+    assert "not reused" not in result.stdout
     assert {name: (out / name).read_bytes() for name in RESULT_FILES} == first
     other = invoke("sweep", "--cases", cases, "--out", out, "--resume", "--method", "direct")
     assert "resuming: 0 of 6 case(s) already solved" in flat(other.stdout)
+    assert "6 (solved from other inputs" in flat(other.stdout)
     rig = write_rig(tmp_path, reference_data() | {"gravity": {"enabled": False}})
     changed = invoke("sweep", "--cases", cases, "--out", out, "--resume", "--rig", rig)
     assert "resuming: 0 of 6 case(s) already solved" in flat(changed.stdout)

@@ -8,6 +8,7 @@ import numpy as np
 
 from results.discrepancy.measured import SHAFTS
 from results.discrepancy.workflow import DiscrepancyResult
+from results.writers import write_png_atomic
 
 
 def _rounded(values: dict) -> dict:
@@ -148,9 +149,4 @@ def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str 
         ax.grid(alpha=0.3, axis="y")
     names = ", ".join(s.name + (f" (group: {', '.join(s.group)})" if len(s.group) > 1 else "") for s in result.selected)
     figure.suptitle((title + "\n" if title else "") + f"verdict: {result.verdict}" + (f"; added: {names}" if names else ""))
-    path_png = Path(path_png)
-    path_png.parent.mkdir(parents=True, exist_ok=True)
-    temporary = path_png.with_suffix(".tmp.png")
-    figure.savefig(temporary)
-    temporary.replace(path_png)
-    return path_png
+    return write_png_atomic(path_png, figure)

@@ -22,6 +22,10 @@ from scipy import stats
 from results.doe.design import Design, Source
 from results.doe.orthogonal import ARRAYS, match_columns, standard_array
 
+# the ranges that every reader of these settings checks (--alpha/--pool-below-F and a study file's [study])
+ALPHA_RANGE = (0.0, 0.5)  # exclusive: a significance level of 0.5 or more tests nothing
+POOL_BELOW_F_RANGE = (0.0, 1000.0)  # inclusive: pooling sources with F below 1000 already pools every real effect
+
 
 @dataclass(frozen=True)
 class ColumnRange:

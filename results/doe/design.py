@@ -10,18 +10,18 @@ Paper 001's ``l27_transmission_error.csv`` and ``l27_levels.csv`` are such files
 
 from __future__ import annotations
 
-import csv
-import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from results.doe.orthogonal import orthogonality_problems
 
 RUN_COLUMNS = ("test", "run")
 _EMPTY = re.compile(r"^e\d*$")
+MAX_TABLE_BYTES = 10_000_000  # a design or levels table has tens of rows
 
 
 class DesignError(ValueError):
@@ -63,6 +63,10 @@ class Design:
         n = len(self.runs)
         if self.response.shape != (n,) or any(c.shape != (n,) for c in self.codes.values()):
             raise ValueError("every column needs one value per run")
+        constant = [c for c, codes in self.codes.items() if np.unique(codes).size < 2]
+        if constant:
+            raise DesignError(f"{n} run(s), and column(s) {', '.join(constant)} use a single level: range analysis "
+                              "and ANOVA compare levels, so every column needs at least two (an L9 has 9 runs)")
         problems = orthogonality_problems(np.column_stack(list(self.codes.values())), list(self.codes))
         if problems:
             raise DesignError("the design is not an orthogonal array (range analysis and ANOVA need one): "
@@ -103,17 +107,15 @@ def build_sources(factors: tuple[Factor, ...], columns: list[str]) -> tuple[Sour
 
 def _rows(path: Path, what: str) -> tuple[list[str], list[tuple[int, dict]]]:
     try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        raise DesignError(f"{what} {path}: cannot be read ({error})") from None
-    lines = text.splitlines()
-    numbered = [(i + 1, line) for i, line in enumerate(lines) if line.strip() and not line.lstrip().startswith("#")]
+        text = read_input_text(path, MAX_TABLE_BYTES, f"a {what}")
+        numbered = [(line, cells) for line, cells in csv_rows(text, comment="#") if any(c.strip() for c in cells)]
+    except InputFileError as error:
+        raise DesignError(f"{what} {path}: {error}") from None
     if not numbered:
         raise DesignError(f"{what} {path}: empty")
-    reader = csv.reader(line for _, line in numbered)
-    header = [h.strip() for h in next(reader)]
+    header = [h.strip() for h in numbered[0][1]]
     rows = []
-    for (number, _), values in zip(numbered[1:], reader):
+    for number, values in numbered[1:]:
         if len(values) != len(header):
             raise DesignError(f"{what} {path}, line {number}: {len(values)} values for {len(header)} columns")
         rows.append((number, dict(zip(header, (v.strip() for v in values)))))
@@ -124,12 +126,9 @@ def _rows(path: Path, what: str) -> tuple[list[str], list[tuple[int, dict]]]:
 
 def _number(text: str, where: str, column: str) -> float:
     try:
-        value = float(text)
-    except ValueError:
-        raise DesignError(f"{where}: column {column}: '{text}' is not a number") from None
-    if not math.isfinite(value):
-        raise DesignError(f"{where}: column {column}: {value} is not finite")
-    return value
+        return plain_number(text)
+    except ValueError as error:
+        raise DesignError(f"{where}: column {column}: {error}") from None
 
 
 def read_levels(path: str | Path) -> tuple[Factor, ...]:
@@ -182,7 +181,7 @@ def read_design(path: str | Path, factors: tuple[Factor, ...], response: str | N
         for column in coded:
             text = row[column]
             allowed = levels_of.get(column) or max(levels_of.get(k, 0) for k in keys)
-            if not text.isdigit() or not 1 <= int(text) <= allowed:
+            if not re.fullmatch(r"[0-9]+", text) or not 1 <= int(text) <= allowed:
                 raise DesignError(f"{where}: column {column}: level '{text}' is not one of 1 … {allowed}")
             codes[column][i] = int(text)
         y[i] = _number(row[response], where, response)

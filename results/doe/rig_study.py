@@ -8,7 +8,6 @@ rig with the levels of row r and records, per measured shaft, Y_max and β = arc
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,10 +16,12 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from geometry.inputfiles import InputFileError, parse_toml
 from geometry.parameters import get_parameter, with_parameters
 from geometry.schema import Rig
-from loadcases.cases import LoadCase
+from loadcases.cases import MAX_TORQUE_NM, LoadCase
 from results.datafiles import read_data_text
+from results.doe.analysis import ALPHA_RANGE, POOL_BELOW_F_RANGE
 from results.doe.design import Design, Factor, build_sources
 from results.doe.orthogonal import ARRAYS, OrthogonalArray, standard_array, three_level_coefficients
 from results.sweep import SHAFTS, SweepSettings, run_sweep
@@ -29,6 +30,7 @@ STUDY_FILE = "l27_rig_tolerances.toml"
 RESPONSES = ("beta_input_deg", "beta_output_deg")
 
 Finite = Annotated[float, Field(allow_inf_nan=False, strict=False)]
+Torque = Annotated[float, Field(ge=-MAX_TORQUE_NM, le=MAX_TORQUE_NM, allow_inf_nan=False)]  # as every load-case reader
 
 
 class StudyError(ValueError):
@@ -46,10 +48,10 @@ class StudySettings(_Strict):
     array: Literal["L9", "L18", "L27", "L81"] = "L27"
     measured_from: Literal["aligned_at_rest", "unloaded"] = "unloaded"
     goal: Literal["min", "max"] = "min"
-    alpha: Annotated[float, Field(gt=0, lt=1)] = 0.05
-    pool_below_F: Annotated[float, Field(ge=0)] | None = 1.0
-    T1_input_Nm: Finite = 1.43
-    T2_output_Nm: Finite = 200.0
+    alpha: Annotated[float, Field(gt=ALPHA_RANGE[0], lt=ALPHA_RANGE[1], allow_inf_nan=False)] = 0.05
+    pool_below_F: Annotated[float, Field(ge=POOL_BELOW_F_RANGE[0], le=POOL_BELOW_F_RANGE[1], allow_inf_nan=False)] | None = 1.0
+    T1_input_Nm: Torque = 1.43
+    T2_output_Nm: Torque = 200.0
 
 
 class StudyFactor(_Strict):
@@ -115,9 +117,9 @@ def load_study(path: str | Path | None = None) -> Study:
     """Read and validate a study file (default: the built-in L27 rig-tolerance study)."""
     source, text = read_data_text(path, STUDY_FILE, StudyError, "study file")
     try:
-        return Study.model_validate(tomllib.loads(text))
-    except tomllib.TOMLDecodeError as error:
-        raise StudyError(f"study file {source}: TOML syntax error: {error}") from None
+        return Study.model_validate(parse_toml(text))
+    except InputFileError as error:
+        raise StudyError(f"study file {source}: {error}") from None
     except ValidationError as error:
         problems = "; ".join(".".join(str(p) for p in e["loc"]) + f": {e['msg']}" for e in error.errors())
         raise StudyError(f"study file {source}: {problems}") from None

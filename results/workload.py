@@ -1,0 +1,233 @@
+"""Work and memory of a command, estimated from its sizes before any of the work is done.
+
+Every size-like input (load cases, a ``--grid``, the rig's beam nodes, ``--workers``, ``--samples``,
+a sensitivity design) goes through :func:`check`: above the memory this machine has available
+(:func:`results.preflight.available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
+it raises :class:`WorkloadError` with the estimate and a suggestion; above :data:`REPORT_AFTER_S`
+the caller prints the estimate (:meth:`Workload.describe`) before it starts.
+
+The per-unit costs are measured on the development machine (AMD EPYC, 2 cores, 24 GB, Python
+3.11, /usr/bin/time on the real command line; figures in benchmarks/RESULTS.md, blocks
+"results/workload.py: measured per-unit costs" and "bench_durable_sweep.py"); other machines differ
+by a small factor, which is what an estimate is for.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+from results.preflight import available_memory_bytes
+
+MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
+REPORT_AFTER_S = 5.0  # work estimated longer than this is announced before it starts
+BASE_BYTES = 0.2e9  # interpreter, numpy/scipy/rich, the rig's beam model (measured: 160 MB peak RSS, 1-case sweep)
+
+# sweep: end to end per load case (superposition, equilibrium check, journal line, sweep.csv/_paths.csv/.json):
+# 4000 cases of the reference rig took 20.2 s and 344 MB peak RSS against 2.2 s and 161 MB for one case
+SWEEP_CASE_S = 4.5e-3
+SWEEP_CASE_BYTES = 46e3
+# beam model per node (assembly, support and sag checks, factorisation, unit solves): reference rig with
+# max_element_length_mm = 0.05 (40,153 nodes) 17.2 s / 524 MB, 0.02 mm (100,315 nodes) 49.6 s / 1.01 GB
+BEAM_NODE_S = 0.48e-3
+BEAM_NODE_BYTES = 9.0e3
+# ... plus a term in nodes × springs (node look-ups per spring): 3,000 extra parts, each on a mount
+# (9,458 nodes, 3,020 springs) took 24.8 s against 6.1 s for 1,000 (3,458 nodes, 1,020 springs)
+BEAM_NODE_SPRING_S = 5.8e-7
+# ... plus a term in elements × segments of a part (each element looks up its segment): a part of 9,000
+# segments (9,427 nodes) took 6.6 s to build
+BEAM_ELEMENT_SEGMENT_S = 1.5e-7
+# a local Dask worker process (distributed, rvcoax imported, the study's model): ~0.25 GB resident
+WORKER_BYTES = 0.25e9
+# a Monte Carlo / sensitivity sample, per load case, by reuse strategy (bench_montecarlo.py, 2026-11-21,
+# example_tolerances.toml, 2 load cases per sample, serial): loads 3.8 ms, frame 12.6 ms (21.6 ms end to end
+# with the sample files), full 80.4 ms per sample; hybrid (4 mm mesh) 14.6 s per sample
+SAMPLE_CASE_S = {"loads": 2.5e-3, "frame": 10.8e-3, "full": 40.2e-3}
+SAMPLE_CASE_S_SOLID = 7.3
+SAMPLE_BYTES = 2e3
+
+
+class WorkloadError(ValueError):
+    """Work or memory beyond what this machine can do: the message has the estimate and a suggestion."""
+
+
+@dataclass(frozen=True)
+class Workload:
+    """The estimated cost of a piece of work.
+
+    Attributes
+    ----------
+    what : str
+        The work in the user's terms (``"9,000,000 load cases (--grid: 3,000 × 3,000)"``).
+    seconds : float
+        Estimated time on this machine class.
+    bytes_needed : float
+        Estimated peak memory.
+    """
+
+    what: str
+    seconds: float
+    bytes_needed: float
+
+    def describe(self) -> str:
+        """``"about 12 min and 3.2 GB"``."""
+        return f"about {duration_text(self.seconds)} and {size_text(self.bytes_needed)}"
+
+
+def duration_text(seconds: float) -> str:
+    """A duration for people: ``4.2 s``, ``12 min``, ``3.5 h``, ``41 days``, ``3e+08 years``."""
+    if seconds < 60:
+        return f"{seconds:.2g} s"
+    if seconds < 3600:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 86400 * 2:
+        return f"{seconds / 3600:.2g} h"
+    if seconds < 86400 * 365 * 2:
+        return f"{seconds / 86400:.0f} days"
+    return f"{seconds / (86400 * 365):.2g} years"
+
+
+def size_text(n_bytes: float) -> str:
+    """A memory size: ``350 MB``, ``3.2 GB``, ``1.4e+04 GB``."""
+    return f"{n_bytes / 1e6:.0f} MB" if n_bytes < 1e9 else f"{n_bytes / 1e9:.3g} GB"
+
+
+def count_text(n: float) -> str:
+    """``9,000,000``, or ``1e+15`` beyond what a thousands separator makes readable."""
+    return f"{n:,.0f}" if n < 1e12 else f"{n:.3g}"
+
+
+def check(workload: Workload, subject: str, suggestion: str) -> Workload:
+    """Raise :class:`WorkloadError` when ``workload`` exceeds the memory available or :data:`MAX_WORK_S`.
+
+    ``subject`` names the input (file or option), ``suggestion`` says what to do instead. Returns
+    ``workload`` when it fits.
+    """
+    room = available_memory_bytes()
+    if room is not None and workload.bytes_needed > room:
+        why = f"only {size_text(room)} of memory are available"
+    elif workload.seconds > MAX_WORK_S:
+        why = f"more than the {duration_text(MAX_WORK_S)} one command may take"
+    else:
+        return workload
+    raise WorkloadError(f"{subject}: {workload.what} would take {workload.describe()} (estimated from measured "
+                        f"per-unit costs), {why}; {suggestion}. Nothing was solved.")
+
+
+def sweep_workload(n_cases: int, what: str | None = None) -> Workload:
+    """A sweep of ``n_cases`` load cases on the beam model (solving, journal, result files)."""
+    return Workload(what or f"{count_text(n_cases)} load cases", SWEEP_CASE_S * n_cases,
+                    BASE_BYTES + SWEEP_CASE_BYTES * n_cases)
+
+
+def check_cases(n_cases: int, subject: str, what: str | None = None) -> Workload:
+    """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid)."""
+    fitting = _largest_fitting(sweep_workload)
+    return check(sweep_workload(n_cases, what), subject,
+                 f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
+
+
+def _largest_fitting(workload_of) -> int:
+    """The largest n whose ``workload_of(n)`` fits in memory and time (bisection on a monotone cost)."""
+    room = available_memory_bytes()
+    low, high = 0, 1
+    while high < 10**18 and _fits(workload_of(high), room):
+        low, high = high, high * 2
+    while high - low > 1:
+        middle = (low + high) // 2
+        low, high = (middle, high) if _fits(workload_of(middle), room) else (low, middle)
+    return low
+
+
+def _fits(workload: Workload, room: float | None) -> bool:
+    return (room is None or workload.bytes_needed <= room) and workload.seconds <= MAX_WORK_S
+
+
+# ------------------------------------------------------------------------------------------ rig
+
+
+@dataclass(frozen=True)
+class BeamSize:
+    """The beam model of a rig, counted from its geometry without building it."""
+
+    nodes: int
+    springs: int
+    element_segment_pairs: float  # Σ over parts of (elements × segments)
+
+    def workload(self, element_length_mm: float) -> Workload:
+        seconds = (BEAM_NODE_S * self.nodes + BEAM_NODE_SPRING_S * self.nodes * self.springs
+                   + BEAM_ELEMENT_SEGMENT_S * self.element_segment_pairs)
+        return Workload(f"a beam model of about {count_text(self.nodes)} nodes ({count_text(self.springs)} springs, "
+                        f"max_element_length_mm = {element_length_mm:g} mm)", seconds,
+                        BASE_BYTES + BEAM_NODE_BYTES * self.nodes)
+
+
+def beam_size(rig) -> BeamSize:
+    """Nodes, springs and element × segment look-ups of ``rig``'s beam model (an upper estimate).
+
+    Each part has a node at each segment end and at each place something refers to, and elements
+    at most ``mesh.max_element_length_mm`` long in between: counted, not built.
+    """
+    length = rig.mesh.max_element_length_mm
+    springs = len(rig.bearings) + len(rig.mounts) + len(rig.couplings) + len(rig.joints)
+    # every spring end, load and path station may add a node; bounded by the springs and a few per part
+    nodes = 2.0 * springs + 64.0
+    pairs = 0.0
+    for part in rig.parts:
+        elements = sum(max(1.0, math.ceil((s.x_mm[1] - s.x_mm[0]) / length - 1e-9)) for s in part.segments)
+        nodes += elements + 1.0
+        pairs += elements * len(part.segments)
+    return BeamSize(int(min(nodes, 1e30)), springs, pairs)
+
+
+def rig_problem(rig) -> str | None:
+    """Why ``rig``'s beam model is too large to build here (with the estimate and a suggestion), or None."""
+    size = beam_size(rig)
+    length = rig.mesh.max_element_length_mm
+    workload = size.workload(length)
+    fitting = _largest_fitting(lambda nodes: BeamSize(nodes, size.springs, 0).workload(length))
+    coarser = length * size.nodes / max(fitting, 1)
+    suggestion = (f"raise [mesh] max_element_length_mm to {coarser:.2g} mm or more (5 mm is the default), "
+                  "or describe the rig with fewer parts and segments")
+    try:
+        check(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
+    except WorkloadError as error:
+        return str(error)
+    return None
+
+
+# ------------------------------------------------------------------------------------------ studies
+
+
+def check_workers(workers: int | None, option: str = "--workers") -> int | None:
+    """Refuse more local Dask workers than this machine has cores for, or memory for."""
+    if workers is None:
+        return None
+    cores = os.cpu_count() or 1
+    room = available_memory_bytes()
+    by_memory = int(max(room - BASE_BYTES, 0) // WORKER_BYTES) if room is not None else workers
+    limit = max(1, min(4 * cores, by_memory))
+    if workers > limit:
+        raise WorkloadError(f"{option} {workers}: this machine has {cores} core(s) and {size_text(room or 0)} of memory "
+                            f"available; each worker process needs about {size_text(WORKER_BYTES)} and more workers "
+                            f"than cores do not run faster; use --workers {min(cores, limit)} (or at most {limit})")
+    return workers
+
+
+def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",
+                   strategy: str = "full") -> Workload:
+    """A Monte Carlo or sensitivity study of ``n_solves`` samples, each solving ``n_cases`` load cases
+    (``strategy``: what a sample re-assembles, :data:`results.montecarlo.STRATEGIES`)."""
+    per_case = SAMPLE_CASE_S.get(strategy, SAMPLE_CASE_S["full"]) if model == "beam" else SAMPLE_CASE_S_SOLID
+    return Workload(what, per_case * n_solves * max(n_cases, 1),
+                    BASE_BYTES + n_solves * (SAMPLE_BYTES * max(n_cases, 1) + 8.0 * (3 * n_parameters + 8)))
+
+
+def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, model: str = "beam",
+                strategy: str = "full") -> Workload:
+    """Refuse a study design too large for this machine, before it is drawn."""
+    fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy))
+    return check(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
+                 f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
+                 "Dask cluster in parts with --resume")
