@@ -16,6 +16,8 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
+# a rig part's diameter: 0.01 mm is a wire, 100 m no rig; outside, I = πd⁴/64 underflows or overflows
+Diameter = Annotated[float, Field(ge=0.01, le=1e5, allow_inf_nan=False, strict=True)]
 MESH_SIZE_RANGE_MM = (0.05, 1000.0)  # finer than 0.05 mm meshes no rig part in memory; coarser than 1 m is no mesh
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
@@ -72,8 +74,8 @@ class Material(Strict):
 
 class Segment(Strict):
     x_mm: tuple[Finite, Finite]
-    outer_diameter_mm: Positive
-    inner_diameter_mm: NonNegative = 0.0
+    outer_diameter_mm: Diameter
+    inner_diameter_mm: Annotated[float, Field(ge=0, le=1e5, allow_inf_nan=False, strict=True)] = 0.0
 
     @model_validator(mode="after")
     def _check(self) -> Segment:

@@ -58,6 +58,17 @@ def _free_motions(structure) -> list[diagnostics.FreeMotion]:
     return diagnostics.find_free_motions(structure.coordinates, stiffness, elimination, free, structure.node_group)
 
 
+def _non_finite_parts(structure) -> list[str]:
+    """The parts whose stiffness entries overflow or are undefined (NaN/inf): nothing can be solved then."""
+    stiffness = fem_model.stiffness_matrix(structure).tocoo()
+    bad = ~np.isfinite(stiffness.data)
+    if not bad.any():
+        return []
+    groups = np.asarray(structure.node_group)
+    nodes = np.unique(stiffness.row[bad] // diagnostics.DOFS_PER_NODE)
+    return list(dict.fromkeys(str(groups[n]) for n in nodes))
+
+
 def _spring_label(name: str) -> str:
     kind, _, label = name.partition(":")
     return f"{SPRING_KINDS.get(kind, kind)} '{label}'"
@@ -136,6 +147,11 @@ def support_problem(rig: Rig) -> str | None:
     if too_big:
         return too_big
     frame = _frame(rig)
+    unusable = _non_finite_parts(frame.structure)
+    if unusable:
+        return (f"the stiffness of part(s) {', '.join(repr(p) for p in unusable)} is not a finite number: a diameter, "
+                "length or modulus is too small or too large to compute with (e.g. 1e-300 mm); check their "
+                "segments' *_diameter_mm, x_mm and their material's youngs_modulus_MPa")
     motions = _free_motions(frame.structure)
     if not motions:
         return None

@@ -288,7 +288,7 @@ def non_finite_cases() -> list[BadInput]:
 
 
 NON_POSITIVE = (
-    (("parts", 5, "segments", 0, "outer_diameter_mm"), (0, -18), "greater than 0"),
+    (("parts", 5, "segments", 0, "outer_diameter_mm"), (0, -18), "greater than or equal to 0.01"),
     (("parts", 11, "mass_kg"), (0, -1.5), "greater than 0"),
     (("bearings", 6, "radial_stiffness_N_per_um"), (0, -60), "greater than 0"),
     (("couplings", 2, "radial_stiffness_N_per_mm"), (0, -1), "greater than 0"),

@@ -229,7 +229,7 @@ SCHEMA_CASES = {
     ),
     "negative diameter": (
         _set(("parts", 5, "segments", 0, "outer_diameter_mm"), -18),
-        ["parts[5] ('input_shaft').segments[0].outer_diameter_mm", "greater than 0", "-18"],
+        ["parts[5] ('input_shaft').segments[0].outer_diameter_mm", "greater than or equal to 0.01", "-18"],
     ),
     "zero stiffness": (
         _set(("bearings", 4, "radial_stiffness_N_per_um"), 0),
@@ -518,7 +518,7 @@ CLI_CASES = {
     "unknown material": (_dict_file(SCHEMA_CASES["unknown material"][0]),
                          ["parts[5] ('input_shaft').material", "unknown material 'Steel'"]),
     "negative diameter": (_dict_file(SCHEMA_CASES["negative diameter"][0]),
-                          ["parts[5] ('input_shaft').segments[0].outer_diameter_mm", "greater than 0"]),
+                          ["parts[5] ('input_shaft').segments[0].outer_diameter_mm", "greater than or equal to 0.01"]),
     "unsupported part": (_dict_file(floating_brake),
                          ["cannot solve the rig", "'brake_housing'", "no support path to ground"]),
     "TOML syntax error": (_text_file(reference_rig_text().replace('name = "C2"', 'name = C2', 1)),

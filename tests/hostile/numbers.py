@@ -7,7 +7,7 @@ an empty item in a list are refused, naming the file and line and column (or the
 from __future__ import annotations
 
 from tests.hostile import Hostile
-from tests.hostile._files import DESIGN, FORCES, LEVELS, TERMS, edited, run, write
+from tests.hostile._files import DESIGN, FORCES, LEVELS, TERMS, edited, reference_rig, run, write
 
 K = "numbers"
 CASES_HEADER = "T1_input_Nm,T2_output_Nm\n"
@@ -82,3 +82,27 @@ CASES.append(_case("terms coefficient '٧٠'", lambda f: [
     "--terms", "terms.csv, line 2, column coefficient", "not ASCII"))
 CASES.append(_case("montecarlo --samples '1_000'", run("montecarlo", "--tolerances", "x.toml", "--samples", "1_000"),
                    "--samples", "'_' digit separators"))
+
+
+
+def edited_reference(old: str, new: str) -> str:
+    text = reference_rig()
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
+# magnitudes a float holds but a stiffness cannot: the rig file's bounds refuse them by key, and a
+# stiffness that overflows anyway is named by part before any solve (never a LinAlgError)
+_SHAFT = "segments = [{ x_mm = [-110, 40], outer_diameter_mm = 19 }]"
+for value, words in (("1e-300", "greater than or equal to 0.01"), ("1e300", "less than or equal to 100000"),
+                     ("0.001", "greater than or equal to 0.01")):
+    CASES.append(_case(f"rig outer_diameter_mm = {value}", lambda folder, v=value: [
+        "sweep", "--rig", write(folder, "rig.toml", edited_reference(_SHAFT, _SHAFT.replace("= 19", f"= {v}"))),
+        "--t1", "1", "--t2", "100", "--out", str(folder / "out")],
+        "parts[1] ('motor_shaft').segments[0].outer_diameter_mm", words))
+CASES.append(_case("rig youngs_modulus_MPa = 1e300", lambda folder: [
+    "sweep", "--rig", write(folder, "rig.toml", edited_reference("youngs_modulus_MPa = 2.12e5", "youngs_modulus_MPa = 1e300")),
+    "--t1", "1", "--t2", "100", "--out", str(folder / "out")], "cannot solve the rig", "youngs_modulus_MPa"))
+CASES.append(_case("rig youngs_modulus_MPa = 1e-300", lambda folder: [
+    "sweep", "--rig", write(folder, "rig.toml", edited_reference("youngs_modulus_MPa = 2.12e5", "youngs_modulus_MPa = 1e-300")),
+    "--t1", "1", "--t2", "100", "--out", str(folder / "out")], "cannot solve the rig", "singular"))
