@@ -19,6 +19,7 @@ from results.cli_support import (
     console,
     guard,
     number_option,
+    progress_bar,
     rig_text,
     sweep_settings,
 )
@@ -57,6 +58,8 @@ def _print_result(result, lengths_mm) -> None:
     if result.rejected:
         console.print(f"rejected (outside physical bounds): {len(result.rejected)}; e.g. "
                       + escape(next(iter(result.rejected.values()))))
+    for name, reason in result.set_aside.items():
+        console.print(f"set aside (cannot be solved): {escape(name)}: {escape(reason)}")
     if result.not_observable:
         console.print(f"not observable on these data: {', '.join(sorted(result.not_observable))}")
     table = Table(title="RMS gap, measured − model", title_justify="left")
@@ -124,11 +127,24 @@ def register(app: typer.Typer) -> None:
             if unknown:
                 raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
                                 + ", ".join(sorted({e.kind for e in candidate_effects(rig_model)})))
+        from geometry.effects import candidate_effects as library_of
+        from results.discrepancy.workflow import discrepancy_workload
+        from results.workload import REPORT_AFTER_S, check
+
+        n_candidates = sum(1 for e in library_of(rig_model)
+                           if candidates is None or e.name in candidates or e.kind in candidates)
+        workload = check(discrepancy_workload(data, n_candidates), f"measured data {measured}",
+                         "thin the stations or load cases (the workflow's time grows with cases × candidates), "
+                         "or name fewer candidates with --effects")
+        if workload.seconds > REPORT_AFTER_S:
+            console.print(f"{workload.what}: {workload.describe()} (estimated)")
         settings = DiscrepancySettings(candidates=candidates, sweep=sweep_settings(model), alpha=alpha, bic_margin=margin,
                                        model_form_fraction=model_form_percent / 100.0, hold_out_every=hold_out_every)
-        with console.status("locating and naming (each candidate effect is solved on the rig)"):
+        with progress_bar() as bar:
+            task = bar.add_task("solving each candidate effect on the rig", total=None)
             try:
-                result = run_discrepancy(rig_model, data, settings)
+                result = run_discrepancy(rig_model, data, settings,
+                                         progress=lambda i, n: bar.update(task, completed=i, total=n))
             except MeasuredDataError as error:
                 raise UserError(str(error)) from None
         lengths = {"input": rig_model.paths.input.length_mm, "output": rig_model.paths.output.length_mm}

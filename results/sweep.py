@@ -121,6 +121,9 @@ def check_supports(rig: Rig) -> None:
 
 
 CONDITION_LIMIT = preflight.CONDITION_LIMIT
+# a clearance solution's backward error: ~1e-16 measured; 1e-12 (≈ 4500 ε) leaves room for summation order
+# and the Newton stop (1e-13 of the condensed terms) and still catches an unconverged law (force errors ~k R)
+GAP_BACKWARD_LIMIT = 1e-12
 EQUILIBRIUM_LIMIT = 1e-6  # relative error of the ground reactions' resultant, and of the reduced residual
 
 
@@ -286,9 +289,12 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     """The sweep of a beam model with bearing clearances: the rest state and each case solved on its own.
 
     ``solve`` solves the model as assembled (every radial spring engaged); the gaps are condensed
-    on it once (:func:`fem.bushing.prepare_radial_gaps`). Each solution is checked: the residual
-    ‖Tᵀ(K_lin u + Uᵀ F(U u) − f)‖ / ‖Tᵀ f‖ must be below 1e-9, and the global equilibrium uses the
-    bearing forces of the clearance law. No unit responses exist: ``unit_paths`` is empty and
+    on it once (:func:`fem.bushing.prepare_radial_gaps`). Each solution is checked: the backward
+    error ‖Tᵀ(K_lin u + Uᵀ F(U u) − f)‖ / (‖Tᵀ |K| |u|‖ + ‖Tᵀ f‖ + ‖Tᵀ Uᵀ G‖) must be below
+    :data:`GAP_BACKWARD_LIMIT`, the relative residual (against the loads f and Uᵀ G) below
+    :data:`EQUILIBRIUM_LIMIT` as for every case, and the global equilibrium uses the bearing forces
+    of the clearance law. (Against ‖Tᵀ f‖ alone, the floating-point floor of K u, ε ‖|K| |u|‖, is
+    1.7e-9 for T1 = 0.01 N·m with an open gap: a correct solution failed a 1e-9 limit.) No unit responses exist: ``unit_paths`` is empty and
     ``unit_displacements`` None; ``case_displacements`` holds each case's displacement as measured.
     """
     frame = system.frame.structure
@@ -299,6 +305,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     clearance = np.array([b.radial_clearance_um * 1e-6 for b in rig.bearings if b.radial_clearance_um > 0])
     gaps = bushing.prepare_radial_gaps(solve, operator, stiffness, clearance)
     loads = system.unit_loads
+    abs_stiffness = abs(system.stiffness)
 
     def solve_case(weights: dict, label: str):
         load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
@@ -311,12 +318,15 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         released = stiffness[:, None] * (operator @ u).reshape(-1, 2) - bushing.gap_forces(operator @ u, stiffness,
                                                                                               clearance)
         effective = load + operator.T @ released.ravel()
-        reduced_residual = system.elimination.T @ (system.stiffness @ u - effective)
-        scale = np.linalg.norm(system.elimination.T @ load)
-        residual = float(np.linalg.norm(reduced_residual) / scale) if scale > 0 else 0.0
-        if not np.all(np.isfinite(u)) or residual > 1e-9:
-            raise ModelError(f"case {label}: the bearing-clearance solution has a relative residual of {residual:.1e} "
-                             "(> 1e-9)")
+        reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
+        loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
+        residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
+        # backward error: against the terms K u is summed from (|K| |u|), which is what floating point resolves
+        terms = loads_norm + np.linalg.norm(system.elimination.T @ (abs_stiffness @ np.abs(u)))
+        backward = float(reduced_residual / terms) if terms > 0 else 0.0
+        if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
+            raise ModelError(f"case {label}: the bearing-clearance solution misses equilibrium: backward error "
+                             f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
         check_solution(label, u, check.relative_error, residual)
         return u, solution, check.relative_error, residual

@@ -14,16 +14,14 @@ the column.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from geometry.inputfiles import InputFileError, read_input_text
-from loadcases.cases import LoadCase, separator_hint
+from geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
+from loadcases.cases import MAX_TORQUE_NM, LoadCase, separator_hint
 
 SHAFTS = ("input", "output")
 TABLE_COLUMNS = ("T1_input_Nm", "T2_output_Nm", "Y_input_mm", "Y_output_mm")
@@ -72,6 +70,7 @@ class MeasuredData:
     sigma_mm: np.ndarray | None
     source: str
     quantum_mm: dict[str, float] | None = None
+    line: np.ndarray | None = None  # (n,) the file's line of each observation, when read from a file
 
     @property
     def n(self) -> int:
@@ -86,7 +85,7 @@ class MeasuredData:
             self.schema, tuple(self.cases[i] for i in used),
             np.array([renumber[i] for i in self.case_index[keep]], dtype=int), self.shaft[keep],
             self.x_mm[keep], self.value_mm[keep], None if self.sigma_mm is None else self.sigma_mm[keep],
-            self.source, self.quantum_mm,
+            self.source, self.quantum_mm, None if self.line is None else self.line[keep],
         )
 
 
@@ -94,33 +93,43 @@ def _number(text: str | None, source: str, line: int, column: str, unit: str) ->
     if text is None or not text.strip():
         raise MeasuredDataError(source, f"line {line}, column {column}: value is missing")
     try:
-        value = float(text)
-    except ValueError:
-        raise MeasuredDataError(source, f"line {line}, column {column}: '{text.strip()}' is not a number "
-                                f"(the column is in {unit}; write the number only)") from None
-    if not math.isfinite(value):
-        raise MeasuredDataError(source, f"line {line}, column {column}: {text.strip()} is not a finite number")
+        return plain_number(text)
+    except ValueError as error:
+        raise MeasuredDataError(source, f"line {line}, column {column}: {error} (the column is in {unit}; write "
+                                "the number only)") from None
+
+
+def _torque(text: str | None, source: str, line: int, column: str) -> float:
+    value = _number(text, source, line, column, "N·m")
+    if abs(value) > MAX_TORQUE_NM:
+        raise MeasuredDataError(source, f"line {line}, column {column}: {value:g} N·m is beyond any plausible rig "
+                                f"torque (|T| ≤ {MAX_TORQUE_NM:g} N·m, as for load cases)")
     return value
 
 
-def _decimals(text: str) -> int:
-    """Digits after the decimal point of a printed number ('0.0042594' → 7); -1 in exponent form."""
-    text = text.strip().lower()
-    if "e" in text:
-        return -1
-    return len(text.split(".")[1]) if "." in text else 0
+def printed_quantum(text: str) -> float:
+    """The rounding quantum of a printed number: one unit of its last printed digit (mm for mm).
+
+    ``0.0042594`` → 1e-7, ``6e-05`` → 1e-5, ``6.03E-05`` → 1e-7, ``1.5e+2`` → 10, ``42`` → 1: the
+    exponent shifts the mantissa's last digit, so fixed and exponent notation of the same digits agree.
+    """
+    mantissa, _, exponent = text.strip(" \t").lower().partition("e")
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return 10.0 ** (int(exponent or 0) - decimals)
 
 
 def parse_measured(text: str, source: str) -> MeasuredData:
     """Parse measured data from CSV text (see the module docstring for the two schemas)."""
-    reader = csv.DictReader(io.StringIO(text))
-    columns = [c.strip() for c in (reader.fieldnames or [])]
+    try:
+        rows_of_file = list(csv_rows(text))
+    except InputFileError as error:
+        raise MeasuredDataError(source, str(error)) from None
+    columns = [c.strip() for c in (rows_of_file[0][1] if rows_of_file else [])]
     if not columns:
         raise MeasuredDataError(source, "the file is empty (expected a CSV header line)")
     repeated = sorted({c for c in columns if c and columns.count(c) > 1})
     if repeated:
         raise MeasuredDataError(source, f"line 1: column(s) {', '.join(repeated)} appear more than once")
-    reader.fieldnames = columns
     if all(c in columns for c in PATH_COLUMNS):
         schema, needed = "paths", PATH_COLUMNS
     elif all(c in columns for c in TABLE_COLUMNS):
@@ -140,15 +149,19 @@ def parse_measured(text: str, source: str) -> MeasuredData:
     has_sigma = "sigma_mm" in columns
     cases: dict[tuple[float, float], int] = {}
     rows: list[tuple[int, str, float, float, float, int]] = []  # case, shaft, x, value, sigma, line
-    decimals: dict[str, int] = {"input": 0, "output": 0}
+    quantum: dict[str, float] = {"input": math.inf, "output": math.inf}
     seen: set = set()
-    for line, row in enumerate(reader, start=2):
-        if None in row:
-            raise MeasuredDataError(source, f"line {line}: more values than columns")
-        t1 = _number(row["T1_input_Nm"], source, line, "T1_input_Nm", "N·m")
-        t2 = _number(row["T2_output_Nm"], source, line, "T2_output_Nm", "N·m")
+    for line, cells in rows_of_file[1:]:
+        if not any(c.strip() for c in cells):
+            continue  # a blank line
+        if len(cells) > len(columns):
+            raise MeasuredDataError(source, f"line {line}: {len(cells)} values but {len(columns)} columns in the "
+                                    "header (a ',' decimal separator, or a stray comma?)")
+        row = dict(zip(columns, cells))
+        t1 = _torque(row.get("T1_input_Nm"), source, line, "T1_input_Nm")
+        t2 = _torque(row.get("T2_output_Nm"), source, line, "T2_output_Nm")
         case = cases.setdefault((t1, t2), len(cases))
-        sigma = _number(row["sigma_mm"], source, line, "sigma_mm", "mm") if has_sigma else math.nan
+        sigma = _number(row.get("sigma_mm"), source, line, "sigma_mm", "mm") if has_sigma else math.nan
         if has_sigma and not sigma > 0:
             raise MeasuredDataError(source, f"line {line}, column sigma_mm: {sigma} must be > 0 mm")
         if schema == "table":
@@ -157,33 +170,30 @@ def parse_measured(text: str, source: str) -> MeasuredData:
             seen.add((t1, t2))
             for shaft in SHAFTS:
                 column = f"Y_{shaft}_mm"
-                value = _number(row[column], source, line, column, "mm")
+                value = _number(row.get(column), source, line, column, "mm")
                 if value < 0:
                     raise MeasuredDataError(source, f"line {line}, column {column}: {value} < 0; a table holds "
                                             "magnitudes |Y_max| (use the paths schema for signed values)")
-                decimals[shaft] = max(decimals[shaft], _decimals(row[column]))
+                quantum[shaft] = min(quantum[shaft], printed_quantum(row[column]))
                 rows.append((case, shaft, math.nan, value, sigma, line))
         else:
-            shaft = (row["shaft"] or "").strip()
+            shaft = (row.get("shaft") or "").strip()
             if shaft not in SHAFTS:
                 raise MeasuredDataError(source, f"line {line}, column shaft: '{shaft}' is not input or output")
-            x = _number(row["x_mm"], source, line, "x_mm", "mm")
+            x = _number(row.get("x_mm"), source, line, "x_mm", "mm")
             key = (t1, t2, shaft, x)
             if key in seen:
                 raise MeasuredDataError(source, f"line {line}: a second value for the {shaft} shaft at x = {x:g} mm "
                                         f"in case T1 = {t1:g}, T2 = {t2:g} N·m")
             seen.add(key)
-            rows.append((case, shaft, x, _number(row["uy_mm"], source, line, "uy_mm", "mm"), sigma, line))
+            rows.append((case, shaft, x, _number(row.get("uy_mm"), source, line, "uy_mm", "mm"), sigma, line))
     if not rows:
         raise MeasuredDataError(source, "no data rows under the header")
     _check_magnitudes(rows, schema, source)
-    case_index, shafts, x, values, sigmas, _ = (np.array(c) for c in zip(*rows))
-    quantum = None
-    if schema == "table":
-        quantum = {s: (10.0 ** -d if d >= 0 else 0.0) for s, d in decimals.items()}
+    case_index, shafts, x, values, sigmas, lines = (np.array(c) for c in zip(*rows))
     return MeasuredData(schema, tuple(LoadCase(a, b) for a, b in cases), case_index.astype(int), shafts.astype(str),
                         x.astype(float), values.astype(float), sigmas.astype(float) if has_sigma else None,
-                        source, quantum)
+                        source, quantum if schema == "table" else None, lines.astype(int))
 
 
 LARGEST_PLAUSIBLE_Y_MM = 10.0  # a shaft of a running test rig displaced 10 mm would be wrecked
@@ -225,8 +235,10 @@ def check_stations(data: MeasuredData, path_lengths_mm: dict[str, float]) -> Non
     if data.schema != "paths":
         return
     for shaft, length in path_lengths_mm.items():
-        x = data.x_mm[data.shaft == shaft]
-        bad = x[(x < -1e-9) | (x > length + 1e-9)]
-        if bad.size:
-            raise MeasuredDataError(data.source, f"x_mm = {bad[0]:g} on the {shaft} shaft is outside its measured "
-                                    f"path 0 … {length:g} mm (x is measured from the shaft's input-side end)")
+        outside = np.flatnonzero((data.shaft == shaft) & ((data.x_mm < -1e-9) | (data.x_mm > length + 1e-9)))
+        if outside.size:
+            first = outside[0]
+            where = "" if data.line is None else f"line {data.line[first]}, column x_mm: "
+            raise MeasuredDataError(data.source, f"{where}x_mm = {data.x_mm[first]:g} on the {shaft} shaft is outside "
+                                    f"its measured path 0 … {length:g} mm (x is measured from the shaft's input-side "
+                                    f"end; {outside.size} station(s) outside)")

@@ -69,6 +69,7 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
                    "ranking_delta_bic": {n: float(f"{g:.6g}") for n, g in s.ranking}} for s in result.steps],
         "not_observable": result.not_observable,
         "rejected": result.rejected,
+        "set_aside": result.set_aside,
         "rig_file": rig_file,
     }
 

@@ -64,18 +64,21 @@ class Observation:
         self.data = data
         self.layout = layout
         if data.schema == "paths":
-            rows, cols, vals = [], [], []
-            for i in range(data.n):
-                shaft = data.shaft[i]
-                stations = layout.stations_mm[shaft]
-                weights = _spline_weights(stations, data.x_mm[i])
-                block = layout.block(int(data.case_index[i]), shaft)
-                rows += [i] * stations.size
-                cols += list(range(block.start, block.stop))
-                vals += list(weights)
             import scipy.sparse as sp
 
-            self.matrix = sp.csr_matrix((vals, (rows, cols)), shape=(data.n, layout.size))
+            rows, cols, vals = [], [], []
+            for shaft in SHAFTS:  # one spline evaluation per shaft for all its observations (not per row)
+                where = np.flatnonzero(data.shaft == shaft)
+                if not where.size:
+                    continue
+                stations = layout.stations_mm[shaft]
+                weights = _spline_weights(stations, data.x_mm[where])  # (rows, stations)
+                starts = np.array([layout.block(int(c), shaft).start for c in data.case_index[where]])
+                rows.append(np.repeat(where, stations.size))
+                cols.append((starts[:, None] + np.arange(stations.size)).ravel())
+                vals.append(weights.ravel())
+            rows, cols, vals = (np.concatenate(a) if a else np.zeros(0) for a in (rows, cols, vals))
+            self.matrix = sp.csr_matrix((vals, (rows.astype(int), cols.astype(int))), shape=(data.n, layout.size))
         else:
             self.blocks = [layout.block(int(c), s) for c, s in zip(data.case_index, data.shaft)]
 
@@ -85,8 +88,9 @@ class Observation:
         return np.array([np.max(np.abs(paths[b])) for b in self.blocks])
 
 
-def _spline_weights(stations: np.ndarray, x: float) -> np.ndarray:
-    """Weights w with CubicSpline(stations, values)(x) = w · values (natural-not-a-knot spline is linear)."""
+def _spline_weights(stations: np.ndarray, x) -> np.ndarray:
+    """Weights w with CubicSpline(stations, values)(x) = w · values (the not-a-knot spline is linear in the
+    values); ``x`` a station or an array of them (then one row of weights per station)."""
     identity = np.eye(stations.size)
     return CubicSpline(stations, identity, axis=0)(x)
 

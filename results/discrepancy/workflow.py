@@ -22,6 +22,7 @@ import numpy as np
 from scipy import stats
 from scipy.optimize import least_squares
 
+from fem.solvers import SolverError
 from geometry.effects import candidate_effects
 from loadcases.cases import LoadCase
 from results.discrepancy.identify import Fit, Problem, Step, forward_backward
@@ -30,7 +31,17 @@ from results.discrepancy.measured import SHAFTS, MeasuredData, check_stations
 from results.discrepancy.responses import EffectResponse, Observation, PathLayout, effect_response, solve_full_paths
 from results.sweep import ModelError, SweepSettings
 
+# what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
+CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
+
 OBSERVABLE_SIGMA = 0.5
+# measured costs (2-core AMD EPYC dev machine): the reference table (20 cases, 58 candidates) took 65 s end to
+# end, 56 ms per case and candidate (library sweeps, grid points of nonlinear effects, true-model refits);
+# per observation 20 µs to parse and 5.3 µs per observation-operator build, built about 100 times per run
+# (each true-model evaluation of the refit): a 20,000-row paths file, results/discrepancy/responses.py
+CASE_CANDIDATE_S = 0.056
+OBSERVATION_S = 20e-6 + 100 * 5.3e-6
+OBSERVATION_BYTES = 2e3
 
 
 @dataclass(frozen=True)
@@ -61,15 +72,20 @@ class CandidateLibrary:
     failed: dict[str, str] = field(default_factory=dict)
 
 
-def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | None = None) -> CandidateLibrary:
-    """Solve the base rig and every candidate's response (real sweeps; beam model ≈ 0.1 s each)."""
+def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | None = None,
+                  progress=None) -> CandidateLibrary:
+    """Solve the base rig and every candidate's response (real sweeps; beam model ≈ 0.1 s each).
+
+    ``progress(i, n)`` is called after each candidate (for a progress bar with the time remaining)."""
     base_paths, layout = solve_full_paths(rig, cases, settings)
     effects = [e for e in candidate_effects(rig) if names is None or e.name in names or e.kind in names]
     responses, failed = {}, {}
-    for effect in effects:
+    for done, effect in enumerate(effects, start=1):
+        if progress is not None:
+            progress(done - 1, len(effects))
         try:
             responses[effect.name] = effect_response(effect, rig, cases, settings, base_paths)
-        except (ModelError, ValueError) as error:  # e.g. a clearance that leaves a part without support
+        except CANDIDATE_FAILURES as error:  # e.g. a clearance that leaves a part without support
             failed[effect.name] = f"cannot be solved over its physical range: {error}"
     return CandidateLibrary(rig, tuple(cases), base_paths, layout, responses, failed)
 
@@ -118,6 +134,7 @@ class DiscrepancyResult:
     steps: tuple[Step, ...]
     not_observable: dict[str, str]
     rejected: dict[str, str]
+    set_aside: dict[str, str]
     discriminations: tuple[Discrimination, ...]
     rig_before: object
     rig_after: object
@@ -150,6 +167,16 @@ class DiscrepancyResult:
             if gaps:
                 out[shaft] = float(1e6 * np.sqrt(np.mean(np.square(gaps))))
         return out
+
+
+def discrepancy_workload(data: MeasuredData, n_candidates: int):
+    """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates."""
+    from results.workload import BASE_BYTES, Workload, count_text
+
+    cases = len(data.cases)
+    seconds = CASE_CANDIDATE_S * cases * max(n_candidates, 1) + OBSERVATION_S * data.n
+    return Workload(f"{count_text(data.n)} observations in {count_text(cases)} load cases × {n_candidates} "
+                    "candidate effects", seconds, BASE_BYTES + OBSERVATION_BYTES * data.n)
 
 
 def held_out_mask(data: MeasuredData, every: int) -> np.ndarray:
@@ -212,8 +239,10 @@ def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data,
 
 
 def _discriminate(rig, effects_by_name, prior, group_fits: dict[str, Fit], data: MeasuredData, noise: NoiseEstimate,
-                  settings: SweepSettings) -> list[Discrimination]:
-    """For the winner against each other member: the station and case where their predictions differ most."""
+                  settings: SweepSettings, set_aside: dict[str, str]) -> list[Discrimination]:
+    """For the winner against each other member: the station and case where their predictions differ most.
+
+    A member whose prediction cannot be solved gets no discrimination; ``set_aside`` records why."""
     names = list(group_fits)
     if len(names) < 2:
         return []
@@ -225,10 +254,15 @@ def _discriminate(rig, effects_by_name, prior, group_fits: dict[str, Fit], data:
     for name in names:
         fitted = group_fits[name]
         member_rig = _applied(rig, effects_by_name, list(prior) + [(name, fitted.values[-1])])
-        predictions[name] = solve_full_paths(member_rig, cases, settings)
+        try:
+            predictions[name] = solve_full_paths(member_rig, cases, settings)
+        except CANDIDATE_FAILURES as error:
+            set_aside[name] = f"no discriminating measurement: its prediction cannot be solved: {error}"
     winner = names[0]
+    if winner not in predictions:
+        return []
     out = []
-    for other in names[1:]:
+    for other in (n for n in names[1:] if n in predictions):
         (a, layout), (b, _) = predictions[winner], predictions[other]
         best = None
         for i, case in enumerate(cases):
@@ -244,8 +278,9 @@ def _discriminate(rig, effects_by_name, prior, group_fits: dict[str, Fit], data:
 
 
 def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = DiscrepancySettings(),
-                    library: CandidateLibrary | None = None) -> DiscrepancyResult:
-    """Locate, name, add and show (see the module docstring). A pure function of its arguments."""
+                    library: CandidateLibrary | None = None, progress=None) -> DiscrepancyResult:
+    """Locate, name, add and show (see the module docstring). A pure function of its arguments
+    (``progress(i, n)`` is told how far each library build is)."""
     sweep_settings = settings.sweep
     base_paths, layout = solve_full_paths(rig, data.cases, sweep_settings)
     check_stations(data, layout.length_mm)
@@ -262,6 +297,7 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     steps: list[Step] = []
     not_observable: dict[str, str] = {}
     rejected: dict[str, str] = {}
+    set_aside: dict[str, str] = {}
     discriminations: list[Discrimination] = []
     current_rig, after, fitted = rig, before, []
     if test_before.gap:
@@ -271,13 +307,13 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
                 if round_ > 1:  # an effect that could not change the data around the first rig cannot now either
                     names = tuple(n for n, e in effects_by_name.items() if n not in not_observable
                                   and (names is None or n in names or e.kind in names))
-                library = build_library(current_rig, data.cases, sweep_settings, names)
-            not_observable.update(library.failed)
+                library = build_library(current_rig, data.cases, sweep_settings, names, progress)
+            set_aside.update(library.failed)
             round_observe = observe_of(library.layout)
             base_obs = round_observe(library.base_paths)
             responses = {}
             for name, response in library.responses.items():
-                if any(name == s.name for s in selected):
+                if any(name == s.name for s in selected) or name in set_aside:
                     continue
                 size = _observable(response, library.base_paths, round_observe, base_obs, sigma)
                 if size < OBSERVABLE_SIGMA:
@@ -290,25 +326,37 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
             def no_gap_left(fit: Fit) -> bool:
                 return stats.chi2.sf(fit.chi2, fit.n) >= settings.alpha
 
-            screening, round_steps = forward_backward(
-                problem, list(responses), settings.bic_margin, settings.ambiguity_margin, settings.parallel_cosine,
-                settings.max_effects - len(selected), stop=no_gap_left)
+            prior = list(fitted)
+            while True:  # until the true model confirms the screening fit (a candidate that fails is set aside)
+                screening, round_steps = forward_backward(
+                    problem, [n for n in responses if n not in set_aside], settings.bic_margin,
+                    settings.ambiguity_margin, settings.parallel_cosine, settings.max_effects - len(selected),
+                    stop=no_gap_left)
+                if not screening.names:
+                    break
+                trial = prior + list(zip(screening.names, screening.values))
+                try:
+                    if prior or any(library.responses[n].kind != "linear" for n in screening.names):
+                        trial, trial_after = _refine_true(rig, effects_by_name, trial, data, observe_of, sigma,
+                                                          fit_rows, sweep_settings)
+                    else:  # linear effects on a linear rig: the screening fit is exact
+                        paths, layout = solve_full_paths(_applied(rig, effects_by_name, trial), data.cases,
+                                                         sweep_settings)
+                        trial_after = observe_of(layout)(paths)
+                except CANDIDATE_FAILURES as error:
+                    for name in screening.names:
+                        set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
+                    continue
+                fitted, after = trial, trial_after
+                break
             for step in round_steps:
                 rejected.update(step.rejected)
             if not screening.names:
                 break
-            prior = list(fitted)
-            fitted = prior + list(zip(screening.names, screening.values))
-            if prior or any(library.responses[n].kind != "linear" for n in screening.names):
-                fitted, after = _refine_true(rig, effects_by_name, fitted, data, observe_of, sigma, fit_rows,
-                                             sweep_settings)
-            else:  # linear effects on a linear rig: the screening fit is exact
-                paths, layout = solve_full_paths(_applied(rig, effects_by_name, fitted), data.cases, sweep_settings)
-                after = observe_of(layout)(paths)
             for step in round_steps:
                 if step.added in screening.names:
                     discriminations += _discriminate(current_rig, effects_by_name, prior, step.group_fits, data,
-                                                     noise, sweep_settings)
+                                                     noise, sweep_settings, set_aside)
             gains = {step.added: step for step in round_steps}
             selected = [s for s in selected if s.name in dict(fitted)]
             for name, values in fitted:
@@ -328,7 +376,7 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     test_held = gap_test(((data.value_mm - after) / sigma)[held], settings.alpha) if held.any() else None
     verdict = "no_gap" if not test_before.gap else ("explained" if not test_after.gap and selected else "unexplained")
     return DiscrepancyResult(verdict, data, noise, fit_rows, before, after, test_before, test_after, test_held,
-                             structure, tuple(selected), tuple(steps), not_observable, rejected,
+                             structure, tuple(selected), tuple(steps), not_observable, rejected, set_aside,
                              tuple(discriminations), rig, current_rig, effects_by_name)
 
 
