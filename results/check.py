@@ -95,3 +95,61 @@ def verdict(comparison: Comparison, held_out: np.ndarray) -> Verdict:
         if errors[i] > worst[0]:
             worst = (float(errors[i]), i, q)
     return Verdict(failures == 0, worst[1], worst[2], worst[0], failures)
+
+
+# exit statuses of ``rvcoax check`` (2 is reserved for user errors, as in every command)
+EXIT_WITHIN = 0
+EXIT_OUTSIDE = 1
+EXIT_IMPLAUSIBLE_FIT = 3
+
+
+@dataclass(frozen=True)
+class CheckVerdict:
+    """What a check concludes: the held-out rows against the tolerance, and the plausibility of the fit.
+
+    Attributes
+    ----------
+    status : str
+        ``within_tolerance`` (every held-out row within tolerance, every fitted parameter plausible),
+        ``within_tolerance_implausible_fit`` (within tolerance, but only with a fitted value outside its
+        physically plausible range: the model fits the table without explaining it), or
+        ``outside_tolerance``.
+    text : str
+        The verdict as printed: ``"VERDICT: within tolerance"``, ``"VERDICT: fits only with implausible
+        parameter(s) …"`` or ``"VERDICT: outside tolerance (n values)"``.
+    exit_code : int
+        :data:`EXIT_WITHIN`, :data:`EXIT_IMPLAUSIBLE_FIT` or :data:`EXIT_OUTSIDE`.
+    implausible : tuple of str
+        ``address = value unit (plausible lo .. hi)`` for every implausible fitted parameter.
+    """
+
+    status: str
+    text: str
+    exit_code: int
+    implausible: tuple[str, ...]
+
+
+def check_verdict(held_out: Verdict, fitted) -> CheckVerdict:
+    """The check's verdict from the held-out comparison and the fitted parameters.
+
+    Parameters
+    ----------
+    held_out : Verdict
+        :func:`verdict` of the calibrated model on the rows not used to fit.
+    fitted : iterable of results.calibration.FittedParameter
+        The calibration's fitted parameters (``plausible``, ``fitted_value``, ``parameter``).
+    """
+    def unit(p) -> str:
+        return "" if p.parameter.unit in ("", "-") else f" {p.parameter.unit}"
+
+    implausible = tuple(
+        f"{p.parameter.address} ({p.parameter.shaft} shaft) = {p.fitted_value:.4g}{unit(p)} "
+        f"(plausible {p.parameter.plausible[0]:g} .. {p.parameter.plausible[1]:g})"
+        for p in fitted if not p.plausible)
+    if not held_out.passed:
+        return CheckVerdict("outside_tolerance", f"VERDICT: outside tolerance ({held_out.failures} held-out "
+                            "value(s))", EXIT_OUTSIDE, implausible)
+    if implausible:
+        return CheckVerdict("within_tolerance_implausible_fit", "VERDICT: within tolerance, but fits only with "
+                            "implausible parameter(s): " + "; ".join(implausible), EXIT_IMPLAUSIBLE_FIT, implausible)
+    return CheckVerdict("within_tolerance", "VERDICT: within tolerance", EXIT_WITHIN, implausible)

@@ -22,7 +22,7 @@ from geometry.rigfile import load_rig, reference_rig_text
 from loadcases.cases import paper_table
 from results import report
 from results.calibration import DEFAULT_PARAMETERS, calibrate
-from results.check import QUANTITIES, compare, verdict
+from results.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES, check_verdict, compare, verdict
 from results.cli_support import (
     CasesOption,
     GridOption,
@@ -55,7 +55,7 @@ from results.sweep_files import (
     write_sweep_files,
 )
 from results.workload import REPORT_AFTER_S, sweep_workload
-from results.writers import write_csv_atomic
+from results.writers import write_csv_atomic, write_json_atomic
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
@@ -233,10 +233,9 @@ def check(
 ) -> None:
     """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
 
-    Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on
-    the rows T2 = 10 and T2 = 200 N·m only; the other 18 rows are predictions. Exit status 0 only
-    when every held-out row is within tolerance (2 % of Y and β, or 1e-7 mm next to the input
-    sign change).
+    Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows T2 = 10 and T2 = 200 N·m only; the other 18 rows are predictions. Tolerance: 2 % of Y and β, or 1e-7 mm next to the input sign change.
+
+    Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
     settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
@@ -270,11 +269,18 @@ def check(
         f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
         f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
     )
-    console.print("[bold green]VERDICT: within tolerance[/]" if result.passed else "[bold red]VERDICT: outside tolerance[/]")
+    outcome = check_verdict(result, calibration.parameters)
+    colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
+    console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
         source, text = rig_text(rig)
         written = [write_csv_atomic(out / "check.csv", report.check_rows(comparison_blind, comparison_cal, rows,
-                                                                         calibration.fit_rows))]
+                                                                         calibration.fit_rows)),
+                   write_json_atomic(out / "check_verdict.json", {
+                       "status": outcome.status, "verdict": outcome.text, "exit_code": outcome.exit_code,
+                       "implausible_parameters": list(outcome.implausible),
+                       "held_out_values_outside_tolerance": result.failures,
+                       "held_out_worst_relative_error_percent": 100 * result.worst_relative_error})]
         written += _write_sweep(out, calibrated, source, text, calibration)
         written += _write_sweep(out, blind, source, text, stem="blind_sweep")
         from results.pictures import plot_y_vs_torque
@@ -282,7 +288,7 @@ def check(
         written.append(plot_y_vs_torque({"blind": blind, "calibrated": calibrated}, out / f"check_{model}.png",
                                         published=rows, title=f"{rig_model.rig.name}: {model} model vs paper 000"))
         report_written(written)
-    raise typer.Exit(code=0 if result.passed else 1)
+    raise typer.Exit(code=outcome.exit_code)
 
 
 def _print_calibration(calibration) -> None:

@@ -235,3 +235,29 @@ def test_unloaded_reference_includes_the_self_weight_sag(rig, unloaded_rig):
                                    aligned.cases[0].paths[shaft].uy_mm + sag, rtol=1e-9, atol=1e-15)
         np.testing.assert_allclose(aligned.cases[0].absolute_paths[shaft].uy_mm,
                                    unloaded.cases[0].paths[shaft].uy_mm, rtol=1e-12, atol=1e-18)
+
+
+@pytest.mark.parametrize(("passed", "fitted", "status", "code"), [
+    (True, 0.05, "within_tolerance", 0),
+    (True, 0.48, "within_tolerance_implausible_fit", 3),
+    (False, 0.05, "outside_tolerance", 1),
+    (False, 0.48, "outside_tolerance", 1),
+])
+def test_the_verdict_names_an_implausible_fit_and_its_exit_status(passed, fitted, status, code):
+    """A pass needs the tolerance and plausible fitted values; an implausible fit is its own verdict."""
+    from results.calibration import FittedParameter
+    from results.check import Verdict, check_verdict
+
+    imbalance = next(p for p in DEFAULT_PARAMETERS if p.address.endswith("imbalance") and p.shaft == "output")
+    assert imbalance.plausible[0] < 0.05 < imbalance.plausible[1] < 0.48
+    outcome = check_verdict(Verdict(passed, 3, "Y_output_mm", 0.01 if passed else 0.3, 0 if passed else 5),
+                            (FittedParameter(imbalance, 0.0, fitted),))
+    assert (outcome.status, outcome.exit_code) == (status, code)
+    assert bool(outcome.implausible) == (fitted == 0.48)
+    if status == "within_tolerance_implausible_fit":
+        assert outcome.text.startswith("VERDICT: within tolerance, but fits only with implausible parameter(s): ")
+        assert f"{imbalance.address} (output shaft) = 0.48 (plausible" in outcome.text
+    elif status == "outside_tolerance":
+        assert outcome.text == "VERDICT: outside tolerance (5 held-out value(s))"
+    else:
+        assert outcome.text == "VERDICT: within tolerance"

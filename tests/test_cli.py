@@ -298,11 +298,19 @@ def check_run(tmp_path_factory):
     return result, out
 
 
-def test_check_exits_0_and_says_so(check_run):
-    result, _ = check_run
-    assert result.returncode == 0, result.stdout + result.stderr
+def test_check_names_the_implausible_fit_and_exits_3(check_run):
+    """The reference rig meets the tolerance on every held-out row, but only with an output imbalance
+    of 0.48 (plausible ±0.15): the verdict says so and the exit status is 3, not a plain pass."""
+    result, out = check_run
+    assert result.returncode == 3, result.stdout + result.stderr
     assert "Traceback" not in result.stdout + result.stderr
-    assert "VERDICT: within tolerance" in result.stdout
+    text = " ".join(result.stdout.split())
+    assert "VERDICT: within tolerance, but fits only with implausible parameter(s): " \
+           "torque_lateral_loads.crankshaft_load_sharing.imbalance (output shaft) = 0.47" in text
+    written = json.loads((out / "check_verdict.json").read_text(encoding="utf-8"))
+    assert written["status"] == "within_tolerance_implausible_fit" and written["exit_code"] == 3
+    assert written["held_out_values_outside_tolerance"] == 0
+    assert len(written["implausible_parameters"]) == 1
 
 
 def test_check_csv(check_run):

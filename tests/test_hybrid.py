@@ -148,6 +148,7 @@ def test_cli_check_hybrid_and_solid_models(tmp_path):
         run = subprocess.run([sys.executable, "-m", "results.cli", "check", "--model", model,
                               "--mesh-size-mm", "10", "--out", str(out)], capture_output=True, text=True,
                              timeout=600)
-        assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-        assert "VERDICT: within tolerance" in run.stdout
+        # 3: within tolerance, with the same implausible output imbalance as the beam model (0.48)
+        assert run.returncode == 3, run.stdout[-2000:] + run.stderr[-2000:]
+        assert "VERDICT: within tolerance, but fits only with implausible parameter(s)" in " ".join(run.stdout.split())
         assert (out / "check.csv").exists() and (out / f"check_{model}.png").exists()
