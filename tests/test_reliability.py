@@ -134,7 +134,7 @@ def test_inverse_iteration_bounds_the_smallest_scaled_eigenvalue():
     """Two solves single out a weak motion: the bound lies below 1/λ_min(S) and close to it."""
     rng = np.random.default_rng(7)
     q, _ = np.linalg.qr(rng.standard_normal((200, 200)))
-    for weakest in (1e-3, 1e-7, 1e-11):  # from well- to ill-conditioned (eigvalsh is exact enough there)
+    for weakest in (1e-3, 1e-7, 1e-11):  # from well- to ill-conditioned
         a = (q * np.r_[weakest, np.logspace(-1, 2, 199)]) @ q.T
         a = 0.5 * (a + a.T) * np.outer(np.arange(1, 201), np.arange(1, 201)) ** 0.5  # unequal units
         d = 1.0 / np.sqrt(np.diag(a))
