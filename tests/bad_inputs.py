@@ -687,7 +687,7 @@ def measured_cases() -> list[BadInput]:
         "negative Y": (_cell(7, 2, "-0.0001"), ("line 8, column Y_input_mm", "a table holds magnitudes")),
         "Y in nm": (scale_column(3, 1e6), ("column Y_output_mm", "looks like µm or nm")),
         "duplicated case": (lambda rows: rows.append(list(rows[4])), ("line 22", "duplicated load case")),
-        "more values than columns": (lambda rows: rows[3].append("7"), ("line 4", "more values than columns")),
+        "more values than columns": (lambda rows: rows[3].append("7"), ("line 4", "5 values but 4 columns in the header")),
         "missing value": (_cell(9, 3, ""), ("line 10, column Y_output_mm", "value is missing")),
         "missing value at the end": (lambda rows: rows[6].pop(), ("line 7, column Y_output_mm", "value is missing")),
         "duplicated column": (add_column("Y_input_mm", "0.1"), ("line 1", "Y_input_mm appear more than once")),
