@@ -44,7 +44,7 @@ CASES: list[Hostile] = [
     _case("sweep --out with [link=x]", lambda f: ["sweep", "--t1", "1", "--t2", "10", "--out", str(f / "[link=x]o")],
           "[link=x]o/sweep.csv", check=_written("[link=x]o", "sweep.csv")),
     _case("check --out with [/]", lambda f: ["check", "--out", str(f / "c[/]")], "c[/]/check.csv",
-          exit_code=0, check=_written("c[/]", "check.csv", "sweep.json", "blind_sweep.json")),
+          exit_code=3, check=_written("c[/]", "check.csv", "check_verdict.json", "sweep.json", "blind_sweep.json")),
     _case("export --out with [/]", lambda f: ["export", "--t1", "1", "--t2", "10", "--out", str(f / "e[/]")],
           "e[/]/dynamics.json", check=_written("e[/]", "dynamics.json")),
     _case("chain-error --out with [/]", lambda f: ["chain-error", "--forces", str(FORCES), "--tilt", "none",
