@@ -12,7 +12,7 @@ RIG_NAME = "[bold]RV[/] rig [link=http://x]y[/link]"
 
 
 def _case(label: str, argv, *expected: str, exit_code: int = 0, check=None) -> Hostile:
-    stream = "output" if exit_code == 0 else "stderr"
+    stream = "stderr" if exit_code == 2 else "output"  # a finished run (0, or 3 for a check verdict) prints to stdout
     return Hostile(f"{K}: {label}", K, argv, tuple(expected), exit_code=exit_code, stream=stream, check=check)
 
 
