@@ -18,6 +18,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from fem.solvers import SolverError
+from geometry.catalogue import plausibility_warnings
 from geometry.hybrid import SolidModelError
 from geometry.inputfiles import plain_number
 from geometry.meshing import MeshingError
@@ -277,7 +278,7 @@ def prepare_with_status(rig, settings):
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
         if size.seconds > REPORT_AFTER_S:
             console.print(f"{size.what}: {size.describe()} to assemble and factorise (estimated)")
-    for message in sag_warnings(rig):
+    for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
         prepared = prepare_model(rig, settings)
