@@ -1,7 +1,7 @@
 """CalculiX (ccx) against rvcoax on the same mesh, supports and nodal loads: time, memory, tip deflection.
 
 The model is the cantilever of bench_solid_scaling.py (the reference rig's output shaft, 160 mm,
-Q460, clamped at x = 0, 100 N in −y on the end face), meshed once per size with geometry.meshing.
+Q460, clamped at x = 0, 100 N in −y on the end face), meshed once per size with rvcoax.geometry.meshing.
 Both codes then start from that mesh:
 
 - **CalculiX**: the mesh is written to an Abaqus ``.inp`` by this script (meshio's writer emits
@@ -237,10 +237,10 @@ def run_ccx(work: Path, job: str) -> dict:
 
 def rvcoax_child(label: str, cache_dir: str) -> dict:
     """Mesh (from the cache) to tip displacement in this fresh process; phases timed."""
-    from fem import blas_threads, hugepages, solid
-    from fem.assembly import assemble_matrix
-    from fem.solvers import pardiso_available, prepare
-    from geometry.meshing import mesh_part
+    from rvcoax.fem import blas_threads, hugepages, solid
+    from rvcoax.fem.assembly import assemble_matrix
+    from rvcoax.fem.solvers import pardiso_available, prepare
+    from rvcoax.geometry.meshing import mesh_part
 
     hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
     blas_threads.single_threaded_openblas()
@@ -352,8 +352,8 @@ def compare_size(label: str, cache_dir: Path, keep: Path | None, repeat: int) ->
     from skfem.quadrature import get_quadrature
     from skfem.refdom import RefTet
 
-    from fem import solid
-    from geometry.meshing import mesh_part
+    from rvcoax.fem import solid
+    from rvcoax.geometry.meshing import mesh_part
 
     start = time.perf_counter()
     mesh = mesh_part(geometry(label), cache_dir=cache_dir)

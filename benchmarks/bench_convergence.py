@@ -37,7 +37,7 @@ sweep (6 unit solves + post-processing); and, separately, the re-calibration on 
 Cost limit: on the 2-core, 24 GB benchmark machine h = 2 mm (about 0.44 M DOF) was stopped at
 23.3 GB resident during the PARDISO factorisation, and the AMG-preconditioned CG solver needed
 593 s for the six unit solves already at h = 4 mm (88 k DOF). The default series therefore stops
-at 2.83 mm for both shafts (sizes whose estimated DOF count, geometry.meshing.estimate_dofs ±30 %,
+at 2.83 mm for both shafts (sizes whose estimated DOF count, rvcoax.geometry.meshing.estimate_dofs ±30 %,
 exceeds ``--max-dofs`` are skipped with a message), and the input shaft alone continues to 2 mm
 (``--input-sizes``; the output shaft then stays at 4 mm). That level is used only for the quantities
 read on the input path, which do not depend on the output shaft's mesh (equal to 9 digits with the
@@ -61,14 +61,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from machine import record  # noqa: E402
 
-import geometry.hybrid as hybrid  # noqa: E402
-from geometry.meshing import estimate_dofs  # noqa: E402
-from geometry.parameters import with_parameters  # noqa: E402
-from geometry.rigfile import load_rig  # noqa: E402
-from geometry.schema import Rig  # noqa: E402
-from loadcases.cases import paper_cases, paper_table  # noqa: E402
-from results.calibration import DEFAULT_PARAMETERS, calibrate  # noqa: E402
-from results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
+import rvcoax.geometry.model.hybrid as hybrid  # noqa: E402
+from rvcoax.geometry.meshing import estimate_dofs  # noqa: E402
+from rvcoax.geometry.parameters import with_parameters  # noqa: E402
+from rvcoax.geometry.rigfile import load_rig  # noqa: E402
+from rvcoax.geometry.schema import Rig  # noqa: E402
+from rvcoax.loadcases.cases import paper_cases, paper_table  # noqa: E402
+from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, calibrate  # noqa: E402
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
 
 DEFAULT_SIZES = (8.0, 8.0 / 2**0.5, 4.0, 4.0 / 2**0.5)
 INPUT_ONLY_SIZES = (2.0,)
@@ -127,7 +127,7 @@ def timed_calls(seconds: dict[str, float], key: str, module=hybrid, name: str = 
 
 
 def timed_meshing(seconds: dict[str, float]):
-    """Time every call of the mesher made while assembling (geometry.hybrid.mesh_part)."""
+    """Time every call of the mesher made while assembling (rvcoax.geometry.model.hybrid.mesh_part)."""
     return timed_calls(seconds, "mesh")
 
 

@@ -3,7 +3,7 @@
 A 1,000-case superposition sweep of the reference rig (beam model) is solved (nothing written),
 then its 1,000 JSON records are written (each figure the best of 3 runs):
 
-- to the journal ``sweep`` writes (:class:`results.sweep_files.CaseStore`: one checksummed line per
+- to the journal ``sweep`` writes (:class:`rvcoax.results.io.sweep_files.CaseStore`: one checksummed line per
   case, handed to the OS at once, fsync'ed every 256 cases or every second and at the end);
 - as one atomically written, fsync'ed file per case (the layout before the journal), as a baseline.
 
@@ -28,13 +28,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from machine import record  # noqa: E402
 
-from geometry.rigfile import load_rig  # noqa: E402
-from loadcases.cases import grid_cases  # noqa: E402
-from results import report  # noqa: E402
-from results.cli import _solve_sweep  # noqa: E402
-from results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
-from results.sweep_files import CaseStore, case_inputs, inputs_sha256, sweep_inputs  # noqa: E402
-from results.writers import write_json_atomic  # noqa: E402
+from rvcoax.geometry.rigfile import load_rig  # noqa: E402
+from rvcoax.loadcases.cases import grid_cases  # noqa: E402
+from rvcoax.results import report  # noqa: E402
+from rvcoax.results.cli.app import _solve_sweep  # noqa: E402
+from rvcoax.results.io.sweep_files import CaseStore, case_inputs, inputs_sha256, sweep_inputs  # noqa: E402
+from rvcoax.results.io.writers import write_json_atomic  # noqa: E402
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
 
 N_CASES = 1000
 REPEATS = 3

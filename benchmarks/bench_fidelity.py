@@ -39,15 +39,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_convergence import cold_cache, timed_calls, timed_meshing  # noqa: E402
 from machine import record  # noqa: E402
 
-import geometry.hybrid as hybrid  # noqa: E402
-from fem import solid as fem_solid  # noqa: E402
-from geometry.loads import UNIT_LOADS  # noqa: E402
-from geometry.parameters import with_parameters  # noqa: E402
-from geometry.rigfile import load_rig  # noqa: E402
-from geometry.schema import Rig  # noqa: E402
-from loadcases.cases import paper_cases, paper_table  # noqa: E402
-from results.calibration import calibrate  # noqa: E402
-from results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep  # noqa: E402
+import rvcoax.geometry.model.hybrid as hybrid  # noqa: E402
+from rvcoax.fem import solid as fem_solid  # noqa: E402
+from rvcoax.geometry.model.loads import UNIT_LOADS  # noqa: E402
+from rvcoax.geometry.parameters import with_parameters  # noqa: E402
+from rvcoax.geometry.rigfile import load_rig  # noqa: E402
+from rvcoax.geometry.schema import Rig  # noqa: E402
+from rvcoax.loadcases.cases import paper_cases, paper_table  # noqa: E402
+from rvcoax.results.studies.calibration import calibrate  # noqa: E402
+from rvcoax.results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 CSV_PATH = HERE / "fidelity_20_cases.csv"
@@ -198,7 +198,7 @@ def hybrid_end_to_end(cases) -> dict[str, float]:
 def cli_end_to_end(extra: list[str]) -> float:
     """Wall time of ``rvcoax sweep --model hybrid`` from a cold mesh cache (a fresh process)."""
     exe = Path(sys.executable).with_name("rvcoax")
-    command = [str(exe)] if exe.exists() else [sys.executable, "-m", "results.cli"]
+    command = [str(exe)] if exe.exists() else [sys.executable, "-m", "rvcoax.results.cli.app"]
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as out:
         env = {**os.environ, "RVCOAX_CACHE_DIR": cache}
         start = time.perf_counter()

@@ -9,7 +9,7 @@ parameters, 2 load cases) on the reference rig:
 - beam model, serial, one sample = 2 load cases, for the three reuse strategies: ``loads`` (only
   the load parameters of the file toleranced), ``frame`` (the whole file: springs change) and
   ``full`` (the whole file, every sample assembled from scratch);
-- beam model through :func:`results.distributed.run_samples`: serial, and a local Dask cluster of
+- beam model through :func:`rvcoax.results.studies.distributed.run_samples`: serial, and a local Dask cluster of
   1 and 2 worker processes, end to end (cluster start included) and in steady state (first to
   last result);
 - hybrid model (default 4 mm mesh), ``frame`` strategy: nominal set-up and per-sample time
@@ -42,8 +42,8 @@ def peak_rss_mb() -> float:
 
 def load_only(tolerances):
     """The tolerance file restricted to the parameters that only change loads."""
-    from results.montecarlo import classify_parameter
-    from results.tolerances import study_rig
+    from rvcoax.results.studies.montecarlo import classify_parameter
+    from rvcoax.results.studies.tolerances import study_rig
 
     rig = study_rig(RIG, tolerances)
     kept = tuple(p for p in tolerances.parameters
@@ -53,7 +53,7 @@ def load_only(tolerances):
 
 def serial_rate(study, values) -> tuple[float, float]:
     """(seconds for the first sample, samples per second after it), evaluated in this process."""
-    from results.montecarlo import evaluate_sample
+    from rvcoax.results.studies.montecarlo import evaluate_sample
 
     start = time.perf_counter()
     evaluate_sample(study, values[0])
@@ -66,8 +66,8 @@ def serial_rate(study, values) -> tuple[float, float]:
 
 def cluster_run(study, values, scheduler: str, workers: int | None) -> dict:
     """End-to-end and steady-state rate of :func:`run_samples`, and the workers' peak memory."""
-    from results.distributed import run_samples
-    from results.montecarlo import evaluate_sample
+    from rvcoax.results.studies.distributed import run_samples
+    from rvcoax.results.studies.montecarlo import evaluate_sample
 
     stamps = []
     with tempfile.TemporaryDirectory() as folder:
@@ -86,8 +86,8 @@ def worker_memory(study, values, workers: int) -> tuple[dict, list[float]]:
 
     from distributed import Client, LocalCluster
 
-    from results.distributed import run_samples
-    from results.montecarlo import evaluate_sample
+    from rvcoax.results.studies.distributed import run_samples
+    from rvcoax.results.studies.montecarlo import evaluate_sample
 
     stamps = []
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
@@ -111,10 +111,10 @@ def main() -> None:
 
     import numpy as np
 
-    from results.montecarlo import Study, evaluate_sample, plan_study
-    from results.sampling import sample_values
-    from results.sweep import SweepSettings
-    from results.tolerances import load_tolerances
+    from rvcoax.results.studies.montecarlo import Study, evaluate_sample, plan_study
+    from rvcoax.results.studies.sampling import sample_values
+    from rvcoax.results.studies.tolerances import load_tolerances
+    from rvcoax.results.sweep import SweepSettings
 
     started = time.perf_counter()
     load_before = os.getloadavg()[0]
@@ -175,7 +175,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":  # worker processes are spawned: nothing runs on import
-    from geometry.rigfile import load_rig
+    from rvcoax.geometry.rigfile import load_rig
 
     RIG = load_rig()
     main()

@@ -3,15 +3,15 @@
 The model is the reference rig's output shaft as a cantilever: Ø35/30/35/30/30 mm steps over
 160 mm (shifted to start at x = 0), Q460 (E = 206 GPa, ν = 0.28), clamped on its end face x = 0,
 100 N in −y as a uniform traction on the end face x = 160 mm. Curved quadratic tets from
-geometry.meshing (gmsh, one thread) at three mesh sizes:
+rvcoax.geometry.meshing (gmsh, one thread) at three mesh sizes:
 
     50k   h = 4.0 mm    52,698 DOF
     300k  h = 2.1 mm   298,017 DOF
     1M    h = 1.35 mm 1,043,940 DOF
 
-Phases: meshing (gmsh, cache bypassed), basis (scikit-fem), element matrices (fem.solid),
-sparse assembly (fem.assembly), load vector, constraint elimination (slicing out the clamped
-DOFs), solver set-up and solve (fem.solvers.prepare, method "auto": PARDISO up to 400 k DOF,
+Phases: meshing (gmsh, cache bypassed), basis (scikit-fem), element matrices (rvcoax.fem.solid),
+sparse assembly (rvcoax.fem.assembly), load vector, constraint elimination (slicing out the clamped
+DOFs), solver set-up and solve (rvcoax.fem.solvers.prepare, method "auto": PARDISO up to 400 k DOF,
 AMG above) and probing (interpolation at 41 points on the axis, tip-face mean). Each size runs in a
 fresh Python process, so the peak resident memory read after every phase (VmHWM, the process's
 high-water mark of resident memory: ru_maxrss without the parent's share) is that size's own; the
@@ -19,7 +19,7 @@ table also gives the rise of that high-water mark during each phase, and the CPU
 system, all threads) of each phase.
 
 Up to 400 k DOF the child also times the previous assembly (scipy ``coo_matrix(...).tocsr()``,
-kept below as :func:`scipy_reference_assembly`) against :func:`fem.assembly.assemble_matrix`
+kept below as :func:`scipy_reference_assembly`) against :func:`rvcoax.fem.assembly.assemble_matrix`
 (best of 3, alternating) and checks that both give the same matrix.
 
 Run: ``.venv/bin/python benchmarks/bench_solid_scaling.py [--sizes 50k,300k,1M]``. Prints the
@@ -53,7 +53,7 @@ N_PROBES = 41
 
 
 def geometry(label: str):
-    from geometry.meshing import SolidPartGeometry
+    from rvcoax.geometry.meshing import SolidPartGeometry
 
     return SolidPartGeometry(f"cantilever_{label}", SEGMENTS, (), SIZES[label])
 
@@ -77,7 +77,7 @@ def peak_rss_mb() -> float:
 
 def nodes_at_x(basis, x_m: float, tol: float = 1e-9):
     """Node coordinates (k, 3) and DOFs (k, 3) of all P2 nodes on the plane x = x_m."""
-    from fem import solid
+    from rvcoax.fem import solid
 
     coordinates, dofs = solid.dof_locations(basis)
     on_plane = abs(coordinates[:, 0] - x_m) < tol
@@ -85,7 +85,7 @@ def nodes_at_x(basis, x_m: float, tol: float = 1e-9):
 
 
 def scipy_reference_assembly(n_dofs, pieces):
-    """fem.assembly.assemble_matrix before the counting-sort rewrite (scipy's COO -> CSR)."""
+    """rvcoax.fem.assembly.assemble_matrix before the counting-sort rewrite (scipy's COO -> CSR)."""
     import numpy as np
     import scipy.sparse as sp
 
@@ -145,10 +145,10 @@ def run_one(label: str) -> dict:
     """One size in this process: every phase timed; returns the figures."""
     import numpy as np
 
-    from fem import blas_threads, hugepages, solid
-    from fem.assembly import assemble_matrix
-    from fem.solvers import prepare
-    from geometry.meshing import mesh_part
+    from rvcoax.fem import blas_threads, hugepages, solid
+    from rvcoax.fem.assembly import assemble_matrix
+    from rvcoax.fem.solvers import prepare
+    from rvcoax.geometry.meshing import mesh_part
 
     hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
     blas_threads.single_threaded_openblas()
@@ -250,8 +250,8 @@ def compare_assembly(basis, repeats: int = 3) -> dict:
     """
     import numpy as np
 
-    from fem import solid
-    from fem.assembly import assemble_matrix
+    from rvcoax.fem import solid
+    from rvcoax.fem.assembly import assemble_matrix
 
     previous = "previous (scipy coo->csr)"
     times = {"element matrices": [], "new": [], previous: []}
@@ -289,7 +289,7 @@ def fmt_mb(mb: float) -> str:
 
 def hugepage_policy() -> str:
     """How the measured runs treat numpy's huge-page requests (fem/hugepages.py), in words."""
-    from fem import hugepages
+    from rvcoax.fem import hugepages
 
     defrag = hugepages.defrag_mode()
     if "NUMPY_MADVISE_HUGEPAGE" in os.environ:
@@ -301,7 +301,7 @@ def hugepage_policy() -> str:
 
 def openblas_policy() -> str:
     """How many threads OpenBLAS gets in the measured runs (fem/blas_threads.py), in words."""
-    from fem import blas_threads
+    from rvcoax.fem import blas_threads
 
     if blas_threads.ENVIRONMENT_KEY in os.environ:
         return f"as set in the environment ({blas_threads.ENVIRONMENT_KEY}={os.environ[blas_threads.ENVIRONMENT_KEY]})"

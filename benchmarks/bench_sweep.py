@@ -15,11 +15,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from machine import record  # noqa: E402
 
-from geometry.build import build_rig_model  # noqa: E402
-from geometry.rigfile import load_rig  # noqa: E402
-from loadcases.cases import paper_cases, paper_table  # noqa: E402
-from results.calibration import calibrate  # noqa: E402
-from results.sweep import SweepSettings, run_sweep, solve_unit_responses  # noqa: E402
+from rvcoax.geometry.model.beam import build_rig_model  # noqa: E402
+from rvcoax.geometry.rigfile import load_rig  # noqa: E402
+from rvcoax.loadcases.cases import paper_cases, paper_table  # noqa: E402
+from rvcoax.results.studies.calibration import calibrate  # noqa: E402
+from rvcoax.results.sweep import SweepSettings, run_sweep, solve_unit_responses  # noqa: E402
 
 REPEATS = 5
 

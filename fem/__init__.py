@@ -2,7 +2,7 @@
 
 Everything here knows nothing about rigs: it works on node coordinates, element tables and
 DOF numbers, in SI units. Each model piece returns COO triplets or load vectors that are
-assembled the same way (:mod:`fem.assembly`).
+assembled the same way (:mod:`rvcoax.fem.assembly`).
 """
 
 DOFS_PER_NODE = 6

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import DOFS_PER_NODE
+from rvcoax.fem import DOFS_PER_NODE
 
 
 @dataclass(frozen=True)

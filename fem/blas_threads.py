@@ -8,7 +8,7 @@ OpenBLAS held to one thread (fem/pardiso.py; measured on the 2-core test machine
 
 Our dense BLAS work is small (the element matrices are batches of 30 × 4 products, calibration
 and regression fits have tens of unknowns), so one OpenBLAS thread costs nothing measurable there.
-Like :mod:`fem.hugepages` this is a process-wide setting, so the library never changes it on
+Like :mod:`rvcoax.fem.hugepages` this is a process-wide setting, so the library never changes it on
 import: the ``rvcoax`` command calls :func:`single_threaded_openblas` once at start (which also
 sets ``OPENBLAS_NUM_THREADS=1`` for the processes it starts, and for an OpenBLAS loaded later), and
 a program using the packages may do the same. An explicit ``OPENBLAS_NUM_THREADS`` in the

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import DOFS_PER_NODE
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.errors import GapConvergenceError  # noqa: F401 (re-exported)
 
 GROUND = -1
 """Node index meaning "the fixed ground"."""
@@ -159,10 +160,6 @@ class GapSolution:
     closed: np.ndarray  # (m,) bool
     iterations: int
     condensed_residual: float
-
-
-class GapConvergenceError(RuntimeError):
-    """The clearance iteration did not converge."""
 
 
 def radial_operator(coordinates: np.ndarray, bushings: Bushings, rows, n_dofs: int):

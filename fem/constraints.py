@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from fem import DOFS_PER_NODE
+from rvcoax.fem import DOFS_PER_NODE
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from fem import DOFS_PER_NODE
+from rvcoax.fem import DOFS_PER_NODE
 
 MOTION_NAMES = ("translation x", "translation y", "translation z", "rotation about x",
                 "rotation about y", "rotation about z")

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import DOFS_PER_NODE, bushing
+from rvcoax.fem import DOFS_PER_NODE, bushing
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,7 +70,7 @@ def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, 
 def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None) -> Equilibrium:
     """Compare the resultant of applied loads with the resultant of all ground reactions.
 
-    ``model`` is the frame (:class:`fem.model.StructuralModel`) holding the ground springs and fixed
+    ``model`` is the frame (:class:`rvcoax.fem.model.StructuralModel`) holding the ground springs and fixed
     DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids).
     """
     table = dofs if dofs is not None else frame_dof_table(model.coordinates)

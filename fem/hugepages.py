@@ -22,6 +22,7 @@ environment is the user's choice and is left alone.
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 THP_DEFRAG = Path("/sys/kernel/mm/transparent_hugepage/defrag")
@@ -53,11 +54,13 @@ def avoid_compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:
     """Stop numpy's huge-page requests where they stall (see the module text); True if it did."""
     if "NUMPY_MADVISE_HUGEPAGE" in os.environ or not compaction_stalls(defrag_path):
         return False
+    os.environ["NUMPY_MADVISE_HUGEPAGE"] = "0"  # child processes (Dask workers) start the same way
+    if "numpy" not in sys.modules:  # numpy reads the variable when it is first imported
+        return True
     from numpy._core import multiarray
 
     setter = getattr(multiarray, "_set_madvise_hugepage", None)
     if setter is None:  # pragma: no cover - numpy without the switch
         return False
     setter(False)
-    os.environ["NUMPY_MADVISE_HUGEPAGE"] = "0"  # child processes (Dask workers) start the same way
     return True

@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from fem import DOFS_PER_NODE, beam, bushing, loads
-from fem.assembly import assemble_matrix
-from fem.constraints import RigidLinks, elimination_matrix, rigid_link_equations
+from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads
+from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.constraints import RigidLinks, elimination_matrix, rigid_link_equations
 
 
 def _no_links() -> RigidLinks:

@@ -35,6 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from rvcoax.fem.errors import PardisoError
+
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
 _ERRORS = {
@@ -54,18 +56,6 @@ _ERRORS = {
 ZERO_PIVOT = -4
 RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
 """Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
-
-
-class PardisoError(RuntimeError):
-    """PARDISO returned an error code.
-
-    ``code`` is that code, ``phase`` the step that failed (``"analysis"``, ``"factorisation"``,
-    ``"solve"``, ``"release"``) and ``equation`` the failing unknown or None.
-    """
-
-    def __init__(self, code: int, phase: str, equation: int | None = None):
-        self.code, self.phase, self.equation = code, phase, equation
-        super().__init__(f"PARDISO {phase} failed with error {code}: {_ERRORS.get(code, 'unknown error')}")
 
 
 @functools.cache
@@ -182,7 +172,7 @@ class Factorization:
     Whether a *singular* matrix fails here is a matter of rounding: the tiny pivots of its
     rigid-body motions come out with either sign, and the threaded factorisation does not round
     the same way every time (a free 3.9 k-DOF solid: 129 of 150 runs failed with −4, 1 with −13,
-    20 succeeded), so a caller that must know tests the factor (:mod:`fem.solvers` does).
+    20 succeeded), so a caller that must know tests the factor (:mod:`rvcoax.fem.solvers` does).
     """
 
     def __init__(self, storage: UpperStorage):
@@ -243,7 +233,8 @@ class Factorization:
         if error.value:
             # iparm[29] names the unknown of a zero pivot in scalar storage (in blocks it is not one)
             equation = int(self._iparm[29]) if error.value == ZERO_PIVOT and s.block_size == 1 else None
-            raise PardisoError(error.value, what, equation)
+            raise PardisoError(error.value, what, equation,
+                               f"PARDISO {what} failed with error {error.value}: {_ERRORS.get(error.value, 'unknown error')}")
         return x
 
     def solve(self, block: np.ndarray) -> np.ndarray:

@@ -3,7 +3,7 @@
 Element matrices are computed with numpy from the basis gradients scikit-fem evaluates at the
 quadrature points (same numbers as scikit-fem's ``BilinearForm`` to 1e-16, about 15× faster; with
 the COO → CSR conversion, which then dominates, 3× faster overall: 0.7 s vs 2.2 s at 46 k DOF)
-and returned as COO triplets like every other model piece (:mod:`fem.assembly`). Units are SI:
+and returned as COO triplets like every other model piece (:mod:`rvcoax.fem.assembly`). Units are SI:
 coordinates in m, moduli in Pa, forces in N.
 
 DOF numbering (scikit-fem 12, ``ElementVector(ElementTetP2())``): **interleaved per node**. The

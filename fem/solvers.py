@@ -5,7 +5,7 @@ Matrices and vectors only (no meshes). Three methods, measured on this stack
 
 - ``"superlu"``: scipy's SuperLU (``splu``), symmetric mode. Robust, no extra dependency; best
   for small systems (time and memory grow fast: 14 GB at 300 k DOF).
-- ``"pardiso"``: Intel MKL PARDISO (:mod:`fem.pardiso`) in SPD mode (``mtype=2``, upper triangle
+- ``"pardiso"``: Intel MKL PARDISO (:mod:`rvcoax.fem.pardiso`) in SPD mode (``mtype=2``, upper triangle
   only; the unsymmetric mode costs twice the time and memory), in 3 × 3 blocks when the matrix
   is made of them (a solid). Fastest up to a few 100 k DOF; all right-hand sides in one call.
   x86-64 only.
@@ -27,9 +27,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fem import pardiso
-from fem.diagnostics import scaled_inverse_norm_bound
-from fem.solve import SingularModelError
+from rvcoax.fem import pardiso
+from rvcoax.fem.diagnostics import scaled_inverse_norm_bound
+from rvcoax.fem.errors import SingularMatrixError, SolverError
 
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
@@ -37,14 +37,6 @@ PARDISO_MAX_DOFS = 400_000
 SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
 SINGULAR_INVERSE_NORM = 1.0 / SINGULAR_PIVOT_RATIO  # PARDISO: 1/λ_min of the Jacobi-scaled matrix above this
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
-
-
-class SolverError(RuntimeError):
-    """A linear solve failed (iterative solver did not converge, bad input, solver library error)."""
-
-
-class SingularMatrixError(SolverError, SingularModelError):
-    """A direct factorisation found the matrix singular (a part can move without deforming)."""
 
 
 @dataclass(frozen=True)
@@ -140,7 +132,7 @@ class PreparedSolver:
         return self.matrix.shape[0]
 
     def condition_estimate(self) -> float | None:
-        """Estimated condition number of the Jacobi-scaled matrix (:func:`fem.diagnostics.scaled_condition_estimate`).
+        """Estimated condition number of the Jacobi-scaled matrix (:func:`rvcoax.fem.diagnostics.scaled_condition_estimate`).
 
         About ten solves with the factorisation, computed once. None for AMG, where every solve is a
         full CG run (a preconditioned solve that converges is its own evidence of conditioning).
@@ -148,7 +140,7 @@ class PreparedSolver:
         if not self._direct:
             return None
         if self._condition is None:
-            from fem.diagnostics import scaled_condition_estimate
+            from rvcoax.fem.diagnostics import scaled_condition_estimate
 
             self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b.reshape(-1, 1))[0])
         return self._condition
@@ -313,7 +305,7 @@ def prepare(
         Symmetric positive definite (constraints already eliminated).
     method : {"auto", "superlu", "pardiso", "amg"}
     near_null_space : (n, k) array, optional
-        AMG only: the rigid-body modes of the unconstrained structure (``fem.solid.rigid_body_modes``)
+        AMG only: the rigid-body modes of the unconstrained structure (``rvcoax.fem.solid.rigid_body_modes``)
         restricted to the free DOFs. Without them AMG converges slowly on elasticity.
     superlu_max_dofs, pardiso_max_dofs : int
         Size thresholds of ``"auto"``.

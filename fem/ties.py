@@ -1,7 +1,7 @@
 """Ties between a 6-DOF reference node and the 3-DOF nodes of a solid face.
 
 Both ties are linear constraint equations (slave DOF → {master DOF: coefficient}) for
-:func:`fem.constraints.elimination_matrix`, so they assemble into the system like rigid links.
+:func:`rvcoax.fem.constraints.elimination_matrix`, so they assemble into the system like rigid links.
 
 * **Rigid tie (RBE2-like)**: every face node follows the reference node as a rigid body,
   u_i = u_c + θ_c × (x_i − x_c). Slaves: the face DOFs. Use it where the real joint is stiff
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import DOFS_PER_NODE
+from rvcoax.fem import DOFS_PER_NODE
 
 
 @dataclass(frozen=True)

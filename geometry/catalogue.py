@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from geometry.schema import Rig
+from rvcoax.geometry.schema import Rig
 
 
 @dataclass(frozen=True)

@@ -7,9 +7,9 @@ rig's results unchanged, so every candidate is available on any rig and the base
 "all parameters zero". :func:`candidate_effects` lists every candidate at every location of a rig.
 
 Each effect is expressed as rig-file changes: :meth:`Effect.rig_changes` gives parameter
-addresses (:mod:`geometry.parameters`) and their new values, :meth:`Effect.new_items` the
+addresses (:mod:`rvcoax.geometry.parameters`) and their new values, :meth:`Effect.new_items` the
 entries it adds to a list (e.g. a new ``[[torque_lateral_loads]]`` of kind ``proportional``), and
-:meth:`Effect.apply` the validated rig with both. ``geometry.rigwrite.updated_rig_text`` writes such
+:meth:`Effect.apply` the validated rig with both. ``rvcoax.geometry.rigwrite.updated_rig_text`` writes such
 a rig into the user's file.
 
 Vocabulary (parameter, unit, whether Y is affine in it):
@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 
 from pydantic import ValidationError
 
-from geometry.parameters import get_parameter, with_parameters
-from geometry.schema import Rig
+from rvcoax.geometry.parameters import get_parameter, with_parameters
+from rvcoax.geometry.schema import Rig
 
 STANDARD_GRAVITY = 9.80665  # m/s²
 

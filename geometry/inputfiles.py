@@ -15,8 +15,10 @@ import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
+from rvcoax.fem.errors import RvcoaxError
 
-class InputFileError(ValueError):
+
+class InputFileError(RvcoaxError, ValueError):
     """An input path that must not be read: not a regular file, or too large."""
 
 

@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 import skfem
 
+from rvcoax.fem.errors import RvcoaxError
+
 logger = logging.getLogger(__name__)
 
 MESHER_VERSION = 1
@@ -41,8 +43,10 @@ _ELEMENTS_PER_CIRCLE = 8  # gmsh Mesh.MeshSizeFromCurvature
 _GMSH_TO_SKFEM_TET10 = np.array([0, 1, 2, 3, 4, 5, 6, 7, 9, 8])
 
 
-class MeshingError(RuntimeError):
+class MeshingError(RvcoaxError, RuntimeError):
     """gmsh failed, or produced a mesh that cannot be used (inverted curved elements)."""
+
+    stage = "cannot mesh the rig"
 
 
 @dataclass(frozen=True)

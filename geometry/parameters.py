@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import re
 
-from geometry.schema import Rig
+from rvcoax.geometry.schema import Rig
 
 _ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<item>[A-Za-z0-9_.\-]+?)\.(?P<key>\w+)(\[(?P<index>\d)\])?$")
 _TABLE_ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<key>\w+)$")

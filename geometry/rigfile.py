@@ -1,4 +1,4 @@
-"""Reading a rig file: TOML → validated :class:`geometry.schema.Rig`, with errors a user can act on."""
+"""Reading a rig file: TOML → validated :class:`rvcoax.geometry.schema.Rig`, with errors a user can act on."""
 
 from __future__ import annotations
 
@@ -7,14 +7,15 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from geometry.inputfiles import InputFileError, parse_toml, read_input_text
-from geometry.schema import Rig
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.inputfiles import InputFileError, parse_toml, read_input_text
+from rvcoax.geometry.schema import Rig
 
 REFERENCE_RIG = "reference_rig.toml"
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 
 
-class RigFileError(ValueError):
+class RigFileError(RvcoaxError, ValueError):
     """A rig file that cannot be used; the message names the file, the keys and the reasons."""
 
     def __init__(self, source: str, problems: list[str]):
@@ -75,7 +76,7 @@ def parse_rig(data: dict, source: str) -> Rig:
 def load_rig(path: str | Path | None = None) -> Rig:
     """Load and validate a rig file; ``None`` loads the built-in reference rig."""
     if path is None:
-        text = resources.files("geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
+        text = resources.files("rvcoax.geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
         source = f"<built-in {REFERENCE_RIG}>"
     else:
         source = str(path)
@@ -83,6 +84,17 @@ def load_rig(path: str | Path | None = None) -> Rig:
             text = read_input_text(path, MAX_RIG_BYTES, "a rig file")
         except InputFileError as error:
             raise RigFileError(source, [str(error)]) from None
+    return parse_rig_text(text, source)
+
+
+def parse_rig_text(text: str, source: str = "<rig text>") -> Rig:
+    """Parse and validate the text of a rig file; ``source`` names it in error messages.
+
+    Raises
+    ------
+    RigFileError
+        The text is not TOML, or a key is missing, unknown or out of its physical range.
+    """
     try:
         data = parse_toml(text)
     except InputFileError as error:
@@ -92,4 +104,4 @@ def load_rig(path: str | Path | None = None) -> Rig:
 
 def reference_rig_text() -> str:
     """The built-in reference rig file, as text (to copy and edit)."""
-    return resources.files("geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
+    return resources.files("rvcoax.geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")

@@ -12,8 +12,8 @@ import tomllib
 
 import tomlkit
 
-from geometry.rigfile import parse_rig
-from geometry.schema import Rig
+from rvcoax.geometry.rigfile import parse_rig
+from rvcoax.geometry.schema import Rig
 
 
 def _plain(value):

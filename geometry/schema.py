@@ -1,7 +1,7 @@
 """The rig file's schema (pydantic): every key, its unit, its physical bounds.
 
 Lengths are in mm, stiffnesses in the unit their key names, as in the file. Cross-references
-(parts, materials) and geometric consistency are checked in :func:`geometry.schema.Rig`'s
+(parts, materials) and geometric consistency are checked in :func:`rvcoax.geometry.schema.Rig`'s
 validators, so a loaded ``Rig`` is always buildable.
 """
 
@@ -12,13 +12,14 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
+
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 # a rig part's diameter: 0.01 mm is a wire, 100 m no rig; outside, I = πd⁴/64 underflows or overflows
 Diameter = Annotated[float, Field(ge=0.01, le=1e5, allow_inf_nan=False, strict=True)]
-MESH_SIZE_RANGE_MM = (0.05, 1000.0)  # finer than 0.05 mm meshes no rig part in memory; coarser than 1 m is no mesh
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 

@@ -16,14 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
+from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES, MAX_TORQUE_NM
 
 PAPER_TABLE = "paper000_coaxiality_table.csv"
-MAX_CASE_FILE_BYTES = 20_000_000  # about a million load cases
-MAX_TORQUE_NM = 1e6  # |T1|, |T2| beyond this are no rig torque (RV-20E: 1.43 and 200 N·m); every reader uses it
 
 
-class LoadCaseError(ValueError):
+class LoadCaseError(RvcoaxError, ValueError):
     """Load cases that cannot be used; the message names the source and the reason."""
 
     def __init__(self, source: str, problem: str):
@@ -64,7 +64,7 @@ def _validated(pairs: list[tuple[float, float]], source: str, where: list[str] |
 
 def paper_cases() -> tuple[LoadCase, ...]:
     """The 20 (T1, T2) pairs of paper 000's coaxiality table, in the table's order."""
-    text = resources.files("loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
+    text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     return _read_csv_text(text, f"<built-in {PAPER_TABLE}>")
 
 
@@ -175,7 +175,7 @@ class PublishedRow:
 
 def paper_table() -> tuple[PublishedRow, ...]:
     """The published ANSYS results of paper 000 (shared/reference/coaxiality_table.csv)."""
-    text = resources.files("loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
+    text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     rows = []
     for row in csv.DictReader(io.StringIO(text)):
         rows.append(PublishedRow(

@@ -1,13 +1,13 @@
 """Relative motion and force of the rig's springs in every load case of a sweep.
 
-Every bearing, mount, coupling and joint is a bushing (:mod:`fem.bushing`) between two frame nodes,
+Every bearing, mount, coupling and joint is a bushing (:mod:`rvcoax.fem.bushing`) between two frame nodes,
 or a node and the ground, at a point c reached by rigid arms. Its relative motion is
 Δ = B_b u_b − B_a u_a: the motion at c of side b (the shaft of a bearing, the ``to`` end of a
 coupling or joint, the part of a mount) minus that of side a (the housing, the ``from`` end, the
 ground). The spring exerts diag(k) Δ on side a and the opposite on side b.
 
 A spring may be free of load at a relative motion Δ0 ≠ 0 (a coupling installed with a parallel
-offset or angle, a raised mount: :func:`geometry.build.stress_free_motions`); it then exerts
+offset or angle, a raised mount: :func:`rvcoax.geometry.model.beam.stress_free_motions`); it then exerts
 diag(k) (Δ − Δ0). The *deformation* reported here is Δ − Δ0 (from the unloaded geometry) or the
 change of Δ since the rest state (from rest, where Δ0 cancels), so that force = diag(k) × deformation
 in both references. For a coupling it is its misalignment: parallel offset (translation in y and z)
@@ -15,11 +15,11 @@ and angle (rotation about y and z) of the ``to`` hub relative to the ``from`` hu
 centre. For a bearing, −diag(k) × deformation is the reaction the bearing exerts on its shaft.
 
 In hybrid and solid models the same bushings attach to the reference nodes tied to solid faces
-(:mod:`geometry.hybrid`), so everything here works on the frame part of the displacement vector at
+(:mod:`rvcoax.geometry.model.hybrid`), so everything here works on the frame part of the displacement vector at
 every fidelity.
 
 The displacements of a case are rebuilt from the sweep's unit responses,
-u = Σ_k w_k u_k (:func:`geometry.loads.case_weights`); with ``method="direct"`` the sweep solved
+u = Σ_k w_k u_k (:func:`rvcoax.geometry.model.loads.case_weights`); with ``method="direct"`` the sweep solved
 each case on its own, which agrees with this superposition to solver precision.
 """
 
@@ -29,10 +29,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem import bushing
-from geometry.build import stress_free_motions
-from geometry.loads import UNIT_LOADS, case_weights
-from results.sweep import Sweep
+from rvcoax.fem import bushing
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.model.beam import stress_free_motions
+from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
+from rvcoax.results.sweep import Sweep
 
 REFERENCES = ("measured", "unloaded")
 """``measured``: from the state the rig's ``[paths] measured_from`` names (the aligned rig at rest by
@@ -69,7 +70,7 @@ class ConnectionStates:
             raise KeyError(f"no {kind} named '{name}'") from None
 
 
-class ConnectionsUnavailableError(ValueError):
+class ConnectionsUnavailableError(RvcoaxError, ValueError):
     """The sweep cannot give per-case spring states (the message says why)."""
 
 

@@ -2,7 +2,7 @@
 
 The model is linear, so each case is a superposition of unit responses solved with one
 factorisation (or one preconditioner set-up): u = u_rest + sign(T1) u_engaged_T1 +
-sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2 (:mod:`geometry.loads`). ``method="direct"`` assembles
+sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2 (:mod:`rvcoax.geometry.model.loads`). ``method="direct"`` assembles
 each case's own load vector and solves it instead (same factorisation), as a check that both agree.
 
 Y is read from the aligned rig at rest (``paths.measured_from = "aligned_at_rest"``: u − u_rest)
@@ -10,7 +10,7 @@ or from the unloaded geometry (``"unloaded"``: u). Both are kept per case.
 
 A rig with a bearing clearance (``radial_clearance_um > 0``) is not linear: the rest state and
 every case are then solved on their own by the active-set Newton iteration of
-:func:`fem.bushing.solve_with_gaps` (beam model only), on the same factorisation.
+:func:`rvcoax.fem.bushing.solve_with_gaps` (beam model only), on the same factorisation.
 """
 
 from __future__ import annotations
@@ -19,15 +19,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem import bushing, equilibrium
-from fem.solve import SingularModelError, factorize
-from geometry.build import RigModel
-from geometry.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
-from geometry.schema import Rig
-from geometry.system import MODEL_KINDS, RigSystem, assemble_beam, assemble_rig
-from loadcases.cases import LoadCase
-from results import preflight
-from results.paths import ShaftPathResult
+from rvcoax.fem import bushing, equilibrium
+from rvcoax.fem.errors import RvcoaxError, SingularModelError
+from rvcoax.fem.system import factorize
+from rvcoax.geometry.model import preflight
+from rvcoax.geometry.model.beam import RigModel
+from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
+from rvcoax.geometry.model.system import MODEL_KINDS, RigSystem, assemble_beam, assemble_rig
+from rvcoax.geometry.schema import Rig
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.paths import ShaftPathResult
 
 SHAFTS = ("input", "output")
 
@@ -101,8 +102,10 @@ class Sweep:
                          self.rig.paths.measured_from == "aligned_at_rest")
 
 
-class ModelError(RuntimeError):
+class ModelError(RvcoaxError, RuntimeError):
     """A model that cannot be solved, with the reason in the user's terms."""
+
+    stage = "cannot solve the rig"
 
 
 def read_path(system: RigSystem, displacement: np.ndarray, which: str) -> ShaftPathResult:
@@ -114,7 +117,7 @@ def read_path(system: RigSystem, displacement: np.ndarray, which: str) -> ShaftP
 
 def check_supports(rig: Rig) -> None:
     """Raise :class:`ModelError` naming every part that can move without deforming anything
-    (:func:`results.preflight.support_problem`: on the rig's beam model, cheap at any fidelity)."""
+    (:func:`rvcoax.geometry.model.preflight.support_problem`: on the rig's beam model, cheap at any fidelity)."""
     problem = preflight.support_problem(rig)
     if problem:
         raise ModelError(problem)
@@ -149,7 +152,7 @@ def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual
 
 def _prepare(system: RigSystem, settings: SweepSettings):
     """A solver for the reduced system; returns (solve function, name, report dict)."""
-    from fem import solvers
+    from rvcoax.fem import solvers
 
     if system.kind == "beam" and settings.solver in ("auto", "superlu"):
         try:
@@ -289,7 +292,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     """The sweep of a beam model with bearing clearances: the rest state and each case solved on its own.
 
     ``solve`` solves the model as assembled (every radial spring engaged); the gaps are condensed
-    on it once (:func:`fem.bushing.prepare_radial_gaps`). Each solution is checked: the backward
+    on it once (:func:`rvcoax.fem.bushing.prepare_radial_gaps`). Each solution is checked: the backward
     error ‖Tᵀ(K_lin u + Uᵀ F(U u) − f)‖ / (‖Tᵀ |K| |u|‖ + ‖Tᵀ f‖ + ‖Tᵀ Uᵀ G‖) must be below
     :data:`GAP_BACKWARD_LIMIT`, the relative residual (against the loads f and Uᵀ G) below
     :data:`EQUILIBRIUM_LIMIT` as for every case, and the global equilibrium uses the bearing forces

@@ -2,7 +2,7 @@
 
 Every size-like input (load cases, a ``--grid``, the rig's beam nodes, ``--workers``, ``--samples``,
 a sensitivity design) goes through :func:`check`: above the memory this machine has available
-(:func:`results.preflight.available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
+(:func:`rvcoax.geometry.model.preflight.available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
 it raises :class:`WorkloadError` with the estimate and a suggestion; above :data:`REPORT_AFTER_S`
 the caller prints the estimate (:meth:`Workload.describe`) before it starts.
 
@@ -18,7 +18,8 @@ import math
 import os
 from dataclasses import dataclass
 
-from results.preflight import available_memory_bytes
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.model.preflight import available_memory_bytes
 
 MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
 REPORT_AFTER_S = 5.0  # work estimated longer than this is announced before it starts
@@ -48,7 +49,7 @@ SAMPLE_CASE_S_SOLID = 7.3
 SAMPLE_BYTES = 2e3
 
 
-class WorkloadError(ValueError):
+class WorkloadError(RvcoaxError, ValueError):
     """Work or memory beyond what this machine can do: the message has the estimate and a suggestion."""
 
 
@@ -218,7 +219,7 @@ def check_workers(workers: int | None, option: str = "--workers") -> int | None:
 def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",
                    strategy: str = "full") -> Workload:
     """A Monte Carlo or sensitivity study of ``n_solves`` samples, each solving ``n_cases`` load cases
-    (``strategy``: what a sample re-assembles, :data:`results.montecarlo.STRATEGIES`)."""
+    (``strategy``: what a sample re-assembles, :data:`rvcoax.results.studies.montecarlo.STRATEGIES`)."""
     per_case = SAMPLE_CASE_S.get(strategy, SAMPLE_CASE_S["full"]) if model == "beam" else SAMPLE_CASE_S_SOLID
     return Workload(what, per_case * n_solves * max(n_cases, 1),
                     BASE_BYTES + n_solves * (SAMPLE_BYTES * max(n_cases, 1) + 8.0 * (3 * n_parameters + 8)))

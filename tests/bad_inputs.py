@@ -20,8 +20,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from geometry.rigfile import reference_rig_text
-from loadcases.cases import paper_table
+from rvcoax.geometry.rigfile import reference_rig_text
+from rvcoax.loadcases.cases import paper_table
 from tests.test_rigfile_errors import dump_toml, reference_data
 
 HUGE_BYTES = 200_000_000  # written sparsely: the readers must refuse it before reading

@@ -10,14 +10,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fem import DOFS_PER_NODE
-from fem.beam import BeamElements
-from fem.bushing import Bushings
-from fem.equilibrium import check_equilibrium
-from fem.loads import NodalLoads, nodal_load_vector
-from fem.model import StructuralModel, constraint_elimination, stiffness_matrix
-from fem.sections import CircularSection
-from fem.solve import factorize
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.beam import BeamElements
+from rvcoax.fem.bushing import Bushings
+from rvcoax.fem.equilibrium import check_equilibrium
+from rvcoax.fem.loads import NodalLoads, nodal_load_vector
+from rvcoax.fem.model import StructuralModel, constraint_elimination, stiffness_matrix
+from rvcoax.fem.sections import CircularSection
+from rvcoax.fem.system import factorize
 
 YOUNGS_MODULUS = 210e9
 POISSON = 0.3

@@ -1,7 +1,7 @@
 """Hostile inputs through the real command line, and valid inputs that must never be refused.
 
 Each case of the generated corpus (``tests/bad_inputs.py``: rig TOML files, load-case CSV/TOML,
-measured-data CSV) is run through ``rvcoax`` in process (typer's CliRunner on ``results.cli.app``):
+measured-data CSV) is run through ``rvcoax`` in process (typer's CliRunner on ``rvcoax.results.cli.app.app``):
 rig files through ``rig show`` and ``sweep``, unsolvable rigs through ``sweep``, load cases through
 ``sweep --cases``, measured data through ``discrepancy --measured`` (validated before any solve).
 Each must end with exit status 2 and one message on stderr that names the file, the line or key
@@ -22,11 +22,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from geometry.rigfile import parse_rig
-from loadcases.cases import read_cases
-from results.cli import app
-from results.discrepancy.measured import read_measured
-from results.preflight import support_problem
+from rvcoax.geometry.model.preflight import support_problem
+from rvcoax.geometry.rigfile import parse_rig
+from rvcoax.loadcases.cases import read_cases
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.discrepancy.measured import read_measured
 from tests.bad_inputs import all_cases
 from tests.test_rigfile_errors import dump_toml, reference_data
 

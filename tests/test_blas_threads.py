@@ -12,7 +12,7 @@ import pytest
 CHILD = """
 import json, os, sys
 import numpy, scipy.linalg  # both OpenBLAS copies loaded
-from fem import blas_threads
+from rvcoax.fem import blas_threads
 before = blas_threads.openblas_thread_counts()
 changed = blas_threads.single_threaded_openblas() if sys.argv[1] == "call" else None
 print(json.dumps({"before": before, "changed": changed, "after": blas_threads.openblas_thread_counts(),
@@ -53,7 +53,7 @@ def test_an_explicit_setting_is_respected():
 
 
 def test_the_rvcoax_command_calls_it(monkeypatch):
-    from results import cli
+    from rvcoax.results.cli import main as cli
 
     calls = []
     monkeypatch.setattr(cli.blas_threads, "single_threaded_openblas", lambda: calls.append("openblas"))

@@ -1,4 +1,4 @@
-"""Paper 000's transmission-chain error vector model (results/chain_error.py, `rvcoax chain-error`).
+"""Paper 000's transmission-chain error vector model (results/studies/chain_error.py, `rvcoax chain-error`).
 
 The paper's arithmetic and sign convention, the torsion constant 7350 derived from G, every
 component's formula against an independent torsion calculation (the project's Timoshenko beam
@@ -16,9 +16,10 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fem.sections import CircularSection
-from geometry.rigfile import load_rig
-from results.chain_error import (
+from rvcoax.fem.sections import CircularSection
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.chain_error import (
     NO_TILT,
     ChainDataError,
     Coaxiality,
@@ -29,7 +30,6 @@ from results.chain_error import (
     signed_total,
     torsion_constant_deg_per_m,
 )
-from results.cli import app
 from tests import frames
 
 DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "results" / "data"

@@ -13,12 +13,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from geometry.rigfile import load_rig, parse_rig, reference_rig_text
-from loadcases.cases import LoadCase, paired_cases, paper_cases, paper_table
-from results.calibration import DEFAULT_PARAMETERS, calibrate
-from results.check import Tolerance, compare, verdict
-from results.paths import beta_from_y_deg
-from results.sweep import SweepSettings, run_sweep
+from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
+from rvcoax.loadcases.cases import LoadCase, paired_cases, paper_cases, paper_table
+from rvcoax.results.paths import beta_from_y_deg
+from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, calibrate
+from rvcoax.results.studies.check import Tolerance, compare, verdict
+from rvcoax.results.sweep import SweepSettings, run_sweep
 
 INPUT = tuple(p for p in DEFAULT_PARAMETERS if p.shaft == "input")
 SUN = "torque_lateral_loads.sun_gear_load_sharing"
@@ -245,8 +245,8 @@ def test_unloaded_reference_includes_the_self_weight_sag(rig, unloaded_rig):
 ])
 def test_the_verdict_names_an_implausible_fit_and_its_exit_status(passed, fitted, status, code):
     """A pass needs the tolerance and plausible fitted values; an implausible fit is its own verdict."""
-    from results.calibration import FittedParameter
-    from results.check import Verdict, check_verdict
+    from rvcoax.results.studies.calibration import FittedParameter
+    from rvcoax.results.studies.check import Verdict, check_verdict
 
     imbalance = next(p for p in DEFAULT_PARAMETERS if p.address.endswith("imbalance") and p.shaft == "output")
     assert imbalance.plausible[0] < 0.05 < imbalance.plausible[1] < 0.48

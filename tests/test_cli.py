@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from geometry.rigfile import load_rig, parse_rig, reference_rig_text
-from loadcases.cases import paper_cases, paper_table
-from results.calibration import DEFAULT_PARAMETERS
-from results.cli import app
+from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
+from rvcoax.loadcases.cases import paper_cases, paper_table
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS
 
 FIRST_COLUMNS = ["T1_input_Nm", "T2_output_Nm", "Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg"]
 QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
@@ -33,7 +33,7 @@ PAPER_PAIRS = [(c.input_torque_Nm, c.output_torque_Nm) for c in paper_cases()]
 def rvcoax(*args: str, cwd: Path) -> subprocess.CompletedProcess:
     """Run the installed ``rvcoax`` script."""
     script = Path(sys.executable).with_name("rvcoax")
-    command = [str(script)] if script.exists() else [sys.executable, "-c", "from results.cli import run; run()"]
+    command = [str(script)] if script.exists() else [sys.executable, "-c", "from rvcoax.results.cli.app import run; run()"]
     return subprocess.run(command + list(args), capture_output=True, text=True, cwd=cwd, timeout=300)
 
 

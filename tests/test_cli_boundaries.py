@@ -8,9 +8,9 @@ import os
 import pytest
 from typer.testing import CliRunner
 
-from results import writers
-from results.cli import app
-from results.cli_support import UserError, finite_option, scheduler_address, torque_list, write_error_text
+from rvcoax.results.cli.app import app
+from rvcoax.results.cli.support import UserError, finite_option, scheduler_address, torque_list, write_error_text
+from rvcoax.results.io import writers
 from tests.hostile._files import FORCES
 
 

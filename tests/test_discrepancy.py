@@ -16,16 +16,16 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from geometry.effects import candidate_effects
-from geometry.rigfile import load_rig, parse_rig
-from geometry.schema import Rig
-from loadcases.cases import paper_cases
-from results.cli import app
-from results.discrepancy.measured import MeasuredData, MeasuredDataError, parse_measured
-from results.discrepancy.responses import Observation, solve_full_paths
-from results.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
-from results.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
-from results.sweep import SweepSettings
+from rvcoax.geometry.effects import candidate_effects
+from rvcoax.geometry.rigfile import load_rig, parse_rig
+from rvcoax.geometry.schema import Rig
+from rvcoax.loadcases.cases import paper_cases
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.discrepancy.measured import MeasuredData, MeasuredDataError, parse_measured
+from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
+from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
+from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
+from rvcoax.results.sweep import SweepSettings
 
 LENGTHS = {"input": 120.0, "output": 160.0}
 STATIONS = 11

@@ -16,14 +16,14 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fem import bushing
-from geometry.effects import candidate_effects
-from geometry.rigfile import load_rig
-from loadcases.cases import LoadCase, paper_table
-from results.cli import app
-from results.discrepancy.measured import parse_measured, printed_quantum
-from results.discrepancy.workflow import DiscrepancySettings, run_discrepancy
-from results.sweep import EQUILIBRIUM_LIMIT, SweepSettings, run_sweep
+from rvcoax.fem import bushing
+from rvcoax.geometry.effects import candidate_effects
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.loadcases.cases import LoadCase, paper_table
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
+from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
+from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, SweepSettings, run_sweep
 from tests.test_discrepancy import hidden_data, test_rig
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"

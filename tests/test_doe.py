@@ -17,12 +17,19 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from results.cli import app
-from results.doe.analysis import anova, optimal_levels, range_analysis
-from results.doe.design import DesignError, read_design, read_levels
-from results.doe.orthogonal import match_columns, orthogonality_problems, standard_array
-from results.doe.regression import fit, fit_without_outliers, full_quadratic, parse_term, stepwise_terms, term_name
-from results.doe.report import analyse, combination_label
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.doe.analysis import anova, optimal_levels, range_analysis
+from rvcoax.results.studies.doe.design import DesignError, read_design, read_levels
+from rvcoax.results.studies.doe.orthogonal import match_columns, orthogonality_problems, standard_array
+from rvcoax.results.studies.doe.regression import (
+    fit,
+    fit_without_outliers,
+    full_quadratic,
+    parse_term,
+    stepwise_terms,
+    term_name,
+)
+from rvcoax.results.studies.doe.report import analyse, combination_label
 
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO / "results" / "data"
@@ -238,8 +245,8 @@ def test_rig_study_ranks_the_load_producing_tolerances_first(rig_study):
 
 def test_a_misalignment_cancels_when_y_is_measured_from_the_aligned_rig():
     """Why the study measures Y from the unloaded geometry: a coupling offset is load-independent."""
-    from geometry.rigfile import load_rig
-    from results.doe.rig_study import Study, run_study
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.results.studies.doe.rig_study import Study, run_study
 
     def study(measured_from):
         return Study.model_validate({

@@ -1,4 +1,4 @@
-"""The effect catalogue (geometry.effects) on the reference rig, beam model.
+"""The effect catalogue (rvcoax.geometry.effects) on the reference rig, beam model.
 
 Every candidate at zero reproduces the base sweep, linear ones are affine, each changes the Y
 path of the shaft(s) it physically reaches at its typical value (Y measured from the unloaded
@@ -13,12 +13,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from geometry.effects import candidate_effects, effect_by_name
-from geometry.parameters import get_parameter, with_parameters
-from geometry.rigfile import load_rig, parse_rig
-from geometry.schema import Rig
-from loadcases.cases import paper_cases
-from results.sweep import prepare_model, run_sweep
+from rvcoax.geometry.effects import candidate_effects, effect_by_name
+from rvcoax.geometry.parameters import get_parameter, with_parameters
+from rvcoax.geometry.rigfile import load_rig, parse_rig
+from rvcoax.geometry.schema import Rig
+from rvcoax.loadcases.cases import paper_cases
+from rvcoax.results.sweep import prepare_model, run_sweep
 from tests.test_rigfile_errors import dump_toml
 
 SHAFTS = ("input", "output")

@@ -14,15 +14,15 @@ import math
 import numpy as np
 import pytest
 
-from fem import bushing
-from fem.sections import CircularSection
-from fem.solve import factorize
-from geometry.loads import REST_LOADS
-from geometry.schema import Rig
-from geometry.system import assemble_beam
-from loadcases.cases import LoadCase
-from results.report import model_section
-from results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
+from rvcoax.fem import bushing
+from rvcoax.fem.sections import CircularSection
+from rvcoax.fem.system import factorize
+from rvcoax.geometry.model.loads import REST_LOADS
+from rvcoax.geometry.model.system import assemble_beam
+from rvcoax.geometry.schema import Rig
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.io.records import model_section
+from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 from tests.frames import POISSON, YOUNGS_MODULUS, assert_close, rigidities
 
 MM, UM = 1e-3, 1e-6
@@ -272,7 +272,7 @@ def test_clearance_zero_is_the_linear_bearing():
 
 
 def test_clearance_nonlinear_solver_alone():
-    """fem.bushing.solve_with_gaps on one spring: a unit mass-less node on a linear spring k1 to
+    """rvcoax.fem.bushing.solve_with_gaps on one spring: a unit mass-less node on a linear spring k1 to
     ground and a gapped spring k to ground; F < k1 c stays in the band, else (F + k c)/(k1 + k)."""
     from tests import frames
 
@@ -280,7 +280,7 @@ def test_clearance_nonlinear_solver_alone():
     springs = frames.bushings([bushing.GROUND, bushing.GROUND], [0, 0], np.zeros((2, 3)),
                               [[1.0, k1, k1, 1.0, 1.0, 1.0], [0.0, k, k, 0.0, 0.0, 0.0]])
     structure = frames.model(np.zeros((1, 3)), frames.no_beams(), springs)
-    from fem.model import constraint_elimination, stiffness_matrix
+    from rvcoax.fem.model import constraint_elimination, stiffness_matrix
 
     solver = factorize(stiffness_matrix(structure), constraint_elimination(structure)[0])
     gaps = bushing.prepare_radial_gaps(solver.solve, bushing.radial_operator(structure.coordinates, springs, [1], 6),

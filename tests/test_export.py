@@ -17,13 +17,15 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fem import DOFS_PER_NODE
-from fem.bushing import GROUND
-from fem.equilibrium import DofTable, resultant_of
-from geometry.loads import UNIT_LOADS, case_weights
-from geometry.rigfile import load_rig, parse_rig, reference_rig_text
-from loadcases.cases import LoadCase, grid_cases, paired_cases, paper_cases
-from results.adams import (
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.bushing import GROUND
+from rvcoax.fem.equilibrium import DofTable, resultant_of
+from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
+from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
+from rvcoax.loadcases.cases import LoadCase, grid_cases, paired_cases, paper_cases
+from rvcoax.results.cli.app import app
+from rvcoax.results.connections import ConnectionsUnavailableError, case_displacements, connection_states
+from rvcoax.results.export.adams import (
     MARKER_BASE_ID,
     AdamsExportError,
     AdamsSyntaxError,
@@ -32,9 +34,7 @@ from results.adams import (
     parse_adm,
     spline_data,
 )
-from results.cli import app
-from results.connections import ConnectionsUnavailableError, case_displacements, connection_states
-from results.export import (
+from rvcoax.results.export.dynamics import (
     CSV_TABLES,
     IT3_RADIAL_DISPLACEMENT_MM,
     dynamics_export,
@@ -47,8 +47,8 @@ from results.export import (
     write_csv,
     write_json,
 )
-from results.ross_adapter import RossUnavailableError, import_ross
-from results.sweep import SweepSettings, read_path, run_sweep
+from rvcoax.results.export.ross import RossUnavailableError, import_ross
+from rvcoax.results.sweep import SweepSettings, read_path, run_sweep
 
 
 @pytest.fixture(scope="module")
@@ -384,14 +384,14 @@ def ross():
 
 @pytest.mark.parametrize("which", ["input", "output"])
 def test_ross_gravity_deflection_equals_ours_on_rigid_supports(ross, rig, which):
-    from results.ross_adapter import compare_static
+    from rvcoax.results.export.ross import compare_static
 
     rotor, comparison = compare_static(rig, which, ross)
     line = comparison.line
     np.testing.assert_allclose(np.asarray(rotor.nodes_pos) * 1e3, line.node_x_mm - line.node_x_mm[0], atol=1e-9)
     assert {b.n for b in rotor.bearing_elements} == {line.node_at(s.x_mm) for s in line.supports}
     # the same mass: shaft plus hubs, as in the rvcoax beam model
-    from geometry.build import build_rig_model
+    from rvcoax.geometry.model.beam import build_rig_model
 
     assert rotor.m == pytest.approx(build_rig_model(rig).part_mass_kg[line.part], rel=1e-12)
     # sag of tens of nm; ROSS's rigid supports are 1e20 N/m springs, ours exact constraints
@@ -400,7 +400,7 @@ def test_ross_gravity_deflection_equals_ours_on_rigid_supports(ross, rig, which)
 
 
 def test_ross_misalignment_faults_carry_our_coupling_misalignment(ross, rig, export):
-    from results.ross_adapter import build_rotor, misalignment_fault, misalignment_parameters, shaft_line
+    from rvcoax.results.export.ross import build_rotor, misalignment_fault, misalignment_parameters, shaft_line
 
     line = shaft_line(rig, "output")
     rotor = build_rotor(line, ross)

@@ -9,10 +9,10 @@ import meshio.xdmf
 import numpy as np
 import pytest
 
-from fem.sections import CircularSection
-from geometry.rigfile import load_rig
-from loadcases.cases import paper_cases
-from results.fields import (
+from rvcoax.fem.sections import CircularSection
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.loadcases.cases import paper_cases
+from rvcoax.results.io.fields import (
     FieldCase,
     FieldMesh,
     beam_field_cases,
@@ -25,7 +25,7 @@ from results.fields import (
     write_vtu,
     write_xdmf_series,
 )
-from results.sweep import run_sweep
+from rvcoax.results.sweep import run_sweep
 
 
 @pytest.fixture(scope="module")

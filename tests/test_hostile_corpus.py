@@ -1,6 +1,6 @@
 """Issue 12's hostile corpus through the real command line (``tests/hostile/``).
 
-Each case runs in process (typer's CliRunner on ``results.cli.app``) with its own environment
+Each case runs in process (typer's CliRunner on ``rvcoax.results.cli.app.app``) with its own environment
 variables. It must end with its documented exit status, print the expected words (file or option,
 line or key, reason), and print no traceback; an exit status of 2 must come from the CLI's own
 error path (a ``SystemExit``), never from an exception that escaped.
@@ -11,7 +11,7 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
-from results.cli import app
+from rvcoax.results.cli.app import app
 from tests.hostile import CLASSES, all_cases
 
 CORPUS = all_cases()

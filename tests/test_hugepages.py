@@ -7,7 +7,7 @@ import os
 import pytest
 from numpy._core import multiarray
 
-from fem import hugepages
+from rvcoax.fem import hugepages
 
 
 @pytest.fixture

@@ -13,11 +13,11 @@ import meshio
 import numpy as np
 import pytest
 
-from fem.ties import FaceNodes, distributing_tie_operator, rigid_tie_equations
-from geometry.loads import UNIT_LOADS
-from geometry.rigfile import load_rig
-from loadcases.cases import LoadCase, paper_cases
-from results.sweep import SweepSettings, prepare_model, run_sweep
+from rvcoax.fem.ties import FaceNodes, distributing_tie_operator, rigid_tie_equations
+from rvcoax.geometry.model.loads import UNIT_LOADS
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.loadcases.cases import LoadCase, paper_cases
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
 
 COARSE = 8.0
 HYBRID = SweepSettings(model="hybrid", mesh_size_mm=COARSE)
@@ -119,8 +119,8 @@ def test_torque_reaches_the_solid_shafts_as_torsion(hybrid):
 
 
 def test_hybrid_fields_and_picture(tmp_path, hybrid):
-    from results.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
-    from results.pictures import render_deformed
+    from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
+    from rvcoax.results.io.pictures import render_deformed
 
     mesh, paths = sweep_field_mesh(hybrid)
     cases = sweep_field_cases(hybrid)[:2]
@@ -145,7 +145,7 @@ def test_cli_check_hybrid_and_solid_models(tmp_path):
     """rvcoax check runs at hybrid and solid fidelity (coarse mesh) and passes on held-out rows."""
     for model in ("hybrid", "solid"):
         out = tmp_path / model
-        run = subprocess.run([sys.executable, "-m", "results.cli", "check", "--model", model,
+        run = subprocess.run([sys.executable, "-m", "rvcoax.results.cli.app", "check", "--model", model,
                               "--mesh-size-mm", "10", "--out", str(out)], capture_output=True, text=True,
                              timeout=600)
         # 3: within tolerance, with the same implausible output imbalance as the beam model (0.48)

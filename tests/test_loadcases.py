@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.cases import (
+from rvcoax.loadcases.cases import (
     LoadCase,
     LoadCaseError,
     grid_cases,
@@ -221,7 +221,7 @@ def test_load_case_error_is_a_value_error():
 
 def test_superpose_weights_each_unit_response():
     """u = u_rest + sign(T1) u_e1 + sign(T2) u_e2 + T1 u_T1 + T2 u_T2; from rest drops u_rest."""
-    from geometry.loads import UNIT_LOADS, superpose
+    from rvcoax.geometry.model.loads import UNIT_LOADS, superpose
 
     unit = {name: np.eye(len(UNIT_LOADS))[i] for i, name in enumerate(UNIT_LOADS)}  # one slot per load
     u = superpose(unit, -0.5, 120.0, from_rest=False)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import skfem
 
-from geometry.meshing import MeshingError, SolidPartGeometry, cache_path, estimate_dofs, mesh_part
+from rvcoax.geometry.meshing import MeshingError, SolidPartGeometry, cache_path, estimate_dofs, mesh_part
 
 # a stepped hollow shaft: bore through two segments, a solid end, a load band between 60 and 70 mm
 STEPPED = SolidPartGeometry(
@@ -146,7 +146,7 @@ def test_coarse_size_on_small_bore_gives_valid_curved_tets(cache):
 
 
 def test_gmsh_failure_is_a_meshing_error(monkeypatch):
-    import geometry.meshing as meshing
+    import rvcoax.geometry.meshing as meshing
 
     def broken(gmsh, geometry):
         raise RuntimeError("OCC exploded")

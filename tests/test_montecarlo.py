@@ -19,10 +19,10 @@ import pytest
 from scipy import stats
 from typer.testing import CliRunner
 
-from geometry.rigfile import load_rig
-from results.cli import app
-from results.distributed import ResumeError, future_outcome, run_samples, sample_path
-from results.montecarlo import (
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.distributed import ResumeError, future_outcome, run_samples, sample_path
+from rvcoax.results.studies.montecarlo import (
     Study,
     classify_parameter,
     evaluate_sample,
@@ -30,9 +30,9 @@ from results.montecarlo import (
     plan_study,
     stack,
 )
-from results.sampling import Distribution, sample_values, to_values, unit_design
-from results.sensitivity import morris_design, morris_indices, morris_values, sobol_design, sobol_indices
-from results.tolerances import ToleranceFileError, load_tolerances, parse_tolerances
+from rvcoax.results.studies.sampling import Distribution, sample_values, to_values, unit_design
+from rvcoax.results.studies.sensitivity import morris_design, morris_indices, morris_values, sobol_design, sobol_indices
+from rvcoax.results.studies.tolerances import ToleranceFileError, load_tolerances, parse_tolerances
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "loadcases" / "data" / "example_tolerances.toml"
 RIG = load_rig()

@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from fem import pardiso
+from rvcoax.fem import pardiso
 
 pytestmark = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO not available (x86-64 with mkl only)")
 

@@ -6,18 +6,25 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from geometry.rigfile import load_rig
-from loadcases.cases import paper_cases, paper_table
-from results import pictures
-from results.fields import FieldCase, FieldMesh, beam_field_cases, beam_field_mesh, path_point_indices, path_polylines
-from results.pictures import (
+from rvcoax.geometry.rigfile import load_rig
+from rvcoax.loadcases.cases import paper_cases, paper_table
+from rvcoax.results.io import pictures
+from rvcoax.results.io.fields import (
+    FieldCase,
+    FieldMesh,
+    beam_field_cases,
+    beam_field_mesh,
+    path_point_indices,
+    path_polylines,
+)
+from rvcoax.results.io.pictures import (
     RenderingUnavailableError,
     enclosing_parts,
     plot_y_vs_torque,
     render_deformed,
     sweep_colour_limits_um,
 )
-from results.sweep import run_sweep
+from rvcoax.results.sweep import run_sweep
 
 SIZE = (800, 300)
 

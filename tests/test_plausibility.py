@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import pytest
 
-from geometry.catalogue import CATALOGUE, plausibility_warnings, plausible_range
-from geometry.rigfile import load_rig, parse_rig
+from rvcoax.geometry.catalogue import CATALOGUE, plausibility_warnings, plausible_range
+from rvcoax.geometry.rigfile import load_rig, parse_rig
 from tests.test_rigfile_errors import reference_data
 
 

@@ -25,17 +25,18 @@ import scipy.sparse as sp
 import skfem
 from typer.testing import CliRunner
 
-from fem import solvers
-from fem.diagnostics import scaled_condition_estimate, scaled_inverse_norm_bound
-from geometry import meshing
-from geometry.meshing import MeshingError, SolidPartGeometry, cache_path, check_mesh, mesh_part
-from geometry.rigfile import parse_rig
-from geometry.system import assemble_beam
-from loadcases.cases import LoadCase
-from results import preflight
-from results.cli import app
-from results.report import text_sha256
-from results.sweep import (
+from rvcoax.fem import solvers
+from rvcoax.fem.diagnostics import scaled_condition_estimate, scaled_inverse_norm_bound
+from rvcoax.geometry import meshing
+from rvcoax.geometry.meshing import MeshingError, SolidPartGeometry, cache_path, check_mesh, mesh_part
+from rvcoax.geometry.model import preflight
+from rvcoax.geometry.model.system import assemble_beam
+from rvcoax.geometry.rigfile import parse_rig
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.cli.app import app
+from rvcoax.results.io.records import text_sha256
+from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
+from rvcoax.results.sweep import (
     ModelError,
     PreparedModel,
     SweepSettings,
@@ -44,7 +45,6 @@ from results.sweep import (
     prepare_model,
     run_sweep,
 )
-from results.writers import write_csv_atomic, write_json_atomic
 from tests.test_rigfile_errors import dump_toml, reference_data
 
 RESULT_FILES = ("sweep.csv", "sweep_paths.csv", "sweep.json")
@@ -265,12 +265,12 @@ def test_the_memory_estimate_follows_the_dof_estimate():
 
 
 def test_a_meshing_failure_ends_with_a_message(tmp_path, monkeypatch):
-    import geometry.hybrid
+    import rvcoax.geometry.model.hybrid
 
     def failing(geometry, **_):
         raise MeshingError(f"part '{geometry.name}': 3 curved tetrahedra are inverted; use a smaller mesh size")
 
-    monkeypatch.setattr(geometry.hybrid, "mesh_part", failing)
+    monkeypatch.setattr(rvcoax.geometry.model.hybrid, "mesh_part", failing)
     result = CliRunner().invoke(app, ["sweep", "--model", "hybrid", "--t1", "1", "--t2", "100", "--out", str(tmp_path)])
     assert result.exit_code == 2 and isinstance(result.exception, SystemExit)
     assert "cannot mesh the rig: part 'input_shaft': 3 curved tetrahedra are inverted" in flat(result.stderr)

@@ -1,8 +1,8 @@
 """Bad rig files: a clear message naming the file, the key and the reason, never a traceback.
 
 Bad files are made from the reference rig: either a TOML text edit of
-:func:`geometry.rigfile.reference_rig_text` or a change to its parsed dict, validated with
-:func:`geometry.rigfile.parse_rig` (or written back with the small TOML writer below for the
+:func:`rvcoax.geometry.rigfile.reference_rig_text` or a change to its parsed dict, validated with
+:func:`rvcoax.geometry.rigfile.parse_rig` (or written back with the small TOML writer below for the
 command-line tests).
 """
 
@@ -19,10 +19,10 @@ from pathlib import Path
 
 import pytest
 
-from geometry.build import build_rig_model
-from geometry.rigfile import RigFileError, load_rig, parse_rig, reference_rig_text
-from loadcases.cases import LoadCase
-from results.sweep import ModelError, run_sweep
+from rvcoax.geometry.model.beam import build_rig_model
+from rvcoax.geometry.rigfile import RigFileError, load_rig, parse_rig, reference_rig_text
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.sweep import ModelError, run_sweep
 
 SOURCE = "test.toml"
 REPO = Path(__file__).resolve().parents[1]
@@ -107,7 +107,7 @@ def floating_brake(data: dict) -> dict:
 def rvcoax(*args: str, cwd: Path) -> subprocess.CompletedProcess:
     """Run the installed ``rvcoax`` script (real stdout / stderr)."""
     script = Path(sys.executable).with_name("rvcoax")
-    command = [str(script)] if script.exists() else [sys.executable, "-c", "from results.cli import run; run()"]
+    command = [str(script)] if script.exists() else [sys.executable, "-c", "from rvcoax.results.cli.app import run; run()"]
     return subprocess.run(command + list(args), capture_output=True, text=True, cwd=cwd, timeout=120)
 
 

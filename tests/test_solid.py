@@ -7,11 +7,11 @@ import pytest
 import skfem
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from fem import solid
-from fem.assembly import assemble_matrix
-from fem.sections import CircularSection
-from fem.solvers import prepare
-from geometry.meshing import SolidPartGeometry, mesh_part
+from rvcoax.fem import solid
+from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.sections import CircularSection
+from rvcoax.fem.solvers import prepare
+from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
 E, NU, RHO = 2.1e11, 0.3, 7850.0
 G = E / (2 * (1 + NU))

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fem import solid, solvers
-from fem.assembly import assemble_matrix
-from fem.solve import SingularModelError
-from fem.solvers import SingularMatrixError, SolverError, SolverReport, pardiso_available, prepare
-from geometry.meshing import SolidPartGeometry, mesh_part
+from rvcoax.fem import solid, solvers
+from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.solvers import SingularMatrixError, SolverError, SolverReport, pardiso_available, prepare
+from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
 HAS_PARDISO = pardiso_available()
 METHODS = [

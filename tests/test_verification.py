@@ -12,14 +12,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fem.bushing import GROUND
-from fem.constraints import RigidLinks
-from fem.diagnostics import MOTION_NAMES, find_free_motions
-from fem.equilibrium import ground_reactions
-from fem.loads import PointMasses
-from fem.model import constraint_elimination, gravity_load_vector, stiffness_matrix
-from fem.sections import CircularSection
-from fem.solve import SingularModelError, factorize
+from rvcoax.fem.bushing import GROUND
+from rvcoax.fem.constraints import RigidLinks
+from rvcoax.fem.diagnostics import MOTION_NAMES, find_free_motions
+from rvcoax.fem.equilibrium import ground_reactions
+from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.loads import PointMasses
+from rvcoax.fem.model import constraint_elimination, gravity_load_vector, stiffness_matrix
+from rvcoax.fem.sections import CircularSection
+from rvcoax.fem.system import factorize
 from tests import frames
 from tests.frames import DENSITY, GRAVITY, REL_TOL, SHEAR_MODULUS, assert_close, dof, node_dofs, rigidities
 

@@ -3,7 +3,7 @@
 Each case edits one value or one reference of the built-in reference rig (unit slips such as N/m in an
 ``_N_per_um`` key, a torque on a housing, a bearing with shaft and housing swapped, a load reacted on
 its own part) and runs ``sweep``; stderr must carry a warning with the rig-file key and the plausible
-range from :mod:`geometry.catalogue` (or the topology's explanation).
+range from :mod:`rvcoax.geometry.catalogue` (or the topology's explanation).
 """
 
 from __future__ import annotations

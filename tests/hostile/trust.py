@@ -16,8 +16,8 @@ from pathlib import Path
 
 from typer.testing import CliRunner
 
-from results.cli import app
-from results.sweep_files import journal_line
+from rvcoax.results.cli.app import app
+from rvcoax.results.io.sweep_files import journal_line
 from tests.hostile import Hostile
 from tests.hostile._files import TOLERANCES
 

@@ -1,0 +1,85 @@
+"""rvcoax: finite-element static coaxiality of robot-reducer (RV / cycloidal) test rigs.
+
+The public Python API. The command line calls exactly these functions; a notebook or a Dask worker
+can too. Names load on first use (``import rvcoax`` itself imports nothing heavy), so the command
+line starts in a fraction of a second.
+
+Example
+-------
+>>> import rvcoax
+>>> rig = rvcoax.load_rig()                      # the built-in reference rig (or a path to yours)
+>>> sweep = rvcoax.run_sweep(rig, rvcoax.paper_cases())
+>>> round(sweep.cases[0].paths["output"].beta_deg * 1e6, 1)  # µ°, paper 000's definition
+63.3
+
+Steps, in the order data flows:
+
+- rig file: :func:`load_rig`, :func:`parse_rig_text`, :func:`reference_rig_text`, :class:`Rig`
+- load cases: :class:`LoadCase`, :func:`paper_cases`, :func:`paper_table`, :func:`read_cases`,
+  :func:`paired_cases`, :func:`grid_cases`
+- model and solve: :data:`MODEL_KINDS`, :func:`assemble_rig`, :class:`SweepSettings`,
+  :func:`prepare_model`, :func:`run_sweep`
+- files and pictures: :func:`write_sweep`, :func:`write_check`, :func:`plot_y_vs_torque`,
+  :func:`render_deformed`
+- studies: :func:`run_check`, :func:`calibrate`, :func:`read_measured`, :func:`run_discrepancy`
+- errors: :class:`RvcoaxError`, the base of every error raised on purpose
+
+Units: SI inside the solver; files and results say their unit in every key (``Y_input_mm``,
+``beta_output_deg``, ``T2_output_Nm``).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+__version__ = "0.1.0"
+
+# public name → the module that defines it
+_WHERE = {
+    "Rig": "rvcoax.geometry.schema",
+    "load_rig": "rvcoax.geometry.rigfile",
+    "parse_rig_text": "rvcoax.geometry.rigfile",
+    "reference_rig_text": "rvcoax.geometry.rigfile",
+    "LoadCase": "rvcoax.loadcases.cases",
+    "paper_cases": "rvcoax.loadcases.cases",
+    "paper_table": "rvcoax.loadcases.cases",
+    "read_cases": "rvcoax.loadcases.cases",
+    "paired_cases": "rvcoax.loadcases.cases",
+    "grid_cases": "rvcoax.loadcases.cases",
+    "MODEL_KINDS": "rvcoax.geometry.model.system",
+    "RigSystem": "rvcoax.geometry.model.system",
+    "assemble_rig": "rvcoax.geometry.model.system",
+    "SweepSettings": "rvcoax.results.sweep",
+    "PreparedModel": "rvcoax.results.sweep",
+    "Sweep": "rvcoax.results.sweep",
+    "prepare_model": "rvcoax.results.sweep",
+    "run_sweep": "rvcoax.results.sweep",
+    "write_sweep": "rvcoax.results.io.result_files",
+    "write_check": "rvcoax.results.io.result_files",
+    "plot_y_vs_torque": "rvcoax.results.io.pictures",
+    "render_deformed": "rvcoax.results.io.pictures",
+    "CheckRun": "rvcoax.results.studies.check_run",
+    "run_check": "rvcoax.results.studies.check_run",
+    "calibrate": "rvcoax.results.studies.calibration",
+    "read_measured": "rvcoax.results.studies.discrepancy.measured",
+    "DiscrepancySettings": "rvcoax.results.studies.discrepancy.workflow",
+    "run_discrepancy": "rvcoax.results.studies.discrepancy.workflow",
+    "RvcoaxError": "rvcoax.fem.errors",
+}
+
+__all__ = ["__version__", *_WHERE]
+
+
+def __getattr__(name: str):
+    """Load a public name from its module on first use (PEP 562)."""
+    try:
+        module = _WHERE[name]
+    except KeyError:
+        raise AttributeError(f"module 'rvcoax' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE))

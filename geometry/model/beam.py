@@ -1,0 +1,275 @@
+"""Rig → beam model: nodes on the axis, Timoshenko beams, bushings, point masses.
+
+Every part becomes a line of nodes on the drivetrain axis (y = z = 0) at its segment ends, at
+every position something attaches, at the path stations, and in between at most
+``mesh.max_element_length_mm`` apart. Parts overlapping in x are separate node lines joined only
+by the springs the rig file declares.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.fem.beam import BeamElements
+from rvcoax.fem.bushing import GROUND, Bushings, prestrain_load
+from rvcoax.fem.loads import PointMasses
+from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.sections import CircularSection
+from rvcoax.geometry.schema import Rig
+
+MM = 1e-3
+N_PER_UM = 1e6  # N/µm → N/m
+N_PER_MM = 1e3  # N/mm → N/m
+# Positions on one part closer than this (mm) share a node: a shorter beam element would be so stiff next to
+# its neighbours that the stiffness loses its digits (a bearing 8 nm from a segment end: condition number ×1e3)
+NODE_MERGE_MM = 1e-3
+UM = 1e-6
+MRAD = 1e-3
+
+
+@dataclass(frozen=True, eq=False)
+class RigModel:
+    """A rig's beam model and the maps from rig names to model entities.
+
+    Attributes
+    ----------
+    rig : Rig
+    structure : StructuralModel
+    node_part : (n,) array of str
+    node_x_mm : (n,) array
+    bushing_names : tuple of str
+        ``"<kind>:<name>"`` of each bushing row (bearing, mount, coupling, joint).
+    part_mass_kg : dict
+        Mass of each part as modelled (beams plus the coupling hubs it carries).
+    equivalent_density : dict
+        Density used for each body (kg/m³).
+    """
+
+    rig: Rig
+    structure: StructuralModel
+    node_part: np.ndarray
+    node_x_mm: np.ndarray
+    bushing_names: tuple[str, ...]
+    part_mass_kg: dict
+    equivalent_density: dict
+
+    def node(self, part: str, x_mm: float) -> int:
+        """The node of ``part`` at ``x_mm`` (every referenced position is a node, within :data:`NODE_MERGE_MM`)."""
+        return _nearest_node(self.node_part, self.node_x_mm, part, x_mm)
+
+    def path_nodes(self, which: str) -> tuple[np.ndarray, np.ndarray]:
+        """Node indices and station positions along a shaft path (mm from the path start)."""
+        path = getattr(self.rig.paths, which)
+        stations = _path_stations(path)
+        nodes = np.array([self.node(path.part, x) for x in stations])
+        return nodes, stations - path.x_start_mm
+
+
+def _path_stations(path) -> np.ndarray:
+    return path.x_start_mm + np.linspace(0.0, path.length_mm, path.stations)
+
+
+def attachment_positions(rig: Rig) -> dict[str, list[float]]:
+    """Positions where springs attach to each part (bearings, mounts, couplings, joints)."""
+    refs: dict[str, list[float]] = {p.name: [] for p in rig.parts}
+    for b in rig.bearings:
+        refs[b.shaft].append(b.x_mm)
+        if b.housing != "ground":
+            refs[b.housing].append(b.x_mm)
+    for m in rig.mounts:
+        refs[m.part].append(m.x_mm)
+    for c in list(rig.couplings) + list(rig.joints):
+        refs[c.from_.part].append(c.from_.x_mm)
+        refs[c.to.part].append(c.to.x_mm)
+    return refs
+
+
+def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
+    refs = attachment_positions(rig)
+    for t in (rig.torques.T1, rig.torques.T2):
+        refs[t.part].append(t.x_mm)
+    for t in rig.torque_lateral_loads:
+        refs[t.on.part].append(t.on.x_mm)
+        if t.reacted_on is not None:
+            refs[t.reacted_on.part].append(t.reacted_on.x_mm)
+    for f in rig.force_table.pairs:
+        refs[f.plus_at.part].append(f.plus_at.x_mm)
+        refs[f.minus_at.part].append(f.minus_at.x_mm)
+    for f in rig.force_table.singles:
+        refs[f.at.part].append(f.at.x_mm)
+    for key in ("input", "output"):
+        path = getattr(rig.paths, key)
+        refs[path.part].extend(_path_stations(path).tolist())
+    return refs
+
+
+def _nearest_node(node_part: np.ndarray, node_x_mm: np.ndarray, part: str, x_mm: float) -> int:
+    own = np.flatnonzero(node_part == part)
+    distance = np.abs(node_x_mm[own] - x_mm)
+    if own.size == 0 or distance.min() > NODE_MERGE_MM:
+        raise KeyError(f"no node of part '{part}' at x = {x_mm} mm")
+    return int(own[np.argmin(distance)])
+
+
+def _part_positions(part, referenced: list[float], max_length: float) -> np.ndarray:
+    """Sorted node positions of one part (mm): breakpoints refined to max_length. A referenced position
+    within :data:`NODE_MERGE_MM` of a segment end or of another one shares its node."""
+    ends = np.unique([x for s in part.segments for x in s.x_mm])
+    kept: list[float] = []
+    for x in np.unique(np.asarray(referenced, dtype=float)):
+        k = np.searchsorted(ends, x)
+        near_end = min(abs(x - ends[max(k - 1, 0)]), abs(x - ends[min(k, ends.size - 1)]))
+        if near_end > NODE_MERGE_MM and (not kept or x - kept[-1] > NODE_MERGE_MM):
+            kept.append(float(x))
+    breaks = np.unique(np.round(np.concatenate([ends, kept]), 9))
+    positions = [breaks[0]]
+    for a, b in zip(breaks[:-1], breaks[1:]):
+        pieces = max(1, int(np.ceil((b - a) / max_length - 1e-9)))
+        positions.extend(np.linspace(a, b, pieces + 1)[1:])
+    return np.array(positions)
+
+
+def _segment_at(part, x_mid: float):
+    for s in part.segments:
+        if s.x_mm[0] <= x_mid <= s.x_mm[1]:
+            return s
+    raise ValueError(f"no segment of part '{part.name}' at x = {x_mid} mm")
+
+
+def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
+    """Build the beam model of a validated rig.
+
+    Parts named in ``solid_parts`` get no beams: only reference nodes where springs attach (the
+    solid model ties them to faces), and no mass (the solid carries it).
+    """
+    referenced = _referenced_positions(rig)
+    attachments = attachment_positions(rig)
+    shaft_shear = rig.beam.shear_factor  # shafts' Φ × factor: κ / factor (∞ when 0: Euler–Bernoulli)
+    node_part: list[str] = []
+    node_x: list[float] = []
+    element_rows: list[tuple] = []
+    equivalent_density: dict[str, float] = {}
+    for part in rig.parts:
+        material = rig.materials[part.material]
+        density = material.density_kg_per_m3
+        if part.role == "body":
+            density = part.mass_kg / (part.volume_mm3 * MM**3)
+            equivalent_density[part.name] = density
+        if part.name in solid_parts:
+            positions = np.unique(np.round(np.array(attachments[part.name], dtype=float), 9))
+            node_part.extend([part.name] * positions.size)
+            node_x.extend(positions.tolist())
+            continue
+        positions = _part_positions(part, referenced[part.name], rig.mesh.max_element_length_mm)
+        first = len(node_x)
+        shear_factor = shaft_shear if part.role == "shaft" else 1.0
+        node_part.extend([part.name] * positions.size)
+        node_x.extend(positions.tolist())
+        for i in range(positions.size - 1):
+            segment = _segment_at(part, 0.5 * (positions[i] + positions[i + 1]))
+            section = CircularSection(segment.outer_diameter_mm * MM, segment.inner_diameter_mm * MM)
+            element_rows.append((
+                first + i, first + i + 1, section.area_m2, section.second_moment_m4,
+                section.polar_moment_m4,
+                section.shear_coefficient(material.poisson_ratio) / shear_factor if shear_factor > 0 else np.inf,
+                material.youngs_modulus_MPa * 1e6, material.shear_modulus_MPa * 1e6, density,
+            ))
+    node_part_arr = np.array(node_part)
+    node_x_arr = np.array(node_x)
+    coordinates = np.zeros((node_x_arr.size, 3))
+    coordinates[:, 0] = node_x_arr * MM
+
+    def node(part: str, x_mm: float) -> int:
+        return _nearest_node(node_part_arr, node_x_arr, part, x_mm)
+
+    table = np.array(element_rows, dtype=float).reshape(-1, 9)
+    beams = BeamElements(
+        connectivity=table[:, :2].astype(int), area_m2=table[:, 2], second_moment_m4=table[:, 3],
+        polar_moment_m4=table[:, 4], shear_coefficient=table[:, 5], youngs_modulus_pa=table[:, 6],
+        shear_modulus_pa=table[:, 7], density_kg_m3=table[:, 8],
+        reference_vector=np.tile([0.0, 1.0, 0.0], (table.shape[0], 1)),
+    )
+
+    rows: list[tuple[int, int, float, list[float]]] = []  # node_a, node_b, point x (mm), stiffness
+    names: list[str] = []
+    for b in rig.bearings:
+        radial = b.radial_stiffness_N_per_um * N_PER_UM
+        k = [b.axial_stiffness_N_per_um * N_PER_UM, radial, radial, 0.0,
+             b.tilt_stiffness_Nm_per_rad, b.tilt_stiffness_Nm_per_rad]
+        a = GROUND if b.housing == "ground" else node(b.housing, b.x_mm)
+        rows.append((a, node(b.shaft, b.x_mm), b.x_mm, k))
+        names.append(f"bearing:{b.name}")
+    for m in rig.mounts:
+        k = [v * N_PER_UM for v in m.translational_stiffness_N_per_um] + list(m.rotational_stiffness_Nm_per_rad)
+        rows.append((GROUND, node(m.part, m.x_mm), m.x_mm, k))
+        names.append(f"mount:{m.name}")
+    for c in rig.couplings:
+        radial = c.radial_stiffness_N_per_mm * N_PER_MM
+        k = [c.axial_stiffness_N_per_mm * N_PER_MM, radial, radial, c.torsional_stiffness_Nm_per_rad,
+             c.angular_stiffness_Nm_per_rad, c.angular_stiffness_Nm_per_rad]
+        rows.append((node(c.from_.part, c.from_.x_mm), node(c.to.part, c.to.x_mm), c.centre_x_mm, k))
+        names.append(f"coupling:{c.name}")
+    for j in rig.joints:
+        k = [v * N_PER_UM for v in j.translational_stiffness_N_per_um] + list(j.rotational_stiffness_Nm_per_rad)
+        rows.append((node(j.from_.part, j.from_.x_mm), node(j.to.part, j.to.x_mm), j.to.x_mm, k))
+        names.append(f"joint:{j.name}")
+    points = np.zeros((len(rows), 3))
+    points[:, 0] = [r[2] * MM for r in rows]
+    bushings = Bushings(
+        node_a=np.array([r[0] for r in rows], dtype=int), node_b=np.array([r[1] for r in rows], dtype=int),
+        point_m=points, stiffness=np.array([r[3] for r in rows], dtype=float).reshape(len(rows), 6),
+    )
+
+    hub_nodes, hub_masses = [], []
+    for c in rig.couplings:
+        for end in (c.from_, c.to):
+            hub_nodes.append(node(end.part, end.x_mm))
+            hub_masses.append(c.mass_kg / 2.0)
+    masses = PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
+                         np.zeros((len(hub_nodes), 3)))
+
+    structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr)
+    element_mass = beams.density_kg_m3 * beams.area_m2 * np.diff(coordinates[beams.connectivity, 0], axis=1).ravel()
+    part_mass = {p.name: 0.0 for p in rig.parts}
+    for e, m in zip(beams.connectivity[:, 0], element_mass):
+        part_mass[node_part[e]] += float(m)
+    for n, m in zip(hub_nodes, hub_masses):
+        part_mass[node_part[n]] += float(m)
+    return RigModel(rig, structure, node_part_arr, node_x_arr, tuple(names), part_mass, equivalent_density)
+
+
+def stress_free_motions(rig: Rig) -> np.ndarray:
+    """Relative motion Δ0 (n_bushings, 6) at which each bushing of ``rig`` is free of load (SI).
+
+    Rows in the order :func:`build_rig_model` builds the bushings (bearings, mounts, couplings,
+    joints). A mount raised by ``vertical_offset_um`` has Δ0 = (0, δ, 0, 0, 0, 0); a coupling with
+    a parallel offset δ and an angular misalignment α towards direction e = (0, cos φ, sin φ) has
+    Δ0 = (δ e, α x × e): its ``to`` hub is free of load δ away from the ``from`` hub and rotated
+    by α towards e. Everything else is zero.
+    """
+    rows = [np.zeros(6) for _ in rig.bearings]
+    for m in rig.mounts:
+        rows.append(np.array([0.0, m.vertical_offset_um * UM, 0.0, 0.0, 0.0, 0.0]))
+    for c in rig.couplings:
+        phi = np.radians(c.misalignment_direction_deg)
+        direction = np.array([0.0, np.cos(phi), np.sin(phi)])
+        rotation_axis = np.cross([1.0, 0.0, 0.0], direction)  # x rotated towards e: about x × e
+        rows.append(np.concatenate([c.parallel_offset_um * UM * direction,
+                                    c.angular_misalignment_mrad * MRAD * rotation_axis]))
+    rows.extend(np.zeros(6) for _ in rig.joints)
+    return np.array(rows, dtype=float).reshape(-1, 6)
+
+
+def prestrain_load_vector(model: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
+    """Equivalent load of the bushings' prestrain, K Δ0 through their rigid arms (length ``n_dofs``).
+
+    ``rig`` gives the offsets (it may differ from ``model.rig`` in offsets only). Zero when every
+    coupling is aligned and every mount at its nominal height.
+    """
+    vector = np.zeros(n_dofs)
+    structure = model.structure
+    vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
+                                                structure.n_dofs)
+    return vector

@@ -1,0 +1,135 @@
+"""The rig's unit loads, as loads at rig locations (part, x) plus self-weight.
+
+``gravity``        self-weight of every part (zero when switched off)
+``prestrain``      the prestrain of misaligned couplings and raised mounts, K d0 (zero when aligned)
+``force_table``    paper 000's force table as interpreted in the rig file (empty unless applied)
+``engaged_T1``     the constant lateral loads present while T1 flows (load-sharing position errors)
+``engaged_T2``     the same for T2
+``T1``, ``T2``     a unit torque (1 N·m) with its torque-proportional lateral loads
+
+A model turns each :class:`LocatedLoad` into a load vector: nodal forces on a beam part, a face
+traction on a solid part. For a linear model the response to (T1, T2) is
+``u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2`` with
+``u_rest = u_gravity + u_prestrain + u_force_table``. Prestrain is not a located load: it is built
+from the bushings where they are assembled (:func:`rvcoax.geometry.model.beam.prestrain_load_vector`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.geometry.schema import Rig
+
+UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
+REST_LOADS = ("gravity", "prestrain", "force_table")
+
+
+@dataclass(frozen=True)
+class LocatedLoad:
+    """A force (N) and moment (N·m), global axes, acting on ``part`` at axial position ``x_mm``."""
+
+    part: str
+    x_mm: float
+    force_N: tuple[float, float, float]
+    moment_Nm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    band_mm: tuple[float, float] | None = None
+
+
+def _direction(direction_deg: float) -> np.ndarray:
+    """Unit vector in the YZ plane at ``direction_deg`` from +Y towards +Z."""
+    a = math.radians(direction_deg)
+    return np.array([0.0, math.cos(a), math.sin(a)])
+
+
+def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
+    """The lateral force pairs tied to torque ``which``: ``proportional`` (per N·m) or ``engaged``."""
+    out = []
+    for lateral in rig.torque_lateral_loads:
+        if lateral.torque != which:
+            continue
+        size = lateral.force_per_torque_N_per_Nm if part == "proportional" else lateral.engaged_force_N
+        force = size * _direction(lateral.direction_deg)
+        out.append(LocatedLoad(lateral.on.part, lateral.on.x_mm, tuple(force), band_mm=lateral.on.band_mm))
+        if lateral.reacted_on is not None:
+            reacted = lateral.reacted_on
+            out.append(LocatedLoad(reacted.part, reacted.x_mm, tuple(-force), band_mm=reacted.band_mm))
+    return out
+
+
+def torque_loads(rig: Rig, which: str) -> list[LocatedLoad]:
+    """A unit torque (1 N·m) T1 or T2 about +x (times its sign), with its proportional lateral loads."""
+    torque = getattr(rig.torques, which)
+    return [LocatedLoad(torque.part, torque.x_mm, (0.0, 0.0, 0.0), (float(torque.sign), 0.0, 0.0)),
+            *_lateral_loads(rig, which, "proportional")]
+
+
+def force_table_loads(rig: Rig) -> list[LocatedLoad]:
+    """Paper 000's force pairs and single forces as Y forces, as interpreted in the rig file, times ``scale``."""
+    table = rig.force_table
+    if not table.apply:
+        return []
+    out = []
+    for pair in table.pairs:
+        size = table.scale * pair.force_N
+        out.append(LocatedLoad(pair.plus_at.part, pair.plus_at.x_mm, (0.0, size, 0.0)))
+        out.append(LocatedLoad(pair.minus_at.part, pair.minus_at.x_mm, (0.0, -size, 0.0)))
+    for single in table.singles:
+        out.append(LocatedLoad(single.at.part, single.at.x_mm, (0.0, table.scale * single.force_N, 0.0)))
+    return out
+
+
+def located_unit_loads(rig: Rig) -> dict[str, list[LocatedLoad]]:
+    """Every unit load except self-weight and prestrain, as located loads (those two are built with the model)."""
+    return {
+        "gravity": [],
+        "prestrain": [],
+        "force_table": force_table_loads(rig),
+        "engaged_T1": _lateral_loads(rig, "T1", "engaged"),
+        "engaged_T2": _lateral_loads(rig, "T2", "engaged"),
+        "T1": torque_loads(rig, "T1"),
+        "T2": torque_loads(rig, "T2"),
+    }
+
+
+GRAVITY_DIRECTION = np.array([0.0, -1.0, 0.0])
+"""Gravity acts along −Y."""
+
+
+def gravity_acceleration(rig: Rig) -> float:
+    """Size of the acceleration of gravity (m/s²); zero when self-weight is off."""
+    return rig.gravity.acceleration_m_per_s2 if rig.gravity.enabled else 0.0
+
+
+def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: bool) -> dict[str, float]:
+    """Multipliers of the unit loads for one case; ``include_rest`` adds self-weight, prestrain and force table."""
+    rest = 1.0 if include_rest else 0.0
+    return {
+        "gravity": rest,
+        "prestrain": rest,
+        "force_table": rest,
+        "engaged_T1": float(np.sign(input_torque_Nm)),
+        "engaged_T2": float(np.sign(output_torque_Nm)),
+        "T1": float(input_torque_Nm),
+        "T2": float(output_torque_Nm),
+    }
+
+
+def superpose(unit_responses: dict[str, np.ndarray], input_torque_Nm: float, output_torque_Nm: float,
+              from_rest: bool) -> np.ndarray:
+    """The response of a linear model to the case (T1, T2), from its responses to the unit loads.
+
+    Parameters
+    ----------
+    unit_responses : dict
+        The response to each load of :data:`UNIT_LOADS`, by name (arrays of one shape).
+    input_torque_Nm, output_torque_Nm : float
+        The case's torques, N·m.
+    from_rest : bool
+        Subtract ``u_rest`` (Y measured from the aligned rig at rest) instead of returning ``u``.
+    """
+    weights = case_weights(input_torque_Nm, output_torque_Nm, include_rest=True)
+    response = sum(weights[k] * unit_responses[k] for k in UNIT_LOADS)
+    return response - sum(unit_responses[k] for k in REST_LOADS) if from_rest else response

@@ -1,0 +1,335 @@
+"""Checks made before solving a rig, so that an unusable model is named in the user's terms.
+
+- :func:`support_problem`: a beam model too large for this machine (counted from the geometry
+  before anything is built: :func:`rvcoax.results.workload.rig_problem`); a part (or a set of parts) that
+  can move without deforming anything, with its free directions and the springs whose zero
+  stiffness leaves it free; or stiffness values so far apart that the solve would lose every digit
+  (named: the stiffest and softest springs).
+- :func:`sag_warnings`: a part that hangs only on couplings, or sags absurdly under its own weight
+  (not singular, but not a test rig either).
+- :func:`estimate_memory`: DOFs and memory of a solid or hybrid model from the rig alone, before
+  any meshing, against the memory this machine has available.
+
+All three work on the rig's beam model or on its geometry only: milliseconds, at any fidelity.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rvcoax.fem import DOFS_PER_NODE, bushing, diagnostics
+from rvcoax.fem import model as fem_model
+from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.system import factorize
+from rvcoax.geometry.model.loads import GRAVITY_DIRECTION
+from rvcoax.geometry.schema import Rig
+
+# A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
+# as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
+TYPICAL_MODULI = (2.1e11, 8.1e10)
+# Jacobi-scaled 1-norm condition number beyond which a solve keeps fewer than ~5 correct digits (ε κ > 1e-5)
+# and direct solves start to miss the 1e-6 residual checks (measured on the beam model: κ 5.5e11 gave a
+# relative residual of 2e-6, κ 5e12 one of 1e-4; the reference rig is at 3e7, its hybrid model at 4e9)
+CONDITION_LIMIT = 1e11
+SAG_WARNING_MM = 0.1  # a test-rig part sagging more than this under its own weight is not plausible
+STANDARD_GRAVITY = 9.80665
+# Peak memory per DOF of a solid/hybrid solve, measured (benchmarks/RESULTS.md, bench_solid_scaling):
+# PARDISO 4.02 GB at 298 k DOF, AMG-CG 11.38 GB at 1.04 M DOF (assembly dominates both), SuperLU
+# 14 GB at 300 k DOF (fem/solvers.py); plus the interpreter, imports and the beam frame.
+BYTES_PER_DOF = {"pardiso": 13.5e3, "amg": 11.0e3, "superlu": 47.0e3}
+BASE_BYTES = 0.3e9
+COMPONENT_NAMES = diagnostics.MOTION_NAMES
+SPRING_KINDS = {"bearing": "bearing", "mount": "mount", "coupling": "coupling", "joint": "joint"}
+
+
+def _frame(rig: Rig):
+    from rvcoax.geometry.model.system import assemble_beam
+
+    return assemble_beam(rig).frame
+
+
+def _free_motions(structure) -> list[diagnostics.FreeMotion]:
+    stiffness = fem_model.stiffness_matrix(structure)
+    elimination, free = fem_model.constraint_elimination(structure)
+    return diagnostics.find_free_motions(structure.coordinates, stiffness, elimination, free, structure.node_group)
+
+
+def _non_finite_parts(structure) -> list[str]:
+    """The parts whose stiffness entries overflow or are undefined (NaN/inf): nothing can be solved then."""
+    stiffness = fem_model.stiffness_matrix(structure).tocoo()
+    bad = ~np.isfinite(stiffness.data)
+    if not bad.any():
+        return []
+    groups = np.asarray(structure.node_group)
+    nodes = np.unique(stiffness.row[bad] // diagnostics.DOFS_PER_NODE)
+    return list(dict.fromkeys(str(groups[n]) for n in nodes))
+
+
+def _spring_label(name: str) -> str:
+    kind, _, label = name.partition(":")
+    return f"{SPRING_KINDS.get(kind, kind)} '{label}'"
+
+
+def _spring_parts(frame) -> list[set[str]]:
+    """The parts each bushing of ``frame`` touches (the ground is not a part)."""
+    groups = np.asarray(frame.structure.node_group)
+    b = frame.structure.bushings
+    return [{str(groups[n]) for n in (a, c) if n != bushing.GROUND} for a, c in zip(b.node_a, b.node_b)]
+
+
+def _zero_springs_note(frame, motions: list[diagnostics.FreeMotion]) -> str:
+    """Springs on the free parts whose stiffness is zero in a free direction, or ''."""
+    touched = _spring_parts(frame)
+    notes: dict[str, str] = {}
+    for motion in motions:
+        directions = {i for i, name in enumerate(COMPONENT_NAMES) if any(name in d for d in motion.directions)}
+        for k, name in enumerate(frame.bushing_names):
+            if not touched[k] & set(motion.parts):
+                continue
+            zero = [COMPONENT_NAMES[i] for i in sorted(directions) if frame.structure.bushings.stiffness[k, i] == 0.0]
+            if zero:
+                notes.setdefault(name, f"{_spring_label(name)} ({', '.join(zero)})")
+    if not notes:
+        return ""
+    return " Springs with zero stiffness in those directions: " + "; ".join(notes.values()) + "."
+
+
+def _stiffness_range_note(frame) -> str:
+    """The stiffest and the softest non-zero spring component, in the rig file's units."""
+    k = frame.structure.bushings.stiffness
+    entries = []
+    for row, name in enumerate(frame.bushing_names):
+        for column in range(6):
+            value = k[row, column]
+            if value > 0:
+                shown = (f"{value * 1e-6:.3g} N/µm" if column < 3 else f"{value:.3g} N·m/rad")
+                # compare translations (N/m) with rotations (N·m/rad) over a 0.1 m lever
+                entries.append((value if column < 3 else value / 0.01, _spring_label(name), COMPONENT_NAMES[column],
+                                shown))
+    moduli = frame.structure.beams.youngs_modulus_pa
+    note = f"Young's moduli of the beams {moduli.min() * 1e-6:.3g} … {moduli.max() * 1e-6:.3g} MPa"
+    if not entries:
+        return note
+    stiffest, softest = max(entries), min(entries)
+    return (f"stiffest spring: {stiffest[1]} {stiffest[3]} ({stiffest[2]}); softest: {softest[1]} {softest[3]} "
+            f"({softest[2]}); {note}")
+
+
+def _beam_condition(structure) -> float:
+    """Estimated condition number of the beam model's reduced stiffness (inf when SuperLU finds it singular)."""
+    from rvcoax.fem.solvers import SingularMatrixError, prepare
+
+    elimination = fem_model.constraint_elimination(structure)[0]
+    try:
+        prepared = prepare(elimination.T @ fem_model.stiffness_matrix(structure) @ elimination, "superlu")
+    except SingularMatrixError:
+        return math.inf
+    return prepared.condition_estimate()
+
+
+def support_problem(rig: Rig) -> str | None:
+    """Why ``rig`` cannot be solved for lack of supports, or None when every part is held.
+
+    The free-motion test (:func:`rvcoax.fem.diagnostics.find_free_motions`) runs on the rig's beam model,
+    which has the same parts and connections at any fidelity. When it finds a motion, it runs again
+    on a copy whose springs all have one typical stiffness: if the copy is held, no spring is
+    missing, the motion only stores little energy next to much stiffer elements, and the condition
+    number decides: above :data:`CONDITION_LIMIT` the message says so (stiffnesses many orders of
+    magnitude apart, often a unit mistake) instead of "no support path"; below, the rig is solvable.
+    """
+    from rvcoax.results.workload import rig_problem
+
+    too_big = rig_problem(rig)
+    if too_big:
+        return too_big
+    frame = _frame(rig)
+    unusable = _non_finite_parts(frame.structure)
+    if unusable:
+        return (f"the stiffness of part(s) {', '.join(repr(p) for p in unusable)} is not a finite number: a diameter, "
+                "length or modulus is too small or too large to compute with (e.g. 1e-300 mm); check their "
+                "segments' *_diameter_mm, x_mm and their material's youngs_modulus_MPa")
+    motions = _free_motions(frame.structure)
+    if not motions:
+        return None
+    structure = frame.structure
+    steel = dataclasses.replace(structure.beams, youngs_modulus_pa=np.full_like(structure.beams.youngs_modulus_pa,
+                                                                                TYPICAL_MODULI[0]),
+                                shear_modulus_pa=np.full_like(structure.beams.shear_modulus_pa, TYPICAL_MODULI[1]))
+    springless = dataclasses.replace(structure, beams=steel, bushings=dataclasses.replace(
+        structure.bushings, stiffness=np.zeros_like(structure.bushings.stiffness)))
+    scale = float(np.abs(fem_model.stiffness_matrix(springless).diagonal()).max())
+    length = max(float(np.ptp(structure.coordinates, axis=0).max()), 1e-3)
+    typical = np.where(structure.bushings.stiffness > 0, scale * np.array([1, 1, 1, length**2, length**2, length**2]),
+                       0.0)
+    topological = dataclasses.replace(springless, bushings=dataclasses.replace(structure.bushings, stiffness=typical))
+    if _free_motions(topological):
+        return ("the model is singular: " + "; ".join(m.describe() for m in motions)
+                + ". Add a bearing, mount or joint with stiffness in those directions." + _zero_springs_note(frame,
+                                                                                                        motions))
+    kappa = _beam_condition(structure)
+    if kappa <= CONDITION_LIMIT:
+        return None
+    parts = [p for m in motions for p in m.parts]
+    who = ", ".join(f"'{p}'" for p in parts[:3]) + (f" … ({len(parts)} parts)" if len(parts) > 3 else "")
+    how = (f"estimated condition number {kappa:.2g} > {CONDITION_LIMIT:.0e}" if math.isfinite(kappa)
+           else "its factorisation meets a pivot below 1e-14 of the largest")
+    return (f"the stiffness matrix is numerically singular although every part is held ({how}): the supports of "
+            f"{who} are far softer than the stiffest elements "
+            f"next to them, so a solve would lose every digit ({_stiffness_range_note(frame)}). Check the units of "
+            "the stiffness keys (N/µm, N/mm, N·m/rad) and of youngs_modulus_MPa.")
+
+
+def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
+    """Parts that hang only on couplings, or sag more than ``limit_mm`` under their own weight.
+
+    The beam model is solved once for standard gravity (whether or not the rig switches gravity
+    on): a property of the supports, not of the load case. Returns one sentence per part, empty
+    when the rig is plausible (the reference rig's largest sag is 1.6 µm). A rig that cannot be
+    factorised, or is too large to build (:func:`rvcoax.results.workload.rig_problem`), gives no warning
+    here (:func:`support_problem` names it).
+    """
+    from rvcoax.results.workload import rig_problem
+
+    if rig_problem(rig):
+        return []  # too large to build: support_problem says so
+    frame = _frame(rig)
+    structure = frame.structure
+    try:
+        factorised = factorize(fem_model.stiffness_matrix(structure), fem_model.constraint_elimination(structure)[0])
+        u = factorised.solve(fem_model.gravity_load_vector(structure, STANDARD_GRAVITY * np.asarray(GRAVITY_DIRECTION)))
+    except SingularModelError:
+        return []
+    groups = np.asarray(structure.node_group)
+    touched = _spring_parts(frame)
+    kinds = [name.partition(":")[0] for name in frame.bushing_names]
+    warnings = []
+    for part in dict.fromkeys(groups.tolist()):
+        nodes = np.flatnonzero(groups == part)
+        sag_mm = float(np.abs(u[DOFS_PER_NODE * nodes[:, None] + np.arange(3)]).max()) * 1e3
+        holders = [(kind, name) for kind, name, parts in zip(kinds, frame.bushing_names, touched) if part in parts]
+        couplings_only = bool(holders) and all(kind == "coupling" for kind, _ in holders)
+        if couplings_only or sag_mm > limit_mm:
+            held = ", ".join(_spring_label(name) for _, name in holders) or "nothing"
+            reason = "hangs only on flexible coupling(s)" if couplings_only else "sags far more than a rig part should"
+            warnings.append(f"part '{part}' {reason} ({held}): it sags {sag_mm:.3g} mm under its own weight; "
+                            "check its bearings and mounts")
+    return warnings
+
+
+# ------------------------------------------------------------------------------------------ memory
+
+
+def available_memory_bytes() -> float | None:
+    """Memory this process may still use: MemAvailable (/proc/meminfo), capped by a cgroup v2 limit.
+
+    None where neither can be read (not Linux).
+    """
+    available = None
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                available = float(line.split()[1]) * 1024.0
+                break
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        if limit != "max":
+            used = float(Path("/sys/fs/cgroup/memory.current").read_text().strip())
+            room = float(limit) - used
+            available = room if available is None else min(available, room)
+    except (OSError, ValueError):
+        pass
+    return available
+
+
+@dataclass(frozen=True)
+class MemoryEstimate:
+    """DOFs and peak memory of a solid or hybrid model, estimated from the rig (no meshing).
+
+    Attributes
+    ----------
+    model : str
+    mesh_size_mm : float
+        The global mesh size used.
+    dofs : int
+        Estimated DOFs of all solid parts (the beam frame is negligible).
+    part_dofs : dict
+        Estimated DOFs per solid part.
+    solver : str
+        The solver that would run (``auto`` resolved by size).
+    bytes_needed : float
+    bytes_available : float or None
+    """
+
+    model: str
+    mesh_size_mm: float
+    dofs: int
+    part_dofs: dict
+    solver: str
+    bytes_needed: float
+    bytes_available: float | None
+
+    @property
+    def fits(self) -> bool:
+        return self.bytes_available is None or self.bytes_needed <= self.bytes_available
+
+
+def _solid_dofs(rig: Rig, model: str, mesh_size_mm: float) -> dict[str, int]:
+    from rvcoax.geometry.meshing import SolidPartGeometry, estimate_dofs
+    from rvcoax.geometry.model.hybrid import mesh_size_of
+
+    names = rig.hybrid_solid_parts() if model == "hybrid" else tuple(p.name for p in rig.parts)
+    out = {}
+    for part in (rig.part(name) for name in names):
+        segments = tuple((s.x_mm[0], s.x_mm[1], s.outer_diameter_mm, s.inner_diameter_mm)
+                         for s in sorted(part.segments, key=lambda s: s.x_mm[0]))
+        out[part.name] = estimate_dofs(SolidPartGeometry(part.name, segments, (), mesh_size_of(rig, part, mesh_size_mm)))
+    return out
+
+
+def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> MemoryEstimate:
+    """Estimate DOFs (:func:`rvcoax.geometry.meshing.estimate_dofs`, within a factor 1.3) and peak memory."""
+    from rvcoax.fem.solvers import choose_method
+
+    size = rig.solid.mesh_size_mm if mesh_size_mm is None else mesh_size_mm
+    part_dofs = _solid_dofs(rig, model, size)
+    dofs = int(sum(part_dofs.values()))
+    method = choose_method(dofs) if solver == "auto" else solver
+    needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
+    return MemoryEstimate(model, size, dofs, part_dofs, method, needed, available_memory_bytes())
+
+
+def memory_problem(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> str | None:
+    """A refusal with the estimate and a suggestion when a solid/hybrid model would not fit in memory."""
+    if model == "beam":
+        return None
+    estimate = estimate_memory(rig, model, mesh_size_mm, solver)
+    if estimate.fits:
+        return None
+    largest = max(estimate.part_dofs, key=estimate.part_dofs.get)
+    room = estimate.bytes_available
+    # DOFs grow about as h^-3: the mesh size at which this model would fit, rounded up to 0.5 mm
+    scale = max((estimate.bytes_needed - BASE_BYTES) / max(0.8 * room - BASE_BYTES, 1.0), 1.0)
+    coarser = math.ceil(2.0 * estimate.mesh_size_mm * scale ** (1.0 / 3.0)) / 2.0
+    advice = f"use a coarser mesh (--mesh-size-mm {coarser:g} or more)"
+    if model == "solid":
+        hybrid = estimate_memory(rig, "hybrid", None, solver)
+        if hybrid.fits:
+            advice += (f", or --model hybrid (only {', '.join(hybrid.part_dofs)} as solids: about {hybrid.dofs:.2g} DOF "
+                       f"at the rig's {hybrid.mesh_size_mm:g} mm)")
+    return (f"the {model} model at mesh size {estimate.mesh_size_mm:g} mm would have about {estimate.dofs:.3g} DOF "
+            f"(largest part '{largest}': {estimate.part_dofs[largest]:.3g}) and need about "
+            f"{_gigabytes(estimate.bytes_needed)} GB with {estimate.solver} ({BYTES_PER_DOF[estimate.solver] / 1e3:g} kB "
+            f"per DOF, measured), but only {_gigabytes(room)} GB of memory are available; {advice}. "
+            "Nothing was meshed.")
+
+
+def _gigabytes(n_bytes: float) -> str:
+    return f"{n_bytes / 1e9:.3g}" if n_bytes < 1e12 else f"{n_bytes / 1e9:,.0f}"
+

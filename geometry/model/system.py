@@ -1,0 +1,148 @@
+"""The assembled system of a rig, whatever its fidelity: stiffness, constraints, unit loads, probes.
+
+``assemble_rig(rig, kind)`` returns a :class:`RigSystem` for ``kind`` = ``beam`` (every part a
+line of Timoshenko beams), ``hybrid`` (the parts named in ``[solid] hybrid_parts`` as quadratic
+tetrahedra, the rest beams) or ``solid`` (every part a solid). Everything downstream (sweep,
+results, check) works on a RigSystem only.
+
+DOF layout: first the frame (six DOFs per frame node: beam nodes, and reference nodes where
+something attaches to a solid), then each solid part's block of three DOFs per P2 node.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem import model as fem_model
+from rvcoax.fem.equilibrium import DofTable, frame_dof_table
+from rvcoax.fem.loads import NodalLoads, nodal_load_vector
+from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
+from rvcoax.geometry.model.loads import (
+    GRAVITY_DIRECTION,
+    UNIT_LOADS,
+    LocatedLoad,
+    gravity_acceleration,
+    located_unit_loads,
+)
+from rvcoax.geometry.schema import Rig
+
+MODEL_KINDS = ("beam", "hybrid", "solid")
+
+
+@dataclass(frozen=True, eq=False)
+class PathProbe:
+    """Reads a measured shaft path from a displacement vector.
+
+    ``uy`` and ``rotation_z`` are sparse (n_stations × n_dofs) operators giving u_y (m) and the
+    section rotation about z (rad) at each station; ``stations_mm`` run from 0 to L.
+    """
+
+    stations_mm: np.ndarray
+    length_mm: float
+    uy: sp.csr_matrix
+    rotation_z: sp.csr_matrix
+
+
+@dataclass(frozen=True, eq=False)
+class RigSystem:
+    """A rig's model ready to solve.
+
+    Attributes
+    ----------
+    rig : Rig
+    kind : str
+    frame : RigModel
+        Beam nodes and reference nodes with bushings, point masses, fixed DOFs.
+    stiffness, elimination : csr_matrix
+        K (n × n) and T (u = T q).
+    unit_loads : dict
+        One load vector per name in :data:`rvcoax.geometry.model.loads.UNIT_LOADS`.
+    probes : dict
+        ``"input"`` / ``"output"`` → :class:`PathProbe`.
+    dofs : DofTable
+        Position and component of every DOF (for equilibrium).
+    solids : tuple
+        Solid parts (for field output); empty for the beam model.
+    """
+
+    rig: Rig
+    kind: str
+    frame: RigModel
+    stiffness: sp.csr_matrix
+    elimination: sp.csr_matrix
+    unit_loads: dict
+    probes: dict
+    dofs: DofTable
+    solids: tuple = field(default_factory=tuple)
+    load_builder: object = None
+
+    @property
+    def n_dofs(self) -> int:
+        return int(self.stiffness.shape[0])
+
+    def with_loads_of(self, rig: Rig) -> RigSystem:
+        """The same structure with the unit loads of ``rig``, whose structure must be this one's.
+
+        Used when only load parameters change (calibration of load-sharing parameters; gravity,
+        force-table scale, coupling and mount offsets), so that the mesh, the stiffness and its
+        factorisation are reused.
+        """
+        return dataclasses.replace(self, rig=rig, unit_loads=self.load_builder(rig))
+
+
+def nodal_vector(frame: RigModel, loads: list[LocatedLoad], n_dofs: int) -> np.ndarray:
+    """Located loads on frame nodes as a load vector of length ``n_dofs``."""
+    vector = np.zeros(n_dofs)
+    if loads:
+        nodes = np.array([frame.node(load.part, load.x_mm) for load in loads])
+        components = np.array([[*load.force_N, *load.moment_Nm] for load in loads], dtype=float)
+        vector[: frame.structure.n_dofs] = nodal_load_vector(NodalLoads(nodes, components), frame.structure.n_dofs)
+    return vector
+
+
+def frame_path_probe(frame: RigModel, which: str, n_dofs: int) -> PathProbe:
+    """Path probe reading the beam nodes of a frame part."""
+    nodes, stations = frame.path_nodes(which)
+    rows = np.arange(nodes.size)
+
+    def pick(component: int) -> sp.csr_matrix:
+        return sp.csr_matrix((np.ones(nodes.size), (rows, DOFS_PER_NODE * nodes + component)), shape=(nodes.size, n_dofs))
+
+    return PathProbe(stations, getattr(frame.rig.paths, which).length_mm, pick(1), pick(5))
+
+
+def assemble_beam(rig: Rig) -> RigSystem:
+    """The beam model of a rig as a :class:`RigSystem`."""
+    frame = build_rig_model(rig)
+    structure = frame.structure
+    n = structure.n_dofs
+    stiffness = fem_model.stiffness_matrix(structure)
+    elimination, _ = fem_model.constraint_elimination(structure)
+    unit_gravity = fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION)  # weight per m/s² of g
+
+    def loads_of(loaded: Rig) -> dict:
+        located = located_unit_loads(loaded)
+        loads = {name: nodal_vector(frame, located[name], n) for name in UNIT_LOADS}
+        loads["gravity"] = loads["gravity"] + gravity_acceleration(loaded) * unit_gravity
+        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)
+        return loads
+
+    probes = {which: frame_path_probe(frame, which, n) for which in ("input", "output")}
+    return RigSystem(rig, "beam", frame, stiffness, elimination, loads_of(rig), probes,
+                     frame_dof_table(structure.coordinates), load_builder=loads_of)
+
+
+def assemble_rig(rig: Rig, kind: str = "beam", **options) -> RigSystem:
+    """Assemble ``rig`` at fidelity ``kind`` (beam, hybrid, solid)."""
+    if kind == "beam":
+        return assemble_beam(rig)
+    if kind in ("hybrid", "solid"):
+        from rvcoax.geometry.model.hybrid import assemble_with_solids
+
+        return assemble_with_solids(rig, kind, **options)
+    raise ValueError(f"unknown model kind {kind!r}; use one of {', '.join(MODEL_KINDS)}")

@@ -1,0 +1,119 @@
+"""The ``rvcoax`` application: its commands, loaded only when one of them runs.
+
+``rvcoax --help`` lists the commands from :data:`COMMANDS` without importing them, so it prints
+in a fraction of a second; running a command imports its module (``rvcoax.results.cli.<module>``),
+whose ``register(app)`` adds the command, and that module imports numpy, scipy and the model only
+inside the command's body. A test checks that the listed help equals each command's own.
+
+Units shown to the user follow paper 000: torques in N·m, lengths and Y in mm, angles in degrees.
+A user mistake ends with one paragraph and exit status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Annotated
+
+import click
+import typer
+from typer.core import TyperGroup
+
+__all__ = ["COMMANDS", "app", "run"]
+
+# name → (module under rvcoax.results.cli, the short help that `rvcoax --help` shows)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "sweep": ("sweep", "Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / "
+                       "sweep.json."),
+    "check": ("check", "Compare every row of paper 000's Y/β table with the model, blind and calibrated."),
+    "picture": ("picture", "Off-screen pictures: the deformed rig per case (u_y in µm, same colour limits across the "
+                           "sweep, measured paths drawn) and Y against torque with the published points."),
+    "discrepancy": ("discrepancy", "Locate where model and measurement disagree, name the missing effect, add it, "
+                                   "show the gap shrink."),
+    "montecarlo": ("montecarlo", "Monte Carlo of the tilt β: distribution of Y and β per shaft and load case, and "
+                                 "P(β > limit) with its interval."),
+    "sensitivity": ("montecarlo", "Global sensitivity of β to the toleranced parameters: which tolerance to tighten "
+                                  "first."),
+    "export": ("export", "Export dynamics inputs per load case: tilt β and radial displacement a of both measured "
+                         "shafts, paper 000's lever arm per shaft stage, offset and angle at every coupling, bearing "
+                         "reactions (N, N·m)."),
+    "chain-error": ("doe", "Paper 000's transmission-chain error vector: θ11, θ22, θ44, θ55 and θ_total = θ22 − θ11 − "
+                           "θ44 − θ55 (°), with the coaxiality terms (tilt β and radial offset a of the input and "
+                           "output shafts) from a sweep of the rig."),
+    "rig": ("rig", "Inspect rig files."),
+    "doe": ("doe", "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order "
+                   "regression of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β "
+                   "(doe rig)."),
+}
+
+
+def load_command(name: str) -> click.Command:
+    """The real click command ``name``: imports its module and lets it register on a fresh app."""
+    module = importlib.import_module(f"rvcoax.results.cli.{COMMANDS[name][0]}")
+    holder = typer.Typer(rich_markup_mode="rich")
+    module.register(holder)
+    return typer.main.get_group(holder).commands[name]
+
+
+class LazyCommands(TyperGroup):
+    """A command group whose commands are imported when they run, not when the group's help lists them."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return list(COMMANDS)
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name not in COMMANDS:
+            return None
+        if ctx.resilient_parsing or ctx.info_name == name:  # pragma: no cover - completion
+            return load_command(name)
+        # the group's --help only needs the name and the short help
+        return click.Command(name, help=COMMANDS[name][1], short_help=COMMANDS[name][1])
+
+    def resolve_command(self, ctx: click.Context, args: list[str]):
+        name = args[0] if args else None
+        if name in COMMANDS:
+            return name, load_command(name), args[1:]
+        return super().resolve_command(ctx, args)
+
+
+app = typer.Typer(
+    cls=LazyCommands, add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
+    help=(
+        "rvcoax: static coaxiality of an RV-reducer test rig (beam finite elements).\n\n"
+        "Units: torques T1 (input) and T2 (output) in N·m; positions, diameters and Y displacements in mm; "
+        "tilt angles in degrees. Y is vertical (+ up); beta = arcsin(Y_max / L) with L = the measured shaft "
+        "path length (input 120 mm, output 160 mm). Without --rig, the built-in reference RV-20E rig is used."
+    ),
+)
+
+
+def _version_callback(value: bool) -> None:
+    if value:
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            text = version("rvcoax")
+        except PackageNotFoundError:  # pragma: no cover - running from a copy that is not installed
+            text = "unknown (not installed)"
+        typer.echo(f"rvcoax {text}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: Annotated[bool, typer.Option("--version", callback=_version_callback, is_eager=True,
+                                          help="Print the version and exit.")] = False,
+) -> None:
+    """rvcoax command line."""
+
+
+def run() -> None:
+    """Console-script entry point."""
+    from rvcoax.fem import blas_threads, hugepages
+
+    hugepages.avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
+    blas_threads.single_threaded_openblas()  # process-wide too: see fem/blas_threads.py
+    app()
+
+
+if __name__ == "__main__":
+    run()

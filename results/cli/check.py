@@ -1,0 +1,130 @@
+"""``rvcoax check``: every row of a published Y/β table against the model, blind and calibrated."""
+
+from __future__ import annotations
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from rvcoax.results.cli.support import (
+    MeshOption,
+    ModelOption,
+    OutOption,
+    RigOption,
+    SolverOption,
+    UserError,
+    console,
+    guard,
+    prepare_with_status,
+    progress_bar,
+    report_written,
+    rig_text,
+    sweep_settings,
+)
+
+
+def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -> Table:
+    table = Table(title=f"{shaft} shaft: published (paper 000) vs rvcoax", title_justify="left")
+    for column in ("T1 N·m", "T2 N·m", "fit", "Y pub mm", "Y blind mm", "blind err", "Y cal mm", "cal err",
+                   "β pub °", "β cal °", "β cal err", "ok"):
+        table.add_column(column, justify="right")
+    y, b = f"Y_{shaft}_mm", f"beta_{shaft}_deg"
+    for i, row in enumerate(rows):
+        ok = comparison_cal.within[y][i] and comparison_cal.within[b][i]
+        table.add_row(
+            f"{row.case.input_torque_Nm:g}", f"{row.case.output_torque_Nm:g}", "fit" if i in fit_rows else "",
+            f"{comparison_cal.published[y][i]:.5g}", f"{comparison_blind.model[y][i]:.4g}",
+            f"{100 * comparison_blind.relative_error[y][i]:+.1f} %",
+            f"{comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
+            f"{comparison_cal.published[b][i]:.3g}", f"{comparison_cal.model[b][i]:.4g}",
+            f"{100 * comparison_cal.relative_error[b][i]:+.2f} %",
+            "[green]yes[/]" if ok else "[red]NO[/]",
+        )
+    return table
+
+
+
+def check(
+    rig: RigOption = None,
+    model: ModelOption = "beam",
+    out: OutOption = None,
+    solver: SolverOption = "auto",
+    mesh_size_mm: MeshOption = None,
+) -> None:
+    """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
+
+    Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows T2 = 10 and T2 = 200 N·m only; the other 18 rows are predictions. Tolerance: 2 % of Y and β, or 1e-7 mm next to the input sign change.
+
+    Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
+    """
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.loadcases.cases import paper_table
+    from rvcoax.results.io.result_files import write_check
+    from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
+    from rvcoax.results.studies.check_run import CalibrationError, run_check
+
+    settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    rig_model = load_rig(rig)
+    rows = paper_table()
+    prepared = prepare_with_status(rig_model, settings)
+    with progress_bar() as progress:
+        tasks = {}
+
+        def show(stage: str, done: int, total: int) -> None:
+            if stage not in tasks:
+                tasks[stage] = progress.add_task(stage, total=total)
+            progress.update(tasks[stage], completed=done)
+
+        try:
+            run = run_check(rig_model, rows, settings, prepared=prepared, progress=show)
+        except CalibrationError as error:
+            raise UserError(f"rig file {rig_text(rig)[0]}: {error}") from None
+    blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
+    for shaft in ("input", "output"):
+        console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
+                                   rows))
+    _print_calibration(run.calibration)
+    console.print(
+        f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
+        f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
+        f"{blind_result.failures} of {len(rows) * len(QUANTITIES)} values outside tolerance."
+    )
+    worst = rows[result.worst_row].case
+    console.print(
+        f"Calibrated, on the {int(held_out.sum())} rows not used to fit: worst relative error "
+        f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
+        f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
+    )
+    outcome = run.outcome
+    colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
+    console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
+    if out is not None:
+        source, text = rig_text(rig)
+        report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
+                                   title=f"{rig_model.rig.name}: {model} model vs paper 000"))
+    raise typer.Exit(code=outcome.exit_code)
+
+
+def _print_calibration(calibration) -> None:
+    table = Table(title="Calibrated parameters (fitted on T2 = 10 and 200 N·m)", title_justify="left")
+    for column in ("parameter", "shaft", "reference", "fitted", "unit", "plausible range", "plausible?"):
+        table.add_column(column)
+    for p in calibration.parameters:
+        lo, hi = p.parameter.plausible
+        table.add_row(p.parameter.address, p.parameter.shaft, f"{p.reference_value:.4g}", f"{p.fitted_value:.4g}",
+                      p.parameter.unit, f"{lo:g} .. {hi:g}", "[green]yes[/]" if p.plausible else "[red]NO[/]")
+    console.print(table)
+    for p in calibration.parameters:
+        if not p.plausible:
+            console.print(f"[yellow]note:[/] {p.parameter.address} = {p.fitted_value:.4g} {p.parameter.unit} lies "
+                          f"outside the physically plausible range ({p.parameter.meaning}).")
+    for alternative in calibration.alternatives:
+        values = ", ".join(f"{p.parameter.address.split('.')[-1]} = {p.fitted_value:.4g}" for p in alternative)
+        console.print(f"[dim]another exact fit of the two fitting rows ({alternative[0].parameter.shaft} shaft): "
+                      f"{values}; not used (farther from the reference values)[/]")
+
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``check`` to ``app``."""
+    app.command()(guard(check))

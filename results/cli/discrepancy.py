@@ -1,0 +1,174 @@
+"""``rvcoax discrepancy``: which physical effect is the model missing?"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from rvcoax.results.cli.support import (
+    ModelOption,
+    OutOption,
+    RigOption,
+    UserError,
+    console,
+    guard,
+    number_option,
+    progress_bar,
+    rig_text,
+    sweep_settings,
+)
+
+
+def _print_result(result, lengths_mm) -> None:
+    from rvcoax.results.studies.discrepancy.report import rms_table
+
+    console.print(f"measured data: {escape(str(result.data.source))} ({result.data.schema}, {result.data.n} observations in "
+                  f"{len(result.data.cases)} load cases, {int((~result.fit_mask).sum())} observations held out)")
+    for shaft, sigma in result.noise.noise_mm.items():
+        console.print(f"  noise σ {shaft}: {1e3 * sigma:.4g} µm ({result.noise.method[shaft]})")
+    console.print(f"locate: {result.test_before.describe()}")
+    significant = [f for f in result.structure if f.significant]
+    for finding in significant:
+        console.print(f"  {finding.shaft} shaft: {finding.test}: {escape(finding.detail)}")
+    for step in result.steps:
+        table = Table(title=f"candidates ranked by ΔBIC (step adding {step.added})", title_justify="left")
+        table.add_column("effect")
+        table.add_column("ΔBIC", justify="right")
+        for name, gain in step.ranking:
+            table.add_row(name + (" *" if name in step.group else ""), f"{gain:.1f}")
+        console.print(table)
+    for selected in result.selected:
+        effect = result.effects[selected.name]
+        values = ", ".join(f"{p.name} = {v:.4g} {p.unit}" for p, v in zip(effect.parameters, selected.values))
+        group = f" — ambiguous with {', '.join(g for g in selected.group if g != selected.name)}" \
+            if len(selected.group) > 1 else ""
+        console.print(f"added: [bold]{selected.name}[/] ({values}; ΔBIC {selected.delta_bic:.1f}){escape(group)}")
+    for d in result.discriminations:
+        console.print(f"  to tell {d.effects[0]} from {d.effects[1]}: measure the {d.shaft} shaft at x = {d.x_mm:g} mm "
+                      f"with T1 = {d.case.input_torque_Nm:g}, T2 = {d.case.output_torque_Nm:g} N·m"
+                      + (" (a new load case)" if d.new_case else "")
+                      + f": they differ by {1e3 * abs(d.difference_mm):.3g} µm ({d.in_sigma:.2g} σ)")
+    if result.rejected:
+        console.print(f"rejected (outside physical bounds): {len(result.rejected)}; e.g. "
+                      + escape(next(iter(result.rejected.values()))))
+    for name, reason in result.set_aside.items():
+        console.print(f"set aside (cannot be solved): {escape(name)}: {escape(reason)}")
+    if result.not_observable:
+        console.print(f"not observable on these data: {', '.join(sorted(result.not_observable))}")
+    table = Table(title="RMS gap, measured − model", title_justify="left")
+    for column in ("cases", "shaft", "before µm", "after µm", "before µrad", "after µrad"):
+        table.add_column(column, justify="right")
+    for subset, values in rms_table(result, lengths_mm).items():
+        for shaft in values["rms_before_um"]:
+            table.add_row(subset, shaft, f"{values['rms_before_um'][shaft]:.4g}", f"{values['rms_after_um'][shaft]:.4g}",
+                          f"{values['rms_tilt_before_urad'].get(shaft, float('nan')):.4g}",
+                          f"{values['rms_tilt_after_urad'].get(shaft, float('nan')):.4g}")
+    console.print(table)
+    console.print(f"after: {result.test_after.describe()}")
+    message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
+               "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise)",
+               "unexplained": "[bold red]VERDICT: unexplained discrepancy remains[/] (the effects above reduce the "
+                              "gap but do not explain it)"}[result.verdict]
+    console.print(message)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command()
+    @guard
+    def discrepancy(
+        measured: Annotated[Path, typer.Option("--measured", help="Measured data CSV: table (T1_input_Nm, T2_output_Nm, "
+                                                                  "Y_input_mm, Y_output_mm) or paths (T1_input_Nm, "
+                                                                  "T2_output_Nm, shaft, x_mm, uy_mm[, sigma_mm]).")],
+        rig: RigOption = None,
+        out: OutOption = None,
+        model: ModelOption = "beam",
+        hold_out_every: Annotated[int, number_option("--hold-out-every", 0, 1000, integer=True, help="Hold out every "
+                                                     "N-th load case (by torque) from the fit and report the gap on "
+                                                     "it; 0: fit on all.")] = 3,
+        model_form_percent: Annotated[float, number_option("--model-form-percent", 0.0, 50.0, "%", help="Model-form "
+                                                           "allowance added to the noise, in % of the signal.")] = 2.0,
+        alpha: Annotated[float, number_option("--alpha", 0.0, 0.5, exclusive=True,
+                                              help="Significance level of the χ² tests, in (0, 0.5).")] = 0.01,
+        margin: Annotated[float, number_option("--margin", 0.0, 1000.0, help="ΔBIC an effect must gain to be "
+                                               "added, 0 … 1000.")] = 10.0,
+        effects: Annotated[str | None, typer.Option("--effects", help="Comma-separated effect kinds or names to "
+                                                   "consider (default: the whole library).")] = None,
+    ) -> None:
+        """Locate where model and measurement disagree, name the missing effect, add it, show the gap shrink.
+
+        Writes (with --out): discrepancy.json, discrepancy_observations.csv, discrepancy.png and
+        rig_updated.toml (the rig with the effects added, each with a provenance comment). Exit
+        status 0 when there is no gap or the gap is explained, 1 when a discrepancy remains.
+        """
+        from rvcoax.geometry.rigfile import load_rig
+        from rvcoax.geometry.rigwrite import updated_rig_text
+        from rvcoax.results.io import records as sweep_report
+        from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
+        from rvcoax.results.studies.discrepancy import report
+        from rvcoax.results.studies.discrepancy.measured import MeasuredDataError, read_measured
+        from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
+
+        try:
+            data = read_measured(measured)
+        except MeasuredDataError as error:
+            raise UserError(str(error)) from None
+        rig_model = load_rig(rig)
+        candidates = None
+        if effects:
+            from rvcoax.geometry.effects import candidate_effects
+
+            candidates = tuple(e.strip() for e in effects.split(",") if e.strip())
+            known = {e.name for e in candidate_effects(rig_model)} | {e.kind for e in candidate_effects(rig_model)}
+            unknown = [e for e in candidates if e not in known]
+            if unknown:
+                raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
+                                + ", ".join(sorted({e.kind for e in candidate_effects(rig_model)})))
+        from rvcoax.geometry.effects import candidate_effects as library_of
+        from rvcoax.results.studies.discrepancy.workflow import discrepancy_workload
+        from rvcoax.results.workload import REPORT_AFTER_S, check
+
+        n_candidates = sum(1 for e in library_of(rig_model)
+                           if candidates is None or e.name in candidates or e.kind in candidates)
+        workload = check(discrepancy_workload(data, n_candidates), f"measured data {measured}",
+                         "thin the stations or load cases (the workflow's time grows with cases × candidates), "
+                         "or name fewer candidates with --effects")
+        if workload.seconds > REPORT_AFTER_S:
+            console.print(f"{workload.what}: {workload.describe()} (estimated)")
+        settings = DiscrepancySettings(candidates=candidates, sweep=sweep_settings(model), alpha=alpha, bic_margin=margin,
+                                       model_form_fraction=model_form_percent / 100.0, hold_out_every=hold_out_every)
+        with progress_bar() as bar:
+            task = bar.add_task("solving each candidate effect on the rig", total=None)
+            try:
+                result = run_discrepancy(rig_model, data, settings,
+                                         progress=lambda i, n: bar.update(task, completed=i, total=n))
+            except MeasuredDataError as error:
+                raise UserError(str(error)) from None
+        lengths = {"input": rig_model.paths.input.length_mm, "output": rig_model.paths.output.length_mm}
+        _print_result(result, lengths)
+        if out is not None:
+            source, original = rig_text(rig)
+            written = []
+            rig_path = None
+            if result.selected:
+                names = ", ".join(s.name for s in result.selected)
+                text, _ = updated_rig_text(
+                    original, result.rig_after,
+                    note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
+                    header=[f"Updated by rvcoax {sweep_report.rvcoax_version()} discrepancy workflow from {source}",
+                            f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
+                    + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in
+                                                     zip(result.effects[s.name].parameters, s.values))
+                       + f" (ΔBIC {s.delta_bic:.1f})" for s in result.selected])
+                rig_path = write_text_atomic(out / "rig_updated.toml", text)
+                written.append(rig_path)
+            written.append(write_json_atomic(out / "discrepancy.json", report.document(
+                result, lengths, None if rig_path is None else str(rig_path), sweep_report.rvcoax_version())))
+            written.append(write_csv_atomic(out / "discrepancy_observations.csv", report.observation_rows(result)))
+            written.append(report.plot(result, lengths, out / "discrepancy.png", title=rig_model.rig.name))
+            for path in written:
+                console.print(f"wrote {escape(str(path))}")
+        raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)

@@ -1,0 +1,333 @@
+"""What every ``rvcoax`` command shares: consoles, option types, and the user-error guard.
+
+A user mistake ends with one paragraph on stderr and exit status 2, never a traceback. Command
+modules (``results/*_cli.py``) import from here and register their commands on the main app.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+from rvcoax.fem.errors import RvcoaxError, SolverError
+from rvcoax.geometry.inputfiles import plain_number
+from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
+from rvcoax.results.io.out_lock import output_folder_lock
+
+console = Console()
+if not console.is_terminal:  # logs and pipes: wide enough for the check tables
+    console = Console(width=150)
+errors = Console(stderr=True, width=None if Console(stderr=True).is_terminal else 150)
+
+RADIAL_OFFSET_RANGE_MM = (0.0, 10.0)  # radial displacement a of a shaft: IT3 is 0.002 mm; 10 mm is a broken rig
+SEED_RANGE = (0, 2**32 - 1)  # what numpy's and scipy's seeded generators take everywhere
+SCHEDULER_PROTOCOLS = ("tcp", "tls", "ucx", "ws", "wss")  # Dask's network protocols
+
+
+class UserError(RvcoaxError):
+    """A mistake in the user's input: reported in one paragraph, exit status 2."""
+
+
+def _range_text(low: float, high: float, unit: str, exclusive: bool, integer: bool = False) -> str:
+    unit_text = f" {unit}" if unit else ""
+    a, b = (f"{int(low)}", f"{int(high)}") if integer else (f"{low:g}", f"{high:g}")
+    return f"({a}, {b}){unit_text}" if exclusive else f"{a} … {b}{unit_text}"
+
+
+def finite_option(value: float | int | str, option: str, low: float, high: float, unit: str = "",
+                  exclusive: bool = False, integer: bool = False) -> float | int:
+    """The value of a numeric command-line option, checked at the boundary.
+
+    Parameters
+    ----------
+    value : float, int or str
+        The text the user typed (a plain ASCII decimal number, see
+        :func:`rvcoax.geometry.inputfiles.plain_number`) or an already numeric default.
+    option : str
+        The option's name for the message (``"--mesh-size-mm"``).
+    low, high : float
+        The physical range, inclusive (exclusive with ``exclusive=True``).
+    unit : str
+        The option's unit for the message (``"mm"``; ``""`` for a pure number).
+    integer : bool
+        Accept whole numbers only (and return an int).
+
+    Raises
+    ------
+    UserError
+        Not a plain finite number, not whole where it must be, or outside the range; the message names
+        the option, the value, the range and the unit.
+    """
+    wanted = "a whole number" if integer else "a number"
+    in_range = f"{wanted} in {_range_text(low, high, unit, exclusive, integer)}"
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise UserError(f"{option}: {value!r} is not {in_range}")
+    try:
+        number = plain_number(value) if isinstance(value, str) else float(value)
+    except ValueError as error:
+        raise UserError(f"{option}: {error}; give {in_range}") from None
+    if not math.isfinite(number):
+        raise UserError(f"{option}: {value} is not a finite number; give {in_range}")
+    inside = low < number < high if exclusive else low <= number <= high
+    if not inside:
+        raise UserError(f"{option}: {number:g} is outside the range: give {in_range}")
+    if integer:
+        if isinstance(value, str) and not value.strip(" \t").lstrip("+-").isdigit():
+            raise UserError(f"{option}: '{value.strip()}' is not {wanted} (write digits 0-9 only); give {in_range}")
+        if number != int(number):
+            raise UserError(f"{option}: {number:g} is not {wanted}; give {in_range}")
+        return int(value.strip(" \t")) if isinstance(value, str) else int(number)
+    return number
+
+
+def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", exclusive: bool = False,
+                  integer: bool = False):
+    """A ``typer.Option`` for a numeric option checked by :func:`finite_option` as it is parsed.
+
+    Click's own FLOAT accepts ``nan``, ``1_00`` and ``٧٠``, and its range errors print a usage block;
+    an option made here refuses those with the same one-paragraph error (exit status 2, through
+    :func:`fail`) as every other user mistake, naming the option, the range and the unit.
+    """
+
+    def parse(value):
+        try:
+            return finite_option(value, name, low, high, unit, exclusive, integer)
+        except UserError as error:
+            fail(str(error))
+
+    parse.__name__ = "INTEGER" if integer else "FLOAT"  # the metavar that --help shows
+    return typer.Option(name, parser=parse, help=help)
+
+
+def torque_list(text: str, option: str) -> list[float]:
+    """Comma-separated torques in N·m (``--t1 0.5,1``): every item a plain number with |T| ≤ the load-case bound.
+
+    Raises
+    ------
+    UserError
+        Naming the option, the item (1-based) and the reason: an empty item (``1,,2``), a number
+        that is not plain ASCII, or a torque beyond the load-case bound.
+    """
+    from rvcoax.loadcases.limits import MAX_TORQUE_NM
+
+    values = []
+    items = text.split(",")
+    for i, item in enumerate(items, start=1):
+        where = f"{option} '{text}', item {i} of {len(items)}"
+        if not item.strip(" \t"):
+            raise UserError(f"{where}: is empty (write torques in N·m separated by single commas, e.g. 0.5,1.43)")
+        try:
+            value = plain_number(item)
+        except ValueError as error:
+            raise UserError(f"{where}: {error} (torques are plain numbers in N·m)") from None
+        if abs(value) > MAX_TORQUE_NM:
+            raise UserError(f"{where}: {value:g} N·m is beyond any plausible rig torque (|T| ≤ {MAX_TORQUE_NM:g} N·m)")
+        values.append(value)
+    return values
+
+
+def scheduler_address(text: str) -> str:
+    """``local``, ``serial`` or a Dask scheduler address ``PROTOCOL://HOST:PORT``; else :class:`UserError`."""
+    if text in ("local", "serial"):
+        return text
+    expected = f"local, serial or an address such as tcp://HOST:8786 (protocols {', '.join(SCHEDULER_PROTOCOLS)})"
+    protocol, separator, rest = text.partition("://")
+    if not separator:
+        raise UserError(f"--scheduler: '{text}' is not {expected}")
+    if protocol not in SCHEDULER_PROTOCOLS:
+        raise UserError(f"--scheduler: '{text}': protocol '{protocol}' is not one of {', '.join(SCHEDULER_PROTOCOLS)}")
+    host, colon, port = rest.rpartition(":")
+    if not colon or not host or not (port.isascii() and port.isdigit()) or not 1 <= int(port) <= 65535:
+        raise UserError(f"--scheduler: '{text}': needs HOST:PORT after {protocol}:// with a port 1 … 65535 "
+                        "(e.g. tcp://127.0.0.1:8786)")
+    return text
+
+
+RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
+ModelOption = Annotated[str, typer.Option("--model", help="Model fidelity: beam, hybrid (measured shafts as solids) or solid.")]
+OutOption = Annotated[Path | None, typer.Option("--out", help="Folder for the result files.")]
+SolverOption = Annotated[str, typer.Option("--solver", help="Linear solver for solid/hybrid models: auto (by size), superlu, pardiso or amg.")]
+MeshOption = Annotated[float | None, number_option(
+    "--mesh-size-mm", *MESH_SIZE_RANGE_MM, "mm", help=f"Global solid mesh size in mm, {MESH_SIZE_RANGE_MM[0]:g} … {MESH_SIZE_RANGE_MM[1]:g} "
+         "(default: the rig file's \\[solid] mesh_size_mm).")]
+CasesOption = Annotated[Path | None, typer.Option("--cases", help="CSV (columns T1_input_Nm, T2_output_Nm) or TOML (\\[\\[cases]]) of load cases.")]
+T1Option = Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")]
+T2Option = Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")]
+GridOption = Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2 (default: pair them in order).")]
+
+
+def fail(message: str) -> None:
+    """Print ``message`` as an error and exit with status 2."""
+    errors.print(f"[bold red]error:[/] {escape(message)}", highlight=False)  # the message is plain text, not markup
+    raise typer.Exit(code=2)
+
+
+def report_written(paths) -> None:
+    """``wrote PATH`` for every result file written (paths are the user's text: printed as text, not markup)."""
+    for path in paths:
+        console.print(f"wrote {escape(str(path))}", highlight=False)
+
+
+def add_text_row(table, *cells) -> None:
+    """``table.add_row`` for cells that are plain text (names and values from the user's files), not markup."""
+    table.add_row(*(escape(str(cell)) for cell in cells))
+
+
+def warn(message: str) -> None:
+    """Print ``message`` as a warning on stderr (the command goes on)."""
+    errors.print(f"[bold yellow]warning:[/] {escape(message)}", highlight=False)
+
+
+def rig_text(path: Path | None) -> tuple[str, str]:
+    """(source name, text) of the rig file, or of the built-in reference rig when ``path`` is None."""
+    from rvcoax.geometry.rigfile import reference_rig_text
+
+    if path is None:
+        return "built-in reference_rig.toml", reference_rig_text()
+    try:
+        return str(path), path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return str(path), ""
+
+
+def sweep_settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
+    """Validated :class:`SweepSettings` from command-line options."""
+    from rvcoax.results.sweep import SweepSettings
+
+    if mesh_size_mm is not None:
+        finite_option(mesh_size_mm, "--mesh-size-mm", *MESH_SIZE_RANGE_MM, "mm")
+    try:
+        return SweepSettings(method=method, model=model, solver=solver, mesh_size_mm=mesh_size_mm)
+    except ValueError as error:
+        raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
+
+
+def write_error_text(error: OSError) -> str:
+    """``cannot write FILE: reason`` for an OSError raised while writing results (``no space left on device``)."""
+    reason = error.strerror or (os.strerror(error.errno) if error.errno else str(error)) or type(error).__name__
+    reason = reason[:1].lower() + reason[1:]
+    where = error.filename if error.filename is not None else "the result files (--out)"
+    return f"cannot write {where}: {reason}"
+
+
+def check_environment() -> None:
+    """Refuse environment variables that rvcoax reads and that hold a value it cannot use.
+
+    ``RVCOAX_CASE_DELAY_S`` (a test hook, seconds to pause after each solved case) must be a plain
+    number in 0 … 60 s; ``inf`` would never return and ``nan`` or a word would be silently ignored.
+    """
+    from rvcoax.results.io.sweep_files import DELAY_VARIABLE as CASE_DELAY_VARIABLE
+
+    delay = os.environ.get(CASE_DELAY_VARIABLE)
+    if delay:
+        try:
+            finite_option(delay, f"environment variable {CASE_DELAY_VARIABLE}", 0.0, 60.0, "s")
+        except UserError as error:
+            raise UserError(f"{error} (unset it: it only slows a sweep down for tests)") from None
+
+
+def guard(function):
+    """Turn user-input errors into a clear message and exit status 2."""
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        try:
+            check_environment()
+            out = kwargs.get("out")
+            if not isinstance(out, Path):  # no --out folder: nothing to lock
+                return function(*args, **kwargs)
+            with output_folder_lock(out):  # one command at a time per output folder
+                return function(*args, **kwargs)
+        except RvcoaxError as error:  # every error rvcoax raises on purpose: one paragraph, exit status 2
+            text = error.describe(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}")
+            fail(f"{text} (try another --solver)" if isinstance(error, SolverError) else text)
+        except OSError as error:  # reading is handled above, so this is writing the results (--out)
+            fail(write_error_text(error))
+
+    return wrapper
+
+
+def prepare_with_status(rig, settings):
+    """Assemble the model and set up its solver, with a status line and the sag warnings."""
+    from rvcoax.geometry.catalogue import plausibility_warnings
+    from rvcoax.geometry.model.preflight import sag_warnings
+    from rvcoax.results.sweep import prepare_model
+    from rvcoax.results.workload import REPORT_AFTER_S, beam_size, rig_problem
+
+    if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
+        size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
+        if size.seconds > REPORT_AFTER_S:
+            console.print(f"{size.what}: {size.describe()} to assemble and factorise (estimated)")
+    for message in plausibility_warnings(rig) + sag_warnings(rig):
+        warn(message)
+    with console.status(f"assembling the {settings.model} model and setting up the solver"):
+        prepared = prepare_model(rig, settings)
+    system = prepared.system
+    console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
+                  + (f", {len(system.solids)} solid part(s)" if system.solids else ""))
+    return prepared
+
+
+def progress_bar() -> Progress:
+    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                    TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(), console=console, transient=True,
+                    disable=not console.is_terminal)
+
+
+def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
+    """A sweep with a progress bar."""
+    from rvcoax.results.sweep import run_sweep
+
+    with progress_bar() as progress:
+        task = progress.add_task(label, total=len(cases))
+        return run_sweep(rig, cases, settings, progress=lambda i, n: progress.update(task, completed=i),
+                         prepared=prepared, on_case=on_case)
+
+
+def _case_rows_upper_bound(path: Path) -> int | None:
+    """At most how many load cases ``path`` holds (lines of a CSV, ``[[cases]]`` of a TOML file), counted
+    without parsing; None when it cannot be read (:func:`rvcoax.loadcases.cases.read_cases` says why)."""
+    from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES
+
+    try:
+        with path.open("rb") as stream:
+            data = stream.read(MAX_CASE_FILE_BYTES + 1)
+    except OSError:
+        return None
+    return data.count(b"[[cases]]") if path.suffix.lower() == ".toml" else max(data.count(b"\n"), 1)
+
+
+def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
+    """Load cases from --cases, or --t1/--t2 (paired or --grid), or the paper's 20 pairs."""
+    from rvcoax.loadcases.cases import grid_cases, paired_cases, paper_cases, read_cases
+    from rvcoax.results.workload import check_cases, count_text
+
+    if cases_file is not None:
+        if t1 or t2:
+            raise UserError("give either --cases FILE or --t1/--t2, not both")
+        rows = _case_rows_upper_bound(cases_file)
+        if rows is not None:  # refused before the file is parsed (a million rows take seconds)
+            check_cases(rows, f"load-case file {cases_file}", f"about {count_text(rows)} load cases ({rows:,} lines)")
+        with console.status(f"reading the load cases of {cases_file}"):
+            cases = read_cases(cases_file)
+        check_cases(len(cases), f"load-case file {cases_file}")
+        return cases
+    if t1 is None and t2 is None:
+        return paper_cases()
+    if t1 is None or t2 is None:
+        raise UserError("--t1 and --t2 go together (comma-separated torques in N·m)")
+    values1, values2 = torque_list(t1, "--t1"), torque_list(t2, "--t2")
+    if grid:  # refused before the grid's cases are built
+        check_cases(len(values1) * len(values2), "--t1/--t2 --grid",
+                    f"{count_text(len(values1) * len(values2))} load cases ({len(values1)} T1 × {len(values2)} T2)")
+        return grid_cases(values1, values2)
+    check_cases(max(len(values1), len(values2)), "--t1/--t2")
+    return paired_cases(values1, values2)

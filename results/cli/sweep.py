@@ -1,0 +1,158 @@
+"""``rvcoax sweep``: solve a torque sweep and write sweep.csv / sweep.json (resumable from its journal)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from rvcoax.results.cli.support import (
+    CasesOption,
+    GridOption,
+    MeshOption,
+    ModelOption,
+    OutOption,
+    RigOption,
+    SolverOption,
+    T1Option,
+    T2Option,
+    UserError,
+    cases_from_options,
+    console,
+    guard,
+    prepare_with_status,
+    report_written,
+    rig_text,
+    run_with_progress,
+    sweep_settings,
+)
+
+TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (every case is in sweep.csv)
+
+if TYPE_CHECKING:  # annotations only: the modules load when a command runs
+    from rvcoax.results.io.sweep_files import CaseStore
+
+
+def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
+    shown = rows[:TABLE_ROWS]
+    more = (f"; first {len(shown)} shown, every case in sweep.csv" if len(rows) > len(shown) else "")
+    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method}{more})"))
+    for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
+        table.add_column(column, justify="right")
+    for row in shown:
+        cells = [f"{row['T1_input_Nm']:g}", f"{row['T2_output_Nm']:g}"]
+        for shaft in ("input", "output"):
+            cells += [f"{row[f'Y_{shaft}_mm']:.5g}", f"{row[f'beta_{shaft}_deg']:.3g}",
+                      f"{row[f'station_of_max_{shaft}_mm']:g}"]
+        table.add_row(*cells)
+    return table
+
+
+def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, resume: bool):
+    """Solve the cases not yet in ``store`` (all of them without ``resume``), journalling each as it is solved.
+
+    Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
+    or None when every case was reused).
+    """
+    from rvcoax.results.io import records as report
+    from rvcoax.results.io.sweep_files import JournalReading, case_inputs, inputs_sha256, sweep_inputs
+
+    sha = report.text_sha256(text)
+    common = sweep_inputs(sha, settings)
+    case_hashes = [inputs_sha256(case_inputs(sha, case, settings, common)) for case in load_cases]
+    model_hash = inputs_sha256(common)
+    if resume:
+        reading = store.load(case_hashes, model_hash)
+    else:
+        store.clear()
+        reading = JournalReading()
+    records, model = reading.cases, reading.model
+    missing = [i for i in range(len(load_cases)) if i not in records]
+    if resume:
+        console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {escape(str(store.folder))}, "
+                      f"{len(missing)} to solve")
+        if reading.rejected:
+            console.print(f"not reused from {escape(str(store.path))} (solved again): {reading.describe_rejections()}")
+    result = None
+    if missing or model is None:
+        with store:
+            def save(k: int, case_result) -> None:
+                records[missing[k]] = report.case_record(case_result)
+                store.save(missing[k], case_hashes[missing[k]], records[missing[k]])
+
+            result = run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings,
+                                       "solving load cases", prepare_with_status(rig_model, settings), on_case=save)
+            model = report.model_section(result)
+            store.save_model(model_hash, model)
+    return [records[i] for i in range(len(load_cases))], model, result
+
+
+def sweep(
+    rig: RigOption = None,
+    model: ModelOption = "beam",
+    out: OutOption = Path("rvcoax_out"),
+    cases: CasesOption = None,
+    t1: T1Option = None,
+    t2: T2Option = None,
+    grid: GridOption = False,
+    method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
+    solver: SolverOption = "auto",
+    mesh_size_mm: MeshOption = None,
+    fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
+    resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
+) -> None:
+    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json.
+
+    Each case is appended to OUT/cases/journal.jsonl (with a checksum) as soon as it is solved; after
+    an interruption, the same command with --resume solves only the missing cases and writes the same
+    files.
+    """
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.results.io import records as report
+    from rvcoax.results.io.sweep_files import CaseStore, write_sweep_files
+    from rvcoax.results.workload import REPORT_AFTER_S, sweep_workload
+
+    if resume and fields:
+        raise UserError("--fields needs every case's displacement field, which --resume does not keep: "
+                        "run without --resume")
+    settings = sweep_settings(model, method, solver, mesh_size_mm)
+    rig_model = load_rig(rig)
+    load_cases = cases_from_options(cases, t1, t2, grid)
+    work = sweep_workload(len(load_cases))
+    if work.seconds > REPORT_AFTER_S:
+        console.print(f"{work.what}: {work.describe()} (estimated)")
+    source, text = rig_text(rig)
+    records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
+                                                  resume)
+    if fields:
+        report_written(_write_fields(out / "fields", result))
+    console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
+    if model_section.get("nonlinear"):
+        how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
+               f"{', '.join(model_section['gapped_bearings'])})")
+    elif method == "superposition":
+        how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "
+               "T1 = 1 N·m, T2 = 1 N·m)")
+    else:
+        how = "each case solved directly"
+    console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
+    header = report.sweep_header(rig_model, model_section, source, text)
+    report_written(write_sweep_files(out, "sweep", header, records))
+
+
+def _write_fields(folder: Path, result) -> list[Path]:
+    from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
+
+    mesh, _ = sweep_field_mesh(result)
+    cases = sweep_field_cases(result)
+    written = [write_vtu(folder / f"case_{i:02d}.vtu", mesh, case) for i, case in enumerate(cases)]
+    written += list(write_xdmf_series(folder / "sweep.xdmf", mesh, cases).values())
+    return written
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``sweep`` to ``app``."""
+    app.command()(guard(sweep))

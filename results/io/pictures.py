@@ -1,0 +1,606 @@
+"""Pictures of a sweep: the deformed rig (off-screen VTK) and Y against torque (matplotlib).
+
+Intended call sequence for a sweep::
+
+    from pathlib import Path
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.loadcases.cases import paper_cases, paper_table
+    from rvcoax.results.io.fields import beam_field_cases, beam_field_mesh, path_point_indices
+    from rvcoax.results.io.pictures import enclosing_parts, plot_y_vs_torque, render_deformed, sweep_colour_limits_um
+    from rvcoax.results.sweep import run_sweep
+
+    out = Path("rvcoax_out/pictures")
+    sweep = run_sweep(load_rig(), paper_cases())
+    mesh = beam_field_mesh(sweep.model)
+    cases = beam_field_cases(sweep.model, sweep.cases)      # u measured as the sweep measures Y
+    paths = path_point_indices(sweep.model)                  # {"input": nodes, "output": nodes}
+    limits = sweep_colour_limits_um(cases)                   # the same colours in every picture
+    housings = enclosing_parts(mesh)                         # the same parts translucent in every picture
+    for i, case in enumerate(cases):
+        info = render_deformed(mesh, case, out / f"deformed_{i:02d}.png", rig_length_m=None, paths=paths,
+                               colour_limits_um=limits, translucent_parts=housings, title=case.label)
+        print(info["warp_factor"], info["colour_limits_um"], info["seconds"])
+    plot_y_vs_torque(sweep, out / "y_vs_torque.png", published=paper_table())
+
+``render_deformed`` scales each picture so that its largest displacement is ``warp_fraction`` of the
+rig length; pass ``warp_factor=sweep_warp_factor(cases, rig_length_m)`` to draw every case of a
+sweep with one scale instead.
+
+Rendering is off screen. Without a display, VTK's EGL window is used (Mesa's software renderer on
+a machine without a GPU); on Debian that needs the packages in :data:`RENDER_PACKAGES`. Before the
+first picture, a tiny render runs in a child process (about 1 s, once per process), because a VTK
+window that cannot be created can crash the process; if it fails,
+:class:`RenderingUnavailableError` names what is missing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import glob
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.results.io.fields import FieldCase, FieldMesh
+from rvcoax.results.io.writers import write_png_atomic
+
+RENDER_PACKAGES = ("libegl1", "libegl-mesa0", "libgl1-mesa-dri")
+BACKGROUND = (255, 255, 255)
+COLOURMAP = "coolwarm"
+ENCLOSING_OPACITY = 0.3
+PATH_COLOURS = ("black", "darkgreen", "purple", "darkorange")
+
+
+class RenderingUnavailableError(RvcoaxError, RuntimeError):
+    """Off-screen rendering cannot run on this machine; the message says what to install."""
+
+
+# --------------------------------------------------------------------------------------------
+# Headless rendering set-up
+
+_PROBE = r"""
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL window classes)
+from vtkmodules.vtkFiltersSources import vtkConeSource
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderWindow, vtkRenderer,
+                                         vtkWindowToImageFilter)
+window = vtkRenderWindow()
+window.SetOffScreenRendering(1)
+window.SetSize(16, 16)
+renderer = vtkRenderer()
+renderer.SetBackground(1.0, 1.0, 1.0)
+window.AddRenderer(renderer)
+cone = vtkConeSource()
+mapper = vtkPolyDataMapper()
+mapper.SetInputConnection(cone.GetOutputPort())
+actor = vtkActor()
+actor.SetMapper(mapper)
+actor.GetProperty().SetColor(0.0, 0.0, 0.0)
+renderer.AddActor(actor)
+window.Render()
+grab = vtkWindowToImageFilter()
+grab.SetInput(window)
+grab.Update()
+pixels = grab.GetOutput().GetPointData().GetScalars()
+values = [pixels.GetValue(i) for i in range(pixels.GetNumberOfValues())]
+print("RVCOAX_PROBE", window.GetClassName(), min(values), max(values))
+"""
+
+_probe_result: str | None = None
+
+
+def _missing_libraries() -> list[str]:
+    import ctypes.util
+
+    missing = []
+    if ctypes.util.find_library("EGL") is None:
+        missing.append("libEGL.so.1 (libegl1)")
+    if not glob.glob("/usr/lib/*/libEGL_mesa.so.0") and not glob.glob("/usr/lib/libEGL_mesa.so.0"):
+        missing.append("libEGL_mesa.so.0 (libegl-mesa0)")
+    if not glob.glob("/usr/lib/*/dri/swrast_dri.so") and not glob.glob("/usr/lib/dri/swrast_dri.so"):
+        missing.append("dri/swrast_dri.so (libgl1-mesa-dri)")
+    return missing
+
+
+def _try_window(window_class: str | None) -> tuple[bool, str]:
+    env = dict(os.environ)
+    if window_class is not None:
+        env["VTK_DEFAULT_OPENGL_WINDOW"] = window_class
+    try:
+        done = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, timeout=120)
+    except subprocess.TimeoutExpired:
+        return False, "the test render did not finish in 120 s"
+    for line in done.stdout.splitlines():
+        if line.startswith("RVCOAX_PROBE"):
+            _, name, low, high = line.split()
+            if int(low) < 128 <= int(high):
+                return True, name
+            return False, f"{name} rendered a blank image"
+    tail = (done.stderr or "").strip().splitlines()[-3:]
+    reason = f"exit status {done.returncode}" + (f": {' | '.join(tail)}" if tail else "")
+    return False, f"{window_class or 'the default window'} failed ({reason})"
+
+
+def check_offscreen_rendering() -> str:
+    """Make sure VTK can render off screen here; returns the window class used.
+
+    Without a display (no ``DISPLAY``/``WAYLAND_DISPLAY``) it selects the EGL window (else OSMesa)
+    through ``VTK_DEFAULT_OPENGL_WINDOW``, so VTK does not try an X server first. The result is
+    cached for the process. Raises :class:`RenderingUnavailableError`.
+    """
+    global _probe_result
+    if _probe_result is not None:
+        return _probe_result
+    chosen = os.environ.get("VTK_DEFAULT_OPENGL_WINDOW")
+    if chosen:
+        candidates = [chosen]
+    elif os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        candidates = [None, "vtkEGLRenderWindow", "vtkOSMesaRenderWindow"]
+    else:
+        candidates = ["vtkEGLRenderWindow", "vtkOSMesaRenderWindow"]
+    failures = []
+    for candidate in candidates:
+        ok, detail = _try_window(candidate)
+        if ok:
+            if candidate is not None:
+                os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = candidate
+            _probe_result = detail
+            return detail
+        failures.append(detail)
+    missing = _missing_libraries()
+    raise RenderingUnavailableError(
+        "off-screen rendering is not available: " + "; ".join(failures)
+        + (f". Missing shared libraries: {', '.join(missing)}" if missing else "")
+        + f". On Debian/Ubuntu install them with: apt-get install {' '.join(RENDER_PACKAGES)}"
+        + " (EGL with Mesa's software renderer; `make test` installs them when run as root)"
+        + ", or run with DISPLAY set to an X server."
+    )
+
+
+@contextlib.contextmanager
+def _quiet_vtk():
+    """Silence VTK's warnings and log messages (e.g. "bad X server connection") while rendering."""
+    import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkObject
+
+    previous = vtkObject.GetGlobalWarningDisplay()
+    vtkObject.GlobalWarningDisplayOff()
+    try:
+        with pv.vtk_verbosity("off"):
+            yield
+    finally:
+        vtkObject.SetGlobalWarningDisplay(previous)
+
+
+# --------------------------------------------------------------------------------------------
+# Scales
+
+
+def sweep_colour_limits_um(cases: Sequence[FieldCase]) -> tuple[float, float]:
+    """Symmetric u_y colour limits (µm) covering every case: (−m, m) with m = max |u_y|."""
+    largest = max((float(np.max(np.abs(c.displacement_y_um))) for c in cases if c.displacement_m.size), default=0.0)
+    if not np.isfinite(largest) or largest <= 0.0:
+        largest = 1e-9
+    return -largest, largest
+
+
+def _largest_displacement_m(case: FieldCase) -> float:
+    return float(np.max(np.linalg.norm(case.displacement_m, axis=1))) if case.displacement_m.size else 0.0
+
+
+def mesh_length_m(mesh: FieldMesh) -> float:
+    """The largest extent of the mesh's bounding box (m): the rig length for a rig along x."""
+    return float(np.max(np.ptp(mesh.points, axis=0)))
+
+
+def warp_factor_for(largest_displacement_m: float, rig_length_m: float, warp_fraction: float = 0.05) -> float:
+    """Factor that draws ``largest_displacement_m`` as ``warp_fraction`` of ``rig_length_m`` (1 if zero)."""
+    if largest_displacement_m <= 0.0 or not np.isfinite(largest_displacement_m):
+        return 1.0
+    return warp_fraction * rig_length_m / largest_displacement_m
+
+
+def sweep_warp_factor(cases: Sequence[FieldCase], rig_length_m: float, warp_fraction: float = 0.05) -> float:
+    """One warp factor for all cases: the largest displacement of the sweep → warp_fraction × length."""
+    return warp_factor_for(max((_largest_displacement_m(c) for c in cases), default=0.0), rig_length_m, warp_fraction)
+
+
+# --------------------------------------------------------------------------------------------
+# The deformed rig
+
+
+def _runs(lines: np.ndarray, radius: np.ndarray) -> list[tuple[list[int], float]]:
+    """Chains of consecutive lines (end of one = start of the next) of one radius: (points, radius)."""
+    runs: list[tuple[list[int], float]] = []
+    for (a, b), r in zip(lines, radius):
+        if runs and runs[-1][0][-1] == a and runs[-1][1] == r:
+            runs[-1][0].append(int(b))
+        else:
+            runs.append(([int(a), int(b)], float(r)))
+    return runs
+
+
+def _segment_tubes(mesh: FieldMesh, points: np.ndarray, uy_um: np.ndarray, radius: np.ndarray, select: np.ndarray):
+    """Tubes for the selected lines, one capped tube per chain of equal radius (radii can jump)."""
+    import pyvista as pv
+
+    runs = _runs(mesh.lines[select], radius[select])
+    index = np.concatenate([np.asarray(chain) for chain, _ in runs])
+    cells, start = [], 0
+    for chain, _ in runs:
+        cells.extend([len(chain), *range(start, start + len(chain))])
+        start += len(chain)
+    poly = pv.PolyData(points[index], lines=np.asarray(cells))
+    poly.point_data["radius"] = np.concatenate([np.full(len(chain), r) for chain, r in runs])
+    poly.point_data["u_y_um"] = uy_um[index]
+    return poly.tube(scalars="radius", absolute=True, n_sides=24, capping=True)
+
+
+def _tet_surface(mesh: FieldMesh, points: np.ndarray, uy_um: np.ndarray, select: np.ndarray):
+    import pyvista as pv
+
+    grid = pv.UnstructuredGrid({pv.CellType.QUADRATIC_TETRA: mesh.tetra10[select]}, points)
+    grid.point_data["u_y_um"] = uy_um
+    try:
+        return grid.extract_surface(nonlinear_subdivision=1, algorithm="dataset_surface")
+    except TypeError:  # pyvista < 0.47 has no `algorithm`
+        return grid.extract_surface(nonlinear_subdivision=1)
+
+
+def _part_surfaces(mesh: FieldMesh, points: np.ndarray, uy_um: np.ndarray, radius: np.ndarray) -> dict:
+    """Part index → its drawn surface (tubes of its beams and the surface of its tetrahedra)."""
+    surfaces = {}
+    for part in range(len(mesh.part_names)):
+        pieces = []
+        if np.any(mesh.line_part_id == part):
+            pieces.append(_segment_tubes(mesh, points, uy_um, radius, mesh.line_part_id == part))
+        if np.any(mesh.tetra_part_id == part):
+            pieces.append(_tet_surface(mesh, points, uy_um, mesh.tetra_part_id == part))
+        if pieces:
+            surfaces[part] = pieces[0] if len(pieces) == 1 else pieces[0].merge(pieces[1:]).extract_surface()
+    return surfaces
+
+
+def enclosing_parts(mesh: FieldMesh, *, rig_length_m: float | None = None, min_radius_fraction: float = 0.002,
+                    samples: int = 300) -> tuple[str, ...]:
+    """Parts that hide another part in the side view (housings around shafts), on the undeformed mesh.
+
+    A part hides another when a ray from one of the other part's camera-facing surface points
+    (up to ``samples`` per part) towards the camera (+z) hits it. :func:`render_deformed` draws
+    these parts translucent; computing them once for a sweep keeps every picture alike.
+    """
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkFiltersGeneral import vtkOBBTree
+
+    length = mesh_length_m(mesh) if rig_length_m is None else float(rig_length_m)
+    radius = np.maximum(mesh.line_radius_m, min_radius_fraction * length)
+    with _quiet_vtk():
+        surfaces = _part_surfaces(mesh, mesh.points, np.zeros(mesh.n_points), radius)
+        facing = {}
+        for part, surface in surfaces.items():
+            if "TubeNormals" in surface.point_data and surface.n_points == len(surface.point_data["TubeNormals"]):
+                normals = np.asarray(surface.point_data["TubeNormals"])
+            else:
+                normals = np.asarray(surface.compute_normals(cell_normals=False, split_vertices=False)
+                                     .point_data["Normals"])
+            points = np.asarray(surface.points)[normals[:, 2] > 0.5]
+            if len(points) > samples:
+                points = points[np.linspace(0, len(points) - 1, samples).astype(int)]
+            facing[part] = points
+        hits = vtkPoints()
+        found = []
+        for part, surface in surfaces.items():
+            tree = vtkOBBTree()
+            tree.SetDataSet(surface)
+            tree.BuildLocator()
+            others = [facing[q] for q in surfaces if q != part and len(facing[q])]
+            for p in np.vstack(others) if others else []:
+                start = (float(p[0]), float(p[1]), float(p[2]) + 1e-6 * length)
+                if tree.IntersectWithLine(start, (start[0], start[1], start[2] + 2.0 * length), hits, None):
+                    found.append(mesh.part_names[part])
+                    break
+    return tuple(found)
+
+
+def _path_points(mesh: FieldMesh, case: FieldCase, polyline: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Undeformed positions and displacements along a path given by point indices or positions.
+
+    Positions must coincide with exactly one mesh point each, or lie inside the solids (then the
+    displacement is interpolated). Where parts overlap (a shaft inside a housing), several points
+    coincide: pass point indices (:func:`rvcoax.results.io.fields.path_point_indices`) instead.
+    """
+    if np.issubdtype(polyline.dtype, np.integer):
+        if polyline.ndim != 1 or polyline.min() < 0 or polyline.max() >= mesh.n_points:
+            raise ValueError("a path of point indices must be a 1-D array of indices into the mesh's points")
+        return mesh.points[polyline], case.displacement_m[polyline]
+    from scipy.spatial import cKDTree
+
+    tolerance = 1e-9 * max(mesh_length_m(mesh), 1e-12)
+    distance, index = cKDTree(mesh.points).query(polyline, k=2)
+    if np.any(distance[:, 1] <= tolerance):
+        raise ValueError("path points coincide with points of several parts (overlapping parts); "
+                         "pass the path as point indices (rvcoax.results.io.fields.path_point_indices)")
+    out = case.displacement_m[index[:, 0]].copy()
+    far = distance[:, 0] > tolerance
+    if np.any(far):
+        if not len(mesh.tetra10):
+            raise ValueError("path points must coincide with mesh points when the mesh has no solid cells")
+        import pyvista as pv
+
+        grid = pv.UnstructuredGrid({pv.CellType.QUADRATIC_TETRA: mesh.tetra10}, mesh.points)
+        grid.point_data["u"] = case.displacement_m
+        probe = pv.PolyData(polyline[far]).sample(grid)
+        if not np.all(probe.point_data["vtkValidPointMask"]):
+            raise ValueError("some path points lie outside the mesh")
+        out[far] = probe.point_data["u"]
+    return polyline, out
+
+
+def _named_paths(paths) -> list[tuple[str, np.ndarray]]:
+    if paths is None:
+        return []
+    if isinstance(paths, Mapping):
+        items = list(paths.items())
+    else:
+        items = list(paths)
+        names = ["input", "output"] if len(items) == 2 else [str(i + 1) for i in range(len(items))]
+        items = list(zip(names, items))
+    out = []
+    for name, polyline in items:
+        polyline = np.asarray(polyline)
+        if not np.issubdtype(polyline.dtype, np.integer):
+            polyline = polyline.astype(float)
+            if polyline.ndim != 2 or polyline.shape[1] != 3:
+                raise ValueError(f"path {name!r} must be (N,) point indices or an (N, 3) polyline, got {polyline.shape}")
+        if len(polyline) < 2:
+            raise ValueError(f"path {name!r} needs at least 2 points")
+        out.append((f"{name} shaft path" if name in ("input", "output") else f"path {name}", polyline))
+    return out
+
+
+def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, rig_length_m: float | None = None,
+                    paths=None, warp_fraction: float = 0.05, colour_limits_um: tuple[float, float] | None = None,
+                    title: str | None = None, window_size: tuple[int, int] = (1600, 600),
+                    warp_factor: float | None = None, translucent_parts: Sequence[str] | None = None,
+                    min_radius_fraction: float = 0.002) -> dict:
+    """Draw the deformed rig, coloured by u_y (µm), seen from the side; write a PNG.
+
+    Parameters
+    ----------
+    rig_length_m : float, optional
+        Length the warp refers to; default the mesh's largest extent.
+    paths : list of arrays, or dict name → array, optional
+        The measured shafts, each as (N,) point indices (exact; use this where parts overlap, e.g.
+        :func:`rvcoax.results.io.fields.path_point_indices`) or as an (N, 3) undeformed polyline in m (each
+        point must coincide with one mesh point, or lie inside the solids: then interpolated).
+        Drawn as thick lines on the deformed shape; a list of two is labelled "input" and "output".
+        They are moved towards the camera (+z) so that the tubes around them do not hide them;
+        in the parallel side view this leaves their place in the picture unchanged.
+    warp_fraction : float
+        The largest displacement magnitude is drawn as this fraction of the rig length.
+    colour_limits_um : (low, high), optional
+        Fixed u_y colour range; default symmetric about 0 over this case
+        (for a sweep: :func:`sweep_colour_limits_um` for every picture).
+    warp_factor : float, optional
+        Use this factor instead of the one from ``warp_fraction`` (e.g. :func:`sweep_warp_factor`).
+    translucent_parts : names, optional
+        Parts drawn translucent; default :func:`enclosing_parts` (housings around shafts).
+    min_radius_fraction : float
+        Beams thinner than this fraction of the rig length are drawn at that radius.
+
+    Returns
+    -------
+    dict with ``path``, ``warp_factor``, ``colour_limits_um``, ``max_displacement_m``,
+    ``translucent_parts``, ``window_class`` and ``seconds`` (time to build, render and write).
+    """
+    started = time.perf_counter()
+    if case.displacement_m.shape[0] != mesh.n_points:
+        raise ValueError(f"case {case.label!r} has {case.displacement_m.shape[0]} points, the mesh {mesh.n_points}")
+    length = mesh_length_m(mesh) if rig_length_m is None else float(rig_length_m)
+    if not length > 0:
+        raise ValueError("rig_length_m must be positive")
+    largest = _largest_displacement_m(case)
+    factor = warp_factor_for(largest, length, warp_fraction) if warp_factor is None else float(warp_factor)
+    limits = sweep_colour_limits_um([case]) if colour_limits_um is None else tuple(map(float, colour_limits_um))
+    if not limits[0] < limits[1]:
+        raise ValueError(f"colour_limits_um must be (low, high) with low < high, got {limits}")
+    path_lines = [(label, *_path_points(mesh, case, polyline)) for label, polyline in _named_paths(paths)]
+    if isinstance(translucent_parts, str):
+        translucent_parts = (translucent_parts,)
+    unknown = set(translucent_parts or ()) - set(mesh.part_names)
+    if unknown:
+        raise ValueError(f"unknown parts {sorted(unknown)}; parts are {', '.join(mesh.part_names)}")
+    target = Path(path_png)
+    target.parent.mkdir(parents=True, exist_ok=True)
+
+    window_class = check_offscreen_rendering()
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    deformed = mesh.points + factor * case.displacement_m
+    uy_um = case.displacement_y_um
+    radius = np.maximum(mesh.line_radius_m, min_radius_fraction * length)
+    with _quiet_vtk():
+        surfaces = _part_surfaces(mesh, deformed, uy_um, radius)
+        if translucent_parts is None:
+            translucent_parts = enclosing_parts(mesh, rig_length_m=length, min_radius_fraction=min_radius_fraction)
+        translucent = {mesh.part_names.index(n) for n in translucent_parts}
+
+        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+        try:
+            plotter.set_background("white")
+            # VTK's built-in font draws "[" as "(": the title goes through matplotlib's mathtext
+            bar = {"title": "$u_y$ [µm]", "vertical": True, "color": "black", "fmt": "%.3g", "n_labels": 5,
+                   "position_x": 0.9, "position_y": 0.15, "height": 0.7, "width": 0.05,
+                   "title_font_size": 20, "label_font_size": 16}
+            first = True
+            for part, surface in surfaces.items():
+                plotter.add_mesh(surface, scalars="u_y_um", cmap=COLOURMAP, clim=limits, smooth_shading=True,
+                                 split_sharp_edges=True,
+                                 opacity=ENCLOSING_OPACITY if part in translucent else 1.0,
+                                 show_scalar_bar=first, scalar_bar_args=bar if first else None)
+                first = False
+            front = float(deformed[:, 2].max() + 1.5 * radius.max()) if len(radius) else float(deformed[:, 2].max())
+            legend = []
+            for (label, where, moved), colour in zip(path_lines, PATH_COLOURS * 4):
+                line = where + factor * moved
+                line[:, 2] = front + 0.01 * length
+                plotter.add_mesh(pv.lines_from_points(line), color=colour, line_width=6, render_lines_as_tubes=True)
+                legend.append([label, colour])
+            if legend:
+                plotter.add_legend(legend, bcolor="white", border=True, size=(0.16, 0.1), loc="upper left",
+                                   face="line")
+            plotter.add_text(f"warp factor × {factor:.4g}    largest displacement {largest * 1e6:.4g} µm"
+                             f"    (drawn as {factor * largest / length:.3g} of {length * 1e3:.0f} mm)",
+                             position="lower_left", font_size=11, color="black")
+            if title:
+                plotter.add_text(title, position="upper_edge", font_size=14, color="black")
+            if translucent:
+                plotter.enable_depth_peeling(number_of_peels=6)
+            plotter.enable_anti_aliasing("ssaa")
+            _side_view(plotter, _bounds(deformed, radius), window_size)
+            temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+            try:
+                plotter.screenshot(str(temporary), return_img=False)
+                os.replace(temporary, target)
+            finally:
+                temporary.unlink(missing_ok=True)
+        finally:
+            plotter.close()
+    return {
+        "path": target,
+        "warp_factor": factor,
+        "colour_limits_um": limits,
+        "max_displacement_m": largest,
+        "translucent_parts": tuple(mesh.part_names[i] for i in sorted(translucent)),
+        "window_class": window_class,
+        "seconds": time.perf_counter() - started,
+    }
+
+
+def _bounds(points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    pad = float(radius.max()) if len(radius) else 0.0
+    return points.min(axis=0) - pad, points.max(axis=0) + pad
+
+
+def _side_view(plotter, bounds, window_size, width_fraction: float = 0.86, height_fraction: float = 0.78,
+               centre_height: float = 0.5) -> None:
+    """Parallel projection looking along −z with y up, the model filling the part of the window
+    left of the scalar bar and between the title and the bottom line of text."""
+    low, high = bounds
+    centre = 0.5 * (low + high)
+    width, height, depth = np.maximum(high - low, 1e-12)
+    aspect = window_size[0] / window_size[1]
+    scale = 1.03 * max(height / (2 * height_fraction), width / (2 * width_fraction * aspect))
+    focal = centre.copy()
+    focal[0] += (0.5 - width_fraction / 2) * 2 * scale * aspect
+    focal[1] += (0.5 - centre_height) * 2 * scale
+    camera = plotter.camera
+    camera.focal_point = tuple(focal)
+    camera.position = (focal[0], focal[1], focal[2] + 10 * max(depth, width, height))
+    camera.up = (0.0, 1.0, 0.0)
+    camera.parallel_projection = True
+    camera.parallel_scale = scale
+    plotter.renderer.ResetCameraClippingRange()
+
+
+# --------------------------------------------------------------------------------------------
+# Y against torque
+
+_KEYS = ("T1_input_Nm", "T2_output_Nm", "Y_input_mm", "Y_output_mm")
+
+
+def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """(arrays keyed like sweep.csv, path lengths) from a Sweep, CaseResults, PublishedRows, a
+    mapping of arrays or a list of row dicts."""
+    lengths: dict[str, float] = {}
+    items = rows.cases if hasattr(rows, "cases") and hasattr(rows, "model") else rows
+    if isinstance(items, Mapping):
+        data = {k: np.asarray(items[k], float) for k in items if k in _KEYS}
+    else:
+        items = list(items)
+        if items and hasattr(items[0], "paths"):  # CaseResult
+            data = {"T1_input_Nm": [c.case.input_torque_Nm for c in items],
+                    "T2_output_Nm": [c.case.output_torque_Nm for c in items],
+                    "Y_input_mm": [c.paths["input"].y_max_mm for c in items],
+                    "Y_output_mm": [c.paths["output"].y_max_mm for c in items]}
+            lengths = {s: items[0].paths[s].length_mm for s in ("input", "output")}
+        elif items and hasattr(items[0], "y_input_mm"):  # PublishedRow
+            data = {"T1_input_Nm": [r.case.input_torque_Nm for r in items],
+                    "T2_output_Nm": [r.case.output_torque_Nm for r in items],
+                    "Y_input_mm": [r.y_input_mm for r in items], "Y_output_mm": [r.y_output_mm for r in items]}
+        else:
+            data = {k: [float(r[k]) for r in items] for k in _KEYS}
+        data = {k: np.asarray(v, float) for k, v in data.items()}
+    missing = [k for k in _KEYS if k not in data]
+    if missing:
+        raise ValueError(f"rows lack {', '.join(missing)}")
+    return data, lengths
+
+
+def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,
+                     path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150) -> Path:
+    """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.
+
+    ``model_rows``: a Sweep, a sequence of CaseResult, a mapping of arrays or a list of dicts with
+    the sweep.csv keys ``T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm``; or a dict
+    label → one of those to draw several models (e.g. blind and calibrated). Y is the path's
+    largest |u_y|, as published. ``published``: paper rows (``rvcoax.loadcases.cases.paper_table()``) or
+    the same kinds of rows, drawn as markers. Each panel gets a right-hand axis with
+    β = arcsin(Y / L) in degrees when the path length L is known (from a Sweep, or
+    ``path_lengths_mm = (L_input, L_output)``).
+    """
+    import matplotlib
+    from matplotlib.figure import Figure  # no pyplot: the figure is drawn by Agg, whatever the backend
+
+    if isinstance(model_rows, Mapping) and not any(k in model_rows for k in _KEYS):
+        series = {str(k): _series(v) for k, v in model_rows.items()}
+    else:
+        series = {"model": _series(model_rows)}
+    lengths = dict(zip(("input", "output"), path_lengths_mm)) if path_lengths_mm else {}
+    for _, found in series.values():
+        lengths = lengths or found
+    reference = _series(published)[0] if published is not None else None
+
+    figure = Figure(figsize=(12, 4.8), dpi=dpi, layout="constrained")
+    axes = figure.subplots(1, 2)
+    colours = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, shaft, torque, torque_label in ((axes[0], "input", "T1_input_Nm", "T1 (input torque) [N·m]"),
+                                           (axes[1], "output", "T2_output_Nm", "T2 (output torque) [N·m]")):
+        key = f"Y_{shaft}_mm"
+        for (label, (data, _)), colour in zip(series.items(), colours * 4):
+            order = np.argsort(data[torque], kind="stable")
+            ax.plot(data[torque][order], data[key][order], "-", color=colour, lw=1.8, marker=".", ms=4, label=label)
+        if reference is not None:
+            ax.plot(reference[torque], reference[key], "o", mfc="none", mec="black", ms=7, mew=1.3,
+                    label="published (paper 000)", zorder=5)
+        ax.set_xlabel(torque_label)
+        ax.set_ylabel(f"Y_{shaft} (largest |u_y| on the {shaft} shaft) [mm]")
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+        ax.set_xlim(left=0)
+        ax.set_ylim(bottom=0)
+        ax.grid(True, alpha=0.3)
+        ax.set_title(f"{shaft} shaft" + (f", L = {lengths[shaft]:g} mm" if shaft in lengths else ""))
+        if shaft in lengths:
+            length = lengths[shaft]
+            secondary = ax.secondary_yaxis(
+                "right",
+                functions=(lambda y, L=length: np.degrees(np.arcsin(np.clip(y / L, -1, 1))),
+                           lambda b, L=length: L * np.sin(np.radians(b))))
+            secondary.set_ylabel("β = arcsin(Y / L) [°]")
+            secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
+        ax.legend(loc="upper left", fontsize=9)
+    if title:
+        figure.suptitle(title)
+    return write_png_atomic(path_png, figure)
+
+
+__all__ = [
+    "RENDER_PACKAGES", "RenderingUnavailableError", "check_offscreen_rendering", "enclosing_parts", "mesh_length_m",
+    "plot_y_vs_torque", "render_deformed", "sweep_colour_limits_um", "sweep_warp_factor", "warp_factor_for",
+]

@@ -1,0 +1,179 @@
+"""Turning sweeps, checks and calibrations into rows, JSON documents and terminal tables."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from importlib.metadata import PackageNotFoundError, version
+
+from rvcoax.geometry.model.loads import UNIT_LOADS
+from rvcoax.results.studies.calibration import Calibration
+from rvcoax.results.studies.check import QUANTITIES, Comparison
+from rvcoax.results.sweep import SHAFTS, CaseResult, Sweep
+
+UNITS = {
+    "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",
+    "tilt": "degree", "rotation": "degree",
+}
+
+
+def rvcoax_version() -> str:
+    try:
+        return version("rvcoax")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+def text_sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def case_row(case: CaseResult) -> dict:
+    """The row of ``sweep.csv`` of one case."""
+    row = {"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm}
+    for shaft in SHAFTS:
+        row[f"Y_{shaft}_mm"] = case.paths[shaft].y_max_mm
+    for shaft in SHAFTS:
+        row[f"beta_{shaft}_deg"] = case.paths[shaft].beta_deg
+    for shaft in SHAFTS:
+        path = case.paths[shaft]
+        start, end = path.end_rotations_deg
+        row[f"Y_{shaft}_signed_mm"] = path.y_max_signed_mm
+        row[f"station_of_max_{shaft}_mm"] = path.station_of_max_mm
+        row[f"fitted_tilt_{shaft}_deg"] = path.fitted_tilt_deg
+        row[f"end_rotation_{shaft}_start_deg"] = start
+        row[f"end_rotation_{shaft}_end_deg"] = end
+        row[f"Y_{shaft}_unloaded_ref_mm"] = case.absolute_paths[shaft].y_max_mm
+    row["equilibrium_relative_error"] = case.equilibrium_error
+    row["solve_relative_residual"] = case.residual
+    return row
+
+
+def entry_path_rows(entry: dict) -> list[dict]:
+    """The rows of ``sweep_paths.csv`` of one case (one per shaft and station), from its :func:`case_entry`."""
+    return [{"T1_input_Nm": entry["T1_input_Nm"], "T2_output_Nm": entry["T2_output_Nm"], "shaft": shaft,
+             "station_mm": float(station), "uy_mm": float(uy)}
+            for shaft in SHAFTS for station, uy in zip(entry[shaft]["path"]["station_mm"], entry[shaft]["path"]["uy_mm"])]
+
+
+def case_entry(case: CaseResult) -> dict:
+    """The entry of one case in ``sweep.json``'s ``cases``."""
+    entry = {"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm}
+    for shaft in SHAFTS:
+        path = case.paths[shaft]
+        entry[shaft] = {
+            "Y_max_mm": path.y_max_mm, "Y_max_signed_mm": path.y_max_signed_mm,
+            "station_of_max_mm": path.station_of_max_mm, "beta_deg": path.beta_deg,
+            "fitted_tilt_deg": path.fitted_tilt_deg, "end_rotations_deg": list(path.end_rotations_deg),
+            "Y_max_from_unloaded_geometry_mm": case.absolute_paths[shaft].y_max_mm,
+            "path": {"station_mm": path.station_mm.tolist(), "uy_mm": path.uy_mm.tolist()},
+        }
+    entry["equilibrium_relative_error"] = case.equilibrium_error
+    entry["solve_relative_residual"] = case.residual
+    return entry
+
+
+def case_record(case: CaseResult) -> dict:
+    """Everything the result files hold about one case, as plain JSON data (see :func:`canonical`)."""
+    return canonical({"row": case_row(case), "entry": case_entry(case)})
+
+
+def canonical(data):
+    """``data`` as it reads back from JSON (numpy scalars become floats, tuples lists).
+
+    Result files are always written from canonical data, so a case solved now and a case read
+    back from an earlier, interrupted run give the same bytes.
+    """
+    return json.loads(json.dumps(data, default=float, allow_nan=True))
+
+
+def sweep_rows(sweep: Sweep) -> list[dict]:
+    """One row per case: the columns of ``sweep.csv``."""
+    return [case_row(case) for case in sweep.cases]
+
+
+def path_rows(sweep: Sweep) -> list[dict]:
+    """Long table of the signed Y paths: one row per case, shaft and station."""
+    return [row for case in sweep.cases for row in entry_path_rows(case_record(case)["entry"])]
+
+
+def calibration_document(calibration: Calibration) -> dict:
+    def entry(p):
+        return {"address": p.parameter.address, "shaft": p.parameter.shaft, "unit": p.parameter.unit,
+                "reference_value": p.reference_value, "fitted_value": p.fitted_value,
+                "plausible_range": list(p.parameter.plausible), "plausible": p.plausible,
+                "meaning": p.parameter.meaning}
+
+    return {
+        "fit_rows_index": list(calibration.fit_rows),
+        "fit_relative_residual": calibration.fit_relative_residual,
+        "parameters": [entry(p) for p in calibration.parameters],
+        "other_exact_solutions": [[entry(p) for p in alt] for alt in calibration.alternatives],
+    }
+
+
+def model_section(sweep: Sweep) -> dict:
+    """How the sweep was solved: fidelity, DOFs, solver (requested and used), condition number, mesh.
+
+    No wall-clock time or memory: the same inputs give the same section, byte for byte.
+    """
+    settings = sweep.settings
+    kappa = sweep.solver_report.get("condition_estimate")
+    section = {"kind": settings.model, "dofs": sweep.n_dofs, "solver": sweep.solver,
+               "solver_requested": settings.solver, "method": settings.method,
+               "condition_number_estimate": None if kappa is None else float(f"{kappa:.3g}")}
+    if "nonlinear" in sweep.solver_report:  # clearance: every case solved on its own, nothing superposed
+        section["method"] = "direct (nonlinear: each case solved by Newton iteration)"
+    else:
+        section["superposition"] = "u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2"
+        section["unit_loads"] = list(UNIT_LOADS)
+    section["beam_max_element_length_mm"] = sweep.rig.mesh.max_element_length_mm
+    if settings.model != "beam":
+        section["mesh_size_mm"] = settings.mesh_size_mm if settings.mesh_size_mm is not None \
+            else sweep.rig.solid.mesh_size_mm
+        solids = sweep.system.solids if sweep.system is not None else ()
+        section["solid_parts"] = {
+            part.name: {"mesh_size_mm": part.geometry.mesh_size_mm, "nodes": int(part.mesh.doflocs.shape[1]),
+                        "elements": int(part.mesh.t.shape[1]), "dofs": part.n_dofs}
+            for part in solids}
+    for key in ("nonlinear", "gapped_bearings", "newton_iterations_max"):
+        if key in sweep.solver_report:
+            section[key] = sweep.solver_report[key]
+    return canonical(section)
+
+
+def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
+    """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``."""
+    return canonical({
+        "rvcoax_version": rvcoax_version(),
+        "units": UNITS,
+        "rig": {"name": rig.rig.name, "source": rig_source, "sha256": text_sha256(rig_text),
+                "measured_from": rig.paths.measured_from,
+                "path_lengths_mm": {s: getattr(rig.paths, s).length_mm for s in SHAFTS}},
+        "model": model,
+        "beta_definition": "beta = arcsin(Y_max / L) (paper 000); fitted_tilt = slope of the least-squares line through u_y(x)",
+        "calibration": calibration_document(calibration) if calibration is not None else None,
+    })
+
+
+def sweep_document(sweep: Sweep, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
+    """The JSON document of a sweep: units, provenance, method and every case with its paths."""
+    header = sweep_header(sweep.rig, model_section(sweep), rig_source, rig_text, calibration)
+    return {**header, "cases": [case_record(case)["entry"] for case in sweep.cases]}
+
+
+def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows) -> list[dict]:
+    """The columns of ``check.csv``: published, blind and calibrated values and errors per row."""
+    out = []
+    for i, row in enumerate(rows):
+        entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
+                 "used_for_fit": i in fit_rows}
+        for q in QUANTITIES:
+            entry[f"published_{q}"] = float(comparison_blind.published[q][i])
+            for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
+                entry[f"{label}_{q}"] = float(comp.model[q][i])
+                entry[f"{label}_abs_error_{q}"] = float(comp.absolute_error[q][i])
+                entry[f"{label}_rel_error_{q}"] = float(comp.relative_error[q][i])
+            entry[f"calibrated_within_tolerance_{q}"] = bool(comparison_calibrated.within[q][i])
+        out.append(entry)
+    return out

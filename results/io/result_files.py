@@ -1,0 +1,49 @@
+"""The result files of a sweep and of a check, written atomically into an output folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rvcoax.results.io import records
+from rvcoax.results.io.sweep_files import write_sweep_files
+from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
+from rvcoax.results.studies.calibration import Calibration
+from rvcoax.results.studies.check_run import CheckRun
+from rvcoax.results.sweep import Sweep
+
+__all__ = ["write_check", "write_sweep"]
+
+
+def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibration: Calibration | None = None,
+                stem: str = "sweep") -> list[Path]:
+    """``<stem>.csv``, ``<stem>.json`` and ``<stem>_paths.csv`` of a sweep in ``out``.
+
+    ``rig_source`` names the rig file (as the user gave it) and ``rig_text`` is its text, whose
+    SHA-256 goes into the JSON header so that a result can be traced to its input.
+    """
+    header = records.sweep_header(sweep.rig, records.model_section(sweep), rig_source, rig_text, calibration)
+    return write_sweep_files(out, stem, header, [records.case_record(case) for case in sweep.cases])
+
+
+def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,
+                title: str | None = None) -> list[Path]:
+    """The check's files in ``out``: ``check.csv``, ``check_verdict.json``, the calibrated and blind
+    sweeps and, with ``picture_name``, the picture of Y against torque with the published points."""
+    result = run.calibrated_verdict
+    written = [
+        write_csv_atomic(out / "check.csv", records.check_rows(run.comparison_blind, run.comparison_calibrated,
+                                                               run.rows, run.calibration.fit_rows)),
+        write_json_atomic(out / "check_verdict.json", {
+            "status": run.outcome.status, "verdict": run.outcome.text, "exit_code": run.outcome.exit_code,
+            "implausible_parameters": list(run.outcome.implausible),
+            "held_out_values_outside_tolerance": result.failures,
+            "held_out_worst_relative_error_percent": 100 * result.worst_relative_error}),
+    ]
+    written += write_sweep(out, run.calibrated, rig_source, rig_text, run.calibration)
+    written += write_sweep(out, run.blind, rig_source, rig_text, stem="blind_sweep")
+    if picture_name is not None:
+        from rvcoax.results.io.pictures import plot_y_vs_torque
+
+        written.append(plot_y_vs_torque({"blind": run.blind, "calibrated": run.calibrated}, out / picture_name,
+                                        published=run.rows, title=title))
+    return written

@@ -1,0 +1,2 @@
+"""Studies built on sweeps: calibration, the published-table check, orthogonal experiments, the discrepancy
+workflow, Monte Carlo, sensitivity, tolerance files and the chain-error model."""

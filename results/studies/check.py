@@ -1,0 +1,155 @@
+"""Row-by-row comparison of the model with paper 000's published Y / β table."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.loadcases.cases import PublishedRow
+from rvcoax.results.paths import beta_from_y_deg
+from rvcoax.results.sweep import Sweep
+
+QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """Acceptance: |error| ≤ max(relative · |published|, absolute floor).
+
+    The floor (1e-7 mm in Y, the matching arcsin(1e-7 / L) in β) only matters next to the input
+    sign change, where the published Y is a few nm and 2 % of it is below any meaningful length.
+    """
+
+    relative: float = 0.02
+    absolute_y_mm: float = 1e-7
+
+    def limit(self, quantity: str, published: float, length_mm: float) -> float:
+        floor = self.absolute_y_mm if quantity.startswith("Y") else float(beta_from_y_deg(self.absolute_y_mm, length_mm))
+        return max(self.relative * abs(published), floor)
+
+
+def sweep_values(sweep: Sweep) -> dict[str, np.ndarray]:
+    """Y_max and β of every case of a sweep, keyed like :data:`QUANTITIES`."""
+    out: dict[str, list[float]] = {q: [] for q in QUANTITIES}
+    for case in sweep.cases:
+        for shaft in ("input", "output"):
+            out[f"Y_{shaft}_mm"].append(case.paths[shaft].y_max_mm)
+            out[f"beta_{shaft}_deg"].append(case.paths[shaft].beta_deg)
+    return {q: np.array(v) for q, v in out.items()}
+
+
+def published_values(rows: tuple[PublishedRow, ...]) -> dict[str, np.ndarray]:
+    return {
+        "Y_input_mm": np.array([r.y_input_mm for r in rows]),
+        "Y_output_mm": np.array([r.y_output_mm for r in rows]),
+        "beta_input_deg": np.array([r.beta_input_deg for r in rows]),
+        "beta_output_deg": np.array([r.beta_output_deg for r in rows]),
+    }
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Published vs model values with errors; ``within`` per quantity and row."""
+
+    published: dict[str, np.ndarray]
+    model: dict[str, np.ndarray]
+    absolute_error: dict[str, np.ndarray]
+    relative_error: dict[str, np.ndarray]
+    within: dict[str, np.ndarray]
+
+
+def compare(rows: tuple[PublishedRow, ...], sweep: Sweep, tolerance: Tolerance = Tolerance()) -> Comparison:
+    """Compare a sweep over the published rows' load cases with the published values."""
+    if len(sweep.cases) != len(rows):
+        raise ValueError("the sweep must hold exactly the published load cases")
+    published = published_values(rows)
+    model = sweep_values(sweep)
+    lengths = {"input": sweep.rig.paths.input.length_mm, "output": sweep.rig.paths.output.length_mm}
+    absolute, relative, within = {}, {}, {}
+    for q in QUANTITIES:
+        length = lengths["input" if "input" in q else "output"]
+        absolute[q] = model[q] - published[q]
+        relative[q] = absolute[q] / np.abs(published[q])
+        limits = np.array([tolerance.limit(q, p, length) for p in published[q]])
+        within[q] = np.abs(absolute[q]) <= limits
+    return Comparison(published, model, absolute, relative, within)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    passed: bool
+    worst_row: int
+    worst_quantity: str
+    worst_relative_error: float
+    failures: int
+
+
+def verdict(comparison: Comparison, held_out: np.ndarray) -> Verdict:
+    """Pass when every quantity of every held-out row is within tolerance; name the worst row."""
+    failures = sum(int(np.sum(~comparison.within[q][held_out])) for q in QUANTITIES)
+    worst = (-1.0, -1, "")
+    for q in QUANTITIES:
+        errors = np.where(held_out, np.abs(comparison.relative_error[q]), -1.0)
+        i = int(np.argmax(errors))
+        if errors[i] > worst[0]:
+            worst = (float(errors[i]), i, q)
+    return Verdict(failures == 0, worst[1], worst[2], worst[0], failures)
+
+
+# exit statuses of ``rvcoax check`` (2 is reserved for user errors, as in every command)
+EXIT_WITHIN = 0
+EXIT_OUTSIDE = 1
+EXIT_IMPLAUSIBLE_FIT = 3
+
+
+@dataclass(frozen=True)
+class CheckVerdict:
+    """What a check concludes: the held-out rows against the tolerance, and the plausibility of the fit.
+
+    Attributes
+    ----------
+    status : str
+        ``within_tolerance`` (every held-out row within tolerance, every fitted parameter plausible),
+        ``within_tolerance_implausible_fit`` (within tolerance, but only with a fitted value outside its
+        physically plausible range: the model fits the table without explaining it), or
+        ``outside_tolerance``.
+    text : str
+        The verdict as printed: ``"VERDICT: within tolerance"``, ``"VERDICT: fits only with implausible
+        parameter(s) …"`` or ``"VERDICT: outside tolerance (n values)"``.
+    exit_code : int
+        :data:`EXIT_WITHIN`, :data:`EXIT_IMPLAUSIBLE_FIT` or :data:`EXIT_OUTSIDE`.
+    implausible : tuple of str
+        ``address = value unit (plausible lo .. hi)`` for every implausible fitted parameter.
+    """
+
+    status: str
+    text: str
+    exit_code: int
+    implausible: tuple[str, ...]
+
+
+def check_verdict(held_out: Verdict, fitted) -> CheckVerdict:
+    """The check's verdict from the held-out comparison and the fitted parameters.
+
+    Parameters
+    ----------
+    held_out : Verdict
+        :func:`verdict` of the calibrated model on the rows not used to fit.
+    fitted : iterable of rvcoax.results.studies.calibration.FittedParameter
+        The calibration's fitted parameters (``plausible``, ``fitted_value``, ``parameter``).
+    """
+    def unit(p) -> str:
+        return "" if p.parameter.unit in ("", "-") else f" {p.parameter.unit}"
+
+    implausible = tuple(
+        f"{p.parameter.address} ({p.parameter.shaft} shaft) = {p.fitted_value:.4g}{unit(p)} "
+        f"(plausible {p.parameter.plausible[0]:g} .. {p.parameter.plausible[1]:g})"
+        for p in fitted if not p.plausible)
+    if not held_out.passed:
+        return CheckVerdict("outside_tolerance", f"VERDICT: outside tolerance ({held_out.failures} held-out "
+                            "value(s))", EXIT_OUTSIDE, implausible)
+    if implausible:
+        return CheckVerdict("within_tolerance_implausible_fit", "VERDICT: within tolerance, but fits only with "
+                            "implausible parameter(s): " + "; ".join(implausible), EXIT_IMPLAUSIBLE_FIT, implausible)
+    return CheckVerdict("within_tolerance", "VERDICT: within tolerance", EXIT_WITHIN, implausible)

@@ -1,0 +1,122 @@
+"""The published-table check as one workflow: blind sweep → calibration → calibrated sweep → comparison → verdict.
+
+A pure function of (rig, published rows, settings): the command ``rvcoax check``, a notebook and a
+Dask worker all call :func:`run_check`; writing the files is :func:`rvcoax.results.io.result_files.write_check`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.schema import Rig
+from rvcoax.loadcases.cases import PublishedRow, paper_table
+from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate
+from rvcoax.results.studies.check import CheckVerdict, Comparison, Verdict, check_verdict, compare, verdict
+from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
+
+__all__ = ["CalibrationError", "CheckRun", "held_out_mask", "run_check"]
+
+
+class CalibrationError(RvcoaxError, ValueError):
+    """The rig lacks a parameter that the check's calibration fits."""
+
+
+@dataclass(frozen=True, eq=False)
+class CheckRun:
+    """Everything the check computed.
+
+    Attributes
+    ----------
+    rows : tuple of PublishedRow
+        The published table compared with.
+    blind, calibrated : Sweep
+        The rig as built, and the rig with the calibrated parameters.
+    calibration : Calibration
+        The fitted parameters and the rows used to fit them.
+    comparison_blind, comparison_calibrated : Comparison
+        Row-by-row errors against the table.
+    held_out : ndarray of bool
+        The rows not used to fit (the calibrated verdict is judged on these only).
+    blind_verdict, calibrated_verdict : Verdict
+        Blind on every row; calibrated on the held-out rows.
+    outcome : CheckVerdict
+        The verdict with its status, text and exit code.
+    """
+
+    rows: tuple[PublishedRow, ...]
+    blind: Sweep
+    calibration: Calibration
+    calibrated: Sweep
+    comparison_blind: Comparison
+    comparison_calibrated: Comparison
+    held_out: np.ndarray
+    blind_verdict: Verdict
+    calibrated_verdict: Verdict
+    outcome: CheckVerdict
+
+
+def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
+    """True for the rows not used to fit."""
+    mask = np.ones(n_rows, dtype=bool)
+    mask[list(fit_rows)] = False
+    return mask
+
+
+def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,
+              prepared: PreparedModel | None = None,
+              progress: Callable[[str, int, int], None] | None = None) -> CheckRun:
+    """Compare ``rig`` with a published Y/β table, blind and calibrated.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig, as :func:`rvcoax.load_rig` returns it.
+    rows : tuple of PublishedRow, optional
+        The published table; paper 000's when omitted.
+    settings : SweepSettings, optional
+        Model fidelity, solver and mesh size (the beam model's defaults when omitted).
+    prepared : PreparedModel, optional
+        An assembled, factorised model of ``rig`` to reuse.
+    progress : callable, optional
+        ``progress(stage, done, total)`` with stage ``"blind sweep"``, ``"calibrating"`` or
+        ``"calibrated sweep"``.
+
+    Returns
+    -------
+    CheckRun
+
+    Raises
+    ------
+    CalibrationError
+        The rig lacks a parameter the calibration fits.
+    """
+    rows = paper_table() if rows is None else rows
+    settings = SweepSettings() if settings is None else settings
+    cases = tuple(r.case for r in rows)
+    prepared = prepare_model(rig, settings) if prepared is None else prepared
+
+    def sweep(on: Rig, stage: str) -> Sweep:
+        report = None if progress is None else (lambda i, n: progress(stage, i, n))
+        return run_sweep(on, cases, settings, progress=report, prepared=prepared)
+
+    blind = sweep(rig, "blind sweep")
+    if progress is not None:
+        progress("calibrating", 0, 1)
+    try:
+        calibration = calibrate(rig, rows, settings=settings, prepared=prepared)
+    except KeyError as error:
+        raise CalibrationError(f"cannot calibrate: {error.args[0]} (the check fits "
+                               + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None
+    if progress is not None:
+        progress("calibrating", 1, 1)
+    calibrated = sweep(calibration.rig, "calibrated sweep")
+    comparison_blind, comparison_calibrated = compare(rows, blind), compare(rows, calibrated)
+    held_out = held_out_mask(len(rows), calibration.fit_rows)
+    calibrated_verdict = verdict(comparison_calibrated, held_out)
+    blind_verdict = verdict(comparison_blind, np.ones(len(rows), dtype=bool))
+    return CheckRun(rows, blind, calibration, calibrated, comparison_blind, comparison_calibrated, held_out,
+                    blind_verdict, calibrated_verdict, check_verdict(calibrated_verdict, calibration.parameters))

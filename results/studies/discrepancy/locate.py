@@ -1,0 +1,194 @@
+"""Locate a gap: noise level, scaled residuals, a χ² test, and the structure of the residual.
+
+σ of an observation combines the measurement noise and a model-form allowance:
+``σ² = σ_noise² + (f_model · s)²`` with ``s`` the RMS of the measured values of the same shaft in
+the same case (a model that differs in form by a fraction ``f_model`` of the signal is not a gap).
+
+σ_noise comes from the file's ``sigma_mm`` column when present; otherwise it is estimated from the
+data alone, independent of any model:
+- *paths*: the scatter about a cubic in x fitted to each (case, shaft) path with at least six
+  stations (a beam deflection between supports is a cubic), pooled per shaft;
+- *table*: the scatter of each value about the line through its two neighbours along the torque
+  sweep (robust median estimate), never below the rounding of the printed digits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
+
+
+@dataclass(frozen=True)
+class NoiseEstimate:
+    """σ per observation (mm) and how it was obtained, per shaft."""
+
+    sigma_mm: np.ndarray
+    noise_mm: dict[str, float]
+    method: dict[str, str]
+
+
+def _group_rms(data: MeasuredData) -> np.ndarray:
+    """RMS of the measured values of the same (case, shaft) as each observation."""
+    rms = np.zeros(data.n)
+    for case in np.unique(data.case_index):
+        for shaft in SHAFTS:
+            mask = (data.case_index == case) & (data.shaft == shaft)
+            if mask.any():
+                rms[mask] = np.sqrt(np.mean(data.value_mm[mask] ** 2))
+    return rms
+
+
+def _paths_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
+    squares, dof = 0.0, 0
+    for case in np.unique(data.case_index):
+        mask = (data.case_index == case) & (data.shaft == shaft)
+        if mask.sum() >= 6:
+            x, y = data.x_mm[mask], data.value_mm[mask]
+            scale = max(np.ptp(x), 1e-12)
+            coefficients = np.polyfit((x - x.mean()) / scale, y, 3)
+            squares += float(np.sum((y - np.polyval(coefficients, (x - x.mean()) / scale)) ** 2))
+            dof += int(mask.sum()) - 4
+    if dof > 0:
+        return float(np.sqrt(squares / dof)), f"scatter about cubic fits of {shaft} paths ({dof} degrees of freedom)"
+    values = data.value_mm[data.shaft == shaft]
+    return 0.01 * float(np.sqrt(np.mean(values ** 2))) if values.size else 0.0, \
+        "assumed 1 % of the RMS signal (fewer than six stations per path)"
+
+
+def _table_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
+    mask = data.shaft == shaft
+    torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
+    t, y = torque[data.case_index[mask]], data.value_mm[mask]
+    order = np.argsort(t)
+    t, y = t[order], y[order]
+    quantum = (data.quantum_mm or {}).get(shaft, 0.0)
+    floor = quantum / np.sqrt(12.0)
+    scaled = []
+    for i in range(1, t.size - 1):
+        span = t[i + 1] - t[i - 1]
+        if span <= 0:
+            continue
+        w = (t[i + 1] - t[i]) / span
+        predicted = w * y[i - 1] + (1 - w) * y[i + 1]
+        scaled.append(abs(y[i] - predicted) / np.sqrt(1 + w ** 2 + (1 - w) ** 2))
+    if len(scaled) >= 3:
+        robust = 1.4826 * float(np.median(scaled))
+        if robust > floor:
+            return robust, f"scatter about neighbours along the sweep ({len(scaled)} points, robust)"
+    return floor, "rounding of the printed digits" if floor > 0 else "none detectable"
+
+
+def estimate_noise(data: MeasuredData, model_form_fraction: float) -> NoiseEstimate:
+    """σ of every observation (see the module docstring)."""
+    noise, method = {}, {}
+    for shaft in SHAFTS:
+        if not (data.shaft == shaft).any():
+            continue
+        if data.sigma_mm is not None:
+            noise[shaft] = float(np.sqrt(np.mean(data.sigma_mm[data.shaft == shaft] ** 2)))
+            method[shaft] = "sigma_mm column of the file"
+        elif data.schema == "paths":
+            noise[shaft], method[shaft] = _paths_noise(data, shaft)
+        else:
+            noise[shaft], method[shaft] = _table_noise(data, shaft)
+    base = data.sigma_mm if data.sigma_mm is not None else np.array([noise[s] for s in data.shaft])
+    sigma = np.sqrt(base ** 2 + (model_form_fraction * _group_rms(data)) ** 2)
+    positive = sigma[sigma > 0]
+    sigma = np.where(sigma > 0, sigma, positive.min() if positive.size else 1e-9)
+    return NoiseEstimate(sigma, noise, method)
+
+
+@dataclass(frozen=True)
+class GapTest:
+    """χ² test of the scaled residuals: is there a gap beyond the noise?"""
+
+    chi2: float
+    n: int
+    p_value: float
+    alpha: float
+
+    @property
+    def gap(self) -> bool:
+        return self.p_value < self.alpha
+
+    def describe(self) -> str:
+        return (f"χ² = {self.chi2:.4g} on {self.n} observations (χ²/n = {self.chi2 / max(self.n, 1):.3g}), "
+                f"p = {self.p_value:.3g}: " + ("a gap beyond the noise" if self.gap else "consistent with the noise"))
+
+
+def gap_test(scaled_residual: np.ndarray, alpha: float) -> GapTest:
+    chi2 = float(np.sum(scaled_residual ** 2))
+    n = int(scaled_residual.size)
+    return GapTest(chi2, n, float(stats.chi2.sf(chi2, n)), alpha)
+
+
+@dataclass(frozen=True)
+class StructureFinding:
+    """One test of the residual's structure, for one shaft."""
+
+    shaft: str
+    test: str
+    statistic: float
+    significant: bool
+    detail: str
+
+
+def _t_test(design: np.ndarray, r: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Weighted least squares r ≈ design·c: coefficients and their t statistics (σ known, = 1/√w)."""
+    a = design * np.sqrt(weights)[:, None]
+    b = r * np.sqrt(weights)
+    coefficients, *_ = np.linalg.lstsq(a, b, rcond=None)
+    covariance = np.linalg.pinv(a.T @ a)
+    return coefficients, coefficients / np.sqrt(np.maximum(np.diag(covariance), 1e-300))
+
+
+def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray,
+                       threshold: float = 3.0) -> list[StructureFinding]:
+    """Tests of the residual along the sweep and along the shaft (|t| > ``threshold`` is significant).
+
+    - *constant offset* and *torque-proportional*: r = a + b·T over the cases (T = the shaft's torque);
+    - *curvature along the shaft* (paths): r = a + b·x + c·x², the significance of c;
+    - *sign change*: a + b·T changes sign inside the measured torque range;
+    - *dead band*: the line through the upper half of the sweep misses the lower half.
+    """
+    findings: list[StructureFinding] = []
+    weights = 1.0 / sigma_mm ** 2
+    for shaft in SHAFTS:
+        mask = data.shaft == shaft
+        if mask.sum() < 3:
+            continue
+        torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
+        t = torque[data.case_index[mask]]
+        r, w = residual_mm[mask], weights[mask]
+        unit = "N·m"
+        if np.ptp(t) > 0:
+            (a, b), (ta, tb) = _t_test(np.column_stack([np.ones_like(t), t]), r, w)
+            findings.append(StructureFinding(shaft, "constant offset", float(ta), abs(ta) > threshold,
+                                             f"{a * 1e3:+.4g} µm (t = {ta:+.1f})"))
+            findings.append(StructureFinding(shaft, "torque-proportional", float(tb), abs(tb) > threshold,
+                                             f"{b * 1e3:+.4g} µm per {unit} (t = {tb:+.1f})"))
+            crossing = -a / b if b != 0 else np.inf
+            inside = bool(t.min() < crossing < t.max()) and abs(ta) > threshold and abs(tb) > threshold
+            findings.append(StructureFinding(shaft, "sign change", float(crossing), inside,
+                                             f"a + b·T = 0 at T = {crossing:.4g} {unit}"))
+            upper = t >= np.median(t)
+            lower = ~upper
+            if upper.sum() >= 2 and lower.sum() >= 1 and np.ptp(t[upper]) > 0:
+                line, *_ = np.linalg.lstsq(np.column_stack([np.ones(upper.sum()), t[upper]]) * np.sqrt(w[upper])[:, None],
+                                           r[upper] * np.sqrt(w[upper]), rcond=None)
+                miss = (r[lower] - (line[0] + line[1] * t[lower])) * np.sqrt(w[lower])
+                chi2 = float(np.sum(miss ** 2))
+                p = float(stats.chi2.sf(chi2, int(lower.sum())))
+                findings.append(StructureFinding(shaft, "dead band", chi2, p < 1e-3,
+                                                 f"lower half vs the line of the upper half: χ² = {chi2:.3g} "
+                                                 f"on {int(lower.sum())} points (p = {p:.2g})"))
+        if data.schema == "paths" and np.ptp(data.x_mm[mask]) > 0:
+            x = data.x_mm[mask] / max(np.ptp(data.x_mm[mask]), 1e-12)
+            _, tc = _t_test(np.column_stack([np.ones_like(x), x, x ** 2]), r, w)
+            findings.append(StructureFinding(shaft, "curvature along the shaft", float(tc[2]),
+                                             abs(tc[2]) > threshold, f"t = {tc[2]:+.1f}"))
+    return findings

@@ -1,0 +1,153 @@
+"""What the discrepancy workflow shows: a JSON document, a per-observation CSV and a PNG."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from rvcoax.results.io.writers import write_png_atomic
+from rvcoax.results.studies.discrepancy.measured import SHAFTS
+from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
+
+
+def _rounded(values: dict) -> dict:
+    return {k: float(f"{v:.6g}") for k, v in values.items()}
+
+
+def rms_table(result: DiscrepancyResult, lengths_mm: dict[str, float]) -> dict:
+    """RMS gaps before/after, per shaft, on the cases used to fit, the held-out cases and all cases."""
+    subsets = {"fit": result.fit_mask, "held_out": ~result.fit_mask, "all": np.ones(result.data.n, bool)}
+    table = {}
+    for label, rows in subsets.items():
+        if not rows.any():
+            continue
+        table[label] = {
+            "rms_before_um": _rounded({k: 1e3 * v for k, v in result.rms_mm("before", rows).items()}),
+            "rms_after_um": _rounded({k: 1e3 * v for k, v in result.rms_mm("after", rows).items()}),
+            "rms_tilt_before_urad": _rounded(result.rms_tilt_urad("before", rows, lengths_mm)),
+            "rms_tilt_after_urad": _rounded(result.rms_tilt_urad("after", rows, lengths_mm)),
+        }
+    return table
+
+
+def ambiguous_groups(result: DiscrepancyResult) -> list[list[str]]:
+    return [list(s.group) for s in result.selected if len(s.group) > 1]
+
+
+def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: str | None, version: str) -> dict:
+    """The machine-readable result (``discrepancy.json``)."""
+    effects = result.effects
+    return {
+        "rvcoax_version": version,
+        "verdict": result.verdict,
+        "measured": {"source": result.data.source, "schema": result.data.schema, "observations": result.data.n,
+                     "cases": len(result.data.cases),
+                     "cases_held_out": len({int(c) for c in result.data.case_index[~result.fit_mask]})},
+        "noise": {s: {"sigma_mm": float(f"{result.noise.noise_mm[s]:.6g}"), "method": result.noise.method[s]}
+                  for s in result.noise.noise_mm},
+        "chi2_before": {"chi2": result.test_before.chi2, "n": result.test_before.n, "p": result.test_before.p_value},
+        "chi2_after": {"chi2": result.test_after.chi2, "n": result.test_after.n, "p": result.test_after.p_value},
+        "chi2_after_held_out": None if result.test_after_held_out is None else {
+            "chi2": result.test_after_held_out.chi2, "n": result.test_after_held_out.n,
+            "p": result.test_after_held_out.p_value},
+        "selected": [{"effect": s.name, "parameters": s.parameters(effects[s.name]),
+                      "delta_bic": float(f"{s.delta_bic:.6g}"), "group": list(s.group), "round": s.round}
+                     for s in result.selected],
+        "ambiguous_groups": ambiguous_groups(result),
+        "discriminating_measurements": [
+            {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
+             "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
+             "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case}
+            for d in result.discriminations],
+        "rms_before_mm": _rounded(result.rms_mm("before")),
+        "rms_after_mm": _rounded(result.rms_mm("after")),
+        "rms": rms_table(result, lengths_mm),
+        "structure_before": [{"shaft": f.shaft, "test": f.test, "significant": f.significant, "detail": f.detail}
+                             for f in result.structure],
+        "steps": [{"added": s.added, "delta_bic": s.delta_bic, "group": list(s.group), "pruned": list(s.pruned),
+                   "ranking_delta_bic": {n: float(f"{g:.6g}") for n, g in s.ranking}} for s in result.steps],
+        "not_observable": result.not_observable,
+        "rejected": result.rejected,
+        "set_aside": result.set_aside,
+        "rig_file": rig_file,
+    }
+
+
+def observation_rows(result: DiscrepancyResult) -> list[dict]:
+    """One row per observation: case, shaft, station, measured, model before/after, σ, used to fit."""
+    rows = []
+    data = result.data
+    for i in range(data.n):
+        case = data.cases[int(data.case_index[i])]
+        rows.append({
+            "T1_input_Nm": case.input_torque_Nm, "T2_output_Nm": case.output_torque_Nm, "shaft": str(data.shaft[i]),
+            "x_mm": "" if np.isnan(data.x_mm[i]) else float(data.x_mm[i]),
+            "measured_mm": float(data.value_mm[i]), "model_before_mm": float(f"{result.before[i]:.9g}"),
+            "model_after_mm": float(f"{result.after[i]:.9g}"), "sigma_mm": float(f"{result.noise.sigma_mm[i]:.6g}"),
+            "used_to_fit": bool(result.fit_mask[i]),
+        })
+    return rows
+
+
+def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
+    """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars."""
+    from matplotlib.figure import Figure
+
+    data = result.data
+    figure = Figure(figsize=(13, 8), dpi=120, layout="constrained")
+    axes = figure.subplots(2, 2)
+    for ax, shaft in zip(axes[0], SHAFTS):
+        mask = data.shaft == shaft
+        if data.schema == "table":
+            torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
+            x = torque[data.case_index[mask]]
+            order = np.argsort(x)
+            ax.plot(x[order], 1e3 * result.before[mask][order], "--", color="tab:red", label="model before")
+            ax.plot(x[order], 1e3 * result.after[mask][order], "-", color="tab:green", label="model after")
+            held = ~result.fit_mask[mask]
+            ax.plot(x[~held], 1e3 * data.value_mm[mask][~held], "o", color="k", label="measured (fit)")
+            ax.plot(x[held], 1e3 * data.value_mm[mask][held], "o", mfc="none", color="k", label="measured (held out)")
+            ax.set_xlabel(("T1" if shaft == "input" else "T2") + " [N·m]")
+            ax.set_ylabel(f"|Y_max| {shaft} shaft [µm]")
+        else:
+            torque = np.array([abs(c.output_torque_Nm) + abs(c.input_torque_Nm) for c in data.cases])
+            cases = [int(c) for c in np.unique(data.case_index[mask])]
+            shown = sorted(cases, key=lambda c: torque[c])
+            shown = sorted({shown[0], shown[len(shown) // 2], shown[-1]})
+            for k, case in enumerate(shown):
+                m = mask & (data.case_index == case)
+                order = np.argsort(data.x_mm[m])
+                label = f"T1 = {data.cases[case].input_torque_Nm:g}, T2 = {data.cases[case].output_torque_Nm:g} N·m"
+                colour = f"C{k}"
+                ax.plot(data.x_mm[m][order], 1e3 * data.value_mm[m][order], ".", color=colour, label=label)
+                ax.plot(data.x_mm[m][order], 1e3 * result.before[m][order], "--", color=colour)
+                ax.plot(data.x_mm[m][order], 1e3 * result.after[m][order], "-", color=colour)
+            ax.set_xlabel(f"x along the {shaft} shaft [mm] (dots measured, dashed before, solid after)")
+            ax.set_ylabel("u_y [µm]")
+        ax.set_title(f"{shaft} shaft")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    table = rms_table(result, lengths_mm)
+    for ax, (key_before, key_after, unit) in zip(axes[1], (("rms_before_um", "rms_after_um", "µm"),
+                                                           ("rms_tilt_before_urad", "rms_tilt_after_urad", "µrad"))):
+        labels, before, after = [], [], []
+        for subset in ("fit", "held_out"):
+            if subset not in table:
+                continue
+            for shaft in SHAFTS:
+                if shaft in table[subset][key_before]:
+                    labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
+                    before.append(table[subset][key_before][shaft])
+                    after.append(table[subset][key_after].get(shaft, np.nan))
+        position = np.arange(len(labels))
+        ax.bar(position - 0.2, before, 0.4, color="tab:red", label="before")
+        ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
+        ax.set_xticks(position, labels)
+        ax.set_yscale("log")
+        ax.set_ylabel(f"RMS gap [{unit}]")
+        ax.legend()
+        ax.grid(alpha=0.3, axis="y")
+    names = ", ".join(s.name + (f" (group: {', '.join(s.group)})" if len(s.group) > 1 else "") for s in result.selected)
+    figure.suptitle((title + "\n" if title else "") + f"verdict: {result.verdict}" + (f"; added: {names}" if names else ""))
+    return write_png_atomic(path_png, figure)

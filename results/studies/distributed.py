@@ -1,0 +1,243 @@
+"""Running independent samples on Dask: a local cluster, an existing cluster, or in this process.
+
+Every sample is one task, ``function(shared, values)``, whose result (a JSON-able dict) is written
+to its own file in ``folder`` as soon as it arrives (``sample_000123.json``, atomically), so a run
+that stops can be resumed: with ``resume=True`` the samples already on disk are kept (when they
+belong to the same study and have the same values) and only the others are computed.
+
+``scheduler``:
+
+``"local"``         a :class:`distributed.LocalCluster` on this machine: ``workers`` processes
+                    (default: one per core), one thread each, on the loopback interface.
+``"tcp://HOST:PORT"`` an existing Dask scheduler (``dask scheduler`` / ``dask worker``); the
+                    workers need the same rvcoax installed.
+``"serial"``        no Dask: the samples run one after another in this process.
+
+A worker that dies loses only its in-flight samples: Dask re-runs them on the other workers, and a
+sample that Dask gives up on (``KilledWorker`` after repeated deaths) is submitted again, up to
+``retries`` times. The results are returned in sample order, so they do not depend on the number
+of workers or on the order in which the samples finish.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import time
+from collections.abc import Callable
+from concurrent.futures import CancelledError
+from contextlib import ExitStack
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.results.io.writers import write_json_atomic
+
+SAMPLE_PATTERN = "sample_*.json"
+MANIFEST = "study.json"
+
+
+class SampleError(RvcoaxError, RuntimeError):
+    """A sample whose evaluation failed (not a lost worker: the model itself raised)."""
+
+    def __init__(self, index: int, reason: str):
+        self.index = index
+        super().__init__(f"sample {index} failed: {reason}")
+
+
+class ResumeError(RvcoaxError, ValueError):
+    """``resume`` on a folder that holds another study's samples."""
+
+
+class ClusterError(RvcoaxError, RuntimeError):
+    """No Dask cluster to run on (unreachable scheduler, no workers)."""
+
+
+@dataclass(frozen=True)
+class RunReport:
+    """How a run went: samples taken from disk, computed, resubmitted after lost workers, seconds."""
+
+    scheduler: str
+    workers: int
+    n_samples: int
+    resumed: int
+    computed: int
+    resubmitted: int
+    seconds: float
+
+
+def sample_path(folder: Path, index: int) -> Path:
+    return folder / f"sample_{index:06d}.json"
+
+
+def _load_existing(folder: Path, fingerprint: str, rows: np.ndarray) -> dict[int, dict]:
+    """Samples on disk that belong to this study and have this study's values."""
+    manifest = folder / MANIFEST
+    if manifest.exists():
+        try:
+            recorded = json.loads(manifest.read_text(encoding="utf-8")).get("fingerprint")
+        except (OSError, ValueError, AttributeError):
+            recorded = None
+        if recorded != fingerprint:
+            raise ResumeError(f"--resume: {folder} holds the samples of another study (different tolerance file, "
+                              "rig, model, load cases, sampling, seed or number of samples); use another --out "
+                              "folder, or run without --resume to start again")
+    done = {}
+    for path in sorted(folder.glob(SAMPLE_PATTERN)):
+        try:
+            record = json.loads(path.read_text(encoding="utf-8"))
+            index = int(record["index"])
+        except (OSError, ValueError, KeyError, TypeError):
+            continue  # unreadable: computed again
+        if (record.get("fingerprint") == fingerprint and 0 <= index < len(rows)
+                and record.get("values") == [float(v) for v in rows[index]]):
+            done[index] = record["result"]
+    return done
+
+
+def _start(folder: Path, fingerprint: str, rows: np.ndarray, resume: bool) -> dict[int, dict]:
+    folder.mkdir(parents=True, exist_ok=True)
+    done = _load_existing(folder, fingerprint, rows) if resume else {}
+    if not resume:
+        for path in folder.glob(SAMPLE_PATTERN):
+            path.unlink()
+    write_json_atomic(folder / MANIFEST, {"fingerprint": fingerprint, "n_samples": len(rows)})
+    return done
+
+
+def _connect(stack: ExitStack, scheduler: str, workers: int | None):
+    """A Dask client for ``scheduler`` (``local`` or an address), closed with ``stack``."""
+    from distributed import Client, LocalCluster
+
+    try:
+        if scheduler == "local":
+            cluster = stack.enter_context(LocalCluster(
+                n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR))
+            return stack.enter_context(Client(cluster))
+        client = stack.enter_context(Client(scheduler, timeout="20s"))
+    except (OSError, TimeoutError) as error:
+        raise ClusterError(f"cannot connect to the Dask scheduler at {scheduler}: {error}") from None
+    if not client.scheduler_info().get("workers"):
+        try:
+            client.wait_for_workers(1, timeout=60)
+        except TimeoutError:
+            raise ClusterError(f"the Dask scheduler at {scheduler} has no workers (start some with "
+                               f"`dask worker {scheduler}`)") from None
+    return client
+
+
+def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,
+                fingerprint: str, scheduler: str = "local", workers: int | None = None, resume: bool = False,
+                progress: Callable[[int, int], None] | None = None, retries: int = 3,
+                on_result: Callable[[int, dict], None] | None = None) -> tuple[list[dict], RunReport]:
+    """Evaluate ``function(shared, rows[i])`` for every row; results in row order.
+
+    Parameters
+    ----------
+    function : callable
+        A module-level (picklable) function returning a JSON-able dict.
+    shared : object
+        Sent once to every worker (e.g. the study).
+    rows : (n, d) array
+        The sample values.
+    folder : path
+        Where the per-sample files go.
+    fingerprint : str
+        Names the study; a resumed sample must carry the same.
+    scheduler, workers, resume, retries
+        See the module docstring.
+    progress : callable, optional
+        ``progress(done, total)`` after each sample (resumed ones count as done).
+    on_result : callable, optional
+        ``on_result(index, result)`` after each computed sample is written.
+    """
+    folder = Path(folder)
+    rows = np.atleast_2d(np.asarray(rows, dtype=float))
+    start = time.perf_counter()
+    results = _start(folder, fingerprint, rows, resume)
+    resumed = len(results)
+    pending = [i for i in range(len(rows)) if i not in results]
+    total = len(rows)
+
+    def store(index: int, result: dict) -> None:
+        write_json_atomic(sample_path(folder, index), {"fingerprint": fingerprint, "index": index,
+                                                       "values": [float(v) for v in rows[index]], "result": result},
+                          durable=False)  # a file cut short by a crash is unreadable and computed again
+        results[index] = result
+        if on_result is not None:
+            on_result(index, result)
+        if progress is not None:
+            progress(len(results), total)
+
+    if progress is not None:
+        progress(len(results), total)
+    resubmitted = 0
+    n_workers = 1
+    if scheduler == "serial":
+        for index in pending:
+            try:
+                outcome = function(shared, rows[index])
+            except Exception as error:  # the model raised: name the sample
+                raise SampleError(index, f"{type(error).__name__}: {error}") from error
+            store(index, outcome)
+    elif pending:
+        with ExitStack() as stack:
+            client = _connect(stack, scheduler, workers)
+            n_workers = len(client.scheduler_info()["workers"])
+            resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries)
+    report = RunReport(scheduler, n_workers, total, resumed, len(pending), resubmitted, time.perf_counter() - start)
+    return [results[i] for i in range(total)], report
+
+
+def future_outcome(future) -> tuple[object, BaseException | None]:
+    """The result of a completed Dask future, or the error that ended it: ``(result, None)`` or ``(None, error)``.
+
+    The future's state is read again here rather than trusted from the moment it completed: a
+    worker that dies right after finishing a task loses the result it held, the future goes back to
+    ``lost``/``pending`` and the scheduler computes it again, so ``result()`` waits for that second
+    run instead of the sample being taken for failed.
+    """
+    try:
+        return future.result(), None
+    except (CancelledError, Exception) as error:  # the task raised, its workers died, or it was dropped
+        return None, error
+
+
+def _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries) -> int:
+    """Submit every pending sample, store results as they complete; returns the number resubmitted."""
+    from distributed import KilledWorker, as_completed
+
+    remote_shared = client.scatter(shared, broadcast=True, hash=False)
+    attempts = dict.fromkeys(pending, 0)
+
+    def submit(index: int):
+        key = f"rvcoax-sample-{fingerprint[:16]}-{index}-{attempts[index]}"
+        return client.submit(function, remote_shared, rows[index], key=key, pure=False, retries=0)
+
+    owner = {}
+    for index in pending:
+        owner[submit(index)] = index
+    resubmitted = 0
+    queue = as_completed(list(owner))
+    for future in queue:
+        index = owner.pop(future)
+        outcome, error = future_outcome(future)
+        future.release()
+        if error is None:
+            store(index, outcome)
+            continue
+        if isinstance(error, (KilledWorker, CancelledError)) and attempts[index] < retries:
+            attempts[index] += 1
+            resubmitted += 1
+            again = submit(index)
+            owner[again] = index
+            queue.add(again)
+            continue
+        hint = (" (are rvcoax and its dependencies installed on every worker?)"
+                if isinstance(error, ModuleNotFoundError) else "")
+        raise SampleError(index, f"{type(error).__name__}: {error}{hint}")
+    return resubmitted
