@@ -1,12 +1,12 @@
 # rvcoax: two commands set up everything on a fresh Debian 12 machine.
 #   make run    create .venv, install, run the published-table check on the reference rig
-#   make test   create .venv, install with test extras, run the test suite
+#   make test   create .venv, install with test extras, run the test suite (make test-fast: the quick half)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= rvcoax_out
 
-.PHONY: run test lint bench system-deps clean
+.PHONY: run test test-fast lint bench system-deps clean
 
 # System packages a bare Debian 12 lacks: python3-venv; the shared libraries gmsh loads at run time
 # (libGLU, libGL, X client libraries, OpenMP); EGL + Mesa for off-screen VTK rendering. Only the
@@ -26,7 +26,7 @@ system-deps:
 
 $(BIN)/rvcoax: pyproject.toml | system-deps
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet --upgrade pip "setuptools>=77"
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	@touch $@
 
@@ -41,6 +41,10 @@ run: $(BIN)/rvcoax
 test: $(BIN)/rvcoax
 	$(BIN)/python -m pytest -q
 
+# The quick half (about 2 minutes on 2 cores): everything but the tests marked slow, dask or render.
+test-fast: $(BIN)/rvcoax
+	$(BIN)/python -m pytest -q -m "not slow and not dask and not render"
+
 lint: $(BIN)/rvcoax
 	$(BIN)/ruff check .
 
@@ -50,6 +54,7 @@ bench: $(BIN)/rvcoax
 	@command -v ccx >/dev/null || { [ "$$(id -u)" = "0" ] && apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends calculix-ccx; } || true
 	$(BIN)/python benchmarks/bench_sweep.py
+	$(BIN)/python benchmarks/bench_startup.py
 	$(BIN)/python benchmarks/bench_convergence.py
 	$(BIN)/python benchmarks/bench_fidelity.py
 	$(BIN)/python benchmarks/bench_calculix.py

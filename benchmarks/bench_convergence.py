@@ -164,7 +164,7 @@ def solve_size(rig: Rig, label: str, size_mm: float | None, calibrated: dict[str
         start = time.perf_counter()
         sweep = run_sweep(rig, cases, settings, prepared=prepared)
         seconds["sweep"] = time.perf_counter() - start
-    seconds["factorise"] = float(getattr(prepared.report.report, "setup_seconds", float("nan")))
+    seconds["factorise"] = float(prepared.report.get("setup_seconds", float("nan")))
     seconds["assemble"] = seconds["prepare"] - seconds["mesh"] - seconds["factorise"] - seconds["probes"]
     seconds["total"] = seconds["prepare"] + seconds["sweep"]
     unit = sweep.unit_paths

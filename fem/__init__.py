@@ -5,5 +5,7 @@ DOF numbers, in SI units. Each model piece returns COO triplets or load vectors 
 assembled the same way (:mod:`rvcoax.fem.assembly`).
 """
 
+__all__ = ["DOFS_PER_NODE"]
+
 DOFS_PER_NODE = 6
 """Nodal DOFs: ux, uy, uz, rx, ry, rz (translations in m, rotations in rad)."""

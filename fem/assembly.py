@@ -34,6 +34,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import scipy.sparse as sp
 
+__all__ = ["PARALLEL_MIN_TRIPLETS", "assemble_matrix"]
+
 try:  # scipy's compiled sparse kernels (private module; fall back to the public conversion without it)
     from scipy.sparse._sparsetools import coo_tocsr, csr_hstack, csr_sum_duplicates, csr_tocsc
 except ImportError:  # pragma: no cover

@@ -17,6 +17,9 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
+__all__ = ["BeamElements", "element_dofs", "element_masses_kg", "end_forces_local", "gravity_load",
+           "local_stiffness", "stiffness_triplets"]
+
 
 @dataclass(frozen=True)
 class BeamElements:

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import os
 
+__all__ = ["ENVIRONMENT_KEY", "openblas_thread_counts", "single_threaded_openblas"]
+
 ENVIRONMENT_KEY = "OPENBLAS_NUM_THREADS"
 
 

@@ -16,6 +16,9 @@ import numpy as np
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.errors import GapConvergenceError  # noqa: F401 (re-exported)
 
+__all__ = ["Bushings", "GROUND", "GapSolution", "RadialGaps", "gap_forces", "prepare_radial_gaps", "prestrain_load",
+           "radial_operator", "relative_motion_operator", "solve_with_gaps", "spring_forces", "stiffness_triplets"]
+
 GROUND = -1
 """Node index meaning "the fixed ground"."""
 

@@ -15,6 +15,8 @@ import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE
 
+__all__ = ["RigidLinks", "elimination_matrix", "rigid_link_equations"]
+
 
 @dataclass(frozen=True)
 class RigidLinks:

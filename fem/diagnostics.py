@@ -16,6 +16,9 @@ from scipy.sparse.csgraph import connected_components
 
 from rvcoax.fem import DOFS_PER_NODE
 
+__all__ = ["FreeMotion", "MOTION_NAMES", "constraint_penalty", "find_free_motions", "scaled_condition_estimate",
+           "scaled_inverse_norm_bound"]
+
 MOTION_NAMES = ("translation x", "translation y", "translation z", "rotation about x",
                 "rotation about y", "rotation about z")
 

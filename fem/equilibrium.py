@@ -12,6 +12,9 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE, bushing
 
+__all__ = ["DofTable", "Equilibrium", "check_equilibrium", "frame_dof_table", "ground_reactions", "resultant",
+           "resultant_of"]
+
 
 @dataclass(frozen=True, eq=False)
 class DofTable:

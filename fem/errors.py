@@ -9,6 +9,9 @@ caught those keeps working.
 
 from __future__ import annotations
 
+__all__ = ["GapConvergenceError", "PardisoError", "RvcoaxError", "SingularMatrixError", "SingularModelError",
+           "SolverError"]
+
 
 class RvcoaxError(Exception):
     """Base of every error rvcoax raises on purpose.

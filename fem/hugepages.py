@@ -25,6 +25,9 @@ import os
 import sys
 from pathlib import Path
 
+__all__ = ["STALLING_DEFRAG_MODES", "THP_DEFRAG", "avoid_compaction_stalls", "compaction_stalls", "defrag_mode",
+           "selected_mode"]
+
 THP_DEFRAG = Path("/sys/kernel/mm/transparent_hugepage/defrag")
 STALLING_DEFRAG_MODES = frozenset({"madvise", "defer+madvise"})
 

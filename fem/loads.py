@@ -8,6 +8,8 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
+__all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity", "point_mass_triplets"]
+
 
 @dataclass(frozen=True)
 class NodalLoads:

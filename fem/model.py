@@ -11,6 +11,8 @@ from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads
 from rvcoax.fem.assembly import assemble_matrix
 from rvcoax.fem.constraints import RigidLinks, elimination_matrix, rigid_link_equations
 
+__all__ = ["StructuralModel", "constraint_elimination", "gravity_load_vector", "stiffness_matrix"]
+
 
 def _no_links() -> RigidLinks:
     return RigidLinks(np.zeros(0, int), np.zeros(0, int))

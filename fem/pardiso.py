@@ -37,6 +37,9 @@ import scipy.sparse as sp
 
 from rvcoax.fem.errors import PardisoError
 
+__all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT", "available",
+           "mkl_runtime_path", "upper_csr", "upper_storage"]
+
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
 _ERRORS = {

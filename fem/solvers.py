@@ -31,6 +31,10 @@ from rvcoax.fem import pardiso
 from rvcoax.fem.diagnostics import scaled_inverse_norm_bound
 from rvcoax.fem.errors import SingularMatrixError, SolverError
 
+__all__ = ["DIRECT_RESIDUAL_LIMIT", "METHODS", "PARDISO_MAX_DOFS", "PreparedSolver", "SINGULAR_INVERSE_NORM",
+           "SINGULAR_PIVOT_RATIO", "SUPERLU_MAX_DOFS", "SolverReport", "choose_method", "pardiso_available",
+           "prepare"]
+
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
 PARDISO_MAX_DOFS = 400_000

@@ -21,6 +21,8 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
+__all__ = ["FaceNodes", "distributing_tie_equations", "distributing_tie_operator", "rigid_tie_equations"]
+
 
 @dataclass(frozen=True)
 class FaceNodes:

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["CATALOGUE", "MASS_TO_VOLUME_RANGE", "PlausibleRange", "plausibility_warnings", "plausible_range"]
+
 
 @dataclass(frozen=True)
 class PlausibleRange:

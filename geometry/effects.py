@@ -51,6 +51,8 @@ from pydantic import ValidationError
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["Effect", "EffectParameter", "RigChange", "STANDARD_GRAVITY", "candidate_effects", "effect_by_name"]
+
 STANDARD_GRAVITY = 9.80665  # m/s²
 
 

@@ -17,6 +17,9 @@ from pathlib import Path
 
 from rvcoax.fem.errors import RvcoaxError
 
+__all__ = ["InputFileError", "check_readable_file", "csv_rows", "parse_toml", "plain_number", "read_input_text",
+           "toml_error_text"]
+
 
 class InputFileError(RvcoaxError, ValueError):
     """An input path that must not be read: not a regular file, or too large."""

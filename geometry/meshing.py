@@ -29,6 +29,9 @@ import skfem
 
 from rvcoax.fem.errors import RvcoaxError
 
+__all__ = ["MESHER_VERSION", "MIN_SHAPE_QUALITY", "MM", "MeshingError", "SolidPartGeometry", "cache_path",
+           "check_mesh", "default_cache_dir", "estimate_dofs", "logger", "mesh_part", "shape_quality"]
+
 logger = logging.getLogger(__name__)
 
 MESHER_VERSION = 1

@@ -16,6 +16,8 @@ import re
 
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["GROUPS", "TABLES", "get_parameter", "with_parameters"]
+
 _ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<item>[A-Za-z0-9_.\-]+?)\.(?P<key>\w+)(\[(?P<index>\d)\])?$")
 _TABLE_ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<key>\w+)$")
 GROUPS = ("bearings", "mounts", "couplings", "joints", "torque_lateral_loads")

@@ -11,6 +11,9 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, parse_toml, read_input_text
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "RigFileError", "load_rig", "parse_rig", "parse_rig_text",
+           "reference_rig_text"]
+
 REFERENCE_RIG = "reference_rig.toml"
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 

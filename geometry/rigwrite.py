@@ -15,6 +15,8 @@ import tomlkit
 from rvcoax.geometry.rigfile import parse_rig
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["updated_rig_text"]
+
 
 def _plain(value):
     """Rig dump value → TOML value (tuples as arrays)."""

@@ -14,6 +14,11 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 
+__all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
+           "ForceTable", "Gravity", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
+           "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "Segment", "SingleForce", "SolidSettings",
+           "Strict", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
+
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]

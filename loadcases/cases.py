@@ -20,6 +20,9 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
 from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES, MAX_TORQUE_NM
 
+__all__ = ["LoadCase", "LoadCaseError", "PAPER_TABLE", "PublishedRow", "grid_cases", "paired_cases", "paper_cases",
+           "paper_table", "read_cases", "separator_hint", "torque_matrix"]
+
 PAPER_TABLE = "paper000_coaxiality_table.csv"
 
 

@@ -35,6 +35,8 @@ from rvcoax.geometry.model.beam import stress_free_motions
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
 from rvcoax.results.sweep import Sweep
 
+__all__ = ["ConnectionStates", "ConnectionsUnavailableError", "REFERENCES", "case_displacements", "connection_states"]
+
 REFERENCES = ("measured", "unloaded")
 """``measured``: from the state the rig's ``[paths] measured_from`` names (the aligned rig at rest by
 default, u − u_rest), as Y and β are; ``unloaded``: from the unloaded geometry (u, self-weight included)."""

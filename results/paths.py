@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+__all__ = ["ShaftPathResult", "beta_from_y_deg"]
+
 
 @dataclass(frozen=True)
 class ShaftPathResult:

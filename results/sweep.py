@@ -20,15 +20,22 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rvcoax.fem import bushing, equilibrium
+from rvcoax.fem import system as fem_system
 from rvcoax.fem.errors import RvcoaxError, SingularModelError
 from rvcoax.fem.system import factorize
 from rvcoax.geometry.model import preflight
+from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
 from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
-from rvcoax.geometry.model.system import MODEL_KINDS, RigSystem, assemble_beam, assemble_rig
+from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.paths import ShaftPathResult
+
+__all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
+           "SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
+           "check_supports", "prepare_model", "prepare_system", "read_path", "rigid_body_modes", "run_gap_sweep",
+           "run_sweep", "solve_unit_responses"]
 
 SHAFTS = ("input", "output")
 
@@ -151,33 +158,21 @@ def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual
 
 
 def _prepare(system: RigSystem, settings: SweepSettings):
-    """A solver for the reduced system; returns (solve function, name, report dict)."""
-    from rvcoax.fem import solvers
+    """The system's solver: returns (solve function, solver name, summary dict).
 
-    if system.kind == "beam" and settings.solver in ("auto", "superlu"):
-        try:
-            factorised = factorize(system.stiffness, system.elimination)
-        except SingularModelError as error:
-            raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
-        kappa = factorised.condition_estimate()
-        check_condition(kappa)
-        return factorised.solve, factorised.solver_name, {"solver": factorised.solver_name,
-                                                          "n_dofs": system.n_dofs, "condition_estimate": kappa}
-    reduced = (system.elimination.T @ system.stiffness @ system.elimination).tocsr()
-    near_null = None
-    method = solvers.choose_method(reduced.shape[0]) if settings.solver == "auto" else settings.solver
-    if method == "amg":
-        near_null = system.elimination.T @ rigid_body_modes(system)
+    A beam model with the automatic or SuperLU solver is factorised by SuperLU in symmetric mode (the
+    reduced matrix symmetrised); everything else goes to the method ``settings.solver`` names or, for
+    ``auto``, the one its size calls for, AMG with the rigid-body modes as near-null space.
+    """
+    beam_superlu = system.kind == "beam" and settings.solver in ("auto", "superlu")
     try:
-        prepared = solvers.prepare(reduced, method=method, near_null_space=near_null)
-    except solvers.SingularMatrixError as error:
+        reduced = fem_system.prepare_system(system.stiffness, system.elimination,
+                                            "superlu" if beam_superlu else settings.solver,
+                                            near_null_space=lambda: rigid_body_modes(system), symmetrize=beam_superlu)
+    except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
-    check_condition(prepared.condition_estimate())
-
-    def solve(load):
-        return system.elimination @ prepared.solve(system.elimination.T @ load)
-
-    return solve, prepared.report.name, prepared
+    check_condition(reduced.condition_estimate())
+    return reduced.solve, reduced.solver_name, reduced.summary()
 
 
 def rigid_body_modes(system: RigSystem) -> np.ndarray:
@@ -206,7 +201,7 @@ class PreparedModel:
     system: RigSystem
     solve: object
     solver_name: str
-    report: object
+    report: dict  # rvcoax.fem.system.ReducedSystem.summary(): method, size, times, memory, condition estimate
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
@@ -282,9 +277,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         if progress is not None:
             progress(i + 1, len(cases))
     unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in SHAFTS} for k in UNIT_LOADS}
-    summary = report if isinstance(report, dict) else _report_dict(report)
     return Sweep(rig, system.frame, settings, tuple(results), unit_paths, solver_name, system.n_dofs, system, unit,
-                 summary)
+                 dict(report))
 
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
@@ -349,21 +343,12 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
-    summary = dict(report if isinstance(report, dict) else _report_dict(report))
+    summary = dict(report)
     summary.update({"nonlinear": "bearing clearance, active-set Newton on the condensed radial motions",
                     "gapped_bearings": [name.removeprefix("bearing:") for name in names],
                     "newton_iterations_max": int(max(iterations))})
     return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
-
-
-def _report_dict(prepared) -> dict:
-    r = prepared.report
-    out = {key: getattr(r, key) for key in ("name", "n_dofs", "setup_seconds", "solve_seconds", "peak_memory_MB")
-           if hasattr(r, key)}
-    if hasattr(prepared, "condition_estimate"):
-        out["condition_estimate"] = prepared.condition_estimate()
-    return out
 
 
 def solve_unit_responses(model: RigModel):

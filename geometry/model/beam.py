@@ -19,6 +19,9 @@ from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
+           "build_rig_model", "prestrain_load_vector", "stress_free_motions"]
+
 MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
 N_PER_MM = 1e3  # N/mm → N/m

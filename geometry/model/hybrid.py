@@ -36,6 +36,10 @@ from rvcoax.geometry.model.loads import (
 from rvcoax.geometry.model.system import PathProbe, RigSystem, frame_path_probe, nodal_vector
 from rvcoax.geometry.schema import Part, Rig
 
+__all__ = ["Attachment", "FaceSpec", "MM", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
+           "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
+           "select_facets", "solid_geometry"]
+
 MM = 1e-3
 RING_POINTS = 8
 TOL_MM = 1e-6

@@ -23,6 +23,9 @@ import numpy as np
 
 from rvcoax.geometry.schema import Rig
 
+__all__ = ["GRAVITY_DIRECTION", "LocatedLoad", "REST_LOADS", "UNIT_LOADS", "case_weights", "force_table_loads",
+           "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
+
 UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
 REST_LOADS = ("gravity", "prestrain", "force_table")
 

@@ -1,7 +1,7 @@
 """Checks made before solving a rig, so that an unusable model is named in the user's terms.
 
 - :func:`support_problem`: a beam model too large for this machine (counted from the geometry
-  before anything is built: :func:`rvcoax.results.workload.rig_problem`); a part (or a set of parts) that
+  before anything is built: :func:`rvcoax.geometry.model.workload.rig_problem`); a part (or a set of parts) that
   can move without deforming anything, with its free directions and the springs whose zero
   stiffness leaves it free; or stiffness values so far apart that the solve would lose every digit
   (named: the stiffest and softest springs).
@@ -18,7 +18,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -28,6 +27,10 @@ from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.system import factorize
 from rvcoax.geometry.model.loads import GRAVITY_DIRECTION
 from rvcoax.geometry.schema import Rig
+
+__all__ = ["BASE_BYTES", "BYTES_PER_DOF", "COMPONENT_NAMES", "CONDITION_LIMIT", "MemoryEstimate", "SAG_WARNING_MM",
+           "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
+           "memory_problem", "sag_warnings", "support_problem"]
 
 # A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
 # as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
@@ -142,7 +145,7 @@ def support_problem(rig: Rig) -> str | None:
     number decides: above :data:`CONDITION_LIMIT` the message says so (stiffnesses many orders of
     magnitude apart, often a unit mistake) instead of "no support path"; below, the rig is solvable.
     """
-    from rvcoax.results.workload import rig_problem
+    from rvcoax.geometry.model.workload import rig_problem
 
     too_big = rig_problem(rig)
     if too_big:
@@ -190,10 +193,10 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     The beam model is solved once for standard gravity (whether or not the rig switches gravity
     on): a property of the supports, not of the load case. Returns one sentence per part, empty
     when the rig is plausible (the reference rig's largest sag is 1.6 µm). A rig that cannot be
-    factorised, or is too large to build (:func:`rvcoax.results.workload.rig_problem`), gives no warning
+    factorised, or is too large to build (:func:`rvcoax.geometry.model.workload.rig_problem`), gives no warning
     here (:func:`support_problem` names it).
     """
-    from rvcoax.results.workload import rig_problem
+    from rvcoax.geometry.model.workload import rig_problem
 
     if rig_problem(rig):
         return []  # too large to build: support_problem says so
@@ -222,30 +225,6 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
 
 
 # ------------------------------------------------------------------------------------------ memory
-
-
-def available_memory_bytes() -> float | None:
-    """Memory this process may still use: MemAvailable (/proc/meminfo), capped by a cgroup v2 limit.
-
-    None where neither can be read (not Linux).
-    """
-    available = None
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                available = float(line.split()[1]) * 1024.0
-                break
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
-        if limit != "max":
-            used = float(Path("/sys/fs/cgroup/memory.current").read_text().strip())
-            room = float(limit) - used
-            available = room if available is None else min(available, room)
-    except (OSError, ValueError):
-        pass
-    return available
 
 
 @dataclass(frozen=True)
@@ -302,6 +281,8 @@ def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, sol
     dofs = int(sum(part_dofs.values()))
     method = choose_method(dofs) if solver == "auto" else solver
     needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
+    from rvcoax.geometry.model.workload import available_memory_bytes
+
     return MemoryEstimate(model, size, dofs, part_dofs, method, needed, available_memory_bytes())
 
 

@@ -1,6 +1,6 @@
 """The assembled system of a rig, whatever its fidelity: stiffness, constraints, unit loads, probes.
 
-``assemble_rig(rig, kind)`` returns a :class:`RigSystem` for ``kind`` = ``beam`` (every part a
+:func:`rvcoax.geometry.model.assemble.assemble_rig` returns a :class:`RigSystem` for ``kind`` = ``beam`` (every part a
 line of Timoshenko beams), ``hybrid`` (the parts named in ``[solid] hybrid_parts`` as quadratic
 tetrahedra, the rest beams) or ``solid`` (every part a solid). Everything downstream (sweep,
 results, check) works on a RigSystem only.
@@ -30,6 +30,9 @@ from rvcoax.geometry.model.loads import (
     located_unit_loads,
 )
 from rvcoax.geometry.schema import Rig
+
+__all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "assemble_beam", "frame_path_probe",
+           "nodal_vector"]
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
 
@@ -135,14 +138,3 @@ def assemble_beam(rig: Rig) -> RigSystem:
     probes = {which: frame_path_probe(frame, which, n) for which in ("input", "output")}
     return RigSystem(rig, "beam", frame, stiffness, elimination, loads_of(rig), probes,
                      frame_dof_table(structure.coordinates), load_builder=loads_of)
-
-
-def assemble_rig(rig: Rig, kind: str = "beam", **options) -> RigSystem:
-    """Assemble ``rig`` at fidelity ``kind`` (beam, hybrid, solid)."""
-    if kind == "beam":
-        return assemble_beam(rig)
-    if kind in ("hybrid", "solid"):
-        from rvcoax.geometry.model.hybrid import assemble_with_solids
-
-        return assemble_with_solids(rig, kind, **options)
-    raise ValueError(f"unknown model kind {kind!r}; use one of {', '.join(MODEL_KINDS)}")

@@ -14,9 +14,8 @@ from __future__ import annotations
 import importlib
 from typing import Annotated
 
-import click
 import typer
-from typer.core import TyperGroup
+from typer.core import TyperCommand, TyperGroup
 
 __all__ = ["COMMANDS", "app", "run"]
 
@@ -46,7 +45,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
-def load_command(name: str) -> click.Command:
+def load_command(name: str) -> TyperCommand | TyperGroup:
     """The real click command ``name``: imports its module and lets it register on a fresh app."""
     module = importlib.import_module(f"rvcoax.results.cli.{COMMANDS[name][0]}")
     holder = typer.Typer(rich_markup_mode="rich")
@@ -57,18 +56,18 @@ def load_command(name: str) -> click.Command:
 class LazyCommands(TyperGroup):
     """A command group whose commands are imported when they run, not when the group's help lists them."""
 
-    def list_commands(self, ctx: click.Context) -> list[str]:
+    def list_commands(self, ctx) -> list[str]:
         return list(COMMANDS)
 
-    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+    def get_command(self, ctx, name: str) -> TyperCommand | TyperGroup | None:
         if name not in COMMANDS:
             return None
         if ctx.resilient_parsing or ctx.info_name == name:  # pragma: no cover - completion
             return load_command(name)
         # the group's --help only needs the name and the short help
-        return click.Command(name, help=COMMANDS[name][1], short_help=COMMANDS[name][1])
+        return TyperCommand(name, help=COMMANDS[name][1], short_help=COMMANDS[name][1])
 
-    def resolve_command(self, ctx: click.Context, args: list[str]):
+    def resolve_command(self, ctx, args: list[str]):
         name = args[0] if args else None
         if name in COMMANDS:
             return name, load_command(name), args[1:]

@@ -22,6 +22,8 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["check", "register"]
+
 
 def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -> Table:
     table = Table(title=f"{shaft} shaft: published (paper 000) vs rvcoax", title_justify="left")

@@ -22,6 +22,8 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["register"]
+
 
 def _print_result(result, lengths_mm) -> None:
     from rvcoax.results.studies.discrepancy.report import rms_table
@@ -128,8 +130,8 @@ def register(app: typer.Typer) -> None:
                 raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
                                 + ", ".join(sorted({e.kind for e in candidate_effects(rig_model)})))
         from rvcoax.geometry.effects import candidate_effects as library_of
+        from rvcoax.geometry.model.workload import REPORT_AFTER_S, check
         from rvcoax.results.studies.discrepancy.workflow import discrepancy_workload
-        from rvcoax.results.workload import REPORT_AFTER_S, check
 
         n_candidates = sum(1 for e in library_of(rig_model)
                            if candidates is None or e.name in candidates or e.kind in candidates)

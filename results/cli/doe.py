@@ -22,6 +22,9 @@ from rvcoax.results.cli import support as options
 from rvcoax.results.cli.support import UserError, console, guard, sweep_settings
 from rvcoax.results.studies.doe.limits import ALPHA_RANGE, POOL_BELOW_F_RANGE
 
+__all__ = ["AlphaOption", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command", "doe_analyze",
+           "doe_app", "doe_rig", "register"]
+
 doe_app = typer.Typer(no_args_is_help=True, help=(
     "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
     "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig)."))

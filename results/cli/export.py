@@ -37,6 +37,8 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["FORMATS", "register"]
+
 FORMATS = ("json", "csv", "adams", "ross")
 
 

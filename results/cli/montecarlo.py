@@ -32,6 +32,9 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["MAX_SAMPLES", "ResumeOption", "SchedulerOption", "SeedOption", "TolerancesOption", "WorkersOption",
+           "montecarlo", "register", "sensitivity"]
+
 TolerancesOption = Annotated[Path, typer.Option(
     "--tolerances", help="Tolerance file (TOML): parameters with distributions, load cases, β limits. "
                          "Example: loadcases/data/example_tolerances.toml.")]
@@ -124,7 +127,7 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
 
 def _check_size(n_solves: int, tol, study, option: str, what: str) -> None:
     """Refuse a design too large for this machine before it is drawn; announce a long one."""
-    from rvcoax.results.workload import REPORT_AFTER_S, check_study
+    from rvcoax.geometry.model.workload import REPORT_AFTER_S, check_study
 
     work = check_study(n_solves, len(tol.parameters), len(study.cases), option,
                        f"{what} × {len(study.cases)} load case(s)", study.settings.model, study.strategy)
@@ -154,10 +157,10 @@ def montecarlo(
     Writes montecarlo_samples.csv (every sample), montecarlo_distribution.csv, montecarlo_exceedance.csv,
     montecarlo.json and montecarlo_beta_histogram.png.
     """
+    from rvcoax.geometry.model.workload import check_workers, count_text
     from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import tolerance_report as report
     from rvcoax.results.studies.sampling import SAMPLING_METHODS, sample_values
-    from rvcoax.results.workload import check_workers, count_text
 
     scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
@@ -231,6 +234,7 @@ def sensitivity(
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
+    from rvcoax.geometry.model.workload import check_workers, count_text
     from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import tolerance_report as report
     from rvcoax.results.studies.sampling import to_values
@@ -244,7 +248,6 @@ def sensitivity(
         sobol_indices,
     )
     from rvcoax.results.sweep import SHAFTS
-    from rvcoax.results.workload import check_workers, count_text
 
     scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:

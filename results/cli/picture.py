@@ -25,6 +25,8 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["picture", "register"]
+
 
 def picture(
     rig: RigOption = None,

@@ -15,6 +15,8 @@ from rvcoax.results.cli.support import (
     guard,
 )
 
+__all__ = ["register", "rig_app", "rig_reference", "rig_show"]
+
 rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 
 

@@ -22,6 +22,12 @@ from rvcoax.geometry.inputfiles import plain_number
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 from rvcoax.results.io.out_lock import output_folder_lock
 
+__all__ = ["CasesOption", "GridOption", "MeshOption", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
+           "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
+           "add_text_row", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
+           "guard", "number_option", "prepare_with_status", "progress_bar", "report_written", "rig_text",
+           "run_with_progress", "scheduler_address", "sweep_settings", "torque_list", "warn", "write_error_text"]
+
 console = Console()
 if not console.is_terminal:  # logs and pipes: wide enough for the check tables
     console = Console(width=150)
@@ -259,8 +265,8 @@ def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
     from rvcoax.geometry.catalogue import plausibility_warnings
     from rvcoax.geometry.model.preflight import sag_warnings
+    from rvcoax.geometry.model.workload import REPORT_AFTER_S, beam_size, rig_problem
     from rvcoax.results.sweep import prepare_model
-    from rvcoax.results.workload import REPORT_AFTER_S, beam_size, rig_problem
 
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
@@ -307,8 +313,8 @@ def _case_rows_upper_bound(path: Path) -> int | None:
 
 def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
     """Load cases from --cases, or --t1/--t2 (paired or --grid), or the paper's 20 pairs."""
+    from rvcoax.geometry.model.workload import check_cases, count_text
     from rvcoax.loadcases.cases import grid_cases, paired_cases, paper_cases, read_cases
-    from rvcoax.results.workload import check_cases, count_text
 
     if cases_file is not None:
         if t1 or t2:

@@ -30,6 +30,8 @@ from rvcoax.results.cli.support import (
     sweep_settings,
 )
 
+__all__ = ["TABLE_ROWS", "register", "sweep"]
+
 TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (every case is in sweep.csv)
 
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
@@ -110,10 +112,10 @@ def sweep(
     an interruption, the same command with --resume solves only the missing cases and writes the same
     files.
     """
+    from rvcoax.geometry.model.workload import REPORT_AFTER_S, sweep_workload
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.results.io import records as report
     from rvcoax.results.io.sweep_files import CaseStore, write_sweep_files
-    from rvcoax.results.workload import REPORT_AFTER_S, sweep_workload
 
     if resume and fields:
         raise UserError("--fields needs every case's displacement field, which --resume does not keep: "

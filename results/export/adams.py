@@ -34,6 +34,10 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
 from rvcoax.results.sweep import SHAFTS
 
+__all__ = ["AdamsExportError", "AdamsSyntaxError", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
+           "adams_angle_deg", "adams_fragment", "adams_real", "marker_euler_deg", "marker_z_axis", "parse_adm",
+           "spline_curves", "spline_data", "spline_layout"]
+
 LINE_LIMIT = 80
 MARKER_BASE_ID = {"input": 1000, "output": 2000}
 """Marker of case i (0-based) of a shaft: base + i + 1; the shaft's SPLINE has the base id."""

@@ -37,6 +37,11 @@ from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
 from rvcoax.results.sweep import SHAFTS, Sweep
 
+__all__ = ["CSV_TABLES", "DynamicsExport", "IT3_RADIAL_DISPLACEMENT_MM", "ShaftStage", "UNITS", "UNLOADED",
+           "bearing_rows", "coupling_rows", "dynamics_export", "export_document", "export_tables", "lever_arms_mm",
+           "read_csv_table", "reducer_end_mm", "shaft_rows", "shaft_stages", "stage_rows", "tilt_direction",
+           "write_csv", "write_json"]
+
 IT3_RADIAL_DISPLACEMENT_MM = {"input": 0.002, "output": 0.003}
 """Paper 000's radial displacement a of each shaft [P] (IT3, GB/T 1800.1-2009, sizes ≤ 500 mm)."""
 

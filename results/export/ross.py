@@ -48,6 +48,11 @@ from rvcoax.geometry.model.beam import build_rig_model
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.export.dynamics import DynamicsExport
 
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
+           "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
+           "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
+           "rvcoax_gravity_sag", "shaft_line"]
+
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
 MM = 1e-3

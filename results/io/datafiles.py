@@ -7,6 +7,8 @@ from pathlib import Path
 
 from rvcoax.geometry.inputfiles import InputFileError, read_input_text
 
+__all__ = ["MAX_DATA_FILE_BYTES", "read_data_text"]
+
 MAX_DATA_FILE_BYTES = 10_000_000  # stage data, study files and force tables are a few kB
 
 

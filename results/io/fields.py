@@ -498,7 +498,8 @@ def read_xdmf_series(path: str | Path) -> tuple[FieldMesh, list[FieldCase]]:
 
 __all__ = [
     "FieldCase", "FieldMesh", "XDMF_TIME", "beam_field_cases", "beam_field_mesh", "beam_outer_radius_m",
-    "path_point_indices", "path_polylines", "read_vtu", "read_xdmf_series", "write_vtu", "write_xdmf_series",
+    "path_point_indices", "path_polylines", "read_vtu", "read_xdmf_series", "sweep_field_cases", "sweep_field_mesh",
+    "write_vtu", "write_xdmf_series",
 ]
 
 

@@ -18,6 +18,8 @@ from pathlib import Path
 
 from rvcoax.fem.errors import RvcoaxError
 
+__all__ = ["FolderLockedError", "LOCK_NAME", "output_folder_lock"]
+
 LOCK_NAME = ".rvcoax.lock"
 
 try:

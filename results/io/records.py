@@ -11,6 +11,10 @@ from rvcoax.results.studies.calibration import Calibration
 from rvcoax.results.studies.check import QUANTITIES, Comparison
 from rvcoax.results.sweep import SHAFTS, CaseResult, Sweep
 
+__all__ = ["UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
+           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header",
+           "sweep_rows", "text_sha256"]
+
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",
     "tilt": "degree", "rotation": "degree",

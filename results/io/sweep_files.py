@@ -35,6 +35,10 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import canonical, entry_path_rows, rvcoax_version
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
 
+__all__ = ["CaseStore", "DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "REJECTIONS",
+           "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal",
+           "sweep_inputs", "write_sweep_files"]
+
 JOURNAL_FORMAT = 2
 JOURNAL_NAME = "journal.jsonl"
 DELAY_VARIABLE = "RVCOAX_CASE_DELAY_S"

@@ -17,6 +17,9 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
+__all__ = ["format_number", "naming_errors", "write_csv_atomic", "write_json_atomic", "write_png_atomic",
+           "write_text_atomic"]
+
 
 def _umask() -> int:
     """The process umask, read without changing it (Linux: /proc/self/status), else by setting it back."""

@@ -22,6 +22,8 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep
 
+__all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate"]
+
 
 @dataclass(frozen=True)
 class CalibrationParameter:

@@ -46,6 +46,12 @@ from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, pla
 from rvcoax.geometry.schema import Part, Rig
 from rvcoax.results.io.datafiles import read_data_text
 
+__all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
+           "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "chain_error",
+           "contribution", "load_chain_model", "moment_arms_mm", "read_stage_forces", "rig_stages",
+           "shear_modulus_Pa", "signed_total", "stage_midpoints_mm", "stage_twists_deg",
+           "torsion_constant_deg_per_m"]
+
 STAGE_DATA = "rv20e_chain_stages.toml"
 COAXIALITY_SOURCES = ("input", "output", "none")
 

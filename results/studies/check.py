@@ -10,6 +10,9 @@ from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.paths import beta_from_y_deg
 from rvcoax.results.sweep import Sweep
 
+__all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "QUANTITIES",
+           "Tolerance", "Verdict", "check_verdict", "compare", "published_values", "sweep_values", "verdict"]
+
 QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
 
 

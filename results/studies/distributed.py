@@ -36,6 +36,9 @@ import numpy as np
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.results.io.writers import write_json_atomic
 
+__all__ = ["ClusterError", "MANIFEST", "ResumeError", "RunReport", "SAMPLE_PATTERN", "SampleError", "future_outcome",
+           "run_samples", "sample_path"]
+
 SAMPLE_PATTERN = "sample_*.json"
 MANIFEST = "study.json"
 

@@ -51,6 +51,9 @@ from rvcoax.results.sweep import (
     run_sweep,
 )
 
+__all__ = ["Exceedance", "QUANTILES", "STRATEGIES", "STRATEGY_TEXT", "Study", "classify_parameter", "describe",
+           "evaluate_sample", "exceedance", "parameters_needing", "plan_study", "stack"]
+
 STRATEGIES = ("loads", "frame", "full")
 STRATEGY_TEXT = {
     "loads": "every toleranced parameter only changes loads: one assembled and factorised model serves every "

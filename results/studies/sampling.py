@@ -24,6 +24,8 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
+__all__ = ["DISTRIBUTIONS", "Distribution", "EDGE", "SAMPLING_METHODS", "sample_values", "to_values", "unit_design"]
+
 DISTRIBUTIONS = ("normal", "uniform", "truncated_normal")
 SAMPLING_METHODS = ("lhs", "sobol", "random")
 EDGE = 2.0**-53

@@ -26,6 +26,10 @@ from SALib.sample import sobol as sobol_sampling
 
 from rvcoax.results.studies.sampling import EDGE, Distribution, to_values
 
+__all__ = ["BOOTSTRAP_RESAMPLES", "MORRIS_LEVELS", "MorrisIndices", "NORMAL_RANGE", "SENSITIVITY_METHODS",
+           "SobolIndices", "design_runs", "morris_design", "morris_indices", "morris_values", "sobol_design",
+           "sobol_indices"]
+
 SENSITIVITY_METHODS = ("sobol", "morris")
 MORRIS_LEVELS = 4
 NORMAL_RANGE = (0.00135, 0.99865)  # ±3 std of a normal law: Morris levels need a bounded range

@@ -48,6 +48,10 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase, LoadCaseError, paired_cases
 from rvcoax.results.studies.sampling import Distribution
 
+__all__ = ["BetaLimit", "DEFAULT_CASES", "MAX_TOLERANCE_FILE_BYTES", "Number", "PART_DEVIATION_KEY", "STATISTICS",
+           "ToleranceFileError", "Tolerances", "ToleratedParameter", "UNIT_SUFFIXES", "apply_values",
+           "load_tolerances", "parameter_value", "parse_tolerances", "study_rig", "unit_of"]
+
 UNIT_SUFFIXES = ("N_per_um", "N_per_mm", "Nm_per_rad", "N_per_Nm", "m_per_s2", "kg_per_m3", "MPa", "mrad", "rad", "deg", "um", "mm", "kg", "Nm", "N")
 STATISTICS = ("mean", "std", "low", "high")
 PART_DEVIATION_KEY = "outer_diameter_deviation_mm"

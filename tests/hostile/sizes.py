@@ -1,7 +1,7 @@
 """Sizes: inputs whose work or memory is beyond this machine are refused at once, with the estimate and a
-suggestion; large but feasible inputs solve. Issue 12, part 5 (results/workload.py).
+suggestion; large but feasible inputs solve. Issue 12, part 5 (geometry/model/workload.py).
 
-Every refused estimate is above 6 hours of work (rvcoax.results.workload.MAX_WORK_S), so the refusals hold on
+Every refused estimate is above 6 hours of work (rvcoax.geometry.model.workload.MAX_WORK_S), so the refusals hold on
 any machine however much memory it has (``--workers 1000``: on any machine with fewer than 250 cores).
 """
 

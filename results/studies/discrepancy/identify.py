@@ -20,6 +20,8 @@ from scipy.optimize import least_squares
 
 from rvcoax.results.studies.discrepancy.responses import EffectResponse
 
+__all__ = ["Fit", "Problem", "Step", "forward_backward"]
+
 
 @dataclass(frozen=True)
 class Fit:

@@ -21,6 +21,8 @@ from scipy import stats
 
 from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
 
+__all__ = ["GapTest", "NoiseEstimate", "StructureFinding", "estimate_noise", "gap_test", "residual_structure"]
+
 
 @dataclass(frozen=True)
 class NoiseEstimate:

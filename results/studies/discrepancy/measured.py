@@ -24,6 +24,10 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase, separator_hint
 
+__all__ = ["LARGEST_PLAUSIBLE_Y_MM", "MAX_BYTES", "MeasuredData", "MeasuredDataError", "OPTIONAL_COLUMNS",
+           "PATH_COLUMNS", "SHAFTS", "SHORTEST_PLAUSIBLE_PATH_MM", "TABLE_COLUMNS", "check_stations",
+           "parse_measured", "printed_quantum", "read_measured"]
+
 SHAFTS = ("input", "output")
 TABLE_COLUMNS = ("T1_input_Nm", "T2_output_Nm", "Y_input_mm", "Y_output_mm")
 PATH_COLUMNS = ("T1_input_Nm", "T2_output_Nm", "shaft", "x_mm", "uy_mm")

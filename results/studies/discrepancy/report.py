@@ -10,6 +10,8 @@ from rvcoax.results.io.writers import write_png_atomic
 from rvcoax.results.studies.discrepancy.measured import SHAFTS
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
+__all__ = ["ambiguous_groups", "document", "observation_rows", "plot", "rms_table"]
+
 
 def _rounded(values: dict) -> dict:
     return {k: float(f"{v:.6g}") for k, v in values.items()}

@@ -22,6 +22,9 @@ from scipy.interpolate import CubicSpline
 from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
 from rvcoax.results.sweep import SweepSettings, run_sweep
 
+__all__ = ["EffectResponse", "GRID_POINTS", "Observation", "PathLayout", "effect_response", "full_paths",
+           "solve_full_paths"]
+
 GRID_POINTS = 11
 
 

@@ -13,6 +13,8 @@ from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
 from rvcoax.results.studies.discrepancy.responses import Observation, PathLayout, solve_full_paths
 from rvcoax.results.sweep import SweepSettings
 
+__all__ = ["BEAM", "effect_size_for", "layout_lengths", "observation_layout", "synthetic_data"]
+
 BEAM = SweepSettings()
 
 

@@ -43,6 +43,10 @@ from rvcoax.results.studies.discrepancy.responses import (
 )
 from rvcoax.results.sweep import ModelError, SweepSettings
 
+__all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
+           "Discrimination", "OBSERVABLE_SIGMA", "OBSERVATION_BYTES", "OBSERVATION_S", "SelectedEffect",
+           "build_library", "discrepancy_workload", "held_out_mask", "run_discrepancy"]
+
 # what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
 CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
 
@@ -183,7 +187,7 @@ class DiscrepancyResult:
 
 def discrepancy_workload(data: MeasuredData, n_candidates: int):
     """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates."""
-    from rvcoax.results.workload import BASE_BYTES, Workload, count_text
+    from rvcoax.geometry.model.workload import BASE_BYTES, Workload, count_text
 
     cases = len(data.cases)
     seconds = CASE_CANDIDATE_S * cases * max(n_candidates, 1) + OBSERVATION_S * data.n

@@ -22,6 +22,8 @@ from scipy import stats
 from rvcoax.results.studies.doe.design import Design, Source
 from rvcoax.results.studies.doe.orthogonal import ARRAYS, match_columns, standard_array
 
+__all__ = ["Anova", "AnovaRow", "ColumnRange", "anova", "column_sum_of_squares", "optimal_levels", "range_analysis"]
+
 
 @dataclass(frozen=True)
 class ColumnRange:

@@ -20,6 +20,9 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.results.studies.doe.orthogonal import orthogonality_problems
 
+__all__ = ["Design", "DesignError", "Factor", "MAX_TABLE_BYTES", "RUN_COLUMNS", "Source", "build_sources",
+           "read_design", "read_levels"]
+
 RUN_COLUMNS = ("test", "run")
 _EMPTY = re.compile(r"^e\d*$")
 MAX_TABLE_BYTES = 10_000_000  # a design or levels table has tens of rows

@@ -15,6 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+__all__ = ["ARRAYS", "OrthogonalArray", "linear_three_level", "match_columns", "orthogonality_problems",
+           "same_partition", "standard_array", "three_level_coefficients"]
+
 _L18 = (
     "11111111", "11222222", "11333333", "12112233", "12223311", "12331122",
     "13121323", "13232131", "13313212", "21133221", "21211332", "21322113",

@@ -21,6 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+__all__ = ["RegressionFit", "Term", "design_matrix", "fit", "fit_without_outliers", "full_quadratic", "outlier_runs",
+           "parse_term", "stepwise_terms", "studentized_residuals", "term_name"]
+
 Term = tuple[int, ...]  # () intercept, (j,) linear, (j, j) square, (j, k) product; 0-based factor indices
 
 

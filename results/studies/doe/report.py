@@ -19,6 +19,9 @@ from rvcoax.results.studies.doe.regression import (
     stepwise_terms,
 )
 
+__all__ = ["Analysis", "OUTLIER_RULE", "analyse", "analysis_document", "anova_document", "anova_rows",
+           "choose_terms", "combination_label", "optimum_values", "plot_main_effects", "regression_document"]
+
 OUTLIER_RULE = ("removed once: runs whose residual interval r ± t(1−α/2, n−p−1) s_(i) √(1−h) excludes zero "
                 "(externally studentized residual beyond the t quantile; MATLAB regress/rcoplot)")
 

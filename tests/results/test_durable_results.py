@@ -14,10 +14,10 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from rvcoax.geometry.model import workload
 from rvcoax.geometry.model.beam import build_rig_model
-from rvcoax.geometry.model.preflight import available_memory_bytes
+from rvcoax.geometry.model.workload import available_memory_bytes
 from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
-from rvcoax.results import workload
 from rvcoax.results.cli.app import app
 from rvcoax.results.io.out_lock import FolderLockedError, output_folder_lock
 

@@ -1,35 +1,16 @@
-"""The reference rig's result files are what they were before the package moved under ``rvcoax``.
-
-``tests/golden/`` holds the files ``rvcoax sweep``, ``rvcoax check`` and ``rvcoax sweep --model hybrid``
-wrote on the reference rig at commit d73afe7, the last one before the library restructure (issue 13),
-made on a 2-core AMD EPYC with two BLAS threads. On that machine and thread count the files after the
-move were compared byte for byte (see ``benchmarks/RESULTS.md``). Here, on any machine, every key,
-column, string and the layout must be identical, and every number equal to the accuracy of its solve:
-the floating-point rounding of a factorisation differs between CPUs and thread counts (the hybrid
-model's files differ at 3e-7 relative between one and two PARDISO threads on the same machine, on
-values 1e-6 of their column's largest), so a byte comparison across machines would test the CPU, not
-the code.
-"""
+"""Comparing result files with the golden files in tests/golden (see tests/results/test_golden_results.py)."""
 
 import json
 import math
 import re
-import subprocess
-import sys
 from pathlib import Path
 
-import pytest
-
-GOLDEN = Path(__file__).parent / "golden"
+GOLDEN = Path(__file__).resolve().parent / "golden"
 NUMBER = re.compile(r"-?\d+\.?\d*(?:[eE][-+]?\d+)?")
 # Rounding noise of the solve itself: compared only as "still tiny", not digit for digit.
 NOISE_KEYS = ("equilibrium_relative_error", "solve_relative_residual", "relative_residual")
 ESTIMATE_KEYS = ("condition_number_estimate",)
 RELATIVE_TO_COLUMN = 1e-7
-
-
-def _rvcoax() -> str:
-    return str(Path(sys.executable).with_name("rvcoax"))
 
 
 def _csv_columns(text: str) -> tuple[list[str], dict[str, list[str]]]:
@@ -83,7 +64,8 @@ def _compare_groups(golden: dict[str, list], produced: dict[str, list], where: s
                 f"{where}:{key}[{i}]: {y!r} != {x!r} (column scale {scale:g})")
 
 
-def _compare(golden_file: Path, produced_file: Path) -> None:
+def compare_result_file(golden_file: Path, produced_file: Path) -> None:
+    """Assert that ``produced_file`` is ``golden_file`` to the accuracy of its solve (see the module text)."""
     expected, got = golden_file.read_text(), produced_file.read_text()
     if expected == got:
         return
@@ -101,23 +83,3 @@ def _compare(golden_file: Path, produced_file: Path) -> None:
         for path, value in _json_leaves(json.loads(got)):
             groups_b.setdefault(path, []).append(value)
         _compare_groups(groups_a, groups_b, where)
-
-
-COMMANDS = {
-    "sweep": ["sweep"],
-    "check": ["check"],
-    "hybrid": ["sweep", "--model", "hybrid"],
-}
-
-
-@pytest.mark.parametrize("name", list(COMMANDS))
-def test_reference_rig_files_match_the_files_written_before_the_restructure(name, tmp_path):
-    out = tmp_path / name
-    done = subprocess.run([_rvcoax(), *COMMANDS[name], "--out", str(out)], capture_output=True, text=True)
-    assert done.returncode in (0, 3), done.stdout + done.stderr
-    golden_files = sorted((GOLDEN / name).iterdir())
-    assert golden_files
-    for golden_file in golden_files:
-        produced = out / golden_file.name
-        assert produced.is_file(), f"{name}: {golden_file.name} was not written"
-        _compare(golden_file, produced)

@@ -20,7 +20,7 @@ from rvcoax.loadcases.cases import (
     torque_matrix,
 )
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 # T1, T2 of the published table (paper 000), in its order
 PUBLISHED_PAIRS = [

@@ -2,13 +2,13 @@
 
 Every size-like input (load cases, a ``--grid``, the rig's beam nodes, ``--workers``, ``--samples``,
 a sensitivity design) goes through :func:`check`: above the memory this machine has available
-(:func:`rvcoax.geometry.model.preflight.available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
+(:func:`available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
 it raises :class:`WorkloadError` with the estimate and a suggestion; above :data:`REPORT_AFTER_S`
 the caller prints the estimate (:meth:`Workload.describe`) before it starts.
 
 The per-unit costs are measured on the development machine (AMD EPYC, 2 cores, 24 GB, Python
 3.11, /usr/bin/time on the real command line; figures in benchmarks/RESULTS.md, blocks
-"results/workload.py: measured per-unit costs" and "bench_durable_sweep.py"); other machines differ
+"geometry/model/workload.py: measured per-unit costs" and "bench_durable_sweep.py"); other machines differ
 by a small factor, which is what an estimate is for.
 """
 
@@ -17,9 +17,15 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
 from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.model.preflight import available_memory_bytes
+
+__all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
+           "BeamSize", "MAX_WORK_S", "REPORT_AFTER_S", "SAMPLE_BYTES", "SAMPLE_CASE_S", "SAMPLE_CASE_S_SOLID",
+           "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check",
+           "check_cases", "check_study", "check_workers", "count_text", "duration_text", "rig_problem", "size_text",
+           "study_workload", "sweep_workload"]
 
 MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
 REPORT_AFTER_S = 5.0  # work estimated longer than this is announced before it starts
@@ -47,6 +53,30 @@ WORKER_BYTES = 0.25e9
 SAMPLE_CASE_S = {"loads": 2.5e-3, "frame": 10.8e-3, "full": 40.2e-3}
 SAMPLE_CASE_S_SOLID = 7.3
 SAMPLE_BYTES = 2e3
+
+
+def available_memory_bytes() -> float | None:
+    """Memory this process may still use: MemAvailable (/proc/meminfo), capped by a cgroup v2 limit.
+
+    None where neither can be read (not Linux).
+    """
+    available = None
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                available = float(line.split()[1]) * 1024.0
+                break
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        if limit != "max":
+            used = float(Path("/sys/fs/cgroup/memory.current").read_text().strip())
+            room = float(limit) - used
+            available = room if available is None else min(available, room)
+    except (OSError, ValueError):
+        pass
+    return available
 
 
 class WorkloadError(RvcoaxError, ValueError):

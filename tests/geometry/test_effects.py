@@ -12,6 +12,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from tests.test_rigfile_errors import dump_toml
 
 from rvcoax.geometry.effects import candidate_effects, effect_by_name
 from rvcoax.geometry.parameters import get_parameter, with_parameters
@@ -19,7 +20,6 @@ from rvcoax.geometry.rigfile import load_rig, parse_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.sweep import prepare_model, run_sweep
-from tests.test_rigfile_errors import dump_toml
 
 SHAFTS = ("input", "output")
 CASES = paper_cases()

@@ -24,7 +24,7 @@ def run_child(action: str, environment: dict[str, str]) -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}
     env.update(environment)
     out = subprocess.run([sys.executable, "-c", CHILD, action], env=env, capture_output=True, text=True,
-                         check=True, cwd=os.path.dirname(os.path.dirname(__file__)))
+                         check=True, cwd=os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
     return json.loads(out.stdout)
 
 
@@ -53,11 +53,12 @@ def test_an_explicit_setting_is_respected():
 
 
 def test_the_rvcoax_command_calls_it(monkeypatch):
-    from rvcoax.results.cli import main as cli
+    from rvcoax.fem import blas_threads, hugepages
+    from rvcoax.results.cli import app as cli
 
     calls = []
-    monkeypatch.setattr(cli.blas_threads, "single_threaded_openblas", lambda: calls.append("openblas"))
-    monkeypatch.setattr(cli.hugepages, "avoid_compaction_stalls", lambda: calls.append("hugepages"))
+    monkeypatch.setattr(blas_threads, "single_threaded_openblas", lambda: calls.append("openblas"))
+    monkeypatch.setattr(hugepages, "avoid_compaction_stalls", lambda: calls.append("hugepages"))
     monkeypatch.setattr(cli, "app", lambda: calls.append("app"))
     cli.run()
     assert calls == ["hugepages", "openblas", "app"]

@@ -14,6 +14,7 @@ import json
 
 import numpy as np
 import pytest
+from tests.test_discrepancy import hidden_data, test_rig
 from typer.testing import CliRunner
 
 from rvcoax.fem import bushing
@@ -24,7 +25,6 @@ from rvcoax.results.cli.app import app
 from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, SweepSettings, run_sweep
-from tests.test_discrepancy import hidden_data, test_rig
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 

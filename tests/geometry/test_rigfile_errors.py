@@ -25,7 +25,7 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.sweep import ModelError, run_sweep
 
 SOURCE = "test.toml"
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 # ----------------------------------------------------------------------------------------------

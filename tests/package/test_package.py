@@ -1,0 +1,173 @@
+"""The package as installed: one import name, no import cycles, a thin CLI that starts fast.
+
+The public API is ``rvcoax``'s top-level names and the names in each module's ``__all__``.
+"""
+
+import ast
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+import rvcoax
+from rvcoax.results.cli import app as cli_app
+
+ROOT = Path(__file__).resolve().parents[2]
+PACKAGES = ("fem", "geometry", "loadcases", "results")
+
+
+def _modules() -> dict[str, Path]:
+    found = {"rvcoax": ROOT / "__init__.py"}
+    for package in PACKAGES:
+        for path in (ROOT / package).rglob("*.py"):
+            parts = list(path.relative_to(ROOT).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            found[".".join(["rvcoax", *parts])] = path
+    return found
+
+
+def _imports(path: Path, modules: dict[str, Path]) -> list[tuple[str, str | None]]:
+    """(module, imported name or None) for every rvcoax import, at any depth except ``if TYPE_CHECKING:``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING":
+            node.body = []
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "rvcoax":
+            for alias in node.names:
+                full = f"{node.module}.{alias.name}"
+                found.append((full, None) if full in modules else (node.module, alias.name))
+        elif isinstance(node, ast.Import):
+            found += [(alias.name, None) for alias in node.names if alias.name.split(".")[0] == "rvcoax"]
+    return found
+
+
+def test_no_import_cycles_even_through_imports_inside_functions():
+    modules = _modules()
+    graph = {name: set() for name in modules}
+    for name, path in modules.items():
+        for target, _ in _imports(path, modules):
+            while target not in modules and "." in target:
+                target = target.rsplit(".", 1)[0]
+            if target in modules and target != name and target != "rvcoax":
+                graph[name].add(target)
+    cycles, state = [], {}
+
+    def visit(node, trail):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycles.append(trail[trail.index(nxt):] + [nxt])
+            elif nxt not in state:
+                visit(nxt, trail + [nxt])
+        state[node] = "done"
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
+    assert not cycles, "import cycles: " + "; ".join(" → ".join(c) for c in cycles)
+
+
+def test_the_command_line_uses_only_public_names():
+    """A CLI module imports modules, or names that their modules list in ``__all__``, never private ones."""
+    modules = _modules()
+    problems = []
+    for name, path in modules.items():
+        if not name.startswith("rvcoax.results.cli."):
+            continue
+        for module, imported in _imports(path, modules):
+            if imported is None:
+                continue
+            public = getattr(__import__(module, fromlist=["__all__"]), "__all__", None)
+            if imported.startswith("_") or public is None or imported not in public:
+                problems.append(f"{name} imports {imported} from {module}")
+    assert not problems, problems
+
+
+def test_every_module_says_what_it_offers():
+    missing = [name for name, path in _modules().items()
+               if path.name != "__init__.py" and "__all__" not in path.read_text(encoding="utf-8")]
+    assert not missing
+
+
+def test_import_rvcoax_loads_nothing_heavy_and_names_load_on_use():
+    code = ("import sys, rvcoax; heavy = [m for m in ('numpy', 'scipy', 'pydantic', 'skfem') if m in sys.modules]; "
+            "print(heavy); rvcoax.load_rig; print('pydantic' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=Path.home())
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:2] == ["[]", "True"]
+    assert set(rvcoax.__all__) <= set(dir(rvcoax))
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        rvcoax.nothing  # noqa: B018
+
+
+def test_the_help_list_matches_every_command_own_help():
+    """``rvcoax --help`` lists the commands without loading them: its texts must be theirs."""
+    for name, (_, short_help) in cli_app.COMMANDS.items():
+        command = cli_app.load_command(name)
+        assert command.name == name
+        assert command.get_short_help_str(limit=1000) == short_help, name
+
+
+def test_help_imports_no_command_module():
+    code = ("import sys; from rvcoax.results.cli.app import app; from typer.testing import CliRunner; "
+            "r = CliRunner().invoke(app, ['--help']); assert r.exit_code == 0, r.output; "
+            "print(sorted(m for m in sys.modules if m.startswith('rvcoax.results.cli.') or m in ('numpy', 'scipy')))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=Path.home())
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "['rvcoax.results.cli.app']"
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("wheel")
+    source = folder / "source"  # pip builds in the source tree: build a copy, not the checkout
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".venv", ".git", "build", "*.egg-info", "rvcoax_out",
+                                                                "__pycache__", ".pytest_cache", ".ruff_cache"))
+    done = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
+                           "-w", str(folder), str(source)], capture_output=True, text=True)
+    if done.returncode != 0 and "setuptools" in done.stderr and "version" in done.stderr.lower():
+        pytest.skip(f"this environment's setuptools cannot build the wheel offline: {done.stderr[-300:]}")
+    assert done.returncode == 0, done.stderr[-2000:]
+    (path,) = folder.glob("rvcoax-*.whl")
+    return path
+
+
+def test_the_wheel_holds_nothing_outside_rvcoax(wheel):
+    names = zipfile.ZipFile(wheel).namelist()
+    outside = [n for n in names if not (n.startswith("rvcoax/") or n.startswith("rvcoax-"))]
+    assert not outside, outside
+    for data in ("rvcoax/geometry/data/reference_rig.toml", "rvcoax/loadcases/data/paper000_coaxiality_table.csv",
+                 "rvcoax/results/cli/app.py", "rvcoax/__init__.py"):
+        assert data in names
+    assert not [n for n in names if n.startswith(("rvcoax/tests/", "rvcoax/benchmarks/", "rvcoax/docs/"))]
+
+
+def test_the_installed_wheel_runs_and_the_old_names_are_gone(wheel, tmp_path):
+    target = tmp_path / "site"
+    done = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(target),
+                           str(wheel)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert sorted(p.name.split("-")[0] for p in target.iterdir() if p.name != "bin") == ["rvcoax", "rvcoax"]
+    environment = {**os.environ, "PYTHONPATH": str(target)}
+    code = ("import importlib.util, rvcoax; print(rvcoax.__file__); "
+            "print([n for n in ('fem', 'geometry', 'loadcases', 'results') if importlib.util.find_spec(n)])")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+                          env=environment)
+    assert done.returncode == 0, done.stderr
+    location, old_names = done.stdout.splitlines()
+    assert location.startswith(str(target)) and old_names == "[]"
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "-c", "from rvcoax.results.cli.app import run; run()", "sweep",
+                           "--out", str(out)], capture_output=True, text=True, cwd=tmp_path, env=environment)
+    assert done.returncode == 0, done.stdout + done.stderr
+    from golden_files import GOLDEN, compare_result_file
+
+    for name in ("sweep.csv", "sweep.json", "sweep_paths.csv"):
+        compare_result_file(GOLDEN / "sweep" / name, out / name)
