@@ -17,7 +17,7 @@ from typing import Annotated
 import typer
 from typer.core import TyperCommand, TyperGroup
 
-__all__ = ["COMMANDS", "app", "run"]
+__all__ = ["COMMANDS", "app", "load_command", "reflow", "run"]
 
 # name → (module under rvcoax.results.cli, the short help that `rvcoax --help` shows)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -45,12 +45,28 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
+def reflow(text: str | None) -> str | None:
+    """A docstring's paragraphs as single lines, so that the terminal wraps them, not the source's line breaks."""
+    if not text:
+        return text
+    paragraphs = [" ".join(line.strip() for line in block.splitlines()) for block in text.strip().split("\n\n")]
+    return "\n\n".join(paragraphs)
+
+
+def _reflow_help(command) -> None:
+    command.help = reflow(command.help)
+    for sub in getattr(command, "commands", {}).values():
+        _reflow_help(sub)
+
+
 def load_command(name: str) -> TyperCommand | TyperGroup:
     """The real click command ``name``: imports its module and lets it register on a fresh app."""
     module = importlib.import_module(f"rvcoax.results.cli.{COMMANDS[name][0]}")
     holder = typer.Typer(rich_markup_mode="rich")
     module.register(holder)
-    return typer.main.get_group(holder).commands[name]
+    command = typer.main.get_group(holder).commands[name]
+    _reflow_help(command)
+    return command
 
 
 class LazyCommands(TyperGroup):

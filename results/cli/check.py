@@ -6,21 +6,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from rvcoax.results.cli.support import (
-    MeshOption,
-    ModelOption,
-    OutOption,
-    RigOption,
-    SolverOption,
-    UserError,
-    console,
-    guard,
-    prepare_with_status,
-    progress_bar,
-    report_written,
-    rig_text,
-    sweep_settings,
-)
+from rvcoax.results.cli import support
 
 __all__ = ["check", "register"]
 
@@ -47,11 +33,11 @@ def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -
 
 
 def check(
-    rig: RigOption = None,
-    model: ModelOption = "beam",
-    out: OutOption = None,
-    solver: SolverOption = "auto",
-    mesh_size_mm: MeshOption = None,
+    rig: support.RigOption = None,
+    model: support.ModelOption = "beam",
+    out: support.OutOption = None,
+    solver: support.SolverOption = "auto",
+    mesh_size_mm: support.MeshOption = None,
 ) -> None:
     """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
 
@@ -65,11 +51,11 @@ def check(
     from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
     from rvcoax.results.studies.check_run import CalibrationError, run_check
 
-    settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     rows = paper_table()
-    prepared = prepare_with_status(rig_model, settings)
-    with progress_bar() as progress:
+    prepared = support.prepare_with_status(rig_model, settings)
+    with support.progress_bar() as progress:
         tasks = {}
 
         def show(stage: str, done: int, total: int) -> None:
@@ -80,29 +66,29 @@ def check(
         try:
             run = run_check(rig_model, rows, settings, prepared=prepared, progress=show)
         except CalibrationError as error:
-            raise UserError(f"rig file {rig_text(rig)[0]}: {error}") from None
+            raise support.UserError(f"rig file {support.rig_text(rig)[0]}: {error}") from None
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in ("input", "output"):
-        console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
+        support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
                                    rows))
     _print_calibration(run.calibration)
-    console.print(
+    support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
         f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
         f"{blind_result.failures} of {len(rows) * len(QUANTITIES)} values outside tolerance."
     )
     worst = rows[result.worst_row].case
-    console.print(
+    support.console.print(
         f"Calibrated, on the {int(held_out.sum())} rows not used to fit: worst relative error "
         f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
         f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
     )
     outcome = run.outcome
     colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
-    console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
+    support.console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
-        source, text = rig_text(rig)
-        report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
+        source, text = support.rig_text(rig)
+        support.report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
                                    title=f"{rig_model.rig.name}: {model} model vs paper 000"))
     raise typer.Exit(code=outcome.exit_code)
 
@@ -115,18 +101,18 @@ def _print_calibration(calibration) -> None:
         lo, hi = p.parameter.plausible
         table.add_row(p.parameter.address, p.parameter.shaft, f"{p.reference_value:.4g}", f"{p.fitted_value:.4g}",
                       p.parameter.unit, f"{lo:g} .. {hi:g}", "[green]yes[/]" if p.plausible else "[red]NO[/]")
-    console.print(table)
+    support.console.print(table)
     for p in calibration.parameters:
         if not p.plausible:
-            console.print(f"[yellow]note:[/] {p.parameter.address} = {p.fitted_value:.4g} {p.parameter.unit} lies "
+            support.console.print(f"[yellow]note:[/] {p.parameter.address} = {p.fitted_value:.4g} {p.parameter.unit} lies "
                           f"outside the physically plausible range ({p.parameter.meaning}).")
     for alternative in calibration.alternatives:
         values = ", ".join(f"{p.parameter.address.split('.')[-1]} = {p.fitted_value:.4g}" for p in alternative)
-        console.print(f"[dim]another exact fit of the two fitting rows ({alternative[0].parameter.shaft} shaft): "
+        support.console.print(f"[dim]another exact fit of the two fitting rows ({alternative[0].parameter.shaft} shaft): "
                       f"{values}; not used (farther from the reference values)[/]")
 
 
 
 def register(app: typer.Typer) -> None:
     """Add ``check`` to ``app``."""
-    app.command()(guard(check))
+    app.command()(support.guard(check))

@@ -14,28 +14,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from rvcoax.results.cli.support import (
-    RADIAL_OFFSET_RANGE_MM,
-    CasesOption,
-    GridOption,
-    MeshOption,
-    ModelOption,
-    OutOption,
-    RigOption,
-    SolverOption,
-    T1Option,
-    T2Option,
-    UserError,
-    cases_from_options,
-    console,
-    guard,
-    number_option,
-    prepare_with_status,
-    report_written,
-    rig_text,
-    run_with_progress,
-    sweep_settings,
-)
+from rvcoax.results.cli import support
 
 __all__ = ["FORMATS", "register"]
 
@@ -68,7 +47,7 @@ def _check_adams_cases(cases) -> None:
         for shaft in ("input", "output"):
             spline_layout(cases, shaft)
     except AdamsExportError as error:
-        raise UserError(f"--format adams: {error}") from None
+        raise support.UserError(f"--format adams: {error}") from None
 
 
 def _write_adams(export, out: Path) -> list[Path]:
@@ -78,7 +57,7 @@ def _write_adams(export, out: Path) -> list[Path]:
     try:
         text = adams_fragment(export)
     except AdamsExportError as error:
-        raise UserError(f"--format adams: {error}") from None
+        raise support.UserError(f"--format adams: {error}") from None
     parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
     return [write_text_atomic(out / "dynamics.adm", text)]
 
@@ -108,14 +87,14 @@ def _write_ross(export, out: Path) -> list[Path]:
     try:
         ross = import_ross()
     except RossUnavailableError as error:
-        raise UserError(str(error)) from None
+        raise support.UserError(str(error)) from None
     written, faults, static = [], [], []
     table = Table(title="ROSS static analysis (gravity, rigid supports) vs rvcoax on the same shaft",
                   title_justify="left")
     for column in ("shaft", "nodes", "supports", "largest sag rvcoax nm", "largest sag ROSS nm", "largest difference"):
         table.add_column(column, justify="right")
     for shaft in ("input", "output"):
-        with console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
+        with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
             rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
         line = comparison.line
         parameters = misalignment_parameters(export, line)
@@ -130,7 +109,7 @@ def _write_ross(export, out: Path) -> list[Path]:
                       f"{comparison.relative_difference:.1e}")
     written.append(write_csv_atomic(out / "ross_misalignment.csv", faults))
     written.append(write_csv_atomic(out / "ross_static.csv", static))
-    console.print(table)
+    support.console.print(table)
     return written
 
 
@@ -140,27 +119,27 @@ def register(app: typer.Typer) -> None:
 
 
     @app.command()
-    @guard
+    @support.guard
     def export(
         output_format: Annotated[str, typer.Option("--format", help="json (dynamics.json), csv (dynamics_*.csv), adams "
                                             "(dynamics.adm, an ADAMS/Solver dataset fragment) or ross (ROSS rotors "
                                             "of the measured shafts, misalignment fault parameters, static check; "
                                             "needs the rvcoax\\[ross] extra).")] = "json",
-        rig: RigOption = None,
-        model: ModelOption = "beam",
-        out: OutOption = Path("rvcoax_out"),
-        cases: CasesOption = None,
-        t1: T1Option = None,
-        t2: T2Option = None,
-        grid: GridOption = False,
-        input_radial_mm: Annotated[float | None, number_option(
-            "--input-radial-mm", *RADIAL_OFFSET_RANGE_MM, "mm",
+        rig: support.RigOption = None,
+        model: support.ModelOption = "beam",
+        out: support.OutOption = Path("rvcoax_out"),
+        cases: support.CasesOption = None,
+        t1: support.T1Option = None,
+        t2: support.T2Option = None,
+        grid: support.GridOption = False,
+        input_radial_mm: Annotated[float | None, support.number_option(
+            "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
             help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
-        output_radial_mm: Annotated[float | None, number_option(
-            "--output-radial-mm", *RADIAL_OFFSET_RANGE_MM, "mm",
+        output_radial_mm: Annotated[float | None, support.number_option(
+            "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
             help="Radial displacement a of the output shaft in mm (default 0.003, IT3, paper 000).")] = None,
-        solver: SolverOption = "auto",
-        mesh_size_mm: MeshOption = None,
+        solver: support.SolverOption = "auto",
+        mesh_size_mm: support.MeshOption = None,
     ) -> None:
         """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
         000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
@@ -168,7 +147,7 @@ def register(app: typer.Typer) -> None:
         from rvcoax.results.export.dynamics import dynamics_export, write_csv, write_json
 
         if output_format not in FORMATS:
-            raise UserError(f"--format: '{output_format}' is not one of {', '.join(FORMATS)}")
+            raise support.UserError(f"--format: '{output_format}' is not one of {', '.join(FORMATS)}")
         radial = {"input": input_radial_mm, "output": output_radial_mm}
         if output_format == "ross":
             from rvcoax.results.export.ross import RossUnavailableError, import_ross
@@ -176,21 +155,21 @@ def register(app: typer.Typer) -> None:
             try:  # before solving: a missing optional package should not cost a sweep
                 import_ross()
             except RossUnavailableError as error:
-                raise UserError(str(error)) from None
-        settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+                raise support.UserError(str(error)) from None
+        settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
         rig_model = load_rig(rig)
-        load_cases = cases_from_options(cases, t1, t2, grid)
+        load_cases = support.cases_from_options(cases, t1, t2, grid)
         if output_format == "adams":
             _check_adams_cases(load_cases)
-        result = run_with_progress(rig_model, load_cases, settings, "solving load cases",
-                                   prepare_with_status(rig_model, settings))
+        result = support.run_with_progress(rig_model, load_cases, settings, "solving load cases",
+                                   support.prepare_with_status(rig_model, settings))
         try:
             exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
         except ConnectionsUnavailableError as error:
-            raise UserError(f"rig file {rig or 'built-in reference_rig.toml'}: cannot export: {error}") from None
-        console.print(_summary(exported))
+            raise support.UserError(f"rig file {rig or 'built-in reference_rig.toml'}: cannot export: {error}") from None
+        support.console.print(_summary(exported))
         if output_format == "json":
-            source, text = rig_text(rig)
+            source, text = support.rig_text(rig)
             written = [write_json(exported, out / "dynamics.json", source, text)]
         elif output_format == "csv":
             written = write_csv(exported, out)
@@ -198,7 +177,7 @@ def register(app: typer.Typer) -> None:
             written = _write_adams(exported, out)
         else:
             written = _write_ross(exported, out)
-        console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
+        support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
                       f"couplings, bearings and β from the {exported.measured_from} state "
                       "(columns *_unloaded_ref: from the unloaded geometry)")
-        report_written(written)
+        support.report_written(written)

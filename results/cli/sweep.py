@@ -9,26 +9,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from rvcoax.results.cli.support import (
-    CasesOption,
-    GridOption,
-    MeshOption,
-    ModelOption,
-    OutOption,
-    RigOption,
-    SolverOption,
-    T1Option,
-    T2Option,
-    UserError,
-    cases_from_options,
-    console,
-    guard,
-    prepare_with_status,
-    report_written,
-    rig_text,
-    run_with_progress,
-    sweep_settings,
-)
+from rvcoax.results.cli import support
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
 
@@ -74,10 +55,10 @@ def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, r
     records, model = reading.cases, reading.model
     missing = [i for i in range(len(load_cases)) if i not in records]
     if resume:
-        console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {escape(str(store.folder))}, "
+        support.console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {escape(str(store.folder))}, "
                       f"{len(missing)} to solve")
         if reading.rejected:
-            console.print(f"not reused from {escape(str(store.path))} (solved again): {reading.describe_rejections()}")
+            support.console.print(f"not reused from {escape(str(store.path))} (solved again): {reading.describe_rejections()}")
     result = None
     if missing or model is None:
         with store:
@@ -85,24 +66,24 @@ def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, r
                 records[missing[k]] = report.case_record(case_result)
                 store.save(missing[k], case_hashes[missing[k]], records[missing[k]])
 
-            result = run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings,
-                                       "solving load cases", prepare_with_status(rig_model, settings), on_case=save)
+            result = support.run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings,
+                                       "solving load cases", support.prepare_with_status(rig_model, settings), on_case=save)
             model = report.model_section(result)
             store.save_model(model_hash, model)
     return [records[i] for i in range(len(load_cases))], model, result
 
 
 def sweep(
-    rig: RigOption = None,
-    model: ModelOption = "beam",
-    out: OutOption = Path("rvcoax_out"),
-    cases: CasesOption = None,
-    t1: T1Option = None,
-    t2: T2Option = None,
-    grid: GridOption = False,
+    rig: support.RigOption = None,
+    model: support.ModelOption = "beam",
+    out: support.OutOption = Path("rvcoax_out"),
+    cases: support.CasesOption = None,
+    t1: support.T1Option = None,
+    t2: support.T2Option = None,
+    grid: support.GridOption = False,
     method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
-    solver: SolverOption = "auto",
-    mesh_size_mm: MeshOption = None,
+    solver: support.SolverOption = "auto",
+    mesh_size_mm: support.MeshOption = None,
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
     resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
 ) -> None:
@@ -118,20 +99,20 @@ def sweep(
     from rvcoax.results.io.sweep_files import CaseStore, write_sweep_files
 
     if resume and fields:
-        raise UserError("--fields needs every case's displacement field, which --resume does not keep: "
+        raise support.UserError("--fields needs every case's displacement field, which --resume does not keep: "
                         "run without --resume")
-    settings = sweep_settings(model, method, solver, mesh_size_mm)
+    settings = support.sweep_settings(model, method, solver, mesh_size_mm)
     rig_model = load_rig(rig)
-    load_cases = cases_from_options(cases, t1, t2, grid)
+    load_cases = support.cases_from_options(cases, t1, t2, grid)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
-        console.print(f"{work.what}: {work.describe()} (estimated)")
-    source, text = rig_text(rig)
+        support.console.print(f"{work.what}: {work.describe()} (estimated)")
+    source, text = support.rig_text(rig)
     records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
                                                   resume)
     if fields:
-        report_written(_write_fields(out / "fields", result))
-    console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
+        support.report_written(_write_fields(out / "fields", result))
+    support.console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
     if model_section.get("nonlinear"):
         how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
                f"{', '.join(model_section['gapped_bearings'])})")
@@ -140,9 +121,9 @@ def sweep(
                "T1 = 1 N·m, T2 = 1 N·m)")
     else:
         how = "each case solved directly"
-    console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
+    support.console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
     header = report.sweep_header(rig_model, model_section, source, text)
-    report_written(write_sweep_files(out, "sweep", header, records))
+    support.report_written(write_sweep_files(out, "sweep", header, records))
 
 
 def _write_fields(folder: Path, result) -> list[Path]:
@@ -157,4 +138,4 @@ def _write_fields(folder: Path, result) -> list[Path]:
 
 def register(app: typer.Typer) -> None:
     """Add ``sweep`` to ``app``."""
-    app.command()(guard(sweep))
+    app.command()(support.guard(sweep))
