@@ -34,6 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_convergence import cold_cache, timed_calls, timed_meshing  # noqa: E402
@@ -47,7 +49,7 @@ from rvcoax.geometry.rigfile import load_rig  # noqa: E402
 from rvcoax.geometry.schema import Rig  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases, paper_table  # noqa: E402
 from rvcoax.results.studies.calibration import calibrate  # noqa: E402
-from rvcoax.results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep  # noqa: E402
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 CSV_PATH = HERE / "fidelity_20_cases.csv"
@@ -80,7 +82,7 @@ def unit_responses(rig: Rig, settings: SweepSettings, prepared, engaged_rig: Rig
 
 def y_table(sweep) -> np.ndarray:
     """(cases, 2) array of Y_input, Y_output (mm)."""
-    return np.array([[c.paths[s].y_max_mm for s in SHAFTS] for c in sweep.cases])
+    return np.array([[c.paths[s].y_max_mm for s in MEASURED_SHAFTS] for c in sweep.cases])
 
 
 def with_material(rig: Rig, material: str, **values) -> Rig:
@@ -346,7 +348,7 @@ def comparison_rows(blind, calibrated, units, fitted) -> list[tuple[str, str]]:
     rows = []
     for kind, table in (("blind", blind), ("calibrated", calibrated)):
         for model in MODELS[1:]:
-            for k, shaft in enumerate(SHAFTS):
+            for k, shaft in enumerate(MEASURED_SHAFTS):
                 d = np.array([pct(a, b) for a, b in zip(table[model][:, k], table["beam"][:, k])])
                 rows.append((f"{kind} Y_{shaft}, {model} vs beam (20 cases)",
                              f"max |Δ| {np.abs(d).max():.3g} % (case T2 = {paper_cases()[int(np.abs(d).argmax())].output_torque_Nm:g}), "

@@ -13,11 +13,9 @@ checked and converted concurrently, and the second sort runs on column blocks wi
 of entries (each block yields every row's entries in its own column range, already sorted; the
 blocks are joined side by side).
 
-Measured on 2 cores (benchmarks/bench_solid_scaling.py), 300 k DOF of quadratic tets (60.6 M
-triplets): 1.7–1.9 s instead of 2.9–5.3 s for scipy's conversion, 1.36 GB instead of 1.85 GB of
-extra peak memory; 53 k DOF (9.8 M triplets): 0.18–0.26 s instead of 0.37–0.39 s. On a virtual
-machine whose fresh memory is slow to fault in (~1–2 s per GiB on the 2-core test machines),
-the first call in a process pays that on top, in system time.
+Against scipy's conversion it takes about 60 % of the time and 75 % of the extra memory (figures
+with machine and date: benchmarks/RESULTS.md, bench_solid_scaling.py). Where fresh memory is slow
+to fault in, the first call in a process pays that on top, in system time.
 
 Duplicates are summed in input order (pieces in the order given, triplets in their order within
 a piece), so the result is deterministic and independent of the thread count; against scipy's

@@ -4,7 +4,7 @@ numpy and scipy each bring their own OpenBLAS, which starts a thread per core an
 call, keeps those threads spinning for a while in case more work follows. On a 2-core machine the
 spinning thread holds the core that MKL's OpenMP threads need for PARDISO: a solve at 52 k DOF took
 0.034–0.051 s right after a numpy ``dot``, ``norm`` or 400 × 400 product, and 0.020–0.025 s with
-OpenBLAS held to one thread (fem/pardiso.py; measured on the 2-core test machine, 2026-11-22).
+OpenBLAS held to one thread (fem/pardiso.py; benchmarks/RESULTS.md has the figures).
 
 Our dense BLAS work is small (the element matrices are batches of 30 × 4 products, calibration
 and regression fits have tens of unknowns), so one OpenBLAS thread costs nothing measurable there.

@@ -1,7 +1,7 @@
 """Sparse symmetric positive definite solvers: one set-up, any number of right-hand sides.
 
-Matrices and vectors only (no meshes). Three methods, measured on this stack
-(shared/notes/fe-stack-debian12.md):
+Matrices and vectors only (no meshes). Three methods (their measured costs: benchmarks/RESULTS.md,
+bench_solid_scaling.py):
 
 - ``"superlu"``: scipy's SuperLU (``splu``), symmetric mode. Robust, no extra dependency; best
   for small systems (time and memory grow fast: 14 GB at 300 k DOF).

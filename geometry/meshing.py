@@ -5,7 +5,7 @@ between consecutive breakpoints (segment ends and the extra split planes), fragm
 that the volumes are conforming and every surface is split at every breakpoint: facets never
 straddle a band edge where a load or a bearing attaches. The mesh is second order with mid-edge
 nodes on the true (curved) geometry: straight-sided P2 tets overestimate a shaft's deflection by
-0.6–2 % (shared/notes/fe-stack-debian12.md). gmsh runs with one thread, so the same geometry
+0.6–2 % (measured on this FE stack when the mesher was chosen). gmsh runs with one thread, so the same geometry
 always gives the same mesh.
 
 Meshes are cached on disk (compressed ``.npz``, checksummed, written atomically); a corrupt entry

@@ -12,6 +12,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
@@ -474,7 +475,7 @@ class Rig(Strict):
             yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
         for i, f in enumerate(self.force_table.singles):
             yield from at(f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
-        for key in ("input", "output"):
+        for key in MEASURED_SHAFTS:
             path = getattr(self.paths, key)
             yield from at(f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
             if path.part in parts:

@@ -177,7 +177,7 @@ class PublishedRow:
 
 
 def paper_table() -> tuple[PublishedRow, ...]:
-    """The published ANSYS results of paper 000 (shared/reference/coaxiality_table.csv)."""
+    """The published ANSYS results of paper 000 (loadcases/data/paper000_coaxiality_table.csv)."""
     text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     rows = []
     for row in csv.DictReader(io.StringIO(text)):

@@ -23,6 +23,7 @@ from rvcoax.fem import bushing, equilibrium
 from rvcoax.fem import system as fem_system
 from rvcoax.fem.errors import RvcoaxError, SingularModelError
 from rvcoax.fem.system import factorize
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
 from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
 from rvcoax.geometry.model.beam import RigModel
@@ -33,11 +34,10 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
-           "SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
+           "MEASURED_SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
            "check_supports", "prepare_model", "prepare_system", "read_path", "rigid_body_modes", "run_gap_sweep",
            "run_sweep", "solve_unit_responses"]
 
-SHAFTS = ("input", "output")
 
 
 @dataclass(frozen=True)
@@ -267,8 +267,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         measured = u - rest if from_rest else u
         results.append(CaseResult(
             case,
-            {s: read_path(system, measured, s) for s in SHAFTS},
-            {s: read_path(system, u, s) for s in SHAFTS},
+            {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+            {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             check.relative_error,
             residual,
         ))
@@ -276,7 +276,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
-    unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in SHAFTS} for k in UNIT_LOADS}
+    unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in MEASURED_SHAFTS} for k in UNIT_LOADS}
     return Sweep(rig, system.frame, settings, tuple(results), unit_paths, solver_name, system.n_dofs, system, unit,
                  dict(report))
 
@@ -337,8 +337,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         iterations.append(solution.iterations)
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
-        results.append(CaseResult(case, {s: read_path(system, measured, s) for s in SHAFTS},
-                                  {s: read_path(system, u, s) for s in SHAFTS}, error, residual))
+        results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+                                  {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, error, residual))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

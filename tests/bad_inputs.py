@@ -22,7 +22,7 @@ from pathlib import Path
 
 from rvcoax.geometry.rigfile import reference_rig_text
 from rvcoax.loadcases.cases import paper_table
-from tests.test_rigfile_errors import dump_toml, reference_data
+from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 HUGE_BYTES = 200_000_000  # written sparsely: the readers must refuse it before reading
 

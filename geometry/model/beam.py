@@ -17,6 +17,7 @@ from rvcoax.fem.bushing import GROUND, Bushings, prestrain_load
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.sections import CircularSection
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
@@ -102,7 +103,7 @@ def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
         refs[f.minus_at.part].append(f.minus_at.x_mm)
     for f in rig.force_table.singles:
         refs[f.at.part].append(f.at.x_mm)
-    for key in ("input", "output"):
+    for key in MEASURED_SHAFTS:
         path = getattr(rig.paths, key)
         refs[path.part].extend(_path_stations(path).tolist())
     return refs

@@ -24,6 +24,7 @@ from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equations
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
 from rvcoax.geometry.model.loads import (
@@ -354,7 +355,7 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         return loads
 
     probes = {}
-    for which in ("input", "output"):
+    for which in MEASURED_SHAFTS:
         path = getattr(rig.paths, which)
         if path.part in solids:
             stations = np.linspace(0.0, path.length_mm, path.stations)

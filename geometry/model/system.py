@@ -21,6 +21,7 @@ from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem import model as fem_model
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.loads import NodalLoads, nodal_load_vector
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
@@ -135,6 +136,6 @@ def assemble_beam(rig: Rig) -> RigSystem:
         loads["prestrain"] = prestrain_load_vector(frame, loaded, n)
         return loads
 
-    probes = {which: frame_path_probe(frame, which, n) for which in ("input", "output")}
+    probes = {which: frame_path_probe(frame, which, n) for which in MEASURED_SHAFTS}
     return RigSystem(rig, "beam", frame, stiffness, elimination, loads_of(rig), probes,
                      frame_dof_table(structure.coordinates), load_builder=loads_of)

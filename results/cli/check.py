@@ -6,6 +6,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
 
 __all__ = ["check", "register"]
@@ -68,7 +69,7 @@ def check(
         except CalibrationError as error:
             raise support.UserError(f"rig file {support.rig_text(rig)[0]}: {error}") from None
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
-    for shaft in ("input", "output"):
+    for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
                                    rows))
     _print_calibration(run.calibration)

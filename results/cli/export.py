@@ -14,6 +14,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
 
 __all__ = ["FORMATS", "register"]
@@ -44,7 +45,7 @@ def _check_adams_cases(cases) -> None:
     from rvcoax.results.export.adams import AdamsExportError, spline_layout
 
     try:
-        for shaft in ("input", "output"):
+        for shaft in MEASURED_SHAFTS:
             spline_layout(cases, shaft)
     except AdamsExportError as error:
         raise support.UserError(f"--format adams: {error}") from None
@@ -93,7 +94,7 @@ def _write_ross(export, out: Path) -> list[Path]:
                   title_justify="left")
     for column in ("shaft", "nodes", "supports", "largest sag rvcoax nm", "largest sag ROSS nm", "largest difference"):
         table.add_column(column, justify="right")
-    for shaft in ("input", "output"):
+    for shaft in MEASURED_SHAFTS:
         with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
             rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
         line = comparison.line

@@ -85,10 +85,10 @@ def _setup(rig_path, tolerances_path, model, mesh_size_mm):
 
 def _nominal(study) -> dict:
     """Solve the nominal rig in this process first: a model error shows before any cluster starts."""
+    from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.results.studies import tolerance_report as report
     from rvcoax.results.studies.montecarlo import evaluate_sample
     from rvcoax.results.studies.tolerances import parameter_value
-    from rvcoax.results.sweep import SHAFTS
 
     values = [parameter_value(study.rig, a) for a in study.addresses]
     with console.status("solving the nominal rig"):
@@ -96,7 +96,7 @@ def _nominal(study) -> dict:
     for c, case in enumerate(study.cases):
         console.print(f"nominal, {report.case_label(case)}: "
                       + ", ".join(f"Y_{s} = {result['Y_max_mm'][c][i]:.4g} mm (β {result['beta_deg'][c][i]:.3g}°)"
-                                  for i, s in enumerate(SHAFTS)))
+                                  for i, s in enumerate(MEASURED_SHAFTS)))
     return {"values": dict(zip(study.addresses, values)), **result}
 
 
@@ -196,8 +196,8 @@ def montecarlo(
 def _distribution_table(study, records, found) -> Table:
     import numpy as np
 
+    from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.results.studies import tolerance_report as report
-    from rvcoax.results.sweep import SHAFTS
 
     table = Table(title="Y and β over the samples, and P(β > limit)", title_justify="left")
     for column in ("T1 N·m", "T2 N·m", "shaft", "Y mean mm", "Y 95 % mm", "β mean °", "β 95 % °", "β max °",
@@ -205,7 +205,7 @@ def _distribution_table(study, records, found) -> Table:
         table.add_column(column, justify="right")
     y, beta = report.stack(records, "Y_max_mm"), report.stack(records, "beta_deg")
     for c, case in enumerate(study.cases):
-        for s, shaft in enumerate(SHAFTS):
+        for s, shaft in enumerate(MEASURED_SHAFTS):
             limits = [(limit, e) for cc, limit, e in found if cc == c and limit.shaft == shaft] or [(None, None)]
             for limit, e in limits:
                 table.add_row(f"{case.input_torque_Nm:g}", f"{case.output_torque_Nm:g}", shaft,
@@ -234,6 +234,7 @@ def sensitivity(
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
+    from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.geometry.model.workload import check_workers, count_text
     from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import tolerance_report as report
@@ -247,7 +248,6 @@ def sensitivity(
         sobol_design,
         sobol_indices,
     )
-    from rvcoax.results.sweep import SHAFTS
 
     scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:
@@ -270,7 +270,7 @@ def sensitivity(
     beta = report.stack(records, "beta_deg")
     found = {}
     for c in range(len(study.cases)):
-        for s, shaft in enumerate(SHAFTS):
+        for s, shaft in enumerate(MEASURED_SHAFTS):
             found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, tol.confidence_level) if method == "sobol"
                                  else morris_indices(points, beta[:, c, s], seed, tol.confidence_level))
     source, text = rig_text(rig)

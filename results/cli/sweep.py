@@ -9,6 +9,7 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
@@ -27,7 +28,7 @@ def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
         table.add_column(column, justify="right")
     for row in shown:
         cells = [f"{row['T1_input_Nm']:g}", f"{row['T2_output_Nm']:g}"]
-        for shaft in ("input", "output"):
+        for shaft in MEASURED_SHAFTS:
             cells += [f"{row[f'Y_{shaft}_mm']:.5g}", f"{row[f'beta_{shaft}_deg']:.3g}",
                       f"{row[f'station_of_max_{shaft}_mm']:g}"]
         table.add_row(*cells)

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
-from rvcoax.results.sweep import SHAFTS
 
 __all__ = ["AdamsExportError", "AdamsSyntaxError", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
            "adams_angle_deg", "adams_fragment", "adams_real", "marker_euler_deg", "marker_z_axis", "parse_adm",
@@ -135,7 +135,7 @@ def adams_fragment(export: DynamicsExport, part_id: int = 1) -> str:
         "! lengths mm (UNITS/LENGTH = MILLIMETER), angles in degrees (D), torques N*m",
         f"! PART={part_id}: the part that carries the markers (normally the ground)",
     ]
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         path = getattr(sweep.rig.paths, shaft)
         base = MARKER_BASE_ID[shaft]
         lines.append("!")

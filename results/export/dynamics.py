@@ -31,11 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.connections import ConnectionStates, connection_states
 from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
-from rvcoax.results.sweep import SHAFTS, Sweep
+from rvcoax.results.sweep import Sweep
 
 __all__ = ["CSV_TABLES", "DynamicsExport", "IT3_RADIAL_DISPLACEMENT_MM", "ShaftStage", "UNITS", "UNLOADED",
            "bearing_rows", "coupling_rows", "dynamics_export", "export_document", "export_tables", "lever_arms_mm",
@@ -126,7 +127,7 @@ def dynamics_export(sweep: Sweep, radial_mm: dict[str, float] | None = None) -> 
     for shaft, value in radial.items():
         if not (math.isfinite(value) and value >= 0.0):
             raise ValueError(f"radial displacement a of the {shaft} shaft must be a number ≥ 0 mm, got {value}")
-    stages = {shaft: shaft_stages(sweep.rig, shaft) for shaft in SHAFTS}
+    stages = {shaft: shaft_stages(sweep.rig, shaft) for shaft in MEASURED_SHAFTS}
     return DynamicsExport(sweep, radial, stages, connection_states(sweep, "measured"),
                           connection_states(sweep, "unloaded"))
 
@@ -144,7 +145,7 @@ def shaft_rows(export: DynamicsExport) -> list[dict]:
     """One row per case and measured shaft: Y, β (both references), a."""
     rows = []
     for case in export.sweep.cases:
-        for shaft in SHAFTS:
+        for shaft in MEASURED_SHAFTS:
             path, absolute = case.paths[shaft], case.absolute_paths[shaft]
             rows.append({**_torques(case), "shaft": shaft, "part": getattr(export.sweep.rig.paths, shaft).part,
                          "measured_from": export.measured_from, "L_mm": path.length_mm,
@@ -160,7 +161,7 @@ def stage_rows(export: DynamicsExport) -> list[dict]:
     """One row per case, shaft and stage: l_k, d_k and the lever arm r_k of paper 000."""
     rows = []
     for case in export.sweep.cases:
-        for shaft in SHAFTS:
+        for shaft in MEASURED_SHAFTS:
             stages = export.stages[shaft]
             beta = case.paths[shaft].beta_deg
             arms, tilts = lever_arms_mm(beta, export.radial_mm[shaft], [s.length_mm for s in stages],

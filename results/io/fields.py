@@ -56,6 +56,7 @@ from meshio.xdmf.common import (
     xdmf_to_meshio_type,
 )
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import UNIT_LOADS, superpose
 
@@ -247,7 +248,7 @@ def beam_field_cases(model: RigModel, cases: Iterable, unit_responses=None) -> l
 
 def path_point_indices(model: RigModel) -> dict[str, np.ndarray]:
     """Point indices of the two measured shaft paths (``"input"``, ``"output"``), input end first."""
-    return {which: model.path_nodes(which)[0] for which in ("input", "output")}
+    return {which: model.path_nodes(which)[0] for which in MEASURED_SHAFTS}
 
 
 def path_polylines(model: RigModel) -> dict[str, np.ndarray]:
@@ -536,7 +537,7 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
         tet_ids.append(np.full(cells.shape[0], index[part.name], dtype=np.int32))
         count += converted.points.shape[0]
     paths: dict[str, np.ndarray] = {}
-    for which in ("input", "output"):
+    for which in MEASURED_SHAFTS:
         path = getattr(system.rig.paths, which)
         if any(p.name == path.part for p in system.solids):
             stations = path.x_start_mm + system.probes[which].stations_mm
@@ -557,7 +558,7 @@ def sweep_field_cases(sweep) -> list[FieldCase]:
     system = sweep.system
     n_frame = system.frame.structure.n_nodes
     solid_dofs = [_solid_point_dofs(part) for part in system.solids]
-    solid_paths = [which for which in ("input", "output")
+    solid_paths = [which for which in MEASURED_SHAFTS
                    if any(p.name == getattr(system.rig.paths, which).part for p in system.solids)]
     out = []
     for i, result in enumerate(sweep.cases):

@@ -47,6 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.fields import FieldCase, FieldMesh
 from rvcoax.results.io.writers import write_png_atomic
 
@@ -359,7 +360,7 @@ def _named_paths(paths) -> list[tuple[str, np.ndarray]]:
                 raise ValueError(f"path {name!r} must be (N,) point indices or an (N, 3) polyline, got {polyline.shape}")
         if len(polyline) < 2:
             raise ValueError(f"path {name!r} needs at least 2 points")
-        out.append((f"{name} shaft path" if name in ("input", "output") else f"path {name}", polyline))
+        out.append((f"{name} shaft path" if name in MEASURED_SHAFTS else f"path {name}", polyline))
     return out
 
 
@@ -529,7 +530,7 @@ def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
                     "T2_output_Nm": [c.case.output_torque_Nm for c in items],
                     "Y_input_mm": [c.paths["input"].y_max_mm for c in items],
                     "Y_output_mm": [c.paths["output"].y_max_mm for c in items]}
-            lengths = {s: items[0].paths[s].length_mm for s in ("input", "output")}
+            lengths = {s: items[0].paths[s].length_mm for s in MEASURED_SHAFTS}
         elif items and hasattr(items[0], "y_input_mm"):  # PublishedRow
             data = {"T1_input_Nm": [r.case.input_torque_Nm for r in items],
                     "T2_output_Nm": [r.case.output_torque_Nm for r in items],
@@ -562,7 +563,7 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
         series = {str(k): _series(v) for k, v in model_rows.items()}
     else:
         series = {"model": _series(model_rows)}
-    lengths = dict(zip(("input", "output"), path_lengths_mm)) if path_lengths_mm else {}
+    lengths = dict(zip(MEASURED_SHAFTS, path_lengths_mm)) if path_lengths_mm else {}
     for _, found in series.values():
         lengths = lengths or found
     reference = _series(published)[0] if published is not None else None

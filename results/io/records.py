@@ -6,10 +6,11 @@ import hashlib
 import json
 from importlib.metadata import PackageNotFoundError, version
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.results.studies.calibration import Calibration
 from rvcoax.results.studies.check import QUANTITIES, Comparison
-from rvcoax.results.sweep import SHAFTS, CaseResult, Sweep
+from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
            "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header",
@@ -35,11 +36,11 @@ def text_sha256(text: str) -> str:
 def case_row(case: CaseResult) -> dict:
     """The row of ``sweep.csv`` of one case."""
     row = {"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm}
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         row[f"Y_{shaft}_mm"] = case.paths[shaft].y_max_mm
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         row[f"beta_{shaft}_deg"] = case.paths[shaft].beta_deg
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         path = case.paths[shaft]
         start, end = path.end_rotations_deg
         row[f"Y_{shaft}_signed_mm"] = path.y_max_signed_mm
@@ -57,13 +58,13 @@ def entry_path_rows(entry: dict) -> list[dict]:
     """The rows of ``sweep_paths.csv`` of one case (one per shaft and station), from its :func:`case_entry`."""
     return [{"T1_input_Nm": entry["T1_input_Nm"], "T2_output_Nm": entry["T2_output_Nm"], "shaft": shaft,
              "station_mm": float(station), "uy_mm": float(uy)}
-            for shaft in SHAFTS for station, uy in zip(entry[shaft]["path"]["station_mm"], entry[shaft]["path"]["uy_mm"])]
+            for shaft in MEASURED_SHAFTS for station, uy in zip(entry[shaft]["path"]["station_mm"], entry[shaft]["path"]["uy_mm"])]
 
 
 def case_entry(case: CaseResult) -> dict:
     """The entry of one case in ``sweep.json``'s ``cases``."""
     entry = {"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm}
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         path = case.paths[shaft]
         entry[shaft] = {
             "Y_max_mm": path.y_max_mm, "Y_max_signed_mm": path.y_max_signed_mm,
@@ -153,7 +154,7 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
         "units": UNITS,
         "rig": {"name": rig.rig.name, "source": rig_source, "sha256": text_sha256(rig_text),
                 "measured_from": rig.paths.measured_from,
-                "path_lengths_mm": {s: getattr(rig.paths, s).length_mm for s in SHAFTS}},
+                "path_lengths_mm": {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}},
         "model": model,
         "beta_definition": "beta = arcsin(Y_max / L) (paper 000); fitted_tilt = slope of the least-squares line through u_y(x)",
         "calibration": calibration_document(calibration) if calibration is not None else None,

@@ -17,10 +17,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow
-from rvcoax.results.sweep import SHAFTS, SweepSettings, prepare_model, run_sweep
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
 
 __all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate"]
 
@@ -204,7 +205,7 @@ def calibrate(
     alternatives: list[tuple[FittedParameter, ...]] = []
     worst = 0.0
     current = rig
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         own = [p for p in parameters if p.shaft == shaft]
         if not own:
             continue
@@ -227,6 +228,6 @@ def calibrate(
     final = with_parameters(rig, chosen)
     residual = max(
         float(np.max(np.abs((_y_max(final, rows, s, prepared) - _published(rows, s)) / _published(rows, s))))
-        for s in SHAFTS
+        for s in MEASURED_SHAFTS
     )
     return Calibration(final, fitted, fit_rows, residual, tuple(alternatives))

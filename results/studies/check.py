@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.paths import beta_from_y_deg
 from rvcoax.results.sweep import Sweep
@@ -36,7 +37,7 @@ def sweep_values(sweep: Sweep) -> dict[str, np.ndarray]:
     """Y_max and β of every case of a sweep, keyed like :data:`QUANTITIES`."""
     out: dict[str, list[float]] = {q: [] for q in QUANTITIES}
     for case in sweep.cases:
-        for shaft in ("input", "output"):
+        for shaft in MEASURED_SHAFTS:
             out[f"Y_{shaft}_mm"].append(case.paths[shaft].y_max_mm)
             out[f"beta_{shaft}_deg"].append(case.paths[shaft].beta_deg)
     return {q: np.array(v) for q, v in out.items()}

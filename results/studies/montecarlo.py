@@ -35,6 +35,7 @@ from scipy import stats
 from rvcoax.fem import beam, bushing
 from rvcoax.fem import model as fem_model
 from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import build_rig_model, prestrain_load_vector
 from rvcoax.geometry.model.hybrid import attachments
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
@@ -42,7 +43,6 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.studies.tolerances import Tolerances, apply_values, parameter_value, study_rig
 from rvcoax.results.sweep import (
-    SHAFTS,
     ModelError,
     PreparedModel,
     SweepSettings,
@@ -267,9 +267,9 @@ def evaluate_sample(study: Study, values) -> dict:
             prepared = prepare_system(system, study.settings)
         sweep = run_sweep(rig, study.cases, study.settings, prepared=prepared)
     return {
-        "Y_max_mm": [[c.paths[s].y_max_mm for s in SHAFTS] for c in sweep.cases],
-        "Y_signed_mm": [[c.paths[s].y_max_signed_mm for s in SHAFTS] for c in sweep.cases],
-        "beta_deg": [[c.paths[s].beta_deg for s in SHAFTS] for c in sweep.cases],
+        "Y_max_mm": [[c.paths[s].y_max_mm for s in MEASURED_SHAFTS] for c in sweep.cases],
+        "Y_signed_mm": [[c.paths[s].y_max_signed_mm for s in MEASURED_SHAFTS] for c in sweep.cases],
+        "beta_deg": [[c.paths[s].beta_deg for s in MEASURED_SHAFTS] for c in sweep.cases],
         "equilibrium_error": max(c.equilibrium_error for c in sweep.cases),
     }
 

@@ -10,12 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_png_atomic
 from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, Exceedance, Study, describe, exceedance, stack
 from rvcoax.results.studies.sensitivity import SobolIndices
 from rvcoax.results.studies.tolerances import Tolerances
-from rvcoax.results.sweep import SHAFTS
 
 
 def case_label(case) -> str:
@@ -29,7 +29,7 @@ def sample_rows(study: Study, values: np.ndarray, records: list[dict]) -> list[d
         for c, case in enumerate(study.cases):
             row = {"sample": index, "T1_input_Nm": case.input_torque_Nm, "T2_output_Nm": case.output_torque_Nm}
             row.update({address: float(v) for address, v in zip(study.addresses, row_values)})
-            for s, shaft in enumerate(SHAFTS):
+            for s, shaft in enumerate(MEASURED_SHAFTS):
                 row[f"Y_{shaft}_mm"] = record["Y_max_mm"][c][s]
                 row[f"Y_{shaft}_signed_mm"] = record["Y_signed_mm"][c][s]
                 row[f"beta_{shaft}_deg"] = record["beta_deg"][c][s]
@@ -44,7 +44,7 @@ def distribution_rows(study: Study, records: list[dict]) -> list[dict]:
     for key, quantity in (("Y_max_mm", "Y_mm"), ("beta_deg", "beta_deg")):
         data = stack(records, key)
         for c, case in enumerate(study.cases):
-            for s, shaft in enumerate(SHAFTS):
+            for s, shaft in enumerate(MEASURED_SHAFTS):
                 rows.append({"T1_input_Nm": case.input_torque_Nm, "T2_output_Nm": case.output_torque_Nm,
                              "shaft": shaft, "quantity": quantity, **describe(data[:, c, s])})
     return rows
@@ -56,7 +56,7 @@ def exceedances(study: Study, tolerances: Tolerances, records: list[dict]) -> li
     out = []
     for c in range(len(study.cases)):
         for limit in tolerances.limits:
-            out.append((c, limit, exceedance(beta[:, c, SHAFTS.index(limit.shaft)], limit.beta_deg,
+            out.append((c, limit, exceedance(beta[:, c, MEASURED_SHAFTS.index(limit.shaft)], limit.beta_deg,
                                              tolerances.confidence_level)))
     return out
 
@@ -140,8 +140,8 @@ def plot_beta_histograms(study: Study, tolerances: Tolerances, records: list[dic
 
     beta = stack(records, "beta_deg")
     figure = Figure(figsize=(12, 4.8), layout="constrained")
-    axes = figure.subplots(1, len(SHAFTS))
-    for s, (ax, shaft) in enumerate(zip(axes, SHAFTS)):
+    axes = figure.subplots(1, len(MEASURED_SHAFTS))
+    for s, (ax, shaft) in enumerate(zip(axes, MEASURED_SHAFTS)):
         for c, case in enumerate(study.cases):
             chances = [f"P(β > {limit.label}) = {e.probability:.3f} [{e.lower:.3f}, {e.upper:.3f}]"
                        for cc, limit, e in found if cc == c and limit.shaft == shaft]
@@ -169,10 +169,10 @@ def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) ->
     names = [_short(a) for a in tolerances.addresses]
     n_cases = len(study.cases)
     figure = Figure(figsize=(13, 1.2 + (0.32 * len(names) + 1.0) * n_cases), layout="constrained")
-    axes = np.atleast_2d(figure.subplots(n_cases, len(SHAFTS), squeeze=False))
+    axes = np.atleast_2d(figure.subplots(n_cases, len(MEASURED_SHAFTS), squeeze=False))
     positions = np.arange(len(names))
     for (c, shaft), indices in found.items():
-        ax = axes[c, SHAFTS.index(shaft)]
+        ax = axes[c, MEASURED_SHAFTS.index(shaft)]
         ax.set_title(f"β {shaft}, {case_label(study.cases[c])}", fontsize=9)
         if indices.constant:
             ax.text(0.5, 0.5, "β does not vary", transform=ax.transAxes, ha="center")
@@ -187,7 +187,7 @@ def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) ->
             ax.plot(indices.sigma, positions, "k^", label="σ (interaction / nonlinearity)")
             ax.set_xlabel("elementary effect on β [°]")
             ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 3))
-        ax.set_yticks(positions, names if shaft == SHAFTS[0] else [""] * len(names), fontsize=8)
+        ax.set_yticks(positions, names if shaft == MEASURED_SHAFTS[0] else [""] * len(names), fontsize=8)
         ax.invert_yaxis()
         ax.grid(axis="x", alpha=0.3)
         if c == 0:

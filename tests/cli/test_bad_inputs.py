@@ -20,7 +20,6 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from tests.test_rigfile_errors import dump_toml, reference_data
 from typer.testing import CliRunner
 
 from rvcoax.geometry.model.preflight import support_problem
@@ -29,6 +28,7 @@ from rvcoax.loadcases.cases import read_cases
 from rvcoax.results.cli.app import app
 from rvcoax.results.studies.discrepancy.measured import read_measured
 from tests.bad_inputs import all_cases
+from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 CORPUS = all_cases()
 BY_NAME = {case.name: case for case in CORPUS}

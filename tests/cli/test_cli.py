@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
 from rvcoax.loadcases.cases import paper_cases, paper_table
 from rvcoax.results.cli.app import app
@@ -170,7 +171,7 @@ def test_sweep_paths_csv_matches_json(default_sweep):
     assert columns == ["T1_input_Nm", "T2_output_Nm", "shaft", "station_mm", "uy_mm"]
     document = json.loads((default_sweep / "sweep.json").read_text(encoding="utf-8"))
     expected = [(c["T1_input_Nm"], c["T2_output_Nm"], shaft, s, u)
-                for c in document["cases"] for shaft in ("input", "output")
+                for c in document["cases"] for shaft in MEASURED_SHAFTS
                 for s, u in zip(c[shaft]["path"]["station_mm"], c[shaft]["path"]["uy_mm"])]
     assert len(rows) == len(expected) >= 20 * 2 * 25
     for row, (t1, t2, shaft, station, uy) in zip(rows, expected):
@@ -190,7 +191,7 @@ def test_direct_method_equals_superposition(default_sweep, direct_sweep):
     direct = json.loads((direct_sweep / "sweep.json").read_text(encoding="utf-8"))
     assert direct["model"]["method"] == "direct"
     for a, b in zip(superposed["cases"], direct["cases"]):
-        for shaft in ("input", "output"):
+        for shaft in MEASURED_SHAFTS:
             ua, ub = np.array(a[shaft]["path"]["uy_mm"]), np.array(b[shaft]["path"]["uy_mm"])
             np.testing.assert_allclose(ub, ua, rtol=1e-9, atol=1e-9 * np.abs(ua).max())
 

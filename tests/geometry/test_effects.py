@@ -12,16 +12,16 @@ import tomllib
 
 import numpy as np
 import pytest
-from tests.test_rigfile_errors import dump_toml
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects, effect_by_name
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.rigfile import load_rig, parse_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.sweep import prepare_model, run_sweep
+from tests.geometry.test_rigfile_errors import dump_toml
 
-SHAFTS = ("input", "output")
 CASES = paper_cases()
 SEEN = 1e-9  # mm: a change of Y larger than this is a real change (rounding is ~1e-15 mm)
 # The reducer joins the input shaft in torsion only (sun_gear_mesh), so the two sides are
@@ -46,7 +46,7 @@ def measured_from(rig: Rig, where: str) -> Rig:
 def y_paths(rig: Rig, prepared=None) -> np.ndarray:
     """Y paths (cases × shafts × stations, mm)."""
     sweep = run_sweep(rig, CASES, prepared=prepared)
-    return np.array([[case.paths[s].uy_mm for s in SHAFTS] for case in sweep.cases])
+    return np.array([[case.paths[s].uy_mm for s in MEASURED_SHAFTS] for case in sweep.cases])
 
 
 @pytest.fixture(scope="module")
@@ -114,7 +114,7 @@ def test_nonlinear_effects_are_not_affine(rig, responses):
 def test_each_effect_moves_the_shafts_it_reaches(rig, responses):
     for effect in candidate_effects(rig):
         change = np.abs(responses[effect.name]["typical"] - responses[effect.name]["zero"]).max(axis=(0, 2))
-        moved = {s for s, c in zip(SHAFTS, change) if c > SEEN}
+        moved = {s for s, c in zip(MEASURED_SHAFTS, change) if c > SEEN}
         if effect.location in INPUT_SIDE:
             expected = {"input"}
         elif effect.location in OUTPUT_SIDE:
@@ -122,7 +122,7 @@ def test_each_effect_moves_the_shafts_it_reaches(rig, responses):
         else:
             expected = GLOBAL_SHAFTS[effect.name]
         assert moved == expected, (effect.name, change)
-        assert all(c < 1e-12 for s, c in zip(SHAFTS, change) if s not in expected), (effect.name, change)
+        assert all(c < 1e-12 for s, c in zip(MEASURED_SHAFTS, change) if s not in expected), (effect.name, change)
 
 
 def test_torque_independent_effects_vanish_when_aligned_at_rest(rig):

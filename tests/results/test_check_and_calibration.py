@@ -13,6 +13,7 @@ import tomllib
 import numpy as np
 import pytest
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
 from rvcoax.loadcases.cases import LoadCase, paired_cases, paper_cases, paper_table
 from rvcoax.results.paths import beta_from_y_deg
@@ -185,7 +186,7 @@ def test_direct_equals_superposition(rig):
     direct = run_sweep(rig, cases, SweepSettings(method="direct"))
     assert direct.settings.method == "direct" and superposed.settings.method == "superposition"
     for a, b in zip(superposed.cases, direct.cases):
-        for shaft in ("input", "output"):
+        for shaft in MEASURED_SHAFTS:
             for paths in ("paths", "absolute_paths"):
                 ua, ub = getattr(a, paths)[shaft].uy_mm, getattr(b, paths)[shaft].uy_mm
                 scale = max(np.abs(ua).max(), 1e-30)
@@ -226,7 +227,7 @@ def test_unloaded_reference_includes_the_self_weight_sag(rig, unloaded_rig):
     y_unloaded = unloaded.cases[0].paths["output"].y_max_mm
     assert y_unloaded > 10 * y_aligned > 0
     # at rest: nothing from the aligned rig, the downward sag from the unloaded geometry
-    for shaft in ("input", "output"):
+    for shaft in MEASURED_SHAFTS:
         assert aligned.cases[1].paths[shaft].y_max_mm == 0.0
         sag = unloaded.cases[1].paths[shaft].uy_mm
         assert sag.min() < 0 and abs(sag.min()) > abs(sag.max())

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.geometry.rigfile import load_rig, parse_rig
 from rvcoax.geometry.schema import Rig
@@ -159,7 +160,7 @@ def _out_of_library(rig, shaft: str, schema: str, noise: float, seed: int) -> Me
                         f"torque² load on the {shaft} shaft (not in the library)")
 
 
-@pytest.mark.parametrize("shaft", ("input", "output"))
+@pytest.mark.parametrize("shaft", MEASURED_SHAFTS)
 def test_effect_outside_the_library_is_unexplained(rig, library, shaft):
     for seed in (41,):  # each run rebuilds the library once (a gap remains after round 1): ~45 s
         result = run_discrepancy(rig, _out_of_library(rig, shaft, "paths", 0.01, seed), DiscrepancySettings(),
@@ -203,7 +204,7 @@ def test_measured_data_schemas_and_errors():
 def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):
     """The command end to end on paths data with a hidden C3 offset (a small candidate list keeps it fast)."""
     rig_file = tmp_path / "rig.toml"
-    from tests.test_rigfile_errors import dump_toml
+    from tests.geometry.test_rigfile_errors import dump_toml
 
     rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
     data = hidden_data(rig, effects, "coupling_offset@C3", "paths", 0.01, 61)

@@ -14,10 +14,10 @@ import json
 
 import numpy as np
 import pytest
-from tests.test_discrepancy import hidden_data, test_rig
 from typer.testing import CliRunner
 
 from rvcoax.fem import bushing
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.geometry.rigfile import load_rig
 from rvcoax.loadcases.cases import LoadCase, paper_table
@@ -25,6 +25,7 @@ from rvcoax.results.cli.app import app
 from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, SweepSettings, run_sweep
+from tests.results.test_discrepancy import hidden_data, test_rig
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 
@@ -86,7 +87,7 @@ def test_the_clearance_candidate_case_solves():
     # an open gap carries nothing: the smallest case is the rig's response to its load with the gap released,
     # so it scales with the load within the open range (T1 = 0.001 N·m, ten times less)
     small = run_sweep(gapped, (LoadCase(0.001, 0.1),), SweepSettings())
-    for shaft in ("input", "output"):
+    for shaft in MEASURED_SHAFTS:
         np.testing.assert_allclose(10.0 * small.cases[0].paths[shaft].uy_mm, sweep.cases[0].paths[shaft].uy_mm,
                                    rtol=1e-9, atol=1e-12 * np.abs(sweep.cases[0].paths[shaft].uy_mm).max())
 
@@ -96,7 +97,7 @@ def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     rig = test_rig()
     effects = {e.name: e for e in candidate_effects(rig)}
     rig_file = tmp_path / "rig.toml"
-    from tests.test_rigfile_errors import dump_toml
+    from tests.geometry.test_rigfile_errors import dump_toml
 
     rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
     data = hidden_data(rig, effects, "coupling_offset@C3", "paths", 0.01, 61)

@@ -20,6 +20,7 @@ from typer.testing import CliRunner
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.bushing import GROUND
 from rvcoax.fem.equilibrium import DofTable, resultant_of
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
 from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
 from rvcoax.loadcases.cases import LoadCase, grid_cases, paired_cases, paper_cases
@@ -114,7 +115,7 @@ def test_case_displacements_reproduce_the_sweeps_paths(sweep):
     for reference, attribute in (("measured", "paths"), ("unloaded", "absolute_paths")):
         u = case_displacements(sweep, reference)
         for i, case in enumerate(sweep.cases):
-            for shaft in ("input", "output"):
+            for shaft in MEASURED_SHAFTS:
                 np.testing.assert_allclose(read_path(sweep.system, u[:, i], shaft).uy_mm,
                                            getattr(case, attribute)[shaft].uy_mm, rtol=1e-12, atol=1e-18)
 

@@ -23,7 +23,6 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import skfem
-from tests.test_rigfile_errors import dump_toml, reference_data
 from typer.testing import CliRunner
 
 from rvcoax.fem import solvers
@@ -46,6 +45,7 @@ from rvcoax.results.sweep import (
     prepare_model,
     run_sweep,
 )
+from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 RESULT_FILES = ("sweep.csv", "sweep_paths.csv", "sweep.json")
 CASE = (LoadCase(1.0, 100.0),)

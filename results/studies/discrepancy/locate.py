@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
+from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.studies.discrepancy.measured import MeasuredData
 
 __all__ = ["GapTest", "NoiseEstimate", "StructureFinding", "estimate_noise", "gap_test", "residual_structure"]
 
@@ -37,7 +38,7 @@ def _group_rms(data: MeasuredData) -> np.ndarray:
     """RMS of the measured values of the same (case, shaft) as each observation."""
     rms = np.zeros(data.n)
     for case in np.unique(data.case_index):
-        for shaft in SHAFTS:
+        for shaft in MEASURED_SHAFTS:
             mask = (data.case_index == case) & (data.shaft == shaft)
             if mask.any():
                 rms[mask] = np.sqrt(np.mean(data.value_mm[mask] ** 2))
@@ -87,7 +88,7 @@ def _table_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
 def estimate_noise(data: MeasuredData, model_form_fraction: float) -> NoiseEstimate:
     """σ of every observation (see the module docstring)."""
     noise, method = {}, {}
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         if not (data.shaft == shaft).any():
             continue
         if data.sigma_mm is not None:
@@ -159,7 +160,7 @@ def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np
     """
     findings: list[StructureFinding] = []
     weights = 1.0 / sigma_mm ** 2
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         mask = data.shaft == shaft
         if mask.sum() < 3:
             continue

@@ -21,14 +21,14 @@ from pathlib import Path
 import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase, separator_hint
 
 __all__ = ["LARGEST_PLAUSIBLE_Y_MM", "MAX_BYTES", "MeasuredData", "MeasuredDataError", "OPTIONAL_COLUMNS",
-           "PATH_COLUMNS", "SHAFTS", "SHORTEST_PLAUSIBLE_PATH_MM", "TABLE_COLUMNS", "check_stations",
+           "PATH_COLUMNS", "MEASURED_SHAFTS", "SHORTEST_PLAUSIBLE_PATH_MM", "TABLE_COLUMNS", "check_stations",
            "parse_measured", "printed_quantum", "read_measured"]
 
-SHAFTS = ("input", "output")
 TABLE_COLUMNS = ("T1_input_Nm", "T2_output_Nm", "Y_input_mm", "Y_output_mm")
 PATH_COLUMNS = ("T1_input_Nm", "T2_output_Nm", "shaft", "x_mm", "uy_mm")
 OPTIONAL_COLUMNS = ("sigma_mm", "beta_input_deg", "beta_output_deg")
@@ -173,7 +173,7 @@ def parse_measured(text: str, source: str) -> MeasuredData:
             if (t1, t2) in seen:
                 raise MeasuredDataError(source, f"line {line}: duplicated load case T1 = {t1:g}, T2 = {t2:g} N·m")
             seen.add((t1, t2))
-            for shaft in SHAFTS:
+            for shaft in MEASURED_SHAFTS:
                 column = f"Y_{shaft}_mm"
                 value = _number(row.get(column), source, line, column, "mm")
                 if value < 0:
@@ -183,7 +183,7 @@ def parse_measured(text: str, source: str) -> MeasuredData:
                 rows.append((case, shaft, math.nan, value, sigma, line))
         else:
             shaft = (row.get("shaft") or "").strip()
-            if shaft not in SHAFTS:
+            if shaft not in MEASURED_SHAFTS:
                 raise MeasuredDataError(source, f"line {line}, column shaft: '{shaft}' is not input or output")
             x = _number(row.get("x_mm"), source, line, "x_mm", "mm")
             key = (t1, t2, shaft, x)
@@ -216,7 +216,7 @@ def _check_magnitudes(rows: list[tuple], schema: str, source: str) -> None:
                                 "looks like µm or nm; the column is in mm")
     if schema != "paths":
         return
-    for shaft in SHAFTS:
+    for shaft in MEASURED_SHAFTS:
         here = [r for r in rows if r[1] == shaft]
         stations = {r[2] for r in here}
         if len(stations) >= 2 and max(abs(x) for x in stations) <= SHORTEST_PLAUSIBLE_PATH_MM:

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
-from rvcoax.results.studies.discrepancy.measured import SHAFTS
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
 __all__ = ["ambiguous_groups", "document", "observation_rows", "plot", "rms_table"]
@@ -99,7 +99,7 @@ def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str 
     data = result.data
     figure = Figure(figsize=(13, 8), dpi=120, layout="constrained")
     axes = figure.subplots(2, 2)
-    for ax, shaft in zip(axes[0], SHAFTS):
+    for ax, shaft in zip(axes[0], MEASURED_SHAFTS):
         mask = data.shaft == shaft
         if data.schema == "table":
             torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
@@ -137,7 +137,7 @@ def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str 
         for subset in ("fit", "held_out"):
             if subset not in table:
                 continue
-            for shaft in SHAFTS:
+            for shaft in MEASURED_SHAFTS:
                 if shaft in table[subset][key_before]:
                     labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
                     before.append(table[subset][key_before][shaft])

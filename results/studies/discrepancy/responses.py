@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
+from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.studies.discrepancy.measured import MeasuredData
 from rvcoax.results.sweep import SweepSettings, run_sweep
 
 __all__ = ["EffectResponse", "GRID_POINTS", "Observation", "PathLayout", "effect_response", "full_paths",
@@ -50,9 +51,9 @@ class PathLayout:
 def full_paths(sweep) -> tuple[np.ndarray, PathLayout]:
     """Signed u_y (mm) of every case and shaft of a sweep, flattened, and its layout."""
     first = sweep.cases[0].paths
-    layout = PathLayout(len(sweep.cases), {s: np.asarray(first[s].station_mm, float) for s in SHAFTS},
-                        {s: float(first[s].length_mm) for s in SHAFTS})
-    return np.concatenate([np.concatenate([c.paths[s].uy_mm for s in SHAFTS]) for c in sweep.cases]), layout
+    layout = PathLayout(len(sweep.cases), {s: np.asarray(first[s].station_mm, float) for s in MEASURED_SHAFTS},
+                        {s: float(first[s].length_mm) for s in MEASURED_SHAFTS})
+    return np.concatenate([np.concatenate([c.paths[s].uy_mm for s in MEASURED_SHAFTS]) for c in sweep.cases]), layout
 
 
 def solve_full_paths(rig, cases, settings: SweepSettings) -> tuple[np.ndarray, PathLayout]:
@@ -70,7 +71,7 @@ class Observation:
             import scipy.sparse as sp
 
             rows, cols, vals = [], [], []
-            for shaft in SHAFTS:  # one spline evaluation per shaft for all its observations (not per row)
+            for shaft in MEASURED_SHAFTS:  # one spline evaluation per shaft for all its observations (not per row)
                 where = np.flatnonzero(data.shaft == shaft)
                 if not where.size:
                     continue

@@ -9,7 +9,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData
+from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.studies.discrepancy.measured import MeasuredData
 from rvcoax.results.studies.discrepancy.responses import Observation, PathLayout, solve_full_paths
 from rvcoax.results.sweep import SweepSettings
 
@@ -22,7 +23,7 @@ def observation_layout(cases, stations_per_shaft: int, lengths_mm: dict[str, flo
     """An empty data set (values zero) with the observations of ``schema`` at evenly spaced stations."""
     case_index, shaft, x = [], [], []
     for i, _ in enumerate(cases):
-        for s in SHAFTS:
+        for s in MEASURED_SHAFTS:
             if schema == "table":
                 case_index.append(i), shaft.append(s), x.append(np.nan)
             else:
@@ -36,7 +37,7 @@ def observation_layout(cases, stations_per_shaft: int, lengths_mm: dict[str, flo
 def _relative_change(delta_obs: np.ndarray, signal_obs: np.ndarray, shaft: np.ndarray) -> float:
     """Largest over the shafts of RMS(change) / RMS(signal)."""
     ratios = []
-    for s in SHAFTS:
+    for s in MEASURED_SHAFTS:
         mask = shaft == s
         signal = np.sqrt(np.mean(signal_obs[mask] ** 2))
         if signal > 0:
@@ -75,7 +76,7 @@ def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int
     values = Observation(template, layout)(paths)
     rng = np.random.default_rng(seed)
     sigma = np.zeros_like(values)
-    for s in SHAFTS:
+    for s in MEASURED_SHAFTS:
         mask = template.shaft == s
         sigma[mask] = noise_fraction * np.sqrt(np.mean(values[mask] ** 2))
     noisy = values + rng.normal(size=values.size) * sigma

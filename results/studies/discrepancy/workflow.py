@@ -23,6 +23,7 @@ from scipy import stats
 from scipy.optimize import least_squares
 
 from rvcoax.fem.solvers import SolverError
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
@@ -33,7 +34,7 @@ from rvcoax.results.studies.discrepancy.locate import (
     gap_test,
     residual_structure,
 )
-from rvcoax.results.studies.discrepancy.measured import SHAFTS, MeasuredData, check_stations
+from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
 from rvcoax.results.studies.discrepancy.responses import (
     EffectResponse,
     Observation,
@@ -161,14 +162,14 @@ class DiscrepancyResult:
         residual = self.data.value_mm - (self.before if which == "before" else self.after)
         rows = np.ones(self.data.n, bool) if rows is None else rows
         return {s: float(np.sqrt(np.mean(residual[(self.data.shaft == s) & rows] ** 2)))
-                for s in SHAFTS if ((self.data.shaft == s) & rows).any()}
+                for s in MEASURED_SHAFTS if ((self.data.shaft == s) & rows).any()}
 
     def rms_tilt_urad(self, which: str, rows: np.ndarray | None = None, lengths_mm: dict | None = None) -> dict:
         """RMS tilt gap per shaft in µrad: β = arcsin(Y/L) (table) or the least-squares slope (paths)."""
         model = self.before if which == "before" else self.after
         rows = np.ones(self.data.n, bool) if rows is None else rows
         out = {}
-        for shaft in SHAFTS:
+        for shaft in MEASURED_SHAFTS:
             gaps = []
             for case in np.unique(self.data.case_index[rows]):
                 mask = rows & (self.data.shaft == shaft) & (self.data.case_index == case)
@@ -282,7 +283,7 @@ def _discriminate(rig, effects_by_name, prior, group_fits: dict[str, Fit], data:
         (a, layout), (b, _) = predictions[winner], predictions[other]
         best = None
         for i, case in enumerate(cases):
-            for shaft in SHAFTS:
+            for shaft in MEASURED_SHAFTS:
                 block = layout.block(i, shaft)
                 scaled = np.abs(a[block] - b[block]) / max(noise.noise_mm.get(shaft, 0.0), 1e-12)
                 j = int(np.argmax(scaled))

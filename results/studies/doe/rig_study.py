@@ -17,6 +17,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.inputfiles import InputFileError, parse_toml
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
@@ -25,7 +26,7 @@ from rvcoax.results.io.datafiles import read_data_text
 from rvcoax.results.studies.doe.design import Design, Factor, build_sources
 from rvcoax.results.studies.doe.limits import ALPHA_RANGE, POOL_BELOW_F_RANGE
 from rvcoax.results.studies.doe.orthogonal import ARRAYS, OrthogonalArray, standard_array, three_level_coefficients
-from rvcoax.results.sweep import SHAFTS, SweepSettings, run_sweep
+from rvcoax.results.sweep import SweepSettings, run_sweep
 
 STUDY_FILE = "l27_rig_tolerances.toml"
 RESPONSES = ("beta_input_deg", "beta_output_deg")
@@ -200,17 +201,17 @@ def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
     base = study_rig(rig, study)
     check_addresses(base, study, source)
     case = (LoadCase(study.study.T1_input_Nm, study.study.T2_output_Nm),)
-    beta = {s: np.full(array.runs, np.nan) for s in SHAFTS}
-    y_max = {s: np.full(array.runs, np.nan) for s in SHAFTS}
+    beta = {s: np.full(array.runs, np.nan) for s in MEASURED_SHAFTS}
+    y_max = {s: np.full(array.runs, np.nan) for s in MEASURED_SHAFTS}
     selected = range(array.runs) if runs is None else runs
     for count, run in enumerate(selected, start=1):
         sweep = run_sweep(with_parameters(base, run_values(study, array, columns, run)), case, settings)
-        for shaft in SHAFTS:
+        for shaft in MEASURED_SHAFTS:
             path = sweep.cases[0].paths[shaft]
             beta[shaft][run], y_max[shaft][run] = path.beta_deg, path.y_max_mm
         if progress is not None:
             progress(count, len(selected))
-    return StudyResult(study, array, columns, settings, {f"beta_{s}_deg": beta[s] for s in SHAFTS}, y_max)
+    return StudyResult(study, array, columns, settings, {f"beta_{s}_deg": beta[s] for s in MEASURED_SHAFTS}, y_max)
 
 
 __all__ = ["ARRAYS", "RESPONSES", "Study", "StudyError", "StudyResult", "assign_columns", "load_study",
