@@ -32,12 +32,13 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import scipy.sparse as sp
 
+from rvcoax.fem.compat import sparse_kernels
+
 __all__ = ["PARALLEL_MIN_TRIPLETS", "assemble_matrix"]
 
-try:  # scipy's compiled sparse kernels (private module; fall back to the public conversion without it)
-    from scipy.sparse._sparsetools import coo_tocsr, csr_hstack, csr_sum_duplicates, csr_tocsc
-except ImportError:  # pragma: no cover
-    coo_tocsr = None
+# scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
+_KERNELS = sparse_kernels()
+coo_tocsr, csr_hstack, csr_sum_duplicates, csr_tocsc = _KERNELS if _KERNELS is not None else (None,) * 4
 
 _INT32_MAX = np.iinfo(np.int32).max
 PARALLEL_MIN_TRIPLETS = 1_000_000

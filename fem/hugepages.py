@@ -60,9 +60,9 @@ def avoid_compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:
     os.environ["NUMPY_MADVISE_HUGEPAGE"] = "0"  # child processes (Dask workers) start the same way
     if "numpy" not in sys.modules:  # numpy reads the variable when it is first imported
         return True
-    from numpy._core import multiarray
+    from rvcoax.fem.compat import numpy_madvise_switch
 
-    setter = getattr(multiarray, "_set_madvise_hugepage", None)
+    setter = numpy_madvise_switch()
     if setter is None:  # pragma: no cover - numpy without the switch
         return False
     setter(False)

@@ -90,6 +90,7 @@ def test_reference_rig_candidates(rig):
                                                  "mesh_position_error"))
 
 
+@pytest.mark.slow
 def test_every_effect_at_zero_is_the_base_rig(rig, responses):
     base = y_paths(rig)
     for name, entry in responses.items():

@@ -237,6 +237,7 @@ def test_an_installed_coupling_misalignment_is_the_unloaded_reference(rig):
     np.testing.assert_allclose(connection_states(result, "measured").force_on_b, aligned.force_on_b, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_hybrid_model_springs_balance_the_solid_input_shaft(rig):
     settings = SweepSettings(model="hybrid", mesh_size_mm=8.0)
     result = run_sweep(rig, paired_cases([0.07, 1.43], [10.0, 200.0]), settings)

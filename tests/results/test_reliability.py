@@ -409,6 +409,7 @@ def test_sweep_files_are_byte_identical_and_record_their_provenance(tmp_path):
     assert "seconds" not in text and "memory" not in text  # no wall-clock time, nothing machine-dependent
 
 
+@pytest.mark.slow
 def test_hybrid_files_record_the_mesh_and_are_byte_identical(tmp_path):
     data = reference_data()
     data["solid"]["hybrid_parts"] = ["input_shaft"]
