@@ -97,6 +97,7 @@ def test_every_effect_at_zero_is_the_base_rig(rig, responses):
         assert np.abs(entry["zero"] - base).max() < 1e-12, name
 
 
+@pytest.mark.slow
 def test_linear_effects_are_affine(responses):
     for name, entry in responses.items():
         if "double" in entry:
@@ -104,6 +105,7 @@ def test_linear_effects_are_affine(responses):
             assert np.abs(twice - 2 * once).max() <= 1e-9 * np.abs(once).max() + 1e-15, name
 
 
+@pytest.mark.slow
 def test_nonlinear_effects_are_not_affine(rig, responses):
     """bearing_stiffness: doubling the log-factor does not double the change."""
     entry = responses["bearing_stiffness@input_B1"]
@@ -112,6 +114,7 @@ def test_nonlinear_effects_are_not_affine(rig, responses):
     assert np.abs(twice - 2 * once).max() > 1e-3 * np.abs(once).max()
 
 
+@pytest.mark.slow
 def test_each_effect_moves_the_shafts_it_reaches(rig, responses):
     for effect in candidate_effects(rig):
         change = np.abs(responses[effect.name]["typical"] - responses[effect.name]["zero"]).max(axis=(0, 2))
