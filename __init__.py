@@ -55,6 +55,7 @@ _WHERE = {
     "prepare_model": "rvcoax.results.sweep",
     "run_sweep": "rvcoax.results.sweep",
     "write_sweep": "rvcoax.results.io.result_files",
+    "run_durable_sweep": "rvcoax.results.io.durable_sweep",
     "write_check": "rvcoax.results.io.result_files",
     "plot_y_vs_torque": "rvcoax.results.io.pictures",
     "render_deformed": "rvcoax.results.io.pictures",

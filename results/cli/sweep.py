@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 from rich.markup import escape
@@ -15,10 +15,6 @@ from rvcoax.results.cli import support
 __all__ = ["TABLE_ROWS", "register", "sweep"]
 
 TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (every case is in sweep.csv)
-
-if TYPE_CHECKING:  # annotations only: the modules load when a command runs
-    from rvcoax.results.io.sweep_files import CaseStore
-
 
 def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
     shown = rows[:TABLE_ROWS]
@@ -35,43 +31,38 @@ def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
     return table
 
 
-def _solve_sweep(rig_model, load_cases, settings, text: str, store: CaseStore, resume: bool):
-    """Solve the cases not yet in ``store`` (all of them without ``resume``), journalling each as it is solved.
+def _solve_sweep(rig_model, load_cases, settings, text: str, store, resume: bool):
+    """:func:`rvcoax.results.io.durable_sweep.run_durable_sweep` with the resume messages and a progress bar.
 
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
     or None when every case was reused).
     """
-    from rvcoax.results.io import records as report
-    from rvcoax.results.io.sweep_files import JournalReading, case_inputs, inputs_sha256, sweep_inputs
+    from rvcoax.results.io.durable_sweep import run_durable_sweep
 
-    sha = report.text_sha256(text)
-    common = sweep_inputs(sha, settings)
-    case_hashes = [inputs_sha256(case_inputs(sha, case, settings, common)) for case in load_cases]
-    model_hash = inputs_sha256(common)
-    if resume:
-        reading = store.load(case_hashes, model_hash)
-    else:
-        store.clear()
-        reading = JournalReading()
-    records, model = reading.cases, reading.model
-    missing = [i for i in range(len(load_cases)) if i not in records]
-    if resume:
-        support.console.print(f"resuming: {len(records)} of {len(load_cases)} case(s) already solved in {escape(str(store.folder))}, "
-                      f"{len(missing)} to solve")
-        if reading.rejected:
-            support.console.print(f"not reused from {escape(str(store.path))} (solved again): {reading.describe_rejections()}")
-    result = None
-    if missing or model is None:
-        with store:
-            def save(k: int, case_result) -> None:
-                records[missing[k]] = report.case_record(case_result)
-                store.save(missing[k], case_hashes[missing[k]], records[missing[k]])
+    def plan(reading, n_missing: int) -> None:
+        if resume:
+            support.console.print(f"resuming: {len(reading.cases)} of {len(load_cases)} case(s) already solved in "
+                                  f"{escape(str(store.folder))}, {n_missing} to solve")
+            if reading.rejected:
+                support.console.print(f"not reused from {escape(str(store.path))} (solved again): "
+                                      f"{reading.describe_rejections()}")
 
-            result = support.run_with_progress(rig_model, tuple(load_cases[i] for i in missing), settings,
-                                       "solving load cases", support.prepare_with_status(rig_model, settings), on_case=save)
-            model = report.model_section(result)
-            store.save_model(model_hash, model)
-    return [records[i] for i in range(len(load_cases))], model, result
+    live = {}  # the progress bar starts with the first solved case, after the model's own status line
+
+    def progress(i: int, n: int) -> None:
+        if "bar" not in live:
+            live["bar"] = support.progress_bar()
+            live["bar"].start()
+            live["task"] = live["bar"].add_task("solving load cases", total=n)
+        live["bar"].update(live["task"], completed=i)
+
+    try:
+        done = run_durable_sweep(rig_model, load_cases, settings, text, store, resume,
+                                 prepare=support.prepare_with_status, on_plan=plan, progress=progress)
+    finally:
+        if "bar" in live:
+            live["bar"].stop()
+    return done.records, done.model, done.sweep
 
 
 def sweep(
