@@ -19,8 +19,8 @@ Steps, in the order data flows:
   :func:`paired_cases`, :func:`grid_cases`
 - model and solve: :data:`MODEL_KINDS`, :func:`assemble_rig`, :class:`SweepSettings`,
   :func:`prepare_model`, :func:`run_sweep`
-- files and pictures: :func:`write_sweep`, :func:`write_check`, :func:`plot_y_vs_torque`,
-  :func:`render_deformed`
+- files and pictures: :func:`write_sweep`, :func:`run_durable_sweep`, :func:`write_check`,
+  :func:`draw_sweep_pictures`, :func:`plot_y_vs_torque`, :func:`render_deformed`
 - studies: :func:`run_check`, :func:`calibrate`, :func:`read_measured`, :func:`run_discrepancy`
 - errors: :class:`RvcoaxError`, the base of every error raised on purpose
 
@@ -59,6 +59,7 @@ _WHERE = {
     "write_check": "rvcoax.results.io.result_files",
     "plot_y_vs_torque": "rvcoax.results.io.pictures",
     "render_deformed": "rvcoax.results.io.pictures",
+    "draw_sweep_pictures": "rvcoax.results.io.sweep_pictures",
     "CheckRun": "rvcoax.results.studies.check_run",
     "run_check": "rvcoax.results.studies.check_run",
     "calibrate": "rvcoax.results.studies.calibration",

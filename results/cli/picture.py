@@ -28,42 +28,27 @@ def picture(
     measured paths drawn) and Y against torque with the published points."""
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.loadcases.cases import paper_table
-    from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
-    from rvcoax.results.io.pictures import (
-        RenderingUnavailableError,
-        enclosing_parts,
-        plot_y_vs_torque,
-        render_deformed,
-        sweep_colour_limits_um,
-    )
+    from rvcoax.results.io.pictures import RenderingUnavailableError
+    from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig_model = load_rig(rig)
     load_cases = support.cases_from_options(cases, t1, t2, False)
-    result = support.run_with_progress(rig_model, load_cases, settings, "solving load cases", support.prepare_with_status(rig_model, settings))
-    mesh, paths = sweep_field_mesh(result)
-    field_cases = sweep_field_cases(result)
-    limits = sweep_colour_limits_um(field_cases)
-    housings = enclosing_parts(mesh)
+    result = support.run_with_progress(rig_model, load_cases, settings, "solving load cases",
+                                       support.prepare_with_status(rig_model, settings))
     folder = out / "pictures"
+    published = paper_table() if cases is None and t1 is None else None
     try:
-        with support.progress_bar() as progress:
-            task = progress.add_task("rendering", total=len(field_cases))
-            for i, case in enumerate(field_cases):
-                info = render_deformed(mesh, case, folder / f"deformed_{model}_{i:02d}.png", paths=paths,
-                                       warp_fraction=warp_fraction, colour_limits_um=limits,
-                                       translucent_parts=housings,
-                                       title=f"{rig_model.rig.name} ({model}): T1 = {case.T1_input_Nm:g} N·m, "
-                                             f"T2 = {case.T2_output_Nm:g} N·m")
-                progress.update(task, completed=i + 1)
+        with support.progress_bar() as bar:
+            task = bar.add_task("rendering", total=len(load_cases))
+            drawn = draw_sweep_pictures(result, folder, warp_fraction=warp_fraction, published=published,
+                                        progress=lambda i, n: bar.update(task, completed=i))
     except RenderingUnavailableError as error:
         raise support.UserError(str(error)) from None
-    published = paper_table() if cases is None and t1 is None else None
-    plot = plot_y_vs_torque(result, folder / f"y_vs_torque_{model}.png", published=published,
-                            title=f"{rig_model.rig.name} ({model} model)")
-    support.console.print(f"wrote {len(field_cases)} pictures to {escape(str(folder))} (colour limits {limits[0]:.3g} .. {limits[1]:.3g} µm, "
-                  f"last warp factor {info['warp_factor']:.3g}) and {escape(str(plot))}")
-
+    low, high = drawn.colour_limits_um
+    support.console.print(f"wrote {len(drawn.deformed)} pictures to {escape(str(folder))} (colour limits {low:.3g} .. "
+                          f"{high:.3g} µm, last warp factor {drawn.last_warp_factor:.3g}) and "
+                          f"{escape(str(drawn.y_vs_torque))}")
 
 
 def register(app: typer.Typer) -> None:

@@ -1,0 +1,77 @@
+"""The pictures of a sweep: the deformed rig per case (one colour scale for the whole sweep) and Y against torque."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
+from rvcoax.results.io.pictures import enclosing_parts, plot_y_vs_torque, render_deformed, sweep_colour_limits_um
+from rvcoax.results.sweep import Sweep
+
+__all__ = ["SweepPictures", "draw_sweep_pictures"]
+
+
+@dataclass(frozen=True)
+class SweepPictures:
+    """What :func:`draw_sweep_pictures` wrote.
+
+    Attributes
+    ----------
+    deformed : tuple of Path
+        One PNG of the deformed rig per case.
+    y_vs_torque : Path
+        Y of both measured shafts against torque.
+    colour_limits_um : (float, float)
+        The u_y colour scale shared by every case, µm.
+    last_warp_factor : float
+        The displacement magnification of the last case's picture.
+    """
+
+    deformed: tuple[Path, ...]
+    y_vs_torque: Path
+    colour_limits_um: tuple[float, float]
+    last_warp_factor: float
+
+
+def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.05, published=None,
+                        progress: Callable[[int, int], None] | None = None) -> SweepPictures:
+    """Draw every case of ``sweep`` off screen into ``folder``.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep (beam, hybrid or solid).
+    folder : Path
+        Where the PNGs go: ``deformed_<model>_<i>.png`` and ``y_vs_torque_<model>.png``.
+    warp_fraction : float
+        The largest displacement is drawn as this fraction of the rig length.
+    published : tuple of PublishedRow, optional
+        Published points drawn with Y against torque.
+    progress : callable, optional
+        ``progress(done, total)`` after each rendered case.
+
+    Raises
+    ------
+    RenderingUnavailableError
+        Off-screen rendering cannot start on this machine (the message says what to install).
+    """
+    model = sweep.settings.model
+    name = sweep.rig.rig.name
+    mesh, paths = sweep_field_mesh(sweep)
+    field_cases = sweep_field_cases(sweep)
+    limits = sweep_colour_limits_um(field_cases)
+    housings = enclosing_parts(mesh)
+    written, info = [], {"warp_factor": float("nan")}
+    for i, case in enumerate(field_cases):
+        path = folder / f"deformed_{model}_{i:02d}.png"
+        info = render_deformed(mesh, case, path, paths=paths, warp_fraction=warp_fraction, colour_limits_um=limits,
+                               translucent_parts=housings,
+                               title=f"{name} ({model}): T1 = {case.T1_input_Nm:g} N·m, T2 = {case.T2_output_Nm:g} N·m")
+        written.append(path)
+        if progress is not None:
+            progress(i + 1, len(field_cases))
+    plot = plot_y_vs_torque(sweep, folder / f"y_vs_torque_{model}.png", published=published,
+                            title=f"{name} ({model} model)")
+    return SweepPictures(tuple(written), plot, limits, float(info["warp_factor"]))
