@@ -17,24 +17,20 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import model as fem_model
 from rvcoax.fem import solid
-from rvcoax.fem.assembly import assemble_matrix
-from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.fem.pieces import assemble, frame_contributions, solid_contribution, tie_contribution
 from rvcoax.fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equations
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
-from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
+from rvcoax.geometry.model.beam import RigModel, build_rig_model
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
-    UNIT_LOADS,
     LocatedLoad,
-    gravity_acceleration,
     located_unit_loads,
 )
-from rvcoax.geometry.model.system import PathProbe, RigSystem, frame_path_probe, nodal_vector
+from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, nodal_vector
 from rvcoax.geometry.schema import Part, Rig
 
 __all__ = ["Attachment", "FaceSpec", "MM", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
@@ -323,36 +319,17 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         offset += int(basis.N)
     n = offset
 
-    frame_k = fem_model.stiffness_matrix(structure)
-    pieces = [(frame_k.tocoo().row, frame_k.tocoo().col, frame_k.tocoo().data)]
-    for s in solids.values():
-        pieces.append(solid.stiffness_triplets(s.basis, s.youngs_modulus_pa, s.poisson, dof_offset=s.offset))
-    stiffness = assemble_matrix(n, pieces)
-
-    equations = rigid_link_equations(structure.coordinates, structure.rigid_links)
+    pieces = frame_contributions(structure, GRAVITY_DIRECTION)
+    pieces += [solid_contribution(s.basis, s.youngs_modulus_pa, s.poisson, s.density_kg_m3, s.offset,
+                                  GRAVITY_DIRECTION) for s in solids.values()]
     for a in ties:
         s = solids[a.part]
         nodes = face_nodes(s, select_facets(s, a.face))
         reference = frame.node(a.part, a.x_mm)
-        point = structure.coordinates[reference]
         tie = rigid_tie_equations if a.tie == "rigid" else distributing_tie_equations
-        equations.update(tie(reference, point, nodes))
-    elimination, _ = elimination_matrix(n, structure.fixed_dofs, equations)
-
-    unit_gravity = np.zeros(n)  # weight per m/s² of g
-    unit_gravity[: structure.n_dofs] = fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION)
-    for s in solids.values():
-        unit_gravity[s.offset: s.offset + s.n_dofs] = solid.body_force_vector(s.basis, s.density_kg_m3,
-                                                                              GRAVITY_DIRECTION)
-
-    traction = SolidLoads(rig, solids)
-
-    def loads_of(loaded: Rig) -> dict:
-        located_loads = located_unit_loads(loaded)
-        loads = {name: traction.vector(frame, located_loads[name], n) for name in UNIT_LOADS}
-        loads["gravity"] = loads["gravity"] + gravity_acceleration(loaded) * unit_gravity
-        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)  # bushings act on frame nodes
-        return loads
+        pieces.append(tie_contribution(tie(reference, structure.coordinates[reference], nodes)))
+    assembled = assemble(n, pieces)
+    loads = UnitLoadBuilder(frame, n, assembled.loads["gravity"], SolidLoads(rig, solids))
 
     probes = {}
     for which in MEASURED_SHAFTS:
@@ -372,5 +349,5 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         positions.append(locations)
         components.append(solid.dof_components(s.basis))
     table = DofTable(np.vstack(positions), np.concatenate(components))
-    return RigSystem(rig, kind, frame, stiffness, elimination, loads_of(rig), probes, table, tuple(solids.values()),
-                     load_builder=loads_of)
+    return RigSystem(rig, kind, frame, assembled.stiffness, assembled.elimination, loads(rig), probes, table,
+                     tuple(solids.values()), load_builder=loads)

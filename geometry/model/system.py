@@ -18,9 +18,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.loads import NodalLoads, nodal_load_vector
+from rvcoax.fem.pieces import assemble, frame_contributions
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
 from rvcoax.geometry.model.loads import (
@@ -32,7 +32,7 @@ from rvcoax.geometry.model.loads import (
 )
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "assemble_beam", "frame_path_probe",
+__all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "UnitLoadBuilder", "assemble_beam", "frame_path_probe",
            "nodal_vector"]
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
@@ -72,6 +72,8 @@ class RigSystem:
         Position and component of every DOF (for equilibrium).
     solids : tuple
         Solid parts (for field output); empty for the beam model.
+    load_builder : UnitLoadBuilder
+        Rebuilds ``unit_loads`` for a rig that differs from ``rig`` in load parameters only.
     """
 
     rig: Rig
@@ -83,7 +85,7 @@ class RigSystem:
     probes: dict
     dofs: DofTable
     solids: tuple = field(default_factory=tuple)
-    load_builder: object = None
+    load_builder: UnitLoadBuilder | None = None
 
     @property
     def n_dofs(self) -> int:
@@ -97,6 +99,39 @@ class RigSystem:
         factorisation are reused.
         """
         return dataclasses.replace(self, rig=rig, unit_loads=self.load_builder(rig))
+
+
+@dataclass(frozen=True, eq=False)
+class UnitLoadBuilder:
+    """The unit loads of a rig on an assembled structure, rebuilt when only load parameters change.
+
+    Attributes
+    ----------
+    frame : RigModel
+        Where located loads and the springs' prestrain act.
+    n_dofs : int
+        Length of every load vector.
+    weight_per_g : ndarray
+        The model's weight per m/s² of acceleration along gravity (every piece's ``"gravity"`` load).
+    solid_loads : SolidLoads or None
+        Turns loads on solid parts into face tractions (hybrid and solid models); None for beams.
+    """
+
+    frame: RigModel
+    n_dofs: int
+    weight_per_g: np.ndarray
+    solid_loads: object | None = None
+
+    def __call__(self, rig: Rig) -> dict:
+        """One load vector per name in :data:`UNIT_LOADS`, for the loads of ``rig``."""
+        located = located_unit_loads(rig)
+        if self.solid_loads is None:
+            loads = {name: nodal_vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
+        else:
+            loads = {name: self.solid_loads.vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
+        loads["gravity"] = loads["gravity"] + gravity_acceleration(rig) * self.weight_per_g
+        loads["prestrain"] = prestrain_load_vector(self.frame, rig, self.n_dofs)  # springs act on frame nodes
+        return loads
 
 
 def nodal_vector(frame: RigModel, loads: list[LocatedLoad], n_dofs: int) -> np.ndarray:
@@ -121,21 +156,12 @@ def frame_path_probe(frame: RigModel, which: str, n_dofs: int) -> PathProbe:
 
 
 def assemble_beam(rig: Rig) -> RigSystem:
-    """The beam model of a rig as a :class:`RigSystem`."""
+    """The beam model of a rig as a :class:`RigSystem`: every piece of the frame through :func:`rvcoax.fem.pieces.assemble`."""
     frame = build_rig_model(rig)
     structure = frame.structure
     n = structure.n_dofs
-    stiffness = fem_model.stiffness_matrix(structure)
-    elimination, _ = fem_model.constraint_elimination(structure)
-    unit_gravity = fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION)  # weight per m/s² of g
-
-    def loads_of(loaded: Rig) -> dict:
-        located = located_unit_loads(loaded)
-        loads = {name: nodal_vector(frame, located[name], n) for name in UNIT_LOADS}
-        loads["gravity"] = loads["gravity"] + gravity_acceleration(loaded) * unit_gravity
-        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)
-        return loads
-
+    assembled = assemble(n, frame_contributions(structure, GRAVITY_DIRECTION))
+    loads = UnitLoadBuilder(frame, n, assembled.loads["gravity"])
     probes = {which: frame_path_probe(frame, which, n) for which in MEASURED_SHAFTS}
-    return RigSystem(rig, "beam", frame, stiffness, elimination, loads_of(rig), probes,
-                     frame_dof_table(structure.coordinates), load_builder=loads_of)
+    return RigSystem(rig, "beam", frame, assembled.stiffness, assembled.elimination, loads(rig), probes,
+                     frame_dof_table(structure.coordinates), load_builder=loads)

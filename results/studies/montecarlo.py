@@ -32,12 +32,12 @@ import numpy as np
 import scipy.sparse as sp
 from scipy import stats
 
-from rvcoax.fem import beam, bushing
 from rvcoax.fem import model as fem_model
-from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.pieces import Contribution, assemble, beam_contribution, bushing_contribution
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.model.beam import build_rig_model, prestrain_load_vector
+from rvcoax.geometry.model.beam import build_rig_model
 from rvcoax.geometry.model.hybrid import attachments
+from rvcoax.geometry.model.loads import GRAVITY_DIRECTION
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
@@ -105,45 +105,41 @@ def _same(a: sp.spmatrix, b: sp.spmatrix) -> bool:
 
 @dataclass(frozen=True, eq=False)
 class _FixedStiffness:
-    """What a spring-stiffness sample does not change: the beams' triplets and the solid blocks."""
+    """What a spring-stiffness sample does not change: the beams and the solid blocks, as model pieces."""
 
-    beam_triplets: tuple
-    solid_stiffness: sp.csr_matrix | None  # K minus the frame block; None for the beam model
+    beams: Contribution
+    solid_block: Contribution | None  # K minus the frame block, as triplets; None for the beam model
     solid_parts: tuple[str, ...]
 
 
 def _fixed_stiffness(system: RigSystem, solid_parts: tuple[str, ...]) -> _FixedStiffness:
     structure = system.frame.structure
-    solid = None
+    block = None
     if system.solids:
-        solid = (system.stiffness - _pad(fem_model.stiffness_matrix(structure), system.n_dofs)).tocsr()
-    return _FixedStiffness(beam.stiffness_triplets(structure.coordinates, structure.beams), solid, solid_parts)
+        solid = (system.stiffness - _pad(fem_model.stiffness_matrix(structure), system.n_dofs)).tocoo()
+        block = Contribution((solid.row, solid.col, solid.data))
+    return _FixedStiffness(beam_contribution(structure, GRAVITY_DIRECTION), block, solid_parts)
 
 
 def _frame_system(system: RigSystem, fixed: _FixedStiffness, rig: Rig) -> RigSystem:
-    """``system`` with the springs (stiffness and prestrain) of ``rig``; the beams' triplets are reused.
+    """``system`` with the springs (stiffness and prestrain) of ``rig``; the beams and solids are reused.
 
-    The springs are assembled after the beams, as in a fresh assembly, and the frame block and
-    the solid blocks share no entry, so the matrix is the one a fresh assembly of ``rig`` gives
-    whenever the beams and the frame's nodes are the same (checked by :func:`plan_study`).
+    The pieces are assembled in the order of a fresh assembly (beams, springs, then the solid blocks,
+    which share no entry with the frame), so the matrix is the one a fresh assembly of ``rig`` gives
+    whenever the beams and the frame's nodes are the same (checked by :func:`plan_study`). The
+    constraints do not depend on spring stiffness: the nominal elimination is kept.
     """
     frame = build_rig_model(rig, solid_parts=fixed.solid_parts)
     structure = frame.structure
     if not np.array_equal(structure.coordinates, system.frame.structure.coordinates):
         raise ModelError("a sample moved frame nodes; the study needs strategy 'full'")
-    frame_k = assemble_matrix(structure.n_dofs, [fixed.beam_triplets,
-                                                 bushing.stiffness_triplets(structure.coordinates, structure.bushings)])
-    n = system.n_dofs
-    stiffness = frame_k if fixed.solid_stiffness is None else (fixed.solid_stiffness + _pad(frame_k, n)).tocsr()
-    nominal_builder = system.load_builder
-
-    def loads_of(loaded: Rig) -> dict:
-        loads = nominal_builder(loaded)
-        loads["prestrain"] = prestrain_load_vector(frame, loaded, n)  # K Δ0 with this sample's springs
-        return loads
-
-    return dataclasses.replace(system, rig=rig, frame=frame, stiffness=stiffness, unit_loads=loads_of(rig),
-                               load_builder=loads_of)
+    pieces = [fixed.beams, bushing_contribution(structure)]
+    if fixed.solid_block is not None:
+        pieces.append(fixed.solid_block)
+    stiffness = assemble(system.n_dofs, pieces).stiffness
+    loads = dataclasses.replace(system.load_builder, frame=frame)  # K Δ0 with this sample's springs
+    return dataclasses.replace(system, rig=rig, frame=frame, stiffness=stiffness, unit_loads=loads(rig),
+                               load_builder=loads)
 
 
 def _same_loads(a: dict, b: dict) -> bool:

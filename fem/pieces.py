@@ -1,0 +1,144 @@
+"""One interface for every model piece: what it adds to the system, in global DOF numbers.
+
+A piece (beams, bushings, point masses, rigid links and fixed DOFs, a solid part, a tie between a
+reference node and a solid face) returns a :class:`Contribution`: stiffness triplets, load entries
+by load name, and constraint rows. :func:`assemble` sums any list of them into the system, in the
+order given (so that the result does not depend on how the pieces were grouped). The beam, hybrid
+and solid rig models, calibration and a Monte Carlo sample that swaps springs all go through it.
+
+Matrices, vectors and DOF numbers only: the rig is unknown here. The one load name the pieces
+themselves give is ``"gravity"``: the weight per m/s² of acceleration along the direction asked for.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from rvcoax.fem import beam, bushing, loads, solid
+from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
+
+__all__ = ["AssembledSystem", "Contribution", "assemble", "beam_contribution", "bushing_contribution",
+           "constraint_contribution", "frame_contributions", "point_mass_contribution", "solid_contribution",
+           "tie_contribution"]
+
+
+def _no_dofs() -> np.ndarray:
+    return np.zeros(0, dtype=int)
+
+
+@dataclass(frozen=True, eq=False)
+class Contribution:
+    """What one model piece adds to the system.
+
+    Attributes
+    ----------
+    stiffness : (rows, cols, values) or None
+        Stiffness triplets in global DOF numbers (duplicates are summed).
+    loads : mapping
+        Load name → (dofs, values): entries added to that load vector (each DOF at most once per entry).
+    equations : mapping
+        Multi-point constraints u_dependent = Σ c u: dependent DOF → {DOF: coefficient}.
+    fixed_dofs : array of int
+        DOFs held at zero.
+    """
+
+    stiffness: tuple | None = None
+    loads: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    equations: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
+    fixed_dofs: np.ndarray = field(default_factory=_no_dofs)
+
+
+@dataclass(frozen=True, eq=False)
+class AssembledSystem:
+    """The sum of a list of contributions.
+
+    Attributes
+    ----------
+    n_dofs : int
+    stiffness : csr_matrix
+        K (n × n), constraints not applied.
+    loads : dict
+        Load name → vector of length n.
+    equations : dict
+        Every constraint row, later pieces overriding earlier ones for the same dependent DOF.
+    fixed_dofs : array of int
+    """
+
+    n_dofs: int
+    stiffness: sp.csr_matrix
+    loads: dict
+    equations: dict
+    fixed_dofs: np.ndarray
+
+    @functools.cached_property
+    def elimination(self) -> sp.csr_matrix:
+        """T (n × m) with u = T q: the fixed DOFs and constraint rows eliminated."""
+        return elimination_matrix(self.n_dofs, self.fixed_dofs, self.equations)[0]
+
+
+def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSystem:
+    """Sum ``contributions`` (in their order) into one system of ``n_dofs`` unknowns."""
+    contributions = list(contributions)
+    stiffness = assemble_matrix(n_dofs, [c.stiffness for c in contributions if c.stiffness is not None])
+    vectors: dict[str, np.ndarray] = {}
+    equations: dict[int, Mapping[int, float]] = {}
+    for c in contributions:
+        for name, (dofs, values) in c.loads.items():
+            vector = vectors.setdefault(name, np.zeros(n_dofs))
+            vector[dofs] += values
+        equations.update(c.equations)
+    fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
+    return AssembledSystem(int(n_dofs), stiffness, vectors, equations, fixed)
+
+
+def _dense(vector: np.ndarray, offset: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    return np.arange(offset, offset + vector.size), vector
+
+
+def beam_contribution(model, gravity_direction) -> Contribution:
+    """The beams of a frame model (:class:`rvcoax.fem.model.StructuralModel`): stiffness and consistent weight."""
+    weight = beam.gravity_load(model.coordinates, model.beams, np.asarray(gravity_direction, dtype=float),
+                               model.n_dofs)
+    return Contribution(beam.stiffness_triplets(model.coordinates, model.beams), {"gravity": _dense(weight)})
+
+
+def bushing_contribution(model) -> Contribution:
+    """The six-component springs of a frame model."""
+    return Contribution(bushing.stiffness_triplets(model.coordinates, model.bushings))
+
+
+def point_mass_contribution(model, gravity_direction) -> Contribution:
+    """The point masses of a frame model: their weight."""
+    weight = loads.point_mass_gravity(model.point_masses, np.asarray(gravity_direction, dtype=float), model.n_dofs)
+    return Contribution(loads={"gravity": _dense(weight)})
+
+
+def constraint_contribution(model) -> Contribution:
+    """The rigid links and fixed DOFs of a frame model."""
+    return Contribution(equations=rigid_link_equations(model.coordinates, model.rigid_links),
+                        fixed_dofs=np.asarray(model.fixed_dofs, dtype=int))
+
+
+def frame_contributions(model, gravity_direction) -> list[Contribution]:
+    """Every piece of a frame model, in assembly order: beams, bushings, point masses, constraints."""
+    return [beam_contribution(model, gravity_direction), bushing_contribution(model),
+            point_mass_contribution(model, gravity_direction), constraint_contribution(model)]
+
+
+def solid_contribution(basis, youngs_modulus_pa: float, poisson: float, density_kg_m3: float, dof_offset: int,
+                       gravity_direction) -> Contribution:
+    """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
+    weight = solid.body_force_vector(basis, density_kg_m3, np.asarray(gravity_direction, dtype=float))
+    return Contribution(solid.stiffness_triplets(basis, youngs_modulus_pa, poisson, dof_offset=dof_offset),
+                        {"gravity": _dense(weight, dof_offset)})
+
+
+def tie_contribution(equations: Mapping[int, Mapping[int, float]]) -> Contribution:
+    """A tie between a reference node and a solid face (:mod:`rvcoax.fem.ties` gives its rows)."""
+    return Contribution(equations=equations)
