@@ -31,7 +31,7 @@ import numpy as np
 
 from rvcoax.fem import bushing
 from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.model.beam import stress_free_motions
+from rvcoax.geometry.model.beam import SpringId, stress_free_motions
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
 from rvcoax.results.sweep import Sweep
 
@@ -59,7 +59,7 @@ class ConnectionStates:
         Force (N) and moment about the spring point (N·m) that the spring exerts on side b.
     """
 
-    names: tuple[str, ...]
+    names: tuple[SpringId, ...]
     point_m: np.ndarray
     deformation: np.ndarray
     force_on_b: np.ndarray
@@ -67,7 +67,7 @@ class ConnectionStates:
     def index(self, kind: str, name: str) -> int:
         """Row of the spring ``name`` of ``kind`` (bearing, mount, coupling, joint)."""
         try:
-            return self.names.index(f"{kind}:{name}")
+            return self.names.index(SpringId(kind, name))
         except ValueError:
             raise KeyError(f"no {kind} named '{name}'") from None
 

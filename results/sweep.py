@@ -26,7 +26,7 @@ from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
 from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
-from rvcoax.geometry.model.beam import RigModel
+from rvcoax.geometry.model.beam import RigModel, SpringId
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
@@ -295,7 +295,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     ``unit_displacements`` None; ``case_displacements`` holds each case's displacement as measured.
     """
     frame = system.frame.structure
-    names = [f"bearing:{b.name}" for b in rig.bearings if b.radial_clearance_um > 0]
+    names = [SpringId("bearing", b.name) for b in rig.bearings if b.radial_clearance_um > 0]
     rows = [system.frame.bushing_names.index(name) for name in names]
     operator = bushing.radial_operator(frame.coordinates, frame.bushings, rows, system.n_dofs)
     stiffness = frame.bushings.stiffness[rows, 1]
@@ -345,7 +345,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
             progress(i + 1, len(cases))
     summary = dict(report)
     summary.update({"nonlinear": "bearing clearance, active-set Newton on the condensed radial motions",
-                    "gapped_bearings": [name.removeprefix("bearing:") for name in names],
+                    "gapped_bearings": [spring.name for spring in names],
                     "newton_iterations_max": int(max(iterations))})
     return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))

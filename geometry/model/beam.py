@@ -9,6 +9,7 @@ by the springs the rig file declares.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
+__all__ = ["SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
            "build_rig_model", "prestrain_load_vector", "stress_free_motions"]
 
 MM = 1e-3
@@ -33,6 +34,16 @@ UM = 1e-6
 MRAD = 1e-3
 
 
+class SpringId(NamedTuple):
+    """Which rig item a spring of the frame model is: its kind (bearing, mount, coupling, joint) and its name."""
+
+    kind: str
+    name: str
+
+    def __str__(self) -> str:
+        return f"{self.kind}:{self.name}"
+
+
 @dataclass(frozen=True, eq=False)
 class RigModel:
     """A rig's beam model and the maps from rig names to model entities.
@@ -43,7 +54,7 @@ class RigModel:
     structure : StructuralModel
     node_part : (n,) array of str
     node_x_mm : (n,) array
-    bushing_names : tuple of str
+    bushing_names : tuple of SpringId
         ``"<kind>:<name>"`` of each bushing row (bearing, mount, coupling, joint).
     part_mass_kg : dict
         Mass of each part as modelled (beams plus the coupling hubs it carries).
@@ -55,7 +66,7 @@ class RigModel:
     structure: StructuralModel
     node_part: np.ndarray
     node_x_mm: np.ndarray
-    bushing_names: tuple[str, ...]
+    bushing_names: tuple[SpringId, ...]
     part_mass_kg: dict
     equivalent_density: dict
 
@@ -197,28 +208,28 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     )
 
     rows: list[tuple[int, int, float, list[float]]] = []  # node_a, node_b, point x (mm), stiffness
-    names: list[str] = []
+    names: list[SpringId] = []
     for b in rig.bearings:
         radial = b.radial_stiffness_N_per_um * N_PER_UM
         k = [b.axial_stiffness_N_per_um * N_PER_UM, radial, radial, 0.0,
              b.tilt_stiffness_Nm_per_rad, b.tilt_stiffness_Nm_per_rad]
         a = GROUND if b.housing == "ground" else node(b.housing, b.x_mm)
         rows.append((a, node(b.shaft, b.x_mm), b.x_mm, k))
-        names.append(f"bearing:{b.name}")
+        names.append(SpringId("bearing", b.name))
     for m in rig.mounts:
         k = [v * N_PER_UM for v in m.translational_stiffness_N_per_um] + list(m.rotational_stiffness_Nm_per_rad)
         rows.append((GROUND, node(m.part, m.x_mm), m.x_mm, k))
-        names.append(f"mount:{m.name}")
+        names.append(SpringId("mount", m.name))
     for c in rig.couplings:
         radial = c.radial_stiffness_N_per_mm * N_PER_MM
         k = [c.axial_stiffness_N_per_mm * N_PER_MM, radial, radial, c.torsional_stiffness_Nm_per_rad,
              c.angular_stiffness_Nm_per_rad, c.angular_stiffness_Nm_per_rad]
         rows.append((node(c.from_.part, c.from_.x_mm), node(c.to.part, c.to.x_mm), c.centre_x_mm, k))
-        names.append(f"coupling:{c.name}")
+        names.append(SpringId("coupling", c.name))
     for j in rig.joints:
         k = [v * N_PER_UM for v in j.translational_stiffness_N_per_um] + list(j.rotational_stiffness_Nm_per_rad)
         rows.append((node(j.from_.part, j.from_.x_mm), node(j.to.part, j.to.x_mm), j.to.x_mm, k))
-        names.append(f"joint:{j.name}")
+        names.append(SpringId("joint", j.name))
     points = np.zeros((len(rows), 3))
     points[:, 0] = [r[2] * MM for r in rows]
     bushings = Bushings(

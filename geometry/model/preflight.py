@@ -73,9 +73,8 @@ def _non_finite_parts(structure) -> list[str]:
     return list(dict.fromkeys(str(groups[n]) for n in nodes))
 
 
-def _spring_label(name: str) -> str:
-    kind, _, label = name.partition(":")
-    return f"{SPRING_KINDS.get(kind, kind)} '{label}'"
+def _spring_label(spring) -> str:
+    return f"{SPRING_KINDS.get(spring.kind, spring.kind)} '{spring.name}'"
 
 
 def _spring_parts(frame) -> list[set[str]]:
@@ -209,15 +208,14 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
         return []
     groups = np.asarray(structure.node_group)
     touched = _spring_parts(frame)
-    kinds = [name.partition(":")[0] for name in frame.bushing_names]
     warnings = []
     for part in dict.fromkeys(groups.tolist()):
         nodes = np.flatnonzero(groups == part)
         sag_mm = float(np.abs(u[DOFS_PER_NODE * nodes[:, None] + np.arange(3)]).max()) * 1e3
-        holders = [(kind, name) for kind, name, parts in zip(kinds, frame.bushing_names, touched) if part in parts]
-        couplings_only = bool(holders) and all(kind == "coupling" for kind, _ in holders)
+        holders = [spring for spring, parts in zip(frame.bushing_names, touched) if part in parts]
+        couplings_only = bool(holders) and all(spring.kind == "coupling" for spring in holders)
         if couplings_only or sag_mm > limit_mm:
-            held = ", ".join(_spring_label(name) for _, name in holders) or "nothing"
+            held = ", ".join(_spring_label(spring) for spring in holders) or "nothing"
             reason = "hangs only on flexible coupling(s)" if couplings_only else "sags far more than a rig part should"
             warnings.append(f"part '{part}' {reason} ({held}): it sags {sag_mm:.3g} mm under its own weight; "
                             "check its bearings and mounts")
