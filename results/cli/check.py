@@ -34,7 +34,7 @@ def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -
 
 
 def check(
-    rig: support.RigOption = None,
+    rig_file: support.RigOption = None,
     model: support.ModelOption = "beam",
     out: support.OutOption = None,
     solver: support.SolverOption = "auto",
@@ -53,9 +53,9 @@ def check(
     from rvcoax.results.studies.check_run import CalibrationError, run_check
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig_model = load_rig(rig)
+    rig = load_rig(rig_file)
     rows = paper_table()
-    prepared = support.prepare_with_status(rig_model, settings)
+    prepared = support.prepare_with_status(rig, settings)
     with support.progress_bar() as progress:
         tasks = {}
 
@@ -65,9 +65,9 @@ def check(
             progress.update(tasks[stage], completed=done)
 
         try:
-            run = run_check(rig_model, rows, settings, prepared=prepared, progress=show)
+            run = run_check(rig, rows, settings, prepared=prepared, progress=show)
         except CalibrationError as error:
-            raise support.UserError(f"rig file {support.rig_text(rig)[0]}: {error}") from None
+            raise support.UserError(f"rig file {support.rig_text(rig_file)[0]}: {error}") from None
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
@@ -88,9 +88,9 @@ def check(
     colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
     support.console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
-        source, text = support.rig_text(rig)
+        source, text = support.rig_text(rig_file)
         support.report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
-                                   title=f"{rig_model.rig.name}: {model} model vs paper 000"))
+                                   title=f"{rig.rig.name}: {model} model vs paper 000"))
     raise typer.Exit(code=outcome.exit_code)
 
 

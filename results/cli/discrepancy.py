@@ -85,7 +85,7 @@ def register(app: typer.Typer) -> None:
         measured: Annotated[Path, typer.Option("--measured", help="Measured data CSV: table (T1_input_Nm, T2_output_Nm, "
                                                                   "Y_input_mm, Y_output_mm) or paths (T1_input_Nm, "
                                                                   "T2_output_Nm, shaft, x_mm, uy_mm[, sigma_mm]).")],
-        rig: RigOption = None,
+        rig_file: RigOption = None,
         out: OutOption = None,
         model: ModelOption = "beam",
         hold_out_every: Annotated[int, number_option("--hold-out-every", 0, 1000, integer=True, help="Hold out every "
@@ -118,22 +118,22 @@ def register(app: typer.Typer) -> None:
             data = read_measured(measured)
         except MeasuredDataError as error:
             raise UserError(str(error)) from None
-        rig_model = load_rig(rig)
+        rig = load_rig(rig_file)
         candidates = None
         if effects:
             from rvcoax.geometry.effects import candidate_effects
 
             candidates = tuple(e.strip() for e in effects.split(",") if e.strip())
-            known = {e.name for e in candidate_effects(rig_model)} | {e.kind for e in candidate_effects(rig_model)}
+            known = {e.name for e in candidate_effects(rig)} | {e.kind for e in candidate_effects(rig)}
             unknown = [e for e in candidates if e not in known]
             if unknown:
                 raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
-                                + ", ".join(sorted({e.kind for e in candidate_effects(rig_model)})))
+                                + ", ".join(sorted({e.kind for e in candidate_effects(rig)})))
         from rvcoax.geometry.effects import candidate_effects as library_of
         from rvcoax.geometry.model.workload import REPORT_AFTER_S, check
         from rvcoax.results.studies.discrepancy.workflow import discrepancy_workload
 
-        n_candidates = sum(1 for e in library_of(rig_model)
+        n_candidates = sum(1 for e in library_of(rig)
                            if candidates is None or e.name in candidates or e.kind in candidates)
         workload = check(discrepancy_workload(data, n_candidates), f"measured data {measured}",
                          "thin the stations or load cases (the workflow's time grows with cases × candidates), "
@@ -145,14 +145,14 @@ def register(app: typer.Typer) -> None:
         with progress_bar() as bar:
             task = bar.add_task("solving each candidate effect on the rig", total=None)
             try:
-                result = run_discrepancy(rig_model, data, settings,
+                result = run_discrepancy(rig, data, settings,
                                          progress=lambda i, n: bar.update(task, completed=i, total=n))
             except MeasuredDataError as error:
                 raise UserError(str(error)) from None
-        lengths = {"input": rig_model.paths.input.length_mm, "output": rig_model.paths.output.length_mm}
+        lengths = {"input": rig.paths.input.length_mm, "output": rig.paths.output.length_mm}
         _print_result(result, lengths)
         if out is not None:
-            source, original = rig_text(rig)
+            source, original = rig_text(rig_file)
             written = []
             rig_path = None
             if result.selected:
@@ -170,7 +170,7 @@ def register(app: typer.Typer) -> None:
             written.append(write_json_atomic(out / "discrepancy.json", report.document(
                 result, lengths, None if rig_path is None else str(rig_path), sweep_report.rvcoax_version())))
             written.append(write_csv_atomic(out / "discrepancy_observations.csv", report.observation_rows(result)))
-            written.append(report.plot(result, lengths, out / "discrepancy.png", title=rig_model.rig.name))
+            written.append(report.plot(result, lengths, out / "discrepancy.png", title=rig.rig.name))
             for path in written:
                 console.print(f"wrote {escape(str(path))}")
         raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)

@@ -263,7 +263,7 @@ def _study_outputs(result, analyses: list[Analysis], out: Path, rig_source: str,
 @guard
 def doe_rig(
     study: Annotated[Path | None, typer.Option("--study", help="Study file (TOML). Default: the built-in L27 rig-tolerance study.")] = None,
-    rig: options.RigOption = None,
+    rig_file: options.RigOption = None,
     model: options.ModelOption = "beam",
     out: options.OutOption = Path("rvcoax_out/doe_rig"),
     solver: options.SolverOption = "auto",
@@ -279,12 +279,12 @@ def doe_rig(
     from rvcoax.results.studies.doe.rig_study import StudyError, load_study, run_study
 
     settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig_model = load_rig(rig)
+    rig = load_rig(rig_file)
     try:
         plan = load_study(study)
         with Progress(console=console, transient=True, disable=not console.is_terminal) as progress:
             task = progress.add_task(f"solving the {plan.study.array} runs ({model})", total=None)
-            result = run_study(rig_model, plan, settings,
+            result = run_study(rig, plan, settings,
                                progress=lambda i, n: progress.update(task, completed=i, total=n),
                                source=f"study file {study if study else '<built-in l27_rig_tolerances.toml>'}")
     except StudyError as error:
@@ -298,14 +298,14 @@ def doe_rig(
         analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, "auto", "auto")
         _print_analysis(analysis)
         analyses.append(analysis)
-    options.report_written(_study_outputs(result, analyses, out, str(rig) if rig else "built-in reference_rig.toml", model))
+    options.report_written(_study_outputs(result, analyses, out, str(rig_file) if rig_file else "built-in reference_rig.toml", model))
 
 
 # -- chain-error ---------------------------------------------------------------------------------
 @guard
 def chain_error_command(
     forces: Annotated[Path, typer.Option("--forces", help="CSV of stage forces: component, stage (1-based), force_N.")],
-    rig: options.RigOption = None,
+    rig_file: options.RigOption = None,
     stages: Annotated[Path | None, typer.Option("--stages", help="Stage data file (TOML). Default: the built-in RV-20E stages.")] = None,
     t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
     t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
@@ -333,9 +333,9 @@ def chain_error_command(
 
     if tilt not in ("sweep", "none"):
         raise UserError(f"--tilt must be sweep or none, got '{tilt}'")
-    rig_model = load_rig(rig)
+    rig = load_rig(rig_file)
     try:
-        chain = load_chain_model(rig_model, stages)
+        chain = load_chain_model(rig, stages)
         stage_forces = read_stage_forces(forces, chain)
     except ChainDataError as error:
         raise UserError(str(error)) from None
@@ -343,7 +343,7 @@ def chain_error_command(
     if tilt == "sweep":
         from rvcoax.results.sweep import run_sweep
 
-        sweep = run_sweep(rig_model, (LoadCase(t1, t2),), sweep_settings(model))
+        sweep = run_sweep(rig, (LoadCase(t1, t2),), sweep_settings(model))
         overrides = {"input": a_input_mm, "output": a_output_mm}
         try:
             shafts = {s: Coaxiality(p.beta_deg, p.y_max_mm if overrides[s] is None else overrides[s])
@@ -351,7 +351,7 @@ def chain_error_command(
         except ValueError as error:
             raise UserError(f"--a-input-mm/--a-output-mm: {error}") from None
         console.print(f"β and a from the {model} model at T1 = {t1:g}, T2 = {t2:g} N·m (Y measured from "
-                      f"{rig_model.paths.measured_from}): " + "; ".join(
+                      f"{rig.paths.measured_from}): " + "; ".join(
                           f"{s} β = {c.beta_deg:.4g}°, a = {c.offset_mm:.4g} mm" for s, c in shafts.items()))
     result = chain_error(chain, stage_forces, shafts["input"], shafts["output"])
     table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",

@@ -126,7 +126,7 @@ def register(app: typer.Typer) -> None:
                                             "(dynamics.adm, an ADAMS/Solver dataset fragment) or ross (ROSS rotors "
                                             "of the measured shafts, misalignment fault parameters, static check; "
                                             "needs the rvcoax\\[ross] extra).")] = "json",
-        rig: support.RigOption = None,
+        rig_file: support.RigOption = None,
         model: support.ModelOption = "beam",
         out: support.OutOption = Path("rvcoax_out"),
         cases: support.CasesOption = None,
@@ -158,19 +158,19 @@ def register(app: typer.Typer) -> None:
             except RossUnavailableError as error:
                 raise support.UserError(str(error)) from None
         settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-        rig_model = load_rig(rig)
+        rig = load_rig(rig_file)
         load_cases = support.cases_from_options(cases, t1, t2, grid)
         if output_format == "adams":
             _check_adams_cases(load_cases)
-        result = support.run_with_progress(rig_model, load_cases, settings, "solving load cases",
-                                   support.prepare_with_status(rig_model, settings))
+        result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
+                                   support.prepare_with_status(rig, settings))
         try:
             exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
         except ConnectionsUnavailableError as error:
             raise support.UserError(f"rig file {rig or 'built-in reference_rig.toml'}: cannot export: {error}") from None
         support.console.print(_summary(exported))
         if output_format == "json":
-            source, text = support.rig_text(rig)
+            source, text = support.rig_text(rig_file)
             written = [write_json(exported, out / "dynamics.json", source, text)]
         elif output_format == "csv":
             written = write_csv(exported, out)

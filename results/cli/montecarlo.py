@@ -143,7 +143,7 @@ def montecarlo(
     tolerances: TolerancesOption,
     samples: Annotated[int, number_option("--samples", 1, MAX_SAMPLES, integer=True, help="Number of samples (each a solve of every load case).")] = 1000,
     sampling: Annotated[str, typer.Option("--sampling", help="lhs (Latin hypercube, default), sobol (scrambled Sobol', a power of two samples) or random.")] = "lhs",
-    rig: RigOption = None,
+    rig_file: RigOption = None,
     model: ModelOption = "beam",
     mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/montecarlo"),
@@ -166,7 +166,7 @@ def montecarlo(
     if sampling not in SAMPLING_METHODS:
         raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
     check_workers(workers if scheduler == "local" else None)
-    tol, study = _setup(rig, tolerances, model, mesh_size_mm)
+    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
     _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
@@ -176,7 +176,7 @@ def montecarlo(
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume)
     found = report.exceedances(study, tol, records)
-    source, text = rig_text(rig)
+    source, text = rig_text(rig_file)
     document = report.study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
                                      run, nominal)
@@ -221,7 +221,7 @@ def sensitivity(
     tolerances: TolerancesOption,
     samples: Annotated[int, number_option("--samples", 2, MAX_SAMPLES, integer=True, help="sobol: base samples N, a power of two (N (d + 2) solves for d parameters); morris: trajectories r (r (d + 1) solves).")] = 256,
     method: Annotated[str, typer.Option("--method", help="sobol (first-order and total indices, default) or morris (cheaper screening).")] = "sobol",
-    rig: RigOption = None,
+    rig_file: RigOption = None,
     model: ModelOption = "beam",
     mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/sensitivity"),
@@ -253,7 +253,7 @@ def sensitivity(
     if method not in SENSITIVITY_METHODS:
         raise UserError(f"--method: must be sobol or morris, got '{method}'")
     check_workers(workers if scheduler == "local" else None)
-    tol, study = _setup(rig, tolerances, model, mesh_size_mm)
+    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
     d = len(tol.parameters)
     _check_size(design_runs(method, samples, d), tol, study, "--samples",
                 f"{count_text(design_runs(method, samples, d))} solves ({method}: --samples {samples}, {d} parameters)")
@@ -273,7 +273,7 @@ def sensitivity(
         for s, shaft in enumerate(MEASURED_SHAFTS):
             found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, tol.confidence_level) if method == "sobol"
                                  else morris_indices(points, beta[:, c, s], seed, tol.confidence_level))
-    source, text = rig_text(rig)
+    source, text = rig_text(rig_file)
     document = report.study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
                                       "solves": len(values)}, run, nominal)

@@ -14,7 +14,7 @@ __all__ = ["picture", "register"]
 
 
 def picture(
-    rig: support.RigOption = None,
+    rig_file: support.RigOption = None,
     model: support.ModelOption = "beam",
     out: support.OutOption = Path("rvcoax_out"),
     cases: Annotated[Path | None, typer.Option("--cases", help="Load cases file (as for sweep).")] = None,
@@ -32,10 +32,10 @@ def picture(
     from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig_model = load_rig(rig)
+    rig = load_rig(rig_file)
     load_cases = support.cases_from_options(cases, t1, t2, False)
-    result = support.run_with_progress(rig_model, load_cases, settings, "solving load cases",
-                                       support.prepare_with_status(rig_model, settings))
+    result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
+                                       support.prepare_with_status(rig, settings))
     folder = out / "pictures"
     published = paper_table() if cases is None and t1 is None else None
     try:

@@ -22,20 +22,20 @@ rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 
 @rig_app.command("show")
 @guard
-def rig_show(rig: RigOption = None) -> None:
+def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     from rvcoax.geometry.model.beam import build_rig_model
     from rvcoax.geometry.rigfile import load_rig
 
-    rig_model = load_rig(rig)
-    built = build_rig_model(rig_model)
-    parts = Table(title=escape(f"{rig_model.rig.name}: parts (x along the drivetrain, mm)"), title_justify="left")
+    rig = load_rig(rig_file)
+    built = build_rig_model(rig)
+    parts = Table(title=escape(f"{rig.rig.name}: parts (x along the drivetrain, mm)"), title_justify="left")
     for column in ("part", "role", "x from", "x to", "Ø outer mm", "material", "E GPa", "density kg/m³", "mass kg"):
         parts.add_column(column)
-    for p in rig_model.parts:
+    for p in rig.parts:
         lo, hi = p.x_range_mm
         diameters = sorted({s.outer_diameter_mm for s in p.segments})
-        material = rig_model.materials[p.material]
+        material = rig.materials[p.material]
         density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
         add_text_row(parts, p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
                       f"{material.youngs_modulus_MPa / 1e3:g}",
@@ -47,32 +47,32 @@ def rig_show(rig: RigOption = None) -> None:
     springs = Table(title="Supports and connections", title_justify="left")
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)
-    for b in rig_model.bearings:
+    for b in rig.bearings:
         add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}",
                         f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm")
-    for m in rig_model.mounts:
+    for m in rig.mounts:
         add_text_row(springs, "mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
                         f"{list(m.translational_stiffness_N_per_um)} N/µm, {list(m.rotational_stiffness_Nm_per_rad)} N·m/rad")
-    for c in rig_model.couplings:
+    for c in rig.couplings:
         add_text_row(springs, "coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
                         f"radial {c.radial_stiffness_N_per_mm:g} N/mm, angular {c.angular_stiffness_Nm_per_rad:g} N·m/rad, "
                         f"torsional {c.torsional_stiffness_Nm_per_rad:g} N·m/rad; {c.mass_kg:g} kg")
-    for j in rig_model.joints:
+    for j in rig.joints:
         add_text_row(springs, "joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
                         f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
     console.print(springs)
     paths = Table(title="How torque becomes a lateral load", title_justify="left")
     for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
         paths.add_column(column)
-    for t in rig_model.torque_lateral_loads:
+    for t in rig.torque_lateral_loads:
         add_text_row(paths, t.name, t.torque, t.kind, f"{t.on.part} @ {t.on.x_mm:g}", f"{t.force_per_torque_N_per_Nm:.4g}",
                       f"{t.engaged_force_N:.4g}", f"{t.direction_deg:g}")
     console.print(paths)
-    console.print(f"gravity: {'on' if rig_model.gravity.enabled else 'off'}; paper force table applied: "
-                  f"{rig_model.force_table.apply}; Y measured from: {rig_model.paths.measured_from}; paths: input "
-                  f"{rig_model.paths.input.part} {rig_model.paths.input.x_start_mm:g} + {rig_model.paths.input.length_mm:g} mm, "
-                  f"output {rig_model.paths.output.part} {rig_model.paths.output.x_start_mm:g} + "
-                  f"{rig_model.paths.output.length_mm:g} mm")
+    console.print(f"gravity: {'on' if rig.gravity.enabled else 'off'}; paper force table applied: "
+                  f"{rig.force_table.apply}; Y measured from: {rig.paths.measured_from}; paths: input "
+                  f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
+                  f"output {rig.paths.output.part} {rig.paths.output.x_start_mm:g} + "
+                  f"{rig.paths.output.length_mm:g} mm")
 
 
 @rig_app.command("reference")

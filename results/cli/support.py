@@ -253,7 +253,7 @@ def guard(function):
             with output_folder_lock(out):  # one command at a time per output folder
                 return function(*args, **kwargs)
         except RvcoaxError as error:  # every error rvcoax raises on purpose: one paragraph, exit status 2
-            text = error.describe(f"rig file {kwargs.get('rig') or 'built-in reference_rig.toml'}")
+            text = error.describe(f"rig file {kwargs.get('rig_file') or 'built-in reference_rig.toml'}")
             fail(f"{text} (try another --solver)" if isinstance(error, SolverError) else text)
         except OSError as error:  # reading is handled above, so this is writing the results (--out)
             fail(write_error_text(error))

@@ -31,7 +31,7 @@ def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
     return table
 
 
-def _solve_sweep(rig_model, load_cases, settings, text: str, store, resume: bool):
+def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
     """:func:`rvcoax.results.io.durable_sweep.run_durable_sweep` with the resume messages and a progress bar.
 
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
@@ -57,7 +57,7 @@ def _solve_sweep(rig_model, load_cases, settings, text: str, store, resume: bool
         live["bar"].update(live["task"], completed=i)
 
     try:
-        done = run_durable_sweep(rig_model, load_cases, settings, text, store, resume,
+        done = run_durable_sweep(rig, load_cases, settings, text, store, resume,
                                  prepare=support.prepare_with_status, on_plan=plan, progress=progress)
     finally:
         if "bar" in live:
@@ -66,7 +66,7 @@ def _solve_sweep(rig_model, load_cases, settings, text: str, store, resume: bool
 
 
 def sweep(
-    rig: support.RigOption = None,
+    rig_file: support.RigOption = None,
     model: support.ModelOption = "beam",
     out: support.OutOption = Path("rvcoax_out"),
     cases: support.CasesOption = None,
@@ -94,17 +94,17 @@ def sweep(
         raise support.UserError("--fields needs every case's displacement field, which --resume does not keep: "
                         "run without --resume")
     settings = support.sweep_settings(model, method, solver, mesh_size_mm)
-    rig_model = load_rig(rig)
+    rig = load_rig(rig_file)
     load_cases = support.cases_from_options(cases, t1, t2, grid)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
-    source, text = support.rig_text(rig)
-    records, model_section, result = _solve_sweep(rig_model, load_cases, settings, text, CaseStore(out / "cases"),
+    source, text = support.rig_text(rig_file)
+    records, model_section, result = _solve_sweep(rig, load_cases, settings, text, CaseStore(out / "cases"),
                                                   resume)
     if fields:
         support.report_written(_write_fields(out / "fields", result))
-    support.console.print(_sweep_table(rig_model.rig.name, method, [r["row"] for r in records]))
+    support.console.print(_sweep_table(rig.rig.name, method, [r["row"] for r in records]))
     if model_section.get("nonlinear"):
         how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
                f"{', '.join(model_section['gapped_bearings'])})")
@@ -113,8 +113,8 @@ def sweep(
                "T1 = 1 N·m, T2 = 1 N·m)")
     else:
         how = "each case solved directly"
-    support.console.print(f"Y measured from: {rig_model.paths.measured_from}; {how}")
-    header = report.sweep_header(rig_model, model_section, source, text)
+    support.console.print(f"Y measured from: {rig.paths.measured_from}; {how}")
+    header = report.sweep_header(rig, model_section, source, text)
     support.report_written(write_sweep_files(out, "sweep", header, records))
 
 
