@@ -46,9 +46,10 @@ def picture(
     except RenderingUnavailableError as error:
         raise support.UserError(str(error)) from None
     low, high = drawn.colour_limits_um
-    support.console.print(f"wrote {len(drawn.deformed)} pictures to {escape(str(folder))} (colour limits {low:.3g} .. "
-                          f"{high:.3g} µm, last warp factor {drawn.last_warp_factor:.3g}) and "
-                          f"{escape(str(drawn.y_vs_torque))}")
+    support.console.print(f"wrote {len(drawn.deformed)} pictures of the deformed rig to {escape(str(folder))} "
+                          f"(colour limits {low:.3g} .. {high:.3g} µm; one warp factor for every case: "
+                          f"× {drawn.warp_factor:.4g}), {escape(drawn.y_vs_torque.name)} and "
+                          f"{escape(drawn.bending_line.name)}")
 
 
 def register(app: typer.Typer) -> None:

@@ -42,6 +42,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +57,7 @@ BACKGROUND = (255, 255, 255)
 COLOURMAP = "coolwarm"
 ENCLOSING_OPACITY = 0.3
 PATH_COLOURS = ("black", "darkgreen", "purple", "darkorange")
+RULER_END = 0.86  # the ruler and the part labels end here (fraction of the width); the legend is right of it
 
 
 class RenderingUnavailableError(RvcoaxError, RuntimeError):
@@ -368,8 +370,12 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                     paths=None, warp_fraction: float = 0.05, colour_limits_um: tuple[float, float] | None = None,
                     title: str | None = None, window_size: tuple[int, int] = (1600, 600),
                     warp_factor: float | None = None, translucent_parts: Sequence[str] | None = None,
-                    min_radius_fraction: float = 0.002) -> dict:
+                    min_radius_fraction: float = 0.002, bearings_x_mm: Sequence[float] | None = None) -> dict:
     """Draw the deformed rig, coloured by u_y (µm), seen from the side; write a PNG.
+
+    Every part is named under the rig (labels in rows that do not overlap), an x ruler in mm runs
+    under the names with the bearings marked on it, the title sits above the rig and the legend of
+    the paths in the lower right corner, clear of both.
 
     Parameters
     ----------
@@ -393,6 +399,8 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
         Parts drawn translucent; default :func:`enclosing_parts` (housings around shafts).
     min_radius_fraction : float
         Beams thinner than this fraction of the rig length are drawn at that radius.
+    bearings_x_mm : positions, optional
+        Where the bearings sit along x (mm), marked on the ruler.
 
     Returns
     -------
@@ -447,24 +455,33 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                                  show_scalar_bar=first, scalar_bar_args=bar if first else None)
                 first = False
             front = float(deformed[:, 2].max() + 1.5 * radius.max()) if len(radius) else float(deformed[:, 2].max())
+            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=2)
+            labels = _part_labels(mesh, deformed, view)
+            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=1 + max((r for *_, r in labels), default=0))
+            labels = _part_labels(mesh, deformed, view)
             legend = []
             for (label, where, moved), colour in zip(path_lines, PATH_COLOURS * 4):
                 line = where + factor * moved
                 line[:, 2] = front + 0.01 * length
                 plotter.add_mesh(pv.lines_from_points(line), color=colour, line_width=6, render_lines_as_tubes=True)
                 legend.append([label, colour])
+            _draw_ruler(plotter, view, front + 0.02 * length, bearings_x_mm or ())
+            for name, x_mm, row in labels:
+                column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
+                plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
             if legend:
-                plotter.add_legend(legend, bcolor="white", border=True, size=(0.16, 0.1), loc="upper left",
+                plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.01, 0.1),
+                                   loc="lower right",
                                    face="line")
-            plotter.add_text(f"warp factor × {factor:.4g}    largest displacement {largest * 1e6:.4g} µm"
-                             f"    (drawn as {factor * largest / length:.3g} of {length * 1e3:.0f} mm)",
-                             position="lower_left", font_size=11, color="black")
+            plotter.add_text(f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
+                             f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm",
+                             position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
             if title:
-                plotter.add_text(title, position="upper_edge", font_size=14, color="black")
+                plotter.add_text(title, position="upper_edge", font_size=view.title_font, color="black")
             if translucent:
                 plotter.enable_depth_peeling(number_of_peels=6)
             plotter.enable_anti_aliasing("ssaa")
-            _side_view(plotter, _bounds(deformed, radius), window_size)
+            view.apply(plotter)
             temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
             try:
                 plotter.screenshot(str(temporary), return_img=False)
@@ -489,25 +506,134 @@ def _bounds(points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndar
     return points.min(axis=0) - pad, points.max(axis=0) + pad
 
 
-def _side_view(plotter, bounds, window_size, width_fraction: float = 0.86, height_fraction: float = 0.78,
-               centre_height: float = 0.5) -> None:
-    """Parallel projection looking along −z with y up, the model filling the part of the window
-    left of the scalar bar and between the title and the bottom line of text."""
-    low, high = bounds
-    centre = 0.5 * (low + high)
-    width, height, depth = np.maximum(high - low, 1e-12)
-    aspect = window_size[0] / window_size[1]
-    scale = 1.03 * max(height / (2 * height_fraction), width / (2 * width_fraction * aspect))
-    focal = centre.copy()
-    focal[0] += (0.5 - width_fraction / 2) * 2 * scale * aspect
-    focal[1] += (0.5 - centre_height) * 2 * scale
-    camera = plotter.camera
-    camera.focal_point = tuple(focal)
-    camera.position = (focal[0], focal[1], focal[2] + 10 * max(depth, width, height))
-    camera.up = (0.0, 1.0, 0.0)
-    camera.parallel_projection = True
-    camera.parallel_scale = scale
-    plotter.renderer.ResetCameraClippingRange()
+@dataclass(frozen=True)
+class _RigView:
+    """A parallel side view (looking along −z, y up) laid out in pixel bands, top to bottom: the title,
+    the rig, the rows of part labels, the x ruler with the bearing marks, the line with the warp factor.
+    World (m) and pixel positions map linearly: ``pixel = centre + (world − focal) / metres_per_pixel``."""
+
+    window: tuple[int, int]
+    focal: tuple[float, float, float]
+    metres_per_pixel: float
+    depth: float
+    band: float  # height of one text band, pixels
+    rig_bottom_px: float  # pixel row (from the bottom) of the rig's lowest point
+
+    @classmethod
+    def fit(cls, bounds, window_size, label_rows: int, width_fraction: float = 0.86) -> _RigView:
+        low, high = bounds
+        width_px, height_px = (int(v) for v in window_size)
+        band = max(11.0, height_px / 30.0)
+        top = 2.2 * band  # the title
+        bottom = (label_rows + 3.9) * band  # the labels, the ruler (ticks, numbers) and the warp line
+        usable = max(height_px - top - bottom, 0.25 * height_px)
+        size = np.maximum(high - low, 1e-12)
+        per_px = 1.03 * max(size[0] / (width_fraction * width_px), size[1] / usable)
+        centre = 0.5 * (low + high)
+        rig_centre_px = bottom + 0.5 * usable
+        focal = (float(centre[0] + (0.5 - 0.5 * width_fraction) * width_px * per_px),
+                 float(centre[1] + (0.5 * height_px - rig_centre_px) * per_px), float(centre[2]))
+        rig_bottom = 0.5 * height_px + (low[1] - focal[1]) / per_px
+        return cls((width_px, height_px), focal, float(per_px), float(max(size)), band, float(rig_bottom))
+
+    @property
+    def small_font(self) -> int:
+        """VTK's font size for labels: its capitals are about 1.45 × the size high (pixels)."""
+        return max(6, int(round(0.55 * self.band)))
+
+    @property
+    def title_font(self) -> int:
+        return max(8, int(round(0.75 * self.band)))
+
+    def pixel_x(self, x_m: float) -> float:
+        return 0.5 * self.window[0] + (x_m - self.focal[0]) / self.metres_per_pixel
+
+    def world_y(self, pixel_row: float) -> float:
+        return self.focal[1] + (pixel_row - 0.5 * self.window[1]) * self.metres_per_pixel
+
+    def text_width_px(self, text: str) -> float:
+        return 1.1 * self.small_font * len(text)  # measured on VTK's default font
+
+    def label_pixel(self, x_m: float, row: int, text: str) -> tuple[float, float]:
+        """Lower-left pixel of a part label centred under ``x_m`` in label row ``row`` (0: just under the rig)."""
+        column = self.pixel_x(x_m) - 0.5 * self.text_width_px(text)
+        column = min(max(column, 2.0), self.window[0] * RULER_END - self.text_width_px(text))
+        return column, self.rig_bottom_px - (row + 1.1) * self.band
+
+    @property
+    def ruler_px(self) -> float:
+        """Pixel row of the ruler line: under the lowest label row."""
+        return 2.9 * self.band
+
+    def apply(self, plotter) -> None:
+        camera = plotter.camera
+        camera.focal_point = self.focal
+        camera.position = (self.focal[0], self.focal[1], self.focal[2] + 10 * self.depth)
+        camera.up = (0.0, 1.0, 0.0)
+        camera.parallel_projection = True
+        camera.parallel_scale = 0.5 * self.window[1] * self.metres_per_pixel
+        plotter.renderer.ResetCameraClippingRange()
+
+
+def _part_labels(mesh: FieldMesh, deformed: np.ndarray, view: _RigView) -> list[tuple[str, float, int]]:
+    """(name, x centre in mm, row) of every part, rows chosen so that no two labels overlap."""
+    from rvcoax.results.io.bending_line import stack_rows
+
+    placed = []
+    for part, name in enumerate(mesh.part_names):
+        points = np.concatenate([mesh.lines[mesh.line_part_id == part].ravel(),
+                                 mesh.tetra10[mesh.tetra_part_id == part].ravel()])
+        if points.size:
+            x = deformed[points, 0]
+            placed.append((name, 0.5 * float(x.min() + x.max()) * 1e3))
+    placed.sort(key=lambda item: item[1])
+    spans = []
+    for name, x_mm in placed:
+        start, _ = view.label_pixel(x_mm * 1e-3, 0, name)
+        spans.append((start, start + view.text_width_px(name)))
+    rows = stack_rows(spans, gap=0.8 * view.small_font)
+    return [(name, x_mm, row) for (name, x_mm), row in zip(placed, rows)]
+
+
+def _nice_step(span: float, ticks: int = 10) -> float:
+    raw = span / ticks
+    power = 10.0 ** np.floor(np.log10(raw))
+    return float(next(m * power for m in (1, 2, 5, 10) if m * power >= raw))
+
+
+def _draw_ruler(plotter, view: _RigView, z: float, bearings_x_mm) -> None:
+    """An x ruler in mm under the labels, with the bearings as red triangles on it."""
+    import pyvista as pv
+
+    per_px = view.metres_per_pixel
+    left = view.focal[0] - 0.5 * view.window[0] * per_px
+    right = view.focal[0] + (RULER_END - 0.5) * view.window[0] * per_px
+    step = _nice_step((right - left) * 1e3) * 1e-3
+    y = view.world_y(view.ruler_px)
+    ticks = np.arange(np.ceil(left / step) * step, right, step)
+    points = [(left, y, z), (right, y, z)]
+    for x in ticks:
+        points += [(x, y, z), (x, y - 0.35 * view.band * per_px, z)]
+    segments = np.asarray(points, float)
+    cells = np.hstack([[2, i, i + 1] for i in range(0, len(segments), 2)])
+    plotter.add_mesh(pv.PolyData(segments, lines=cells), color="black", line_width=1)
+    for x in ticks:
+        text = f"{x * 1e3:.0f}"
+        column = view.pixel_x(x) - 0.5 * view.text_width_px(text)
+        if column > 2 and column + view.text_width_px(text) < RULER_END * view.window[0]:
+            plotter.add_text(text, position=(column, view.ruler_px - 1.5 * view.band), font_size=view.small_font,
+                             color="black")
+    caption = "ruler: x in mm, red marks: bearings"
+    plotter.add_text(caption, position=(RULER_END * view.window[0] - view.text_width_px(caption), 0.2 * view.band),
+                     font_size=view.small_font, color="black")
+    height = 0.7 * view.band * per_px
+    for x_mm in bearings_x_mm:
+        x = float(x_mm) * 1e-3
+        if not left <= x <= right:
+            continue
+        triangle = pv.PolyData(np.array([(x - 0.4 * height, y, z), (x + 0.4 * height, y, z), (x, y + height, z)]),
+                               faces=[3, 0, 1, 2])
+        plotter.add_mesh(triangle, color="#c8102e")
 
 
 # --------------------------------------------------------------------------------------------

@@ -7,7 +7,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
-from rvcoax.results.io.pictures import enclosing_parts, plot_y_vs_torque, render_deformed, sweep_colour_limits_um
+from rvcoax.results.io.bending_line import plot_bending_line
+from rvcoax.results.io.pictures import (
+    enclosing_parts,
+    mesh_length_m,
+    plot_y_vs_torque,
+    render_deformed,
+    sweep_colour_limits_um,
+    sweep_warp_factor,
+)
 from rvcoax.results.sweep import Sweep
 
 __all__ = ["SweepPictures", "draw_sweep_pictures"]
@@ -25,14 +33,17 @@ class SweepPictures:
         Y of both measured shafts against torque.
     colour_limits_um : (float, float)
         The u_y colour scale shared by every case, µm.
-    last_warp_factor : float
-        The displacement magnification of the last case's picture.
+    warp_factor : float
+        The displacement magnification of every picture (one for the whole sweep, printed on each).
+    bending_line : Path
+        u_y, u_z and the section rotations of every part against x.
     """
 
     deformed: tuple[Path, ...]
     y_vs_torque: Path
     colour_limits_um: tuple[float, float]
-    last_warp_factor: float
+    warp_factor: float
+    bending_line: Path
 
 
 def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.05, published=None,
@@ -44,9 +55,11 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
     sweep : Sweep
         A solved sweep (beam, hybrid or solid).
     folder : Path
-        Where the PNGs go: ``deformed_<model>_<i>.png`` and ``y_vs_torque_<model>.png``.
+        Where the PNGs go: ``deformed_<model>_<i>.png``, ``y_vs_torque_<model>.png`` and
+        ``bending_line_<model>.png``.
     warp_fraction : float
-        The largest displacement is drawn as this fraction of the rig length.
+        The largest displacement of the whole sweep is drawn as this fraction of the rig length; every
+        case uses the same factor, so that a larger torque shows a larger bend.
     published : tuple of PublishedRow, optional
         Published points drawn with Y against torque.
     progress : callable, optional
@@ -63,15 +76,18 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
     field_cases = sweep_field_cases(sweep)
     limits = sweep_colour_limits_um(field_cases)
     housings = enclosing_parts(mesh)
-    written, info = [], {"warp_factor": float("nan")}
+    factor = sweep_warp_factor(field_cases, mesh_length_m(mesh), warp_fraction)
+    bearings = [b.x_mm for b in sweep.rig.bearings]
+    written = []
     for i, case in enumerate(field_cases):
         path = folder / f"deformed_{model}_{i:02d}.png"
-        info = render_deformed(mesh, case, path, paths=paths, warp_fraction=warp_fraction, colour_limits_um=limits,
-                               translucent_parts=housings,
-                               title=f"{name} ({model}): T1 = {case.T1_input_Nm:g} N·m, T2 = {case.T2_output_Nm:g} N·m")
+        render_deformed(mesh, case, path, paths=paths, warp_factor=factor, colour_limits_um=limits,
+                        translucent_parts=housings, bearings_x_mm=bearings,
+                        title=f"{name} ({model}): T1 = {case.T1_input_Nm:g} N·m, T2 = {case.T2_output_Nm:g} N·m")
         written.append(path)
         if progress is not None:
             progress(i + 1, len(field_cases))
     plot = plot_y_vs_torque(sweep, folder / f"y_vs_torque_{model}.png", published=published,
                             title=f"{name} ({model} model)")
-    return SweepPictures(tuple(written), plot, limits, float(info["warp_factor"]))
+    bending = plot_bending_line(sweep, folder / f"bending_line_{model}.png", title=name)
+    return SweepPictures(tuple(written), plot, limits, float(factor), bending)
