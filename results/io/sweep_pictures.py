@@ -1,4 +1,5 @@
-"""The pictures of a sweep: the deformed rig per case (one colour scale for the whole sweep) and Y against torque."""
+"""The pictures of a sweep: the deformed rig per case (one colour scale and one warp factor for the whole sweep),
+Y against torque, and the bending line of the whole rig."""
 
 from __future__ import annotations
 
@@ -6,8 +7,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
 from rvcoax.results.io.bending_line import plot_bending_line
+from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
 from rvcoax.results.io.pictures import (
     enclosing_parts,
     mesh_length_m,

@@ -144,3 +144,56 @@ def test_y_vs_torque_plot(tmp_path, sweep):
     two = plot_y_vs_torque({"blind": sweep, "as arrays": rows}, tmp_path / "two.png", path_lengths_mm=(120, 160))
     _assert_not_blank(two, Image.open(two).size, min_fraction=0.01)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["two.png", "y.png"]
+
+
+def test_bending_line_reads_the_measured_shafts_as_the_sweep_does(sweep):
+    """The bending line of the measured shafts is the sweep's own u_y and section rotation along the paths
+    (same nodes, same reference), so the picture shows what Y and β are computed from."""
+    from rvcoax.results.io.bending_line import bending_lines
+
+    lines = {line.part: line for line in bending_lines(sweep)}
+    assert list(lines) == [p.name for p in sweep.rig.parts]
+    for shaft in ("input", "output"):
+        path = getattr(sweep.rig.paths, shaft)
+        line = lines[path.part]
+        for i, case in enumerate(sweep.cases):
+            result = case.paths[shaft]
+            x = path.x_start_mm + result.station_mm
+            for drawn, read in ((line.u_y_um[i], result.uy_mm * 1e3), (line.rotation_z_urad[i], result.rotation_z_rad * 1e6)):
+                on_path = np.interp(x, line.x_mm, drawn)
+                np.testing.assert_allclose(on_path, read, rtol=1e-9, atol=1e-9 * np.abs(read).max())
+        assert np.abs(line.u_z_um).max() < 1e-6 * np.abs(line.u_y_um).max()  # the reference rig loads only in x–y
+
+
+def test_label_rows_never_overlap():
+    from rvcoax.results.io.bending_line import stack_rows
+
+    spans = [(0, 10), (5, 12), (11, 20), (12.5, 30), (0, 3)]
+    rows = stack_rows(spans, gap=0.5)
+    for a in range(len(spans)):
+        for b in range(a + 1, len(spans)):
+            if rows[a] == rows[b]:
+                (s0, e0), (s1, e1) = sorted((spans[a], spans[b]))
+                assert s1 >= e0 + 0.5
+    assert rows == [0, 1, 0, 1, 2]
+
+
+def test_sweep_pictures_use_one_warp_factor_and_draw_the_bending_line(sweep, tmp_path):
+    from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
+    from rvcoax.results.io.pictures import mesh_length_m, sweep_warp_factor
+    from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
+
+    drawn = draw_sweep_pictures(sweep, tmp_path)
+    mesh, _ = sweep_field_mesh(sweep)
+    assert drawn.warp_factor == pytest.approx(sweep_warp_factor(sweep_field_cases(sweep), mesh_length_m(mesh)))
+    assert len(drawn.deformed) == len(sweep.cases)
+    for path in (*drawn.deformed, drawn.y_vs_torque, drawn.bending_line):
+        _assert_not_blank(path, Image.open(path).size, min_fraction=0.01)
+    # the title band (top) and the legend corner (lower right) are apart: no pixel of the legend's box
+    # lies in the title's rows
+    pixels = _pixels(drawn.deformed[0])
+    height = pixels.shape[0]
+    title_rows = pixels[: int(0.07 * height)]
+    assert (title_rows < 128).any()  # the title is drawn
+    legend_corner = pixels[int(0.85 * height):, int(0.87 * pixels.shape[1]):]
+    assert (legend_corner < 128).any()  # the legend is in the lower right corner
