@@ -20,7 +20,8 @@ Steps, in the order data flows:
 - model and solve: :data:`MODEL_KINDS`, :func:`assemble_rig`, :class:`SweepSettings`,
   :func:`prepare_model`, :func:`run_sweep`
 - files and pictures: :func:`write_sweep`, :func:`run_durable_sweep`, :func:`write_check`,
-  :func:`draw_sweep_pictures`, :func:`plot_y_vs_torque`, :func:`render_deformed`
+  :func:`draw_sweep_pictures`, :func:`plot_y_vs_torque`, :func:`render_deformed`,
+  :func:`plot_bending_line`, :func:`write_report`
 - studies: :func:`run_check`, :func:`calibrate`, :func:`read_measured`, :func:`run_discrepancy`
 - errors: :class:`RvcoaxError`, the base of every error raised on purpose
 
@@ -58,6 +59,8 @@ _WHERE = {
     "run_durable_sweep": "rvcoax.results.io.durable_sweep",
     "write_check": "rvcoax.results.io.result_files",
     "plot_y_vs_torque": "rvcoax.results.io.pictures",
+    "plot_bending_line": "rvcoax.results.io.bending_line",
+    "write_report": "rvcoax.results.io.report",
     "render_deformed": "rvcoax.results.io.pictures",
     "draw_sweep_pictures": "rvcoax.results.io.sweep_pictures",
     "CheckRun": "rvcoax.results.studies.check_run",

@@ -38,6 +38,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "chain-error": ("doe", "Paper 000's transmission-chain error vector: θ11, θ22, θ44, θ55 and θ_total = θ22 − θ11 − "
                            "θ44 − θ55 (°), with the coaxiality terms (tilt β and radial offset a of the input and "
                            "output shafts) from a sweep of the rig."),
+    "report": ("report", "Write OUT/report.html: one self-contained HTML file for a design review (pictures "
+                         "embedded, no network needed to open it)."),
     "rig": ("rig", "Inspect rig files."),
     "doe": ("doe", "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order "
                    "regression of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β "

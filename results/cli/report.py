@@ -1,0 +1,63 @@
+"""``rvcoax report``: one self-contained HTML report of a study (and optionally its PDF)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+
+from rvcoax.results.cli import support
+
+__all__ = ["register", "report"]
+
+
+def report(
+    rig_file: support.RigOption = None,
+    model: support.ModelOption = "beam",
+    out: support.OutOption = Path("rvcoax_out"),
+    cases: support.CasesOption = None,
+    t1: support.T1Option = None,
+    t2: support.T2Option = None,
+    grid: support.GridOption = False,
+    measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to check the model against: a table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or a paths file (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm).")] = None,
+    discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
+    pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
+    deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
+    solver: support.SolverOption = "auto",
+    mesh_size_mm: support.MeshOption = None,
+) -> None:
+    """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
+    network needed to open it).
+
+    Sections: the rig with masses and the rig file's provenance tags, the load cases, the bending lines,
+    Y and tilt against torque, the coupling and bearing misalignment with verdicts, the support
+    reactions, the check against --measured, the --discrepancy result, and the provenance (version,
+    rig file SHA-256, model, solver, mesh, date).
+    """
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.results.io.report import write_report
+    from rvcoax.results.io.report_pdf import print_pdf
+    from rvcoax.results.studies.discrepancy.measured import read_measured
+
+    settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
+    rig = load_rig(rig_file)
+    load_cases = support.cases_from_options(cases, t1, t2, grid)
+    data = read_measured(measured) if measured is not None else None  # a bad file fails before the solve
+    source, text = support.rig_text(rig_file)
+    result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
+                                       support.prepare_with_status(rig, settings))
+    with support.console.status("drawing the pictures and writing the report"):
+        written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
+                                discrepancy=discrepancy, deformed_view=deformed)]
+    if pdf:
+        with support.console.status("printing the report to PDF with headless Chromium"):
+            written.append(print_pdf(written[0], out / "report.pdf"))
+    support.console.print(f"report of {len(load_cases)} load cases on {escape(rig.rig.name)}")
+    support.report_written(written)
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``report`` to ``app``."""
+    app.command()(support.guard(report))

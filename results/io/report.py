@@ -1,0 +1,327 @@
+"""The study report: one self-contained HTML file for a design review.
+
+Everything is inside the file: pictures as ``data:image/png;base64`` URIs, the style sheet inline, no
+script and no link to the network, so it opens anywhere (a browser, an e-mail attachment) and prints
+to PDF (``chromium --headless --print-to-pdf``). Sections, each an ``<section id=…>``:
+
+``rig``            parts with masses, bearings, couplings and materials, with the rig file's provenance tags
+``load-cases``     the torque pairs solved
+``bending-lines``  the bending line of the whole rig, and the deformed rig of the largest case
+``shafts``         Y and tilt of the measured shafts against torque (pictures and table)
+``misalignment``   couplings and bearings against their allowable values, with verdicts
+``reactions``      the support reactions and the equilibrium residual
+``check``          the model against a measured table (when one is given)
+``discrepancy``    the result of ``rvcoax discrepancy`` (when its ``discrepancy.json`` is given)
+``provenance``     rvcoax version, rig file and its SHA-256, model, solver, mesh, date
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime as _dt
+import html
+import json
+import math
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.io import report_tables as tables
+from rvcoax.results.io.writers import write_text_atomic
+
+__all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "report_html", "write_report"]
+
+REPORT_SECTIONS = {
+    "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
+    "shafts": "Y and tilt against torque", "misalignment": "Couplings and bearings: misalignment",
+    "reactions": "Support reactions and equilibrium", "check": "Check against measured data",
+    "discrepancy": "Discrepancy between model and measurement", "provenance": "Provenance",
+}
+
+_STYLE = """
+body { font: 14px/1.45 "DejaVu Sans", Helvetica, Arial, sans-serif; color: #1a1a1a; margin: 0 auto;
+       max-width: 1200px; padding: 0 24px 48px; background: #fff; }
+h1 { font-size: 24px; margin: 28px 0 4px; }
+h2 { font-size: 19px; border-bottom: 2px solid #4c72b0; padding-bottom: 3px; margin-top: 34px; }
+h3 { font-size: 15px; margin: 18px 0 6px; }
+p.sub { color: #555; margin-top: 0; }
+nav { background: #f3f5f9; padding: 8px 12px; border-radius: 4px; display: flex; flex-wrap: wrap; gap: 4px 14px; }
+nav a { color: #2a4f8f; text-decoration: none; white-space: nowrap; }
+table { border-collapse: collapse; margin: 6px 0 4px; font-size: 12.5px; }
+caption { text-align: left; font-weight: bold; padding: 4px 0; }
+th, td { border: 1px solid #cfd4dc; padding: 3px 7px; vertical-align: top; }
+th { background: #eef1f6; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.fine { background: #e3f4e1; } td.within { background: #fbf3d5; } td.exceeds { background: #f8d7d7;
+  font-weight: bold; } td.none { color: #666; }
+p.note { color: #444; font-size: 12.5px; margin: 2px 0 14px; max-width: 1100px; }
+img { max-width: 100%; border: 1px solid #e2e2e2; margin: 6px 0; }
+.missing { color: #8a5a00; background: #fff6e0; padding: 6px 10px; border-left: 3px solid #e0a000; }
+dl { display: grid; grid-template-columns: max-content auto; gap: 2px 16px; }
+dt { font-weight: bold; } dd { margin: 0; font-family: "DejaVu Sans Mono", monospace; font-size: 12.5px; }
+@media print { nav { display: none; } section { page-break-inside: avoid; } }
+"""
+
+
+class ReportError(RvcoaxError, ValueError):
+    """A report input that cannot be used (the message names the file and the reason)."""
+
+
+@dataclass(frozen=True)
+class ReportInputs:
+    """What a report is made of besides the sweep.
+
+    Attributes
+    ----------
+    rig_source, rig_text : str
+        The rig file's name and text (for the provenance tags and the hash).
+    measured : MeasuredData, optional
+        Measured Y (table or paths schema) to check the model against.
+    discrepancy : dict, optional
+        The document of ``rvcoax discrepancy`` (``discrepancy.json``), with ``discrepancy_source``.
+    """
+
+    rig_source: str
+    rig_text: str
+    measured: object | None = None
+    discrepancy: dict | None = None
+    discrepancy_source: str = ""
+
+
+def _png_uri(path: Path) -> str:
+    return "data:image/png;base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+def _table_html(table: tables.Table) -> str:
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in table.columns)
+    body = []
+    for row in table.rows:
+        cells = []
+        for k, cell in enumerate(row):
+            classes = []
+            if k == table.verdict_column:
+                classes.append({"fine": "fine", "within": "within", "EXCEEDS": "exceeds"}.get(cell.split(" ")[0],
+                                                                                             "none"))
+            elif _numeric(cell):
+                classes.append("num")
+            attr = f' class="{" ".join(classes)}"' if classes else ""
+            cells.append(f"<td{attr}>{html.escape(cell)}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    note = f'<p class="note">{html.escape(table.note)}</p>' if table.note else ""
+    return (f"<table><caption>{html.escape(table.caption)}</caption><thead><tr>{head}</tr></thead>"
+            f"<tbody>{''.join(body)}</tbody></table>{note}")
+
+
+def _numeric(text: str) -> bool:
+    try:
+        float(text.replace("%", "").replace("+", ""))
+        return True
+    except ValueError:
+        return text == "–"
+
+
+def _section(key: str, body: str) -> str:
+    return f'<section id="{key}"><h2>{html.escape(REPORT_SECTIONS[key])}</h2>\n{body}\n</section>'
+
+
+def _missing(text: str) -> str:
+    return f'<p class="missing">{html.escape(text)}</p>'
+
+
+def _tilt_figure(sweep, path: Path) -> Path:
+    """β (paper 000) and the true tilt of both measured shafts against their torque, µrad."""
+    from matplotlib.figure import Figure
+
+    from rvcoax.results.io.writers import write_png_atomic
+
+    figure = Figure(figsize=(12, 4.2), dpi=110, layout="constrained")
+    axes = figure.subplots(1, 2)
+    for axis, shaft, key, label in ((axes[0], "input", "input_torque_Nm", "T1 (input torque) [N·m]"),
+                                    (axes[1], "output", "output_torque_Nm", "T2 (output torque) [N·m]")):
+        torque = np.array([getattr(c.case, key) for c in sweep.cases])
+        order = np.argsort(torque, kind="stable")
+        beta = np.array([c.paths[shaft].beta_deg for c in sweep.cases]) * math.pi / 180 * 1e6
+        tilt = np.array([c.paths[shaft].fitted_tilt_deg for c in sweep.cases]) * math.pi / 180 * 1e6
+        axis.plot(torque[order], beta[order], "o-", ms=3, label="β = arcsin(Y_max / L) (paper 000)")
+        axis.plot(torque[order], tilt[order], "s-", ms=3, label="true tilt (least-squares slope)")
+        axis.axhline(0.0, color="black", lw=0.6)
+        axis.set_xlabel(label)
+        axis.set_ylabel(f"{shaft} shaft [µrad]")
+        axis.grid(True, alpha=0.3)
+        axis.legend(fontsize=8, loc="best")
+    figure.suptitle("tilt of the measured shafts against torque")
+    return write_png_atomic(path, figure)
+
+
+def _pictures(sweep, folder: Path, deformed_view: bool) -> tuple[dict[str, Path], str]:
+    from rvcoax.results.io.bending_line import plot_bending_line
+    from rvcoax.results.io.pictures import plot_y_vs_torque
+
+    name = sweep.rig.rig.name
+    drawn = {"bending": plot_bending_line(sweep, folder / "bending_line.png", title=name),
+             "y": plot_y_vs_torque(sweep, folder / "y_vs_torque.png", title=name),
+             "tilt": _tilt_figure(sweep, folder / "tilt.png")}
+    note = ""
+    if deformed_view:
+        from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
+        from rvcoax.results.io.pictures import RenderingUnavailableError, render_deformed
+
+        mesh, paths = sweep_field_mesh(sweep)
+        cases = sweep_field_cases(sweep)
+        largest = max(range(len(cases)), key=lambda i: float(np.abs(cases[i].displacement_m).max()))
+        case = cases[largest]
+        try:
+            info = render_deformed(mesh, case, folder / "deformed.png", paths=paths,
+                                   bearings_x_mm=[b.x_mm for b in sweep.rig.bearings],
+                                   title=f"{name}: T1 = {case.T1_input_Nm:g} N·m, T2 = {case.T2_output_Nm:g} N·m")
+            drawn["deformed"] = info["path"]
+        except RenderingUnavailableError as error:
+            note = f"The deformed view was not drawn: {error}"
+    return drawn, note
+
+
+def _discrepancy_html(document: dict, source: str) -> str:
+    rows = []
+    for key in ("verdict", "summary", "headline"):
+        if isinstance(document.get(key), str):
+            rows.append((key, document[key]))
+    measured = document.get("measured") or {}
+    if isinstance(measured, dict) and measured:
+        rows.append(("measured data", f"{measured.get('source', '?')} ({measured.get('schema', '?')} schema, "
+                                      f"{measured.get('observations', '?')} values in {measured.get('cases', '?')} "
+                                      "cases)"))
+    for key, label in (("rms_before_mm", "RMS gap before"), ("rms_after_mm", "RMS gap after")):
+        value = document.get(key)
+        if isinstance(value, int | float):
+            rows.append((label, f"{value * 1e3:.4g} µm"))
+    parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
+    selected = document.get("selected") or []
+    if selected:
+        effect_rows = tuple((str(s.get("effect", "?")),
+                             "; ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
+                                       for k, v in (s.get("parameters") or {}).items()),
+                             ", ".join(map(str, s.get("group") or [])))
+                            for s in selected if isinstance(s, dict))
+        parts.append(_table_html(tables.Table("Effects added to the model", ("effect", "parameters",
+                                                                            "indistinguishable from"), effect_rows)))
+    else:
+        parts.append("<p>No effect was added to the model.</p>")
+    parts.append(f'<p class="note">From {html.escape(source)} (rvcoax {html.escape(str(document.get("rvcoax_version", "?")))}).</p>')
+    return "\n".join(parts)
+
+
+def read_discrepancy(path: str | Path) -> dict:
+    """The document of a ``discrepancy.json``; :class:`ReportError` names the file when it is not one."""
+    path = Path(path)
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise ReportError(f"discrepancy result {path}: cannot be read ({error.strerror or error})") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise ReportError(f"discrepancy result {path}: not a JSON file ({error})") from None
+    if not isinstance(document, dict) or "verdict" not in document:
+        raise ReportError(f"discrepancy result {path}: has no 'verdict' key; give the discrepancy.json written by "
+                          "rvcoax discrepancy --out")
+    return document
+
+
+def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:
+    from rvcoax.results.io.records import model_section, rvcoax_version, text_sha256
+
+    model = model_section(sweep)
+    mesh = {k: v for k, v in model.items() if "mesh" in k or k in ("solid_parts",)}
+    items = [("rvcoax version", rvcoax_version()), ("rig", sweep.rig.rig.name),
+             ("rig file", inputs.rig_source), ("rig file SHA-256", text_sha256(inputs.rig_text)),
+             ("model", sweep.settings.model), ("solver", sweep.solver or sweep.settings.solver),
+             ("unknowns (DOF)", str(sweep.n_dofs)),
+             ("mesh", json.dumps(mesh, ensure_ascii=False)),
+             ("Y measured from", sweep.rig.paths.measured_from.replace("_", " ")),
+             ("created", created)]
+    return "<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in items) + "</dl>"
+
+
+def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None) -> str:
+    """The report of ``sweep`` as one self-contained HTML document (see the module's docstring)."""
+    created = created or _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    with tempfile.TemporaryDirectory(prefix="rvcoax-report-") as folder:
+        pictures, picture_note = _pictures(sweep, Path(folder), deformed_view)
+        uris = {key: _png_uri(path) for key, path in pictures.items()}
+    rig = sweep.rig
+    body = []
+    body.append(_section("rig", "".join(_table_html(t) for t in tables.rig_tables(sweep, inputs.rig_text))
+                         + '<p class="note">Provenance tags of the rig file: '
+                         + "; ".join(f"[{k}] {v}" for k, v in tables.PROVENANCE_TAGS.items())
+                         + ". An untagged value has no stated source.</p>"))
+    body.append(_section("load-cases", _table_html(tables.load_case_table(sweep))))
+    bending = (f'<img alt="bending line of the whole rig" src="{uris["bending"]}">'
+               '<p class="note">u_y, u_z and the section rotations of every part along the rig axis; the strip on '
+               'top names the parts (shafts blue, housings hatched), bearings ▲ and couplings ◆.</p>')
+    if "deformed" in uris:
+        bending += (f'<h3>Deformed rig, largest case</h3><img alt="deformed rig" src="{uris["deformed"]}">')
+    elif picture_note:
+        bending += _missing(picture_note)
+    body.append(_section("bending-lines", bending))
+    body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
+                                   f'<img alt="tilt against torque" src="{uris["tilt"]}">'
+                         + _table_html(tables.shaft_table(sweep))))
+    misalignment = tables.misalignment_tables(sweep)
+    body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
+                         or _missing("The rig has no couplings or bearings.")))
+    body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))
+    if inputs.measured is not None:
+        from rvcoax.results.sweep import run_sweep
+
+        checked = run_sweep(rig, inputs.measured.cases, sweep.settings)
+        body.append(_section("check", _table_html(tables.check_table(inputs.measured, checked))))
+    else:
+        body.append(_section("check", _missing("No measured data given (rvcoax report --measured FILE, a table "
+                                               "T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm or a paths "
+                                               "file): the model is not checked here.")))
+    if inputs.discrepancy is not None:
+        body.append(_section("discrepancy", _discrepancy_html(inputs.discrepancy, inputs.discrepancy_source)))
+    else:
+        body.append(_section("discrepancy", _missing("No discrepancy result given (rvcoax report --discrepancy "
+                                                     "OUT/discrepancy.json, written by rvcoax discrepancy --out).")))
+    body.append(_section("provenance", _provenance_html(sweep, inputs, created)))
+    nav = "".join(f'<a href="#{k}">{html.escape(v)}</a>' for k, v in REPORT_SECTIONS.items())
+    lengths = ", ".join(f"{s} {getattr(rig.paths, s).length_mm:g} mm" for s in MEASURED_SHAFTS)
+    title = html.escape(rig.rig.name)
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>rvcoax report: {title}</title><style>{_STYLE}</style></head><body>\n"
+            f"<h1>rvcoax report: {title}</h1><p class=\"sub\">{html.escape(rig.rig.description)} — "
+            f"{len(sweep.cases)} load cases, {html.escape(sweep.settings.model)} model, measured shafts: "
+            f"{html.escape(lengths)}. Units: µm, µrad, N, N·m unless a heading says otherwise.</p>\n"
+            f"<nav>{nav}</nav>\n" + "\n".join(body) + "\n</body></html>\n")
+
+
+def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
+                 discrepancy: str | Path | dict | None = None, deformed_view: bool = True) -> Path:
+    """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        The solved sweep (its rig, cases, model and solver).
+    rig_source, rig_text : str
+        The rig file's name and text (provenance tags and SHA-256).
+    measured : path or MeasuredData, optional
+        Measured Y (table or paths schema); its cases are solved with the sweep's settings.
+    discrepancy : path or dict, optional
+        A ``discrepancy.json`` of ``rvcoax discrepancy``, or its document.
+    deformed_view : bool
+        Include the rendered deformed rig of the largest case (needs off-screen rendering; when it is
+        unavailable the report says why instead).
+    """
+    from rvcoax.results.studies.discrepancy.measured import read_measured
+
+    data = read_measured(measured) if isinstance(measured, str | Path) else measured
+    source = ""
+    if isinstance(discrepancy, str | Path):
+        source = str(discrepancy)
+        discrepancy = read_discrepancy(discrepancy)
+    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given")
+    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view))
