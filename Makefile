@@ -6,23 +6,35 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= rvcoax_out
 
-.PHONY: run test test-fast lint bench system-deps clean
+.PHONY: run test test-fast lint bench system-deps test-deps clean
 
 # System packages a bare Debian 12 lacks: python3-venv; the shared libraries gmsh loads at run time
 # (libGLU, libGL, X client libraries, OpenMP); EGL + Mesa for off-screen VTK rendering. Only the
 # missing ones are installed, and only when we are root (CI, fresh machines); otherwise a message.
 DEBIAN_PACKAGES := python3-venv libglu1-mesa libgl1 libxcursor1 libxft2 libxinerama1 libgomp1 \
                    libegl1 libegl-mesa0 libgl1-mesa-dri
-system-deps:
-	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+# $(call debian-install,PACKAGES,WHEN-IT-CANNOT): install the missing PACKAGES when root, else run WHEN-IT-CANNOT
+define debian-install
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ] && command -v dpkg-query >/dev/null; then \
 	  if [ "$$(id -u)" = "0" ] && command -v apt-get >/dev/null; then \
 	    echo "installing Debian packages:$$missing"; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
-	  else echo "missing Debian packages:$$missing (run: sudo apt-get install$$missing)"; exit 1; fi; \
+	    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; } \
+	      || { $(2); }; \
+	  else echo "missing Debian packages:$$missing (run: sudo apt-get install$$missing)"; $(2); fi; \
 	fi
+endef
+
+system-deps:
+	$(call debian-install,$(DEBIAN_PACKAGES),exit 1)
+
+# The tests open the HTML report in headless Chromium (Debian package chromium). Installed for `make test`
+# when missing and we are root; without it the one browser test is skipped and says why.
+TEST_PACKAGES := chromium
+test-deps:
+	$(call debian-install,$(TEST_PACKAGES),echo "the report's browser test will be skipped")
 
 $(BIN)/rvcoax: pyproject.toml | system-deps
 	$(PYTHON) -m venv $(VENV)
@@ -38,7 +50,7 @@ run: $(BIN)/rvcoax
 	case $$status in 0|1|3) echo "make run: check finished with verdict exit status $$status (see $(OUT)/check_verdict.json)";; \
 	  *) exit $$status;; esac
 
-test: $(BIN)/rvcoax
+test: $(BIN)/rvcoax test-deps
 	$(BIN)/python -m pytest -q
 
 # The quick half (about 2 minutes on 2 cores): everything but the tests marked slow, dask or render.

@@ -101,7 +101,8 @@ def provenance_tags(rig_text: str) -> dict[tuple[str, str], dict[str, str]]:
 
 def _add(found, table, name, key, tags):
     entry = found.setdefault((table, name), {})
-    entry[key] = "".join(dict.fromkeys(entry.get(key, "") + tags).keys()) if key in entry else tags
+    merged = dict.fromkeys(_TAG.findall(entry.get(key, "") + tags))  # each tag once, in order of appearance
+    entry[key] = "".join(f"[{t}]" for t in merged)
 
 
 def _tags_text(tags: dict[str, str], keys: tuple[str, ...] | None = None) -> str:

@@ -1,0 +1,113 @@
+"""The study report: its tables say what the model computed (closed-form checks), and the HTML file opens in
+headless Chromium with every section, no console error and no network access, and is not blank."""
+
+from __future__ import annotations
+
+import base64
+import io
+import re
+import subprocess
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from rvcoax.geometry.rigfile import load_rig, reference_rig_text
+from rvcoax.loadcases.cases import paper_cases
+from rvcoax.results.io import report_tables
+from rvcoax.results.io.report import REPORT_SECTIONS, ReportError, read_discrepancy, write_report
+from rvcoax.results.io.report_pdf import find_browser, headless_command
+from rvcoax.results.sweep import run_sweep
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    return run_sweep(load_rig(), paper_cases()[::9])
+
+
+def test_provenance_tags_are_read_per_entry_and_key():
+    tags = report_tables.provenance_tags(reference_rig_text())
+    assert tags[("parts", "motor_housing")] == {"material": "[P]", "mass_kg": "[R]", "segments": "[S][A]"}
+    assert tags[("bearings", "input_B1")]["radial_stiffness_N_per_um"] == "[S]"
+    assert tags[("materials", "HT200")] == {"youngs_modulus_MPa": "[P]", "poisson_ratio": "[P]",
+                                            "density_kg_per_m3": "[P]"}
+    text = '[[bearings]]\n# [A] both from the drawing\nname = "b"\nx_mm = 3 # [D] 1 + 2\n'
+    assert report_tables.provenance_tags(text) == {("bearings", "b"): {"": "[A]", "x_mm": "[D]"}}
+
+
+def test_support_reactions_carry_the_rig_weight(sweep):
+    """From the unloaded geometry the vertical support forces sum to the weight of the rig as modelled."""
+    table = report_tables.reaction_table(sweep)
+    total = float(table.rows[-1][1])
+    weight = sum(sweep.model.part_mass_kg.values()) * sweep.rig.gravity.acceleration_m_per_s2
+    assert table.rows[-1][0] == "sum"
+    assert total == pytest.approx(weight, rel=2e-3)  # the cell has 4 significant digits
+
+
+def test_verdicts_grade_value_against_allowable():
+    assert report_tables.verdict_of(None) == "no allowable given"
+    assert report_tables.verdict_of(0.3).startswith("fine")
+    assert report_tables.verdict_of(0.9) == "within allowable"
+    assert report_tables.verdict_of(1.2) == "EXCEEDS allowable"
+
+
+def test_a_file_that_is_not_a_discrepancy_result_is_named(tmp_path):
+    bad = tmp_path / "d.json"
+    bad.write_text("{\"rms\": 1}")
+    with pytest.raises(ReportError, match=r"d\.json: has no 'verdict' key"):
+        read_discrepancy(bad)
+    bad.write_text("not json")
+    with pytest.raises(ReportError, match="not a JSON file"):
+        read_discrepancy(bad)
+
+
+def _decoded_images(text: str) -> list[Image.Image]:
+    return [Image.open(io.BytesIO(base64.b64decode(data)))
+            for data in re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)]
+
+
+@pytest.mark.slow
+def test_report_opens_in_headless_chromium(sweep, tmp_path):
+    browser = find_browser()
+    if browser is None:
+        pytest.skip("no headless Chromium on the PATH (chromium, chromium-browser, google-chrome): `make test` "
+                    "installs the Debian package chromium when run as root")
+    measured = tmp_path / "measured.csv"
+    rows = ["T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm"]
+    rows += [f"{c.case.input_torque_Nm},{c.case.output_torque_Nm},{c.paths['input'].y_max_mm / 1.05:.6g},"
+             f"{c.paths['output'].y_max_mm / 0.97:.6g}" for c in sweep.cases]
+    measured.write_text("\n".join(rows) + "\n")
+    discrepancy = tmp_path / "discrepancy.json"
+    discrepancy.write_text('{"rvcoax_version": "test", "verdict": "explained", "rms_before_mm": 0.0021, '
+                           '"rms_after_mm": 0.0001, "selected": [{"effect": "output_block_height", '
+                           '"parameters": {"offset_um": 2.2}, "group": []}]}')
+    page = write_report(sweep, tmp_path / "report.html", rig_source="built-in reference_rig.toml",
+                        rig_text=reference_rig_text(), measured=measured, discrepancy=discrepancy,
+                        deformed_view=False)
+    text = page.read_text(encoding="utf-8")
+    # self-contained: nothing to fetch from a network or another file
+    assert not re.search(r"""(src|href)=["'](?!data:|#)|url\(|@import""", text)
+    images = _decoded_images(text)
+    assert len(images) == 3 and all(min(image.size) > 300 for image in images)
+    # the model is 5 % above and 3 % below the measured values written into the file
+    assert "+5.0 %" in text and "-3.0 %" in text and "output_block_height" in text
+
+    shot = tmp_path / "shot.png"
+    with_log = headless_command(browser, tmp_path / "profile", "--enable-logging=stderr", "--v=0",
+                                "--window-size=1280,1800", f"--screenshot={shot}", page.as_uri())
+    done = subprocess.run(with_log, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    console = [line for line in done.stderr.splitlines()
+               if "CONSOLE" in line or "Uncaught" in line or "Failed to load resource" in line or "net::ERR" in line]
+    assert console == []
+    pixels = np.asarray(Image.open(shot).convert("RGB"), dtype=float)
+    assert pixels.shape == (1800, 1280, 3)
+    drawn = (pixels < 200).any(axis=2)
+    assert pixels.std() > 20 and 0.03 < drawn.mean() < 0.6  # text, tables and a picture: neither blank nor black
+
+    dom = subprocess.run(headless_command(browser, tmp_path / "profile", "--dump-dom", page.as_uri()),
+                         capture_output=True, text=True, timeout=120)
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    for key, heading in REPORT_SECTIONS.items():
+        assert re.search(rf'<section id="{key}"><h2>{re.escape(heading)}</h2>', dom.stdout), key
+    assert dom.stdout.count("<img ") == 3
