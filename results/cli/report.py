@@ -37,20 +37,21 @@ def report(
     rig file SHA-256, model, solver, mesh, date).
     """
     from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.results.io.report import write_report
+    from rvcoax.results.io.report import read_discrepancy, write_report
     from rvcoax.results.io.report_pdf import print_pdf
     from rvcoax.results.studies.discrepancy.measured import read_measured
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
     load_cases = support.cases_from_options(cases, t1, t2, grid)
-    data = read_measured(measured) if measured is not None else None  # a bad file fails before the solve
+    data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
+    found = read_discrepancy(discrepancy) if discrepancy is not None else None
     source, text = support.rig_text(rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     with support.console.status("drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
-                                discrepancy=discrepancy, deformed_view=deformed)]
+                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf"))

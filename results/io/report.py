@@ -299,7 +299,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
-                 discrepancy: str | Path | dict | None = None, deformed_view: bool = True) -> Path:
+                 discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
+                 deformed_view: bool = True) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -311,7 +312,8 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     measured : path or MeasuredData, optional
         Measured Y (table or paths schema); its cases are solved with the sweep's settings.
     discrepancy : path or dict, optional
-        A ``discrepancy.json`` of ``rvcoax discrepancy``, or its document.
+        A ``discrepancy.json`` of ``rvcoax discrepancy``, or its document (then ``discrepancy_source``
+        names where it came from).
     deformed_view : bool
         Include the rendered deformed rig of the largest case (needs off-screen rendering; when it is
         unavailable the report says why instead).
@@ -319,7 +321,7 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     from rvcoax.results.studies.discrepancy.measured import read_measured
 
     data = read_measured(measured) if isinstance(measured, str | Path) else measured
-    source = ""
+    source = discrepancy_source
     if isinstance(discrepancy, str | Path):
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)

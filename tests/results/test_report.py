@@ -111,3 +111,22 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
     for key, heading in REPORT_SECTIONS.items():
         assert re.search(rf'<section id="{key}"><h2>{re.escape(heading)}</h2>', dom.stdout), key
     assert dom.stdout.count("<img ") == 3
+
+
+@pytest.mark.slow
+def test_report_command_writes_the_html_and_names_a_bad_discrepancy_file(tmp_path):
+    from typer.testing import CliRunner
+
+    from rvcoax.results.cli.app import app
+
+    done = CliRunner().invoke(app, ["report", "--t1", "0.5,1.43", "--t2", "70,200", "--no-deformed",
+                                    "--out", str(tmp_path / "out")])
+    assert done.exit_code == 0, (done.output, done.exception)
+    text = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    assert all(f'<section id="{key}">' in text for key in REPORT_SECTIONS)
+    assert "No measured data given" in text and "wrote" in done.output
+    (tmp_path / "d.json").write_text("[]")
+    failed = CliRunner().invoke(app, ["report", "--t1", "1", "--t2", "100", "--no-deformed", "--out",
+                                      str(tmp_path / "out2"), "--discrepancy", str(tmp_path / "d.json")])
+    assert failed.exit_code == 2
+    assert "d.json: has no 'verdict' key" in " ".join(failed.output.split())
