@@ -7,6 +7,12 @@ are deliberately wide — a warning means "probably a mistake", not "unusual":
 
 - rolling bearings, radial: 1 … 5000 N/µm (deep-groove ball bearings of 10–50 mm bore are about
   20–300 N/µm, large roller bearings up to a few thousand; Harris & Kotzalas, catalogue rigidity data);
+  and for its bore d (the shaft's outer diameter at the bearing): 0.5·d … 100·d N/µm with d in mm
+  (:data:`RADIAL_STIFFNESS_PER_BORE`). A deep-groove ball bearing loaded from 1 % to 50 % of its
+  dynamic rating is 2·d … 11·d by Palmgren's contact law (:func:`ball_bearing_radial_stiffness_N_per_um`);
+  the band leaves a factor 4 below that and room above for roller and preloaded bearings;
+- bearing width 2 … 500 mm, coupling hub length 2 … 500 mm, coupling mass 0.005 … 100 kg (zero: the
+  hubs' mass is left out);
 - couplings: bellows/disc/jaw couplings of 1–1000 N·m rating, from datasheets (radial 10 … 1e6 N/mm,
   angular 1 … 1e6 N·m/rad, torsional 100 … 1e7 N·m/rad, axial 1 … 1e6 N/mm);
 - mounts and joints: a bolted foot or flange is 1 … 1e5 N/µm and 1e2 … 1e9 N·m/rad (zero means a free
@@ -26,7 +32,8 @@ from dataclasses import dataclass
 
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["CATALOGUE", "MASS_TO_VOLUME_RANGE", "PlausibleRange", "plausibility_warnings", "plausible_range"]
+__all__ = ["CATALOGUE", "MASS_TO_VOLUME_RANGE", "PlausibleRange", "RADIAL_STIFFNESS_PER_BORE",
+           "ball_bearing_radial_stiffness_N_per_um", "bearing_bore_mm", "plausibility_warnings", "plausible_range"]
 
 
 @dataclass(frozen=True)
@@ -61,15 +68,19 @@ class PlausibleRange:
 _PER_UM = ((1e-6, "written in N/m?"), (1e-3, "written in N/mm?"))
 _PER_MM = ((1e-3, "written in N/m?"), (1e3, "written in N/µm?"))
 _PER_RAD = ((1e-3, "written in N·mm/rad?"), (1e3, "written in kN·m/rad?"))
+_LENGTH_MM = ((1e3, "written in m?"), (1e-3, "written in µm?"))
 
 CATALOGUE = (
     PlausibleRange("bearing", "radial_stiffness_N_per_um", 1.0, 5000.0, "N/µm", _PER_UM),
     PlausibleRange("bearing", "axial_stiffness_N_per_um", 0.5, 5000.0, "N/µm", _PER_UM, zero_allowed=True),
     PlausibleRange("bearing", "tilt_stiffness_Nm_per_rad", 1.0, 1e7, "N·m/rad", _PER_RAD, zero_allowed=True),
+    PlausibleRange("bearing", "width_mm", 2.0, 500.0, "mm", _LENGTH_MM),
     PlausibleRange("coupling", "radial_stiffness_N_per_mm", 10.0, 1e6, "N/mm", _PER_MM),
     PlausibleRange("coupling", "angular_stiffness_Nm_per_rad", 1.0, 1e6, "N·m/rad", _PER_RAD),
     PlausibleRange("coupling", "torsional_stiffness_Nm_per_rad", 100.0, 1e7, "N·m/rad", _PER_RAD),
     PlausibleRange("coupling", "axial_stiffness_N_per_mm", 1.0, 1e6, "N/mm", _PER_MM),
+    PlausibleRange("coupling", "hub_length_mm", 2.0, 500.0, "mm", _LENGTH_MM),
+    PlausibleRange("coupling", "mass_kg", 0.005, 100.0, "kg", ((1e-3, "written in g?"),), zero_allowed=True),
     PlausibleRange("mount", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, zero_allowed=True),
     PlausibleRange("mount", "rotational_stiffness_Nm_per_rad", 100.0, 1e9, "N·m/rad", _PER_RAD, zero_allowed=True),
     PlausibleRange("joint", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, zero_allowed=True),
@@ -79,6 +90,34 @@ CATALOGUE = (
     PlausibleRange("material", "density_kg_per_m3", 500.0, 25000.0, "kg/m³", ((1e3, "written in g/cm³?"),)),
 )
 MASS_TO_VOLUME_RANGE = (0.05, 20.0)  # a body's mass_kg over its segments' volume × density
+RADIAL_STIFFNESS_PER_BORE = (0.5, 100.0)  # a rolling bearing's radial stiffness (N/µm) per mm of its bore
+
+# Palmgren's deflection of a steel ball between two steel raceways, δ = c Q^(2/3) / D_w^(1/3) (δ in mm,
+# Q in N, D_w in mm), and Stribeck's load on the most loaded ball of a radially loaded bearing with zero
+# clearance, Q_max = 4.37 F_r / Z (Harris & Kotzalas, Rolling Bearing Analysis, ch. 6 and 7).
+PALMGREN_BALL_MM = 4.36e-4
+STRIBECK_ZERO_CLEARANCE = 4.37
+
+
+def ball_bearing_radial_stiffness_N_per_um(balls: int, ball_diameter_mm: float, radial_load_N: float) -> float:
+    """Radial stiffness dF/dδ of a deep-groove ball bearing (zero clearance) under ``radial_load_N``.
+
+    δ_r = δ(Q_max) with Q_max = 4.37 F/Z and δ = 4.36e-4 Q^(2/3) D_w^(-1/3) mm, so δ_r ∝ F^(2/3) and
+    k = dF/dδ_r = 1.5 F / δ_r.
+    """
+    q_max = STRIBECK_ZERO_CLEARANCE * radial_load_N / balls
+    deflection_mm = PALMGREN_BALL_MM * q_max ** (2.0 / 3.0) / ball_diameter_mm ** (1.0 / 3.0)
+    return 1.5 * radial_load_N / deflection_mm * 1e-3
+
+
+def bearing_bore_mm(rig: Rig, bearing) -> float | None:
+    """The bore of a bearing: the largest outer diameter of its shaft's segments at the bearing's x."""
+    try:
+        part = rig.part(bearing.shaft)
+    except KeyError:
+        return None
+    here = [s.outer_diameter_mm for s in part.segments if s.x_mm[0] - 1e-9 <= bearing.x_mm <= s.x_mm[1] + 1e-9]
+    return max(here) if here else None
 
 
 def plausible_range(kind: str, key: str) -> PlausibleRange:
@@ -117,6 +156,25 @@ def _component_warnings(rig: Rig) -> list[str]:
             message = _value_warning(f"materials.{name}", row, float(getattr(material, row.key)))
             if message:
                 found.append(message)
+    return found
+
+
+def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
+    """A bearing's radial stiffness against the band for its bore (when the plain range did not warn)."""
+    found = []
+    low, high = RADIAL_STIFFNESS_PER_BORE
+    for i, bearing in enumerate(rig.bearings):
+        where = f"bearings[{i}] ('{bearing.name}')"
+        bore = bearing_bore_mm(rig, bearing)
+        if bore is None or any(m.startswith(f"{where}.radial_stiffness_N_per_um") for m in already):
+            continue
+        row = PlausibleRange("bearing", "radial_stiffness_N_per_um", low * bore, high * bore, "N/µm", _PER_UM)
+        value = bearing.radial_stiffness_N_per_um
+        message = _value_warning(where, row, value)
+        if message:
+            found.append(message.replace("the plausible range of a bearing",
+                                         f"the plausible range of a rolling bearing of {bore:g} mm bore (the "
+                                         f"shaft's Ø at x = {bearing.x_mm:g} mm)"))
     return found
 
 
@@ -161,4 +219,5 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     with its unit, the plausible range and, where a unit factor would bring the value into range,
     the likely slip. Empty for a plausible rig (the built-in reference rig among them).
     """
-    return _component_warnings(rig) + _mass_warnings(rig) + _topology_warnings(rig)
+    components = _component_warnings(rig)
+    return components + _bore_warnings(rig, components) + _mass_warnings(rig) + _topology_warnings(rig)

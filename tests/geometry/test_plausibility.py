@@ -60,3 +60,53 @@ def test_zero_stiffness_means_a_free_direction_and_is_not_warned_about():
     data = reference_data()
     data["mounts"][0]["rotational_stiffness_Nm_per_rad"] = [5e5, 0.0, 2e5]
     assert warnings_of(data) == []
+
+
+def test_palmgren_ball_bearing_stiffness_by_hand():
+    """6204 (8 balls of 7.938 mm) at 1000 N: Q_max = 4.37·1000/8 = 546.25 N, δ = 4.36e-4·546.25^(2/3)/7.938^(1/3)
+    = 0.014606 mm, k = 1.5 F/δ = 102.7 N/µm; and k grows as F^(1/3)."""
+    from rvcoax.geometry.catalogue import ball_bearing_radial_stiffness_N_per_um as stiffness
+
+    assert stiffness(8, 7.938, 1000.0) == pytest.approx(102.70, rel=1e-4)
+    assert stiffness(8, 7.938, 8000.0) / stiffness(8, 7.938, 1000.0) == pytest.approx(2.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(("bore_mm", "balls", "ball_mm", "rating_N"), [
+    (8, 7, 3.969, 3450), (20, 8, 7.938, 13500), (30, 9, 9.525, 20300), (50, 10, 12.7, 35100)])
+def test_the_bore_band_holds_deep_groove_ball_bearings_from_light_to_heavy_load(bore_mm, balls, ball_mm, rating_N):
+    """608, 6204, 6206, 6210 (catalogue ball sets and dynamic ratings) from 1 % to 50 % of C: inside
+    0.5·d … 100·d N/µm with a factor ≥ 3 to spare on both sides."""
+    from rvcoax.geometry.catalogue import RADIAL_STIFFNESS_PER_BORE
+    from rvcoax.geometry.catalogue import ball_bearing_radial_stiffness_N_per_um as stiffness
+
+    low, high = RADIAL_STIFFNESS_PER_BORE
+    light, heavy = stiffness(balls, ball_mm, 0.01 * rating_N), stiffness(balls, ball_mm, 0.5 * rating_N)
+    assert 3 * low * bore_mm < light < heavy < high * bore_mm / 3
+
+
+def test_a_bearing_stiffness_implausible_for_its_bore_is_named():
+    data = reference_data()
+    data["bearings"][4]["radial_stiffness_N_per_um"] = 3000  # input_B1, a 6204 on the Ø20 journal
+    data["bearings"][0]["radial_stiffness_N_per_um"] = 5  # motor_front on the Ø19 motor shaft
+    found = warnings_of(data)
+    assert found == [
+        "bearings[0] ('motor_front').radial_stiffness_N_per_um = 5 N/µm is outside the plausible range of a rolling "
+        "bearing of 19 mm bore (the shaft's Ø at x = -5 mm) (9.5 … 1900 N/µm)",
+        "bearings[4] ('input_B1').radial_stiffness_N_per_um = 3000 N/µm is outside the plausible range of a rolling "
+        "bearing of 20 mm bore (the shaft's Ø at x = 255 mm) (10 … 2000 N/µm)",
+    ]
+
+
+@pytest.mark.parametrize(("table", "index", "key", "value", "words"), [
+    ("couplings", 0, "mass_kg", 245.0, "couplings[0] ('C1').mass_kg = 245 kg is outside the plausible range of a "
+                                       "coupling (0.005 … 100 kg): written in g?"),
+    ("couplings", 2, "hub_length_mm", 0.045, "hub_length_mm = 0.045 mm is outside the plausible range of a coupling "
+                                             "(2 … 500 mm): written in m?"),
+    ("bearings", 4, "width_mm", 0.014, "width_mm = 0.014 mm is outside the plausible range of a bearing "
+                                       "(2 … 500 mm): written in m?"),
+])
+def test_masses_and_dimensions_in_another_unit_are_named(table, index, key, value, words):
+    data = reference_data()
+    data[table][index][key] = value
+    (message,) = warnings_of(data)
+    assert words in message
