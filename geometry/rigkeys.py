@@ -1,0 +1,373 @@
+"""The rig-file key reference (``docs/rig-keys.md``), generated from the schema.
+
+Every key of :class:`rvcoax.geometry.schema.Rig` is listed with its unit (read from its name: the
+project's rule is that every key says its unit), its default (or "required"), the range the schema
+accepts, the plausible range the catalogue warns outside (:mod:`rvcoax.geometry.catalogue`) and its
+meaning (the key's pydantic ``description`` when it has one, else :data:`MEANINGS`).
+
+Run ``python -m rvcoax.geometry.rigkeys docs/rig-keys.md`` to rewrite the page; a test fails when the
+committed page differs from what this module writes, or when a key has no meaning.
+"""
+
+from __future__ import annotations
+
+import sys
+import types
+import typing
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import BaseModel
+from pydantic.fields import FieldInfo
+
+from rvcoax.geometry.catalogue import CATALOGUE, RADIAL_STIFFNESS_PER_BORE
+from rvcoax.geometry.schema import Rig
+
+__all__ = ["KeyRow", "MEANINGS", "UNIT_SUFFIXES", "key_rows", "render_markdown", "unit_of"]
+
+# key-name endings → the unit they name (longest first wins)
+UNIT_SUFFIXES = {
+    "_N_per_um": "N/µm", "_N_per_mm": "N/mm", "_Nm_per_rad": "N·m/rad", "_N_per_Nm": "N/(N·m)",
+    "_kg_per_m3": "kg/m³", "_m_per_s2": "m/s²", "_MPa": "MPa", "_mm": "mm", "_um": "µm", "_kg": "kg",
+    "_deg": "°", "_mrad": "mrad", "_arcmin": "′ (arcminute)", "_rpm": "1/min", "_Nm": "N·m", "_N": "N",
+}
+
+# where a key's meaning is not in the schema itself (dotted path; [] = any entry of a list,
+# <name> = any key of a table)
+MEANINGS = {
+    "schema_version": "Version of the rig-file format; 1.",
+    "rig.name": "Name of the rig, shown in every output.",
+    "rig.description": "One line describing the rig's layout.",
+    "gravity.enabled": "Apply the self-weight of every part and coupling (−y).",
+    "gravity.acceleration_m_per_s2": "Gravitational acceleration.",
+    "mesh.max_element_length_mm": "Longest beam element; beams are exact per element, so this only sets "
+                                  "how densely results are sampled.",
+    "beam.shear_deformation": "Timoshenko shafts (true) or Euler–Bernoulli shafts (false).",
+    "beam.shear_flexibility_factor": "Multiplies the shafts' shear flexibility Φ: 1 exact Timoshenko, "
+                                     "0 Euler–Bernoulli.",
+    "materials.<name>.youngs_modulus_MPa": "Young's modulus E of the material.",
+    "materials.<name>.poisson_ratio": "Poisson's ratio ν (sets G = E / 2(1 + ν)).",
+    "materials.<name>.density_kg_per_m3": "Density (for a body, replaced by the one that gives mass_kg).",
+    "parts[].name": "Unique name of the part (letters, digits, _ . -).",
+    "parts[].role": "shaft (rotates, density of its material) or body (a housing drawn as an equivalent "
+                    "round body).",
+    "parts[].material": "Name of an entry of [materials].",
+    "parts[].mass_kg": "A body's catalogue mass; its density is set so that the modelled mass equals it. "
+                       "Required for bodies.",
+    "parts[].mesh_size_mm": "Solid mesh size of this part in hybrid and solid models (default [solid]).",
+    "parts[].segments[].x_mm": "Start and end of the segment along the rig axis [start, end].",
+    "parts[].segments[].outer_diameter_mm": "Outer diameter of the segment.",
+    "parts[].segments[].inner_diameter_mm": "Bore of the segment (0: solid).",
+    "bearings[].name": "Unique name of the bearing.",
+    "bearings[].shaft": "The part the inner ring sits on.",
+    "bearings[].housing": "The part holding the outer ring, or \"ground\".",
+    "bearings[].x_mm": "Bearing centre along the rig axis.",
+    "bearings[].radial_stiffness_N_per_um": "Radial stiffness (datasheet rigidity, or Palmgren's law at the "
+                                            "expected load): one of the numbers that matter most.",
+    "bearings[].axial_stiffness_N_per_um": "Axial stiffness (0: the bearing floats axially).",
+    "bearings[].tilt_stiffness_Nm_per_rad": "Moment stiffness against tilting the rings (0 for a single "
+                                            "deep-groove ball bearing).",
+    "bearings[].width_mm": "Bearing width (catalogue), for drawing and solid attachment bands.",
+    "bearings[].radial_clearance_um": "Radial play; above 0 the bearing is solved as a nonlinear gap "
+                                      "(beam model).",
+    "bearings[].allowable_misalignment_arcmin": "Tilt of the inner ring against the outer that the bearing "
+                                                "type tolerates (catalogue; deep-groove ball bearings 2′ … 10′).",
+    "mounts[].name": "Unique name of the mount.",
+    "mounts[].part": "The part the mount holds to the ground.",
+    "mounts[].x_mm": "Mount position along the rig axis.",
+    "mounts[].translational_stiffness_N_per_um": "Stiffness in x, y, z (bolted feet, pedestals; 0: free).",
+    "mounts[].rotational_stiffness_Nm_per_rad": "Stiffness about x, y, z (0: free).",
+    "mounts[].vertical_offset_um": "Ground side raised by this much (+y): shims, thermal growth.",
+    "couplings[].name": "Unique name of the coupling.",
+    "couplings[].from.part": "The part the first hub sits on.",
+    "couplings[].from.x_mm": "Where the first hub grips its shaft.",
+    "couplings[].from.band_mm": "On a solid part: the band of its surface the hub grips [start, end].",
+    "couplings[].from.tie": "How a solid face is tied to the spring: distributing or rigid.",
+    "couplings[].to.part": "The part the second hub sits on.",
+    "couplings[].to.x_mm": "Where the second hub grips its shaft.",
+    "couplings[].to.band_mm": "On a solid part: the band of its surface the hub grips [start, end].",
+    "couplings[].to.tie": "How a solid face is tied to the spring: distributing or rigid.",
+    "couplings[].centre_x_mm": "Coupling centre (where offset and angle are reported).",
+    "couplings[].hub_length_mm": "Length of a hub.",
+    "couplings[].mass_kg": "Mass of the coupling, carried by its two hubs (datasheet).",
+    "couplings[].radial_stiffness_N_per_mm": "Lateral stiffness between the hubs (datasheet): sets the force "
+                                             "a parallel offset puts on the shafts.",
+    "couplings[].angular_stiffness_Nm_per_rad": "Bending stiffness between the hubs (datasheet).",
+    "couplings[].torsional_stiffness_Nm_per_rad": "Torsional stiffness (datasheet).",
+    "couplings[].axial_stiffness_N_per_mm": "Axial stiffness (datasheet).",
+    "couplings[].parallel_offset_um": "Parallel offset of the to hub's axis as installed (alignment).",
+    "couplings[].angular_misalignment_mrad": "Angle of the to hub's axis as installed (alignment).",
+    "couplings[].misalignment_direction_deg": "Direction of the installed misalignment: 0 = +y, 90 = +z.",
+    "couplings[].allowable_parallel_offset_mm": "Parallel offset the coupling maker allows (datasheet).",
+    "couplings[].allowable_angular_misalignment_deg": "Angular misalignment the coupling maker allows "
+                                                      "(datasheet).",
+    "couplings[].speed_rpm": "Running speed, which grades the misalignment against alignment tolerances.",
+    "joints[].name": "Unique name of the joint.",
+    "joints[].from.part": "First part joined.",
+    "joints[].from.x_mm": "Where the joint sits on the first part.",
+    "joints[].from.band_mm": "On a solid part: the band of its surface tied [start, end].",
+    "joints[].from.tie": "How a solid face is tied: distributing or rigid.",
+    "joints[].to.part": "Second part joined.",
+    "joints[].to.x_mm": "Where the joint sits on the second part.",
+    "joints[].to.band_mm": "On a solid part: the band of its surface tied [start, end].",
+    "joints[].to.tie": "How a solid face is tied: distributing or rigid.",
+    "joints[].translational_stiffness_N_per_um": "Stiffness in x, y, z between the parts (bolted flange, "
+                                                 "reducer bearings).",
+    "joints[].rotational_stiffness_Nm_per_rad": "Stiffness about x, y, z between the parts.",
+    "torques.T1.part": "Where the input torque T1 enters (the motor shaft).",
+    "torques.T1.x_mm": "Position of the input torque.",
+    "torques.T1.sign": "+1 or −1: the direction of T1 on that part.",
+    "torques.T2.part": "Where the output torque T2 is reacted (the brake shaft).",
+    "torques.T2.x_mm": "Position of the output torque.",
+    "torques.T2.sign": "+1 or −1: the direction of T2 on that part.",
+    "torque_lateral_loads[].name": "Unique name of the load.",
+    "torque_lateral_loads[].torque": "The torque that drives the load: T1 or T2.",
+    "torque_lateral_loads[].kind": "gear_mesh_load_sharing, crank_load_sharing, torque_arm or proportional "
+                                   "(see docs/rig-file.md).",
+    "torque_lateral_loads[].on.part": "Part the lateral force acts on.",
+    "torque_lateral_loads[].on.x_mm": "Where it acts.",
+    "torque_lateral_loads[].on.band_mm": "On a solid part: the band of its surface loaded [start, end].",
+    "torque_lateral_loads[].on.tie": "How a solid face is loaded: distributing or rigid.",
+    "torque_lateral_loads[].reacted_on.part": "Part that carries the opposite force (the housing); none: "
+                                              "reacted by the ground.",
+    "torque_lateral_loads[].reacted_on.x_mm": "Where the opposite force acts.",
+    "torque_lateral_loads[].reacted_on.band_mm": "On a solid part: the band of its surface loaded.",
+    "torque_lateral_loads[].reacted_on.tie": "How a solid face is loaded: distributing or rigid.",
+    "torque_lateral_loads[].direction_deg": "Direction of the force: 0 = +y, 90 = +z.",
+    "torque_lateral_loads[].imbalance": "(k1 − k2)/(k1 + k2) of the two load paths (load sharing kinds).",
+    "torque_lateral_loads[].position_error_um": "Position error Δε of the two meshes along their line of "
+                                                "action (load sharing kinds).",
+    "torque_lateral_loads[].mesh_stiffness_N_per_um": "Mesh stiffness of one path (load sharing kinds).",
+    "torque_lateral_loads[].pitch_radius_mm": "Pitch radius of the gear (gear_mesh_load_sharing).",
+    "torque_lateral_loads[].pressure_angle_deg": "Pressure angle α (gear_mesh_load_sharing).",
+    "torque_lateral_loads[].radius_mm": "Radius of the crankshafts' circle (crank_load_sharing).",
+    "torque_lateral_loads[].arm_length_mm": "Length of the torque arm (torque_arm): F = T / arm.",
+    "torque_lateral_loads[].force_per_torque_N_per_Nm": "Lateral force per unit torque (proportional).",
+    "force_table.apply": "Apply the measured force table (true) or not.",
+    "force_table.scale": "Multiplies every force of the table.",
+    "force_table.pairs[].label": "Name of the force pair.",
+    "force_table.pairs[].force_N": "Size of the pair: +force at plus_at, −force at minus_at (y).",
+    "force_table.pairs[].plus_at.part": "Part loaded with +force.",
+    "force_table.pairs[].plus_at.x_mm": "Where +force acts.",
+    "force_table.pairs[].plus_at.band_mm": "On a solid part: the band loaded.",
+    "force_table.pairs[].plus_at.tie": "How a solid face is loaded: distributing or rigid.",
+    "force_table.pairs[].minus_at.part": "Part loaded with −force.",
+    "force_table.pairs[].minus_at.x_mm": "Where −force acts.",
+    "force_table.pairs[].minus_at.band_mm": "On a solid part: the band loaded.",
+    "force_table.pairs[].minus_at.tie": "How a solid face is loaded: distributing or rigid.",
+    "force_table.singles[].label": "Name of the force.",
+    "force_table.singles[].force_N": "Vertical force (+y up).",
+    "force_table.singles[].at.part": "Part loaded.",
+    "force_table.singles[].at.x_mm": "Where the force acts.",
+    "force_table.singles[].at.band_mm": "On a solid part: the band loaded.",
+    "force_table.singles[].at.tie": "How a solid face is loaded: distributing or rigid.",
+    "paths.measured_from": "Y from the aligned rig at rest (aligned_at_rest, as a dial gauge zeroed at "
+                           "rest) or from the unloaded geometry (unloaded).",
+    "paths.input.part": "The measured input shaft.",
+    "paths.input.x_start_mm": "Start of the measured input path along the rig axis.",
+    "paths.input.length_mm": "Length L of the input path (β = arcsin(Y_max / L)).",
+    "paths.input.stations": "Number of stations Y is read at along the path.",
+    "paths.output.part": "The measured output shaft.",
+    "paths.output.x_start_mm": "Start of the measured output path along the rig axis.",
+    "paths.output.length_mm": "Length L of the output path.",
+    "paths.output.stations": "Number of stations Y is read at along the path.",
+    "solid.hybrid_parts": "Parts that are solids in the hybrid model (default: the two measured shafts).",
+    "solid.mesh_size_mm": "Global solid mesh size.",
+    "solid.elements_per_diameter": "At least this many elements across a solid part's diameter.",
+    "solid.attachment_band_mm": "Width of the surface band a spring attaches to on a solid part.",
+    "load_cases[].T1_input_Nm": "Input torque of one load case.",
+    "load_cases[].T2_output_Nm": "Output torque of one load case.",
+    "sweep.T1_input_Nm": "First and last input torque of an evenly spaced sweep [first, last].",
+    "sweep.T2_output_Nm": "First and last output torque [first, last].",
+    "sweep.cases": "Number of evenly spaced load cases from first to last.",
+}
+
+_CATALOGUE_KINDS = {"bearings": "bearing", "couplings": "coupling", "mounts": "mount", "joints": "joint",
+                    "materials": "material"}
+
+
+@dataclass(frozen=True)
+class KeyRow:
+    """One line of the key reference."""
+
+    section: str
+    key: str
+    kind: str
+    unit: str
+    default: str
+    allowed: str
+    plausible: str
+    meaning: str
+
+
+def unit_of(name: str) -> str:
+    """The unit a key's name ends in ('' for a plain number, a name or a flag)."""
+    for suffix in sorted(UNIT_SUFFIXES, key=len, reverse=True):
+        if name.endswith(suffix):
+            return UNIT_SUFFIXES[suffix]
+    return ""
+
+
+def _strip(annotation):
+    """(the type without Optional and Annotated, the FieldInfos met on the way, optional?)."""
+    infos, optional = [], False
+    while True:
+        origin = typing.get_origin(annotation)
+        if origin is typing.Annotated:
+            args = typing.get_args(annotation)
+            infos += [a for a in args[1:] if isinstance(a, FieldInfo)]
+            annotation = args[0]
+        elif origin in (typing.Union, types.UnionType):
+            args = [a for a in typing.get_args(annotation) if a is not type(None)]
+            optional = optional or len(args) < len(typing.get_args(annotation))
+            if len(args) != 1:
+                return annotation, infos, optional
+            annotation = args[0]
+        else:
+            return annotation, infos, optional
+
+
+def _bounds_text(metadata) -> str:
+    parts = {}
+    for item in metadata:
+        for attribute, symbol in (("gt", ">"), ("ge", "≥"), ("lt", "<"), ("le", "≤")):
+            value = getattr(item, attribute, None)
+            if value is not None:
+                parts[symbol] = value
+    low = next(((s, parts[s]) for s in (">", "≥") if s in parts), None)
+    high = next(((s, parts[s]) for s in ("<", "≤") if s in parts), None)
+    if low and high:
+        if low[0] == "≥" and high[0] == "≤":
+            return f"{low[1]:g} … {high[1]:g}"
+        return f"{low[0]} {low[1]:g} and {high[0]} {high[1]:g}"
+    if low:
+        return f"{low[0]} {low[1]:g}"
+    if high:
+        return f"{high[0]} {high[1]:g}"
+    return ""
+
+
+def _kind_and_allowed(annotation, field: FieldInfo | None) -> tuple[str, str]:
+    core, infos, _ = _strip(annotation)
+    metadata = list(field.metadata if field is not None else []) + [m for i in infos for m in i.metadata]
+    origin = typing.get_origin(core)
+    if origin is typing.Literal:
+        return "choice", " or ".join(repr(a).replace("'", "\"") for a in typing.get_args(core))
+    if origin is tuple:
+        items = typing.get_args(core)
+        inner_kind, inner = _kind_and_allowed(items[0], None)
+        return f"[{', '.join([inner_kind] * len(items))}]", inner
+    if origin is list:
+        inner_kind, inner = _kind_and_allowed(typing.get_args(core)[0], None)
+        return f"list of {inner_kind}", inner
+    if core is bool:
+        return "true/false", "true or false"
+    if core is int:
+        return "integer", _bounds_text(metadata)
+    if core is float:
+        text = _bounds_text(metadata)
+        return "number", text or "finite"
+    if core is str:
+        pattern = next((getattr(m, "pattern", None) for m in metadata if getattr(m, "pattern", None)), None)
+        return "text", "letters, digits, _ . -" if pattern else ""
+    return getattr(core, "__name__", str(core)), ""
+
+
+def _default_text(field: FieldInfo) -> str:
+    if field.is_required():
+        return "required"
+    value = field.get_default(call_default_factory=True)
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, BaseModel):
+        return "(table)"
+    if isinstance(value, list | tuple):
+        return "[]" if not value else str(list(value))
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def _plausible(section: str, name: str) -> str:
+    kind = _CATALOGUE_KINDS.get(section)
+    row = next((r for r in CATALOGUE if r.kind == kind and r.key == name), None)
+    if row is None:
+        return ""
+    text = f"{row.low:g} … {row.high:g}" + (" (or 0)" if row.zero_allowed else "")
+    if (kind, name) == ("bearing", "radial_stiffness_N_per_um"):
+        low, high = RADIAL_STIFFNESS_PER_BORE
+        text += f", and {low:g}·d … {high:g}·d for a bore of d mm"
+    return text
+
+
+def _walk(model: type[BaseModel], prefix: str, section: str) -> Iterator[KeyRow]:
+    for name, field in model.model_fields.items():
+        key = field.alias or name
+        path = f"{prefix}{key}"
+        core, _, _ = _strip(field.annotation)
+        origin = typing.get_origin(core)
+        if isinstance(core, type) and issubclass(core, BaseModel):
+            yield from _walk(core, f"{path}.", section or key)
+            continue
+        if origin is list and isinstance(typing.get_args(core)[0], type) \
+                and issubclass(typing.get_args(core)[0], BaseModel):
+            yield from _walk(typing.get_args(core)[0], f"{path}[].", section or key)
+            continue
+        if origin is dict:
+            value_type = typing.get_args(core)[1]
+            yield from _walk(value_type, f"{path}.<name>.", section or key)
+            continue
+        kind, allowed = _kind_and_allowed(field.annotation, field)
+        meaning = field.description or MEANINGS.get(path, "")
+        yield KeyRow(section or key, path, kind, unit_of(key), _default_text(field), allowed,
+                     _plausible(section or key, key), meaning)
+
+
+def key_rows() -> list[KeyRow]:
+    """Every key of the rig file, in the schema's order."""
+    return list(_walk(Rig, "", ""))
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|") or "–"
+
+
+def render_markdown() -> str:
+    """The key reference page (Markdown), as committed in ``docs/rig-keys.md``."""
+    lines = ["# Rig-file keys", "",
+             "<!-- generated by `python -m rvcoax.geometry.rigkeys docs/rig-keys.md` from the schema "
+             "(geometry/schema.py); do not edit by hand: a test fails when this page is out of date -->", "",
+             "Every key of a rig file, grouped by its table. **Unit**: named by the key itself (`_mm`, "
+             "`_N_per_um`, …). **Allowed**: what the rig file accepts (anything else is refused with the key "
+             "and the reason). **Plausible**: outside this range `rvcoax` warns before solving (a likely unit "
+             "slip), see `geometry/catalogue.py`. `[]` marks any entry of a list (`[[bearings]]`), `<name>` "
+             "any key of a table (`[materials.40Cr]`). How the keys fit together: [rig-file.md](rig-file.md); "
+             "a worked example: [tutorial.md](tutorial.md).", ""]
+    current = None
+    for row in key_rows():
+        if row.section != current:
+            current = row.section
+            lines += ["", f"## `{current}`", "",
+                      "| key | type | unit | default | allowed | plausible | meaning |",
+                      "|---|---|---|---|---|---|---|"]
+        lines.append(f"| `{row.key}` | {_cell(row.kind)} | {_cell(row.unit)} | {_cell(row.default)} | "
+                     f"{_cell(row.allowed)} | {_cell(row.plausible)} | {_cell(row.meaning)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Write the page to the path given (default: print it)."""
+    args = sys.argv[1:] if argv is None else argv
+    text = render_markdown()
+    if args:
+        Path(args[0]).write_text(text, encoding="utf-8")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
