@@ -33,7 +33,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io import report_tables as tables
 from rvcoax.results.io.writers import write_text_atomic
 
-__all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "report_html", "write_report"]
+__all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
 REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
