@@ -187,6 +187,12 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
     for axis in panels[:-1]:
         axis.tick_params(axis="x", labelbottom=False)
     panels[-1].set_xlabel("x along the rig axis [mm]")
+    largest_y = max((float(abs(line.u_y_um).max()) for line in lines if line.x_mm.size), default=0.0)
+    largest_z = max((float(abs(line.u_z_um).max()) for line in lines if line.x_mm.size), default=0.0)
+    if largest_z <= 1e-6 * largest_y:
+        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane",
+                       transform=panels[1].transAxes, ha="center", va="center", fontsize=9, color="#444444",
+                       bbox={"facecolor": "white", "edgecolor": "#cccccc"})
     _strip(strip, sweep, lines)
     cases_legend = [Line2D([], [], color=colours[k % len(colours)], lw=1.6,
                            label=f"T1 = {sweep.cases[i].case.input_torque_Nm:g} N·m, "

@@ -57,7 +57,7 @@ BACKGROUND = (255, 255, 255)
 COLOURMAP = "coolwarm"
 ENCLOSING_OPACITY = 0.3
 PATH_COLOURS = ("black", "darkgreen", "purple", "darkorange")
-RULER_END = 0.86  # the ruler and the part labels end here (fraction of the width); the legend is right of it
+RULER_END = 0.84  # the ruler and the part labels end here (fraction of the width); the legend is right of it
 
 
 class RenderingUnavailableError(RvcoaxError, RuntimeError):
@@ -455,9 +455,11 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                                  show_scalar_bar=first, scalar_bar_args=bar if first else None)
                 first = False
             front = float(deformed[:, 2].max() + 1.5 * radius.max()) if len(radius) else float(deformed[:, 2].max())
-            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=2)
+            title_lines = _title_lines(title, window_size)
+            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=2, title_lines=len(title_lines))
             labels = _part_labels(mesh, deformed, view)
-            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=1 + max((r for *_, r in labels), default=0))
+            view = _RigView.fit(_bounds(deformed, radius), window_size,
+                                label_rows=1 + max((r for *_, r in labels), default=0), title_lines=len(title_lines))
             labels = _part_labels(mesh, deformed, view)
             legend = []
             for (label, where, moved), colour in zip(path_lines, PATH_COLOURS * 4):
@@ -470,14 +472,15 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                 column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
                 plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
             if legend:
-                plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.01, 0.1),
+                plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.02, 0.1),
                                    loc="lower right",
                                    face="line")
             plotter.add_text(f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
                              f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm",
                              position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
             if title:
-                plotter.add_text(title, position="upper_edge", font_size=view.title_font, color="black")
+                plotter.add_text("\n".join(title_lines), position="upper_edge", font_size=view.title_font,
+                                 color="black")
             if translucent:
                 plotter.enable_depth_peeling(number_of_peels=6)
             plotter.enable_anti_aliasing("ssaa")
@@ -520,11 +523,11 @@ class _RigView:
     rig_bottom_px: float  # pixel row (from the bottom) of the rig's lowest point
 
     @classmethod
-    def fit(cls, bounds, window_size, label_rows: int, width_fraction: float = 0.86) -> _RigView:
+    def fit(cls, bounds, window_size, label_rows: int, title_lines: int = 1, width_fraction: float = 0.86) -> _RigView:
         low, high = bounds
         width_px, height_px = (int(v) for v in window_size)
         band = max(11.0, height_px / 30.0)
-        top = 2.2 * band  # the title
+        top = (1.0 + 1.2 * title_lines) * band  # the title
         bottom = (label_rows + 3.9) * band  # the labels, the ruler (ticks, numbers) and the warp line
         usable = max(height_px - top - bottom, 0.25 * height_px)
         size = np.maximum(high - low, 1e-12)
@@ -573,6 +576,22 @@ class _RigView:
         camera.parallel_projection = True
         camera.parallel_scale = 0.5 * self.window[1] * self.metres_per_pixel
         plotter.renderer.ResetCameraClippingRange()
+
+
+def _title_lines(title: str | None, window_size) -> list[str]:
+    """The title in at most two lines that fit the window's width at the title's font size."""
+    import textwrap
+
+    if not title:
+        return []
+    band = max(11.0, int(window_size[1]) / 30.0)
+    font = max(8, int(round(0.75 * band)))
+    fits = max(int(0.9 * int(window_size[0]) / (1.1 * font)), 10)
+    if len(title) <= fits:
+        return [title]
+    head, colon, tail = title.rpartition(": ")  # "rig (model): T1 = …, T2 = …" breaks after the colon
+    lines = [head + ":", tail] if colon and len(head) < fits and len(tail) < fits else textwrap.wrap(title, fits)
+    return lines[:1] + [textwrap.shorten(" ".join(lines[1:]), fits, placeholder=" …")] if len(lines) > 1 else lines
 
 
 def _part_labels(mesh: FieldMesh, deformed: np.ndarray, view: _RigView) -> list[tuple[str, float, int]]:
