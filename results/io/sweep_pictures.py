@@ -48,7 +48,8 @@ class SweepPictures:
 
 
 def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.05, published=None,
-                        progress: Callable[[int, int], None] | None = None) -> SweepPictures:
+                        progress: Callable[[int, int], None] | None = None,
+                        window_size: tuple[int, int] = (1600, 600)) -> SweepPictures:
     """Draw every case of ``sweep`` off screen into ``folder``.
 
     Parameters
@@ -65,6 +66,8 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
         Published points drawn with Y against torque.
     progress : callable, optional
         ``progress(done, total)`` after each rendered case.
+    window_size : (width, height)
+        Size of each picture of the deformed rig, pixels.
 
     Raises
     ------
@@ -83,7 +86,7 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
     for i, case in enumerate(field_cases):
         path = folder / f"deformed_{model}_{i:02d}.png"
         render_deformed(mesh, case, path, paths=paths, warp_factor=factor, colour_limits_um=limits,
-                        translucent_parts=housings, bearings_x_mm=bearings,
+                        translucent_parts=housings, bearings_x_mm=bearings, window_size=window_size,
                         title=f"{name} ({model}): T1 = {case.T1_input_Nm:g} N·m, T2 = {case.T2_output_Nm:g} N·m")
         written.append(path)
         if progress is not None:

@@ -178,12 +178,13 @@ def test_label_rows_never_overlap():
     assert rows == [0, 1, 0, 1, 2]
 
 
+@pytest.mark.slow
 def test_sweep_pictures_use_one_warp_factor_and_draw_the_bending_line(sweep, tmp_path):
     from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
     from rvcoax.results.io.pictures import mesh_length_m, sweep_warp_factor
     from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
 
-    drawn = draw_sweep_pictures(sweep, tmp_path)
+    drawn = draw_sweep_pictures(sweep, tmp_path, window_size=SIZE)
     mesh, _ = sweep_field_mesh(sweep)
     assert drawn.warp_factor == pytest.approx(sweep_warp_factor(sweep_field_cases(sweep), mesh_length_m(mesh)))
     assert len(drawn.deformed) == len(sweep.cases)
