@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
 
 __all__ = ["PartLine", "bending_lines", "plot_bending_line", "stack_rows"]
@@ -173,6 +174,13 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
             panels[2].plot(line.x_mm, line.rotation_z_urad[case_index], **style)
             panels[2].plot(line.x_mm, line.rotation_y_urad[case_index], **{**style, "lw": 0.8, "alpha": 0.6,
                                                                             "ls": ":"})
+        for shaft in MEASURED_SHAFTS:  # a solid measured shaft: its path as the sweep reads it (axis u_y, rotation)
+            path = getattr(sweep.rig.paths, shaft)
+            if any(line.solid and line.part == path.part for line in lines):
+                read = sweep.cases[case_index].paths[shaft]
+                x = path.x_start_mm + read.station_mm
+                panels[0].plot(x, read.uy_mm * 1e3, color=colour, lw=1.6)
+                panels[2].plot(x, read.rotation_z_rad * 1e6, color=colour, lw=1.6)
     for x in [b.x_mm for b in sweep.rig.bearings]:
         for axis in panels:
             axis.axvline(x, color="#c44e52", lw=0.5, alpha=0.35)
@@ -204,7 +212,8 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
              Line2D([], [], color="#c44e52", marker="^", ls="none", label="bearing"),
              Line2D([], [], color="#55a868", marker="D", ls="none", label="coupling")]
     if any(line.solid for line in lines):
-        kinds.append(Line2D([], [], color="grey", marker="o", ls="none", ms=3, label="solid part (attachments)"))
+        kinds.append(Line2D([], [], color="grey", marker="o", ls="none", ms=3,
+                            label="solid part: attachments (measured path: line)"))
     figure.legend(handles=cases_legend + kinds, loc="outside lower center", ncol=4, fontsize=8, frameon=False)
     measured = sweep.rig.paths.measured_from.replace("_", " ")
     figure.suptitle((title + "\n" if title else "") + f"bending line ({sweep.settings.model} model, measured from the "
