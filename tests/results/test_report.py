@@ -130,3 +130,17 @@ def test_report_command_writes_the_html_and_names_a_bad_discrepancy_file(tmp_pat
                                       str(tmp_path / "out2"), "--discrepancy", str(tmp_path / "d.json")])
     assert failed.exit_code == 2
     assert "d.json: has no 'verdict' key" in " ".join(failed.output.split())
+
+
+@pytest.mark.slow
+def test_the_report_prints_to_pdf(tmp_path):
+    from rvcoax.results.io.report_pdf import print_pdf
+
+    if find_browser() is None:
+        pytest.skip("no headless Chromium on the PATH: `make test` installs the Debian package chromium when root")
+    page = tmp_path / "r.html"
+    page.write_text("<!DOCTYPE html><html><body><h1>rvcoax</h1><p>report</p></body></html>", encoding="utf-8")
+    pdf = print_pdf(page, tmp_path / "out" / "r.pdf")
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF-") and b"/Type /Page" in data.replace(b"/Type/Page", b"/Type /Page")
+    assert sorted(p.name for p in pdf.parent.iterdir()) == ["r.pdf"]  # no temporary left behind
