@@ -198,7 +198,27 @@ def _discrepancy_html(document: dict, source: str) -> str:
         value = document.get(key)
         if isinstance(value, int | float):
             rows.append((label, f"{value * 1e3:.4g} µm"))
+        elif isinstance(value, dict) and value:
+            rows.append((label, ", ".join(f"{shaft} shaft {v * 1e3:.4g} µm" for shaft, v in value.items()
+                                          if isinstance(v, int | float))))
     parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
+    gaps = document.get("rms")
+    if isinstance(gaps, dict) and gaps:
+        gap_rows = []
+        for subset, table in gaps.items():
+            if not isinstance(table, dict):
+                continue
+            for shaft in (table.get("rms_before_um") or {}):
+                def cell(key, shaft=shaft, table=table):
+                    value = (table.get(key) or {}).get(shaft)
+                    return f"{value:.4g}" if isinstance(value, int | float) else "–"
+                gap_rows.append((subset.replace("_", " "), shaft, cell("rms_before_um"), cell("rms_after_um"),
+                                 cell("rms_tilt_before_urad"), cell("rms_tilt_after_urad")))
+        if gap_rows:
+            parts.append(_table_html(tables.Table(
+                "Gap between measurement and model, before and after the named effects",
+                ("cases", "shaft", "RMS Y gap before [µm]", "after [µm]", "RMS tilt gap before [µrad]", "after [µrad]"),
+                tuple(gap_rows), note="fit: the cases the effects were fitted on; held out: cases not used to fit.")))
     selected = document.get("selected") or []
     if selected:
         effect_rows = tuple((str(s.get("effect", "?")),

@@ -78,9 +78,12 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
              f"{c.paths['output'].y_max_mm / 0.97:.6g}" for c in sweep.cases]
     measured.write_text("\n".join(rows) + "\n")
     discrepancy = tmp_path / "discrepancy.json"
-    discrepancy.write_text('{"rvcoax_version": "test", "verdict": "explained", "rms_before_mm": 0.0021, '
-                           '"rms_after_mm": 0.0001, "selected": [{"effect": "output_block_height", '
-                           '"parameters": {"offset_um": 2.2}, "group": []}]}')
+    discrepancy.write_text('{"rvcoax_version": "test", "verdict": "explained", '
+                           '"rms_before_mm": {"input": 0.0021, "output": 0.0009}, "rms_after_mm": {"input": 0.0001}, '
+                           '"rms": {"held_out": {"rms_before_um": {"output": 2.25}, "rms_after_um": {"output": 0.125}, '
+                           '"rms_tilt_before_urad": {"output": 14.5}, "rms_tilt_after_urad": {"output": 0.75}}}, '
+                           '"selected": [{"effect": "output_block_height", "parameters": {"offset_um": 2.2}, '
+                           '"group": []}]}')
     page = write_report(sweep, tmp_path / "report.html", rig_source="built-in reference_rig.toml",
                         rig_text=reference_rig_text(), measured=measured, discrepancy=discrepancy,
                         deformed_view=False)
@@ -91,6 +94,8 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
     assert len(images) == 3 and all(min(image.size) > 300 for image in images)
     # the model is 5 % above and 3 % below the measured values written into the file
     assert "+5.0 %" in text and "-3.0 %" in text and "output_block_height" in text
+    assert "input shaft 2.1 µm, output shaft 0.9 µm" in text
+    assert re.search(r"<td>held out</td><td>output</td><td class=\"num\">2.25</td><td class=\"num\">0.125</td>", text)
 
     shot = tmp_path / "shot.png"
     with_log = headless_command(browser, tmp_path / "profile", "--enable-logging=stderr", "--v=0",
