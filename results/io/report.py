@@ -253,12 +253,12 @@ def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:
     from rvcoax.results.io.records import model_section, rvcoax_version, text_sha256
 
     model = model_section(sweep)
-    mesh = {k: v for k, v in model.items() if "mesh" in k or k in ("solid_parts",)}
+    mesh = {k: v for k, v in model.items() if "mesh" in k or "element_length" in k or k == "solid_parts"}
     items = [("rvcoax version", rvcoax_version()), ("rig", sweep.rig.rig.name),
              ("rig file", inputs.rig_source), ("rig file SHA-256", text_sha256(inputs.rig_text)),
              ("model", sweep.settings.model), ("solver", sweep.solver or sweep.settings.solver),
              ("unknowns (DOF)", str(sweep.n_dofs)),
-             ("mesh", json.dumps(mesh, ensure_ascii=False)),
+             ("mesh", ", ".join(f"{k} = {json.dumps(v, ensure_ascii=False)}" for k, v in mesh.items()) or "–"),
              ("Y measured from", sweep.rig.paths.measured_from.replace("_", " ")),
              ("created", created)]
     return "<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in items) + "</dl>"

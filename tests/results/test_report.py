@@ -116,6 +116,7 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
     for key, heading in REPORT_SECTIONS.items():
         assert re.search(rf'<section id="{key}"><h2>{re.escape(heading)}</h2>', dom.stdout), key
     assert dom.stdout.count("<img ") == 3
+    assert "beam_max_element_length_mm = 5.0" in dom.stdout  # the provenance names the mesh
 
 
 @pytest.mark.slow
