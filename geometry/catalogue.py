@@ -12,7 +12,9 @@ are deliberately wide — a warning means "probably a mistake", not "unusual":
   dynamic rating is 2·d … 11·d by Palmgren's contact law (:func:`ball_bearing_radial_stiffness_N_per_um`);
   the band leaves a factor 4 below that and room above for roller and preloaded bearings;
 - bearing width 2 … 500 mm, coupling hub length 2 … 500 mm, coupling mass 0.005 … 100 kg (zero: the
-  hubs' mass is left out);
+  hubs' mass is left out); a segment's outer diameter 1 … 3000 mm (a test-rig shaft or housing);
+- torque-driven lateral loads: mesh stiffness 10 … 10 000 N/µm (ISO 6336 c′ ≈ 14 N/(mm·µm) times a face
+  width of 1 … 700 mm), pitch, crank-circle and arm radii 1 … 2000 mm;
 - couplings: bellows/disc/jaw couplings of 1–1000 N·m rating, from datasheets (radial 10 … 1e6 N/mm,
   angular 1 … 1e6 N·m/rad, torsional 100 … 1e7 N·m/rad, axial 1 … 1e6 N/mm);
 - mounts and joints: a bolted foot or flange is 1 … 1e5 N/µm and 1e2 … 1e9 N·m/rad (zero means a free
@@ -85,6 +87,11 @@ CATALOGUE = (
     PlausibleRange("mount", "rotational_stiffness_Nm_per_rad", 100.0, 1e9, "N·m/rad", _PER_RAD, zero_allowed=True),
     PlausibleRange("joint", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, zero_allowed=True),
     PlausibleRange("joint", "rotational_stiffness_Nm_per_rad", 0.1, 1e9, "N·m/rad", _PER_RAD, zero_allowed=True),
+    PlausibleRange("torque_lateral_load", "mesh_stiffness_N_per_um", 10.0, 1e4, "N/µm", _PER_UM),
+    PlausibleRange("torque_lateral_load", "pitch_radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
+    PlausibleRange("torque_lateral_load", "radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
+    PlausibleRange("torque_lateral_load", "arm_length_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
+    PlausibleRange("segment", "outer_diameter_mm", 1.0, 3000.0, "mm", _LENGTH_MM),
     PlausibleRange("material", "youngs_modulus_MPa", 1e3, 5e5, "MPa", ((1e-6, "written in Pa?"), (1e3, "written in GPa?"))),
     PlausibleRange("material", "poisson_ratio", 0.1, 0.45, ""),
     PlausibleRange("material", "density_kg_per_m3", 500.0, 25000.0, "kg/m³", ((1e3, "written in g/cm³?"),)),
@@ -133,24 +140,33 @@ def _value_warning(where: str, row: PlausibleRange, value: float) -> str | None:
         return None
     hint = next((h for factor, h in row.slips if row.low <= value * factor <= row.high), None)
     unit = f" {row.unit}" if row.unit else ""
-    return (f"{where}.{row.key} = {value:g}{unit} is outside the plausible range of a {row.kind} "
+    return (f"{where}.{row.key} = {value:g}{unit} is outside the plausible range of a {row.kind.replace('_', ' ')} "
             f"({row.low:g} … {row.high:g}{unit})" + (f": {hint}" if hint else ""))
 
 
 def _component_warnings(rig: Rig) -> list[str]:
     found = []
     for kind, table, items in (("bearing", "bearings", rig.bearings), ("coupling", "couplings", rig.couplings),
-                               ("mount", "mounts", rig.mounts), ("joint", "joints", rig.joints)):
+                               ("mount", "mounts", rig.mounts), ("joint", "joints", rig.joints),
+                               ("torque_lateral_load", "torque_lateral_loads", rig.torque_lateral_loads)):
         rows = [r for r in CATALOGUE if r.kind == kind]
         for i, item in enumerate(items):
             where = f"{table}[{i}] ('{item.name}')"
             for row in rows:
                 values = getattr(item, row.key)
+                if values is None:  # a key this kind of load does not take
+                    continue
                 for value in (values if isinstance(values, tuple | list) else (values,)):
                     message = _value_warning(where, row, float(value))
                     if message:
                         found.append(message)
                         break  # one warning per key
+    diameter = plausible_range("segment", "outer_diameter_mm")
+    for i, part in enumerate(rig.parts):
+        for j, segment in enumerate(part.segments):
+            message = _value_warning(f"parts[{i}] ('{part.name}').segments[{j}]", diameter, segment.outer_diameter_mm)
+            if message:
+                found.append(message.replace("range of a segment", "range of a rig part's diameter"))
     for name, material in rig.materials.items():
         for row in (r for r in CATALOGUE if r.kind == "material"):
             message = _value_warning(f"materials.{name}", row, float(getattr(material, row.key)))
@@ -166,8 +182,10 @@ def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
     for i, bearing in enumerate(rig.bearings):
         where = f"bearings[{i}] ('{bearing.name}')"
         bore = bearing_bore_mm(rig, bearing)
-        if bore is None or any(m.startswith(f"{where}.radial_stiffness_N_per_um") for m in already):
-            continue
+        diameter = plausible_range("segment", "outer_diameter_mm")
+        if bore is None or not diameter.low <= bore <= diameter.high \
+                or any(m.startswith(f"{where}.radial_stiffness_N_per_um") for m in already):
+            continue  # no bore, an implausible one (warned about already), or the plain range warned
         row = PlausibleRange("bearing", "radial_stiffness_N_per_um", low * bore, high * bore, "N/µm", _PER_UM)
         value = bearing.radial_stiffness_N_per_um
         message = _value_warning(where, row, value)

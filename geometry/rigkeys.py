@@ -184,6 +184,7 @@ MEANINGS = {
 }
 
 _CATALOGUE_KINDS = {"bearings": "bearing", "couplings": "coupling", "mounts": "mount", "joints": "joint",
+                    "torque_lateral_loads": "torque_lateral_load", "parts": "segment",
                     "materials": "material"}
 
 

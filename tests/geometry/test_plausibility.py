@@ -110,3 +110,19 @@ def test_masses_and_dimensions_in_another_unit_are_named(table, index, key, valu
     data[table][index][key] = value
     (message,) = warnings_of(data)
     assert words in message
+
+
+@pytest.mark.parametrize(("edit", "words"), [
+    (lambda d: d["parts"][1]["segments"][0].update(outer_diameter_mm=0.019),
+     "parts[1] ('motor_shaft').segments[0].outer_diameter_mm = 0.019 mm is outside the plausible range of a rig "
+     "part's diameter (1 … 3000 mm): written in m?"),
+    (lambda d: d["torque_lateral_loads"][0].update(mesh_stiffness_N_per_um=1.4e8),
+     "torque_lateral_loads[0] ('sun_gear_load_sharing').mesh_stiffness_N_per_um = 1.4e+08 N/µm is outside the "
+     "plausible range of a torque lateral load (10 … 10000 N/µm): written in N/m?"),
+    (lambda d: d["torque_lateral_loads"][1].update(radius_mm=0.035), "radius_mm = 0.035 mm is outside"),
+])
+def test_diameters_and_lateral_load_keys_in_another_unit_are_named(edit, words):
+    data = reference_data()
+    edit(data)
+    (message,) = warnings_of(data)
+    assert words in message
