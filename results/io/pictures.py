@@ -57,6 +57,7 @@ BACKGROUND = (255, 255, 255)
 COLOURMAP = "coolwarm"
 ENCLOSING_OPACITY = 0.3
 PATH_COLOURS = ("black", "darkgreen", "purple", "darkorange")
+RULER_CAPTION = "ruler: x in mm, red marks: bearings"
 RULER_END = 0.84  # the ruler and the part labels end here (fraction of the width); the legend is right of it
 
 
@@ -446,7 +447,8 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
             # VTK's built-in font draws "[" as "(": the title goes through matplotlib's mathtext
             bar = {"title": "$u_y$ [µm]", "vertical": True, "color": "black", "fmt": "%.3g", "n_labels": 5,
                    "position_x": 0.9, "position_y": 0.15, "height": 0.7, "width": 0.05,
-                   "title_font_size": 20, "label_font_size": 16}
+                   "title_font_size": max(8, round(_band(window_size))),
+                   "label_font_size": max(6, round(0.8 * _band(window_size)))}
             first = True
             for part, surface in surfaces.items():
                 plotter.add_mesh(surface, scalars="u_y_um", cmap=COLOURMAP, clim=limits, smooth_shading=True,
@@ -475,9 +477,11 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                 plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.02, 0.1),
                                    loc="lower right",
                                    face="line")
-            plotter.add_text(f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
-                             f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm",
-                             position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
+            warp = (f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
+                    f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm")
+            if view.text_width_px(warp + RULER_CAPTION) + 4 * view.band > RULER_END * window_size[0]:
+                warp = f"warp × {factor:.4g} ({largest * 1e6:.4g} µm drawn as {factor * largest / length:.3g} of L)"
+            plotter.add_text(warp, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
             if title:
                 plotter.add_text("\n".join(title_lines), position="upper_edge", font_size=view.title_font,
                                  color="black")
@@ -526,7 +530,7 @@ class _RigView:
     def fit(cls, bounds, window_size, label_rows: int, title_lines: int = 1, width_fraction: float = 0.86) -> _RigView:
         low, high = bounds
         width_px, height_px = (int(v) for v in window_size)
-        band = max(11.0, height_px / 30.0)
+        band = _band(window_size)
         top = (1.0 + 1.2 * title_lines) * band  # the title
         bottom = (label_rows + 3.9) * band  # the labels, the ruler (ticks, numbers) and the warp line
         usable = max(height_px - top - bottom, 0.25 * height_px)
@@ -578,14 +582,18 @@ class _RigView:
         plotter.renderer.ResetCameraClippingRange()
 
 
+def _band(window_size) -> float:
+    """Height of one line of text in a picture of ``window_size`` (pixels): 1/30 of the height, 11 at least."""
+    return max(11.0, int(window_size[1]) / 30.0)
+
+
 def _title_lines(title: str | None, window_size) -> list[str]:
     """The title in at most two lines that fit the window's width at the title's font size."""
     import textwrap
 
     if not title:
         return []
-    band = max(11.0, int(window_size[1]) / 30.0)
-    font = max(8, int(round(0.75 * band)))
+    font = max(8, int(round(0.75 * _band(window_size))))
     fits = max(int(0.9 * int(window_size[0]) / (1.1 * font)), 10)
     if len(title) <= fits:
         return [title]
@@ -642,8 +650,8 @@ def _draw_ruler(plotter, view: _RigView, z: float, bearings_x_mm) -> None:
         if column > 2 and column + view.text_width_px(text) < RULER_END * view.window[0]:
             plotter.add_text(text, position=(column, view.ruler_px - 1.5 * view.band), font_size=view.small_font,
                              color="black")
-    caption = "ruler: x in mm, red marks: bearings"
-    plotter.add_text(caption, position=(RULER_END * view.window[0] - view.text_width_px(caption), 0.2 * view.band),
+    plotter.add_text(RULER_CAPTION, position=(RULER_END * view.window[0] - view.text_width_px(RULER_CAPTION),
+                                              0.2 * view.band),
                      font_size=view.small_font, color="black")
     height = 0.7 * view.band * per_px
     for x_mm in bearings_x_mm:
