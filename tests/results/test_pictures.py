@@ -179,22 +179,33 @@ def test_label_rows_never_overlap():
 
 
 @pytest.mark.slow
-def test_sweep_pictures_use_one_warp_factor_and_draw_the_bending_line(sweep, tmp_path):
+def test_picture_command_on_a_rig_of_another_layout(tmp_path):
+    """`rvcoax picture` on the tutorial's RV-40E bench: one warp factor for every case (the one of the largest
+    displacement of the sweep, printed), the bending line, and the legend in the lower right, clear of the title."""
+    from typer.testing import CliRunner
+
+    from rvcoax.geometry.rigfile import parse_rig_text
+    from rvcoax.loadcases.cases import paired_cases
+    from rvcoax.results.cli.app import app
     from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
     from rvcoax.results.io.pictures import mesh_length_m, sweep_warp_factor
-    from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
+    from tests.package.test_tutorial import rig_text
 
-    drawn = draw_sweep_pictures(sweep, tmp_path, window_size=SIZE)
-    mesh, _ = sweep_field_mesh(sweep)
-    assert drawn.warp_factor == pytest.approx(sweep_warp_factor(sweep_field_cases(sweep), mesh_length_m(mesh)))
-    assert len(drawn.deformed) == len(sweep.cases)
-    for path in (*drawn.deformed, drawn.y_vs_torque, drawn.bending_line):
-        _assert_not_blank(path, Image.open(path).size, min_fraction=0.01)
-    # the title band (top) and the legend corner (lower right) are apart: no pixel of the legend's box
-    # lies in the title's rows
-    pixels = _pixels(drawn.deformed[0])
-    height = pixels.shape[0]
-    title_rows = pixels[: int(0.07 * height)]
-    assert (title_rows < 128).any()  # the title is drawn
-    legend_corner = pixels[int(0.85 * height):, int(0.87 * pixels.shape[1]):]
-    assert (legend_corner < 128).any()  # the legend is in the lower right corner
+    rig_file = tmp_path / "rv40e.toml"
+    rig_file.write_text(rig_text(), encoding="utf-8")
+    done = CliRunner().invoke(app, ["picture", "--rig", str(rig_file), "--t1", "0.801,4.006", "--t2", "82.4,412",
+                                    "--out", str(tmp_path / "out")])
+    assert done.exit_code == 0, (done.output, done.exception)
+    solved = run_sweep(parse_rig_text(rig_text(), "rv40e.toml"), paired_cases([0.801, 4.006], [82.4, 412.0]))
+    mesh, _ = sweep_field_mesh(solved)
+    factor = sweep_warp_factor(sweep_field_cases(solved), mesh_length_m(mesh))
+    assert f"one warp factor for every case: × {factor:.4g}" in " ".join(done.output.split())
+    folder = tmp_path / "out" / "pictures"
+    names = ["bending_line_beam.png", "deformed_beam_00.png", "deformed_beam_01.png", "y_vs_torque_beam.png"]
+    assert sorted(p.name for p in folder.iterdir()) == names
+    for name in names:
+        _assert_not_blank(folder / name, Image.open(folder / name).size, min_fraction=0.01)
+    pixels = _pixels(folder / "deformed_beam_01.png")
+    height, width = pixels.shape[:2]
+    assert (pixels[: int(0.07 * height)] < 128).any()  # the title, on top
+    assert (pixels[int(0.85 * height):, int(0.87 * width):] < 128).any()  # the legend, in the lower right

@@ -120,17 +120,21 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
 
 
 @pytest.mark.slow
-def test_report_command_writes_the_html_and_names_a_bad_discrepancy_file(tmp_path):
+def test_report_command_on_a_rig_of_another_layout_and_a_bad_discrepancy_file(tmp_path):
     from typer.testing import CliRunner
 
     from rvcoax.results.cli.app import app
+    from tests.package.test_tutorial import rig_text
 
-    done = CliRunner().invoke(app, ["report", "--t1", "0.5,1.43", "--t2", "70,200", "--no-deformed",
-                                    "--out", str(tmp_path / "out")])
+    rig_file = tmp_path / "rv40e.toml"  # the tutorial's RV-40E bench: a rig of another layout
+    rig_file.write_text(rig_text(), encoding="utf-8")
+    done = CliRunner().invoke(app, ["report", "--rig", str(rig_file), "--t1", "0.801,4.006", "--t2", "82.4,412",
+                                    "--no-deformed", "--out", str(tmp_path / "out")])
     assert done.exit_code == 0, (done.output, done.exception)
     text = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
     assert all(f'<section id="{key}">' in text for key in REPORT_SECTIONS)
     assert "No measured data given" in text and "wrote" in done.output
+    assert "<td>output_bearing_block</td>" in text and "rv40e.toml" in text
     (tmp_path / "d.json").write_text("[]")
     failed = CliRunner().invoke(app, ["report", "--t1", "1", "--t2", "100", "--no-deformed", "--out",
                                       str(tmp_path / "out2"), "--discrepancy", str(tmp_path / "d.json")])
