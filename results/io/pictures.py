@@ -698,7 +698,8 @@ def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
 
 
 def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,
-                     path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150) -> Path:
+                     path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150,
+                     micro: bool = False) -> Path:
     """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.
 
     ``model_rows``: a Sweep, a sequence of CaseResult, a mapping of arrays or a list of dicts with
@@ -707,7 +708,8 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
     largest |u_y|, as published. ``published``: paper rows (``rvcoax.loadcases.cases.paper_table()``) or
     the same kinds of rows, drawn as markers. Each panel gets a right-hand axis with
     β = arcsin(Y / L) in degrees when the path length L is known (from a Sweep, or
-    ``path_lengths_mm = (L_input, L_output)``).
+    ``path_lengths_mm = (L_input, L_output)``). ``micro``: Y in µm and β in µrad instead of mm and
+    degrees (sub-µm values read as plain numbers, without a 1e-4 offset on the axis).
     """
     import matplotlib
     from matplotlib.figure import Figure  # no pyplot: the figure is drawn by Agg, whatever the backend
@@ -724,30 +726,37 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
     figure = Figure(figsize=(12, 4.8), dpi=dpi, layout="constrained")
     axes = figure.subplots(1, 2)
     colours = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    scale, unit = (1e3, "µm") if micro else (1.0, "mm")
     for ax, shaft, torque, torque_label in ((axes[0], "input", "T1_input_Nm", "T1 (input torque) [N·m]"),
                                            (axes[1], "output", "T2_output_Nm", "T2 (output torque) [N·m]")):
         key = f"Y_{shaft}_mm"
         for (label, (data, _)), colour in zip(series.items(), colours * 4):
             order = np.argsort(data[torque], kind="stable")
-            ax.plot(data[torque][order], data[key][order], "-", color=colour, lw=1.8, marker=".", ms=4, label=label)
+            ax.plot(data[torque][order], scale * data[key][order], "-", color=colour, lw=1.8, marker=".", ms=4,
+                    label=label)
         if reference is not None:
-            ax.plot(reference[torque], reference[key], "o", mfc="none", mec="black", ms=7, mew=1.3,
+            ax.plot(reference[torque], scale * reference[key], "o", mfc="none", mec="black", ms=7, mew=1.3,
                     label="published (paper 000)", zorder=5)
         ax.set_xlabel(torque_label)
-        ax.set_ylabel(f"Y_{shaft} (largest |u_y| on the {shaft} shaft) [mm]")
-        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+        ax.set_ylabel(f"Y_{shaft} (largest |u_y| on the {shaft} shaft) [{unit}]")
+        if not micro:
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
         ax.set_xlim(left=0)
         ax.set_ylim(bottom=0)
         ax.grid(True, alpha=0.3)
         ax.set_title(f"{shaft} shaft" + (f", L = {lengths[shaft]:g} mm" if shaft in lengths else ""))
         if shaft in lengths:
-            length = lengths[shaft]
-            secondary = ax.secondary_yaxis(
-                "right",
-                functions=(lambda y, L=length: np.degrees(np.arcsin(np.clip(y / L, -1, 1))),
-                           lambda b, L=length: L * np.sin(np.radians(b))))
-            secondary.set_ylabel("β = arcsin(Y / L) [°]")
-            secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
+            length = lengths[shaft] * scale  # in the unit of the axis
+            if micro:
+                functions = (lambda y, L=length: 1e6 * np.arcsin(np.clip(y / L, -1, 1)),
+                             lambda b, L=length: L * np.sin(1e-6 * np.asarray(b)))
+            else:
+                functions = (lambda y, L=length: np.degrees(np.arcsin(np.clip(y / L, -1, 1))),
+                             lambda b, L=length: L * np.sin(np.radians(b)))
+            secondary = ax.secondary_yaxis("right", functions=functions)
+            secondary.set_ylabel("β = arcsin(Y / L) (paper 000) [" + ("µrad]" if micro else "°]"))
+            if not micro:
+                secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
         ax.legend(loc="upper left", fontsize=9)
     if title:
         figure.suptitle(title)

@@ -163,7 +163,7 @@ def _pictures(sweep, folder: Path, deformed_view: bool) -> tuple[dict[str, Path]
 
     name = sweep.rig.rig.name
     drawn = {"bending": plot_bending_line(sweep, folder / "bending_line.png", title=name),
-             "y": plot_y_vs_torque(sweep, folder / "y_vs_torque.png", title=name),
+             "y": plot_y_vs_torque(sweep, folder / "y_vs_torque.png", title=name, micro=True),
              "tilt": _tilt_figure(sweep, folder / "tilt.png")}
     note = ""
     if deformed_view:
