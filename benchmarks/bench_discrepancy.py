@@ -24,13 +24,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from machine import record  # noqa: E402
+from tests.test_discrepancy import LENGTHS, STATIONS, test_rig  # noqa: E402
 
 from rvcoax.geometry.effects import candidate_effects  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases  # noqa: E402
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data  # noqa: E402
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy  # noqa: E402
 from rvcoax.results.sweep import SweepSettings  # noqa: E402
-from tests.test_discrepancy import LENGTHS, STATIONS, test_rig  # noqa: E402
 
 
 def main() -> None:

@@ -29,6 +29,7 @@ effect                         parameter                           unit   linear
 ``shear_deformation``          ``shear_fraction``                  –      no
 ``thermal_growth@P``           ``lift_um``                         µm     yes
 ``mesh_position_error@L``      ``position_error_um``               µm     yes
+``mesh_position_error@G``      ``position_error_um``               µm     yes
 =============================  ==================================  =====  ==========
 
 "linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
@@ -352,6 +353,21 @@ def _mesh_position_error(rig: Rig, name: str) -> Effect:
                   "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change)
 
 
+def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
+    address = f"gear_meshes.{name}.planet_position_errors_um[0]"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    # ±10 µm, as for the typed-in load sharing: ISO grade 5–6 pitch and runout errors (base pitch
+    # deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
+    return Effect(f"mesh_position_error@{name}", "mesh_position_error", name,
+                  (EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), True,
+                  f"The first planet mesh of gear mesh {name} engages this much later along its line of action "
+                  "(a position error): the load sharing of its planets, and so the net force on the driving gear, "
+                  "follow from the gear data.", change)
+
+
 def _with_linearity(effect: Effect, linear_rig: bool) -> Effect:
     if effect.linear and not linear_rig:
         return Effect(effect.name, effect.kind, effect.location, effect.parameters, False, effect.description,
@@ -392,6 +408,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     effects.append(_mesh_force(rig))
     effects += [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
                 if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
+    effects += [_gear_mesh_position_error(rig, g.name) for g in rig.gear_meshes]
     effects += [_torque_reaction(rig, part) for part in _torque_reaction_parts(rig, mounted)]
     if not rig.beam.shear_deformation:
         effects.append(_shear(rig))

@@ -16,7 +16,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
-           "ForceTable", "Gravity", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
+           "ForceTable", "GearMesh", "Gravity", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
            "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "Segment", "SingleForce", "SolidSettings",
            "Strict", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
 
@@ -299,6 +299,84 @@ class TorqueLateralLoad(Strict):
         return self.mesh_stiffness_N_per_um * self.position_error_um * self._line_of_action_factor
 
 
+# ---- gear meshes from gear data (issue 16 item 3) ------------------------------------------------------------
+
+PlanetError = Annotated[float, Field(ge=-100.0, le=100.0, allow_inf_nan=False, strict=True)]
+
+
+class GearMesh(Strict):
+    """``[[gear_meshes]]``: a driving gear in mesh with planet gears, from its gear data.
+
+    The RV reducer's first stage: the input (sun) gear on part ``on`` drives ``len(planet_angles_deg)``
+    planet gears whose bearings sit in part ``reacted_on`` (the reducer case). From the torque ``torque``
+    (times its sign) the mesh forces per planet follow (:mod:`rvcoax.geometry.gears`): each mesh's
+    stiffness is ``face_width_mm`` × ISO 6336-1's c_γα (or ``mesh_stiffness_N_per_mm_per_um``) ×
+    its ``planet_stiffness_factors`` entry; the meshes share the load by their stiffnesses and their
+    position errors ``planet_position_errors_um`` (along the line of action, + = engages later). The net
+    force on the driving gear (lateral, axial for helical gears, and the tilting moment of the axial
+    forces) acts on ``on``, its reaction on ``reacted_on``. The transmitted torque itself is not
+    applied here: it is carried by the rig's torsional springs, as without gear data.
+    """
+
+    name: Name
+    torque: Literal["T1", "T2"] = "T1"
+    on: Location
+    reacted_on: Location
+    normal_module_mm: Annotated[float, Field(ge=0.05, le=100.0, allow_inf_nan=False, strict=True)]
+    sun_teeth: Annotated[int, Field(ge=6, le=1000, strict=True)]
+    planet_teeth: Annotated[int, Field(ge=6, le=1000, strict=True)]
+    normal_pressure_angle_deg: Annotated[float, Field(ge=10.0, le=35.0, strict=True)] = 20.0
+    face_width_mm: Positive
+    helix_angle_deg: Annotated[float, Field(gt=-45.0, lt=45.0, strict=True)] = 0.0
+    profile_shift: tuple[Annotated[float, Field(ge=-1.0, le=1.5, strict=True)],
+                         Annotated[float, Field(ge=-1.0, le=1.5, strict=True)]] = (0.0, 0.0)
+    dedendum_factor: Annotated[float, Field(ge=1.0, le=1.6, strict=True)] = 1.25
+    blank_factor: Annotated[float, Field(gt=0.2, le=1.0, strict=True)] = 1.0
+    planet_material: str | None = None
+    mesh_stiffness_N_per_mm_per_um: Annotated[float, Field(gt=0.0, le=100.0, strict=True)] | None = None
+    planet_angles_deg: list[Finite] = Field(min_length=2, max_length=12)
+    planet_position_errors_um: list[PlanetError]
+    planet_stiffness_factors: list[Annotated[float, Field(ge=0.1, le=10.0, strict=True)]]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _per_planet_defaults(cls, data):
+        """No position errors and the nominal stiffness for every planet unless given."""
+        if isinstance(data, dict) and isinstance(data.get("planet_angles_deg"), list):
+            n = len(data["planet_angles_deg"])
+            data = {"planet_position_errors_um": [0.0] * n, "planet_stiffness_factors": [1.0] * n, **data}
+        return data
+
+    @model_validator(mode="after")
+    def _check(self) -> GearMesh:
+        n = len(self.planet_angles_deg)
+        for key in ("planet_position_errors_um", "planet_stiffness_factors"):
+            values = getattr(self, key)
+            if len(values) != n:
+                raise ValueError(f"{key} has {len(values)} values, planet_angles_deg {n}: one per planet")
+        stage = self.stage
+        ratio = stage.contact_ratio
+        if not ratio >= 1.0:
+            raise ValueError(f"the gear data give a transverse contact ratio of {ratio:.3f} < 1: the teeth lose "
+                             "contact (check normal_module_mm, the tooth counts and profile_shift)")
+        angles = sorted(a % 360.0 for a in self.planet_angles_deg)
+        gaps = [b - a for a, b in zip(angles, angles[1:] + [angles[0] + 360.0])]
+        clearance = 2.0 * stage.centre_distance_mm * math.sin(math.radians(min(gaps)) / 2.0)
+        if clearance <= 2.0 * stage.tip_radius_mm(1):
+            raise ValueError(f"planet_angles_deg: planets {min(gaps):g}° apart on a centre distance of "
+                             f"{stage.centre_distance_mm:g} mm overlap (tip diameter {2 * stage.tip_radius_mm(1):g} mm)")
+        return self
+
+    @property
+    def stage(self):
+        """The :class:`rvcoax.geometry.gears.GearStage` of the sun and one planet."""
+        from rvcoax.geometry.gears import GearStage
+
+        return GearStage(self.normal_module_mm, (self.sun_teeth, self.planet_teeth), self.normal_pressure_angle_deg,
+                         self.face_width_mm, self.helix_angle_deg, tuple(self.profile_shift), self.dedendum_factor)
+
+
+
 class ForcePair(Strict):
     label: str
     force_N: Finite
@@ -357,6 +435,7 @@ class Rig(Strict):
     joints: list[Joint] = []
     torques: Torques
     torque_lateral_loads: list[TorqueLateralLoad] = []
+    gear_meshes: list[GearMesh] = []
     force_table: ForceTable = ForceTable()
     paths: Paths
     solid: SolidSettings = SolidSettings()
@@ -470,6 +549,14 @@ class Rig(Strict):
             yield from at(f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
             if t.reacted_on is not None:
                 yield from at(f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
+        for i, g in enumerate(self.gear_meshes):
+            yield from at(f"gear_meshes[{i}] ('{g.name}').on", g.on.part, g.on.x_mm)
+            yield from at(f"gear_meshes[{i}] ('{g.name}').reacted_on", g.reacted_on.part, g.reacted_on.x_mm)
+            if g.planet_material is not None and g.planet_material not in self.materials:
+                yield (f"gear_meshes[{i}] ('{g.name}').planet_material: unknown material '{g.planet_material}' "
+                       f"(known: {', '.join(sorted(self.materials))})")
+            if g.on.part == g.reacted_on.part:
+                yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
         for i, f in enumerate(self.force_table.pairs):
             yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
             yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
@@ -502,7 +589,7 @@ class Rig(Strict):
             if name not in parts:
                 yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
         names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
-                                         self.torque_lateral_loads) for item in group]
+                                         self.torque_lateral_loads, self.gear_meshes) for item in group]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
-            yield f"names of bearings, mounts, couplings, joints and torque_lateral_loads must be unique; repeated: {', '.join(repeated)}"
+            yield f"names of bearings, mounts, couplings, joints, torque_lateral_loads and gear_meshes must be unique; repeated: {', '.join(repeated)}"

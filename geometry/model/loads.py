@@ -3,7 +3,8 @@
 ``gravity``        self-weight of every part (zero when switched off)
 ``prestrain``      the prestrain of misaligned couplings and raised mounts, K d0 (zero when aligned)
 ``force_table``    paper 000's force table as interpreted in the rig file (empty unless applied)
-``engaged_T1``     the constant lateral loads present while T1 flows (load-sharing position errors)
+``engaged_T1``     the constant lateral loads present while T1 flows (load-sharing position errors,
+                   of ``[[torque_lateral_loads]]`` and of ``[[gear_meshes]]``)
 ``engaged_T2``     the same for T2
 ``T1``, ``T2``     a unit torque (1 N·m) with its torque-proportional lateral loads
 
@@ -21,10 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.gears import load_sharing, mesh_forces, single_stiffness
+from rvcoax.geometry.schema import GearMesh, Rig
 
 __all__ = ["GRAVITY_DIRECTION", "LocatedLoad", "REST_LOADS", "UNIT_LOADS", "case_weights", "force_table_loads",
-           "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
+           "gear_mesh_forces", "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
 
 UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
 REST_LOADS = ("gravity", "prestrain", "force_table")
@@ -59,6 +61,47 @@ def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
         if lateral.reacted_on is not None:
             reacted = lateral.reacted_on
             out.append(LocatedLoad(reacted.part, reacted.x_mm, tuple(-force), band_mm=reacted.band_mm))
+    return out + _gear_mesh_loads(rig, which, part)
+
+
+def gear_mesh_forces(rig: Rig, mesh: GearMesh):
+    """The mesh forces on the driving gear of ``mesh`` (:class:`rvcoax.geometry.gears.MeshForces`).
+
+    Returns
+    -------
+    per_torque, engaged : MeshForces
+        ``per_torque``: for 1 N·m of the mesh's torque (times its sign); ``engaged``: the part present
+        whenever torque flows, from the position errors (sign of the torque).
+    stiffness_N_per_m : ndarray
+        Each mesh's stiffness along its line of action.
+    """
+    stage = mesh.stage
+    if mesh.mesh_stiffness_N_per_mm_per_um is not None:
+        per_width = mesh.mesh_stiffness_N_per_mm_per_um
+    else:
+        sun = rig.materials[rig.part(mesh.on.part).material]
+        planet = rig.materials[mesh.planet_material] if mesh.planet_material is not None else sun
+        per_width = single_stiffness(stage, mesh.blank_factor,
+                                     (sun.youngs_modulus_MPa * 1e6, planet.youngs_modulus_MPa * 1e6)).mesh
+    stiffness = per_width * mesh.face_width_mm * 1e6 * np.asarray(mesh.planet_stiffness_factors)  # N/(mm·µm)·mm → N/m
+    share, constant = load_sharing(stiffness, np.asarray(mesh.planet_position_errors_um) * 1e-6)
+    sign = float(getattr(rig.torques, mesh.torque).sign)
+    per_torque = mesh_forces(stage, mesh.planet_angles_deg, sign * share / (stage.base_radius_mm(0) * 1e-3))
+    return per_torque, mesh_forces(stage, mesh.planet_angles_deg, sign * constant), stiffness
+
+
+def _gear_mesh_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
+    """The net mesh forces of the ``[[gear_meshes]]`` on ``which``: on the driving gear and, reversed, on the case."""
+    out = []
+    for mesh in rig.gear_meshes:
+        if mesh.torque != which:
+            continue
+        per_torque, engaged, _ = gear_mesh_forces(rig, mesh)
+        forces = per_torque if part == "proportional" else engaged
+        force, moment = tuple(forces.force_N.tolist()), tuple(forces.moment_Nm.tolist())
+        out.append(LocatedLoad(mesh.on.part, mesh.on.x_mm, force, moment, band_mm=mesh.on.band_mm))
+        out.append(LocatedLoad(mesh.reacted_on.part, mesh.reacted_on.x_mm, tuple(-np.array(force)),
+                               tuple(-np.array(moment)), band_mm=mesh.reacted_on.band_mm))
     return out
 
 

@@ -24,7 +24,10 @@ rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
 @guard
 def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
+    import numpy as np
+
     from rvcoax.geometry.model.beam import build_rig_model
+    from rvcoax.geometry.model.loads import gear_mesh_forces
     from rvcoax.geometry.rigfile import load_rig
 
     rig = load_rig(rig_file)
@@ -67,6 +70,12 @@ def rig_show(rig_file: RigOption = None) -> None:
     for t in rig.torque_lateral_loads:
         add_text_row(paths, t.name, t.torque, t.kind, f"{t.on.part} @ {t.on.x_mm:g}", f"{t.force_per_torque_N_per_Nm:.4g}",
                       f"{t.engaged_force_N:.4g}", f"{t.direction_deg:g}")
+    for g in rig.gear_meshes:
+        per_torque, engaged, _ = gear_mesh_forces(rig, g)
+        lateral = per_torque.force_N[1:]
+        add_text_row(paths, g.name, g.torque, "gear mesh (from gear data)", f"{g.on.part} @ {g.on.x_mm:g}",
+                     f"{float(np.hypot(*lateral)):.4g}", f"{float(np.hypot(*engaged.force_N[1:])):.4g}",
+                     f"{np.degrees(np.arctan2(lateral[1], lateral[0])):.4g}" if np.any(lateral) else "-")
     console.print(paths)
     console.print(f"gravity: {'on' if rig.gravity.enabled else 'off'}; paper force table applied: "
                   f"{rig.force_table.apply}; Y measured from: {rig.paths.measured_from}; paths: input "
