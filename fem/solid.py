@@ -181,6 +181,18 @@ def body_force_vector(basis, density_kg_m3: float, acceleration_m_s2) -> np.ndar
     return _scatter(basis, local.reshape(3 * _N_P2, -1))
 
 
+def thermal_strain_vector(basis, youngs_modulus_pa: float, poisson: float, strain: float) -> np.ndarray:
+    """Equivalent load of a uniform free (thermal) strain ε I: ∫ (3λ + 2μ) ε div v dV, (N,).
+
+    Applied to an unconstrained body it gives the free growth u = ε (x − x₀) exactly (P2 holds it).
+    """
+    _check_vector_p2(basis)
+    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    bulk_strain = (3.0 * lam + 2.0 * mu) * strain
+    form = skfem.LinearForm(lambda v, w: bulk_strain * (v.grad[0][0] + v.grad[1][1] + v.grad[2][2]))
+    return form.assemble(basis)
+
+
 # ---------------------------------------------------------------------------------------- surfaces
 
 

@@ -19,7 +19,8 @@ are deliberately wide — a warning means "probably a mistake", not "unusual":
   angular 1 … 1e6 N·m/rad, torsional 100 … 1e7 N·m/rad, axial 1 … 1e6 N/mm);
 - mounts and joints: a bolted foot or flange is 1 … 1e5 N/µm and 1e2 … 1e9 N·m/rad (zero means a free
   direction and is not checked);
-- materials: metals and engineering polymers, E 1e3 … 5e5 MPa, ν 0.1 … 0.45, ρ 500 … 25 000 kg/m³;
+- materials: metals and engineering polymers, E 1e3 … 5e5 MPa, ν 0.1 … 0.45, ρ 500 … 25 000 kg/m³,
+  thermal expansion 4e-6 … 3e-5 1/K (metals);
 - a body's mass against its segments' volume × density: 0.05 … 20 times (a housing is a hollow or
   finned body drawn as an equivalent round one).
 
@@ -95,6 +96,8 @@ CATALOGUE = (
     PlausibleRange("material", "youngs_modulus_MPa", 1e3, 5e5, "MPa", ((1e-6, "written in Pa?"), (1e3, "written in GPa?"))),
     PlausibleRange("material", "poisson_ratio", 0.1, 0.45, ""),
     PlausibleRange("material", "density_kg_per_m3", 500.0, 25000.0, "kg/m³", ((1e3, "written in g/cm³?"),)),
+    # metals 4e-6 (Invar-like steels excluded) … 2.5e-5 (aluminium, zinc); polymers reach 1e-4 but do not carry rigs
+    PlausibleRange("material", "thermal_expansion_per_K", 4e-6, 3e-5, "1/K"),
 )
 MASS_TO_VOLUME_RANGE = (0.05, 20.0)  # a body's mass_kg over its segments' volume × density
 RADIAL_STIFFNESS_PER_BORE = (0.5, 100.0)  # a rolling bearing's radial stiffness (N/µm) per mm of its bore
@@ -168,7 +171,7 @@ def _component_warnings(rig: Rig) -> list[str]:
             if message:
                 found.append(message.replace("range of a segment", "range of a rig part's diameter"))
     for name, material in rig.materials.items():
-        for row in (r for r in CATALOGUE if r.kind == "material"):
+        for row in (r for r in CATALOGUE if r.kind == "material" and getattr(material, r.key) is not None):
             message = _value_warning(f"materials.{name}", row, float(getattr(material, row.key)))
             if message:
                 found.append(message)

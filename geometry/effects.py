@@ -30,6 +30,7 @@ effect                         parameter                           unit   linear
 ``thermal_growth@P``           ``lift_um``                         µm     yes
 ``mesh_position_error@L``      ``position_error_um``               µm     yes
 ``mesh_position_error@G``      ``position_error_um``               µm     yes
+``temperature_rise@P``         ``temperature_rise_K``              °C     yes
 =============================  ==================================  =====  ==========
 
 "linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
@@ -368,6 +369,35 @@ def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
                   "follow from the gear data.", change)
 
 
+def _temperature_rise(rig: Rig, part: str) -> Effect:
+    address = f"thermal.temperature_rise_K.{part}"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    # −10 … 40 °C: a running servo motor, brake or reducer runs 20–40 K above the room; a rig
+    # aligned warm and measured cooler, −10 K.
+    return Effect(f"temperature_rise@{part}", "temperature_rise", part,
+                  (EffectParameter("temperature_rise_K", "°C", -10.0, 40.0, 10.0),), True,
+                  f"{part} (and its supports, unless given their own) this much warmer: it grows by α ΔT axially and "
+                  "radially, and its supports lift it by α ΔT times their height above the bed.", change)
+
+
+def _thermal_candidates(rig: Rig) -> list[Effect]:
+    """``temperature_rise@P`` for the parts a temperature can be given to: with ``[thermal]``, a material with
+    ``thermal_expansion_per_K`` and every mount with ``height_above_bed_mm``."""
+    if rig.thermal is None:
+        return []
+    out = []
+    for p in rig.parts:
+        own = [m for m in rig.mounts if m.part == p.name]
+        materials = [p.material] + [m.support_material for m in own if m.support_material]
+        if all(rig.materials[name].thermal_expansion_per_K is not None for name in materials) and all(
+                m.height_above_bed_mm is not None for m in own):
+            out.append(_temperature_rise(rig, p.name))
+    return out
+
+
 def _with_linearity(effect: Effect, linear_rig: bool) -> Effect:
     if effect.linear and not linear_rig:
         return Effect(effect.name, effect.kind, effect.location, effect.parameters, False, effect.description,
@@ -413,6 +443,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     if not rig.beam.shear_deformation:
         effects.append(_shear(rig))
     effects += [_thermal_growth(rig, part) for part in mounted]
+    effects += _thermal_candidates(rig)
     return tuple(_with_linearity(e, linear_rig) for e in effects if e is not None)
 
 

@@ -4,7 +4,9 @@ An address is ``<group>.<item name>.<key>``, e.g. ``bearings.input_B1.radial_sti
 or ``torque_lateral_loads.sun_gear_load_sharing.imbalance``; a ``Triple`` component is
 addressed with an index suffix, ``mounts.reducer_pedestal.translational_stiffness_N_per_um[1]``.
 A top-level table's key is ``<table>.<key>``: ``gravity.acceleration_m_per_s2``, ``gravity.enabled``,
-``force_table.scale``, ``force_table.apply``, ``beam.shear_deformation``. Keys are the rig file's
+``force_table.scale``, ``force_table.apply``, ``beam.shear_deformation``. A temperature rise is
+``thermal.temperature_rise_K.<part>`` (or ``thermal.support_temperature_rise_K.<mount>``): 0 when not
+set, and setting it creates the entry. Keys are the rig file's
 (``torque_lateral_loads.<name>.force_per_torque_N_per_Nm``); a true/false key reads as 1.0/0.0 and
 is set from a number (non-zero is true). Replacing returns a new, re-validated rig: the original is
 never changed.
@@ -22,6 +24,15 @@ _ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<item>[A-Za-z0-9_.\-]+?)\.(?P<key>\w
 _TABLE_ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<key>\w+)$")
 GROUPS = ("bearings", "mounts", "couplings", "joints", "torque_lateral_loads", "gear_meshes")
 TABLES = ("gravity", "force_table", "beam")
+DICT_KEYS = {"thermal": ("temperature_rise_K", "support_temperature_rise_K")}  # table → keys holding {name: value}
+
+
+def _dict_address(address: str):
+    """(table, key, name) of ``thermal.temperature_rise_K.<part>``-like addresses, else None."""
+    match = _ADDRESS.match(address)
+    if match and match["index"] is None and match["item"] in DICT_KEYS.get(match["group"], ()):
+        return match["group"], match["item"], match["key"]
+    return None
 
 
 def _parse(address: str):
@@ -56,6 +67,10 @@ def _entry(rig: Rig, group: str, item: str | None):
 
 def get_parameter(rig: Rig, address: str) -> float:
     """Current value of a named parameter."""
+    keyed = _dict_address(address)
+    if keyed is not None:
+        table = getattr(rig, keyed[0])
+        return float(getattr(table, keyed[1]).get(keyed[2], 0.0)) if table is not None else 0.0
     group, item, key, index = _parse(address)
     entry = _entry(rig, group, item)
     name = _field_name(entry, key)
@@ -81,6 +96,12 @@ def with_parameters(rig: Rig, values: dict[str, float]) -> Rig:
     """A copy of ``rig`` with the given parameters replaced (and validated again)."""
     data = rig.model_dump(by_alias=True)
     for address, value in values.items():
+        keyed = _dict_address(address)
+        if keyed is not None:
+            table = data[keyed[0]] if data.get(keyed[0]) is not None else {}
+            table[keyed[1]] = {**table.get(keyed[1], {}), keyed[2]: float(value)}
+            data[keyed[0]] = table
+            continue
         group, item, key, index = _parse(address)
         entry = _entry(rig, group, item)
         if _field_name(entry, key) is None:

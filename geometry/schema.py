@@ -18,7 +18,7 @@ from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
            "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "Segment", "SingleForce", "SolidSettings",
-           "Strict", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
+           "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
 
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
@@ -73,6 +73,8 @@ class Material(Strict):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
     density_kg_per_m3: Positive
+    # thermal growth ([thermal], issue 16 item 4): mean linear expansion coefficient, 1/K (≈ 1.1e-5 for steel)
+    thermal_expansion_per_K: Annotated[float, Field(ge=0.0, le=1e-4, allow_inf_nan=False, strict=True)] | None = None
 
     @property
     def shear_modulus_MPa(self) -> float:
@@ -171,6 +173,10 @@ class Mount(Strict):
     # ground side raised by this much (+Y): thermal growth of a housing, shims; the mount's spring
     # is free of load when the part's attachment point sits this far above its nominal position
     vertical_offset_um: Annotated[float, Field(ge=-1e4, le=1e4, allow_inf_nan=False, strict=True)] = 0.0
+    # thermal growth ([thermal], issue 16 item 4): the support lifts the axis by α ΔT · height_above_bed_mm,
+    # α of support_material (default: the part's material), ΔT the support's temperature rise
+    height_above_bed_mm: Annotated[float, Field(ge=0.0, le=1e4, allow_inf_nan=False, strict=True)] | None = None
+    support_material: str | None = None
 
 
 class Connection(Strict):
@@ -377,6 +383,27 @@ class GearMesh(Strict):
 
 
 
+# ---- temperatures (issue 16 item 4) ------------------------------------------------------------------------
+
+TemperatureRise = Annotated[float, Field(ge=-100.0, le=300.0, allow_inf_nan=False, strict=True)]
+
+
+class Thermal(Strict):
+    """``[thermal]``: steady temperature rises (K, = °C of difference) from the state the rig was built in.
+
+    ``temperature_rise_K`` per part (missing parts: 0) grows every part axially and radially by its
+    material's ``thermal_expansion_per_K``; ``support_temperature_rise_K`` per mount (default: its
+    part's) lifts the mount by α ΔT · ``height_above_bed_mm``; the bed (``bed_material``) grows along x
+    from ``bed_fixed_x_mm`` by ``bed_temperature_rise_K``. See :mod:`rvcoax.geometry.thermal`.
+    """
+
+    temperature_rise_K: dict[str, TemperatureRise] = {}
+    support_temperature_rise_K: dict[str, TemperatureRise] = {}
+    bed_temperature_rise_K: TemperatureRise = 0.0
+    bed_material: str | None = None
+    bed_fixed_x_mm: Finite = 0.0
+
+
 class ForcePair(Strict):
     label: str
     force_N: Finite
@@ -436,6 +463,7 @@ class Rig(Strict):
     torques: Torques
     torque_lateral_loads: list[TorqueLateralLoad] = []
     gear_meshes: list[GearMesh] = []
+    thermal: Thermal | None = None
     force_table: ForceTable = ForceTable()
     paths: Paths
     solid: SolidSettings = SolidSettings()
@@ -489,6 +517,50 @@ class Rig(Strict):
                                f"shafts fill x = {x0:g} … {x1:g} mm at the same radii (Ø{sa.outer_diameter_mm:g} and "
                                f"Ø{clash.outer_diameter_mm:g} mm); check their segments' x_mm")
                         break
+
+    def _thermal_problems(self):
+        """Unknown names, and a temperature rise on a material without ``thermal_expansion_per_K``."""
+        for i, m in enumerate(self.mounts):
+            if m.support_material is not None and m.support_material not in self.materials:
+                yield (f"mounts[{i}] ('{m.name}').support_material: unknown material '{m.support_material}' "
+                       f"(known: {', '.join(sorted(self.materials))})")
+        thermal = self.thermal
+        if thermal is None:
+            return
+        parts = {p.name: p for p in self.parts}
+        mounts = {m.name: m for m in self.mounts}
+
+        def expands(where: str, material: str | None):
+            if material is None or material not in self.materials:
+                return
+            if self.materials[material].thermal_expansion_per_K is None:
+                yield f"{where}: material '{material}' has no thermal_expansion_per_K (needed for a temperature rise)"
+
+        for name, rise in thermal.temperature_rise_K.items():
+            if name not in parts:
+                yield f"thermal.temperature_rise_K.{name}: unknown part '{name}' (parts: {', '.join(parts)})"
+            elif rise != 0.0:
+                yield from expands(f"thermal.temperature_rise_K.{name}", parts[name].material)
+        for name in thermal.support_temperature_rise_K:
+            if name not in mounts:
+                yield (f"thermal.support_temperature_rise_K.{name}: unknown mount '{name}' "
+                       f"(mounts: {', '.join(mounts) or 'none'})")
+        for i, m in enumerate(self.mounts):
+            rise = thermal.support_temperature_rise_K.get(m.name, thermal.temperature_rise_K.get(m.part, 0.0))
+            if rise == 0.0 or m.part not in parts:
+                continue
+            if m.height_above_bed_mm is None:
+                yield (f"mounts[{i}] ('{m.name}').height_above_bed_mm: required when its support is {rise:g} K warmer "
+                       "([thermal]): the support lifts the axis by α ΔT · height")
+            yield from expands(f"mounts[{i}] ('{m.name}')", m.support_material or parts[m.part].material)
+        if thermal.bed_temperature_rise_K != 0.0:
+            if thermal.bed_material is None:
+                yield "thermal.bed_material: required when bed_temperature_rise_K is not 0"
+            elif thermal.bed_material not in self.materials:
+                yield (f"thermal.bed_material: unknown material '{thermal.bed_material}' "
+                       f"(known: {', '.join(sorted(self.materials))})")
+            else:
+                yield from expands("thermal.bed_material", thermal.bed_material)
 
     def _metre_scale(self):
         """A rig whose every length is tiny was written in metres, not in the keys' millimetres."""
@@ -557,6 +629,7 @@ class Rig(Strict):
                        f"(known: {', '.join(sorted(self.materials))})")
             if g.on.part == g.reacted_on.part:
                 yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
+        yield from self._thermal_problems()
         for i, f in enumerate(self.force_table.pairs):
             yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
             yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)

@@ -20,6 +20,7 @@ from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.thermal import beam_thermal_load, thermal_stress_free_motions
 
 __all__ = ["SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
            "build_rig_model", "prestrain_load_vector", "stress_free_motions"]
@@ -265,7 +266,8 @@ def stress_free_motions(rig: Rig) -> np.ndarray:
     joints). A mount raised by ``vertical_offset_um`` has Δ0 = (0, δ, 0, 0, 0, 0); a coupling with
     a parallel offset δ and an angular misalignment α towards direction e = (0, cos φ, sin φ) has
     Δ0 = (δ e, α x × e): its ``to`` hub is free of load δ away from the ``from`` hub and rotated
-    by α towards e. Everything else is zero.
+    by α towards e. ``[thermal]`` adds the supports' lifts, the bed's growth and the grown spacing of
+    couplings (:func:`rvcoax.geometry.thermal.thermal_stress_free_motions`). Everything else is zero.
     """
     rows = [np.zeros(6) for _ in rig.bearings]
     for m in rig.mounts:
@@ -277,17 +279,18 @@ def stress_free_motions(rig: Rig) -> np.ndarray:
         rows.append(np.concatenate([c.parallel_offset_um * UM * direction,
                                     c.angular_misalignment_mrad * MRAD * rotation_axis]))
     rows.extend(np.zeros(6) for _ in rig.joints)
-    return np.array(rows, dtype=float).reshape(-1, 6)
+    return np.array(rows, dtype=float).reshape(-1, 6) + thermal_stress_free_motions(rig)
 
 
 def prestrain_load_vector(model: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
     """Equivalent load of the bushings' prestrain, K Δ0 through their rigid arms (length ``n_dofs``).
 
     ``rig`` gives the offsets (it may differ from ``model.rig`` in offsets only). Zero when every
-    coupling is aligned and every mount at its nominal height.
+    coupling is aligned and every mount at its nominal height. Adds the beams' thermal initial strain.
     """
     vector = np.zeros(n_dofs)
     structure = model.structure
     vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
                                                 structure.n_dofs)
+    vector[: structure.n_dofs] += beam_thermal_load(rig, model.node_part, structure.beams, structure.n_dofs)
     return vector

@@ -32,6 +32,7 @@ from rvcoax.geometry.model.loads import (
 )
 from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, nodal_vector
 from rvcoax.geometry.schema import Part, Rig
+from rvcoax.geometry.thermal import part_strain
 
 __all__ = ["Attachment", "FaceSpec", "MM", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
            "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
@@ -286,6 +287,16 @@ class SolidLoads:
             face = _load_face(self._rig, self._parts[load.part], load)
             weights = np.concatenate([np.asarray(load.force_N, dtype=float), moment[:1]])
             vector[part.offset: part.offset + part.n_dofs] += self._unit_vectors(part, face, load.x_mm) @ weights
+        return vector
+
+    def thermal_vector(self, rig: Rig, n: int) -> np.ndarray:
+        """Initial-strain load of the solid parts' free thermal strain α ΔT (``[thermal]``)."""
+        vector = np.zeros(n)
+        for name, part in self._solids.items():
+            strain = part_strain(rig, name)
+            if strain:
+                vector[part.offset: part.offset + part.n_dofs] += solid.thermal_strain_vector(
+                    part.basis, part.youngs_modulus_pa, part.poisson, strain)
         return vector
 
 

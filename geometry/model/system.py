@@ -131,6 +131,8 @@ class UnitLoadBuilder:
             loads = {name: self.solid_loads.vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
         loads["gravity"] = loads["gravity"] + gravity_acceleration(rig) * self.weight_per_g
         loads["prestrain"] = prestrain_load_vector(self.frame, rig, self.n_dofs)  # springs act on frame nodes
+        if self.solid_loads is not None and rig.thermal is not None:
+            loads["prestrain"] = loads["prestrain"] + self.solid_loads.thermal_vector(rig, self.n_dofs)
         return loads
 
 
