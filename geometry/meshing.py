@@ -302,7 +302,8 @@ def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
         gmsh.option.setNumber("General.Verbosity", 2)
         gmsh.option.setNumber("General.NumThreads", 1)  # 2 threads give different node counts per run
         gmsh.model.add(geometry.name or "part")
-        _build_occ_model(gmsh, geometry)
+        # a geometry that is not a round part (a housing) builds its own OpenCASCADE model
+        getattr(geometry, "build_occ_model", lambda g: _build_occ_model(g, geometry))(gmsh)
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         # at least ~8 elements around every circle: a small bore under a coarse size would otherwise
         # give intersecting facets (gmsh "PLC Error") or inverted curved tets

@@ -1,0 +1,91 @@
+"""Static (Guyan) condensation of a supported structure to master DOFs, and its superelement.
+
+A housing meshed with solids, its feet clamped or on springs, is reduced to the six DOFs of each
+reference node where something attaches (bearings, a part). Two routes, which agree to rounding
+(a test checks it):
+
+* :func:`condensed_stiffness` — the flexibility route: solve the supported model for a unit load on
+  each master DOF (k columns), read the masters' displacements, F (k × k), and invert,
+  K_c = F⁻¹. It works whatever the masters are: independent DOFs, or reference nodes that depend on
+  a face (a distributing tie, RBE3-like). It is exact: K_c reproduces the full model's master
+  displacements for any load on the masters (Guyan's reduction is exact when only masters are loaded).
+* :func:`schur_complement` — Guyan's formula K_c = K_mm − K_ms K_ss⁻¹ K_sm when the masters are
+  independent DOFs (no constraints).
+
+:func:`superelement_contribution` puts K_c into a system on the master nodes' DOFs, the way a
+bushing enters it (:mod:`rvcoax.fem.pieces`). Linear algebra only: meshes are unknown here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.pieces import Contribution
+from rvcoax.fem.system import prepare_system
+
+__all__ = ["condensed_stiffness", "schur_complement", "superelement_contribution"]
+
+
+def condensed_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs,
+                        method: str = "auto") -> np.ndarray:
+    """K_c (k × k) of the model (K, u = T q) at ``master_dofs``: the inverse of its flexibility there.
+
+    Parameters
+    ----------
+    stiffness : csr_matrix
+        K (n × n) of the whole model, supports included.
+    elimination : csr_matrix
+        T (n × m), with the fixed DOFs and constraint rows eliminated (u = T q).
+    master_dofs : array of int
+        The k master DOFs (in K's numbering); they may be dependent DOFs of T.
+    method : str
+        The solver (:func:`rvcoax.fem.system.prepare_system`).
+
+    Raises
+    ------
+    SingularModelError
+        The model is not supported (a rigid-body motion is free) or the flexibility is singular.
+    """
+    masters = np.asarray(master_dofs, dtype=int)
+    n = stiffness.shape[0]
+    unit = sp.csr_matrix((np.ones(masters.size), (masters, np.arange(masters.size))), shape=(n, masters.size))
+    system = prepare_system(stiffness, elimination, method, symmetrize=True)
+    displacement = system.solve(unit.toarray())
+    flexibility = displacement[masters, :]
+    flexibility = 0.5 * (flexibility + flexibility.T)
+    condition = np.linalg.cond(flexibility)
+    if not np.isfinite(condition) or condition > 1e14:
+        raise SingularModelError(f"the condensed flexibility is singular (condition number {condition:.1e}): a master "
+                                 "DOF does not move the structure (check the ties)")
+    result = np.linalg.inv(flexibility)
+    return 0.5 * (result + result.T)
+
+
+def schur_complement(stiffness: sp.csr_matrix, master_dofs, fixed_dofs=()) -> np.ndarray:
+    """Guyan's K_mm − K_ms K_ss⁻¹ K_sm for independent ``master_dofs`` (the other free DOFs are slaves)."""
+    masters = np.asarray(master_dofs, dtype=int)
+    n = stiffness.shape[0]
+    keep = np.ones(n, dtype=bool)
+    keep[masters] = False
+    keep[np.asarray(fixed_dofs, dtype=int)] = False
+    slaves = np.flatnonzero(keep)
+    k = sp.csr_matrix(stiffness)
+    k_ss = k[slaves][:, slaves].tocsc()
+    k_sm = k[slaves][:, masters].toarray()
+    k_mm = k[masters][:, masters].toarray()
+    solved = sp.linalg.splu(k_ss).solve(k_sm)
+    result = k_mm - k_sm.T @ solved
+    return 0.5 * (result + result.T)
+
+
+def superelement_contribution(matrix: np.ndarray, dofs) -> Contribution:
+    """A condensed stiffness on the global ``dofs`` (its other side is the ground): stiffness triplets."""
+    dofs = np.asarray(dofs, dtype=int)
+    matrix = np.asarray(matrix, dtype=float)
+    if matrix.shape != (dofs.size, dofs.size):
+        raise ValueError(f"a {matrix.shape} matrix does not fit {dofs.size} DOFs")
+    rows = np.repeat(dofs, dofs.size)
+    cols = np.tile(dofs, dofs.size)
+    return Contribution((rows, cols, matrix.ravel()))
