@@ -31,6 +31,7 @@ effect                         parameter                           unit   linear
 ``mesh_position_error@L``      ``position_error_um``               µm     yes
 ``mesh_position_error@G``      ``position_error_um``               µm     yes
 ``temperature_rise@P``         ``temperature_rise_K``              °C     yes
+``housing_stiffness@H``        ``log2_stiffness_factor``           –      no
 =============================  ==================================  =====  ==========
 
 "linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
@@ -369,6 +370,20 @@ def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
                   "follow from the gear data.", change)
 
 
+def _housing_stiffness(rig: Rig, name: str) -> Effect:
+    address = f"housings.{name}.stiffness_factor"
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) * 2.0 ** v[0]})
+
+    # 1/8 … 2: the condensed block is the solid as drawn, bolted perfectly to a rigid bed; bolted
+    # joints, a softer bed and fillets left out make real housings 2–8× softer, seldom stiffer.
+    return Effect(f"housing_stiffness@{name}", "housing_stiffness", name,
+                  (EffectParameter("log2_stiffness_factor", "-", -3.0, 1.0, -1.0),), False,
+                  f"The condensed stiffness of housing {name} times 2^factor (bolted joints, bed, details not drawn).",
+                  change)
+
+
 def _temperature_rise(rig: Rig, part: str) -> Effect:
     address = f"thermal.temperature_rise_K.{part}"
 
@@ -444,6 +459,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
         effects.append(_shear(rig))
     effects += [_thermal_growth(rig, part) for part in mounted]
     effects += _thermal_candidates(rig)
+    effects += [_housing_stiffness(rig, h.name) for h in rig.housings]
     return tuple(_with_linearity(e, linear_rig) for e in effects if e is not None)
 
 

@@ -22,7 +22,7 @@ __all__ = ["GROUPS", "TABLES", "get_parameter", "with_parameters"]
 
 _ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<item>[A-Za-z0-9_.\-]+?)\.(?P<key>\w+)(\[(?P<index>\d)\])?$")
 _TABLE_ADDRESS = re.compile(r"^(?P<group>\w+)\.(?P<key>\w+)$")
-GROUPS = ("bearings", "mounts", "couplings", "joints", "torque_lateral_loads", "gear_meshes")
+GROUPS = ("bearings", "mounts", "couplings", "joints", "torque_lateral_loads", "gear_meshes", "housings")
 TABLES = ("gravity", "force_table", "beam")
 DICT_KEYS = {"thermal": ("temperature_rise_K", "support_temperature_rise_K")}  # table → keys holding {name: value}
 

@@ -16,7 +16,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
-           "ForceTable", "GearMesh", "Gravity", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
+           "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
            "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "Segment", "SingleForce", "SolidSettings",
            "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
 
@@ -383,6 +383,70 @@ class GearMesh(Strict):
 
 
 
+# ---- housings condensed from a solid model (issue 16 item 2) ------------------------------------------------
+
+class Housing(Strict):
+    """``[[housings]]``: a block housing (bearing block, pedestal) of part ``part``, condensed from a solid model.
+
+    The block spans ``x_mm`` along the axis, ``width_mm`` across (z), from the bed face
+    ``height_above_bed_mm`` below the axis to ``top_above_axis_mm`` above it, with an optional bore
+    (``bore_diameter_mm``) on the axis and an optional foot plate (``foot_thickness_mm`` × ``foot_width_mm``).
+    Its feet are ``clamped`` or sit on a Winkler ``bed`` (normal and shear stiffness per area). At each of
+    ``attachments_x_mm`` a reference node on the axis is tied to a band ``attachment_width_mm`` wide of the
+    bore (of the top face without a bore); the solid model condensed to these nodes (a 6k × 6k stiffness
+    to the ground, times ``stiffness_factor``) acts on the nodes of ``part`` there, as a bushing would.
+    See :mod:`rvcoax.geometry.housings`.
+    """
+
+    name: Name
+    part: str
+    material: str
+    x_mm: tuple[Finite, Finite]
+    width_mm: Positive
+    height_above_bed_mm: Positive
+    top_above_axis_mm: Positive
+    bore_diameter_mm: NonNegative = 0.0
+    foot_thickness_mm: NonNegative = 0.0
+    foot_width_mm: NonNegative = 0.0
+    attachments_x_mm: list[Finite] = Field(min_length=1, max_length=8)
+    attachment_width_mm: Positive = 10.0
+    tie: Literal["distributing", "rigid"] = "distributing"
+    feet: Literal["clamped", "bed"] = "clamped"
+    bed_stiffness_N_per_um_per_mm2: Annotated[float, Field(gt=0.0, le=1e4, strict=True)] | None = None
+    bed_shear_stiffness_N_per_um_per_mm2: Annotated[float, Field(gt=0.0, le=1e4, strict=True)] | None = None
+    mesh_size_mm: Positive = 8.0
+    stiffness_factor: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False, strict=True)] = 1.0
+
+    @model_validator(mode="after")
+    def _check(self) -> Housing:
+        x0, x1 = self.x_mm
+        for x in self.attachments_x_mm:
+            if not x0 <= x <= x1:
+                raise ValueError(f"attachments_x_mm: {x:g} lies outside the housing's x_mm [{x0:g}, {x1:g}]")
+        if self.feet == "bed" and self.bed_stiffness_N_per_um_per_mm2 is None:
+            raise ValueError("feet = \"bed\" needs bed_stiffness_N_per_um_per_mm2")
+        low, high = MESH_SIZE_RANGE_MM
+        if not low <= self.mesh_size_mm <= high:
+            raise ValueError(f"mesh_size_mm = {self.mesh_size_mm:g} mm is outside {low:g} … {high:g} mm")
+        self.geometry  # noqa: B018 - raises ValueError naming what does not fit
+        return self
+
+    def bands_mm(self) -> list[tuple[float, float]]:
+        """The band [x0, x1] each reference node is tied to (inside the housing)."""
+        half = 0.5 * self.attachment_width_mm
+        return [(max(x - half, self.x_mm[0]), min(x + half, self.x_mm[1])) for x in self.attachments_x_mm]
+
+    @property
+    def geometry(self):
+        """The :class:`rvcoax.geometry.housings.BlockGeometry` (rig coordinates, mm)."""
+        from rvcoax.geometry.housings import BlockGeometry
+
+        splits = tuple(x for band in self.bands_mm() for x in band)
+        return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
+                             self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm, self.foot_width_mm,
+                             splits, self.mesh_size_mm)
+
+
 # ---- temperatures (issue 16 item 4) ------------------------------------------------------------------------
 
 TemperatureRise = Annotated[float, Field(ge=-100.0, le=300.0, allow_inf_nan=False, strict=True)]
@@ -464,6 +528,7 @@ class Rig(Strict):
     torque_lateral_loads: list[TorqueLateralLoad] = []
     gear_meshes: list[GearMesh] = []
     thermal: Thermal | None = None
+    housings: list[Housing] = []
     force_table: ForceTable = ForceTable()
     paths: Paths
     solid: SolidSettings = SolidSettings()
@@ -630,6 +695,13 @@ class Rig(Strict):
             if g.on.part == g.reacted_on.part:
                 yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
         yield from self._thermal_problems()
+        for i, h in enumerate(self.housings):
+            yield from at(f"housings[{i}] ('{h.name}').part", h.part, h.attachments_x_mm[0])
+            for x in h.attachments_x_mm[1:]:
+                yield from at(f"housings[{i}] ('{h.name}').attachments_x_mm", h.part, x)
+            if h.material not in self.materials:
+                yield (f"housings[{i}] ('{h.name}').material: unknown material '{h.material}' "
+                       f"(known: {', '.join(sorted(self.materials))})")
         for i, f in enumerate(self.force_table.pairs):
             yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
             yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
@@ -662,7 +734,8 @@ class Rig(Strict):
             if name not in parts:
                 yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
         names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
-                                         self.torque_lateral_loads, self.gear_meshes) for item in group]
+                                         self.torque_lateral_loads, self.gear_meshes, self.housings)
+                 for item in group]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
-            yield f"names of bearings, mounts, couplings, joints, torque_lateral_loads and gear_meshes must be unique; repeated: {', '.join(repeated)}"
+            yield f"names of bearings, mounts, couplings, joints, torque_lateral_loads, gear_meshes and housings must be unique; repeated: {', '.join(repeated)}"

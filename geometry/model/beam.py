@@ -110,6 +110,8 @@ def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
         refs[t.on.part].append(t.on.x_mm)
         if t.reacted_on is not None:
             refs[t.reacted_on.part].append(t.reacted_on.x_mm)
+    for h in rig.housings:
+        refs[h.part].extend(h.attachments_x_mm)
     for g in rig.gear_meshes:
         refs[g.on.part].append(g.on.x_mm)
         refs[g.reacted_on.part].append(g.reacted_on.x_mm)

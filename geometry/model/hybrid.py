@@ -25,6 +25,7 @@ from rvcoax.fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equ
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 from rvcoax.geometry.model.beam import RigModel, build_rig_model
+from rvcoax.geometry.model.housings import housing_contributions
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
     LocatedLoad,
@@ -330,7 +331,11 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         offset += int(basis.N)
     n = offset
 
-    pieces = frame_contributions(structure, GRAVITY_DIRECTION)
+    housed = [h.name for h in rig.housings if h.part in solid_names]
+    if housed:
+        raise SolidModelError(f"housings {', '.join(housed)}: their part is a solid here; a condensed housing holds a "
+                              "beam part's nodes (keep the part out of [solid] hybrid_parts)")
+    pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
     pieces += [solid_contribution(s.basis, s.youngs_modulus_pa, s.poisson, s.density_kg_m3, s.offset,
                                   GRAVITY_DIRECTION) for s in solids.values()]
     for a in ties:

@@ -23,6 +23,7 @@ from rvcoax.fem.loads import NodalLoads, nodal_load_vector
 from rvcoax.fem.pieces import assemble, frame_contributions
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
+from rvcoax.geometry.model.housings import housing_contributions
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
     UNIT_LOADS,
@@ -162,7 +163,7 @@ def assemble_beam(rig: Rig) -> RigSystem:
     frame = build_rig_model(rig)
     structure = frame.structure
     n = structure.n_dofs
-    assembled = assemble(n, frame_contributions(structure, GRAVITY_DIRECTION))
+    assembled = assemble(n, frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame))
     loads = UnitLoadBuilder(frame, n, assembled.loads["gravity"])
     probes = {which: frame_path_probe(frame, which, n) for which in MEASURED_SHAFTS}
     return RigSystem(rig, "beam", frame, assembled.stiffness, assembled.elimination, loads(rig), probes,

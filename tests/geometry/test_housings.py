@@ -117,3 +117,59 @@ def test_superelement_contribution_places_the_matrix():
     assert list(zip(rows, cols, values)) == [(7, 7, 1.0), (7, 3, 1.0), (3, 7, 2.0), (3, 3, 4.0)]
     with pytest.raises(ValueError, match="does not fit"):
         superelement_contribution(matrix, [1, 2, 3])
+
+
+# ---- in the rig ------------------------------------------------------------------------------------------
+
+INPUT_BLOCK = {  # the reference rig's input bearing block from geometry (docs/rig-file.md)
+    "name": "input_block", "part": "input_bearing_block", "material": "HT200", "x_mm": [248.0, 320.0],
+    "width_mm": 90.0, "height_above_bed_mm": 100.0, "top_above_axis_mm": 45.0, "bore_diameter_mm": 47.0,
+    "foot_thickness_mm": 15.0, "foot_width_mm": 150.0, "attachments_x_mm": [255.0, 315.0],
+    "attachment_width_mm": 14.0, "mesh_size_mm": 20.0,
+}
+
+
+def reference_with_block(**changes):
+    import tomllib
+
+    from rvcoax.geometry.rigfile import parse_rig, reference_rig_text
+
+    data = tomllib.loads(reference_rig_text())
+    data["mounts"] = [m for m in data["mounts"] if m["name"] != "input_block_base"]
+    data["housings"] = [{**INPUT_BLOCK, **changes}]
+    return parse_rig(data, "test")
+
+
+def test_reference_rig_input_block_from_geometry_enters_like_a_bushing():
+    """The condensed block replaces the typed-in mount input_block_base: the system gains exactly K_c on the
+    block's two nodes, and the rig solves; the housing_stiffness effect scales it."""
+    from rvcoax.fem.system import factorize
+    from rvcoax.geometry.effects import effect_by_name
+    from rvcoax.geometry.model.housings import condensed_housing
+    from rvcoax.geometry.model.system import assemble_beam
+
+    rig = reference_with_block()
+    matrix = condensed_housing(rig, rig.housings[0]).matrix
+    system = assemble_beam(rig)
+    nodes = [system.frame.node("input_bearing_block", x) for x in (255.0, 315.0)]
+    dofs = (6 * np.asarray(nodes)[:, None] + np.arange(6)).ravel()
+    softer = effect_by_name(rig, "housing_stiffness@input_block").apply(rig, [-1.0])
+    assert softer.housings[0].stiffness_factor == 0.5
+    difference = (system.stiffness - assemble_beam(softer).stiffness).toarray()
+    assert difference[np.ix_(dofs, dofs)] == pytest.approx(0.5 * matrix, rel=1e-12, abs=1e-6)
+    assert np.abs(np.delete(np.delete(difference, dofs, 0), dofs, 1)).max() == 0.0
+    u = factorize(system.stiffness, system.elimination).solve(system.unit_loads["gravity"])
+    assert np.isfinite(u).all() and u[6 * nodes[0] + 1] < 0  # the block sags under the rig's weight
+
+
+def test_bad_housing_input_is_named():
+    from rvcoax.geometry.rigfile import RigFileError
+
+    with pytest.raises(RigFileError, match="does not fit inside the block"):
+        reference_with_block(bore_diameter_mm=95.0)
+    with pytest.raises(RigFileError, match="outside the housing's x_mm"):
+        reference_with_block(attachments_x_mm=[240.0])
+    with pytest.raises(RigFileError, match="needs bed_stiffness_N_per_um_per_mm2"):
+        reference_with_block(feet="bed")
+    with pytest.raises(RigFileError, match="unknown material"):
+        reference_with_block(material="bronze")

@@ -1,0 +1,43 @@
+"""``[[housings]]`` in a rig model: each housing's condensed stiffness on the frame nodes it holds.
+
+The condensed matrix (:func:`rvcoax.geometry.housings.condense_housing`, cached by content) is a
+superelement between the ground and the reference nodes of the housing's part at
+``attachments_x_mm``; it enters the system like a bushing (:func:`rvcoax.fem.condensation.superelement_contribution`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.condensation import superelement_contribution
+from rvcoax.fem.pieces import Contribution
+from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
+from rvcoax.geometry.schema import Housing, Rig
+
+__all__ = ["condensed_housing", "housing_contributions"]
+
+
+def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
+    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``."""
+    face = "bore" if housing.bore_diameter_mm > 0 else "top"
+    references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
+                  for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
+    material = rig.materials[housing.material]
+    bed = None
+    if housing.feet == "bed":
+        normal = housing.bed_stiffness_N_per_um_per_mm2
+        bed = (normal, housing.bed_shear_stiffness_N_per_um_per_mm2 or normal)
+    return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
+                            housing.feet, bed, cache_dir=cache_dir)
+
+
+def housing_contributions(rig: Rig, frame, cache_dir=None) -> list[Contribution]:
+    """One superelement per ``[[housings]]`` entry on the frame nodes of its part (empty without housings)."""
+    pieces = []
+    for housing in rig.housings:
+        nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
+        dofs = (DOFS_PER_NODE * np.asarray(nodes)[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+        matrix = housing.stiffness_factor * condensed_housing(rig, housing, cache_dir).matrix
+        pieces.append(superelement_contribution(matrix, dofs))
+    return pieces
