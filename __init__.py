@@ -14,7 +14,8 @@ Example
 
 Steps, in the order data flows:
 
-- rig file: :func:`load_rig`, :func:`parse_rig_text`, :func:`reference_rig_text`, :class:`Rig`
+- rig file: :func:`load_rig`, :func:`parse_rig_text`, :func:`reference_rig_text`, :class:`Rig`,
+  :func:`reference_from_geometry` (the reference rig with gear data, condensed blocks, temperatures)
 - load cases: :class:`LoadCase`, :func:`paper_cases`, :func:`paper_table`, :func:`read_cases`,
   :func:`paired_cases`, :func:`grid_cases`
 - model and solve: :data:`MODEL_KINDS`, :func:`assemble_rig`, :class:`SweepSettings`,
@@ -41,6 +42,7 @@ _WHERE = {
     "load_rig": "rvcoax.geometry.rigfile",
     "parse_rig_text": "rvcoax.geometry.rigfile",
     "reference_rig_text": "rvcoax.geometry.rigfile",
+    "reference_from_geometry": "rvcoax.geometry.variants",
     "LoadCase": "rvcoax.loadcases.cases",
     "paper_cases": "rvcoax.loadcases.cases",
     "paper_table": "rvcoax.loadcases.cases",

@@ -80,12 +80,23 @@ def schur_complement(stiffness: sp.csr_matrix, master_dofs, fixed_dofs=()) -> np
     return 0.5 * (result + result.T)
 
 
-def superelement_contribution(matrix: np.ndarray, dofs) -> Contribution:
-    """A condensed stiffness on the global ``dofs`` (its other side is the ground): stiffness triplets."""
+def superelement_contribution(matrix: np.ndarray, dofs, ground_dofs=None) -> Contribution:
+    """A condensed stiffness K_c between the global ``dofs`` and the ground: stiffness triplets.
+
+    With ``ground_dofs`` (held fixed elsewhere, one per entry of ``dofs``) the ground side is explicit,
+    [[K_c, −K_c], [−K_c, K_c]] on (dofs, ground_dofs): the structure sees the same K_c, and the fixed DOFs'
+    reactions are the superelement's forces on the ground (for the global equilibrium check).
+    """
     dofs = np.asarray(dofs, dtype=int)
     matrix = np.asarray(matrix, dtype=float)
     if matrix.shape != (dofs.size, dofs.size):
         raise ValueError(f"a {matrix.shape} matrix does not fit {dofs.size} DOFs")
+    if ground_dofs is not None:
+        ground = np.asarray(ground_dofs, dtype=int)
+        if ground.shape != dofs.shape:
+            raise ValueError(f"{ground.size} ground DOFs for {dofs.size} DOFs")
+        dofs = np.concatenate([dofs, ground])
+        matrix = np.block([[matrix, -matrix], [-matrix, matrix]])
     rows = np.repeat(dofs, dofs.size)
     cols = np.tile(dofs, dofs.size)
     return Contribution((rows, cols, matrix.ravel()))

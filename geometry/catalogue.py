@@ -241,4 +241,20 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     the likely slip. Empty for a plausible rig (the built-in reference rig among them).
     """
     components = _component_warnings(rig)
-    return components + _bore_warnings(rig, components) + _mass_warnings(rig) + _topology_warnings(rig)
+    return (components + _bore_warnings(rig, components) + _mass_warnings(rig) + _topology_warnings(rig)
+            + _gear_contact_warnings(rig))
+
+
+def _gear_contact_warnings(rig: Rig) -> list[str]:
+    """A gear stage whose position errors open a planet mesh at small torque (the linear model assumes contact)."""
+    from rvcoax.geometry.model.loads import gear_mesh_full_contact_torque
+
+    found = []
+    for i, mesh in enumerate(rig.gear_meshes):
+        torque = gear_mesh_full_contact_torque(rig, mesh)
+        if torque > 0.0:
+            found.append(f"gear_meshes[{i}] ('{mesh.name}'): below |{mesh.torque}| = {torque:.3g} N·m a planet mesh "
+                         "opens (planet_position_errors_um against the mesh stiffness); the linear model keeps every "
+                         "mesh in contact, so there it overstates the constant force and understates the "
+                         "torque-proportional one (docs/model.md, gear meshes)")
+    return found

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["ISO6336_Q_COEFFICIENTS", "MeshForces", "GearStage", "SingleStiffness", "STEEL_YOUNGS_MODULUS_PA",
-           "involute", "load_sharing", "mesh_forces", "single_stiffness"]
+           "contact_loads", "full_contact_force", "involute", "load_sharing", "mesh_forces", "single_stiffness"]
 
 ISO6336_Q_COEFFICIENTS = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 """C1 … C9 of ISO 6336-1:2006 Table 9 (q′ in mm·µm/N)."""
@@ -210,6 +210,32 @@ def load_sharing(stiffness: np.ndarray, position_error: np.ndarray) -> tuple[np.
     total = k.sum()
     mean_error = float(k @ e) / total
     return k / total, k * (mean_error - e)
+
+
+def full_contact_force(share: np.ndarray, constant: np.ndarray) -> float:
+    """The line-of-action force F above which every mesh of :func:`load_sharing` carries load: max(−c_i / s_i, 0)."""
+    return float(max(0.0, np.max(-np.asarray(constant) / np.asarray(share))))
+
+
+def contact_loads(stiffness: np.ndarray, position_error: np.ndarray, force: float) -> np.ndarray:
+    """The mesh loads W_i ≥ 0 for a line-of-action force ``force`` ≥ 0, meshes that would pull opened.
+
+    Below :func:`full_contact_force` the meshes with the largest position errors stay open (W = 0) and
+    the others share F by :func:`load_sharing` among themselves (an active set, at most n passes).
+    """
+    k = np.asarray(stiffness, dtype=float)
+    e = np.asarray(position_error, dtype=float)
+    active = np.ones(k.size, dtype=bool)
+    loads = np.zeros(k.size)
+    for _ in range(k.size):
+        share, constant = load_sharing(k[active], e[active])
+        trial = share * force + constant
+        if np.all(trial >= 0.0):
+            loads[active] = trial
+            return loads
+        index = np.flatnonzero(active)[np.argmin(trial)]
+        active[index] = False
+    raise AssertionError("unreachable: one mesh alone always carries a non-negative force")
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,7 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.geometry.thermal import beam_thermal_load, thermal_stress_free_motions
 
 __all__ = ["SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
-           "build_rig_model", "prestrain_load_vector", "stress_free_motions"]
+           "build_rig_model", "housing_bed_group", "prestrain_load_vector", "stress_free_motions"]
 
 MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
@@ -197,6 +197,14 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
                 section.shear_coefficient(material.poisson_ratio) / shear_factor if shear_factor > 0 else np.inf,
                 material.youngs_modulus_MPa * 1e6, material.shear_modulus_MPa * 1e6, density,
             ))
+    # each [[housings]] attachment: a node of its own on the bed, held fixed, the other side of the condensed
+    # housing (geometry/model/housings.py); its fixed-DOF reactions are the housing's ground reactions
+    bed_nodes = []
+    for h in rig.housings:
+        for x in h.attachments_x_mm:
+            bed_nodes.append(len(node_x))
+            node_part.append(housing_bed_group(h.name))
+            node_x.append(float(x))
     node_part_arr = np.array(node_part)
     node_x_arr = np.array(node_x)
     coordinates = np.zeros((node_x_arr.size, 3))
@@ -251,7 +259,9 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     masses = PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
                          np.zeros((len(hub_nodes), 3)))
 
-    structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr)
+    fixed = (6 * np.asarray(bed_nodes, dtype=int)[:, None] + np.arange(6)).ravel()
+    structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr,
+                                fixed_dofs=fixed)
     element_mass = beams.density_kg_m3 * beams.area_m2 * np.diff(coordinates[beams.connectivity, 0], axis=1).ravel()
     part_mass = {p.name: 0.0 for p in rig.parts}
     for e, m in zip(beams.connectivity[:, 0], element_mass):
@@ -259,6 +269,11 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     for n, m in zip(hub_nodes, hub_masses):
         part_mass[node_part[n]] += float(m)
     return RigModel(rig, structure, node_part_arr, node_x_arr, tuple(names), part_mass, equivalent_density)
+
+
+def housing_bed_group(name: str) -> str:
+    """The node group of the bed side of housing ``name`` (not a part name: part names have no spaces)."""
+    return f"{name} (bed)"
 
 
 def stress_free_motions(rig: Rig) -> np.ndarray:

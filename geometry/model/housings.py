@@ -13,6 +13,7 @@ from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.condensation import superelement_contribution
 from rvcoax.fem.pieces import Contribution
 from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
+from rvcoax.geometry.model.beam import housing_bed_group
 from rvcoax.geometry.schema import Housing, Rig
 
 __all__ = ["condensed_housing", "housing_contributions"]
@@ -32,12 +33,17 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHo
                             housing.feet, bed, cache_dir=cache_dir)
 
 
+def _dofs(nodes) -> np.ndarray:
+    return (DOFS_PER_NODE * np.asarray(nodes)[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+
+
 def housing_contributions(rig: Rig, frame, cache_dir=None) -> list[Contribution]:
-    """One superelement per ``[[housings]]`` entry on the frame nodes of its part (empty without housings)."""
+    """One superelement per ``[[housings]]`` entry between the frame nodes of its part and their fixed bed nodes
+    (:func:`rvcoax.geometry.model.beam.housing_bed_group`); empty without housings."""
     pieces = []
     for housing in rig.housings:
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
-        dofs = (DOFS_PER_NODE * np.asarray(nodes)[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+        bed = [frame.node(housing_bed_group(housing.name), x) for x in housing.attachments_x_mm]
         matrix = housing.stiffness_factor * condensed_housing(rig, housing, cache_dir).matrix
-        pieces.append(superelement_contribution(matrix, dofs))
+        pieces.append(superelement_contribution(matrix, _dofs(nodes), _dofs(bed)))
     return pieces

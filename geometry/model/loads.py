@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.geometry.gears import load_sharing, mesh_forces, single_stiffness
+from rvcoax.geometry.gears import full_contact_force, load_sharing, mesh_forces, single_stiffness
 from rvcoax.geometry.schema import GearMesh, Rig
 
 __all__ = ["GRAVITY_DIRECTION", "LocatedLoad", "REST_LOADS", "UNIT_LOADS", "case_weights", "force_table_loads",
-           "gear_mesh_forces", "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
+           "gear_mesh_forces", "gear_mesh_full_contact_torque", "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
 
 UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
 REST_LOADS = ("gravity", "prestrain", "force_table")
@@ -74,6 +74,10 @@ def gear_mesh_forces(rig: Rig, mesh: GearMesh):
         whenever torque flows, from the position errors (sign of the torque).
     stiffness_N_per_m : ndarray
         Each mesh's stiffness along its line of action.
+
+    The split is the all-meshes-in-contact one (:func:`rvcoax.geometry.gears.load_sharing`), linear in the
+    torque; below :func:`gear_mesh_full_contact_torque` a mesh opens and the true loads are
+    :func:`rvcoax.geometry.gears.contact_loads` (a warning says so before a solve).
     """
     stage = mesh.stage
     if mesh.mesh_stiffness_N_per_mm_per_um is not None:
@@ -88,6 +92,13 @@ def gear_mesh_forces(rig: Rig, mesh: GearMesh):
     sign = float(getattr(rig.torques, mesh.torque).sign)
     per_torque = mesh_forces(stage, mesh.planet_angles_deg, sign * share / (stage.base_radius_mm(0) * 1e-3))
     return per_torque, mesh_forces(stage, mesh.planet_angles_deg, sign * constant), stiffness
+
+
+def gear_mesh_full_contact_torque(rig: Rig, mesh: GearMesh) -> float:
+    """|T| (N·m) below which a planet mesh of ``mesh`` opens (0 when the position errors are equal)."""
+    _, _, stiffness = gear_mesh_forces(rig, mesh)
+    share, constant = load_sharing(stiffness, np.asarray(mesh.planet_position_errors_um) * 1e-6)
+    return full_contact_force(share, constant) * mesh.stage.base_radius_mm(0) * 1e-3
 
 
 def _gear_mesh_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:

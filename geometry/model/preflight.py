@@ -50,10 +50,31 @@ COMPONENT_NAMES = diagnostics.MOTION_NAMES
 SPRING_KINDS = {"bearing": "bearing", "mount": "mount", "coupling": "coupling", "joint": "joint"}
 
 
-def _frame(rig: Rig):
-    from rvcoax.geometry.model.system import assemble_beam
+HOUSING_STAND_IN = (1e9, 1e9, 1e9, 1e6, 1e6, 1e6)
+"""N/m and N·m/rad: the order of a condensed bearing block (≈ 1000–4000 N/µm), standing in for a ``[[housings]]``
+entry's matrix in the checks here, which must stay cheap (the condensed matrix needs a solid model)."""
 
-    return assemble_beam(rig).frame
+
+def _frame(rig: Rig):
+    """The rig's beam frame; each ``[[housings]]`` attachment held to its bed node by a stand-in spring."""
+    from rvcoax.geometry.model.beam import SpringId, build_rig_model, housing_bed_group
+
+    frame = build_rig_model(rig)
+    held = [(h.name, frame.node(h.part, x), x, frame.node(housing_bed_group(h.name), x))
+            for h in rig.housings for x in h.attachments_x_mm]
+    if not held:
+        return frame
+    old = frame.structure.bushings
+    points = np.zeros((len(held), 3))
+    points[:, 0] = [x * 1e-3 for _, _, x, _ in held]
+    springs = bushing.Bushings(
+        node_a=np.concatenate([old.node_a, [bed for _, _, _, bed in held]]).astype(int),
+        node_b=np.concatenate([old.node_b, [node for _, node, _, _ in held]]).astype(int),
+        point_m=np.vstack([old.point_m, points]),
+        stiffness=np.vstack([old.stiffness, np.tile(HOUSING_STAND_IN, (len(held), 1))]))
+    structure = dataclasses.replace(frame.structure, bushings=springs)
+    names = frame.bushing_names + tuple(SpringId("housing", name) for name, _, _, _ in held)
+    return dataclasses.replace(frame, structure=structure, bushing_names=names)
 
 
 def _free_motions(structure) -> list[diagnostics.FreeMotion]:

@@ -178,3 +178,25 @@ def test_mesh_position_error_effect_moves_the_first_planet():
     _, engaged, stiffness = gear_mesh_forces(changed, changed.gear_meshes[0])
     assert np.linalg.norm(engaged.force_N) == pytest.approx(stiffness[0] * 2e-6, rel=1e-12)  # k_eff = k
     assert np.abs(gear_mesh_forces(rig, rig.gear_meshes[0])[1].force_N).max() == 0.0
+
+
+def test_contact_loss_below_the_full_contact_torque():
+    """Two equal meshes, the second 2 µm behind: it closes at F_c = k Δε (W2 = F/2 − kΔε/2 = 0); below, the first
+    carries everything; above, the linear split holds."""
+    from rvcoax.geometry.gears import contact_loads, full_contact_force
+
+    k, error = np.array([1.8e8, 1.8e8]), np.array([0.0, 2e-6])
+    share, constant = load_sharing(k, error)
+    closing = full_contact_force(share, constant)
+    assert closing == pytest.approx(1.8e8 * 2e-6, rel=1e-14)
+    assert contact_loads(k, error, 0.5 * closing) == pytest.approx([0.5 * closing, 0.0])
+    above = 3.0 * closing
+    assert contact_loads(k, error, above) == pytest.approx(share * above + constant, rel=1e-14)
+    rig = reference({**FROM_GEAR_DATA})
+    from rvcoax.geometry.catalogue import plausibility_warnings
+    from rvcoax.geometry.model.loads import gear_mesh_full_contact_torque
+
+    torque = gear_mesh_full_contact_torque(rig, rig.gear_meshes[0])
+    stiffness = gear_mesh_forces(rig, rig.gear_meshes[0])[2][0]
+    assert torque == pytest.approx(stiffness * 2e-6 * SPUR.base_radius_mm(0) * 1e-3, rel=1e-12)
+    assert any("a planet mesh opens" in w for w in plausibility_warnings(rig))
