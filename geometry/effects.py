@@ -197,11 +197,17 @@ def _force_pairs(rig: Rig) -> Effect:
                   "Paper 000's force table (F1 … F9, as interpreted in the rig file) added with this scale.", change)
 
 
-def _bearing_stiffness(rig: Rig, name: str) -> Effect:
-    address = f"bearings.{name}.radial_stiffness_N_per_um"
+def _doubles(address: str) -> Callable:
+    """change() multiplying the value at ``address`` by 2 to the power of the effect's one parameter."""
 
     def change(r: Rig, v: tuple[float, ...]) -> RigChange:
         return RigChange({address: get_parameter(r, address) * 2.0 ** v[0]})
+
+    return change
+
+
+def _bearing_stiffness(rig: Rig, name: str) -> Effect:
+    change = _doubles(f"bearings.{name}.radial_stiffness_N_per_um")
 
     # 1/16 … 2: a ball bearing's radial stiffness depends on preload and clearance; the reference
     # 40–65 N/µm [S] holds for a preloaded 6204/6206 and drops by an order of magnitude near zero
@@ -341,11 +347,17 @@ def _thermal_growth(rig: Rig, part: str) -> Effect:
                   change)
 
 
-def _mesh_position_error(rig: Rig, name: str) -> Effect:
-    address = f"torque_lateral_loads.{name}.position_error_um"
+def _adds_to(address: str) -> Callable:
+    """change() adding the effect's one parameter to the value at ``address``."""
 
     def change(r: Rig, v: tuple[float, ...]) -> RigChange:
         return RigChange({address: get_parameter(r, address) + v[0]})
+
+    return change
+
+
+def _mesh_position_error(rig: Rig, name: str) -> Effect:
+    change = _adds_to(f"torque_lateral_loads.{name}.position_error_um")
 
     # ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; pitch and
     # runout errors of ISO grade 5–6 gears reach 5–10 µm. The force k_eff·Δε acts while torque flows.
@@ -356,10 +368,7 @@ def _mesh_position_error(rig: Rig, name: str) -> Effect:
 
 
 def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
-    address = f"gear_meshes.{name}.planet_position_errors_um[0]"
-
-    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
-        return RigChange({address: get_parameter(r, address) + v[0]})
+    change = _adds_to(f"gear_meshes.{name}.planet_position_errors_um[0]")
 
     # ±10 µm, as for the typed-in load sharing: ISO grade 5–6 pitch and runout errors (base pitch
     # deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
@@ -371,10 +380,7 @@ def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
 
 
 def _housing_stiffness(rig: Rig, name: str) -> Effect:
-    address = f"housings.{name}.stiffness_factor"
-
-    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
-        return RigChange({address: get_parameter(r, address) * 2.0 ** v[0]})
+    change = _doubles(f"housings.{name}.stiffness_factor")
 
     # 1/8 … 2: the condensed block is the solid as drawn, bolted perfectly to a rigid bed; bolted
     # joints, a softer bed and fillets left out make real housings 2–8× softer, seldom stiffer.
@@ -385,10 +391,7 @@ def _housing_stiffness(rig: Rig, name: str) -> Effect:
 
 
 def _temperature_rise(rig: Rig, part: str) -> Effect:
-    address = f"thermal.temperature_rise_K.{part}"
-
-    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
-        return RigChange({address: get_parameter(r, address) + v[0]})
+    change = _adds_to(f"thermal.temperature_rise_K.{part}")
 
     # −10 … 40 °C: a running servo motor, brake or reducer runs 20–40 K above the room; a rig
     # aligned warm and measured cooler, −10 K.
