@@ -50,7 +50,7 @@ def condensation_costs(rows: list) -> None:
             result = condensed_housing(rig, sized, cache_dir=Path(cache))
             seconds = time.perf_counter() - start
         line = (f"{result.solid_dofs} solid DOFs, {seconds:.2f} s (mesh + assembly + condensation), "
-                f"K_yy at the first seat {result.matrix[1, 1] / 1e6:.1f} N/µm, K_yy,coupled {result.matrix[1, 7] / 1e6:.1f} N/µm")
+                f"K_yy at the first seat {result.matrix[1, 1] / 1e6:.1f} N/µm, K_yy between the two seats {result.matrix[1, 7] / 1e6:.1f} N/µm")
         print(f"input block, mesh {size:g} mm: {line}")
         rows.append((f"input block condensation, mesh {size:g} mm", line))
 
@@ -76,7 +76,7 @@ def blind_errors(rows: list) -> None:
             parts.append(f"{key} {100 * np.median(error):.1f} / {100 * error.max():.1f} %")
         line = ", ".join(parts) + f"; Y_output at 200 N·m {1e3 * model['Y_output'][0]:.3f} µm"
         print(f"{label}: {line}")
-        rows.append((f"blind |error| median / max, {label}", line))
+        rows.append((f"blind relative error (median / max), {label}", line))
 
 
 def main() -> None:
