@@ -75,7 +75,8 @@ def _update(node, old: dict, new: dict, note: str, path: str, changed: list[str]
             previous = node.get(key)
             previous_comment = previous.trivia.comment.lstrip("# ").strip() if hasattr(previous, "trivia") else ""
             node[key] = _plain(value)
-            if hasattr(node[key], "comment"):
+            # an inline table ({ a = 1, b = 2 }: a temperature per part) cannot hold comments
+            if hasattr(node[key], "comment") and not isinstance(node, tomlkit.items.InlineTable):
                 was = f"; was {_plain(before)}" if before is not None else ""
                 node[key].comment(note + was + (f" ({previous_comment})" if previous_comment else ""))
             changed.append(where)

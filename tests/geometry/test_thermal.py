@@ -155,3 +155,25 @@ def test_temperature_rise_effect_lifts_the_supports():
     # without [thermal] there is no such candidate (a temperature needs α and support heights)
     plain = make_rig([body("block", 0.0, 100.0, 100.0)], "block", "block", mounts=[mount("m0", "block", 0.0)])
     assert not [e for e in candidate_effects(plain) if e.kind == "temperature_rise"]
+
+
+def test_a_fitted_temperature_is_written_into_the_rig_file():
+    """The discrepancy workflow writes fitted effects into the user's file: a temperature lands in the inline table
+    of [thermal] temperature_rise_K (no comment there: TOML has none inside inline tables)."""
+    from rvcoax.geometry.effects import effect_by_name
+    from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text
+    from rvcoax.geometry.rigwrite import updated_rig_text
+
+    text = reference_rig_text()
+    for density, alpha in (("7870", "11.0e-6"), ("7210", "10.0e-6"), ("7850", "12.0e-6")):
+        key = f"density_kg_per_m3 = {density}            # [P]"
+        text = text.replace(key, f"{key}\nthermal_expansion_per_K = {alpha}")
+    text = text.replace("rotational_stiffness_Nm_per_rad = [", "height_above_bed_mm = 100\nrotational_stiffness_Nm_per_rad = [",
+                        7)  # the seven mounts
+    text += "\n[thermal]\ntemperature_rise_K = { reducer = 20.0 }\n"
+    rig = parse_rig_text(text)
+    for part, expected in (("reducer", 25.0), ("input_shaft", 5.0)):
+        changed = effect_by_name(rig, f"temperature_rise@{part}").apply(rig, [5.0])
+        written, keys = updated_rig_text(text, changed, "fitted")
+        assert keys == [f"thermal.temperature_rise_K.{part}"]
+        assert parse_rig_text(written).thermal.temperature_rise_K[part] == expected
