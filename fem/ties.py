@@ -21,7 +21,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["FaceNodes", "distributing_tie_equations", "distributing_tie_operator", "rigid_tie_equations"]
+__all__ = ["FaceNodes", "distributing_tie_equations", "distributing_tie_operator", "face_nodes", "rigid_tie_equations"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,27 @@ class FaceNodes:
     coordinates: np.ndarray
     dofs: np.ndarray
     weights: np.ndarray
+
+
+def face_nodes(mesh, basis, facets: np.ndarray, offset: int = 0) -> FaceNodes:
+    """The P2 nodes of a set of facets of a tetrahedral ``mesh`` (vector P2 ``basis``) with DOFs shifted by
+    ``offset`` and area weights (area / 6 per facet node)."""
+    corners = mesh.p[:, mesh.facets[:, facets]]
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0], axis=0), axis=0)
+    vertex_ids = mesh.facets[:, facets]          # (3, n)
+    edge_ids = mesh.f2e[:, facets]               # (3, n)
+    vertex_dofs = basis.nodal_dofs[:, vertex_ids.ravel()].T       # (3n, 3)
+    edge_dofs = basis.edge_dofs[:, edge_ids.ravel()].T
+    dofs = np.vstack([vertex_dofs, edge_dofs])
+    share = np.concatenate([np.tile(area / 6.0, 3), np.tile(area / 6.0, 3)])
+    unique, inverse = np.unique(dofs[:, 0], return_inverse=True)
+    weights = np.zeros(unique.size)
+    np.add.at(weights, inverse, share)
+    first = np.zeros(unique.size, dtype=int)
+    first[inverse] = np.arange(dofs.shape[0])
+    node_dofs = dofs[first]
+    coordinates = basis.doflocs[:, node_dofs[:, 0]].T
+    return FaceNodes(coordinates, node_dofs + offset, weights)
 
 
 def _cross_matrix(r: np.ndarray) -> np.ndarray:

@@ -30,7 +30,7 @@ from rvcoax.fem.assembly import assemble_matrix
 from rvcoax.fem.condensation import condensed_stiffness
 from rvcoax.fem.constraints import elimination_matrix
 from rvcoax.fem.solvers import pardiso_available
-from rvcoax.fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equations
+from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
 from rvcoax.geometry.meshing import MESHER_VERSION, default_cache_dir, mesh_part
 
 __all__ = ["BlockGeometry", "CondensedHousing", "HOUSING_VERSION", "HousingModel", "Reference", "build_housing_model",
@@ -174,18 +174,6 @@ def housing_faces(mesh: skfem.MeshTet2, geometry: BlockGeometry, face: tuple[str
     return facets
 
 
-def _face_nodes(mesh, basis, facets, offset: int) -> FaceNodes:
-    from rvcoax.geometry.model.hybrid import face_nodes  # the rig's solid parts use the same face nodes
-
-    @dataclass(frozen=True)
-    class _Part:
-        mesh: object
-        basis: object
-        offset: int
-
-    return face_nodes(_Part(mesh, basis, offset), facets)
-
-
 @dataclass(frozen=True, eq=False)
 class HousingModel:
     """The supported solid model of a housing with its reference nodes (DOFs 0 … 6k − 1, solid DOFs after).
@@ -230,7 +218,7 @@ def build_housing_model(geometry: BlockGeometry, youngs_modulus_pa: float, poiss
     bottom = housing_faces(mesh, geometry, ("bottom", *geometry.x_mm))
     fixed = np.zeros(0, dtype=int)
     if feet == "clamped":
-        fixed = np.unique(_face_nodes(mesh, basis, bottom, offset).dofs.ravel())
+        fixed = np.unique(face_nodes(mesh, basis, bottom, offset).dofs.ravel())
     elif feet == "bed":
         normal, shear = (v * 1e12 for v in bed_stiffness_N_per_um_per_mm2)  # N/(µm·mm²) → N/m³
         form = skfem.BilinearForm(lambda u, v, w: normal * u[1] * v[1] + shear * (u[0] * v[0] + u[2] * v[2]))
@@ -240,7 +228,7 @@ def build_housing_model(geometry: BlockGeometry, youngs_modulus_pa: float, poiss
         raise ValueError(f"unknown feet {feet!r} (clamped, bed)")
     equations: dict[int, dict[int, float]] = {}
     for i, reference in enumerate(references):
-        nodes = _face_nodes(mesh, basis, housing_faces(mesh, geometry, reference.face), offset)
+        nodes = face_nodes(mesh, basis, housing_faces(mesh, geometry, reference.face), offset)
         point = np.asarray(reference.point_mm, dtype=float) * 1e-3
         tie = rigid_tie_equations if reference.tie == "rigid" else distributing_tie_equations
         equations.update(tie(i, point, nodes))

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import solid
+from rvcoax.fem import solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.pieces import assemble, frame_contributions, solid_contribution, tie_contribution
@@ -211,23 +211,7 @@ def _radii(geometry: SolidPartGeometry, x_mm: np.ndarray) -> tuple[np.ndarray, n
 
 def face_nodes(part: SolidPart, facets: np.ndarray) -> FaceNodes:
     """The P2 nodes of a set of facets with global DOFs and area weights (area / 6 per facet node)."""
-    mesh, basis = part.mesh, part.basis
-    corners = mesh.p[:, mesh.facets[:, facets]]
-    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0], axis=0), axis=0)
-    vertex_ids = mesh.facets[:, facets]          # (3, n)
-    edge_ids = mesh.f2e[:, facets]               # (3, n)
-    vertex_dofs = basis.nodal_dofs[:, vertex_ids.ravel()].T       # (3n, 3)
-    edge_dofs = basis.edge_dofs[:, edge_ids.ravel()].T
-    dofs = np.vstack([vertex_dofs, edge_dofs])
-    share = np.concatenate([np.tile(area / 6.0, 3), np.tile(area / 6.0, 3)])
-    unique, inverse = np.unique(dofs[:, 0], return_inverse=True)
-    weights = np.zeros(unique.size)
-    np.add.at(weights, inverse, share)
-    first = np.zeros(unique.size, dtype=int)
-    first[inverse] = np.arange(dofs.shape[0])
-    node_dofs = dofs[first]
-    coordinates = basis.doflocs[:, node_dofs[:, 0]].T
-    return FaceNodes(coordinates, node_dofs + part.offset, weights)
+    return ties.face_nodes(part.mesh, part.basis, facets, part.offset)
 
 
 def ring_probe(part: SolidPart, stations_x_mm: np.ndarray, n_dofs: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:

@@ -152,12 +152,17 @@ def test_reference_rig_input_block_from_geometry_enters_like_a_bushing():
     matrix = condensed_housing(rig, rig.housings[0]).matrix
     system = assemble_beam(rig)
     nodes = [system.frame.node("input_bearing_block", x) for x in (255.0, 315.0)]
+    bed = [system.frame.node("input_block (bed)", x) for x in (255.0, 315.0)]
     dofs = (6 * np.asarray(nodes)[:, None] + np.arange(6)).ravel()
+    bed_dofs = (6 * np.asarray(bed)[:, None] + np.arange(6)).ravel()
     softer = effect_by_name(rig, "housing_stiffness@input_block").apply(rig, [-1.0])
     assert softer.housings[0].stiffness_factor == 0.5
     difference = (system.stiffness - assemble_beam(softer).stiffness).toarray()
     assert difference[np.ix_(dofs, dofs)] == pytest.approx(0.5 * matrix, rel=1e-12, abs=1e-6)
-    assert np.abs(np.delete(np.delete(difference, dofs, 0), dofs, 1)).max() == 0.0
+    assert difference[np.ix_(dofs, bed_dofs)] == pytest.approx(-0.5 * matrix, rel=1e-12, abs=1e-6)
+    both = np.concatenate([dofs, bed_dofs])
+    assert np.abs(np.delete(np.delete(difference, both, 0), both, 1)).max() == 0.0
+    assert set(bed_dofs) <= set(system.frame.structure.fixed_dofs.tolist())  # the bed side is held
     u = factorize(system.stiffness, system.elimination).solve(system.unit_loads["gravity"])
     assert np.isfinite(u).all() and u[6 * nodes[0] + 1] < 0  # the block sags under the rig's weight
 
