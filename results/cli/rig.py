@@ -56,6 +56,12 @@ def rig_show(rig_file: RigOption = None) -> None:
     for m in rig.mounts:
         add_text_row(springs, "mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
                         f"{list(m.translational_stiffness_N_per_um)} N/µm, {list(m.rotational_stiffness_Nm_per_rad)} N·m/rad")
+    for h in rig.housings:
+        bore = f", bore Ø{h.bore_diameter_mm:g}" if h.bore_diameter_mm else ""
+        add_text_row(springs, "housing", h.name, f"{h.part} / ground", "/".join(f"{x:g}" for x in h.attachments_x_mm),
+                     f"condensed from a {h.material} block {h.x_mm[1] - h.x_mm[0]:g} × {h.width_mm:g} × "
+                     f"{h.height_above_bed_mm + h.top_above_axis_mm:g} mm{bore}, feet {h.feet}, mesh "
+                     f"{h.mesh_size_mm:g} mm (× {h.stiffness_factor:g}); computed when solved, then cached")
     for c in rig.couplings:
         add_text_row(springs, "coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
                         f"radial {c.radial_stiffness_N_per_mm:g} N/mm, angular {c.angular_stiffness_Nm_per_rad:g} N·m/rad, "
@@ -77,6 +83,13 @@ def rig_show(rig_file: RigOption = None) -> None:
                      f"{float(np.hypot(*lateral)):.4g}", f"{float(np.hypot(*engaged.force_N[1:])):.4g}",
                      f"{np.degrees(np.arctan2(lateral[1], lateral[0])):.4g}" if np.any(lateral) else "-")
     console.print(paths)
+    if rig.thermal is not None:
+        from rvcoax.geometry.thermal import free_axial_growth_um, mount_lift_um
+
+        grows = [f"{name} {free_axial_growth_um(rig, name):.1f}" for name in rig.thermal.temperature_rise_K]
+        lifts = [f"{m.name} {mount_lift_um(rig, m):.1f}" for m in rig.mounts if mount_lift_um(rig, m)]
+        console.print(f"temperatures: free axial growth µm: {', '.join(grows) or 'none'}; support lifts µm: "
+                      f"{', '.join(lifts) or 'none'}")
     console.print(f"gravity: {'on' if rig.gravity.enabled else 'off'}; paper force table applied: "
                   f"{rig.force_table.apply}; Y measured from: {rig.paths.measured_from}; paths: input "
                   f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
