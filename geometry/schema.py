@@ -456,8 +456,8 @@ class Thermal(Strict):
     """``[thermal]``: steady temperature rises (K, = °C of difference) from the state the rig was built in.
 
     ``temperature_rise_K`` per part (missing parts: 0) grows every part axially and radially by its
-    material's ``thermal_expansion_per_K``; ``support_temperature_rise_K`` per mount (default: its
-    part's) lifts the mount by α ΔT · ``height_above_bed_mm``; the bed (``bed_material``) grows along x
+    material's ``thermal_expansion_per_K``; ``support_temperature_rise_K`` per mount or housing (default:
+    its part's) lifts the mount or housing by α ΔT · ``height_above_bed_mm``; the bed (``bed_material``) grows along x
     from ``bed_fixed_x_mm`` by ``bed_temperature_rise_K``. See :mod:`rvcoax.geometry.thermal`.
     """
 
@@ -606,10 +606,15 @@ class Rig(Strict):
                 yield f"thermal.temperature_rise_K.{name}: unknown part '{name}' (parts: {', '.join(parts)})"
             elif rise != 0.0:
                 yield from expands(f"thermal.temperature_rise_K.{name}", parts[name].material)
+        housings = {h.name: h for h in self.housings}
         for name in thermal.support_temperature_rise_K:
-            if name not in mounts:
-                yield (f"thermal.support_temperature_rise_K.{name}: unknown mount '{name}' "
-                       f"(mounts: {', '.join(mounts) or 'none'})")
+            if name not in mounts and name not in housings:
+                yield (f"thermal.support_temperature_rise_K.{name}: unknown mount or housing '{name}' "
+                       f"(mounts: {', '.join(mounts) or 'none'}; housings: {', '.join(housings) or 'none'})")
+        for i, h in enumerate(self.housings):
+            rise = thermal.support_temperature_rise_K.get(h.name, thermal.temperature_rise_K.get(h.part, 0.0))
+            if rise != 0.0:
+                yield from expands(f"housings[{i}] ('{h.name}').material", h.material)
         for i, m in enumerate(self.mounts):
             rise = thermal.support_temperature_rise_K.get(m.name, thermal.temperature_rise_K.get(m.part, 0.0))
             if rise == 0.0 or m.part not in parts:

@@ -15,8 +15,9 @@ from rvcoax.fem.pieces import Contribution
 from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
 from rvcoax.geometry.model.beam import housing_bed_group
 from rvcoax.geometry.schema import Housing, Rig
+from rvcoax.geometry.thermal import bed_growth_mm
 
-__all__ = ["condensed_housing", "housing_contributions"]
+__all__ = ["condensed_housing", "housing_contributions", "housing_prestrain"]
 
 
 def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
@@ -47,3 +48,30 @@ def housing_contributions(rig: Rig, frame, cache_dir=None) -> list[Contribution]
         matrix = housing.stiffness_factor * condensed_housing(rig, housing, cache_dir).matrix
         pieces.append(superelement_contribution(matrix, _dofs(nodes), _dofs(bed)))
     return pieces
+
+
+def housing_prestrain(rig: Rig, frame, n_dofs: int) -> np.ndarray:
+    """The load of warm housings on their part's nodes, K_c Δ0 (length ``n_dofs``; zero without ``[thermal]``).
+
+    The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, 0, 0, 0, 0) at
+    each attachment x (α of the housing's material, ΔT its ``support_temperature_rise_K`` or else its part's
+    rise, h its ``height_above_bed_mm``, x_c the housing's centre): the housing lifts what it holds, as a
+    mount's support does, and grows along x about its centre, carried by the bed there.
+    """
+    vector = np.zeros(n_dofs)
+    if rig.thermal is None:
+        return vector
+    for housing in rig.housings:
+        thermal = rig.thermal
+        rise = thermal.support_temperature_rise_K.get(housing.name, thermal.temperature_rise_K.get(housing.part, 0.0))
+        alpha = rig.materials[housing.material].thermal_expansion_per_K or 0.0
+        motion = np.zeros((len(housing.attachments_x_mm), DOFS_PER_NODE))
+        centre = 0.5 * sum(housing.x_mm)
+        motion[:, 0] = [(bed_growth_mm(rig, centre) + alpha * rise * (x - centre)) * 1e-3 for x in housing.attachments_x_mm]
+        motion[:, 1] = alpha * rise * housing.height_above_bed_mm * 1e-3
+        if not motion.any():
+            continue
+        matrix = housing.stiffness_factor * condensed_housing(rig, housing).matrix
+        nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
+        vector[_dofs(nodes)] += matrix @ motion.ravel()
+    return vector

@@ -23,7 +23,7 @@ from rvcoax.fem.loads import NodalLoads, nodal_load_vector
 from rvcoax.fem.pieces import assemble, frame_contributions
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
-from rvcoax.geometry.model.housings import housing_contributions
+from rvcoax.geometry.model.housings import housing_contributions, housing_prestrain
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
     UNIT_LOADS,
@@ -132,6 +132,8 @@ class UnitLoadBuilder:
             loads = {name: self.solid_loads.vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
         loads["gravity"] = loads["gravity"] + gravity_acceleration(rig) * self.weight_per_g
         loads["prestrain"] = prestrain_load_vector(self.frame, rig, self.n_dofs)  # springs act on frame nodes
+        if rig.thermal is not None and rig.housings:
+            loads["prestrain"] = loads["prestrain"] + housing_prestrain(rig, self.frame, self.n_dofs)
         if self.solid_loads is not None and rig.thermal is not None:
             loads["prestrain"] = loads["prestrain"] + self.solid_loads.thermal_vector(rig, self.n_dofs)
         return loads

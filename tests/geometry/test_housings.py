@@ -178,3 +178,23 @@ def test_bad_housing_input_is_named():
         reference_with_block(feet="bed")
     with pytest.raises(RigFileError, match="unknown material"):
         reference_with_block(material="bronze")
+
+
+def test_a_warm_housing_lifts_its_part_by_alpha_delta_t_h():
+    """A block held only by its condensed housing (h = 100 mm, HT200 α = 1e-5/K, 30 K warmer, bed 10 K warmer
+    pinned at x = 0): part and housing grow alike, so the part follows the housing free of stress:
+    u_y = α ΔT h, u_x = α_bed ΔT_bed x_c + α ΔT (x − x_c) about the housing's centre x_c."""
+    from tests.geometry.test_effects_physics import body, make_rig, rest_displacement, value
+
+    housing = {**INPUT_BLOCK, "part": "block", "material": "steel", "mesh_size_mm": 20.0}
+    rig = make_rig([body("block", 248.0, 320.0, 90.0)], "block", "block", housings=[housing])
+    data = rig.model_dump(by_alias=True)
+    data["materials"]["steel"]["thermal_expansion_per_K"] = 1e-5
+    data["thermal"] = {"temperature_rise_K": {"block": 30.0}, "bed_temperature_rise_K": 10.0, "bed_material": "steel"}
+    warm = type(rig).model_validate(data)
+    frame, u = rest_displacement(warm)
+    for x in (248.0, 255.0, 315.0, 320.0):
+        assert value(frame, u, "block", x, 1) == pytest.approx(1e-5 * 30.0 * 0.1, rel=1e-6)
+        assert value(frame, u, "block", x, 0) == pytest.approx(1e-5 * (10.0 * 284.0 + 30.0 * (x - 284.0)) * 1e-3,
+                                                               rel=1e-6)
+        assert abs(value(frame, u, "block", x, 5)) < 1e-12
