@@ -79,7 +79,10 @@ def sweep(
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
     resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
 ) -> None:
-    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json.
+    r"""Solve a torque sweep and write sweep.csv / sweep.json.
+
+    Load cases: --cases or --t1/--t2; else the rig file's \[\[load_cases]] or \[sweep]; else, for the
+    built-in reference rig only, the 20 (T1, T2) pairs of paper 000.
 
     Each case is appended to OUT/cases/journal.jsonl (with a checksum) as soon as it is solved; after
     an interruption, the same command with --resume solves only the missing cases and writes the same
@@ -95,7 +98,7 @@ def sweep(
                         "run without --resume")
     settings = support.sweep_settings(model, method, solver, mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid)
+    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
