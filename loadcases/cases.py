@@ -218,13 +218,23 @@ def torque_matrix(cases) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PublishedRow:
-    """One row of paper 000's coaxiality table (lengths in mm, angles in degrees)."""
+    """One row of a published or measured Y/β table (lengths in mm, angles in degrees).
+
+    ``stations_input_mm`` / ``stations_output_mm``: where Y was sampled along each path (measured
+    paths), so that the model is read at the same stations; None when Y is the path's maximum.
+    """
 
     case: LoadCase
     y_input_mm: float
     y_output_mm: float
     beta_input_deg: float
     beta_output_deg: float
+    stations_input_mm: tuple[float, ...] | None = None
+    stations_output_mm: tuple[float, ...] | None = None
+
+    def stations_mm(self, shaft: str) -> tuple[float, ...] | None:
+        """The stations Y of ``shaft`` was sampled at, or None (the maximum over the whole path)."""
+        return self.stations_input_mm if shaft == "input" else self.stations_output_mm
 
 
 def paper_table() -> tuple[PublishedRow, ...]:
