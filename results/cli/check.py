@@ -50,11 +50,11 @@ def check(
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
+    from rvcoax.geometry.builtin import is_reference_rig
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.loadcases.cases import paper_table
     from rvcoax.results.io.result_files import write_check
     from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
-    from rvcoax.geometry.builtin import is_reference_rig
     from rvcoax.results.studies.check_run import NO_TABLE_HELP, CalibrationError, fit_output_torques, run_check
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)

@@ -9,8 +9,8 @@ import numpy as np
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import PublishedRow
-from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
 from rvcoax.results.paths import beta_from_y_deg
+from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
 from rvcoax.results.sweep import Sweep
 
 __all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "MeasuredTableError",
