@@ -13,8 +13,8 @@ from rvcoax.results.studies.check import QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
-           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header",
-           "sweep_rows", "text_sha256"]
+           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "shaft_quantities", "sweep_document",
+           "sweep_header", "sweep_rows", "text_sha256"]
 
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",
@@ -51,7 +51,30 @@ def case_row(case: CaseResult) -> dict:
         row[f"Y_{shaft}_unloaded_ref_mm"] = case.absolute_paths[shaft].y_max_mm
     row["equilibrium_relative_error"] = case.equilibrium_error
     row["solve_relative_residual"] = case.residual
+    # issue 15: the quantities rig engineers read, after the columns above (which keep their order)
+    for shaft in MEASURED_SHAFTS:
+        row.update({f"{key}_{shaft}{unit}": value for key, unit, value in _shaft_columns(case.paths[shaft])})
+    if case.engineering is not None:
+        row.update(case.engineering.row())
     return row
+
+
+def _shaft_columns(path) -> list[tuple[str, str, float]]:
+    start_slope, end_slope = path.end_slopes_urad
+    start_offset, end_offset = path.end_offsets_um
+    return [("Y", "_um", path.y_max_mm * 1e3), ("beta_paper", "_urad", path.beta_urad),
+            ("tilt", "_urad", path.fitted_tilt_urad), ("end_slope_start", "_urad", start_slope),
+            ("end_slope_end", "_urad", end_slope), ("offset_start", "_um", start_offset),
+            ("offset_end", "_um", end_offset)]
+
+
+def shaft_quantities(path) -> dict:
+    """A measured shaft's engineering quantities (µm, µrad; degrees where paper 000 uses them)."""
+    start_slope, end_slope = path.end_slopes_urad
+    start_offset, end_offset = path.end_offsets_um
+    return {"Y_max_um": path.y_max_mm * 1e3, "beta_paper_deg": path.beta_deg, "beta_paper_urad": path.beta_urad,
+            "tilt_urad": path.fitted_tilt_urad, "tilt_deg": path.fitted_tilt_deg,
+            "end_slopes_urad": [start_slope, end_slope], "end_offsets_um": [start_offset, end_offset]}
 
 
 def entry_path_rows(entry: dict) -> list[dict]:
@@ -75,6 +98,8 @@ def case_entry(case: CaseResult) -> dict:
         }
     entry["equilibrium_relative_error"] = case.equilibrium_error
     entry["solve_relative_residual"] = case.residual
+    entry["engineering"] = {"shafts": {s: shaft_quantities(case.paths[s]) for s in MEASURED_SHAFTS},
+                            **(case.engineering.entry() if case.engineering is not None else {})}
     return entry
 
 

@@ -108,7 +108,7 @@ LOAD_GROUPS = ("torque_lateral_loads.",)
 
 def _paths(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.ndarray:
     """Signed u_y paths (mm) of ``shaft`` at the fitting rows, shape (rows, stations)."""
-    sweep = run_sweep(rig, tuple(r.case for r in rows), prepared=prepared)
+    sweep = run_sweep(rig, tuple(r.case for r in rows), prepared=prepared, engineering=False)
     return np.array([c.paths[shaft].uy_mm for c in sweep.cases])
 
 
