@@ -17,8 +17,7 @@ import pytest
 
 from rvcoax.geometry.rigfile import parse_rig_text
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.engineering import (ALIGNMENT_TOLERANCES, alignment_grade, alignment_tolerance,
-                                        engineering_tables)
+from rvcoax.results.engineering import ALIGNMENT_TOLERANCES, alignment_grade, alignment_tolerance, engineering_tables
 from rvcoax.results.sweep import run_sweep
 
 E_MPA, DIAMETER_MM = 2.1e5, 30.0
