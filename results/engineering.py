@@ -34,7 +34,7 @@ from rvcoax.results.connections import ConnectionStates
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
-           "case_engineering", "engineering_tables"]
+           "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -280,13 +280,22 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
 
     total = spring_states(model, rig, u_total, from_rest=False)
     change = spring_states(model, rig, u_change, from_rest=True)
-    coupled = (change, "since rest (aligned at rest)") if measured_from_rest else (total, "from the unloaded geometry")
+    coupled = (change, "change since the aligned rest state") if measured_from_rest else (total, "from the unloaded geometry")
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
     return CaseEngineering(
         tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
         tuple(_bearing(b, total, change) for b in rig.bearings),
         _reactions(rig, total, change),
         float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])))
+
+
+def shaft_quantities(path) -> dict:
+    """A measured shaft's engineering quantities (µm, µrad; degrees where paper 000 uses them)."""
+    start_slope, end_slope = path.end_slopes_urad
+    start_offset, end_offset = path.end_offsets_um
+    return {"Y_max_um": path.y_max_mm * 1e3, "beta_paper_deg": path.beta_deg, "beta_paper_urad": path.beta_urad,
+            "tilt_urad": path.fitted_tilt_urad, "tilt_deg": path.fitted_tilt_deg,
+            "end_slopes_urad": [start_slope, end_slope], "end_offsets_um": [start_offset, end_offset]}
 
 
 def engineering_tables(sweep) -> list[dict]:
@@ -298,8 +307,6 @@ def engineering_tables(sweep) -> list[dict]:
     :meth:`CaseEngineering.entry`'s. Raises ``ValueError`` when the sweep carries no engineering
     tables (a sweep run with ``engineering=False``).
     """
-    from rvcoax.results.io.records import shaft_quantities
-
     out = []
     for case in sweep.cases:
         if case.engineering is None:

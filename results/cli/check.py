@@ -17,17 +17,17 @@ __all__ = ["check", "register"]
 
 def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, table_name: str) -> Table:
     table = Table(title=escape(f"{shaft} shaft: {table_name} vs rvcoax"), title_justify="left")
-    for column in ("T1 N·m", "T2 N·m", "fit", "Y pub mm", "Y blind mm", "blind err", "Y cal mm", "cal err",
-                   "β pub °", "β cal °", "β cal err", "ok"):
+    for column in ("T1 N·m", "T2 N·m", "fit", "Y table µm", "Y blind µm", "blind err", "Y cal µm", "cal err",
+                   "β table °", "β cal °", "β cal err", "ok"):
         table.add_column(column, justify="right")
     y, b = f"Y_{shaft}_mm", f"beta_{shaft}_deg"
     for i, row in enumerate(rows):
         ok = comparison_cal.within[y][i] and comparison_cal.within[b][i]
         table.add_row(
             f"{row.case.input_torque_Nm:g}", f"{row.case.output_torque_Nm:g}", "fit" if i in fit_rows else "",
-            f"{comparison_cal.published[y][i]:.5g}", f"{comparison_blind.model[y][i]:.4g}",
+            f"{1e3 * comparison_cal.published[y][i]:.5g}", f"{1e3 * comparison_blind.model[y][i]:.4g}",
             f"{100 * comparison_blind.relative_error[y][i]:+.1f} %",
-            f"{comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
+            f"{1e3 * comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
             f"{comparison_cal.published[b][i]:.3g}", f"{comparison_cal.model[b][i]:.4g}",
             f"{100 * comparison_cal.relative_error[b][i]:+.2f} %",
             "[green]yes[/]" if ok else "[red]NO[/]",

@@ -19,7 +19,7 @@ from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, 
 from rvcoax.results.studies.check import CheckVerdict, Comparison, Verdict, check_verdict, compare, verdict
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
-__all__ = ["CalibrationError", "CheckRun", "MissingTableError", "fit_output_torques", "held_out_mask", "run_check"]
+__all__ = ["CalibrationError", "CheckRun", "MissingTableError", "NO_TABLE_HELP", "fit_output_torques", "held_out_mask", "run_check"]
 
 
 class CalibrationError(RvcoaxError, ValueError):
