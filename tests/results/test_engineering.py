@@ -116,6 +116,14 @@ def test_bearing_forces_and_tilts_of_a_simply_supported_shaft_are_the_beam_formu
 DELTA1_UM, DELTA2_UM, X1_MM, X2_MM, CENTRE_MM = 40.0, 100.0, 250.0, 350.0, 205.0
 
 
+def _raised_mount(name: str, x_mm: float, offset_um: float, axial: float, torsional: float) -> str:
+    """A stiff mount under the right shaft whose ground side is raised by ``offset_um``."""
+    return "\n".join([
+        "[[mounts]]", f'name = "{name}"', 'part = "right"', f"x_mm = {x_mm}",
+        f"translational_stiffness_N_per_um = [{axial}, 1e4, 1e4]",
+        f"rotational_stiffness_Nm_per_rad = [{torsional}, 0, 0]", f"vertical_offset_um = {offset_um}"])
+
+
 def offset_shafts_rig(speed_rpm: float) -> str:
     return HEADER + f"""
 [[parts]]
@@ -141,20 +149,8 @@ shaft = "left"
 housing = "ground"
 x_mm = 180
 radial_stiffness_N_per_um = 1e4
-[[mounts]]
-name = "raised_1"
-part = "right"
-x_mm = {X1_MM}
-translational_stiffness_N_per_um = [1e3, 1e4, 1e4]
-rotational_stiffness_Nm_per_rad = [1e3, 0, 0]
-vertical_offset_um = {DELTA1_UM}
-[[mounts]]
-name = "raised_2"
-part = "right"
-x_mm = {X2_MM}
-translational_stiffness_N_per_um = [0, 1e4, 1e4]
-rotational_stiffness_Nm_per_rad = [0, 0, 0]
-vertical_offset_um = {DELTA2_UM}
+{_raised_mount("raised_1", X1_MM, DELTA1_UM, axial=1e3, torsional=1e3)}
+{_raised_mount("raised_2", X2_MM, DELTA2_UM, axial=0, torsional=0)}
 [[couplings]]
 name = "C"
 from = {{ part = "left", x_mm = 190 }}
