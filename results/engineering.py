@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.results.connections import ConnectionStates
+from rvcoax.results.connections import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
@@ -260,7 +260,7 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
 
 
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray) -> CaseEngineering:
+                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters
@@ -275,11 +275,12 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
     applied, reactions : (6,) arrays
         Resultants of the applied loads and of the ground reactions of the total state
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
+    springs : SpringMotion, optional
+        :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
     """
-    from rvcoax.results.connections import spring_states
-
-    total = spring_states(model, rig, u_total, from_rest=False)
-    change = spring_states(model, rig, u_change, from_rest=True)
+    springs = SpringMotion.of(model, rig) if springs is None else springs
+    total = springs.states(u_total, from_rest=False)
+    change = springs.states(u_change, from_rest=True)
     coupled = (change, "change since the aligned rest state") if measured_from_rest else (total, "from the unloaded geometry")
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
     return CaseEngineering(

@@ -31,6 +31,7 @@ from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, su
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.connections import SpringMotion
 from rvcoax.results.engineering import CaseEngineering, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 
@@ -258,6 +259,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     rest = sum(unit_by_name[k] for k in REST_LOADS)
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     frame = system.frame.structure
+    springs = SpringMotion.of(system.frame, rig) if engineering else None
     results = []
     for i, case in enumerate(cases):
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
@@ -275,7 +277,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             check.relative_error,
             residual,
-            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions)
+            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs)
             if engineering else None,
         ))
         if on_case is not None:
