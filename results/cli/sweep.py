@@ -19,7 +19,7 @@ TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (eve
 def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
     shown = rows[:TABLE_ROWS]
     more = (f"; first {len(shown)} shown, every case in sweep.csv" if len(rows) > len(shown) else "")
-    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method}{more})"))
+    table = Table(title=escape(f"{name}: {len(rows)} load case{'' if len(rows) == 1 else 's'} ({method}{more})"))
     for column in ("T1 N·m", "T2 N·m", "Y_in µm", "β_in (paper)", "tilt_in µrad", "x_max,in mm",
                    "Y_out µm", "β_out (paper)", "tilt_out µrad", "x_max,out mm"):
         table.add_column(column, justify="right")
