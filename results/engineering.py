@@ -11,7 +11,9 @@ from the spring states of :mod:`rvcoax.results.connections` in two references:
     since the rest state (``u − u_rest``): what the torque adds.
 
 Couplings are read like Y and β, from the state ``[paths] measured_from`` names (the aligned rig
-at rest by default: the change; ``unloaded``: the total), because a rig is aligned at rest.
+at rest by default: the change; ``unloaded``: the total), because a rig is aligned at rest; the
+installed misalignment a rig file declares for a coupling (``parallel_offset_um``,
+``angular_misalignment_mrad``) stays in the coupling in both, as it does on the rig.
 
 Coupling grades follow alignment practice: the parallel offset and the angularity (gap difference
 per 100 mm of coupling diameter, i.e. the angle in mm/100 mm) against the tolerance for the
@@ -281,7 +283,11 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
     change = springs.states(u_change, from_rest=True)
-    coupled = (change, "change since the aligned rest state") if measured_from_rest else (total, "from the unloaded geometry")
+    # a coupling's misalignment is what its element accommodates, Δ − Δ0: from the aligned rest state (the
+    # change under load) or from the unloaded geometry, in both cases less the installed misalignment Δ0
+    # that the rig file declares (parallel_offset_um, angular_misalignment_mrad; zero by default)
+    coupled = ((springs.states(u_change, from_rest=False), "change since the aligned rest state, with the installed "
+                "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
     return CaseEngineering(
         tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),

@@ -99,8 +99,25 @@ def test_engineering_tables_of_the_example_rig(rig, sweep):
     assert b1[3]["force_radial_change_N"] != pytest.approx(b1[1]["force_radial_change_N"], rel=0.5)
 
 
+def test_an_installed_coupling_misalignment_stays_in_the_coupling(rig):
+    text = example_rig_text().replace("speed_rpm = 15                      # [S] rated output speed of the RV-40E",
+                                      "speed_rpm = 15\nparallel_offset_um = 30.0", 1)
+    misaligned = parse_rig_text(text)
+    assert misaligned.couplings[1].parallel_offset_um == 30.0
+    coupling = engineering_tables(run_sweep(misaligned, default_cases(misaligned)[:1]))[0]["couplings"][1]
+    # aligned at rest, the load adds well under a µm (C2 at 82 N·m: 0.006 µm) to the installed 30 µm
+    assert coupling["offset_um"] == pytest.approx(30.0, abs=0.1)
+    assert coupling["offset_use_percent"] == pytest.approx(100 * 0.030 / 0.25, abs=0.1)
+
+
 def _invoke(*args):
     return CliRunner().invoke(app, list(args), env={"COLUMNS": "200"})
+
+
+def test_rig_example_prints_the_example_rig():
+    result = _invoke("rig", "example")
+    assert result.exit_code == 0
+    assert parse_rig_text(result.output) == load_example_rig()
 
 
 def test_sweep_command_on_the_example_rig(rig_file, tmp_path):
