@@ -31,7 +31,8 @@ ENGINEERING_DEFINITIONS = {
               "through u_y(x), the shaft's true tilt; end_slopes: cross-section rotation about z at the path's ends; "
               "end_offsets: u_y at the path's ends (all from the measured_from state)",
     "couplings": "parallel offset and angular misalignment of the to-hub against the from-hub at the coupling centre, "
-                 "from the measured_from state (a rig is aligned at rest); use_percent: of the datasheet allowable "
+                 "from the measured_from state (a rig is aligned at rest), with the installed misalignment the rig "
+                 "file declares (parallel_offset_um, angular_misalignment_mrad); use_percent: of the datasheet allowable "
                  "(allowable_parallel_offset_mm, allowable_angular_misalignment_deg); grade: excellent / acceptable / "
                  "out of tolerance against the alignment tolerance for speed_rpm",
     "alignment_tolerances": ALIGNMENT_TOLERANCE_SOURCE,
