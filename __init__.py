@@ -15,15 +15,18 @@ Example
 Steps, in the order data flows:
 
 - rig file: :func:`load_rig`, :func:`parse_rig_text`, :func:`reference_rig_text`, :class:`Rig`,
-  :func:`reference_from_geometry` (the reference rig with gear data, condensed blocks, temperatures)
-- load cases: :class:`LoadCase`, :func:`paper_cases`, :func:`paper_table`, :func:`read_cases`,
+  :func:`reference_from_geometry` (the reference rig with gear data, condensed blocks, temperatures),
+  :func:`load_example_rig`, :func:`example_rig_text`, :func:`is_reference_rig`
+- load cases: :class:`LoadCase`, :func:`default_cases` (the rig file's; paper 000's for the reference rig
+  only), :func:`rig_cases`, :func:`paper_cases`, :func:`paper_table`, :func:`read_cases`,
   :func:`paired_cases`, :func:`grid_cases`
 - model and solve: :data:`MODEL_KINDS`, :func:`assemble_rig`, :class:`SweepSettings`,
-  :func:`prepare_model`, :func:`run_sweep`
+  :func:`prepare_model`, :func:`run_sweep`, :func:`engineering_tables` (couplings, bearings, reactions per case)
 - files and pictures: :func:`write_sweep`, :func:`run_durable_sweep`, :func:`write_check`,
   :func:`draw_sweep_pictures`, :func:`plot_y_vs_torque`, :func:`render_deformed`,
   :func:`plot_bending_line`, :func:`write_report`
-- studies: :func:`run_check`, :func:`calibrate`, :func:`read_measured`, :func:`run_discrepancy`
+- studies: :func:`run_check`, :func:`measured_rows`, :func:`calibrate`, :func:`read_measured`,
+  :func:`run_discrepancy`
 - errors: :class:`RvcoaxError`, the base of every error raised on purpose
 
 Units: SI inside the solver; files and results say their unit in every key (``Y_input_mm``,
@@ -43,6 +46,11 @@ _WHERE = {
     "parse_rig_text": "rvcoax.geometry.rigfile",
     "reference_rig_text": "rvcoax.geometry.rigfile",
     "reference_from_geometry": "rvcoax.geometry.variants",
+    "load_example_rig": "rvcoax.geometry.builtin",
+    "example_rig_text": "rvcoax.geometry.builtin",
+    "is_reference_rig": "rvcoax.geometry.builtin",
+    "default_cases": "rvcoax.loadcases.cases",
+    "rig_cases": "rvcoax.loadcases.cases",
     "LoadCase": "rvcoax.loadcases.cases",
     "paper_cases": "rvcoax.loadcases.cases",
     "paper_table": "rvcoax.loadcases.cases",
@@ -57,6 +65,7 @@ _WHERE = {
     "Sweep": "rvcoax.results.sweep",
     "prepare_model": "rvcoax.results.sweep",
     "run_sweep": "rvcoax.results.sweep",
+    "engineering_tables": "rvcoax.results.engineering",
     "write_sweep": "rvcoax.results.io.result_files",
     "run_durable_sweep": "rvcoax.results.io.durable_sweep",
     "write_check": "rvcoax.results.io.result_files",
@@ -67,6 +76,7 @@ _WHERE = {
     "draw_sweep_pictures": "rvcoax.results.io.sweep_pictures",
     "CheckRun": "rvcoax.results.studies.check_run",
     "run_check": "rvcoax.results.studies.check_run",
+    "measured_rows": "rvcoax.results.studies.check",
     "calibrate": "rvcoax.results.studies.calibration",
     "read_measured": "rvcoax.results.studies.discrepancy.measured",
     "DiscrepancySettings": "rvcoax.results.studies.discrepancy.workflow",

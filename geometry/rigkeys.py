@@ -318,8 +318,15 @@ def _walk(model: type[BaseModel], prefix: str, section: str) -> Iterator[KeyRow]
             yield from _walk(typing.get_args(core)[0], f"{path}[].", section or key)
             continue
         if origin is dict:
-            value_type = typing.get_args(core)[1]
-            yield from _walk(value_type, f"{path}.<name>.", section or key)
+            value_type, _, _ = _strip(typing.get_args(core)[1])
+            if isinstance(value_type, type) and issubclass(value_type, BaseModel):
+                yield from _walk(value_type, f"{path}.<name>.", section or key)
+                continue
+            # a map of plain values keyed by name (e.g. a temperature rise per part): one row, <name> = value
+            kind, allowed = _kind_and_allowed(typing.get_args(core)[1], None)
+            meaning = field.description or MEANINGS.get(path, "")
+            yield KeyRow(section or key, f"{path}.<name>", f"{kind} per name", unit_of(key), _default_text(field),
+                         allowed, _plausible(section or key, key), meaning)
             continue
         kind, allowed = _kind_and_allowed(field.annotation, field)
         meaning = field.description or MEANINGS.get(path, "")

@@ -17,8 +17,8 @@ from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
-           "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "Segment", "SingleForce", "SolidSettings",
-           "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "Torques", "Triple"]
+           "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "RigLoadCase", "Segment", "SingleForce", "SolidSettings",
+           "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "TorqueRange", "Torques", "Triple"]
 
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
@@ -159,6 +159,9 @@ class Bearing(Strict):
     # radial play: the radial spring carries F = k (|d| - c) d/|d| only for |d| > c (d: radial
     # relative displacement in the YZ plane, c measured from the centred position); nonlinear
     radial_clearance_um: Annotated[float, Field(ge=0.0, le=1000.0, allow_inf_nan=False, strict=True)] = 0.0
+    # --- limits (issue 15, outputs): what the bearing type tolerates; judged in the engineering tables ---
+    # tilt of the inner ring against the outer (deep groove ball bearings: 2′ … 10′ in catalogues)
+    allowable_misalignment_arcmin: Annotated[float, Field(gt=0.0, le=600.0, allow_inf_nan=False, strict=True)] | None = None
 
 
 Triple = tuple[NonNegative, NonNegative, NonNegative]
@@ -204,6 +207,12 @@ class Coupling(Connection):
     parallel_offset_um: Annotated[float, Field(ge=-1e4, le=1e4, allow_inf_nan=False, strict=True)] = 0.0
     angular_misalignment_mrad: Annotated[float, Field(ge=-100.0, le=100.0, allow_inf_nan=False, strict=True)] = 0.0
     misalignment_direction_deg: Finite = 0.0
+    # --- limits (issue 15, outputs): the coupling maker's allowable misalignment (datasheet) and the
+    # running speed that grades the misalignment against alignment tolerances by speed
+    # (rvcoax.results.engineering.ALIGNMENT_TOLERANCES) ---
+    allowable_parallel_offset_mm: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False, strict=True)] | None = None
+    allowable_angular_misalignment_deg: Annotated[float, Field(gt=0.0, le=45.0, allow_inf_nan=False, strict=True)] | None = None
+    speed_rpm: Annotated[float, Field(ge=0.0, le=1e6, allow_inf_nan=False, strict=True)] | None = None
 
 
 class Joint(Connection):
@@ -488,6 +497,30 @@ class ForceTable(Strict):
     singles: list[SingleForce] = []
 
 
+# --- load cases in the rig file (issue 15, outputs) ---------------------------------------------
+
+class RigLoadCase(Strict):
+    """One ``[[load_cases]]`` entry: a torque pair (N·m)."""
+
+    T1_input_Nm: Finite
+    T2_output_Nm: Finite
+
+
+class TorqueRange(Strict):
+    """``[sweep]``: ``cases`` evenly spaced (T1, T2) pairs from the first to the last values (N·m)."""
+
+    T1_input_Nm: tuple[Finite, Finite]
+    T2_output_Nm: tuple[Finite, Finite]
+    cases: Annotated[int, Field(ge=1, le=100_000, strict=True)]
+
+    @model_validator(mode="after")
+    def _check(self) -> TorqueRange:
+        if self.cases == 1 and (self.T1_input_Nm[0] != self.T1_input_Nm[1]
+                                or self.T2_output_Nm[0] != self.T2_output_Nm[1]):
+            raise ValueError("cases = 1 needs equal first and last torques (or give cases >= 2)")
+        return self
+
+
 class SolidSettings(Strict):
     """Solid and hybrid models: which parts are solid in ``hybrid``, and mesh sizes."""
 
@@ -532,6 +565,9 @@ class Rig(Strict):
     force_table: ForceTable = ForceTable()
     paths: Paths
     solid: SolidSettings = SolidSettings()
+    # issue 15 (outputs): the rig's own load cases, a list or a range (not both)
+    load_cases: list[RigLoadCase] = []
+    sweep: TorqueRange | None = None
 
     @field_validator("parts")
     @classmethod
@@ -549,6 +585,13 @@ class Rig(Strict):
         problems = list(self.reference_problems())
         if problems:
             raise ValueError("\n".join(problems))  # one problem a line (messages may hold "; ")
+        return self
+
+    @model_validator(mode="after")
+    def _one_source_of_cases(self) -> Rig:
+        if self.load_cases and self.sweep is not None:
+            raise ValueError("load_cases and sweep: give the load cases either as [[load_cases]] or as a [sweep] "
+                             "range, not both")
         return self
 
     def hybrid_solid_parts(self) -> tuple[str, ...]:

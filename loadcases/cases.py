@@ -1,7 +1,8 @@
 """Torque load cases and how to read them.
 
-A load case is a pair (T1 input torque, T2 output torque) in N·m. The default sweep is the 20
-pairs of paper 000's coaxiality table. Files: CSV with columns ``T1_input_Nm, T2_output_Nm`` (other
+A load case is a pair (T1 input torque, T2 output torque) in N·m. A rig's own cases come from its
+file (``[[load_cases]]`` or a ``[sweep]`` range: :func:`rig_cases`); only the built-in reference
+rig falls back on the 20 pairs of paper 000's coaxiality table (:func:`default_cases`). Files: CSV with columns ``T1_input_Nm, T2_output_Nm`` (other
 columns ignored) or TOML with ``[[cases]] T1_input_Nm = .. T2_output_Nm = ..``.
 """
 
@@ -20,7 +21,7 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
 from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES, MAX_TORQUE_NM
 
-__all__ = ["LoadCase", "LoadCaseError", "PAPER_TABLE", "PublishedRow", "grid_cases", "paired_cases", "paper_cases",
+__all__ = ["LoadCase", "LoadCaseError", "NoLoadCasesError", "PAPER_TABLE", "default_cases", "default_is_paper", "rig_cases", "PublishedRow", "grid_cases", "paired_cases", "paper_cases",
            "paper_table", "read_cases", "separator_hint", "torque_matrix"]
 
 PAPER_TABLE = "paper000_coaxiality_table.csv"
@@ -69,6 +70,56 @@ def paper_cases() -> tuple[LoadCase, ...]:
     """The 20 (T1, T2) pairs of paper 000's coaxiality table, in the table's order."""
     text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     return _read_csv_text(text, f"<built-in {PAPER_TABLE}>")
+
+
+class NoLoadCasesError(RvcoaxError, ValueError):
+    """A rig that names no load cases, asked for its default ones."""
+
+
+NO_CASES_HELP = ("give them in the rig file ([[load_cases]] tables with T1_input_Nm and T2_output_Nm, or a "
+                 "[sweep] range: T1_input_Nm = [first, last], T2_output_Nm = [first, last], cases = n), or on "
+                 "the command line (--cases FILE, or --t1/--t2)")
+
+
+def rig_cases(rig) -> tuple[LoadCase, ...] | None:
+    """The load cases a rig file names (``[[load_cases]]`` or ``[sweep]``), or None when it names none."""
+    if rig.load_cases:
+        return _validated([(c.T1_input_Nm, c.T2_output_Nm) for c in rig.load_cases], "of the rig file",
+                          [f"load_cases[{i}]" for i in range(len(rig.load_cases))])
+    if rig.sweep is not None:
+        r = rig.sweep
+        t1 = np.linspace(*r.T1_input_Nm, r.cases)
+        t2 = np.linspace(*r.T2_output_Nm, r.cases)
+        return _validated([(float(a), float(b)) for a, b in zip(t1, t2)], "of the rig file's [sweep]",
+                          [f"sweep case {i}" for i in range(1, r.cases + 1)])
+    return None
+
+
+def default_cases(rig) -> tuple[LoadCase, ...]:
+    """The cases to solve when none are given: the rig file's own, else paper 000's 20 pairs for the
+    built-in reference rig only (:func:`rvcoax.geometry.builtin.is_reference_rig`).
+
+    Raises
+    ------
+    NoLoadCasesError
+        Another rig that names no load cases: the message says where to give them.
+    """
+    from rvcoax.geometry.builtin import is_reference_rig
+
+    own = rig_cases(rig)
+    if own is not None:
+        return own
+    if is_reference_rig(rig):
+        return paper_cases()
+    raise NoLoadCasesError(f"rig '{rig.rig.name}' names no load cases (paper 000's table belongs to the built-in "
+                           f"reference rig only): {NO_CASES_HELP}")
+
+
+def default_is_paper(rig) -> bool:
+    """True when :func:`default_cases` of ``rig`` are paper 000's (the reference rig naming no cases of its own)."""
+    from rvcoax.geometry.builtin import is_reference_rig
+
+    return rig_cases(rig) is None and is_reference_rig(rig)
 
 
 def grid_cases(t1_values, t2_values) -> tuple[LoadCase, ...]:
@@ -167,13 +218,23 @@ def torque_matrix(cases) -> np.ndarray:
 
 @dataclass(frozen=True)
 class PublishedRow:
-    """One row of paper 000's coaxiality table (lengths in mm, angles in degrees)."""
+    """One row of a published or measured Y/β table (lengths in mm, angles in degrees).
+
+    ``stations_input_mm`` / ``stations_output_mm``: where Y was sampled along each path (measured
+    paths), so that the model is read at the same stations; None when Y is the path's maximum.
+    """
 
     case: LoadCase
     y_input_mm: float
     y_output_mm: float
     beta_input_deg: float
     beta_output_deg: float
+    stations_input_mm: tuple[float, ...] | None = None
+    stations_output_mm: tuple[float, ...] | None = None
+
+    def stations_mm(self, shaft: str) -> tuple[float, ...] | None:
+        """The stations Y of ``shaft`` was sampled at, or None (the maximum over the whole path)."""
+        return self.stations_input_mm if shaft == "input" else self.stations_output_mm
 
 
 def paper_table() -> tuple[PublishedRow, ...]:

@@ -26,6 +26,7 @@ each case on its own, which agrees with this superposition to solver precision.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,9 +34,12 @@ from rvcoax.fem import bushing
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.model.beam import SpringId, stress_free_motions
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
-from rvcoax.results.sweep import Sweep
 
-__all__ = ["ConnectionStates", "ConnectionsUnavailableError", "REFERENCES", "case_displacements", "connection_states"]
+if TYPE_CHECKING:
+    from rvcoax.results.sweep import Sweep
+
+__all__ = ["ConnectionStates", "ConnectionsUnavailableError", "REFERENCES", "SpringMotion", "case_displacements",
+           "connection_states", "spring_states"]
 
 REFERENCES = ("measured", "unloaded")
 """``measured``: from the state the rig's ``[paths] measured_from`` names (the aligned rig at rest by
@@ -97,14 +101,44 @@ def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
 
 def connection_states(sweep: Sweep, reference: str = "measured") -> ConnectionStates:
     """Relative motion and force of every spring of the sweep's rig in every case."""
-    frame = sweep.model.structure
-    springs = frame.bushings
-    displacements = case_displacements(sweep, reference)[: frame.n_dofs]
-    operator, dofs = bushing.relative_motion_operator(frame.coordinates, springs)
-    gathered = np.where((dofs >= 0)[:, :, None], displacements[np.maximum(dofs, 0)], 0.0)  # (springs, 12, cases)
-    deformation = np.einsum("sij,sjc->csi", operator, gathered)
-    if not _from_rest(sweep, reference):
-        deformation = deformation - stress_free_motions(sweep.rig)[None, :, :]
-    force_on_b = -np.asarray(springs.stiffness, float)[None, :, :] * deformation
-    return ConnectionStates(tuple(sweep.model.bushing_names), np.asarray(springs.point_m, float), deformation,
-                            force_on_b)
+    return spring_states(sweep.model, sweep.rig, case_displacements(sweep, reference),
+                         from_rest=_from_rest(sweep, reference))
+
+
+@dataclass(frozen=True, eq=False)
+class SpringMotion:
+    """What turns displacement vectors into spring states, built once per model (the springs' rigid-arm
+    operators, their DOFs, stiffnesses and stress-free motions Δ0)."""
+
+    names: tuple[SpringId, ...]
+    point_m: np.ndarray
+    operator: np.ndarray  # (springs, 6, 12)
+    dofs: np.ndarray  # (springs, 12), −1 for the ground
+    stiffness: np.ndarray  # (springs, 6)
+    stress_free: np.ndarray  # (springs, 6)
+    n_dofs: int
+
+    @classmethod
+    def of(cls, model, rig) -> SpringMotion:
+        """The springs of ``model`` (a :class:`RigModel`) built from ``rig``."""
+        frame = model.structure
+        operator, dofs = bushing.relative_motion_operator(frame.coordinates, frame.bushings)
+        return cls(tuple(model.bushing_names), np.asarray(frame.bushings.point_m, float), operator, dofs,
+                   np.asarray(frame.bushings.stiffness, float), stress_free_motions(rig), frame.n_dofs)
+
+    def states(self, displacements: np.ndarray, from_rest: bool) -> ConnectionStates:
+        """Spring states for displacement vectors (n_dofs, n_cases) or (n_dofs,): measured since the rest
+        state (``from_rest``: the stress-free Δ0 cancels) or from the unloaded geometry (Δ0 subtracted)."""
+        u = np.asarray(displacements, float)
+        u = (u[:, None] if u.ndim == 1 else u)[: self.n_dofs]
+        gathered = np.where((self.dofs >= 0)[:, :, None], u[np.maximum(self.dofs, 0)], 0.0)  # (springs, 12, cases)
+        deformation = np.einsum("sij,sjc->csi", self.operator, gathered)
+        if not from_rest:
+            deformation = deformation - self.stress_free[None, :, :]
+        return ConnectionStates(self.names, self.point_m, deformation, -self.stiffness[None, :, :] * deformation)
+
+
+def spring_states(model, rig, displacements: np.ndarray, from_rest: bool) -> ConnectionStates:
+    """Relative motion and force of every spring of ``model`` (a :class:`RigModel`) for displacement
+    vectors ``displacements`` (n_dofs, n_cases) or (n_dofs,) (see :meth:`SpringMotion.states`)."""
+    return SpringMotion.of(model, rig).states(displacements, from_rest)

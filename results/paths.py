@@ -1,4 +1,4 @@
-"""Quantities along a measured shaft path: Y(x), Y_max, β = arcsin(Y_max / L), true tilt."""
+"""Quantities along a measured shaft path: Y(x), Y_max, β = arcsin(Y_max / L), true tilt, end slopes and offsets."""
 
 from __future__ import annotations
 
@@ -57,6 +57,27 @@ class ShaftPathResult:
         """Slope of the least-squares line through u_y(x), as an angle (signed)."""
         slope = np.polyfit(self.station_mm, self.uy_mm, 1)[0]
         return float(np.degrees(np.arctan(slope)))
+
+    @property
+    def fitted_tilt_urad(self) -> float:
+        """The true tilt: slope of the least-squares line through u_y(x), as an angle in µrad (signed)."""
+        slope = np.polyfit(self.station_mm, self.uy_mm, 1)[0]
+        return float(np.arctan(slope) * 1e6)
+
+    @property
+    def beta_urad(self) -> float:
+        """Paper 000's β = arcsin(Y_max / L) in µrad."""
+        return float(np.arcsin(self.y_max_mm / self.length_mm) * 1e6)
+
+    @property
+    def end_slopes_urad(self) -> tuple[float, float]:
+        """Slope of the shaft (its cross-section rotation about z) at the path's start and end, µrad (signed)."""
+        return float(self.rotation_z_rad[0] * 1e6), float(self.rotation_z_rad[-1] * 1e6)
+
+    @property
+    def end_offsets_um(self) -> tuple[float, float]:
+        """u_y at the path's start and end, µm (signed, +Y up)."""
+        return float(self.uy_mm[0] * 1e3), float(self.uy_mm[-1] * 1e3)
 
     @property
     def end_rotations_deg(self) -> tuple[float, float]:

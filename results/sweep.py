@@ -31,6 +31,8 @@ from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, su
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.connections import SpringMotion
+from rvcoax.results.engineering import CaseEngineering, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
@@ -81,6 +83,7 @@ class CaseResult:
     absolute_paths: dict[str, ShaftPathResult]
     equilibrium_error: float
     residual: float
+    engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,9 +234,11 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
-              prepared: PreparedModel | None = None, on_case=None) -> Sweep:
+              prepared: PreparedModel | None = None, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case, and
     ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
+    ``engineering``: also compute each case's coupling, bearing and reaction tables
+    (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
 
     ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
     parameters may differ: the unit loads are rebuilt from ``rig``). A rig with bearing clearance
@@ -254,6 +259,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     rest = sum(unit_by_name[k] for k in REST_LOADS)
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     frame = system.frame.structure
+    springs = SpringMotion.of(system.frame, rig) if engineering else None
     results = []
     for i, case in enumerate(cases):
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
@@ -271,6 +277,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             check.relative_error,
             residual,
+            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs)
+            if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
@@ -326,19 +334,21 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                              f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
         check_solution(label, u, check.relative_error, residual)
-        return u, solution, check.relative_error, residual
+        return u, solution, check, residual
 
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     results, iterations, measured_all = [], [rest_solution.iterations], []
     for i, case in enumerate(cases):
         weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
-        u, solution, error, residual = solve_case(weights, case.label)
+        u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
+        # no engineering tables: their spring forces are linear, a gapped bearing's law is not
         results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
-                                  {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, error, residual))
+                                  {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
+                                  residual))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

@@ -21,9 +21,8 @@ __all__ = ["COMMANDS", "app", "load_command", "reflow", "run"]
 
 # name → (module under rvcoax.results.cli, the short help that `rvcoax --help` shows)
 COMMANDS: dict[str, tuple[str, str]] = {
-    "sweep": ("sweep", "Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / "
-                       "sweep.json."),
-    "check": ("check", "Compare every row of paper 000's Y/β table with the model, blind and calibrated."),
+    "sweep": ("sweep", "Solve a torque sweep and write sweep.csv / sweep.json."),
+    "check": ("check", "Compare every row of a Y/β table with the model, blind and calibrated."),
     "picture": ("picture", "Off-screen pictures: the deformed rig per case (u_y in µm, same colour limits across the "
                            "sweep, measured paths drawn) and Y against torque with the published points."),
     "discrepancy": ("discrepancy", "Locate where model and measurement disagree, name the missing effect, add it, "

@@ -1,6 +1,9 @@
-"""``rvcoax check``: every row of a published Y/β table against the model, blind and calibrated."""
+"""``rvcoax check``: every row of a measured or published Y/β table against the model, blind and calibrated."""
 
 from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
 
 import typer
 from rich.markup import escape
@@ -12,19 +15,19 @@ from rvcoax.results.cli import support
 __all__ = ["check", "register"]
 
 
-def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows) -> Table:
-    table = Table(title=f"{shaft} shaft: published (paper 000) vs rvcoax", title_justify="left")
-    for column in ("T1 N·m", "T2 N·m", "fit", "Y pub mm", "Y blind mm", "blind err", "Y cal mm", "cal err",
-                   "β pub °", "β cal °", "β cal err", "ok"):
+def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, table_name: str) -> Table:
+    table = Table(title=escape(f"{shaft} shaft: {table_name} vs rvcoax"), title_justify="left")
+    for column in ("T1 N·m", "T2 N·m", "fit", "Y table µm", "Y blind µm", "blind err", "Y cal µm", "cal err",
+                   "β table °", "β cal °", "β cal err", "ok"):
         table.add_column(column, justify="right")
     y, b = f"Y_{shaft}_mm", f"beta_{shaft}_deg"
     for i, row in enumerate(rows):
         ok = comparison_cal.within[y][i] and comparison_cal.within[b][i]
         table.add_row(
             f"{row.case.input_torque_Nm:g}", f"{row.case.output_torque_Nm:g}", "fit" if i in fit_rows else "",
-            f"{comparison_cal.published[y][i]:.5g}", f"{comparison_blind.model[y][i]:.4g}",
+            f"{1e3 * comparison_cal.published[y][i]:.5g}", f"{1e3 * comparison_blind.model[y][i]:.4g}",
             f"{100 * comparison_blind.relative_error[y][i]:+.1f} %",
-            f"{comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
+            f"{1e3 * comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
             f"{comparison_cal.published[b][i]:.3g}", f"{comparison_cal.model[b][i]:.4g}",
             f"{100 * comparison_cal.relative_error[b][i]:+.2f} %",
             "[green]yes[/]" if ok else "[red]NO[/]",
@@ -39,22 +42,33 @@ def check(
     out: support.OutOption = None,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
+    measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to compare with: a CSV table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or measured paths (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm). Default: paper 000's table, for the built-in reference rig only.")] = None,
 ) -> None:
-    """Compare every row of paper 000's Y/β table with the model, blind and calibrated.
+    """Compare every row of a Y/β table with the model, blind and calibrated.
 
-    Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows T2 = 10 and T2 = 200 N·m only; the other 18 rows are predictions. Tolerance: 2 % of Y and β, or 1e-7 mm next to the input sign change.
+    The table: --measured FILE; without it, paper 000's published table (built-in reference rig only). Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows of the smallest and the largest T2 only (paper 000: T2 = 10 and 200 N·m); the other rows are predictions. Measured paths are compared at their stations (the largest |u_y| there). Tolerance: 2 % of Y and β, or 1e-7 mm next to the input sign change.
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
+    from rvcoax.geometry.builtin import is_reference_rig
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.loadcases.cases import paper_table
     from rvcoax.results.io.result_files import write_check
     from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
-    from rvcoax.results.studies.check_run import CalibrationError, run_check
+    from rvcoax.results.studies.check_run import NO_TABLE_HELP, CalibrationError, fit_output_torques, run_check
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
-    rows = paper_table()
+    if measured is not None:
+        from rvcoax.results.studies.check import measured_rows
+        from rvcoax.results.studies.discrepancy.measured import read_measured
+
+        lengths = {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}
+        rows, table_name = measured_rows(read_measured(measured), lengths), f"measured ({measured})"
+    elif is_reference_rig(rig):
+        rows, table_name = paper_table(), "published (paper 000)"
+    else:
+        raise support.UserError(f"rig file {support.rig_text(rig_file)[0]}: nothing to compare with: {NO_TABLE_HELP}")
     prepared = support.prepare_with_status(rig, settings)
     with support.progress_bar() as progress:
         tasks = {}
@@ -71,8 +85,8 @@ def check(
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
-                                   rows))
-    _print_calibration(run.calibration)
+                                   rows, table_name))
+    _print_calibration(run.calibration, fit_output_torques(rows))
     support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
         f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
@@ -90,12 +104,13 @@ def check(
     if out is not None:
         source, text = support.rig_text(rig_file)
         support.report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
-                                   title=f"{rig.rig.name}: {model} model vs paper 000"))
+                                   title=f"{rig.rig.name}: {model} model vs "
+                                         + ("paper 000" if measured is None else "measured")))
     raise typer.Exit(code=outcome.exit_code)
 
 
-def _print_calibration(calibration) -> None:
-    table = Table(title="Calibrated parameters (fitted on T2 = 10 and 200 N·m)", title_justify="left")
+def _print_calibration(calibration, fit) -> None:
+    table = Table(title=f"Calibrated parameters (fitted on T2 = {fit[0]:g} and {fit[1]:g} N·m)", title_justify="left")
     for column in ("parameter", "shaft", "reference", "fitted", "unit", "plausible range", "plausible?"):
         table.add_column(column)
     for p in calibration.parameters:

@@ -27,17 +27,17 @@ def picture(
     """Off-screen pictures: the deformed rig per case (u_y in µm, same colour limits across the sweep,
     measured paths drawn) and Y against torque with the published points."""
     from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.loadcases.cases import paper_table
+    from rvcoax.loadcases.cases import default_is_paper, paper_table
     from rvcoax.results.io.pictures import RenderingUnavailableError
     from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, False)
+    load_cases = support.cases_from_options(cases, t1, t2, False, rig)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     folder = out / "pictures"
-    published = paper_table() if cases is None and t1 is None else None
+    published = paper_table() if cases is None and t1 is None and default_is_paper(rig) else None
     try:
         with support.progress_bar() as bar:
             task = bar.add_task("rendering", total=len(load_cases))

@@ -105,6 +105,14 @@ def rig_reference() -> None:
     sys.stdout.write(reference_rig_text())
 
 
+@rig_app.command("example")
+def rig_example() -> None:
+    """Print the built-in example rig of another layout (RV-40E bench, one torque sensor, 260 mm output shaft, hysteresis brake, its own load cases)."""
+    from rvcoax.geometry.builtin import example_rig_text
+
+    sys.stdout.write(example_rig_text())
+
+
 def register(app: typer.Typer) -> None:
     """Add the ``rig`` command group to ``app``."""
     app.add_typer(rig_app, name="rig")

@@ -311,10 +311,11 @@ def _case_rows_upper_bound(path: Path) -> int | None:
     return data.count(b"[[cases]]") if path.suffix.lower() == ".toml" else max(data.count(b"\n"), 1)
 
 
-def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool):
-    """Load cases from --cases, or --t1/--t2 (paired or --grid), or the paper's 20 pairs."""
+def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig):
+    """Load cases from --cases, or --t1/--t2 (paired or --grid), or the rig file's own
+    (:func:`rvcoax.loadcases.cases.default_cases`: paper 000's 20 pairs for the reference rig only)."""
     from rvcoax.geometry.model.workload import check_cases, count_text
-    from rvcoax.loadcases.cases import grid_cases, paired_cases, paper_cases, read_cases
+    from rvcoax.loadcases.cases import NoLoadCasesError, default_cases, grid_cases, paired_cases, read_cases
 
     if cases_file is not None:
         if t1 or t2:
@@ -327,7 +328,12 @@ def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, 
         check_cases(len(cases), f"load-case file {cases_file}")
         return cases
     if t1 is None and t2 is None:
-        return paper_cases()
+        try:
+            cases = default_cases(rig)
+        except NoLoadCasesError as error:
+            raise UserError(str(error)) from None
+        check_cases(len(cases), "the rig file's load cases")
+        return cases
     if t1 is None or t2 is None:
         raise UserError("--t1 and --t2 go together (comma-separated torques in N·m)")
     values1, values2 = torque_list(t1, "--t1"), torque_list(t2, "--t2")

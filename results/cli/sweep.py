@@ -19,16 +19,82 @@ TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (eve
 def _sweep_table(name: str, method: str, rows: list[dict]) -> Table:
     shown = rows[:TABLE_ROWS]
     more = (f"; first {len(shown)} shown, every case in sweep.csv" if len(rows) > len(shown) else "")
-    table = Table(title=escape(f"{name}: {len(rows)} load cases ({method}{more})"))
-    for column in ("T1 N·m", "T2 N·m", "Y_in mm", "β_in °", "x_max,in mm", "Y_out mm", "β_out °", "x_max,out mm"):
+    table = Table(title=escape(f"{name}: {len(rows)} load case{'' if len(rows) == 1 else 's'} ({method}{more})"))
+    for column in ("T1 N·m", "T2 N·m", "Y_in µm", "β_in (paper)", "tilt_in µrad", "x_max,in mm",
+                   "Y_out µm", "β_out (paper)", "tilt_out µrad", "x_max,out mm"):
         table.add_column(column, justify="right")
     for row in shown:
         cells = [f"{row['T1_input_Nm']:g}", f"{row['T2_output_Nm']:g}"]
         for shaft in MEASURED_SHAFTS:
-            cells += [f"{row[f'Y_{shaft}_mm']:.5g}", f"{row[f'beta_{shaft}_deg']:.3g}",
-                      f"{row[f'station_of_max_{shaft}_mm']:g}"]
+            cells += [f"{row[f'Y_{shaft}_mm'] * 1e3:.4g}",
+                      f"{row[f'beta_{shaft}_deg']:.3g}° = {row[f'beta_{shaft}_deg'] * DEG_TO_URAD:.3g} µrad",
+                      f"{row[f'fitted_tilt_{shaft}_deg'] * DEG_TO_URAD:+.3g}", f"{row[f'station_of_max_{shaft}_mm']:g}"]
         table.add_row(*cells)
     return table
+
+
+DEG_TO_URAD = 1e6 * 3.141592653589793 / 180.0
+
+
+def _percent(value) -> str:
+    return "" if value is None else f"{value:.3g} %"
+
+
+def _engineering_tables(entry: dict) -> list[Table]:
+    """The coupling, bearing and reaction tables of one case (from its ``sweep.json`` entry)."""
+    tables = []
+    where = f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+    couplings = entry["engineering"].get("couplings", [])
+    if couplings:
+        table = Table(title=escape(f"Couplings at {where}: misalignment of the to-hub against the from-hub "
+                                   f"({couplings[0]['reference']})"), title_justify="left")
+        for column in ("coupling", "rpm", "offset µm", "angle µrad", "angle mm/100 mm", "of allowable offset",
+                       "of allowable angle", "alignment grade", "datasheet"):
+            table.add_column(column, justify="left" if column in ("coupling", "alignment grade", "datasheet") else "right")
+        for c in couplings:
+            table.add_row(escape(c["name"]), "" if c["speed_rpm"] is None else f"{c['speed_rpm']:g}",
+                          f"{c['offset_um']:.3g}", f"{c['angle_urad']:.3g}", f"{c['angularity_mm_per_100mm']:.2g}",
+                          _percent(c["offset_use_percent"]), _percent(c["angle_use_percent"]),
+                          c["grade"] or "(no speed_rpm)", c["datasheet_verdict"])
+        tables.append(table)
+    bearings = entry["engineering"].get("bearings", [])
+    if bearings:
+        table = Table(title=escape(f"Bearings at {where}: radial force on the shaft and tilt of the inner ring "
+                                   "against the outer (total, and change under load)"), title_justify="left")
+        for column in ("bearing", "x mm", "force N", "Δ force N", "tilt µrad", "Δ tilt µrad", "tilt ′",
+                       "allowable ′", "of allowable", "verdict"):
+            table.add_column(column, justify="left" if column in ("bearing", "verdict") else "right")
+        for b in bearings:
+            table.add_row(escape(b["name"]), f"{b['x_mm']:g}", f"{b['force_radial_N']:.4g}",
+                          f"{b['force_radial_change_N']:.3g}", f"{b['tilt_urad']:.3g}", f"{b['tilt_change_urad']:.3g}",
+                          f"{b['tilt_arcmin']:.2g}",
+                          "" if b["allowable_tilt_arcmin"] is None else f"{b['allowable_tilt_arcmin']:g}",
+                          _percent(b["tilt_use_percent"]), b["verdict"])
+        tables.append(table)
+    reactions = entry["engineering"].get("reactions", [])
+    if reactions:
+        table = Table(title=escape(f"Support reactions at {where}: force and moment each ground support exerts on "
+                                   "its part (total, self-weight included)"), title_justify="left")
+        for column in ("support", "part", "x mm", "Fx N", "Fy N", "Fz N", "Mx N·m", "My N·m", "Mz N·m"):
+            table.add_column(column, justify="left" if column in ("support", "part") else "right")
+        for r in reactions:
+            table.add_row(escape(r["name"]), escape(r["part"]), f"{r['x_mm']:g}",
+                          *[f"{v:.4g}" for v in r["force_N"]], *[f"{v:.4g}" for v in r["moment_Nm"]])
+        tables.append(table)
+    return tables
+
+
+def _print_engineering(records: list[dict]) -> None:
+    """The engineering tables of the case with the largest |T2| (the last such case)."""
+    entries = [r["entry"] for r in records if "couplings" in r["entry"].get("engineering", {})]
+    if not entries:
+        return
+    entry = max(reversed(entries), key=lambda e: abs(e["T2_output_Nm"]))
+    for table in _engineering_tables(entry):
+        support.console.print(table)
+    residual = entry["engineering"]["equilibrium_residual"]
+    support.console.print(f"Equilibrium residual (applied loads + reactions): {residual['force_N']:.2g} N, "
+                          f"{residual['moment_Nm']:.2g} N·m. Every case's tables are in sweep.csv and sweep.json.")
 
 
 def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
@@ -79,7 +145,10 @@ def sweep(
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
     resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
 ) -> None:
-    """Solve a torque sweep (default: the 20 (T1, T2) pairs of paper 000) and write sweep.csv / sweep.json.
+    r"""Solve a torque sweep and write sweep.csv / sweep.json.
+
+    Load cases: --cases or --t1/--t2; else the rig file's \[\[load_cases]] or \[sweep]; else, for the
+    built-in reference rig only, the 20 (T1, T2) pairs of paper 000.
 
     Each case is appended to OUT/cases/journal.jsonl (with a checksum) as soon as it is solved; after
     an interruption, the same command with --resume solves only the missing cases and writes the same
@@ -95,7 +164,7 @@ def sweep(
                         "run without --resume")
     settings = support.sweep_settings(model, method, solver, mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid)
+    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
@@ -105,6 +174,9 @@ def sweep(
     if fields:
         support.report_written(_write_fields(out / "fields", result))
     support.console.print(_sweep_table(rig.rig.name, method, [r["row"] for r in records]))
+    support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
+                          "line through u_y(x), the shaft's true tilt.")
+    _print_engineering(records)
     if model_section.get("nonlinear"):
         how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
                f"{', '.join(model_section['gapped_bearings'])})")

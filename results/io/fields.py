@@ -4,7 +4,12 @@ A :class:`FieldMesh` is mesh-agnostic: points (m), beam elements as 2-point ``li
 outer radius (for drawing tubes), and quadratic tetrahedra (``tetra10``, in meshio's node order,
 which is VTK_QUADRATIC_TETRA's) for solid parts; every cell carries the id of its part. A
 :class:`FieldCase` is one load case on that mesh: the nodal translations (m) and, where a model
-provides it, the von Mises stress (Pa; NaN where not available, e.g. on beams).
+provides it at every point, the von Mises stress (Pa); otherwise no stress field at all (a field
+of NaN is no result).
+
+In memory everything is SI. The files are in **mm** (points, ``displacement_mm``, ``radius_mm``), the
+unit written in every array's name (``displacement_y_um``, ``von_mises_MPa``), so that ParaView shows
+mm and "warp by vector" works with the points as they are.
 
 The beam model fills them with :func:`beam_field_mesh` and :func:`beam_field_cases`; the
 displacement is "measured" exactly as :func:`rvcoax.results.sweep.run_sweep` measures Y (from the aligned
@@ -13,9 +18,9 @@ the path nodes equals the sweep's path values.
 
 Files
 -----
-:func:`write_vtu` writes one ``.vtu`` per case (point data ``displacement`` (m),
-``displacement_y_um``, ``von_mises`` (Pa); cell data ``part_id`` and ``radius_m`` (NaN on
-tetrahedra); field data ``T1_input_Nm``, ``T2_output_Nm`` and one ``part_id:<name>`` entry per
+:func:`write_vtu` writes one ``.vtu`` per case (points in mm; point data ``displacement_mm``,
+``displacement_y_um`` and, when the case has it, ``von_mises_MPa``; cell data ``part_id`` and
+``radius_mm`` (0 on tetrahedra, which have no tube radius); field data ``T1_input_Nm``, ``T2_output_Nm`` and one ``part_id:<name>`` entry per
 part). It is written to a temporary file in the same folder and renamed: atomic.
 
 :func:`write_xdmf_series` writes an XDMF time series over the cases: **time = case index**
@@ -61,6 +66,7 @@ from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import UNIT_LOADS, superpose
 
 LINE = "line"
+MM = 1e3  # m → mm: field files are in mm
 TETRA10 = "tetra10"
 XDMF_TIME = "case index (0, 1, ... in the order of the cases)"
 
@@ -136,15 +142,20 @@ class FieldMesh:
         return [(kind, np.ascontiguousarray(cells)) for kind, cells in blocks if len(cells)]
 
     def cell_data(self) -> dict[str, list[np.ndarray]]:
-        """Cell data per block, in the order of :meth:`cell_blocks`."""
+        """Cell data per block, in the order of :meth:`cell_blocks`, as written to files (mm)."""
         part, radius = [], []
         if len(self.lines):
             part.append(np.array(self.line_part_id, dtype=np.int32))
-            radius.append(np.array(self.line_radius_m, dtype=float))
+            radius.append(np.array(self.line_radius_m, dtype=float) * MM)
         if len(self.tetra10):
             part.append(np.array(self.tetra_part_id, dtype=np.int32))
-            radius.append(np.full(len(self.tetra10), np.nan))
-        return {"part_id": part, "radius_m": radius}
+            radius.append(np.zeros(len(self.tetra10)))  # a tetrahedron is drawn as itself, not as a tube
+        return {"part_id": part, "radius_mm": radius}
+
+    @property
+    def points_mm(self) -> np.ndarray:
+        """Point positions in mm, as written to files."""
+        return np.asarray(self.points) * MM
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,8 +168,9 @@ class FieldCase:
     T1_input_Nm, T2_output_Nm : float
     displacement_m : (n, 3) float array
         Nodal translation (m), measured as the sweep measures Y.
-    von_mises_pa : (n,) float array
-        Von Mises stress (Pa), NaN where not available (beams). ``None`` → all NaN.
+    von_mises_pa : (n,) float array or None
+        Von Mises stress (Pa) at every point, or None where the model gives none (beams): the
+        files then hold no stress field.
     """
 
     label: str
@@ -171,11 +183,12 @@ class FieldCase:
         u = np.asarray(self.displacement_m, dtype=float)
         if u.ndim != 2 or u.shape[1] != 3:
             raise ValueError(f"displacement_m must be (n, 3), got {u.shape}")
-        vm = np.full(u.shape[0], np.nan) if self.von_mises_pa is None else np.asarray(self.von_mises_pa, float)
-        if vm.shape != (u.shape[0],):
-            raise ValueError(f"von_mises_pa must be ({u.shape[0]},), got {vm.shape}")
+        if self.von_mises_pa is not None:
+            vm = np.asarray(self.von_mises_pa, float)
+            if vm.shape != (u.shape[0],) or not np.all(np.isfinite(vm)):
+                raise ValueError(f"von_mises_pa must be ({u.shape[0]},) finite values (or None), got {vm.shape}")
+            object.__setattr__(self, "von_mises_pa", _readonly(vm))
         object.__setattr__(self, "displacement_m", _readonly(u))
-        object.__setattr__(self, "von_mises_pa", _readonly(vm))
         object.__setattr__(self, "T1_input_Nm", float(self.T1_input_Nm))
         object.__setattr__(self, "T2_output_Nm", float(self.T2_output_Nm))
 
@@ -184,11 +197,11 @@ class FieldCase:
         return self.displacement_m[:, 1] * 1e6
 
     def point_data(self) -> dict[str, np.ndarray]:
-        return {
-            "displacement": np.array(self.displacement_m),
-            "displacement_y_um": self.displacement_y_um,
-            "von_mises": np.array(self.von_mises_pa),
-        }
+        """Point data as written to files (the unit in each name)."""
+        data = {"displacement_mm": np.array(self.displacement_m) * MM, "displacement_y_um": self.displacement_y_um}
+        if self.von_mises_pa is not None:
+            data["von_mises_MPa"] = np.array(self.von_mises_pa) * 1e-6
+        return data
 
 
 def _check(mesh: FieldMesh, case: FieldCase) -> None:
@@ -288,7 +301,7 @@ def write_vtu(path: str | Path, mesh: FieldMesh, case: FieldCase) -> Path:
     temporary = Path(temporary)
     os.chmod(temporary, 0o644)  # mkstemp makes it private; a result file is readable like any other
     try:
-        data = meshio.Mesh(mesh.points, mesh.cell_blocks(), point_data=case.point_data(), cell_data=mesh.cell_data())
+        data = meshio.Mesh(mesh.points_mm, mesh.cell_blocks(), point_data=case.point_data(), cell_data=mesh.cell_data())
         meshio.write(temporary, data, file_format="vtu")
         # meshio 5.3.5 does not write field data (it reads it): add T1, T2 and the part names.
         text = temporary.read_text(encoding="utf-8")
@@ -319,12 +332,16 @@ def _mesh_from_meshio(points, cells, cell_data, part_names) -> FieldMesh:
     def per_cell(name, kind):
         return np.asarray(cell_data[name][blocks[kind]]).reshape(-1) if kind in blocks else np.zeros(0)
 
+    # files before the unit policy (issue 15) were in m: points, radius_m, displacement
+    scale = 1.0 / MM if "radius_mm" in cell_data else 1.0
+    radius = per_cell("radius_mm", LINE) / MM if "radius_mm" in cell_data else per_cell("radius_m", LINE)
+
     lines = data(LINE)
     tets = data(TETRA10)
     return FieldMesh(
-        np.asarray(points, float),
+        np.asarray(points, float) * scale,
         np.zeros((0, 2), np.int64) if lines is None else lines,
-        per_cell("radius_m", LINE), per_cell("part_id", LINE).astype(np.int32), tuple(part_names),
+        radius, per_cell("part_id", LINE).astype(np.int32), tuple(part_names),
         np.zeros((0, 10), np.int64) if tets is None else tets, per_cell("part_id", TETRA10).astype(np.int32),
     )
 
@@ -337,8 +354,20 @@ def read_vtu(path: str | Path) -> tuple[FieldMesh, FieldCase]:
     mesh = _mesh_from_meshio(data.points, data.cells, data.cell_data, [name for _, name in parts])
     t1 = float(np.asarray(data.field_data["T1_input_Nm"]).ravel()[0])
     t2 = float(np.asarray(data.field_data["T2_output_Nm"]).ravel()[0])
-    case = FieldCase(Path(path).stem, t1, t2, data.point_data["displacement"], data.point_data["von_mises"])
+    case = FieldCase(Path(path).stem, t1, t2, *_case_fields(data.point_data))
     return mesh, case
+
+
+def _case_fields(point_data: dict) -> tuple[np.ndarray, np.ndarray | None]:
+    """(displacement in m, von Mises in Pa or None) from a file's point data (mm, MPa; or m, Pa before)."""
+    if "displacement_mm" in point_data:
+        stress = point_data.get("von_mises_MPa")
+        return (np.asarray(point_data["displacement_mm"]) / MM,
+                None if stress is None else np.asarray(stress) * 1e6)
+    stress = point_data.get("von_mises")
+    if stress is not None and not np.all(np.isfinite(stress)):
+        stress = None  # files before the unit policy wrote NaN where a model gave no stress
+    return np.asarray(point_data["displacement"]), stress
 
 
 # --------------------------------------------------------------------------------------------
@@ -456,14 +485,14 @@ def write_xdmf_series(path: str | Path, mesh: FieldMesh, cases: Sequence[FieldCa
     staging = Path(tempfile.mkdtemp(prefix=f".{target.stem}.", dir=target.parent))
     try:
         with _SeriesWriter(staging / names["xdmf"], data_format=fmt) as writer:
-            writer.write_points_cells(np.asarray(mesh.points), mesh.cell_blocks())
+            writer.write_points_cells(mesh.points_mm, mesh.cell_blocks())
             cell_data = mesh.cell_data()
             for i, case in enumerate(cases):
                 writer.write_data(i, point_data=case.point_data(), cell_data=cell_data)
         info = {
             "time": XDMF_TIME,
-            "units": {"points": "m", "displacement": "m", "displacement_y_um": "um", "von_mises": "Pa",
-                      "radius_m": "m", "T1_input_Nm": "N m", "T2_output_Nm": "N m"},
+            "units": {"points": "mm", "displacement_mm": "mm", "displacement_y_um": "um", "von_mises_MPa": "MPa",
+                      "radius_mm": "mm", "T1_input_Nm": "N m", "T2_output_Nm": "N m"},
             "part_names": list(mesh.part_names),
             "data_format": fmt,
             "cases": [{"time": i, "label": c.label, "T1_input_Nm": c.T1_input_Nm, "T2_output_Nm": c.T2_output_Nm}
@@ -492,8 +521,7 @@ def read_xdmf_series(path: str | Path) -> tuple[FieldMesh, list[FieldCase]]:
     out = []
     for t, point_data, _ in steps:
         meta = by_time[int(round(t))]
-        out.append(FieldCase(meta["label"], meta["T1_input_Nm"], meta["T2_output_Nm"],
-                             point_data["displacement"], point_data["von_mises"]))
+        out.append(FieldCase(meta["label"], meta["T1_input_Nm"], meta["T2_output_Nm"], *_case_fields(point_data)))
     return mesh, out
 
 

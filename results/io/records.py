@@ -8,17 +8,40 @@ from importlib.metadata import PackageNotFoundError, version
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
+from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
 from rvcoax.results.studies.calibration import Calibration
 from rvcoax.results.studies.check import QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
-__all__ = ["UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
-           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header",
-           "sweep_rows", "text_sha256"]
+__all__ = ["ENGINEERING_DEFINITIONS", "UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
+           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header", "sweep_rows", "text_sha256"]
 
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",
     "tilt": "degree", "rotation": "degree",
+    # issue 15: keys ending in _um, _urad, _N, _Nm, _mm_per_100mm, _arcmin, _percent carry that unit
+    "keys_ending_in": {"_mm": "mm", "_um": "µm", "_deg": "degree", "_urad": "µrad", "_arcmin": "arcminute",
+                       "_mm_per_100mm": "mm per 100 mm (angularity: gap difference over 100 mm of coupling diameter)",
+                       "_N": "N", "_Nm": "N·m", "_rpm": "rev/min", "_percent": "% of the allowable value"},
+}
+
+
+ENGINEERING_DEFINITIONS = {
+    "shafts": "beta_paper: paper 000's beta = arcsin(Y_max / L), not a tilt; tilt: slope of the least-squares line "
+              "through u_y(x), the shaft's true tilt; end_slopes: cross-section rotation about z at the path's ends; "
+              "end_offsets: u_y at the path's ends (all from the measured_from state)",
+    "couplings": "parallel offset and angular misalignment of the to-hub against the from-hub at the coupling centre, "
+                 "from the measured_from state (a rig is aligned at rest), with the installed misalignment the rig "
+                 "file declares (parallel_offset_um, angular_misalignment_mrad); use_percent: of the datasheet allowable "
+                 "(allowable_parallel_offset_mm, allowable_angular_misalignment_deg); grade: excellent / acceptable / "
+                 "out of tolerance against the alignment tolerance for speed_rpm",
+    "alignment_tolerances": ALIGNMENT_TOLERANCE_SOURCE,
+    "bearings": "force the bearing exerts on its shaft (radial: total from the unloaded geometry, self-weight "
+                "included; change: since the rest state) and tilt of the inner ring against the outer "
+                "(total and change), against allowable_misalignment_arcmin",
+    "reactions": "force and moment (about the support point) each mount and each bearing housed in ground exerts on "
+                 "its part, total (self-weight included)",
+    "equilibrium_residual": "|applied loads + ground reactions| of the total state, force and moment about the origin",
 }
 
 
@@ -51,7 +74,21 @@ def case_row(case: CaseResult) -> dict:
         row[f"Y_{shaft}_unloaded_ref_mm"] = case.absolute_paths[shaft].y_max_mm
     row["equilibrium_relative_error"] = case.equilibrium_error
     row["solve_relative_residual"] = case.residual
+    # issue 15: the quantities rig engineers read, after the columns above (which keep their order)
+    for shaft in MEASURED_SHAFTS:
+        row.update({f"{key}_{shaft}{unit}": value for key, unit, value in _shaft_columns(case.paths[shaft])})
+    if case.engineering is not None:
+        row.update(case.engineering.row())
     return row
+
+
+def _shaft_columns(path) -> list[tuple[str, str, float]]:
+    start_slope, end_slope = path.end_slopes_urad
+    start_offset, end_offset = path.end_offsets_um
+    return [("Y", "_um", path.y_max_mm * 1e3), ("beta_paper", "_urad", path.beta_urad),
+            ("tilt", "_urad", path.fitted_tilt_urad), ("end_slope_start", "_urad", start_slope),
+            ("end_slope_end", "_urad", end_slope), ("offset_start", "_um", start_offset),
+            ("offset_end", "_um", end_offset)]
 
 
 def entry_path_rows(entry: dict) -> list[dict]:
@@ -75,6 +112,8 @@ def case_entry(case: CaseResult) -> dict:
         }
     entry["equilibrium_relative_error"] = case.equilibrium_error
     entry["solve_relative_residual"] = case.residual
+    entry["engineering"] = {"shafts": {s: shaft_quantities(case.paths[s]) for s in MEASURED_SHAFTS},
+                            **(case.engineering.entry() if case.engineering is not None else {})}
     return entry
 
 
@@ -157,6 +196,7 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
                 "path_lengths_mm": {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}},
         "model": model,
         "beta_definition": "beta = arcsin(Y_max / L) (paper 000); fitted_tilt = slope of the least-squares line through u_y(x)",
+        "engineering_definitions": ENGINEERING_DEFINITIONS,
         "calibration": calibration_document(calibration) if calibration is not None else None,
     })
 

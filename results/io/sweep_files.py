@@ -35,7 +35,7 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import canonical, entry_path_rows, rvcoax_version
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
 
-__all__ = ["CaseStore", "DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "REJECTIONS",
+__all__ = ["CaseStore", "DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "RECORD_FORMAT", "REJECTIONS",
            "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal",
            "sweep_inputs", "write_sweep_files"]
 
@@ -61,9 +61,15 @@ def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -
     ]
 
 
+RECORD_FORMAT = 2
+"""What a case record holds: 2 adds the engineering quantities (issue 15). A journal line of another
+format is not reused, even from the same rvcoax version (a development build)."""
+
+
 def sweep_inputs(rig_sha256: str, settings) -> dict:
-    """What the model (and so every case) depends on, beyond the code: version, rig file, settings."""
-    return canonical({"rvcoax_version": rvcoax_version(), "rig_sha256": rig_sha256, "settings": asdict(settings)})
+    """What the model (and so every case) depends on, beyond the code: version, record format, rig file, settings."""
+    return canonical({"rvcoax_version": rvcoax_version(), "record_format": RECORD_FORMAT, "rig_sha256": rig_sha256,
+                      "settings": asdict(settings)})
 
 
 def case_inputs(rig_sha256: str, case: LoadCase, settings, common: dict | None = None) -> dict:

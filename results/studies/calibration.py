@@ -21,6 +21,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow
+from rvcoax.results.studies.check import y_at_stations
 from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
 
 __all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate"]
@@ -107,12 +108,19 @@ LOAD_GROUPS = ("torque_lateral_loads.",)
 
 def _paths(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.ndarray:
     """Signed u_y paths (mm) of ``shaft`` at the fitting rows, shape (rows, stations)."""
-    sweep = run_sweep(rig, tuple(r.case for r in rows), prepared=prepared)
+    sweep = run_sweep(rig, tuple(r.case for r in rows), prepared=prepared, engineering=False)
     return np.array([c.paths[shaft].uy_mm for c in sweep.cases])
 
 
+def _row_y(rig: Rig, rows: list[PublishedRow], shaft: str, paths: np.ndarray) -> np.ndarray:
+    """Y of each row from its u_y path: the maximum over the path, or over the row's measured stations."""
+    path = getattr(rig.paths, shaft)
+    station = np.linspace(0.0, path.length_mm, paths.shape[1])
+    return np.array([y_at_stations(station, uy, r.stations_mm(shaft)) for r, uy in zip(rows, paths)])
+
+
 def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.ndarray:
-    return np.abs(_paths(rig, rows, shaft, prepared)).max(axis=1)
+    return _row_y(rig, rows, shaft, _paths(rig, rows, shaft, prepared))
 
 
 def _affine_surrogate(rig, parameters, rows, shaft, prepared, scale):
@@ -158,7 +166,7 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
 
     def residual(x):
         if surrogate is not None:
-            return (np.abs(surrogate(x)).max(axis=1) - target) / target
+            return (_row_y(rig, rows, shaft, surrogate(x)) - target) / target
         trial = with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
         return (_y_max(trial, rows, shaft, prepared) - target) / target
 

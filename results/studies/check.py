@@ -1,4 +1,4 @@
-"""Row-by-row comparison of the model with paper 000's published Y / β table."""
+"""Row-by-row comparison of the model with a published or measured Y / β table (paper 000's by default)."""
 
 from __future__ import annotations
 
@@ -6,13 +6,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.paths import beta_from_y_deg
+from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
 from rvcoax.results.sweep import Sweep
 
-__all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "QUANTITIES",
-           "Tolerance", "Verdict", "check_verdict", "compare", "published_values", "sweep_values", "verdict"]
+__all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "MeasuredTableError",
+           "QUANTITIES", "Tolerance", "Verdict", "check_verdict", "compare", "measured_rows", "published_values",
+           "sweep_values", "verdict", "y_at_stations"]
 
 QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
 
@@ -33,14 +36,61 @@ class Tolerance:
         return max(self.relative * abs(published), floor)
 
 
-def sweep_values(sweep: Sweep) -> dict[str, np.ndarray]:
-    """Y_max and β of every case of a sweep, keyed like :data:`QUANTITIES`."""
+def y_at_stations(station_mm, uy_mm, stations_mm) -> float:
+    """The largest |u_y| of a path at ``stations_mm`` (linear between the path's stations), or over
+    the whole path when ``stations_mm`` is None."""
+    if stations_mm is None:
+        return float(np.max(np.abs(uy_mm)))
+    return float(np.max(np.abs(np.interp(np.asarray(stations_mm, float), station_mm, uy_mm))))
+
+
+def sweep_values(sweep: Sweep, rows: tuple[PublishedRow, ...] | None = None) -> dict[str, np.ndarray]:
+    """Y_max and β of every case of a sweep, keyed like :data:`QUANTITIES`.
+
+    With ``rows`` (one per case) whose stations are given, Y is the largest |u_y| at those stations.
+    """
     out: dict[str, list[float]] = {q: [] for q in QUANTITIES}
-    for case in sweep.cases:
+    for i, case in enumerate(sweep.cases):
         for shaft in MEASURED_SHAFTS:
-            out[f"Y_{shaft}_mm"].append(case.paths[shaft].y_max_mm)
-            out[f"beta_{shaft}_deg"].append(case.paths[shaft].beta_deg)
+            path = case.paths[shaft]
+            stations = None if rows is None else rows[i].stations_mm(shaft)
+            if stations is None:
+                out[f"Y_{shaft}_mm"].append(path.y_max_mm)
+                out[f"beta_{shaft}_deg"].append(path.beta_deg)
+            else:
+                y = y_at_stations(path.station_mm, path.uy_mm, stations)
+                out[f"Y_{shaft}_mm"].append(y)
+                out[f"beta_{shaft}_deg"].append(float(beta_from_y_deg(y, path.length_mm)))
     return {q: np.array(v) for q, v in out.items()}
+
+
+class MeasuredTableError(RvcoaxError, ValueError):
+    """Measured data that cannot be compared row by row (the message names the file and the reason)."""
+
+
+def measured_rows(data: MeasuredData, path_lengths_mm: dict[str, float]) -> tuple[PublishedRow, ...]:
+    """A measured-data file (:mod:`rvcoax.results.studies.discrepancy.measured`) as rows of Y/β per case.
+
+    *table*: Y_max per shaft and case; β = arcsin(Y/L) with the rig's path lengths L (paper 000's
+    definition). *paths*: per case and shaft, the largest |u_y| over the measured stations (the
+    model is then read at the same stations); every case needs stations on both shafts.
+    """
+    check_stations(data, path_lengths_mm)
+    rows = []
+    for k, case in enumerate(data.cases):
+        values, stations = {}, {}
+        for shaft in MEASURED_SHAFTS:
+            here = (data.case_index == k) & (data.shaft == shaft)
+            if not here.any():
+                raise MeasuredTableError(f"measured data {data.source}: case T1 = {case.input_torque_Nm:g}, "
+                                         f"T2 = {case.output_torque_Nm:g} N·m has no value for the {shaft} shaft "
+                                         "(the check compares both shafts of every case)")
+            values[shaft] = float(np.max(np.abs(data.value_mm[here])))
+            stations[shaft] = None if data.schema == "table" else tuple(float(x) for x in data.x_mm[here])
+        beta = {s: float(beta_from_y_deg(values[s], path_lengths_mm[s])) for s in MEASURED_SHAFTS}
+        rows.append(PublishedRow(case, values["input"], values["output"], beta["input"], beta["output"],
+                                 stations["input"], stations["output"]))
+    return tuple(rows)
 
 
 def published_values(rows: tuple[PublishedRow, ...]) -> dict[str, np.ndarray]:
@@ -68,7 +118,7 @@ def compare(rows: tuple[PublishedRow, ...], sweep: Sweep, tolerance: Tolerance =
     if len(sweep.cases) != len(rows):
         raise ValueError("the sweep must hold exactly the published load cases")
     published = published_values(rows)
-    model = sweep_values(sweep)
+    model = sweep_values(sweep, rows)
     lengths = {"input": sweep.rig.paths.input.length_mm, "output": sweep.rig.paths.output.length_mm}
     absolute, relative, within = {}, {}, {}
     for q in QUANTITIES:

@@ -12,13 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table
 from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate
 from rvcoax.results.studies.check import CheckVerdict, Comparison, Verdict, check_verdict, compare, verdict
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
-__all__ = ["CalibrationError", "CheckRun", "held_out_mask", "run_check"]
+__all__ = ["CalibrationError", "CheckRun", "MissingTableError", "NO_TABLE_HELP", "fit_output_torques", "held_out_mask", "run_check"]
 
 
 class CalibrationError(RvcoaxError, ValueError):
@@ -59,6 +60,28 @@ class CheckRun:
     outcome: CheckVerdict
 
 
+NO_TABLE_HELP = ("paper 000's table belongs to the built-in reference rig only; compare this rig with its own "
+                 "measured Y (command line: check --measured FILE; Python: run_check(rig, rows=measured_rows(...))), "
+                 "FILE a CSV with columns T1_input_Nm, "
+                 "T2_output_Nm, Y_input_mm, Y_output_mm (a table), or T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm "
+                 "(measured paths), at least three load cases with two different T2")
+
+
+class MissingTableError(RvcoaxError, ValueError):
+    """A check of a rig other than the reference rig without a table to compare with."""
+
+
+def fit_output_torques(rows: tuple[PublishedRow, ...]) -> tuple[float, float]:
+    """The output torques whose rows the calibration fits: the smallest and the largest T2 of the table
+    (paper 000's table: T2 = 10 and 200 N·m); every other row is a prediction."""
+    torques = sorted({r.case.output_torque_Nm for r in rows})
+    if len(torques) < 2 or len(rows) < 3:
+        raise CalibrationError(f"the table has {len(rows)} row(s) with {len(torques)} different T2: the check fits "
+                               "two rows (the smallest and the largest T2) and judges the others, so it needs at "
+                               "least three rows with two different T2")
+    return torques[0], torques[-1]
+
+
 def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
     """True for the rows not used to fit."""
     mask = np.ones(n_rows, dtype=bool)
@@ -76,7 +99,8 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     rig : Rig
         The rig, as :func:`rvcoax.load_rig` returns it.
     rows : tuple of PublishedRow, optional
-        The published table; paper 000's when omitted.
+        The table to compare with (:func:`rvcoax.results.studies.check.measured_rows` turns a
+        measured-data file into rows); omitted: paper 000's, for the built-in reference rig only.
     settings : SweepSettings, optional
         Model fidelity, solver and mesh size (the beam model's defaults when omitted).
     prepared : PreparedModel, optional
@@ -92,9 +116,14 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     Raises
     ------
     CalibrationError
-        The rig lacks a parameter the calibration fits.
+        The rig lacks a parameter the calibration fits, or the table has too few rows to fit and judge.
+    MissingTableError
+        ``rows`` omitted for a rig other than the built-in reference rig.
     """
-    rows = paper_table() if rows is None else rows
+    if rows is None:
+        if not is_reference_rig(rig):
+            raise MissingTableError(f"rig '{rig.rig.name}': {NO_TABLE_HELP}")
+        rows = paper_table()
     settings = SweepSettings() if settings is None else settings
     cases = tuple(r.case for r in rows)
     prepared = prepare_model(rig, settings) if prepared is None else prepared
@@ -107,7 +136,8 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     if progress is not None:
         progress("calibrating", 0, 1)
     try:
-        calibration = calibrate(rig, rows, settings=settings, prepared=prepared)
+        calibration = calibrate(rig, rows, fit_output_torques_Nm=fit_output_torques(rows), settings=settings,
+                                prepared=prepared)
     except KeyError as error:
         raise CalibrationError(f"cannot calibrate: {error.args[0]} (the check fits "
                                + ", ".join(p.address for p in DEFAULT_PARAMETERS) + ")") from None

@@ -253,7 +253,7 @@ def evaluate_sample(study: Study, values) -> dict:
     """
     rig = apply_values(study.rig, dict(zip(study.addresses, (float(v) for v in values))))
     if study.strategy == "full":
-        sweep = run_sweep(rig, study.cases, study.settings)
+        sweep = run_sweep(rig, study.cases, study.settings, engineering=False)  # Y and β only
     else:
         nominal = _nominal(study)
         if study.strategy == "loads":
@@ -261,7 +261,7 @@ def evaluate_sample(study: Study, values) -> dict:
         else:
             system = _frame_system(nominal.prepared.system, nominal.fixed, rig)
             prepared = prepare_system(system, study.settings)
-        sweep = run_sweep(rig, study.cases, study.settings, prepared=prepared)
+        sweep = run_sweep(rig, study.cases, study.settings, prepared=prepared, engineering=False)
     return {
         "Y_max_mm": [[c.paths[s].y_max_mm for s in MEASURED_SHAFTS] for c in sweep.cases],
         "Y_signed_mm": [[c.paths[s].y_max_signed_mm for s in MEASURED_SHAFTS] for c in sweep.cases],

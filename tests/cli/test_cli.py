@@ -13,6 +13,7 @@ import json
 import subprocess
 import sys
 import tomllib
+from importlib import resources
 from importlib.metadata import version
 from pathlib import Path
 
@@ -22,7 +23,7 @@ from typer.testing import CliRunner
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
-from rvcoax.loadcases.cases import paper_cases, paper_table
+from rvcoax.loadcases.cases import PAPER_TABLE, paper_cases, paper_table
 from rvcoax.results.cli.app import app
 from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS
 
@@ -283,7 +284,12 @@ def test_out_is_a_file(tmp_path):
 def test_check_on_a_rig_without_the_calibrated_parameters(tmp_path):
     rig = tmp_path / "renamed.toml"
     rig.write_text(reference_rig_text().replace('name = "sun_gear_load_sharing"', 'name = "sun_mesh"'), encoding="utf-8")
+    # an edited reference rig is not the reference rig: the paper's table is no longer its default
     message = _user_error(tmp_path, "check", "--rig", str(rig))
+    assert str(rig) in message and "nothing to compare with" in message and "--measured" in message
+    table = tmp_path / "paper.csv"
+    table.write_text(resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(), encoding="utf-8")
+    message = _user_error(tmp_path, "check", "--rig", str(rig), "--measured", str(table))
     assert str(rig) in message
     assert "cannot calibrate" in message and "sun_gear_load_sharing" in message
 

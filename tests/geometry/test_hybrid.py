@@ -129,7 +129,7 @@ def test_hybrid_fields_and_picture(tmp_path, hybrid):
     vtu = write_vtu(tmp_path / "c.vtu", mesh, cases[0])
     back = meshio.read(vtu)
     assert "tetra10" in {c.type for c in back.cells}
-    np.testing.assert_allclose(back.point_data["displacement"], cases[0].displacement_m)
+    np.testing.assert_allclose(back.point_data["displacement_mm"], cases[0].displacement_m * 1e3)
     files = write_xdmf_series(tmp_path / "s.xdmf", mesh, cases)
     assert files["xdmf"].exists()
     # the path points carry the probed u_y of the sweep

@@ -58,7 +58,7 @@ CASES: list[Hostile] = [
           "[red]HT200[/]"),
     _case("sweep: rig name with markup in the table title", lambda f: [
         "sweep", "--rig", _marked_rig(f), "--t1", "1", "--t2", "10", "--out", str(f / "out")],
-          "[bold]RV[/] rig [link=http://x]y[/link]: 1 load cases"),
+          "[bold]RV[/] rig [link=http://x]y[/link]: 1 load case ("),
     _case("doe analyze: run labels with [/] removed as outliers", lambda f: [
         "doe", "analyze", _labelled_design(f), "--levels", str(LEVELS), "--outliers", "[/]1"],
           "outliers removed: [/]1;"),

@@ -52,7 +52,7 @@ def _hybrid() -> tuple[FieldMesh, list[FieldCase]]:
                      np.array([tet_a, tet_b]), [1, 1])
     rng = np.random.default_rng(3)
     cases = [FieldCase(f"case {i}", 0.1 * i, 10.0 * i, rng.normal(size=(len(points), 3)) * 1e-6,
-                       np.where(np.arange(len(points)) < 14, rng.uniform(1e5, 1e6, len(points)), np.nan))
+                       rng.uniform(1e5, 1e6, len(points)))
              for i in range(3)]
     return mesh, cases
 
@@ -66,7 +66,7 @@ def test_beam_field_equals_sweep_paths(sweep, beam):
         for shaft, nodes in path_point_indices(sweep.model).items():
             uy_mm = field.displacement_m[nodes, 1] * 1e3
             np.testing.assert_allclose(uy_mm, result.paths[shaft].uy_mm, rtol=0, atol=1e-12)
-        assert np.all(np.isnan(field.von_mises_pa))
+        assert field.von_mises_pa is None  # a beam model gives no stress field (rather than a field of NaN)
 
 
 def test_beam_field_measured_from_unloaded(sweep):
@@ -98,18 +98,24 @@ def test_vtu_roundtrip_beam(tmp_path, beam):
     path = write_vtu(tmp_path / "case0.vtu", mesh, cases[0])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case0.vtu"]  # no temporary left
     data = meshio.read(path)
-    np.testing.assert_array_equal(data.points, mesh.points)
+    np.testing.assert_array_equal(data.points, mesh.points * 1e3)  # files are in mm
     assert [b.type for b in data.cells] == ["line"]
     np.testing.assert_array_equal(data.cells[0].data, mesh.lines)
-    np.testing.assert_array_equal(data.point_data["displacement"], cases[0].displacement_m)
+    np.testing.assert_array_equal(data.point_data["displacement_mm"], cases[0].displacement_m * 1e3)
     np.testing.assert_array_equal(data.point_data["displacement_y_um"], cases[0].displacement_m[:, 1] * 1e6)
-    assert np.all(np.isnan(data.point_data["von_mises"]))
+    assert "von_mises_MPa" not in data.point_data  # no NaN field
+    for values in [*data.point_data.values(), *(v for blocks in data.cell_data.values() for v in blocks)]:
+        assert np.all(np.isfinite(values))
+    np.testing.assert_array_equal(data.cell_data["radius_mm"][0], mesh.line_radius_m * 1e3)
     np.testing.assert_array_equal(data.cell_data["part_id"][0], mesh.line_part_id)
     assert float(data.field_data["T1_input_Nm"][0]) == cases[0].T1_input_Nm
     assert float(data.field_data["T2_output_Nm"][0]) == cases[0].T2_output_Nm
     again, case = read_vtu(path)
     assert again.part_names == mesh.part_names
-    np.testing.assert_array_equal(again.line_radius_m, mesh.line_radius_m)
+    np.testing.assert_allclose(again.line_radius_m, mesh.line_radius_m, rtol=1e-15)
+    np.testing.assert_allclose(again.points, mesh.points, rtol=1e-15, atol=1e-18)
+    np.testing.assert_allclose(case.displacement_m, cases[0].displacement_m, rtol=1e-15, atol=1e-24)
+    assert case.von_mises_pa is None
     assert case.label == "case0"
 
 
@@ -119,11 +125,13 @@ def test_vtu_roundtrip_hybrid(tmp_path):
     data = meshio.read(path)
     assert [b.type for b in data.cells] == ["line", "tetra10"]
     np.testing.assert_array_equal(data.cells[1].data, mesh.tetra10)
-    np.testing.assert_array_equal(data.point_data["von_mises"], cases[1].von_mises_pa)
+    np.testing.assert_allclose(data.point_data["von_mises_MPa"], cases[1].von_mises_pa * 1e-6, rtol=1e-15)
     np.testing.assert_array_equal(data.cell_data["part_id"][1], [1, 1])
+    np.testing.assert_array_equal(data.cell_data["radius_mm"][1], [0.0, 0.0])  # tetrahedra have no tube radius
     again, case = read_vtu(path)
     np.testing.assert_array_equal(again.tetra10, mesh.tetra10)
-    np.testing.assert_array_equal(case.displacement_m, cases[1].displacement_m)
+    np.testing.assert_allclose(case.displacement_m, cases[1].displacement_m, rtol=1e-15, atol=1e-24)
+    np.testing.assert_allclose(case.von_mises_pa, cases[1].von_mises_pa, rtol=1e-15)
 
 
 @pytest.mark.parametrize("data_format", ["XML", "HDF"])
@@ -137,20 +145,21 @@ def test_xdmf_series_roundtrip_beam(tmp_path, beam, data_format):
     assert set(written) == {"xdmf", "json"} | ({"h5"} if data_format == "HDF" else set())
     with meshio.xdmf.TimeSeriesReader(written["xdmf"]) as reader:
         points, cells = reader.read_points_cells()
-        np.testing.assert_array_equal(points, mesh.points)
+        np.testing.assert_array_equal(points, mesh.points * 1e3)
         np.testing.assert_array_equal(cells[0].data, mesh.lines)
         assert reader.num_steps == len(cases)
         for k, case in enumerate(cases):
             t, point_data, cell_data = reader.read_data(k)
             assert t == k  # time = case index
-            np.testing.assert_array_equal(point_data["displacement"], case.displacement_m)
+            np.testing.assert_array_equal(point_data["displacement_mm"], case.displacement_m * 1e3)
             np.testing.assert_array_equal(point_data["displacement_y_um"], case.displacement_y_um)
-            assert np.all(np.isnan(point_data["von_mises"]))
+            assert "von_mises_MPa" not in point_data
             np.testing.assert_array_equal(cell_data["part_id"][0], mesh.line_part_id)
     info = json.loads(written["json"].read_text())
     assert [(c["time"], c["T1_input_Nm"], c["T2_output_Nm"]) for c in info["cases"]] == [
         (k, c.T1_input_Nm, c.T2_output_Nm) for k, c in enumerate(cases)]
     assert info["part_names"] == list(mesh.part_names)
+    assert info["units"]["points"] == "mm" and info["units"]["displacement_mm"] == "mm"
 
 
 @pytest.mark.parametrize("data_format", ["XML", "HDF"])
@@ -161,12 +170,12 @@ def test_xdmf_series_roundtrip_hybrid(tmp_path, data_format):
     written = write_xdmf_series(tmp_path / "out" / "hybrid.xdmf", mesh, cases, data_format=data_format)
     again, read = read_xdmf_series(written["xdmf"])
     for name in ("points", "lines", "line_radius_m", "line_part_id", "tetra10", "tetra_part_id"):
-        np.testing.assert_array_equal(getattr(again, name), getattr(mesh, name))
+        np.testing.assert_allclose(getattr(again, name), getattr(mesh, name), rtol=1e-15)  # mm in the file
     assert again.part_names == mesh.part_names
     for a, b in zip(read, cases):
         assert (a.label, a.T1_input_Nm, a.T2_output_Nm) == (b.label, b.T1_input_Nm, b.T2_output_Nm)
-        np.testing.assert_array_equal(a.displacement_m, b.displacement_m)
-        np.testing.assert_array_equal(a.von_mises_pa, b.von_mises_pa)
+        np.testing.assert_allclose(a.displacement_m, b.displacement_m, rtol=1e-15, atol=1e-24)
+        np.testing.assert_allclose(a.von_mises_pa, b.von_mises_pa, rtol=1e-15)
 
 
 def test_xdmf_overwrite_replaces_files(tmp_path, beam):
@@ -186,6 +195,8 @@ def test_invalid_input_is_refused(tmp_path, beam):
         FieldMesh(np.zeros((2, 3)), [[0, 1]], [0.1], [1], ("a",))
     with pytest.raises(ValueError, match="von_mises"):
         FieldCase("x", 0, 0, np.zeros((3, 3)), np.zeros(2))
+    with pytest.raises(ValueError, match="von_mises"):
+        FieldCase("x", 0, 0, np.zeros((3, 3)), np.array([1.0, np.nan, 2.0]))
     short = FieldCase("short", 0, 0, np.zeros((3, 3)))
     with pytest.raises(ValueError, match="points"):
         write_vtu(tmp_path / "bad.vtu", mesh, short)

@@ -205,7 +205,8 @@ def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
     y_max = {s: np.full(array.runs, np.nan) for s in MEASURED_SHAFTS}
     selected = range(array.runs) if runs is None else runs
     for count, run in enumerate(selected, start=1):
-        sweep = run_sweep(with_parameters(base, run_values(study, array, columns, run)), case, settings)
+        sweep = run_sweep(with_parameters(base, run_values(study, array, columns, run)), case, settings,
+                          engineering=False)  # Y and β only
         for shaft in MEASURED_SHAFTS:
             path = sweep.cases[0].paths[shaft]
             beta[shaft][run], y_max[shaft][run] = path.beta_deg, path.y_max_mm

@@ -1,0 +1,323 @@
+"""The quantities a rig engineer reads per load case: coupling misalignment, bearing loads and tilts,
+support reactions and the equilibrium residual, each against its allowable value.
+
+Computed for every case of a sweep (:func:`case_engineering`, called by :func:`rvcoax.results.sweep.run_sweep`)
+from the spring states of :mod:`rvcoax.results.connections` in two references:
+
+*total*
+    from the unloaded geometry (``u``; the springs' stress-free Δ0 subtracted): what a bearing
+    carries, self-weight included.
+*change*
+    since the rest state (``u − u_rest``): what the torque adds.
+
+Couplings are read like Y and β, from the state ``[paths] measured_from`` names (the aligned rig
+at rest by default: the change; ``unloaded``: the total), because a rig is aligned at rest; the
+installed misalignment a rig file declares for a coupling (``parallel_offset_um``,
+``angular_misalignment_mrad``) stays in the coupling in both, as it does on the rig.
+
+Coupling grades follow alignment practice: the parallel offset and the angularity (gap difference
+per 100 mm of coupling diameter, i.e. the angle in mm/100 mm) against the tolerance for the
+coupling's running speed (:data:`ALIGNMENT_TOLERANCES`, short flexible couplings), and against
+the coupling maker's allowable offset and angle (``allowable_parallel_offset_mm``,
+``allowable_angular_misalignment_deg``). Bearing tilts (inner ring against outer) are judged
+against ``allowable_misalignment_arcmin`` of the bearing.
+
+Everything is in the units its name says: µm, µrad, mm/100 mm, N, N·m, arcmin, degrees.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.results.connections import ConnectionStates, SpringMotion
+
+__all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
+           "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+           "case_engineering", "engineering_tables", "shaft_quantities"]
+
+UM = 1e6  # m → µm
+URAD = 1e6  # rad → µrad
+ARCMIN = 60.0 * 180.0 / math.pi  # rad → arcmin
+
+
+@dataclass(frozen=True)
+class AlignmentTolerance:
+    """One row of the alignment-tolerance table: up to ``speed_rpm``, short flexible couplings.
+
+    Offsets in mm at the coupling; angularity as the gap difference in mm per 100 mm of coupling
+    diameter (= the angle in mm/100 mm, 0.1 mm/100 mm = 1 mrad).
+    """
+
+    speed_rpm: float
+    offset_excellent_mm: float
+    offset_acceptable_mm: float
+    angularity_excellent_mm_per_100mm: float
+    angularity_acceptable_mm_per_100mm: float
+
+
+ALIGNMENT_TOLERANCES = (
+    AlignmentTolerance(750.0, 0.09, 0.19, 0.09, 0.13),
+    AlignmentTolerance(1500.0, 0.06, 0.09, 0.05, 0.07),
+    AlignmentTolerance(3000.0, 0.03, 0.06, 0.03, 0.04),
+    AlignmentTolerance(6000.0, 0.02, 0.03, 0.02, 0.03),
+)
+ALIGNMENT_TOLERANCE_SOURCE = (
+    "suggested shaft-alignment tolerances for short flexible couplings, metric table (50 Hz speeds), as "
+    "published by laser-alignment makers (PRUFTECHNIK ROTALIGN handbook) in the form of ANSI/ASA S2.75-2017 "
+    "Part 1; the row of the smallest table speed at or above the running speed (below 750 rpm: the 750 rpm "
+    "row; above 6000 rpm: the 6000 rpm row)")
+
+
+def alignment_tolerance(speed_rpm: float) -> AlignmentTolerance:
+    """The row of :data:`ALIGNMENT_TOLERANCES` that applies at ``speed_rpm``."""
+    for row in ALIGNMENT_TOLERANCES:
+        if speed_rpm <= row.speed_rpm:
+            return row
+    return ALIGNMENT_TOLERANCES[-1]
+
+
+def alignment_grade(offset_mm: float, angularity_mm_per_100mm: float, speed_rpm: float) -> str:
+    """``excellent``, ``acceptable`` or ``out of tolerance`` at ``speed_rpm`` (both must hold)."""
+    row = alignment_tolerance(speed_rpm)
+    if offset_mm <= row.offset_excellent_mm and angularity_mm_per_100mm <= row.angularity_excellent_mm_per_100mm:
+        return "excellent"
+    if offset_mm <= row.offset_acceptable_mm and angularity_mm_per_100mm <= row.angularity_acceptable_mm_per_100mm:
+        return "acceptable"
+    return "out of tolerance"
+
+
+def _percent(value: float, allowable: float | None) -> float | None:
+    return None if allowable is None else 100.0 * value / allowable
+
+
+@dataclass(frozen=True)
+class CouplingQuantities:
+    """Misalignment of a coupling's ``to`` hub against its ``from`` hub at the coupling centre.
+
+    ``offset_*_um``: parallel offset; ``angle_*``: angular misalignment; ``angularity_mm_per_100mm``:
+    the angle as alignment practice writes it. ``*_use_percent``: of the datasheet allowable (None
+    without one). ``grade``: :func:`alignment_grade` at ``speed_rpm`` (None without a speed).
+    """
+
+    name: str
+    reference: str
+    offset_y_um: float
+    offset_z_um: float
+    offset_um: float
+    angle_urad: float
+    angle_deg: float
+    angularity_mm_per_100mm: float
+    allowable_offset_mm: float | None
+    allowable_angle_deg: float | None
+    offset_use_percent: float | None
+    angle_use_percent: float | None
+    speed_rpm: float | None
+    grade: str | None
+
+    @property
+    def datasheet_verdict(self) -> str:
+        """``within datasheet``, ``exceeds datasheet`` or ``no datasheet limit``."""
+        uses = [u for u in (self.offset_use_percent, self.angle_use_percent) if u is not None]
+        if not uses:
+            return "no datasheet limit"
+        return "within datasheet" if max(uses) <= 100.0 else "exceeds datasheet"
+
+
+@dataclass(frozen=True)
+class BearingQuantities:
+    """Load and tilt of a bearing (force the bearing exerts on its shaft; tilt of the inner ring,
+    on the shaft, against the outer ring, in the housing)."""
+
+    name: str
+    shaft: str
+    housing: str
+    x_mm: float
+    force_y_N: float
+    force_z_N: float
+    force_axial_N: float
+    force_radial_N: float
+    force_radial_change_N: float
+    tilt_urad: float
+    tilt_change_urad: float
+    tilt_arcmin: float
+    allowable_tilt_arcmin: float | None
+    tilt_use_percent: float | None
+
+    @property
+    def verdict(self) -> str:
+        """``within allowable tilt``, ``exceeds allowable tilt`` or ``no allowable tilt given``."""
+        if self.tilt_use_percent is None:
+            return "no allowable tilt given"
+        return "within allowable tilt" if self.tilt_use_percent <= 100.0 else "exceeds allowable tilt"
+
+
+@dataclass(frozen=True)
+class Reaction:
+    """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
+    the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
+
+    name: str
+    kind: str
+    part: str
+    x_mm: float
+    force_N: tuple[float, float, float]
+    moment_Nm: tuple[float, float, float]
+    force_change_N: tuple[float, float, float]
+    moment_change_Nm: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class CaseEngineering:
+    """The engineering tables of one load case, and the global equilibrium residual.
+
+    ``residual_force_N`` / ``residual_moment_Nm``: |applied loads + ground reactions| (force, and
+    moment about the origin) of the total state; zero up to rounding when equilibrium holds.
+    """
+
+    couplings: tuple[CouplingQuantities, ...]
+    bearings: tuple[BearingQuantities, ...]
+    reactions: tuple[Reaction, ...]
+    residual_force_N: float
+    residual_moment_Nm: float
+
+    def row(self) -> dict:
+        """The columns this case adds to ``sweep.csv``."""
+        row = {}
+        for c in self.couplings:
+            row[f"coupling_{c.name}_offset_um"] = c.offset_um
+            row[f"coupling_{c.name}_angle_urad"] = c.angle_urad
+            row[f"coupling_{c.name}_angularity_mm_per_100mm"] = c.angularity_mm_per_100mm
+            if c.offset_use_percent is not None:  # columns only for the limits the rig file gives
+                row[f"coupling_{c.name}_offset_use_percent"] = c.offset_use_percent
+            if c.angle_use_percent is not None:
+                row[f"coupling_{c.name}_angle_use_percent"] = c.angle_use_percent
+            if c.grade is not None:
+                row[f"coupling_{c.name}_alignment_grade"] = c.grade
+        for b in self.bearings:
+            row[f"bearing_{b.name}_force_radial_N"] = b.force_radial_N
+            row[f"bearing_{b.name}_force_radial_change_N"] = b.force_radial_change_N
+            row[f"bearing_{b.name}_tilt_urad"] = b.tilt_urad
+            row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
+            if b.tilt_use_percent is not None:
+                row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
+        for r in self.reactions:
+            for axis, value in zip("xyz", r.force_N):
+                row[f"reaction_{r.name}_F{axis}_N"] = value
+            for axis, value in zip("xyz", r.moment_Nm):
+                row[f"reaction_{r.name}_M{axis}_Nm"] = value
+        row["equilibrium_residual_force_N"] = self.residual_force_N
+        row["equilibrium_residual_moment_Nm"] = self.residual_moment_Nm
+        return row
+
+    def entry(self) -> dict:
+        """The keys this case adds to its entry in ``sweep.json``."""
+        return {
+            "couplings": [{**{k: getattr(c, k) for k in CouplingQuantities.__dataclass_fields__},
+                           "datasheet_verdict": c.datasheet_verdict} for c in self.couplings],
+            "bearings": [{**{k: getattr(b, k) for k in BearingQuantities.__dataclass_fields__},
+                          "verdict": b.verdict} for b in self.bearings],
+            "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
+                           ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
+            "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
+        }
+
+
+def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities:
+    d = states.deformation[0, states.index("coupling", c.name)]
+    offset_m = math.hypot(d[1], d[2])
+    angle = math.hypot(d[4], d[5])
+    angularity = 100.0 * math.tan(angle)  # gap difference over 100 mm of diameter, mm
+    offset_mm = offset_m * 1e3
+    return CouplingQuantities(
+        c.name, reference, float(d[1] * UM), float(d[2] * UM), offset_m * UM, angle * URAD, math.degrees(angle),
+        angularity, c.allowable_parallel_offset_mm, c.allowable_angular_misalignment_deg,
+        _percent(offset_mm, c.allowable_parallel_offset_mm), _percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
+        c.speed_rpm, None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
+
+
+def _bearing(b, total: ConnectionStates, change: ConnectionStates) -> BearingQuantities:
+    row = total.index("bearing", b.name)
+    f, d = total.force_on_b[0, row], total.deformation[0, row]
+    df, dd = change.force_on_b[0, row], change.deformation[0, row]
+    tilt = math.hypot(d[4], d[5])
+    return BearingQuantities(
+        b.name, b.shaft, b.housing, b.x_mm, float(f[1]) + 0.0, float(f[2]) + 0.0, float(f[0]) + 0.0,
+        math.hypot(f[1], f[2]), math.hypot(df[1], df[2]), tilt * URAD, math.hypot(dd[4], dd[5]) * URAD,
+        tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin))
+
+
+def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[Reaction, ...]:
+    supports = [("mount", m.name, m.part, m.x_mm) for m in rig.mounts]
+    supports += [("bearing", b.name, b.shaft, b.x_mm) for b in rig.bearings if b.housing == "ground"]
+    out = []
+    for kind, name, part, x in supports:
+        row = total.index(kind, name)
+        f, df = total.force_on_b[0, row], change.force_on_b[0, row]
+        out.append(Reaction(name, kind, part, x, tuple(float(v) + 0.0 for v in f[:3]), tuple(float(v) + 0.0 for v in f[3:]),
+                            tuple(float(v) + 0.0 for v in df[:3]), tuple(float(v) + 0.0 for v in df[3:])))
+    return tuple(out)
+
+
+def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
+                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+    """The engineering tables of one case.
+
+    Parameters
+    ----------
+    rig : Rig
+    model : RigModel
+        The sweep's frame (its springs).
+    u_total, u_change : (n_dofs,) arrays
+        The case's displacement from the unloaded geometry, and since the rest state.
+    measured_from_rest : bool
+        Couplings read from the change (rig aligned at rest) or from the total.
+    applied, reactions : (6,) arrays
+        Resultants of the applied loads and of the ground reactions of the total state
+        (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
+    springs : SpringMotion, optional
+        :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+    """
+    springs = SpringMotion.of(model, rig) if springs is None else springs
+    total = springs.states(u_total, from_rest=False)
+    change = springs.states(u_change, from_rest=True)
+    # a coupling's misalignment is what its element accommodates, Δ − Δ0: from the aligned rest state (the
+    # change under load) or from the unloaded geometry, in both cases less the installed misalignment Δ0
+    # that the rig file declares (parallel_offset_um, angular_misalignment_mrad; zero by default)
+    coupled = ((springs.states(u_change, from_rest=False), "change since the aligned rest state, with the installed "
+                "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
+    residual = np.asarray(applied, float) + np.asarray(reactions, float)
+    return CaseEngineering(
+        tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
+        tuple(_bearing(b, total, change) for b in rig.bearings),
+        _reactions(rig, total, change),
+        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])))
+
+
+def shaft_quantities(path) -> dict:
+    """A measured shaft's engineering quantities (µm, µrad; degrees where paper 000 uses them)."""
+    start_slope, end_slope = path.end_slopes_urad
+    start_offset, end_offset = path.end_offsets_um
+    return {"Y_max_um": path.y_max_mm * 1e3, "beta_paper_deg": path.beta_deg, "beta_paper_urad": path.beta_urad,
+            "tilt_urad": path.fitted_tilt_urad, "tilt_deg": path.fitted_tilt_deg,
+            "end_slopes_urad": [start_slope, end_slope], "end_offsets_um": [start_offset, end_offset]}
+
+
+def engineering_tables(sweep) -> list[dict]:
+    """Per case of ``sweep``: ``{"T1_input_Nm", "T2_output_Nm", "shafts", "couplings", "bearings",
+    "reactions", "equilibrium_residual"}``, plain data (lists of dicts) ready for a table or a report.
+
+    ``shafts``: per measured shaft the paper's β (``beta_paper_*``, arcsin(Y_max/L)), the true tilt
+    (least-squares slope), the end slopes and the offsets at both ends. The other tables are
+    :meth:`CaseEngineering.entry`'s. Raises ``ValueError`` when the sweep carries no engineering
+    tables (a sweep run with ``engineering=False``).
+    """
+    out = []
+    for case in sweep.cases:
+        if case.engineering is None:
+            raise ValueError("this sweep was solved without engineering tables (run_sweep(..., engineering=False))")
+        out.append({"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm,
+                    "shafts": {s: shaft_quantities(p) for s, p in case.paths.items()}, **case.engineering.entry()})
+    return out
