@@ -31,6 +31,8 @@ UNIT_SUFFIXES = {
     "_N_per_um": "N/µm", "_N_per_mm": "N/mm", "_Nm_per_rad": "N·m/rad", "_N_per_Nm": "N/(N·m)",
     "_kg_per_m3": "kg/m³", "_m_per_s2": "m/s²", "_MPa": "MPa", "_mm": "mm", "_um": "µm", "_kg": "kg",
     "_deg": "°", "_mrad": "mrad", "_arcmin": "′ (arcminute)", "_rpm": "1/min", "_Nm": "N·m", "_N": "N",
+    "_N_per_mm_per_um": "N/(mm·µm)", "_N_per_um_per_mm2": "N/(µm·mm²)", "_per_K": "1/K",
+    "_K": "K (= °C of difference)",
 }
 
 # where a key's meaning is not in the schema itself (dotted path; [] = any entry of a list,
@@ -49,6 +51,8 @@ MEANINGS = {
     "materials.<name>.youngs_modulus_MPa": "Young's modulus E of the material.",
     "materials.<name>.poisson_ratio": "Poisson's ratio ν (sets G = E / 2(1 + ν)).",
     "materials.<name>.density_kg_per_m3": "Density (for a body, replaced by the one that gives mass_kg).",
+    "materials.<name>.thermal_expansion_per_K": "Mean linear thermal expansion coefficient α; needed by every "
+                                                "material that [thermal] warms (part, support, housing, bed).",
     "parts[].name": "Unique name of the part (letters, digits, _ . -).",
     "parts[].role": "shaft (rotates, density of its material) or body (a housing drawn as an equivalent "
                     "round body).",
@@ -79,6 +83,10 @@ MEANINGS = {
     "mounts[].translational_stiffness_N_per_um": "Stiffness in x, y, z (bolted feet, pedestals; 0: free).",
     "mounts[].rotational_stiffness_Nm_per_rad": "Stiffness about x, y, z (0: free).",
     "mounts[].vertical_offset_um": "Ground side raised by this much (+y): shims, thermal growth.",
+    "mounts[].height_above_bed_mm": "Axis height h above the bed at the mount: a support ΔT warmer lifts the "
+                                    "part by α ΔT h ([thermal]); required when the support warms.",
+    "mounts[].support_material": "Material of the support (pedestal, bracket), whose α sets that lift "
+                                 "(default: the part's material).",
     "couplings[].name": "Unique name of the coupling.",
     "couplings[].from.part": "The part the first hub sits on.",
     "couplings[].from.x_mm": "Where the first hub grips its shaft.",
@@ -144,6 +152,74 @@ MEANINGS = {
     "torque_lateral_loads[].radius_mm": "Radius of the crankshafts' circle (crank_load_sharing).",
     "torque_lateral_loads[].arm_length_mm": "Length of the torque arm (torque_arm): F = T / arm.",
     "torque_lateral_loads[].force_per_torque_N_per_Nm": "Lateral force per unit torque (proportional).",
+    "gear_meshes[].name": "Unique name of the gear stage (the discrepancy effect mesh_position_error@<name>).",
+    "gear_meshes[].torque": "The torque the driving gear transmits (times its sign): T1 or T2.",
+    "gear_meshes[].on.part": "Part carrying the driving (input, sun) gear: the net mesh force acts on it.",
+    "gear_meshes[].on.x_mm": "Where the driving gear sits (the mesh forces act).",
+    "gear_meshes[].on.band_mm": "On a solid part: the band of its surface loaded [start, end].",
+    "gear_meshes[].on.tie": "How a solid face is loaded: distributing or rigid.",
+    "gear_meshes[].reacted_on.part": "Part carrying the planets' bearings (the reducer case): takes the "
+                                     "reversed net force and moment.",
+    "gear_meshes[].reacted_on.x_mm": "Where the reaction acts.",
+    "gear_meshes[].reacted_on.band_mm": "On a solid part: the band of its surface loaded [start, end].",
+    "gear_meshes[].reacted_on.tie": "How a solid face is loaded: distributing or rigid.",
+    "gear_meshes[].normal_module_mm": "Normal module m_n (pitch radius r = m_n z / 2 cos β).",
+    "gear_meshes[].sun_teeth": "Number of teeth z1 of the driving (sun) gear.",
+    "gear_meshes[].planet_teeth": "Number of teeth z2 of each planet gear.",
+    "gear_meshes[].normal_pressure_angle_deg": "Normal pressure angle α_n of the basic rack.",
+    "gear_meshes[].face_width_mm": "Common face width b: each mesh's stiffness is c_γα · b (times its factor).",
+    "gear_meshes[].helix_angle_deg": "Helix angle β (0: spur; > 0: right hand on the driving gear): axial mesh "
+                                     "forces W tan β_b and their tilting moment.",
+    "gear_meshes[].profile_shift": "Profile shift coefficients [x_sun, x_planet] (in modules): set the working "
+                                   "pressure angle, the tip radii and ISO 6336-1's q′.",
+    "gear_meshes[].dedendum_factor": "Basic-rack dedendum h_fP/m_n (1.25: ISO 53 profile A): sets ISO 6336-1's "
+                                     "C_B.",
+    "gear_meshes[].blank_factor": "Gear blank factor C_R of ISO 6336-1 (1: solid disc gears).",
+    "gear_meshes[].planet_material": "Material of the planet gears, whose E enters E_eq of the mesh stiffness "
+                                     "(default: the driving gear's part's material).",
+    "gear_meshes[].mesh_stiffness_N_per_mm_per_um": "Mesh stiffness per face width c_γα given instead of "
+                                                    "ISO 6336-1's (then no material or blank factor enters).",
+    "gear_meshes[].planet_angles_deg": "Angle φ of each planet's centre from +y towards +z: one entry per planet "
+                                       "(2 … 12).",
+    "gear_meshes[].planet_position_errors_um": "Each planet mesh's position error along its line of action "
+                                               "(+ = engages later; default 0): the constant part of the load "
+                                               "sharing.",
+    "gear_meshes[].planet_stiffness_factors": "Multiplies each planet mesh's stiffness (default 1): unequal "
+                                              "stiffnesses share the torque unequally.",
+    "housings[].name": "Unique name of the housing (a key of support_temperature_rise_K; the discrepancy "
+                       "effect housing_stiffness@<name>).",
+    "housings[].part": "The part whose nodes the condensed housing holds to the ground (it keeps its beam and "
+                       "mass; not a solid of the hybrid model).",
+    "housings[].material": "Material of the housing's solid model (E, ν; α for its thermal lift).",
+    "housings[].x_mm": "Start and end of the block along the rig axis [start, end].",
+    "housings[].width_mm": "Width of the block across the axis (z), centred on it.",
+    "housings[].height_above_bed_mm": "Axis height above the bed face (the feet's underside): the block's "
+                                      "bottom, and h of its thermal lift α ΔT h.",
+    "housings[].top_above_axis_mm": "Height of the block's top face above the axis.",
+    "housings[].bore_diameter_mm": "Through bore on the axis (the bearing seat the attachments tie to); 0: no "
+                                   "bore, they tie to the top face.",
+    "housings[].foot_thickness_mm": "Thickness of a foot plate (bolt flange) on the bed (0: none).",
+    "housings[].foot_width_mm": "Width (z) of the foot plate, at least the block's width.",
+    "housings[].attachments_x_mm": "Each attachment (bearing seat): a 6-DOF node on the axis, inside x_mm, that "
+                                   "the condensed stiffness acts at on the part's node there.",
+    "housings[].attachment_width_mm": "Width along x of the band of the bore (or top face) each attachment "
+                                      "node is tied to (the bearing's width).",
+    "housings[].tie": "How each attachment node is tied to its band: distributing (RBE3-like) or rigid.",
+    "housings[].feet": "Bed face clamped, or resting on a Winkler bed (\"bed\": bed_stiffness_N_per_um_per_mm2).",
+    "housings[].bed_stiffness_N_per_um_per_mm2": "Normal (y) stiffness per area of the Winkler bed under the "
+                                                 "bed face; required with feet = \"bed\".",
+    "housings[].bed_shear_stiffness_N_per_um_per_mm2": "Shear (x, z) stiffness per area of the Winkler bed "
+                                                       "(default: the normal one).",
+    "housings[].mesh_size_mm": "Solid mesh size of the block (condensed once, then read from the cache).",
+    "housings[].stiffness_factor": "Multiplies the condensed stiffness matrix.",
+    "thermal.temperature_rise_K.<name>": "Steady temperature rise ΔT of a part over the state the rig was aligned "
+                                         "in: it grows by α ΔT axially and radially (parts not named: 0).",
+    "thermal.support_temperature_rise_K.<name>": "Temperature rise of a mount's support or of a housing, by its "
+                                                 "name (default: its part's): lifts the axis by α ΔT h.",
+    "thermal.bed_temperature_rise_K": "Temperature rise of the bed: it carries mounts, ground bearings and "
+                                      "housings along x by α_bed ΔT (x − bed_fixed_x_mm).",
+    "thermal.bed_material": "Material of the bed (its α); required when bed_temperature_rise_K is not 0.",
+    "thermal.bed_fixed_x_mm": "Where the bed is pinned along the rig axis: it grows from there.",
     "force_table.apply": "Apply the measured force table (true) or not.",
     "force_table.scale": "Multiplies every force of the table.",
     "force_table.pairs[].label": "Name of the force pair.",
@@ -324,7 +400,7 @@ def _walk(model: type[BaseModel], prefix: str, section: str) -> Iterator[KeyRow]
                 continue
             # a map of plain values keyed by name (e.g. a temperature rise per part): one row, <name> = value
             kind, allowed = _kind_and_allowed(typing.get_args(core)[1], None)
-            meaning = field.description or MEANINGS.get(path, "")
+            meaning = field.description or MEANINGS.get(f"{path}.<name>", "")
             yield KeyRow(section or key, f"{path}.<name>", f"{kind} per name", unit_of(key), _default_text(field),
                          allowed, _plausible(section or key, key), meaning)
             continue

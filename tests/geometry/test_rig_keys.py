@@ -11,7 +11,9 @@ PAGE = Path(__file__).resolve().parents[2] / "docs" / "rig-keys.md"
 DIMENSIONLESS = {"beam.shear_flexibility_factor", "force_table.scale", "materials.<name>.poisson_ratio",
                  "paths.input.stations", "paths.output.stations", "solid.elements_per_diameter",
                  "torque_lateral_loads[].imbalance", "torques.T1.sign", "torques.T2.sign", "schema_version",
-                 "sweep.cases"}
+                 "sweep.cases", "gear_meshes[].sun_teeth", "gear_meshes[].planet_teeth",
+                 "gear_meshes[].profile_shift", "gear_meshes[].dedendum_factor", "gear_meshes[].blank_factor",
+                 "gear_meshes[].planet_stiffness_factors", "housings[].stiffness_factor"}
 
 
 def test_the_committed_key_reference_is_up_to_date():
@@ -29,6 +31,8 @@ def test_every_number_key_names_its_unit():
     assert {row.key for row in numbers if not row.unit} <= DIMENSIONLESS
     assert unit_of("radial_stiffness_N_per_um") == "N/µm" and unit_of("x_mm") == "mm"
     assert unit_of("force_per_torque_N_per_Nm") == "N/(N·m)" and unit_of("T2_output_Nm") == "N·m"
+    assert unit_of("mesh_stiffness_N_per_mm_per_um") == "N/(mm·µm)" and unit_of("thermal_expansion_per_K") == "1/K"
+    assert unit_of("bed_stiffness_N_per_um_per_mm2") == "N/(µm·mm²)" and unit_of("bed_temperature_rise_K").startswith("K")
 
 
 def test_rows_carry_schema_bounds_defaults_and_catalogue_ranges():
