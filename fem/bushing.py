@@ -16,8 +16,9 @@ import numpy as np
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.errors import GapConvergenceError  # noqa: F401 (re-exported)
 
-__all__ = ["Bushings", "GROUND", "GapSolution", "RadialGaps", "gap_forces", "prepare_radial_gaps", "prestrain_load",
-           "radial_operator", "relative_motion_operator", "solve_with_gaps", "spring_forces", "stiffness_triplets"]
+__all__ = ["Bushings", "CondensedSolution", "GROUND", "GapSolution", "RadialGaps", "gap_forces", "motion_operator",
+           "prepare_radial_gaps", "prestrain_load", "radial_operator", "relative_motion_operator", "solve_condensed",
+           "solve_with_gaps", "spring_forces", "stiffness_triplets"]
 
 GROUND = -1
 """Node index meaning "the fixed ground"."""
@@ -167,20 +168,28 @@ class GapSolution:
 
 def radial_operator(coordinates: np.ndarray, bushings: Bushings, rows, n_dofs: int):
     """U (2m × n_dofs, CSR): the y and z relative motion at the point of each bushing in ``rows``."""
+    return motion_operator(coordinates, bushings, rows, n_dofs, (1, 2))
+
+
+def motion_operator(coordinates: np.ndarray, bushings: Bushings, rows, n_dofs: int, components=tuple(range(6))):
+    """U (c·m × n_dofs, CSR): the ``components`` (of x, y, z, θx, θy, θz) of the relative motion at the
+    point of each bushing in ``rows``, c rows per bushing in the order given."""
     import scipy.sparse as sp
 
     rows = np.asarray(rows, dtype=int)
+    components = tuple(components)
+    width = len(components)
     subset = Bushings(np.asarray(bushings.node_a)[rows], np.asarray(bushings.node_b)[rows],
                       np.asarray(bushings.point_m)[rows], np.asarray(bushings.stiffness)[rows])
     operator, dofs = relative_motion_operator(coordinates, subset)
     r, c, v = [], [], []
     for i in range(rows.size):
-        for local, component in enumerate((1, 2)):
+        for local, component in enumerate(components):
             keep = dofs[i] >= 0
-            r.extend([2 * i + local] * int(keep.sum()))
+            r.extend([width * i + local] * int(keep.sum()))
             c.extend(dofs[i][keep].tolist())
             v.extend(operator[i, component][keep].tolist())
-    return sp.csr_matrix((v, (r, c)), shape=(2 * rows.size, n_dofs))
+    return sp.csr_matrix((v, (r, c)), shape=(width * rows.size, n_dofs))
 
 
 def prepare_radial_gaps(solve, operator, stiffness, clearance) -> RadialGaps:
@@ -218,15 +227,51 @@ def _released(d: np.ndarray, gaps: RadialGaps) -> tuple[np.ndarray, np.ndarray, 
 
 def solve_with_gaps(gaps: RadialGaps, solve, load: np.ndarray, tolerance: float = 1e-13,
                     max_iterations: int = 100) -> GapSolution:
-    """Static solution of a structure whose gapped bearings follow the clearance law.
+    """Static solution of a structure whose gapped bearings follow the clearance law
+    (:func:`solve_condensed` with the clearance law's released force G(d) = k d − F(d)).
 
-    Newton's method on the condensed equations, from the solution without clearance, with a
-    backtracking line search on ‖R‖. Converged when ‖R‖ ≤ ``tolerance`` × (‖d‖ + ‖U K⁻¹ f‖ + ‖S G(d)‖):
-    the residual relative to the terms it is computed from, whose floating-point floor is a few
-    machine epsilons (1e-13 ≈ 450 ε). The clearance c is no scale of R: measured against c, a small
-    load in an open gap (|d| ≪ c) stopped with an error ~1e-12 c, far above the case's own forces.
-    The law is continuous, so R(d) is exact whichever contact state d has: no unchanged active set
-    is required (a bearing at |d| ≈ c may switch state from step to step without harm).
+    Raises
+    ------
+    GapConvergenceError
+        No convergence within ``max_iterations``.
+    """
+    def released(w):
+        value, tangent, _ = _released(w.reshape(-1, 2), gaps)
+        return value.ravel(), tangent
+
+    solution = solve_condensed(gaps, solve, load, released, tolerance, max_iterations, "bearing-clearance")
+    d = solution.motion.reshape(-1, 2)
+    return GapSolution(solution.displacement, d, np.linalg.norm(d, axis=1) > gaps.clearance, solution.iterations,
+                       solution.condensed_residual)
+
+
+@dataclass(frozen=True)
+class CondensedSolution:
+    """A converged solution of :func:`solve_condensed`."""
+
+    displacement: np.ndarray
+    motion: np.ndarray  # (p,) w = U u
+    released: np.ndarray  # (p,) G(w)
+    iterations: int
+    condensed_residual: float
+
+
+def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,
+                    max_iterations: int = 100, what: str = "nonlinear spring") -> CondensedSolution:
+    """Static solution of a linear structure with nonlinear springs, condensed on their motions.
+
+    ``condensed`` holds U (``operator``), W = K⁻¹ Uᵀ (``influence``) and S = U W (``compliance``) of
+    the structure K *with* the springs' linear reference stiffness K_ref; ``released(w)`` returns
+    G(w) = K_ref w − F(w) (what the nonlinear law releases of the reference) and its tangent
+    K_ref − ∂F/∂w. Then K u = f + Uᵀ G(U u), so w = U u solves R(w) = w − U K⁻¹ f − S G(w) = 0:
+    Newton's method on this small system (Jacobian I − S G'(w), least-squares steps so that a dead
+    band, where G' = K_ref and I − S K_ref may be singular, gives the minimum-norm step), from the
+    reference solution, with a backtracking line search on ‖R‖. Converged when
+    ‖R‖ ≤ ``tolerance`` × (‖w‖ + ‖U K⁻¹ f‖ + ‖S G(w)‖): the residual relative to the terms it is
+    computed from, whose floating-point floor is a few machine epsilons (1e-13 ≈ 450 ε). No scale
+    of the law (a clearance) enters: measured against a clearance, a small load in an open gap
+    stopped with an error far above the case's own forces. A continuous law needs no unchanged
+    active set: a spring at the edge of its dead band may switch state from step to step.
 
     Raises
     ------
@@ -234,33 +279,33 @@ def solve_with_gaps(gaps: RadialGaps, solve, load: np.ndarray, tolerance: float 
         No convergence within ``max_iterations``.
     """
     linear = np.asarray(solve(load), dtype=float)
-    start = np.asarray(gaps.operator @ linear).reshape(-1, 2)
-    S = gaps.compliance
+    start = np.asarray(condensed.operator @ linear).ravel()
+    S = condensed.compliance
     eye = np.eye(S.shape[0])
 
-    def residual(d):
-        value, tangent, closed = _released(d, gaps)
-        coupled = S @ value.ravel()
-        scale = float(np.linalg.norm(d) + np.linalg.norm(start) + np.linalg.norm(coupled))
-        return d.ravel() - start.ravel() - coupled, tangent, closed, value, scale
+    def residual(w):
+        value, tangent = released(w)
+        coupled = S @ value
+        scale = float(np.linalg.norm(w) + np.linalg.norm(start) + np.linalg.norm(coupled))
+        return w - start - coupled, tangent, value, scale
 
-    d = start.copy()
-    r, tangent, closed, value, scale = residual(d)
+    w = start.copy()
+    r, tangent, value, scale = residual(w)
     for iteration in range(1, max_iterations + 1):
         norm = float(np.linalg.norm(r))
         if norm <= tolerance * scale:
-            u = linear + gaps.influence @ value.ravel()
-            return GapSolution(u, d, closed, iteration - 1, norm / scale if scale > 0 else 0.0)
+            u = linear + condensed.influence @ value
+            return CondensedSolution(u, w, value, iteration - 1, norm / scale if scale > 0 else 0.0)
         jacobian = eye - S @ tangent
         step, *_ = np.linalg.lstsq(jacobian, -r, rcond=1e-14)
         t = 1.0
         while True:
-            trial = d + t * step.reshape(-1, 2)
-            r_trial, tangent_trial, closed_trial, value_trial, scale_trial = residual(trial)
+            trial = w + t * step
+            r_trial, tangent_trial, value_trial, scale_trial = residual(trial)
             if np.linalg.norm(r_trial) < norm or t < 1e-6:
                 break
             t *= 0.5
-        d, r, tangent, closed, value, scale = trial, r_trial, tangent_trial, closed_trial, value_trial, scale_trial
-    raise GapConvergenceError(f"the bearing-clearance iteration did not converge in {max_iterations} steps "
+        w, r, tangent, value, scale = trial, r_trial, tangent_trial, value_trial, scale_trial
+    raise GapConvergenceError(f"the {what} iteration did not converge in {max_iterations} steps "
                               f"(relative residual {np.linalg.norm(r) / max(scale, 1e-300):.1e}, "
                               f"limit {tolerance:.0e})")

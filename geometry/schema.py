@@ -148,11 +148,19 @@ class Location(Strict):
 
 
 class Bearing(Strict):
+    """A bearing between a shaft and its housing (or the ground).
+
+    ``model = "linear"`` (default): springs typed in (``radial_stiffness_N_per_um`` required).
+    ``model = "ball"``: a deep-groove ball bearing from its internal geometry (see the block below and
+    :mod:`rvcoax.fem.ball_bearing`); the stiffness keys are then optional and only set the linear
+    reference the nonlinear solve is condensed on (filled from the geometry when absent).
+    """
+
     name: Name
     shaft: str
     housing: str  # a part name or "ground"
     x_mm: Finite
-    radial_stiffness_N_per_um: Positive
+    radial_stiffness_N_per_um: Positive | None = None
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
@@ -162,6 +170,45 @@ class Bearing(Strict):
     # --- limits (issue 15, outputs): what the bearing type tolerates; judged in the engineering tables ---
     # tilt of the inner ring against the outer (deep groove ball bearings: 2′ … 10′ in catalogues)
     allowable_misalignment_arcmin: Annotated[float, Field(gt=0.0, le=600.0, allow_inf_nan=False, strict=True)] | None = None
+
+    # ---- model = "ball": deep-groove ball bearing from internal geometry (issue 16 item 1) ----------
+    model: Literal["linear", "ball"] = "linear"
+    designation: str | None = None  # catalogue designation, 6200–6210 or 6300–6310
+    clearance_class: Literal["C2", "CN", "C3", "C4"] | None = None  # ISO 5753-1 class (middle of its range)
+    # radial internal clearance (diametral: the total radial play of one ring against the other), operating
+    clearance_um: Annotated[float, Field(ge=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = None
+    # axial preload held by the mounting (position preload): the balls carry preload_N at rest
+    preload_N: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] = 0.0
+    ball_count: Annotated[int, Field(ge=3, le=200, strict=True)] | None = None
+    ball_diameter_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = None
+    pitch_diameter_mm: Annotated[float, Field(gt=0.0, le=5000.0, allow_inf_nan=False, strict=True)] | None = None
+    inner_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_i / D_w
+    outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_o / D_w
+
+    @model_validator(mode="after")
+    def _check_model(self) -> Bearing:
+        from rvcoax.geometry import ball_model
+
+        if self.model == "linear":
+            given = [key for key in ball_model.BALL_KEYS if getattr(self, key) not in (None, 0.0)]
+            if given:
+                raise ValueError(f"{', '.join(given)} only apply to model = \"ball\" (this bearing is model = "
+                                 "\"linear\": set model = \"ball\" or remove them)")
+            if self.radial_stiffness_N_per_um is None:
+                raise ValueError("radial_stiffness_N_per_um is required for model = \"linear\" (the default); "
+                                 "or describe a ball bearing with model = \"ball\" and designation")
+            return self
+        if self.radial_clearance_um > 0:
+            raise ValueError("radial_clearance_um is the gap of the linear model; a ball bearing takes clearance_um "
+                             "(the radial internal clearance) or clearance_class")
+        ball_model.geometry_of(self)  # raises ValueError naming the key
+        # the linear reference of the condensed Newton solve, where not given; the catalogue's width
+        for key, value in ball_model.reference_stiffness(self).items():
+            if not getattr(self, key):
+                object.__setattr__(self, key, value)
+        if "width_mm" not in self.model_fields_set and self.designation is not None:
+            object.__setattr__(self, "width_mm", ball_model.BALL_BEARINGS[self.designation].width_mm)
+        return self
 
 
 Triple = tuple[NonNegative, NonNegative, NonNegative]

@@ -26,8 +26,9 @@ from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
 from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
-from rvcoax.geometry.model.beam import RigModel, SpringId
+from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
+from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names, prepare_nonlinear_bearings
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
@@ -208,12 +209,14 @@ class PreparedModel:
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
-    """The bearings with radial clearance; raise :class:`ModelError` if there are any and ``kind`` is not beam."""
-    gapped = [b.name for b in rig.bearings if b.radial_clearance_um > 0]
+    """The nonlinear bearings (radial clearance, or ``model = "ball"``); raise :class:`ModelError` if there
+    are any and ``kind`` is not beam."""
+    gapped = nonlinear_bearing_names(rig)
     if gapped and kind != "beam":
-        raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0), which "
-                         "makes the model nonlinear; only the beam model solves it (use --model beam, or set "
-                         "radial_clearance_um = 0)")
+        raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0) or are "
+                         "ball bearings from geometry (model = \"ball\"), which makes the model nonlinear; only the "
+                         "beam model solves it (use --model beam, or set radial_clearance_um = 0 and model = "
+                         "\"linear\")")
     return gapped
 
 
@@ -291,38 +294,39 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
                   progress=None, on_case=None) -> Sweep:
-    """The sweep of a beam model with bearing clearances: the rest state and each case solved on its own.
+    """The sweep of a beam model with nonlinear bearings (radial clearance, ball bearings from geometry):
+    the rest state and each case solved on its own.
 
-    ``solve`` solves the model as assembled (every radial spring engaged); the gaps are condensed
-    on it once (:func:`rvcoax.fem.bushing.prepare_radial_gaps`). Each solution is checked: the backward
-    error ‖Tᵀ(K_lin u + Uᵀ F(U u) − f)‖ / (‖Tᵀ |K| |u|‖ + ‖Tᵀ f‖ + ‖Tᵀ Uᵀ G‖) must be below
+    ``solve`` solves the model as assembled (every bearing on its linear reference spring); the
+    nonlinear bearings are condensed on it once
+    (:func:`rvcoax.geometry.model.nonlinear_bearings.prepare_nonlinear_bearings`) and each case is
+    solved by Newton's method on the condensed motions (:func:`rvcoax.fem.bushing.solve_condensed`)
+    with that one factorisation. Each solution is checked: the backward error
+    ‖Tᵀ(K u − f − Uᵀ G(U u))‖ / (‖Tᵀ |K| |u|‖ + ‖Tᵀ f‖ + ‖Tᵀ Uᵀ G‖) must be below
     :data:`GAP_BACKWARD_LIMIT`, the relative residual (against the loads f and Uᵀ G) below
     :data:`EQUILIBRIUM_LIMIT` as for every case, and the global equilibrium uses the bearing forces
-    of the clearance law. (Against ‖Tᵀ f‖ alone, the floating-point floor of K u, ε ‖|K| |u|‖, is
-    1.7e-9 for T1 = 0.01 N·m with an open gap: a correct solution failed a 1e-9 limit.) No unit responses exist: ``unit_paths`` is empty and
-    ``unit_displacements`` None; ``case_displacements`` holds each case's displacement as measured.
+    of the nonlinear laws. (Against ‖Tᵀ f‖ alone, the floating-point floor of K u, ε ‖|K| |u|‖, is
+    1.7e-9 for T1 = 0.01 N·m with an open gap: a correct solution failed a 1e-9 limit.) No unit
+    responses exist: ``unit_paths`` is empty and ``unit_displacements`` None; ``case_displacements``
+    holds each case's displacement as measured. The solver report lists each ball bearing's operating
+    point (force, tangent stiffness, ball loads) at rest and in every case.
     """
     frame = system.frame.structure
-    names = [SpringId("bearing", b.name) for b in rig.bearings if b.radial_clearance_um > 0]
-    rows = [system.frame.bushing_names.index(name) for name in names]
-    operator = bushing.radial_operator(frame.coordinates, frame.bushings, rows, system.n_dofs)
-    stiffness = frame.bushings.stiffness[rows, 1]
-    clearance = np.array([b.radial_clearance_um * 1e-6 for b in rig.bearings if b.radial_clearance_um > 0])
-    gaps = bushing.prepare_radial_gaps(solve, operator, stiffness, clearance)
+    bearings = prepare_nonlinear_bearings(rig, system.frame, solve, system.n_dofs)
+    operator = bearings.operator
     loads = system.unit_loads
     abs_stiffness = abs(system.stiffness)
 
     def solve_case(weights: dict, label: str):
         load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
         try:
-            solution = bushing.solve_with_gaps(gaps, solve, load)
+            solution = bushing.solve_condensed(bearings, solve, load, bearings.released, what="nonlinear bearing")
         except bushing.GapConvergenceError as error:
             raise ModelError(f"case {label}: {error}") from None
         u = solution.displacement
-        # the gap correction as a load: K u = f + Uᵀ G(U u) is the clearance law's equilibrium
-        released = stiffness[:, None] * (operator @ u).reshape(-1, 2) - bushing.gap_forces(operator @ u, stiffness,
-                                                                                              clearance)
-        effective = load + operator.T @ released.ravel()
+        # the nonlinear laws as a load: K u = f + Uᵀ G(U u) is their equilibrium
+        released, _ = bearings.released(operator @ u)
+        effective = load + operator.T @ released
         reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
         loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
         residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
@@ -330,19 +334,23 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         terms = loads_norm + np.linalg.norm(system.elimination.T @ (abs_stiffness @ np.abs(u)))
         backward = float(reduced_residual / terms) if terms > 0 else 0.0
         if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
-            raise ModelError(f"case {label}: the bearing-clearance solution misses equilibrium: backward error "
+            raise ModelError(f"case {label}: the nonlinear bearing solution misses equilibrium: backward error "
                              f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
         check_solution(label, u, check.relative_error, residual)
         return u, solution, check, residual
 
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
+    operating = {name: [{"case": "at rest", **point}]
+                 for name, point in bearings.operating_points(rest_solution.motion).items()}
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     results, iterations, measured_all = [], [rest_solution.iterations], []
     for i, case in enumerate(cases):
         weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
+        for name, point in bearings.operating_points(solution.motion).items():
+            operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not
@@ -354,9 +362,13 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         if progress is not None:
             progress(i + 1, len(cases))
     summary = dict(report)
-    summary.update({"nonlinear": "bearing clearance, active-set Newton on the condensed radial motions",
-                    "gapped_bearings": [spring.name for spring in names],
+    kinds = (["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
+    summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
+                    "gapped_bearings": list(bearings.gap_names),
                     "newton_iterations_max": int(max(iterations))})
+    if bearings.balls:
+        summary["ball_bearings"] = [ball.name for ball in bearings.balls]
+        summary["ball_bearing_operating_points"] = operating
     return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
 

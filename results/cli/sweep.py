@@ -178,8 +178,8 @@ def sweep(
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
     if model_section.get("nonlinear"):
-        how = (f"each case solved on its own ({model_section['nonlinear']}; bearings with clearance: "
-               f"{', '.join(model_section['gapped_bearings'])})")
+        nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+        how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"
     elif method == "superposition":
         how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "
                "T1 = 1 N·m, T2 = 1 N·m)")

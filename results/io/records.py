@@ -180,7 +180,8 @@ def model_section(sweep: Sweep) -> dict:
             part.name: {"mesh_size_mm": part.geometry.mesh_size_mm, "nodes": int(part.mesh.doflocs.shape[1]),
                         "elements": int(part.mesh.t.shape[1]), "dofs": part.n_dofs}
             for part in solids}
-    for key in ("nonlinear", "gapped_bearings", "newton_iterations_max"):
+    for key in ("nonlinear", "gapped_bearings", "newton_iterations_max", "ball_bearings",
+                "ball_bearing_operating_points"):
         if key in sweep.solver_report:
             section[key] = sweep.solver_report[key]
     return canonical(section)

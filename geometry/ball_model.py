@@ -1,0 +1,103 @@
+"""A rig file's ``[[bearings]] model = "ball"`` entry → :class:`rvcoax.fem.ball_bearing.BallBearingGeometry`.
+
+The catalogue (:mod:`rvcoax.geometry.ball_bearings`) gives the internal geometry of a designation;
+explicit keys override it. The clearance is ``clearance_um`` (the operating radial internal
+clearance, diametral) or the middle of an ISO 5753-1 class's range (``clearance_class``; CN when a
+designation is given and neither key is).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rvcoax.fem.ball_bearing import BallBearingGeometry, axial_offset_for_preload, ball_loads
+from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
+
+__all__ = ["BALL_BEARINGS", "BALL_KEYS", "BallBearingModel", "GEOMETRY_KEYS", "REFERENCE_DEFLECTION_UM", "ball_bearing_model",
+           "clearance_um_of", "geometry_of", "reference_stiffness"]
+
+GEOMETRY_KEYS = ("ball_count", "ball_diameter_mm", "pitch_diameter_mm", "inner_conformity", "outer_conformity")
+BALL_KEYS = ("designation", "clearance_class", "clearance_um", "preload_N") + GEOMETRY_KEYS
+REFERENCE_DEFLECTION_UM = 5.0
+"""The radial deflection (µm, zero clearance) at which the linear reference stiffness is taken."""
+
+
+def clearance_um_of(bearing) -> float:
+    """The diametral radial internal clearance (µm) a ball bearing entry asks for."""
+    if bearing.clearance_um is not None and bearing.clearance_class is not None:
+        raise ValueError("give clearance_um or clearance_class, not both")
+    if bearing.clearance_um is not None:
+        return float(bearing.clearance_um)
+    if bearing.designation is None:
+        if bearing.clearance_class is not None:
+            raise ValueError("clearance_class needs a designation (the class range depends on the bore); "
+                             "give clearance_um with explicit geometry")
+        raise ValueError("a ball bearing with explicit geometry needs clearance_um (the radial internal clearance)")
+    low, high = clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, bearing.clearance_class or "CN")
+    return 0.5 * (low + high)
+
+
+def geometry_of(bearing) -> BallBearingGeometry:
+    """The internal geometry of a ``model = "ball"`` bearing entry (SI).
+
+    Raises
+    ------
+    ValueError
+        Unknown designation, missing geometry keys, or a geometry that cannot be built; the message
+        names the keys.
+    """
+    values = {}
+    if bearing.designation is not None:
+        if bearing.designation not in BALL_BEARINGS:
+            raise ValueError(f"designation: unknown ball bearing {bearing.designation!r} (known: "
+                             f"{', '.join(BALL_BEARINGS)}); or give ball_count, ball_diameter_mm, pitch_diameter_mm, "
+                             "inner_conformity and outer_conformity")
+        entry = BALL_BEARINGS[bearing.designation]
+        values = {"ball_count": entry.ball_count, "ball_diameter_mm": entry.ball_diameter_mm,
+                  "pitch_diameter_mm": entry.pitch_diameter_mm, "inner_conformity": entry.inner_conformity,
+                  "outer_conformity": entry.outer_conformity}
+    values.update({key: getattr(bearing, key) for key in GEOMETRY_KEYS if getattr(bearing, key) is not None})
+    missing = [key for key in GEOMETRY_KEYS if key not in values]
+    if missing:
+        raise ValueError(f"model = \"ball\" needs a designation or the geometry keys; missing: {', '.join(missing)}")
+    clearance = clearance_um_of(bearing)
+    try:
+        return BallBearingGeometry(int(values["ball_count"]), values["ball_diameter_mm"] * 1e-3,
+                                   values["pitch_diameter_mm"] * 1e-3, values["inner_conformity"],
+                                   values["outer_conformity"], clearance * 1e-6)
+    except ValueError as error:
+        raise ValueError(f"ball bearing geometry: {error}") from None
+
+
+def reference_stiffness(bearing) -> dict[str, float]:
+    """The linear reference springs of a ball bearing, in the rig file's keys and units.
+
+    Radial: the tangent of the bearing without clearance at :data:`REFERENCE_DEFLECTION_UM`; axial:
+    the same value; tilt: radial × ℛ_i²/2 (a ring of springs on the curvature-centre circle). They only
+    set the linear model the nonlinear solve is condensed on, and what exports that need one linear
+    number per bearing show: the converged solution does not depend on them.
+    """
+    geometry = geometry_of(bearing).with_clearance(0.0)
+    state = ball_loads(geometry, np.array([0.0, REFERENCE_DEFLECTION_UM * 1e-6, 0.0, 0.0, 0.0]))
+    radial = float(state.stiffness[1, 1])
+    return {"radial_stiffness_N_per_um": radial * 1e-6, "axial_stiffness_N_per_um": radial * 1e-6,
+            "tilt_stiffness_Nm_per_rad": radial * geometry.inner_centre_radius_m**2 / 2.0}
+
+
+@dataclass(frozen=True)
+class BallBearingModel:
+    """What the nonlinear solve needs of one ball bearing (SI)."""
+
+    name: str
+    geometry: BallBearingGeometry
+    preload_offset_m: float
+    constant: float  # K_n (N/m^1.5)
+
+
+def ball_bearing_model(bearing) -> BallBearingModel:
+    """The solver's view of a ``model = "ball"`` bearing entry."""
+    geometry = geometry_of(bearing)
+    return BallBearingModel(bearing.name, geometry, axial_offset_for_preload(geometry, bearing.preload_N),
+                            geometry.load_deflection_constant)
