@@ -13,7 +13,7 @@ says where it comes from:
   r_i = r_o = 6.6 mm → f = 0.52, P_d = 15 µm);
   [typ] ESTIMATED: the complement used in bearing defect-frequency tables for the size (standard
   inch ball grades), checked here only for plausibility: the balls fit the Conrad filling limit
-  Z ≤ 1 + 0.556 π d_m / D_w (filling angle 200°) and D_w / (D_o − d) lies in 0.27 … 0.33.
+  Z ≤ 1 + 0.556 π d_m / D_w (filling angle 200°) and D_w / (D_o − d) lies in 0.23 … 0.33.
 - pitch diameter d_m: [CWRU]/[H&K] where given, else ESTIMATED as (d + D_o)/2.
 - groove conformities f_i = r_i/D_w, f_o = r_o/D_w: [H&K] for 6209; else ESTIMATED as the loosest
   conformity the ISO 281:2007 load ratings assume for radial ball bearings (r_i ≤ 0.52 D_w,

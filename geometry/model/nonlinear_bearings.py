@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import bushing
-from rvcoax.fem.ball_bearing import ball_loads, bearing_force
+from rvcoax.fem.ball_bearing import ball_loads, bearing_force, released_force
 from rvcoax.geometry.ball_model import BallBearingModel, ball_bearing_model
 from rvcoax.geometry.model.beam import SpringId
 
@@ -62,7 +62,8 @@ class NonlinearBearings:
         return slice(start, start + 6)
 
     def released(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """G(w) = K_ref w − F(w) (p,) and its tangent K_ref − ∂F/∂w (p, p)."""
+        """G(w) = K_ref w − F(w) (p,) and the tangent of the Newton Jacobian (p, p): K_ref − ∂F/∂w, with the
+        dead-band floor of :func:`rvcoax.fem.ball_bearing.released_force` for ball bearings."""
         w = np.asarray(w, dtype=float).ravel()
         value = np.empty_like(w)
         tangent = np.zeros((w.size, w.size))
@@ -73,9 +74,8 @@ class NonlinearBearings:
             tangent[:n_gap, :n_gap] = gap_tangent
         for i, ball in enumerate(self.balls):
             block = self._ball_slice(i)
-            force, stiffness = bearing_force(ball.geometry, w[block], ball.preload_offset_m, constant=ball.constant)
-            value[block] = self.ball_reference[i] * w[block] - force
-            tangent[block, block] = np.diag(self.ball_reference[i]) - stiffness
+            value[block], tangent[block, block] = released_force(ball.geometry, self.ball_reference[i], w[block],
+                                                                 ball.preload_offset_m, ball.constant)
         return value, tangent
 
     def operating_points(self, w: np.ndarray) -> dict[str, dict]:
