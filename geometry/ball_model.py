@@ -2,8 +2,8 @@
 
 The catalogue (:mod:`rvcoax.geometry.ball_bearings`) gives the internal geometry of a designation;
 explicit keys override it. The clearance is ``clearance_um`` (the operating radial internal
-clearance, diametral) or the middle of an ISO 5753-1 class's range (``clearance_class``; CN when a
-designation is given and neither key is).
+clearance, diametral: after fits and temperatures) or, without it, the middle of an ISO 5753-1
+class's range (``clearance_class``; CN when a designation is given and neither key is).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from rvcoax.fem.ball_bearing import BallBearingGeometry, axial_offset_for_preloa
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BallBearingModel", "GEOMETRY_KEYS", "REFERENCE_DEFLECTION_UM", "ball_bearing_model",
-           "clearance_um_of", "geometry_of", "reference_stiffness"]
+           "clearance_um_of", "clearance_upper_um", "geometry_of", "preload_upper_N", "reference_stiffness"]
 
 GEOMETRY_KEYS = ("ball_count", "ball_diameter_mm", "pitch_diameter_mm", "inner_conformity", "outer_conformity")
 BALL_KEYS = ("designation", "clearance_class", "clearance_um", "preload_N") + GEOMETRY_KEYS
@@ -25,10 +25,10 @@ REFERENCE_DEFLECTION_UM = 5.0
 
 
 def clearance_um_of(bearing) -> float:
-    """The diametral radial internal clearance (µm) a ball bearing entry asks for."""
-    if bearing.clearance_um is not None and bearing.clearance_class is not None:
-        raise ValueError("give clearance_um or clearance_class, not both")
-    if bearing.clearance_um is not None:
+    """The diametral radial internal clearance (µm) a ball bearing entry asks for: ``clearance_um`` (the
+    operating clearance) when given, else the middle of ``clearance_class``'s ISO 5753-1 range (CN
+    when neither is given and there is a designation)."""
+    if bearing.clearance_um is not None:  # the operating clearance; a class then only records what was bought
         return float(bearing.clearance_um)
     if bearing.designation is None:
         if bearing.clearance_class is not None:
@@ -101,3 +101,18 @@ def ball_bearing_model(bearing) -> BallBearingModel:
     geometry = geometry_of(bearing)
     return BallBearingModel(bearing.name, geometry, axial_offset_for_preload(geometry, bearing.preload_N),
                             geometry.load_deflection_constant)
+
+
+def clearance_upper_um(bearing) -> float:
+    """The largest clearance a ball bearing entry plausibly runs with (µm): the top of ISO 5753-1's C4
+    range for its bore, or 50 µm for explicit geometry."""
+    if bearing.designation is None:
+        return 50.0
+    return clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, "C4")[1]
+
+
+def preload_upper_N(bearing) -> float:
+    """The largest axial preload a deep-groove ball bearing plausibly carries (N): 2 % of its static
+    load rating C0 ≈ f0 Z D_w² (ISO 76, f0 ≈ 12.3 for deep-groove ball bearings, D_w in mm)."""
+    geometry = geometry_of(bearing)
+    return 0.02 * 12.3 * geometry.ball_count * (geometry.ball_diameter_m * 1e3) ** 2

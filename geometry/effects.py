@@ -21,6 +21,7 @@ effect                         parameter                           unit   linear
 ``force_pairs``                ``force_table_scale_added``         –      yes
 ``bearing_stiffness@B``        ``log2_stiffness_factor``           –      no
 ``bearing_clearance@B``        ``clearance_um``                    µm     no
+``bearing_preload@B``          ``preload_N``                       N      no
 ``mount_compliance@P``         ``compliance_factor``               –      no
 ``coupling_offset@C``          ``offset_um``                       µm     yes
 ``coupling_angle@C``           ``angle_mrad``                      mrad   yes
@@ -34,8 +35,14 @@ effect                         parameter                           unit   linear
 ``housing_stiffness@H``        ``log2_stiffness_factor``           –      no
 =============================  ==================================  =====  ==========
 
-"linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance nothing is
-(the model is nonlinear), and every effect is then flagged ``linear = False``.
+"linear" means Y is exactly affine in the parameter; on a rig with a bearing clearance or a ball
+bearing from geometry nothing is (the model is nonlinear), and every effect is then flagged ``linear = False``.
+
+On a ball bearing (``model = "ball"``) ``bearing_clearance@B`` is its operating radial internal
+clearance (diametral, ``clearance_um``, 0 … the top of ISO 5753-1's C4 range) and ``bearing_preload@B``
+its axial preload (``preload_N``, 0 … 2 % of C0); ``bearing_stiffness@B`` is not offered there (the
+stiffness follows from geometry). On a linear bearing ``bearing_clearance@B`` is the radial gap
+``radial_clearance_um`` (from the centred position) and ``bearing_preload@B`` does not exist.
 
 With ``paths.measured_from = "aligned_at_rest"`` (the reference rig) Y is u − u_rest, so an effect
 that does not depend on torque (self-weight, force table, offsets, thermal growth) leaves Y
@@ -230,6 +237,43 @@ def _bearing_clearance(rig: Rig, name: str) -> Effect:
                   (EffectParameter("clearance_um", "µm", -current, 15.0 - current, 5.0),), False,
                   f"Radial play of bearing {name}: no radial force until the shaft has moved the gap "
                   "(a dead band, nonlinear).", change)
+
+
+# ---- ball bearings from geometry (model = "ball"): operating clearance and preload, in physical units ----
+
+def _ball_clearance(rig: Rig, name: str) -> Effect:
+    from rvcoax.geometry.ball_model import clearance_um_of, clearance_upper_um
+
+    address = f"bearings.{name}.clearance_um"
+    bearing = next(b for b in rig.bearings if b.name == name)
+    current = clearance_um_of(bearing)
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: clearance_um_of(next(b for b in r.bearings if b.name == name)) + v[0]})
+
+    # 0 … the top of ISO 5753-1's C4 range for the bore: the operating clearance after fits and
+    # temperatures lies between zero (a tight fit) and an unmounted C4 bearing.
+    return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
+                  (EffectParameter("clearance_um", "µm", -current, clearance_upper_um(bearing) - current, 5.0),),
+                  False, f"Operating radial internal clearance of ball bearing {name} (diametral, µm) changed by this "
+                  "much: a dead band and a softer, load-dependent stiffness (nonlinear).", change)
+
+
+def _ball_preload(rig: Rig, name: str) -> Effect:
+    from rvcoax.geometry.ball_model import preload_upper_N
+
+    address = f"bearings.{name}.preload_N"
+    bearing = next(b for b in rig.bearings if b.name == name)
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: get_parameter(r, address) + v[0]})
+
+    # 0 … 2 % of the static load rating C0 (ball_model.preload_upper_N): a wave-spring or nut preload
+    return Effect(f"bearing_preload@{name}", "bearing_preload", name,
+                  (EffectParameter("preload_N", "N", 0.0 - bearing.preload_N + 0.0, preload_upper_N(bearing) - bearing.preload_N,
+                                   20.0),),
+                  False, f"Axial preload of ball bearing {name} (N) changed by this much: it takes up the clearance "
+                  "and stiffens the bearing.", change)
 
 
 def _mount_compliance(rig: Rig, part: str) -> Effect:
@@ -442,13 +486,16 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     reducer input (the first ``gear_mesh_load_sharing`` on T1): mesh force; global: self-weight,
     force pairs (when the rig has a force table), shear deformation (when it is off).
     """
-    linear_rig = not any(b.radial_clearance_um > 0 for b in rig.bearings)
+    linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
     mounted = list(dict.fromkeys(m.part for m in rig.mounts))
     effects: list[Effect | None] = [_self_weight(rig)]
     if rig.force_table.pairs or rig.force_table.singles:
         effects.append(_force_pairs(rig))
     for b in rig.bearings:
-        effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
+        if b.model == "ball":  # its stiffness follows from geometry, clearance and preload
+            effects += [_ball_clearance(rig, b.name), _ball_preload(rig, b.name)]
+        else:
+            effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
     for part in mounted:
         effects.append(_mount_compliance(rig, part))
     for c in rig.couplings:

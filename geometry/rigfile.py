@@ -11,10 +11,12 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, parse_toml, read_input_text
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "RigFileError", "load_rig", "parse_rig", "parse_rig_text",
+__all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "REFERENCE_VARIANTS", "RigFileError", "load_rig", "parse_rig", "parse_rig_text",
            "reference_rig_text"]
 
 REFERENCE_RIG = "reference_rig.toml"
+REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml"}
+"""Variants of the reference rig: the input and output shaft bearings as ball bearings from geometry."""
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 
 
@@ -105,6 +107,19 @@ def parse_rig_text(text: str, source: str = "<rig text>") -> Rig:
     return parse_rig(data, source)
 
 
-def reference_rig_text() -> str:
-    """The built-in reference rig file, as text (to copy and edit)."""
-    return resources.files("rvcoax.geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
+def reference_rig_text(variant: str | None = None) -> str:
+    """The built-in reference rig file, as text (to copy and edit); ``variant`` names one of
+    :data:`REFERENCE_VARIANTS` (``"ball_bearings"``).
+
+    Raises
+    ------
+    RigFileError
+        Unknown variant.
+    """
+    name = REFERENCE_RIG
+    if variant is not None:
+        if variant not in REFERENCE_VARIANTS:
+            raise RigFileError(f"reference rig variant {variant!r}",
+                               [f"unknown variant (known: {', '.join(REFERENCE_VARIANTS)})"])
+        name = REFERENCE_VARIANTS[variant]
+    return resources.files("rvcoax.geometry").joinpath("data", name).read_text(encoding="utf-8")

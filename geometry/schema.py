@@ -11,6 +11,7 @@ import math
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic_core import PydanticCustomError
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
@@ -160,7 +161,8 @@ class Bearing(Strict):
     shaft: str
     housing: str  # a part name or "ground"
     x_mm: Finite
-    radial_stiffness_N_per_um: Positive | None = None
+    model: Literal["linear", "ball"] = "linear"  # before the stiffness keys: their check reads it
+    radial_stiffness_N_per_um: Annotated[Positive | None, Field(validate_default=True)] = None
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
@@ -172,7 +174,6 @@ class Bearing(Strict):
     allowable_misalignment_arcmin: Annotated[float, Field(gt=0.0, le=600.0, allow_inf_nan=False, strict=True)] | None = None
 
     # ---- model = "ball": deep-groove ball bearing from internal geometry (issue 16 item 1) ----------
-    model: Literal["linear", "ball"] = "linear"
     designation: str | None = None  # catalogue designation, 6200–6210 or 6300–6310
     clearance_class: Literal["C2", "CN", "C3", "C4"] | None = None  # ISO 5753-1 class (middle of its range)
     # radial internal clearance (diametral: the total radial play of one ring against the other), operating
@@ -185,6 +186,13 @@ class Bearing(Strict):
     inner_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_i / D_w
     outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_o / D_w
 
+    @field_validator("radial_stiffness_N_per_um")
+    @classmethod
+    def _linear_needs_stiffness(cls, value, info):
+        if value is None and info.data.get("model", "linear") == "linear":
+            raise PydanticCustomError("missing", "required key (model = \"linear\", the default)")
+        return value
+
     @model_validator(mode="after")
     def _check_model(self) -> Bearing:
         from rvcoax.geometry import ball_model
@@ -194,9 +202,6 @@ class Bearing(Strict):
             if given:
                 raise ValueError(f"{', '.join(given)} only apply to model = \"ball\" (this bearing is model = "
                                  "\"linear\": set model = \"ball\" or remove them)")
-            if self.radial_stiffness_N_per_um is None:
-                raise ValueError("radial_stiffness_N_per_um is required for model = \"linear\" (the default); "
-                                 "or describe a ball bearing with model = \"ball\" and designation")
             return self
         if self.radial_clearance_um > 0:
             raise ValueError("radial_clearance_um is the gap of the linear model; a ball bearing takes clearance_um "

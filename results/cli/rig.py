@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from typing import Annotated
 
 import typer
 from rich.markup import escape
@@ -51,8 +52,15 @@ def rig_show(rig_file: RigOption = None) -> None:
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)
     for b in rig.bearings:
-        add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}",
-                        f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm")
+        if b.model == "ball":
+            from rvcoax.geometry.ball_model import clearance_um_of, geometry_of
+
+            g = geometry_of(b)
+            stiffness = (f"ball bearing {b.designation or ''} ({g.ball_count} × Ø{g.ball_diameter_m * 1e3:.3f} mm), "
+                         f"clearance {clearance_um_of(b):g} µm, preload {b.preload_N:g} N: nonlinear")
+        else:
+            stiffness = f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm"
+        add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}", stiffness)
     for m in rig.mounts:
         add_text_row(springs, "mount", m.name, f"{m.part} / ground", f"{m.x_mm:g}",
                         f"{list(m.translational_stiffness_N_per_um)} N/µm, {list(m.rotational_stiffness_Nm_per_rad)} N·m/rad")
@@ -98,11 +106,16 @@ def rig_show(rig_file: RigOption = None) -> None:
 
 
 @rig_app.command("reference")
-def rig_reference() -> None:
+@guard
+def rig_reference(
+    variant: Annotated[str | None, typer.Option(
+        help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
+             "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly)")] = None,
+) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax.geometry.rigfile import reference_rig_text
 
-    sys.stdout.write(reference_rig_text())
+    sys.stdout.write(reference_rig_text(variant))
 
 
 @rig_app.command("example")
