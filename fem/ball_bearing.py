@@ -46,7 +46,7 @@ import numpy as np
 
 __all__ = ["BEARING_STEEL_POISSON", "BEARING_STEEL_YOUNGS_MODULUS_PA", "BallBearingGeometry", "BallLoads",
            "DEAD_BAND_FLOOR", "HertzContact", "TILT_COMPONENTS", "axial_offset_for_preload", "ball_loads", "bearing_force",
-           "hertz_point_contact", "radial_deflection", "reduced_modulus", "released_force", "sphere_contact_deflection"]
+           "dead_band_regularisation", "hertz_point_contact", "radial_deflection", "reduced_modulus", "released_force", "sphere_contact_deflection"]
 
 # AISI 52100 through-hardened bearing steel (Harris & Kotzalas vol. 1, table of bearing materials): E ≈ 208 GPa
 BEARING_STEEL_YOUNGS_MODULUS_PA = 2.08e11
@@ -305,21 +305,21 @@ def axial_offset_for_preload(geometry: BallBearingGeometry, preload_n: float) ->
 
 
 DEAD_BAND_FLOOR = 1e-3
-"""η of :func:`released_force`: the share of the reference stiffness added to the tangent in the Newton
-Jacobian, so that a bearing in its dead band (no ball loaded) gives a finite step."""
+"""η: the share of the reference stiffness that :func:`dead_band_regularisation` adds to the tangent."""
 
 
 def released_force(geometry: BallBearingGeometry, reference_stiffness, relative_motion, preload_offset_m: float = 0.0,
-                   constant: float | None = None, floor: float = DEAD_BAND_FLOOR) -> tuple[np.ndarray, np.ndarray]:
-    """G(Δ) = k_ref Δ − F(Δ) and the tangent the Newton Jacobian uses, k_ref − (K_t + η k_ref) (6,), (6, 6).
-
-    The bearing as the condensed solve (:func:`rvcoax.fem.bushing.solve_condensed`) sees it, the
-    structure assembled with the linear reference springs ``reference_stiffness`` (6,). The tangent
-    carries η = ``floor`` of the reference stiffness: in a dead band (clearance, no ball loaded) the
-    exact tangent is zero and, on a part held by nothing else, the Jacobian would be singular and
-    Newton's step zero. The residual stays exact, so the converged solution does not depend on η; only
-    the convergence rate does (linear with ratio ≈ η k_ref / K_t, a few steps more).
-    """
+                   constant: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """G(Δ) = k_ref Δ − F(Δ) and its tangent k_ref − K_t, (6,) and (6, 6): the bearing as the condensed
+    solve (:func:`rvcoax.fem.bushing.solve_condensed`) sees it, the structure assembled with the linear
+    reference springs ``reference_stiffness`` (6,)."""
     reference = np.asarray(reference_stiffness, dtype=float)
     force, stiffness = bearing_force(geometry, relative_motion, preload_offset_m, constant=constant)
-    return reference * np.asarray(relative_motion, dtype=float) - force, np.diag((1.0 - floor) * reference) - stiffness
+    return reference * np.asarray(relative_motion, dtype=float) - force, np.diag(reference) - stiffness
+
+
+def dead_band_regularisation(reference_stiffness, floor: float = DEAD_BAND_FLOOR) -> np.ndarray:
+    """η k_ref (6, 6): what the Newton Jacobian's tangent may borrow where the bearing is in its dead band
+    (clearance, no ball loaded: zero tangent) and the part hangs on it alone, so that the step is finite.
+    Only the path to the solution changes (:func:`rvcoax.fem.bushing.solve_condensed`), not the solution."""
+    return np.diag(floor * np.asarray(reference_stiffness, dtype=float))

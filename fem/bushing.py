@@ -257,21 +257,27 @@ class CondensedSolution:
 
 
 def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,
-                    max_iterations: int = 100, what: str = "nonlinear spring") -> CondensedSolution:
+                    max_iterations: int = 100, what: str = "nonlinear spring",
+                    regularisation: np.ndarray | None = None) -> CondensedSolution:
     """Static solution of a linear structure with nonlinear springs, condensed on their motions.
 
     ``condensed`` holds U (``operator``), W = K⁻¹ Uᵀ (``influence``) and S = U W (``compliance``) of
     the structure K *with* the springs' linear reference stiffness K_ref; ``released(w)`` returns
     G(w) = K_ref w − F(w) (what the nonlinear law releases of the reference) and its tangent
     K_ref − ∂F/∂w. Then K u = f + Uᵀ G(U u), so w = U u solves R(w) = w − U K⁻¹ f − S G(w) = 0:
-    Newton's method on this small system (Jacobian I − S G'(w), least-squares steps so that a dead
-    band, where G' = K_ref and I − S K_ref may be singular, gives the minimum-norm step), from the
+    Newton's method on this small system (Jacobian I − S G'(w), least-squares steps), from the
     reference solution, with a backtracking line search on ‖R‖. Converged when
     ‖R‖ ≤ ``tolerance`` × (‖w‖ + ‖U K⁻¹ f‖ + ‖S G(w)‖): the residual relative to the terms it is
     computed from, whose floating-point floor is a few machine epsilons (1e-13 ≈ 450 ε). No scale
     of the law (a clearance) enters: measured against a clearance, a small load in an open gap
     stopped with an error far above the case's own forces. A continuous law needs no unchanged
     active set: a spring at the edge of its dead band may switch state from step to step.
+
+    ``regularisation`` (p × p, e.g. a small share of K_ref) is for laws with a dead band of zero
+    stiffness: where a part hangs on such springs alone the exact Jacobian is singular there and its
+    least-squares step cannot reduce R. Then (the linearised residual not halved, or no decrease along
+    the exact step) the step of the Jacobian with the tangent stiffened by ``regularisation`` is taken.
+    The residual is always the exact one, so the solution does not depend on the regularisation.
 
     Raises
     ------
@@ -289,6 +295,15 @@ def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: flo
         scale = float(np.linalg.norm(w) + np.linalg.norm(start) + np.linalg.norm(coupled))
         return w - start - coupled, tangent, value, scale
 
+    def search(w, step, norm):
+        t = 1.0
+        while True:
+            trial = w + t * step
+            state = residual(trial)
+            if np.linalg.norm(state[0]) < norm or t < 1e-6:
+                return trial, state, bool(np.linalg.norm(state[0]) < norm)
+            t *= 0.5
+
     w = start.copy()
     r, tangent, value, scale = residual(w)
     for iteration in range(1, max_iterations + 1):
@@ -298,14 +313,14 @@ def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: flo
             return CondensedSolution(u, w, value, iteration - 1, norm / scale if scale > 0 else 0.0)
         jacobian = eye - S @ tangent
         step, *_ = np.linalg.lstsq(jacobian, -r, rcond=1e-14)
-        t = 1.0
-        while True:
-            trial = w + t * step
-            r_trial, tangent_trial, value_trial, scale_trial = residual(trial)
-            if np.linalg.norm(r_trial) < norm or t < 1e-6:
-                break
-            t *= 0.5
-        w, r, tangent, value, scale = trial, r_trial, tangent_trial, value_trial, scale_trial
+        stalled = regularisation is not None and np.linalg.norm(jacobian @ step + r) > 0.5 * norm
+        if not stalled:
+            trial, state, decreased = search(w, step, norm)
+            stalled = regularisation is not None and not decreased
+        if stalled:
+            step, *_ = np.linalg.lstsq(eye - S @ (tangent - regularisation), -r, rcond=1e-14)
+            trial, state, _ = search(w, step, norm)
+        w, (r, tangent, value, scale) = trial, state
     raise GapConvergenceError(f"the {what} iteration did not converge in {max_iterations} steps "
                               f"(relative residual {np.linalg.norm(r) / max(scale, 1e-300):.1e}, "
                               f"limit {tolerance:.0e})")

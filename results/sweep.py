@@ -314,13 +314,15 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     frame = system.frame.structure
     bearings = prepare_nonlinear_bearings(rig, system.frame, solve, system.n_dofs)
     operator = bearings.operator
+    regularisation = bearings.regularisation
     loads = system.unit_loads
     abs_stiffness = abs(system.stiffness)
 
     def solve_case(weights: dict, label: str):
         load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
         try:
-            solution = bushing.solve_condensed(bearings, solve, load, bearings.released, what="nonlinear bearing")
+            solution = bushing.solve_condensed(bearings, solve, load, bearings.released, what="nonlinear bearing",
+                                               regularisation=regularisation)
         except bushing.GapConvergenceError as error:
             raise ModelError(f"case {label}: {error}") from None
         u = solution.displacement

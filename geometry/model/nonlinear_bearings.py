@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import bushing
-from rvcoax.fem.ball_bearing import ball_loads, bearing_force, released_force
+from rvcoax.fem.ball_bearing import ball_loads, bearing_force, dead_band_regularisation, released_force
 from rvcoax.geometry.ball_model import BallBearingModel, ball_bearing_model
 from rvcoax.geometry.model.beam import SpringId
 
@@ -62,8 +62,7 @@ class NonlinearBearings:
         return slice(start, start + 6)
 
     def released(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """G(w) = K_ref w − F(w) (p,) and the tangent of the Newton Jacobian (p, p): K_ref − ∂F/∂w, with the
-        dead-band floor of :func:`rvcoax.fem.ball_bearing.released_force` for ball bearings."""
+        """G(w) = K_ref w − F(w) (p,) and its tangent K_ref − ∂F/∂w (p, p)."""
         w = np.asarray(w, dtype=float).ravel()
         value = np.empty_like(w)
         tangent = np.zeros((w.size, w.size))
@@ -77,6 +76,19 @@ class NonlinearBearings:
             value[block], tangent[block, block] = released_force(ball.geometry, self.ball_reference[i], w[block],
                                                                  ball.preload_offset_m, ball.constant)
         return value, tangent
+
+    @property
+    def regularisation(self) -> np.ndarray | None:
+        """For :func:`rvcoax.fem.bushing.solve_condensed`: the dead-band regularisation of the ball bearings
+        (:func:`rvcoax.fem.ball_bearing.dead_band_regularisation`), None without ball bearings."""
+        if not self.balls:
+            return None
+        size = self.compliance.shape[0]
+        out = np.zeros((size, size))
+        for i in range(len(self.balls)):
+            block = self._ball_slice(i)
+            out[block, block] = dead_band_regularisation(self.ball_reference[i])
+        return out
 
     def operating_points(self, w: np.ndarray) -> dict[str, dict]:
         """Per ball bearing, at the condensed motion ``w``: force, tangent stiffness, ball loads (user units).

@@ -23,6 +23,7 @@ from rvcoax.fem.ball_bearing import (
     axial_offset_for_preload,
     ball_loads,
     bearing_force,
+    dead_band_regularisation,
     hertz_point_contact,
     radial_deflection,
     reduced_modulus,
@@ -218,11 +219,14 @@ def test_a_node_on_a_ball_bearing_through_the_condensed_newton_solve():
 
     for load in (0.0, 25.0, 400.0, -900.0):
         solution = bushing.solve_condensed(condensed, solver.solve, frames.point_load(6, 0, [0, load, 0, 0, 0, 0]),
-                                           released)
+                                           released, regularisation=dead_band_regularisation(reference))
         expected = math.copysign(radial_deflection(g, abs(load)), load)
         # equilibrium of the node: the bearing's force F(Δ) balances the load, Δ_y = δ_r(F) with its sign
         assert solution.displacement[1] == pytest.approx(expected, rel=1e-9, abs=1e-15)
         assert solution.iterations < 40
+    # without the dead-band regularisation the node, inside its clearance under 25 N, cannot step
+    with pytest.raises(bushing.GapConvergenceError):
+        bushing.solve_condensed(condensed, solver.solve, frames.point_load(6, 0, [0, 25.0, 0, 0, 0, 0]), released)
 
 
 def test_catalogue_entries_are_buildable_and_plausible():
