@@ -95,7 +95,7 @@ def main() -> None:
         comparison = compare(rows_paper, sweep)
         errors = {q: 100 * float(np.mean(np.abs(comparison.relative_error[q]))) for q in QUANTITIES}
         top = {q: float(comparison.model[q][0]) for q in QUANTITIES}
-        figures.append((f"blind vs paper 000, {label}: mean |rel. error| Y_in / Y_out / β_in / β_out",
+        figures.append((f"blind vs paper 000, {label}: mean abs. relative error Y_in / Y_out / β_in / β_out",
                         " / ".join(f"{errors[q]:.0f} %" for q in QUANTITIES)))
         figures.append((f"{label}: row T1 = 1.43, T2 = 200 N·m: Y_in, Y_out (µm); β_in, β_out (µrad)",
                         f"{top['Y_input_mm'] * 1e3:.3f}, {top['Y_output_mm'] * 1e3:.3f}; "
