@@ -92,7 +92,8 @@ def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
     if sweep.unit_displacements is None:
         raise ConnectionsUnavailableError(
             "spring forces and coupling misalignments need a linear model (unit responses); this rig has "
-            "bearings with radial clearance, whose sweep is solved case by case without them")
+            "bearings with radial clearance or ball bearings from geometry (nonlinear), whose sweep is solved case by "
+            "case without them")
     unit = np.asarray(sweep.unit_displacements)
     weights = np.array([[case_weights(c.case.input_torque_Nm, c.case.output_torque_Nm,
                                       include_rest=not from_rest)[k] for k in UNIT_LOADS] for c in sweep.cases])

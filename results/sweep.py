@@ -8,9 +8,10 @@ each case's own load vector and solves it instead (same factorisation), as a che
 Y is read from the aligned rig at rest (``paths.measured_from = "aligned_at_rest"``: u − u_rest)
 or from the unloaded geometry (``"unloaded"``: u). Both are kept per case.
 
-A rig with a bearing clearance (``radial_clearance_um > 0``) is not linear: the rest state and
-every case are then solved on their own by the active-set Newton iteration of
-:func:`rvcoax.fem.bushing.solve_with_gaps` (beam model only), on the same factorisation.
+A rig with a bearing clearance (``radial_clearance_um > 0``, beam model) or a ball bearing from
+geometry (``model = "ball"``, beam and hybrid models) is not linear: the rest state and every case
+are then solved on their own by Newton's method on the condensed bearing motions
+(:func:`rvcoax.fem.bushing.solve_condensed`), on the same factorisation.
 """
 
 from __future__ import annotations
@@ -209,15 +210,20 @@ class PreparedModel:
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
-    """The nonlinear bearings (radial clearance, or ``model = "ball"``); raise :class:`ModelError` if there
-    are any and ``kind`` is not beam."""
-    gapped = nonlinear_bearing_names(rig)
+    """The nonlinear bearings (radial clearance, or ``model = "ball"``); raise :class:`ModelError` for a
+    radial clearance outside the beam model, or a ball bearing in the solid model (the fidelities their
+    nonlinear solve is tested on)."""
+    gapped = [b.name for b in rig.bearings if b.radial_clearance_um > 0]
+    balls = [b.name for b in rig.bearings if b.model == "ball"]
     if gapped and kind != "beam":
-        raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0) or are "
-                         "ball bearings from geometry (model = \"ball\"), which makes the model nonlinear; only the "
-                         "beam model solves it (use --model beam, or set radial_clearance_um = 0 and model = "
-                         "\"linear\")")
-    return gapped
+        raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0), which "
+                         "makes the model nonlinear; only the beam model solves it (use --model beam, or set "
+                         "radial_clearance_um = 0)")
+    if balls and kind not in ("beam", "hybrid"):
+        raise ModelError(f"bearing(s) {', '.join(balls)} are ball bearings from geometry (model = \"ball\"), which "
+                         "makes the model nonlinear; the beam and hybrid models solve it (use --model beam or "
+                         "hybrid)")
+    return nonlinear_bearing_names(rig)
 
 
 def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
@@ -294,8 +300,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
                   progress=None, on_case=None) -> Sweep:
-    """The sweep of a beam model with nonlinear bearings (radial clearance, ball bearings from geometry):
-    the rest state and each case solved on its own.
+    """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
+    beam or hybrid): the rest state and each case solved on its own.
 
     ``solve`` solves the model as assembled (every bearing on its linear reference spring); the
     nonlinear bearings are condensed on it once
