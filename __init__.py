@@ -27,6 +27,8 @@ Steps, in the order data flows:
   :func:`plot_bending_line`, :func:`write_report`
 - studies: :func:`run_check`, :func:`measured_rows`, :func:`calibrate`, :func:`read_measured`,
   :func:`run_discrepancy`
+- ball bearings from geometry: :class:`BallBearingGeometry`, :func:`ball_loads`, :func:`bearing_force`,
+  :func:`radial_deflection`, :data:`BALL_BEARINGS` (the catalogue)
 - errors: :class:`RvcoaxError`, the base of every error raised on purpose
 
 Units: SI inside the solver; files and results say their unit in every key (``Y_input_mm``,
@@ -82,6 +84,11 @@ _WHERE = {
     "DiscrepancySettings": "rvcoax.results.studies.discrepancy.workflow",
     "run_discrepancy": "rvcoax.results.studies.discrepancy.workflow",
     "RvcoaxError": "rvcoax.fem.errors",
+    "BallBearingGeometry": "rvcoax.fem.ball_bearing",
+    "ball_loads": "rvcoax.fem.ball_bearing",
+    "bearing_force": "rvcoax.fem.ball_bearing",
+    "radial_deflection": "rvcoax.fem.ball_bearing",
+    "BALL_BEARINGS": "rvcoax.geometry.ball_bearings",
 }
 
 __all__ = ["__version__", *_WHERE]
