@@ -112,7 +112,7 @@ def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     def never_converges(*args, **kwargs):
         raise bushing.GapConvergenceError("the bearing-clearance iteration did not converge in 0 steps (test)")
 
-    monkeypatch.setattr(bushing, "solve_with_gaps", never_converges)  # only clearance candidates call it
+    monkeypatch.setattr(bushing, "solve_condensed", never_converges)  # only nonlinear (clearance) candidates call it
     out = tmp_path / "out"
     result = CliRunner().invoke(app, ["discrepancy", "--measured", str(measured), "--rig", str(rig_file), "--out",
                                       str(out), "--effects", "coupling_offset@C3,bearing_clearance@input_B2"])
