@@ -19,9 +19,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from machine import record  # noqa: E402
-
 import numpy as np  # noqa: E402
+from machine import record  # noqa: E402
 
 from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text  # noqa: E402
 from rvcoax.loadcases.cases import paper_table  # noqa: E402

@@ -352,6 +352,9 @@ def _kind_and_allowed(annotation, field: FieldInfo | None) -> tuple[str, str]:
 
 
 def _default_text(field: FieldInfo) -> str:
+    extra = field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
+    if "default_text" in extra:  # a default that depends on another key (a bearing's model)
+        return str(extra["default_text"])
     if field.is_required():
         return "required"
     value = field.get_default(call_default_factory=True)

@@ -161,8 +161,11 @@ class Bearing(Strict):
     shaft: str
     housing: str  # a part name or "ground"
     x_mm: Finite
-    model: Literal["linear", "ball"] = "linear"  # before the stiffness keys: their check reads it
-    radial_stiffness_N_per_um: Annotated[Positive | None, Field(validate_default=True)] = None
+    model: Literal["linear", "ball"] = Field("linear", description=(  # before the stiffness keys: their check reads it
+        "linear: the stiffness keys typed in; ball: a deep-groove ball bearing from its internal geometry "
+        "(Hertz contact per ball, clearance, preload; solved nonlinearly)."))
+    radial_stiffness_N_per_um: Annotated[Positive | None, Field(validate_default=True, json_schema_extra={
+        "default_text": "required (model = \"ball\": from the geometry)"})] = None
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
@@ -174,17 +177,28 @@ class Bearing(Strict):
     allowable_misalignment_arcmin: Annotated[float, Field(gt=0.0, le=600.0, allow_inf_nan=False, strict=True)] | None = None
 
     # ---- model = "ball": deep-groove ball bearing from internal geometry (issue 16 item 1) ----------
-    designation: str | None = None  # catalogue designation, 6200–6210 or 6300–6310
-    clearance_class: Literal["C2", "CN", "C3", "C4"] | None = None  # ISO 5753-1 class (middle of its range)
-    # radial internal clearance (diametral: the total radial play of one ring against the other), operating
-    clearance_um: Annotated[float, Field(ge=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = None
-    # axial preload held by the mounting (position preload): the balls carry preload_N at rest
-    preload_N: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] = 0.0
-    ball_count: Annotated[int, Field(ge=3, le=200, strict=True)] | None = None
-    ball_diameter_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = None
-    pitch_diameter_mm: Annotated[float, Field(gt=0.0, le=5000.0, allow_inf_nan=False, strict=True)] | None = None
-    inner_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_i / D_w
-    outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = None  # r_o / D_w
+    designation: str | None = Field(None, description=(
+        "model = \"ball\": catalogue deep-groove ball bearing, 6200 … 6210 or 6300 … 6310 (ball set, pitch "
+        "diameter, groove conformities and width from geometry/data/ball_bearings.csv)."))
+    clearance_class: Literal["C2", "CN", "C3", "C4"] | None = Field(None, description=(
+        "model = \"ball\": ISO 5753-1 radial internal clearance class; the middle of its range for the bore "
+        "(CN when neither this nor clearance_um is given)."))
+    clearance_um: Annotated[float, Field(ge=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="model = \"ball\": operating radial internal clearance (diametral, after fits and "
+                          "temperatures); used instead of the class when given.")
+    preload_N: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] = Field(
+        0.0, description="model = \"ball\": axial position preload, carried by the balls at rest (takes up the "
+                         "clearance, stiffens the bearing).")
+    ball_count: Annotated[int, Field(ge=3, le=200, strict=True)] | None = Field(
+        None, description="model = \"ball\": number of balls Z (overrides the catalogue).")
+    ball_diameter_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="model = \"ball\": ball diameter D_w (overrides the catalogue).")
+    pitch_diameter_mm: Annotated[float, Field(gt=0.0, le=5000.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="model = \"ball\": pitch diameter d_m of the ball set (overrides the catalogue).")
+    inner_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = Field(
+        None, description="model = \"ball\": inner groove radius over ball diameter, f_i = r_i / D_w.")
+    outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = Field(
+        None, description="model = \"ball\": outer groove radius over ball diameter, f_o = r_o / D_w.")
 
     @field_validator("radial_stiffness_N_per_um")
     @classmethod
