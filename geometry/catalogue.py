@@ -199,6 +199,21 @@ def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
     return found
 
 
+def _ball_bore_warnings(rig: Rig) -> list[str]:
+    """A catalogue ball bearing (``model = "ball"``, ``designation``) whose bore is not the shaft's Ø at it."""
+    from rvcoax.geometry.ball_bearings import BALL_BEARINGS
+
+    found = []
+    for i, bearing in enumerate(rig.bearings):
+        bore = bearing_bore_mm(rig, bearing)
+        entry = BALL_BEARINGS.get(bearing.designation) if bearing.model == "ball" and bearing.designation else None
+        if entry is not None and bore is not None and abs(entry.bore_mm - bore) > 0.05 * entry.bore_mm:
+            found.append(f"bearings[{i}] ('{bearing.name}').designation = {bearing.designation}: its bore is "
+                         f"{entry.bore_mm:g} mm, but the shaft's Ø at x = {bearing.x_mm:g} mm is {bore:g} mm: "
+                         "another designation, or the shaft's segment?")
+    return found
+
+
 def _mass_warnings(rig: Rig) -> list[str]:
     found = []
     low, high = MASS_TO_VOLUME_RANGE
@@ -241,8 +256,8 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     the likely slip. Empty for a plausible rig (the built-in reference rig among them).
     """
     components = _component_warnings(rig)
-    return (components + _bore_warnings(rig, components) + _mass_warnings(rig) + _topology_warnings(rig)
-            + _gear_contact_warnings(rig))
+    return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _mass_warnings(rig)
+            + _topology_warnings(rig) + _gear_contact_warnings(rig))
 
 
 def _gear_contact_warnings(rig: Rig) -> list[str]:

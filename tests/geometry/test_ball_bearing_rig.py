@@ -53,6 +53,16 @@ def test_the_variant_differs_from_the_reference_rig_only_in_the_four_shaft_beari
     assert 20 < balls["input_B1"].radial_stiffness_N_per_um < 200  # the linear reference, filled in
 
 
+def test_a_designation_whose_bore_is_not_the_shaft_is_a_plausibility_warning():
+    from rvcoax.geometry.catalogue import plausibility_warnings
+
+    assert plausibility_warnings(_variant()) == []  # 6204 on the Ø20 input shaft, 6206 on the Ø30 output shaft
+    rig = parse_rig_text(_with_input_b1('model = "ball"\ndesignation = "6206"'))
+    assert plausibility_warnings(rig) == [
+        "bearings[4] ('input_B1').designation = 6206: its bore is 30 mm, but the shaft's Ø at x = 255 mm is 20 mm: "
+        "another designation, or the shaft's segment?"]
+
+
 def test_ball_bearing_keys_give_clear_errors():
     cases = {
         'model = "ball"\ndesignation = "6299"': "unknown ball bearing '6299'",
