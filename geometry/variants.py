@@ -7,7 +7,10 @@
 * ``housings``: the typed-in mounts ``input_block_base`` and ``output_block_base`` replaced by the two
   HT200 bearing blocks condensed from a solid model (:data:`BEARING_BLOCKS`, ``[[housings]]``);
 * ``thermal``: expansion coefficients of the three materials (:data:`THERMAL_EXPANSION_PER_K`), support
-  heights and a warm-running state (:data:`THERMAL`, ``[thermal]``).
+  heights and a warm-running state (:data:`THERMAL`, ``[thermal]``);
+* ``ball_bearings`` (on request, not in the default :data:`READINGS`): the input (6204) and output (6206)
+  shaft bearings as CN deep-groove ball bearings from their internal geometry (:data:`SHAFT_BALL_BEARINGS`,
+  ``model = "ball"``, solved nonlinearly: the same as ``rvcoax rig reference --variant ball_bearings``).
 
 The same keys, written out, are in docs/rig-file.md. Every number is an assumption [A] unless tagged.
 """
@@ -19,10 +22,13 @@ import tomllib
 from rvcoax.geometry.rigfile import parse_rig, reference_rig_text
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["BEARING_BLOCKS", "INPUT_GEAR_MESH", "READINGS", "THERMAL", "THERMAL_EXPANSION_PER_K",
-           "reference_from_geometry"]
+__all__ = ["BEARING_BLOCKS", "INPUT_GEAR_MESH", "OPTIONAL_READINGS", "READINGS", "SHAFT_BALL_BEARINGS", "THERMAL",
+           "THERMAL_EXPANSION_PER_K", "reference_from_geometry"]
 
 READINGS = ("gears", "housings", "thermal")
+OPTIONAL_READINGS = ("ball_bearings",)
+"""Readings taken only when asked for: the ball bearings make the sweep nonlinear (case by case)."""
+SHAFT_BALL_BEARINGS = {"input_B1": "6204", "input_B2": "6204", "output_B1": "6206", "output_B2": "6206"}  # [S]
 
 INPUT_GEAR_MESH = {
     "name": "input_gear_mesh", "torque": "T1",
@@ -62,9 +68,9 @@ def reference_from_geometry(readings=READINGS, block_mesh_size_mm: float | None 
 
     ``block_mesh_size_mm`` overrides the bearing blocks' mesh size (8 mm, converged to 0.3 %).
     """
-    unknown = set(readings) - set(READINGS)
+    unknown = set(readings) - set(READINGS) - set(OPTIONAL_READINGS)
     if unknown:
-        raise ValueError(f"unknown readings {sorted(unknown)}; choose from {', '.join(READINGS)}")
+        raise ValueError(f"unknown readings {sorted(unknown)}; choose from {', '.join(READINGS + OPTIONAL_READINGS)}")
     data = tomllib.loads(reference_rig_text())
     if "gears" in readings:
         data["torque_lateral_loads"] = [t for t in data["torque_lateral_loads"] if t["name"] != "sun_gear_load_sharing"]
@@ -81,4 +87,10 @@ def reference_from_geometry(readings=READINGS, block_mesh_size_mm: float | None 
         for mount in data["mounts"]:
             mount["height_above_bed_mm"] = SUPPORT_HEIGHT_MM
         data["thermal"] = THERMAL
+    if "ball_bearings" in readings:
+        for bearing in data["bearings"]:
+            if bearing["name"] in SHAFT_BALL_BEARINGS:
+                for key in ("radial_stiffness_N_per_um", "axial_stiffness_N_per_um", "width_mm"):
+                    bearing.pop(key, None)
+                bearing.update(model="ball", designation=SHAFT_BALL_BEARINGS[bearing["name"]], clearance_class="CN")
     return parse_rig(data, "<reference rig from geometry>")

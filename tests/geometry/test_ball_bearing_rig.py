@@ -63,6 +63,13 @@ def test_a_designation_whose_bore_is_not_the_shaft_is_a_plausibility_warning():
         "another designation, or the shaft's segment?"]
 
 
+def test_the_from_geometry_reference_rig_takes_the_same_ball_bearings_on_request():
+    from rvcoax.geometry.variants import READINGS, reference_from_geometry
+
+    assert "ball_bearings" not in READINGS  # the default reading stays linear
+    assert reference_from_geometry(("ball_bearings",)).bearings == _variant().bearings
+
+
 def test_ball_bearing_keys_give_clear_errors():
     cases = {
         'model = "ball"\ndesignation = "6299"': "unknown ball bearing '6299'",
