@@ -1,7 +1,9 @@
-"""Intel MKL PARDISO for real symmetric positive definite matrices, called directly through ctypes.
+"""Intel MKL PARDISO for real symmetric matrices, called directly through ctypes.
 
-Matrices and vectors only. PARDISO (``mtype = 2``) factorises A = L Lᵀ from the upper triangle of A,
-in one of two storages:
+Matrices and vectors only. PARDISO (``mtype = 2``) factorises an SPD A = L Lᵀ from the upper triangle
+of A; with ``indefinite=True`` (``mtype = -2``: L D Lᵀ with Bunch–Kaufman pivoting, weighted matching
+and scaling, two steps of iterative refinement) it factorises a symmetric saddle-point matrix (tie
+multipliers, :func:`rvcoax.fem.solvers.prepare_saddle_point`), scalar storage only. Storages:
 
 - **3 × 3 blocks** (BSR, ``iparm[36] = 3``) when the matrix is exactly made of 3 × 3 blocks aligned
   with its unknowns: a solid's stiffness, whose unknowns are (u_x, u_y, u_z) per node. The ordering

@@ -14,6 +14,10 @@ bench_solid_scaling.py):
 
 ``"auto"`` picks SuperLU below ``superlu_max_dofs`` (20 k), PARDISO up to ``pardiso_max_dofs``
 (400 k) when MKL can be loaded, AMG above (or without MKL).
+
+:func:`prepare_saddle_point` solves an SPD matrix that is never formed (Tᵀ K T with distributing ties,
+:class:`rvcoax.fem.system.ConstrainedStiffness`) through its sparse saddle-point form, with PARDISO in
+symmetric indefinite mode; its inertia and the same inverse-iteration test refuse a singular matrix.
 """
 
 from __future__ import annotations
@@ -251,8 +255,18 @@ def _setup_pardiso(a: sp.csr_matrix):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
+    _refuse_singular(a, solve, factor)
+
+    blocks = " 3×3 blocks," if storage.block_size == 3 else ""
+    return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
+            (factor.factor_nonzeros, factor.memory_MB))
+
+
+def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> None:
+    """Release ``factor`` and raise :class:`SingularMatrixError` when inverse iteration finds 1/λ_min of the
+    Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`scaled_inverse_norm_bound`)."""
     try:
-        bound, equation = scaled_inverse_norm_bound(a, lambda b: solve(b.reshape(-1, 1))[0])
+        bound, equation = scaled_inverse_norm_bound(matrix, lambda b: solve(b.reshape(-1, 1))[0])
     except SolverError:
         factor.release()
         raise
@@ -262,10 +276,6 @@ def _setup_pardiso(a: sp.csr_matrix):
             f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
             f"{equation}): the matrix is numerically singular"
         )
-
-    blocks = " 3×3 blocks," if storage.block_size == 3 else ""
-    return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
-            (factor.factor_nonzeros, factor.memory_MB))
 
 
 def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
@@ -339,17 +349,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
         factor.release()
         raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
                                   f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
-    try:
-        bound, equation = scaled_inverse_norm_bound(operator, lambda b: solve(b.reshape(-1, 1))[0])
-    except SolverError:
-        factor.release()
-        raise
-    if bound > SINGULAR_INVERSE_NORM:
-        factor.release()
-        raise SingularMatrixError(
-            f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
-            f"{equation}): the matrix is numerically singular"
-        )
+    _refuse_singular(operator, solve, factor)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, time.perf_counter() - start, rss_before, factor.release,
                           (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=a.nnz)
