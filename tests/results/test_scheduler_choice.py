@@ -11,6 +11,7 @@ from rvcoax.geometry.rigfile import load_rig
 from rvcoax.results.studies.distributed import (
     CLUSTER_START_SECONDS,
     PAYS_BELOW,
+    TASK_OVERHEAD_SECONDS,
     choose_scheduler,
     run_samples,
 )
@@ -32,11 +33,12 @@ def test_many_cores_pay_for_large_studies_only():
     assert small.scheduler == "serial" and small.serial_seconds == pytest.approx(64 * 0.0126)
     large = choose_scheduler(2000, 14.6, setup_seconds=33.0, cores=16)
     assert large.scheduler == "local"
-    assert large.cluster_seconds == pytest.approx(CLUSTER_START_SECONDS + 33.0 + 2000 * 14.6 / 15)
+    assert large.cluster_seconds == pytest.approx(CLUSTER_START_SECONDS + 33.0 + 2000 * (14.6 + TASK_OVERHEAD_SECONDS) / 15)
     # the break-even: the cluster's start and set-up against the work the extra workers take over
     workers = 7  # 8 cores, one for the client and scheduler
     setup, per_sample = 5.0, 1.0
-    break_even = (CLUSTER_START_SECONDS + setup) / (PAYS_BELOW - 1 / workers) / per_sample
+    share = (per_sample + TASK_OVERHEAD_SECONDS) / workers  # cluster time per sample
+    break_even = (CLUSTER_START_SECONDS + setup) / (PAYS_BELOW * per_sample - share)
     assert choose_scheduler(int(break_even) - 1, per_sample, setup, cores=8).scheduler == "serial"
     assert choose_scheduler(int(break_even) + 2, per_sample, setup, cores=8).scheduler == "local"
     assert "serial" in small.describe() and "local cluster" in small.describe()
