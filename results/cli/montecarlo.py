@@ -107,7 +107,7 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
     from rvcoax.results.studies.distributed import ClusterError, ResumeError, SampleError, run_samples
     from rvcoax.results.studies.montecarlo import evaluate_sample
 
-    where = "this process" if scheduler == "serial" else "this process or a local Dask cluster, as pays" if (
+    where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
         scheduler == "auto") else (
         f"a local Dask cluster ({f'{workers} workers' if workers else 'one worker per core'})" if scheduler == "local"
         else f"the Dask scheduler at {scheduler}")
