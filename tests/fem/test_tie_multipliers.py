@@ -69,6 +69,7 @@ def test_constrained_stiffness_is_the_reduced_stiffness_without_forming_it(tied_
 
 
 @needs_pardiso
+@pytest.mark.slow  # 2.7 s idle, 15 s on a loaded 2-core machine (SuperLU of the dense reference, condition estimates)
 def test_multiplier_solve_equals_the_eliminated_solve(tied_bar):
     k, t, loads, _ = tied_bar
     kept = prepare_system(k, t, "pardiso")
@@ -84,6 +85,7 @@ def test_multiplier_solve_equals_the_eliminated_solve(tied_bar):
 
 
 @needs_pardiso
+@pytest.mark.slow
 def test_singular_constrained_stiffness_is_refused_every_time(tied_bar):
     k, t, _, ground = tied_bar
     free = k - sp.csr_matrix((ground, (np.arange(6), np.arange(6))), shape=k.shape)  # nothing grounded
