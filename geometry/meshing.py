@@ -8,12 +8,12 @@ nodes on the true (curved) geometry: straight-sided P2 tets overestimate a shaft
 0.6–2 % (measured on this FE stack when the mesher was chosen). gmsh runs with one thread, so the same geometry
 always gives the same mesh.
 
-The mesh is **mirror-symmetric about the planes z = 0 and y = 0**: gmsh meshes the quarter y ≥ 0,
+The mesh of a round part is **mirror-symmetric about the planes z = 0 and y = 0**: gmsh meshes the quarter y ≥ 0,
 z ≥ 0 and the quarter is mirrored twice. A part of revolution is symmetric about both planes, and
 so is its mesh: a pure torque (odd under either mirror) then cannot move a shaft sideways (even
 under one of them). A mesh without that symmetry couples twist and bending at the level of its
 discretisation error: on the reference rig's hybrid model a pure output torque moved the output
-shaft by 8.4e-12 m per N·m, 1 % of its Y at 200 N·m (benchmarks/RESULTS.md).
+shaft by 8.4e-12 m per N·m (0.08 % of its Y at 200 N·m with the reference load sharing).
 
 Meshes are cached on disk (compressed ``.npz``, checksummed, written atomically); a corrupt entry
 is detected, deleted and rebuilt. Coordinates of the returned mesh are in metres.
@@ -335,8 +335,17 @@ def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
         gmsh.option.setNumber("General.Verbosity", 2)
         gmsh.option.setNumber("General.NumThreads", 1)  # 2 threads give different node counts per run
         gmsh.model.add(geometry.name or "part")
-        # a geometry that is not a round part (a housing) builds its own OpenCASCADE model
-        getattr(geometry, "build_occ_model", lambda g: _build_occ_model(g, geometry))(gmsh)
+        # a geometry that is not a round part (a housing) builds its own, whole OpenCASCADE model; a
+        # round part is built as its quarter y ≥ 0, z ≥ 0 and mirrored twice once meshed
+        own_model = getattr(geometry, "build_occ_model", None)
+        if own_model is not None:
+            own_model(gmsh)
+        else:
+            _build_occ_model(gmsh, geometry)
+
+        def whole(coordinates_mm, t):
+            return (coordinates_mm, t) if own_model is not None else _symmetric(coordinates_mm, t)
+
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         # at least ~8 elements around every circle: a small bore under a coarse size would otherwise
         # give intersecting facets (gmsh "PLC Error") or inverted curved tets
@@ -346,12 +355,12 @@ def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
         gmsh.option.setNumber("Mesh.ElementOrder", 2)
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-edge nodes on the curved geometry
         gmsh.model.mesh.generate(3)
-        mesh = _to_skfem(*_symmetric(*_gmsh_tet10(gmsh)))
+        mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
         if _inverted_elements(mesh).size:
             # curving boundary edges of coarse tets can invert them; gmsh's high-order optimiser
             # moves the interior high-order nodes (cheap, deterministic, only needed when coarse)
             gmsh.model.mesh.optimize("HighOrder")
-            mesh = _to_skfem(*_symmetric(*_gmsh_tet10(gmsh)))
+            mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
     except MeshingError:
         raise
     except Exception as error:

@@ -10,7 +10,7 @@ model's files differ at 3e-7 relative between one and two PARDISO threads on the
 values 1e-6 of their column's largest), so a byte comparison across machines would test the CPU, not
 the code.
 
-``tests/golden/hybrid/`` was written again on this branch (issue 17, a 2-core Intel Xeon, two BLAS threads) when
+``tests/golden/hybrid/`` was written again on this branch (issue 17, a 2-core AMD EPYC, two BLAS threads) when
 the solid meshes became mirror-symmetric about the planes through the axis (``rvcoax.geometry.meshing``): a
 pure torque no longer moves a shaft sideways, which changed the reference rig's hybrid Y by at most 0.04 %
 (input) and 0.08 % (output), and the DOF count from 87,687 to 108,981. The old files' own solve error (the
