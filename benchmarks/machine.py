@@ -37,3 +37,12 @@ def record(section: str, rows: list[tuple[str, str]]) -> None:
         RESULTS.write_text("# Benchmark results\n\nEach block is written by the script named in its heading.\n")
     with RESULTS.open("a", encoding="utf-8") as stream:
         stream.writelines(lines)
+
+
+def publish(section: str, rows: list[tuple[str, str]], load_before: float, keep: bool = True) -> None:
+    """Add the 1-minute load average before and now, print the rows, and (``keep``) record them."""
+    rows = [*rows, ("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}")]
+    for name, value in rows:
+        print(f"{name}: {value}")
+    if keep:
+        record(section, rows)

@@ -28,13 +28,15 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem.compat import sparse_kernels
 
-__all__ = ["PARALLEL_MIN_TRIPLETS", "assemble_matrix"]
+__all__ = ["BlockPattern", "PARALLEL_MIN_TRIPLETS", "add_element_matrices", "assemble_matrix", "block_diagonal",
+           "block_pattern"]
 
 # scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
 _KERNELS = sparse_kernels()
@@ -210,3 +212,126 @@ def _assemble(n_dofs, nnz, rows, cols, vals, pool, threads) -> sp.csr_matrix:
     matrix = sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs), copy=False)
     matrix.has_canonical_format = True  # sorted and summed by construction
     return matrix
+
+
+# ------------------------------------------------------------------ element matrices into a 3 × 3-block pattern
+
+
+@dataclass(frozen=True, eq=False)
+class BlockPattern:
+    """The sparsity of a matrix of 3 × 3 blocks, one block per pair of nodes that share an element.
+
+    Unknowns are interleaved per node (3 i + c). The scalar CSR pattern (``indptr``, ``indices``) is
+    that of the assembled matrix; ``node_keys`` (i · n_nodes + j, ascending) locate a node pair's block.
+
+    Attributes
+    ----------
+    n_nodes : int
+    node_indptr : (n_nodes + 1,) int64 array
+        Row pointers of the node graph.
+    node_keys : (n_pairs,) int64 array
+        i · n_nodes + j of every node pair, ascending.
+    indptr : (3 n_nodes + 1,) array
+    indices : (9 n_pairs,) array
+        int32 while the sizes allow.
+    """
+
+    n_nodes: int
+    node_indptr: np.ndarray
+    node_keys: np.ndarray
+    indptr: np.ndarray
+    indices: np.ndarray
+
+    @property
+    def nnz(self) -> int:
+        return int(self.indices.size)
+
+
+def block_pattern(element_nodes: np.ndarray, n_nodes: int, chunk: int = 65536) -> BlockPattern:
+    """The 3 × 3-block pattern of elements with nodes ``element_nodes`` (n_elements, k).
+
+    The node graph is Aᵀ A of the element–node incidence A (scipy's sparse product, in chunks of
+    elements summed as patterns), so no element-pair list is ever held.
+    """
+    element_nodes = np.asarray(element_nodes, dtype=np.int64)
+    n_elements, k = element_nodes.shape
+    graph = sp.csr_matrix((n_nodes, n_nodes), dtype=np.int8)
+    for start in range(0, n_elements, chunk):
+        block = element_nodes[start:start + chunk]
+        rows = np.repeat(np.arange(block.shape[0]), k)
+        incidence = sp.csr_matrix((np.ones(rows.size, dtype=np.int8), (rows, block.ravel())),
+                                  shape=(block.shape[0], n_nodes))
+        pairs = (incidence.T @ incidence).astype(bool)
+        graph = (graph.astype(bool) + pairs).astype(bool).tocsr()
+    graph.sort_indices()
+    node_indptr = graph.indptr.astype(np.int64)
+    node_cols = graph.indices.astype(np.int64)
+    degree = np.diff(node_indptr)
+    node_rows = np.repeat(np.arange(n_nodes, dtype=np.int64), degree)
+    node_keys = node_rows * n_nodes + node_cols
+    del graph, node_rows
+    nnz = 9 * node_cols.size
+    index_type = np.int32 if max(nnz, 3 * n_nodes) < _INT32_MAX else np.int64
+    # scalar row 3 i + a holds, for every neighbour j of i in order, the columns 3 j, 3 j + 1, 3 j + 2
+    row_length = np.repeat(3 * degree, 3)
+    indptr = np.zeros(3 * n_nodes + 1, dtype=index_type)
+    np.cumsum(row_length, out=indptr[1:])
+    indices = np.empty(nnz, dtype=index_type)
+    for i0 in range(0, n_nodes, chunk):
+        i1 = min(i0 + chunk, n_nodes)
+        cols = node_cols[node_indptr[i0]:node_indptr[i1]]
+        triple = (3 * cols[:, None] + np.arange(3)).reshape(-1).astype(index_type)  # one node row's columns
+        lengths = 3 * degree[i0:i1]
+        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+        for a in range(3):  # rows 3 i + a repeat the node row's columns
+            rows = 3 * np.arange(i0, i1) + a
+            out = np.repeat(indptr[rows].astype(np.int64) - starts, lengths) + np.arange(triple.size)
+            indices[out] = triple
+    return BlockPattern(int(n_nodes), node_indptr, node_keys, indptr, indices)
+
+
+def add_element_matrices(pattern: BlockPattern, element_nodes: np.ndarray, matrices: np.ndarray,
+                         data: np.ndarray) -> None:
+    """Add element matrices (n, 3k, 3k), local unknown 3 a + c of node a, into ``data`` (the pattern's values).
+
+    Each element entry is located by its node pair's block (binary search in ``node_keys``) and added
+    in element order (``np.add.at``), so the result does not depend on how the elements are chunked.
+    """
+    element_nodes = np.asarray(element_nodes, dtype=np.int64)
+    n, k = element_nodes.shape
+    keys = (element_nodes[:, :, None] * pattern.n_nodes + element_nodes[:, None, :]).reshape(-1)
+    pair = np.searchsorted(pattern.node_keys, keys)
+    if np.any(pair >= pattern.node_keys.size) or np.any(pattern.node_keys[np.minimum(pair, pattern.node_keys.size - 1)]
+                                                        != keys):
+        raise ValueError("an element couples two nodes that are not in the pattern")
+    row_node = keys // pattern.n_nodes
+    offset = pair - pattern.node_indptr[row_node]  # position of the block in its node row
+    # entry (3 a + c, 3 b + d) of an element: scalar row 3 i + c, column slot 3 · offset + d
+    row_start = pattern.indptr[(3 * row_node)[:, None] + np.arange(3)].astype(np.int64)  # (n k k, 3)
+    position = (row_start[:, :, None] + 3 * offset[:, None, None] + np.arange(3)).reshape(n, k, k, 3, 3)
+    position = position.transpose(0, 1, 3, 2, 4).reshape(-1)  # element order: (e, a, c, b, d)
+    np.add.at(data, position, np.asarray(matrices, dtype=float).reshape(-1))  # in element order
+
+
+def block_diagonal(n_dofs: int, blocks: list[tuple[int, sp.csr_matrix]]) -> sp.csr_matrix:
+    """An (n, n) CSR matrix of square CSR ``blocks`` placed at their offsets (ascending, not overlapping),
+    written once into arrays of the final size."""
+    blocks = sorted(blocks, key=lambda b: b[0])
+    nnz = sum(b.nnz for _, b in blocks)
+    index_type = np.int32 if max(nnz, n_dofs) < _INT32_MAX else np.int64
+    indptr = np.zeros(n_dofs + 1, dtype=index_type)
+    indices = np.empty(nnz, dtype=index_type)
+    data = np.empty(nnz)
+    filled, end = 0, 0
+    for offset, block in blocks:
+        size = block.shape[0]
+        if offset < end or offset + size > n_dofs:
+            raise ValueError(f"a block at {offset} of size {size} overlaps another or leaves the {n_dofs} unknowns")
+        indptr[end + 1:offset + 1] = filled
+        indptr[offset + 1:offset + size + 1] = filled + block.indptr[1:]
+        indices[filled:filled + block.nnz] = block.indices + offset
+        data[filled:filled + block.nnz] = block.data
+        filled += block.nnz
+        end = offset + size
+    indptr[end + 1:] = filled
+    return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))

@@ -124,6 +124,11 @@ def find_free_motions(
     return found
 
 
+def _diagonal(matrix) -> np.ndarray:
+    """The diagonal of a sparse matrix, or of an operator with a ``diagonal()`` method."""
+    return np.asarray(matrix.diagonal(), dtype=float)
+
+
 def scaled_inverse_norm_bound(matrix: sp.spmatrix, solve, steps: int = 2, seed: int = 0) -> tuple[float, int]:
     """Lower bound of ‖S⁻¹‖₂ = 1 / λ_min(S) for the Jacobi-scaled S = D^-½ A D^-½, by inverse iteration.
 
@@ -140,11 +145,11 @@ def scaled_inverse_norm_bound(matrix: sp.spmatrix, solve, steps: int = 2, seed: 
     equation : int
         The unknown that moves most in the last iterate (where the weakest motion lives).
     """
-    a = sp.csr_matrix(matrix)
-    if a.shape[0] == 0:
+    n = matrix.shape[0]
+    if n == 0:
         return 0.0, 0
-    root = np.sqrt(a.diagonal())
-    y = np.random.default_rng(seed).standard_normal(a.shape[0])
+    root = np.sqrt(_diagonal(matrix))
+    y = np.random.default_rng(seed).standard_normal(n)
     bound = 0.0
     for _ in range(steps):
         y = root * np.asarray(solve(root * (y / np.linalg.norm(y))), dtype=float).reshape(-1)
@@ -165,23 +170,25 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
 
     Parameters
     ----------
-    matrix : sparse (n, n)
+    matrix : sparse (n, n), or an operator with ``shape``, ``diagonal()`` and ``scaled_one_norm(root)``
         Symmetric positive definite.
     solve : callable
         x = A⁻¹ b for a vector b.
     max_iterations : int
         Hager–Higham iterations (each one solve and one transposed solve).
     """
-    a = sp.csr_matrix(matrix)
-    n = a.shape[0]
+    n = matrix.shape[0]
     if n == 0:
         return 1.0
-    diagonal = a.diagonal()
+    diagonal = _diagonal(matrix)
     if np.any(diagonal <= 0) or not np.all(np.isfinite(diagonal)):
         return float("inf")
     root = np.sqrt(diagonal)
-    scaled = sp.diags(1.0 / root) @ a @ sp.diags(1.0 / root)
-    norm = float(abs(scaled).sum(axis=0).max())
+    if hasattr(matrix, "scaled_one_norm"):  # an operator never formed as one matrix (fem.system.ConstrainedStiffness)
+        norm = float(matrix.scaled_one_norm(root))
+    else:
+        scaled = sp.diags(1.0 / root) @ sp.csr_matrix(matrix) @ sp.diags(1.0 / root)
+        norm = float(abs(scaled).sum(axis=0).max())
 
     def inverse(b: np.ndarray) -> np.ndarray:  # (D^-½ A D^-½)⁻¹ b = D^½ A⁻¹ D^½ b
         return root * np.asarray(solve(root * b), dtype=float).reshape(n)

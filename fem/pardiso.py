@@ -1,7 +1,9 @@
-"""Intel MKL PARDISO for real symmetric positive definite matrices, called directly through ctypes.
+"""Intel MKL PARDISO for real symmetric matrices, called directly through ctypes.
 
-Matrices and vectors only. PARDISO (``mtype = 2``) factorises A = L Lᵀ from the upper triangle of A,
-in one of two storages:
+Matrices and vectors only. PARDISO (``mtype = 2``) factorises an SPD A = L Lᵀ from the upper triangle
+of A; with ``indefinite=True`` (``mtype = -2``: L D Lᵀ with Bunch–Kaufman pivoting, weighted matching
+and scaling, two steps of iterative refinement) it factorises a symmetric saddle-point matrix (tie
+multipliers, :func:`rvcoax.fem.solvers.prepare_saddle_point`), scalar storage only. Storages:
 
 - **3 × 3 blocks** (BSR, ``iparm[36] = 3``) when the matrix is exactly made of 3 × 3 blocks aligned
   with its unknowns: a solid's stiffness, whose unknowns are (u_x, u_y, u_z) per node. The ordering
@@ -42,6 +44,7 @@ __all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZE
 
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
+_INDEFINITE = -2  # real symmetric indefinite (Bunch–Kaufman pivoting): saddle-point systems
 _ERRORS = {
     -1: "input inconsistent",
     -2: "not enough memory",
@@ -178,9 +181,10 @@ class Factorization:
     20 succeeded), so a caller that must know tests the factor (:mod:`rvcoax.fem.solvers` does).
     """
 
-    def __init__(self, storage: UpperStorage):
+    def __init__(self, storage: UpperStorage, indefinite: bool = False):
         self._pardiso = _library()
         self.storage = storage
+        self.mtype = _INDEFINITE if indefinite else _SPD
         self._handle = np.zeros(64, dtype=np.int64)
         self._iparm = np.zeros(64, dtype=np.int32)
         iparm = self._iparm
@@ -190,6 +194,10 @@ class Factorization:
         iparm[17] = -1  # report the nonzeros of the factor
         iparm[34] = 1  # zero-based indices
         iparm[36] = storage.block_size if storage.block_size > 1 else 0
+        if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
+            iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
+            iparm[12] = 1  # pivots perturbed to 1e-8 (iparm[9]) are made good by iterative refinement
+            iparm[7] = 2  # two refinement steps on the saddle-point matrix (MKL stops earlier at rounding)
         self._alive = True
         try:
             no_rhs = np.zeros((storage.n, 1), order="F")
@@ -203,6 +211,16 @@ class Factorization:
     def factor_nonzeros(self) -> int:
         """Nonzeros of the factor L (scalar entries)."""
         return int(self._iparm[17])
+
+    @property
+    def inertia(self) -> tuple[int, int]:
+        """Numbers of positive and negative pivots (``iparm[21]``, ``iparm[22]``; indefinite mode)."""
+        return int(self._iparm[21]), int(self._iparm[22])
+
+    @property
+    def perturbed_pivots(self) -> int:
+        """Pivots PARDISO perturbed (``iparm[13]``)."""
+        return int(self._iparm[13])
 
     @property
     def memory_MB(self) -> float:
@@ -219,7 +237,7 @@ class Factorization:
             self._handle.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
             ctypes.byref(ctypes.c_int32(1)),  # maxfct
             ctypes.byref(ctypes.c_int32(1)),  # mnum
-            ctypes.byref(ctypes.c_int32(_SPD)),
+            ctypes.byref(ctypes.c_int32(self.mtype)),
             ctypes.byref(ctypes.c_int32(phase)),
             ctypes.byref(ctypes.c_int32(block_rows)),
             s.data.ctypes.data,

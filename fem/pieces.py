@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import beam, bushing, loads, solid
-from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.assembly import assemble_matrix, block_diagonal
 from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 
 __all__ = ["AssembledSystem", "Contribution", "assemble", "beam_contribution", "bushing_contribution",
@@ -46,12 +46,16 @@ class Contribution:
         Multi-point constraints u_dependent = Σ c u: dependent DOF → {DOF: coefficient}.
     fixed_dofs : array of int
         DOFs held at zero.
+    block : (offset, csr_matrix) or None
+        A square stiffness matrix (a solid's, assembled in place: :func:`rvcoax.fem.solid.stiffness_matrix`)
+        whose unknowns start at ``offset``; blocks of different pieces do not overlap.
     """
 
     stiffness: tuple | None = None
     loads: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     equations: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
     fixed_dofs: np.ndarray = field(default_factory=_no_dofs)
+    block: tuple[int, sp.csr_matrix] | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,7 +89,7 @@ class AssembledSystem:
 def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSystem:
     """Sum ``contributions`` (in their order) into one system of ``n_dofs`` unknowns."""
     contributions = list(contributions)
-    stiffness = assemble_matrix(n_dofs, [c.stiffness for c in contributions if c.stiffness is not None])
+    stiffness = _stiffness(n_dofs, contributions)
     vectors: dict[str, np.ndarray] = {}
     equations: dict[int, Mapping[int, float]] = {}
     for c in contributions:
@@ -95,6 +99,21 @@ def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSys
         equations.update(c.equations)
     fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
     return AssembledSystem(int(n_dofs), stiffness, vectors, equations, fixed)
+
+
+def _stiffness(n_dofs: int, contributions: list[Contribution]) -> sp.csr_matrix:
+    """Triplets summed, then the blocks placed: side by side when the triplets stay before the first block
+    (a frame and its solids: the matrix is written once), else added."""
+    triplets = assemble_matrix(n_dofs, [c.stiffness for c in contributions if c.stiffness is not None])
+    blocks = [c.block for c in contributions if c.block is not None]
+    if not blocks:
+        return triplets
+    first = min(offset for offset, _ in blocks)
+    if triplets.nnz == 0 or (triplets.indptr[first] == triplets.nnz and triplets.indices.max() < first):
+        head = triplets[:first, :first].tocsr()
+        del triplets
+        return block_diagonal(n_dofs, [(0, head), *blocks]) if first else block_diagonal(n_dofs, blocks)
+    return (triplets + block_diagonal(n_dofs, blocks)).tocsr()
 
 
 def _dense(vector: np.ndarray, offset: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -135,8 +154,8 @@ def solid_contribution(basis, youngs_modulus_pa: float, poisson: float, density_
                        gravity_direction) -> Contribution:
     """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
     weight = solid.body_force_vector(basis, density_kg_m3, np.asarray(gravity_direction, dtype=float))
-    return Contribution(solid.stiffness_triplets(basis, youngs_modulus_pa, poisson, dof_offset=dof_offset),
-                        {"gravity": _dense(weight, dof_offset)})
+    return Contribution(loads={"gravity": _dense(weight, dof_offset)},
+                        block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_pa, poisson)))
 
 
 def tie_contribution(equations: Mapping[int, Mapping[int, float]]) -> Contribution:

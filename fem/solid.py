@@ -32,7 +32,7 @@ from scipy.spatial import cKDTree
 
 __all__ = ["DEFAULT_INTORDER", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
            "element_stiffness", "facet_area", "facet_basis", "force_traction_vector", "lame_parameters", "logger",
-           "probe_matrix", "rigid_body_modes", "solid_basis", "stiffness_triplets", "stress_at_nodes",
+           "probe_matrix", "rigid_body_modes", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
 
 logger = logging.getLogger(__name__)
@@ -165,6 +165,34 @@ def stiffness_triplets(basis, youngs_modulus_pa: float, poisson: float, dof_offs
         block = slice(start, min(start + _CHUNK_ELEMENTS, n))
         _element_stiffness_into(values[block], grads[:, :, block, :], basis.dx[block], lam, mu)
     return rows, cols, values.ravel()
+
+
+def stiffness_matrix(basis, youngs_modulus_pa: float, poisson: float) -> sp.csr_matrix:
+    """Stiffness (N × N, CSR) assembled in blocks of elements straight into its 3 × 3-block pattern.
+
+    No triplet arrays: the pattern (:func:`rvcoax.fem.assembly.block_pattern`) is built from the
+    element–node incidence and each block of :data:`_CHUNK_ELEMENTS` element matrices is added into
+    the values in place, so the peak memory of the assembly is the matrix plus the pattern's node
+    keys and one block's temporaries (benchmarks/RESULTS.md, bench_assembly_memory.py). Equal to
+    ``assemble_matrix(N, [stiffness_triplets(...)])`` up to the order of summation (rounding).
+    """
+    from rvcoax.fem.assembly import add_element_matrices, block_pattern
+
+    _check_vector_p2(basis)
+    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    gradients = [basis.basis[3 * a][0].grad[0] for a in range(_N_P2)]  # views: no stacked copy of all elements
+    element_nodes = np.ascontiguousarray(basis.element_dofs[0::3].T // 3)  # (e, 10): DOFs 3 i + c per node i
+    pattern = block_pattern(element_nodes, basis.N // 3)
+    data = np.zeros(pattern.nnz)
+    n = element_nodes.shape[0]
+    chunk = np.empty((_CHUNK_ELEMENTS, 9 * _N_P2 * _N_P2))
+    for start in range(0, n, _CHUNK_ELEMENTS):
+        block = slice(start, min(start + _CHUNK_ELEMENTS, n))
+        values = chunk[: block.stop - block.start]
+        grads = np.stack([g[:, block, :] for g in gradients])
+        _element_stiffness_into(values, grads, basis.dx[block], lam, mu)
+        add_element_matrices(pattern, element_nodes[block], values, data)
+    return sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(basis.N, basis.N))
 
 
 def _scatter(basis, local: np.ndarray) -> np.ndarray:

@@ -14,6 +14,10 @@ bench_solid_scaling.py):
 
 ``"auto"`` picks SuperLU below ``superlu_max_dofs`` (20 k), PARDISO up to ``pardiso_max_dofs``
 (400 k) when MKL can be loaded, AMG above (or without MKL).
+
+:func:`prepare_saddle_point` solves an SPD matrix that is never formed (Tᵀ K T with distributing ties,
+:class:`rvcoax.fem.system.ConstrainedStiffness`) through its sparse saddle-point form, with PARDISO in
+symmetric indefinite mode; its inertia and the same inverse-iteration test refuse a singular matrix.
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from rvcoax.fem.errors import SingularMatrixError, SolverError
 
 __all__ = ["DIRECT_RESIDUAL_LIMIT", "METHODS", "PARDISO_MAX_DOFS", "PreparedSolver", "SINGULAR_INVERSE_NORM",
            "SINGULAR_PIVOT_RATIO", "SUPERLU_MAX_DOFS", "SolverReport", "choose_method", "pardiso_available",
-           "prepare"]
+           "prepare", "prepare_saddle_point"]
 
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
@@ -41,6 +45,7 @@ PARDISO_MAX_DOFS = 400_000
 SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
 SINGULAR_INVERSE_NORM = 1.0 / SINGULAR_PIVOT_RATIO  # PARDISO: 1/λ_min of the Jacobi-scaled matrix above this
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
+REFINEMENT_STEPS = 1  # saddle-point solves: steps of iterative refinement on the constrained stiffness
 
 
 @dataclass(frozen=True)
@@ -67,6 +72,12 @@ class SolverReport:
         ‖A x − b‖ / ‖b‖ per right-hand side of the latest solve.
     iterations : tuple of int
         CG iterations per right-hand side (AMG only; empty for direct methods).
+    matrix_nonzeros : int
+        Stored nonzeros of the matrix solved (both triangles).
+    factor_nonzeros : int
+        Nonzeros of the factor (PARDISO's L, SuperLU's L + U); 0 for AMG.
+    factor_memory_MB : float
+        The library's memory for the factor and its solves (PARDISO); 0 where unknown.
     """
 
     name: str
@@ -77,6 +88,9 @@ class SolverReport:
     peak_memory_increase_MB: float = 0.0
     relative_residuals: tuple[float, ...] = ()
     iterations: tuple[int, ...] = ()
+    matrix_nonzeros: int = 0
+    factor_nonzeros: int = 0
+    factor_memory_MB: float = 0.0
 
 
 def _peak_rss_mb() -> float:
@@ -103,7 +117,7 @@ class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
     def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,
-                 release=None):
+                 release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
         self._rss_before = rss_before
@@ -112,7 +126,9 @@ class PreparedSolver:
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
         peak = _peak_rss_mb()
-        self._report = SolverReport(name, matrix.shape[0], setup_seconds, 0.0, peak, max(0.0, peak - rss_before))
+        self._report = SolverReport(name, matrix.shape[0], setup_seconds, 0.0, peak, max(0.0, peak - rss_before),
+                                    matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros), factor_nonzeros=int(factor[0]),
+                                    factor_memory_MB=float(factor[1]))
 
     def release(self) -> None:
         """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
@@ -213,7 +229,7 @@ def _setup_superlu(a: sp.csr_matrix):
     def solve(block):
         return lu.solve(block), ()
 
-    return "superlu (scipy SuperLU, symmetric mode)", solve, None
+    return "superlu (scipy SuperLU, symmetric mode)", solve, None, (lu.L.nnz + lu.U.nnz, 0.0)
 
 
 def _setup_pardiso(a: sp.csr_matrix):
@@ -228,13 +244,7 @@ def _setup_pardiso(a: sp.csr_matrix):
     try:
         factor = pardiso.Factorization(storage)
     except pardiso.PardisoError as error:
-        if error.phase == "factorisation" and error.code not in pardiso.RESOURCE_ERRORS:
-            where = f" at equation {error.equation}" if error.code == pardiso.ZERO_PIVOT else ""
-            raise SingularMatrixError(
-                f"PARDISO: numerical factorisation failed{where} (error {error.code}): "
-                "the matrix is singular or not positive definite"
-            ) from error
-        raise SolverError(str(error)) from error
+        raise _pardiso_singular(error) from error
 
     def solve(block):
         try:
@@ -245,8 +255,18 @@ def _setup_pardiso(a: sp.csr_matrix):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
+    _refuse_singular(a, solve, factor)
+
+    blocks = " 3×3 blocks," if storage.block_size == 3 else ""
+    return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
+            (factor.factor_nonzeros, factor.memory_MB))
+
+
+def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> None:
+    """Release ``factor`` and raise :class:`SingularMatrixError` when inverse iteration finds 1/λ_min of the
+    Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`scaled_inverse_norm_bound`)."""
     try:
-        bound, equation = scaled_inverse_norm_bound(a, lambda b: solve(b.reshape(-1, 1))[0])
+        bound, equation = scaled_inverse_norm_bound(matrix, lambda b: solve(b.reshape(-1, 1))[0])
     except SolverError:
         factor.release()
         raise
@@ -257,8 +277,82 @@ def _setup_pardiso(a: sp.csr_matrix):
             f"{equation}): the matrix is numerically singular"
         )
 
-    blocks = " 3×3 blocks," if storage.block_size == 3 else ""
-    return f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release
+
+def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
+    if error.phase == "factorisation" and error.code not in pardiso.RESOURCE_ERRORS:
+        where = f" at equation {error.equation}" if error.code == pardiso.ZERO_PIVOT else ""
+        return SingularMatrixError(f"PARDISO: numerical factorisation failed{where} (error {error.code}): "
+                                   "the matrix is singular or not positive definite")
+    return SolverError(str(error))
+
+
+def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
+    """Set up A q = b for an SPD A that is known only as an operator, through its saddle-point form.
+
+    A = Sᵀ K' S, S = [I; Q] ((m + d) × m), is the stiffness with d dependent unknowns p = Q q (tie
+    reference nodes, rows of Q as long as a face) eliminated: formed, it is dense where Q is. The
+    saddle-point matrix [[K', Cᵀ], [C, 0]] with C = D [−Q, I] (D a positive row scaling) keeps p as an
+    unknown and the relation as d Lagrange multipliers λ; it is as sparse as K' and C. Its solution
+    for the right-hand side [b; 0; 0] has q = A⁻¹ b (the constraint gives y = S q, and Sᵀ K' S q = b).
+    Factorised by MKL PARDISO in symmetric indefinite mode (``mtype = -2``, weighted matching and
+    scaling, iterative refinement).
+
+    Parameters
+    ----------
+    operator : rvcoax.fem.system.ConstrainedStiffness
+        A: ``shape`` (m, m), ``diagonal()``, ``@``, ``scaled_one_norm(root)``.
+    augmented : csr_matrix (m + 2d, m + 2d)
+        The saddle-point matrix, symmetric, the m rows of q first.
+
+    Raises
+    ------
+    SingularMatrixError
+        A is singular: a failed factorisation, an inertia other than (m + d, d), or the inverse
+        iteration of :func:`rvcoax.fem.diagnostics.scaled_inverse_norm_bound` above 1e14.
+    SolverError
+        MKL missing, or a library error.
+    """
+    rss_before = _peak_rss_mb()
+    if not pardiso.available():
+        raise SolverError("method 'pardiso' needs Intel MKL (x86-64 only): pip install mkl")
+    start = time.perf_counter()
+    m = operator.shape[0]
+    total = augmented.shape[0]
+    d = (total - m) // 2
+    diagonal = operator.diagonal()
+    if np.any(diagonal <= 0.0):
+        equation = int(np.flatnonzero(diagonal <= 0.0)[0])
+        raise SingularMatrixError(f"PARDISO: diagonal entry {diagonal[equation]:.1e} at equation {equation}: "
+                                  "the matrix is singular or not positive definite")
+    a = _symmetric_csr(augmented)
+    try:
+        factor = pardiso.Factorization(pardiso.upper_csr(a), indefinite=True)
+    except pardiso.PardisoError as error:
+        raise _pardiso_singular(error) from error
+
+    def solve_once(block):
+        padded = np.zeros((total, block.shape[1]))
+        padded[:m] = block
+        try:
+            return factor.solve(padded)[:m]
+        except pardiso.PardisoError as error:
+            raise SolverError(str(error)) from error
+
+    def solve(block):
+        x = solve_once(block)
+        for _ in range(REFINEMENT_STEPS):  # refined against A itself, not the saddle-point matrix
+            x = x + solve_once(block - operator @ x)
+        return x, ()
+
+    positive, negative = factor.inertia
+    if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
+        factor.release()
+        raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
+                                  f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
+    _refuse_singular(operator, solve, factor)
+    name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
+    return PreparedSolver(operator, name, solve, time.perf_counter() - start, rss_before, factor.release,
+                          (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=a.nnz)
 
 
 def _setup_amg(a: sp.csr_matrix, near_null_space, rtol: float, maxiter: int | None):
@@ -288,7 +382,7 @@ def _setup_amg(a: sp.csr_matrix, near_null_space, rtol: float, maxiter: int | No
         return x, iterations
 
     n_modes = 1 if b is None else b.shape[1]
-    return f"amg (pyamg smoothed aggregation, {n_modes} near-null-space vectors, scipy CG)", solve, None
+    return f"amg (pyamg smoothed aggregation, {n_modes} near-null-space vectors, scipy CG)", solve, None, (0, 0.0)
 
 
 def prepare(
@@ -327,11 +421,11 @@ def prepare(
     chosen = choose_method(a.shape[0], superlu_max_dofs, pardiso_max_dofs) if method == "auto" else method
     start = time.perf_counter()
     if chosen == "superlu":
-        name, solve, release = _setup_superlu(a)
+        name, solve, release, factor = _setup_superlu(a)
     elif chosen == "pardiso":
-        name, solve, release = _setup_pardiso(a)
+        name, solve, release, factor = _setup_pardiso(a)
     elif chosen == "amg":
-        name, solve, release = _setup_amg(a, near_null_space, rtol, maxiter)
+        name, solve, release, factor = _setup_amg(a, near_null_space, rtol, maxiter)
     else:
         raise SolverError(f"unknown solver method '{method}': choose one of auto, {', '.join(METHODS)}")
-    return PreparedSolver(a, name, solve, time.perf_counter() - start, rss_before, release)
+    return PreparedSolver(a, name, solve, time.perf_counter() - start, rss_before, release, factor)

@@ -4,6 +4,15 @@ Tᵀ K T, solve any number of load vectors in the full DOF numbering, and check 
 Matrices and vectors only (no rigs, no meshes). :func:`prepare_system` is used for every model
 (beam, hybrid, solid) and every method (SuperLU, PARDISO, AMG: :mod:`rvcoax.fem.solvers`);
 :func:`factorize` is its SuperLU form for small models.
+
+**Long rows of T without fill-in.** A distributing (RBE3-like) tie makes its reference node's DOFs
+combinations of every DOF of a solid face: rows of T as long as the face. Tᵀ K T then couples every
+pair of face DOFs that the springs at the reference node reach, a dense block per face (the
+reference rig's hybrid model: 33.7 M nonzeros at 87 k DOF, 389 per row, where P2 tetrahedra alone
+give about 80). For PARDISO, :func:`prepare_system` instead keeps the DOFs of the long rows as
+unknowns p and imposes p = T_p q by Lagrange multipliers (:class:`ConstrainedStiffness`,
+:func:`rvcoax.fem.solvers.prepare_saddle_point`); the solution is the same to rounding, and Tᵀ K T is
+never formed.
 """
 
 from __future__ import annotations
@@ -16,7 +25,84 @@ import scipy.sparse as sp
 
 from rvcoax.fem import solvers
 
-__all__ = ["ReducedSystem", "factorize", "prepare_system", "reduced_stiffness"]
+__all__ = ["LONG_ROW", "ConstrainedStiffness", "ReducedSystem", "constrained_stiffness", "factorize",
+           "long_rows", "prepare_system", "reduced_stiffness"]
+
+LONG_ROW = 64
+"""A row of T with more nonzeros than this (a distributing tie's reference DOF over a face of 22 or more
+nodes) is kept as an unknown with a multiplier when PARDISO solves; rigid links and rigid ties have 1–6."""
+
+
+def long_rows(elimination: sp.csr_matrix, longer_than: int = LONG_ROW) -> np.ndarray:
+    """The rows of T (DOFs) with more than ``longer_than`` nonzeros."""
+    t = sp.csr_matrix(elimination)
+    return np.flatnonzero(np.diff(t.indptr) > longer_than)
+
+
+class ConstrainedStiffness:
+    """A = Sᵀ K' S (m × m) with S = [I; Q]: Tᵀ K T without forming it.
+
+    K' = T'ᵀ K T' is the stiffness in the unknowns y = [q; p], T' being T with its long rows replaced
+    by unit columns of p; the long rows themselves are Q (p = Q q), and T' S = T. Only K', Q and
+    the saddle-point matrix built from them are stored.
+
+    Attributes
+    ----------
+    kept : csr_matrix ((m + d) × (m + d))
+        K'.
+    dependent : csr_matrix (d × m)
+        Q.
+    """
+
+    def __init__(self, kept: sp.csr_matrix, dependent: sp.csr_matrix):
+        self.kept = kept.tocsr()
+        self.dependent = dependent.tocsr()
+        m = dependent.shape[1]
+        self.shape = (m, m)
+        self.dtype = np.dtype(float)
+        self._expansion = sp.vstack([sp.identity(m, format="csr"), self.dependent]).tocsr()  # S
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        return self._expansion.T @ (self.kept @ (self._expansion @ x))
+
+    def diagonal(self) -> np.ndarray:
+        """diag(Sᵀ K' S), one column of S at a time in effect (sparse products, no dense block)."""
+        ks = (self.kept @ self._expansion).tocsc()
+        return np.asarray(ks.multiply(self._expansion).sum(axis=0)).reshape(-1)
+
+    def scaled_one_norm(self, root: np.ndarray, columns_per_chunk: int = 2048) -> float:
+        """‖diag(1/root) A diag(1/root)‖₁, exact, A formed ``columns_per_chunk`` columns at a time."""
+        s = self._expansion.tocsc()
+        st = self._expansion.T.tocsr()
+        norm = 0.0
+        for start in range(0, self.shape[0], columns_per_chunk):
+            stop = min(start + columns_per_chunk, self.shape[0])
+            block = (st @ (self.kept @ s[:, start:stop])).tocsc()
+            sums = np.asarray(abs(sp.diags(1.0 / root) @ block).sum(axis=0)).reshape(-1) / root[start:stop]
+            norm = max(norm, float(sums.max(initial=0.0)))
+        return norm
+
+    def saddle_point_matrix(self) -> sp.csr_matrix:
+        """[[K', Cᵀ], [C, 0]] with C = D [−Q, I], D scaling each multiplier row to its p's stiffness."""
+        m, d = self.shape[0], self.dependent.shape[0]
+        scale = self.kept.diagonal()[m:]
+        scale = np.where(scale > 0.0, scale, 1.0)
+        c = sp.diags(scale) @ sp.hstack([-self.dependent, sp.identity(d)]).tocsr()
+        return sp.bmat([[self.kept, c.T], [c, None]], format="csr")
+
+
+def constrained_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, rows: np.ndarray) -> ConstrainedStiffness:
+    """Tᵀ K T as :class:`ConstrainedStiffness`, the DOFs ``rows`` (long rows of T) kept as unknowns."""
+    t = sp.csr_matrix(elimination)
+    n, m = t.shape
+    rows = np.asarray(rows, dtype=int)
+    keep = np.ones(n, dtype=bool)
+    keep[rows] = False
+    short = sp.diags(keep.astype(float)) @ t  # T with the long rows emptied
+    unit = sp.csr_matrix((np.ones(rows.size), (rows, np.arange(rows.size))), shape=(n, rows.size))
+    expanded = sp.hstack([short, unit]).tocsr()  # T'
+    kept = (expanded.T @ stiffness @ expanded).tocsr()
+    return ConstrainedStiffness(kept, t[rows])
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,8 +181,13 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     rvcoax.fem.errors.SingularMatrixError
         A direct factorisation found Tᵀ K T singular.
     """
+    chosen = solvers.choose_method(elimination.shape[1]) if method == "auto" else method
+    long = long_rows(elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
+    if long.size:
+        operator = constrained_stiffness(stiffness, elimination, long)
+        return ReducedSystem(stiffness, elimination,
+                             solvers.prepare_saddle_point(operator, operator.saddle_point_matrix()))
     reduced = reduced_stiffness(stiffness, elimination, symmetrize)
-    chosen = solvers.choose_method(reduced.shape[0]) if method == "auto" else method
     modes = elimination.T @ near_null_space() if chosen == "amg" and near_null_space is not None else None
     return ReducedSystem(stiffness, elimination, solvers.prepare(reduced, method=chosen, near_null_space=modes))
 

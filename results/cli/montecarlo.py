@@ -9,6 +9,7 @@ arrives and then the tables and the picture.
 from __future__ import annotations
 
 import hashlib
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -39,7 +40,8 @@ TolerancesOption = Annotated[Path, typer.Option(
     "--tolerances", help="Tolerance file (TOML): parameters with distributions, load cases, β limits. "
                          "Example: loadcases/data/example_tolerances.toml.")]
 SchedulerOption = Annotated[str, typer.Option(
-    "--scheduler", help="local (a Dask cluster on this machine, default), tcp://HOST:PORT (an existing Dask "
+    "--scheduler", help="auto (default: serial, or a local Dask cluster when the measured time per sample says "
+                        "it pays), local (a Dask cluster on this machine), tcp://HOST:PORT (an existing Dask "
                         "scheduler) or serial (no Dask, in this process).")]
 WorkersOption = Annotated[int | None, number_option(
     "--workers", 1, 1024, integer=True, help="Worker processes of the local cluster, 1 … 1024 (default: one per core).")]
@@ -100,11 +102,13 @@ def _nominal(study) -> dict:
     return {"values": dict(zip(study.addresses, values)), **result}
 
 
-def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool):
+def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool,
+             setup_seconds: float | None = None):
     from rvcoax.results.studies.distributed import ClusterError, ResumeError, SampleError, run_samples
     from rvcoax.results.studies.montecarlo import evaluate_sample
 
-    where = "this process" if scheduler == "serial" else (
+    where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
+        scheduler == "auto") else (
         f"a local Dask cluster ({f'{workers} workers' if workers else 'one worker per core'})" if scheduler == "local"
         else f"the Dask scheduler at {scheduler}")
     console.print(f"{len(values)} samples on {escape(where)}; each sample is written to {escape(str(out / 'samples'))} "
@@ -113,12 +117,15 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
         with _progress() as progress:
             task = progress.add_task("solving samples", total=len(values))
             records, run = run_samples(evaluate_sample, study, values, out / "samples", fingerprint, scheduler,
-                                       workers, resume, progress=lambda done, total: progress.update(task, completed=done))
+                                       workers, resume, progress=lambda done, total: progress.update(task, completed=done),
+                                       setup_seconds=setup_seconds)
     except (ResumeError, ClusterError) as error:
         raise UserError(str(error)) from None
     except SampleError as error:
         shown = ", ".join(f"{a} = {v:g}" for a, v in zip(study.addresses, values[error.index]))
         raise UserError(f"{error} (values: {shown})") from None
+    if run.choice is not None:
+        console.print(f"scheduler auto: {escape(run.choice.describe())}")
     rate = f", {run.computed / run.seconds:.1f} samples/s" if run.computed and run.seconds > 0 else ""
     console.print(f"{run.computed} sample(s) solved, {run.resumed} resumed from disk, "
                   f"{run.resubmitted} resubmitted after lost workers; {run.seconds:.1f} s on {run.workers} worker(s){rate}")
@@ -147,7 +154,7 @@ def montecarlo(
     model: ModelOption = "beam",
     mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/montecarlo"),
-    scheduler: SchedulerOption = "local",
+    scheduler: SchedulerOption = "auto",
     workers: WorkersOption = None,
     resume: ResumeOption = False,
     seed: SeedOption = 0,
@@ -165,16 +172,17 @@ def montecarlo(
     scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
         raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
-    check_workers(workers if scheduler == "local" else None)
+    check_workers(workers if scheduler in ("auto", "local") else None)
     tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
     _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
     except ValueError as error:
         raise UserError(f"--samples/--sampling: {error}") from None
-    nominal = _nominal(study)
+    begin = time.perf_counter()
+    nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume)
+    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
     found = report.exceedances(study, tol, records)
     source, text = rig_text(rig_file)
     document = report.study_document(study, tol, source, text,
@@ -225,7 +233,7 @@ def sensitivity(
     model: ModelOption = "beam",
     mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/sensitivity"),
-    scheduler: SchedulerOption = "local",
+    scheduler: SchedulerOption = "auto",
     workers: WorkersOption = None,
     resume: ResumeOption = False,
     seed: SeedOption = 0,
@@ -252,7 +260,7 @@ def sensitivity(
     scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:
         raise UserError(f"--method: must be sobol or morris, got '{method}'")
-    check_workers(workers if scheduler == "local" else None)
+    check_workers(workers if scheduler in ("auto", "local") else None)
     tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
     d = len(tol.parameters)
     _check_size(design_runs(method, samples, d), tol, study, "--samples",
@@ -264,9 +272,10 @@ def sensitivity(
     values = to_values(tol.distributions, points) if method == "sobol" else morris_values(tol.distributions, points)
     console.print(f"{method}: {samples} {'base samples' if method == 'sobol' else 'trajectories'} x "
                   f"({d} + {2 if method == 'sobol' else 1}) = {design_runs(method, samples, d)} solves")
+    begin = time.perf_counter()
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume)
+    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
     beta = report.stack(records, "beta_deg")
     found = {}
     for c in range(len(study.cases)):

@@ -141,10 +141,10 @@ def torque_list(text: str, option: str) -> list[float]:
 
 
 def scheduler_address(text: str) -> str:
-    """``local``, ``serial`` or a Dask scheduler address ``PROTOCOL://HOST:PORT``; else :class:`UserError`."""
-    if text in ("local", "serial"):
+    """``auto``, ``local``, ``serial`` or a Dask scheduler address ``PROTOCOL://HOST:PORT``; else :class:`UserError`."""
+    if text in ("auto", "local", "serial"):
         return text
-    expected = f"local, serial or an address such as tcp://HOST:8786 (protocols {', '.join(SCHEDULER_PROTOCOLS)})"
+    expected = f"auto, local, serial or an address such as tcp://HOST:8786 (protocols {', '.join(SCHEDULER_PROTOCOLS)})"
     protocol, separator, rest = text.partition("://")
     if not separator:
         raise UserError(f"--scheduler: '{text}' is not {expected}")

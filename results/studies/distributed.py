@@ -12,6 +12,8 @@ belong to the same study and have the same values) and only the others are compu
 ``"tcp://HOST:PORT"`` an existing Dask scheduler (``dask scheduler`` / ``dask worker``); the
                     workers need the same rvcoax installed.
 ``"serial"``        no Dask: the samples run one after another in this process.
+``"auto"``          serial, or a local cluster when the work pays for it (:func:`choose_scheduler`):
+                    the first two samples run in this process and time the set-up and a sample.
 
 A worker that dies loses only its in-flight samples: Dask re-runs them on the other workers, and a
 sample that Dask gives up on (``KilledWorker`` after repeated deaths) is submitted again, up to
@@ -36,11 +38,24 @@ import numpy as np
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.results.io.writers import write_json_atomic
 
-__all__ = ["ClusterError", "MANIFEST", "ResumeError", "RunReport", "SAMPLE_PATTERN", "SampleError", "future_outcome",
-           "run_samples", "sample_path"]
+__all__ = ["CLUSTER_START_SECONDS", "CLUSTER_STEADY_CORES", "ClusterError", "MANIFEST", "PAYS_BELOW", "ResumeError",
+           "RunReport", "SAMPLE_PATTERN", "SampleError", "SchedulerChoice", "TASK_OVERHEAD_SECONDS", "choose_scheduler",
+           "future_outcome", "run_samples", "sample_path"]
 
 SAMPLE_PATTERN = "sample_*.json"
 MANIFEST = "study.json"
+
+CLUSTER_START_SECONDS = 3.0
+"""Start of a local cluster to its first result, without the model's set-up in the workers (measured:
+2.8–2.9 s for 1 and 2 workers on 2 cores, benchmarks/RESULTS.md, bench_montecarlo.py)."""
+CLUSTER_STEADY_CORES = 1
+"""Cores the client and scheduler take from the workers in steady state (measured on 2 cores: 2 workers gave
+0.71× the serial rate on beam samples and 0.79× on hybrid ones, i.e. about one core's worth of work)."""
+TASK_OVERHEAD_SECONDS = 0.007
+"""Per sample on a cluster, on top of its work (measured: 1 worker, steady 34.8 samples/s against 46.2/s in
+process for 12.6 ms beam samples)."""
+PAYS_BELOW = 0.8
+"""The cluster is chosen only when its estimated time is below this fraction of the serial estimate."""
 
 
 class SampleError(RvcoaxError, RuntimeError):
@@ -61,7 +76,8 @@ class ClusterError(RvcoaxError, RuntimeError):
 
 @dataclass(frozen=True)
 class RunReport:
-    """How a run went: samples taken from disk, computed, resubmitted after lost workers, seconds."""
+    """How a run went: samples taken from disk, computed, resubmitted after lost workers, seconds; for
+    ``scheduler="auto"`` the choice and its estimate (``choice``, else None)."""
 
     scheduler: str
     workers: int
@@ -70,6 +86,52 @@ class RunReport:
     computed: int
     resubmitted: int
     seconds: float
+    choice: SchedulerChoice | None = None
+
+
+@dataclass(frozen=True)
+class SchedulerChoice:
+    """Serial or a local cluster, from the estimated time of each (seconds) for the samples left."""
+
+    scheduler: str
+    serial_seconds: float
+    cluster_seconds: float
+    workers: int
+
+    def describe(self) -> str:
+        other = "local cluster" if self.scheduler == "serial" else "serial"
+        mine, theirs = ((self.serial_seconds, self.cluster_seconds) if self.scheduler == "serial"
+                        else (self.cluster_seconds, self.serial_seconds))
+        return (f"{self.scheduler} (estimated {mine:.1f} s for the samples left, {other} {theirs:.1f} s "
+                f"with {self.workers} worker(s))")
+
+
+def choose_scheduler(n_samples: int, seconds_per_sample: float, setup_seconds: float, workers: int | None = None,
+                     cores: int | None = None) -> SchedulerChoice:
+    """Serial, or a local cluster when it is estimated to take less than :data:`PAYS_BELOW` of the serial time.
+
+    Serial: n t. Cluster: :data:`CLUSTER_START_SECONDS` + the model's set-up in every worker
+    + n (t + :data:`TASK_OVERHEAD_SECONDS`) / w_eff, w_eff = min(workers, cores − :data:`CLUSTER_STEADY_CORES`). On 2 cores w_eff = 1 and serial always wins,
+    as measured; the cluster pays on more cores for studies whose total work is well above its start-up.
+
+    Parameters
+    ----------
+    n_samples : int
+        Samples left to compute.
+    seconds_per_sample, setup_seconds : float
+        Measured in this process: one sample on the set-up model, and the model's set-up.
+    workers : int, optional
+        Local workers (default: one per core).
+    cores : int, optional
+        Default: ``os.cpu_count()``.
+    """
+    cores = cores or os.cpu_count() or 1
+    workers = workers or cores
+    effective = max(1, min(workers, cores - CLUSTER_STEADY_CORES))
+    serial = n_samples * seconds_per_sample
+    cluster = CLUSTER_START_SECONDS + setup_seconds + n_samples * (seconds_per_sample + TASK_OVERHEAD_SECONDS) / effective
+    chosen = "local" if cluster < PAYS_BELOW * serial else "serial"
+    return SchedulerChoice(chosen, serial, cluster, workers)
 
 
 def sample_path(folder: Path, index: int) -> Path:
@@ -136,7 +198,8 @@ def _connect(stack: ExitStack, scheduler: str, workers: int | None):
 def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,
                 fingerprint: str, scheduler: str = "local", workers: int | None = None, resume: bool = False,
                 progress: Callable[[int, int], None] | None = None, retries: int = 3,
-                on_result: Callable[[int, dict], None] | None = None) -> tuple[list[dict], RunReport]:
+                on_result: Callable[[int, dict], None] | None = None,
+                setup_seconds: float | None = None) -> tuple[list[dict], RunReport]:
     """Evaluate ``function(shared, rows[i])`` for every row; results in row order.
 
     Parameters
@@ -152,11 +215,14 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
     fingerprint : str
         Names the study; a resumed sample must carry the same.
     scheduler, workers, resume, retries
-        See the module docstring.
+        See the module docstring (``"auto"``: :func:`choose_scheduler`).
     progress : callable, optional
         ``progress(done, total)`` after each sample (resumed ones count as done).
     on_result : callable, optional
         ``on_result(index, result)`` after each computed sample is written.
+    setup_seconds : float, optional
+        ``"auto"`` only: the model's set-up time (every cluster worker repeats it), when the caller has
+        measured it (the model is then already set up here); default: the first sample's time less the second's.
     """
     folder = Path(folder)
     rows = np.atleast_2d(np.asarray(rows, dtype=float))
@@ -180,19 +246,40 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
         progress(len(results), total)
     resubmitted = 0
     n_workers = 1
+    choice = None
+
+    def run_here(index: int) -> None:
+        try:
+            outcome = function(shared, rows[index])
+        except Exception as error:  # the model raised: name the sample
+            raise SampleError(index, f"{type(error).__name__}: {error}") from error
+        store(index, outcome)
+
+    if scheduler == "auto":
+        timed = []
+        for index in pending[:2]:  # the first builds the model (when not built yet), the second reuses it
+            begin = time.perf_counter()
+            run_here(index)
+            timed.append(time.perf_counter() - begin)
+        pending = pending[2:]
+        per_sample = timed[-1] if timed else 0.0
+        if setup_seconds is None:
+            setup_seconds = max(timed[0] - per_sample, 0.0) if timed else 0.0
+        choice = choose_scheduler(len(pending), per_sample, setup_seconds, workers)
+        scheduler = choice.scheduler
+        computed_here = len(timed)
+    else:
+        computed_here = 0
     if scheduler == "serial":
         for index in pending:
-            try:
-                outcome = function(shared, rows[index])
-            except Exception as error:  # the model raised: name the sample
-                raise SampleError(index, f"{type(error).__name__}: {error}") from error
-            store(index, outcome)
+            run_here(index)
     elif pending:
         with ExitStack() as stack:
             client = _connect(stack, scheduler, workers)
             n_workers = len(client.scheduler_info()["workers"])
             resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries)
-    report = RunReport(scheduler, n_workers, total, resumed, len(pending), resubmitted, time.perf_counter() - start)
+    report = RunReport(scheduler, n_workers, total, resumed, computed_here + len(pending), resubmitted,
+                       time.perf_counter() - start, choice)
     return [results[i] for i in range(total)], report
 
 

@@ -93,7 +93,10 @@ def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_te
         "run": {"scheduler": run.scheduler, "workers": run.workers, "samples": run.n_samples,
                 "resumed": run.resumed, "computed": run.computed, "resubmitted_after_lost_workers": run.resubmitted,
                 "seconds": run.seconds,
-                "computed_per_second": run.computed / run.seconds if run.seconds > 0 else None},
+                "computed_per_second": run.computed / run.seconds if run.seconds > 0 else None,
+                **({} if run.choice is None else {"auto_choice": {
+                    "scheduler": run.choice.scheduler, "serial_estimate_s": run.choice.serial_seconds,
+                    "local_cluster_estimate_s": run.choice.cluster_seconds, "workers": run.choice.workers}})},
         "nominal": nominal,
         "units": {"Y": "mm", "beta": "degree", "torque": "N·m"},
     }

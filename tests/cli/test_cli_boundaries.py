@@ -56,7 +56,7 @@ def test_scheduler_address_accepts(address):
 
 @pytest.mark.parametrize(("address", "words"), [("garbage://x", "protocol 'garbage'"), ("tcp://x", "HOST:PORT"),
                                                 ("tcp://x:0", "port 1 … 65535"), ("tcp://x:８７", "port 1 … 65535"),
-                                                ("dask", "is not local, serial")])
+                                                ("dask", "is not auto, local, serial")])
 def test_scheduler_address_refuses(address, words):
     with pytest.raises(UserError, match="--scheduler") as caught:
         scheduler_address(address)

@@ -69,7 +69,7 @@ for command, option, value, words in (
     CASES.append(_case(f"{command} {option} {value!r}", run(command, "--tolerances", str(TOLERANCES), option, value),
                        option, words))
 for address, words in (("garbage://x", "protocol 'garbage' is not one of"), ("tcp://host", "needs HOST:PORT"),
-                       ("tcp://host:99999", "port 1 … 65535"), ("nowhere", "is not local, serial or an address"),
+                       ("tcp://host:99999", "port 1 … 65535"), ("nowhere", "is not auto, local, serial or an address"),
                        ("tcp://:8786", "needs HOST:PORT")):
     CASES.append(_case(f"montecarlo --scheduler {address}",
                        run("montecarlo", "--tolerances", str(TOLERANCES), "--scheduler", address, "--samples", "2"),

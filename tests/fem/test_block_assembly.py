@@ -1,0 +1,86 @@
+"""A solid's stiffness assembled in chunks straight into its 3 × 3-block pattern, and blocks placed side by side."""
+
+from __future__ import annotations
+
+import tracemalloc
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from rvcoax.fem import solid
+from rvcoax.fem.assembly import add_element_matrices, assemble_matrix, block_diagonal, block_pattern
+from rvcoax.fem.pieces import Contribution, assemble, solid_contribution
+from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
+
+
+@pytest.fixture(scope="module")
+def basis(tmp_path_factory):
+    geometry = SolidPartGeometry("bar", ((0.0, 60.0, 30.0, 12.0), (60.0, 100.0, 20.0, 0.0)), (), 6.0)
+    return solid.solid_basis(mesh_part(geometry, cache_dir=tmp_path_factory.mktemp("meshes")))
+
+
+def test_chunked_assembly_is_the_triplet_assembly(basis):
+    chunked = solid.stiffness_matrix(basis, 2.1e11, 0.28)
+    reference = assemble_matrix(basis.N, [solid.stiffness_triplets(basis, 2.1e11, 0.28)])
+    assert np.array_equal(chunked.indptr, reference.indptr) and np.array_equal(chunked.indices, reference.indices)
+    # the same additions in the same (element) order: the same floats
+    assert np.array_equal(chunked.data, reference.data)
+
+
+def test_assembly_peak_memory_is_close_to_the_matrix(basis):
+    tracemalloc.start()
+    try:
+        matrix = solid.stiffness_matrix(basis, 2.1e11, 0.28)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    size = matrix.data.nbytes + matrix.indices.nbytes + matrix.indptr.nbytes
+    # on top: one chunk of 512 element matrices with its temporaries (about 16 MB whatever the mesh; the
+    # ~300 k-DOF benchmark, bench_assembly_memory.py, shows the ratio itself)
+    assert peak <= 1.5 * size + 16e6
+    triplets = solid.stiffness_triplets(basis, 2.1e11, 0.28)
+    assert sum(a.nbytes for a in triplets) > 2 * size  # what the triplet path holds before it even sums
+
+
+def test_pattern_of_two_elements_sharing_nodes():
+    nodes = np.array([[0, 1, 2], [2, 3, 1]])
+    pattern = block_pattern(nodes, 4)
+    data = np.zeros(pattern.nnz)
+    rng = np.random.default_rng(0)
+    matrices = rng.standard_normal((2, 9, 9))
+    add_element_matrices(pattern, nodes, matrices, data)
+    got = sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(12, 12)).toarray()
+    expected = np.zeros((12, 12))
+    for element, m in zip(nodes, matrices):
+        dofs = (3 * element[:, None] + np.arange(3)).ravel()
+        expected[np.ix_(dofs, dofs)] += m
+    assert np.array_equal(got, expected)
+    assert pattern.nnz == 9 * 14  # node pairs: 4 diagonal + 10 off-diagonal (0-3 never meet)
+    with pytest.raises(ValueError, match="not in the pattern"):
+        add_element_matrices(pattern, np.array([[0, 3, 1]]), matrices[:1], data)
+
+
+def test_block_diagonal_places_blocks_and_refuses_overlaps():
+    a, b = sp.csr_matrix(np.arange(1.0, 5.0).reshape(2, 2)), sp.csr_matrix(np.array([[7.0]]))
+    placed = block_diagonal(6, [(4, b), (1, a)]).toarray()
+    expected = np.zeros((6, 6))
+    expected[1:3, 1:3], expected[4, 4] = a.toarray(), 7.0
+    assert np.array_equal(placed, expected)
+    with pytest.raises(ValueError, match="overlaps"):
+        block_diagonal(6, [(1, a), (2, b)])
+
+
+def test_pieces_with_a_solid_block_equal_the_triplet_sum(basis):
+    offset = 12
+    n = offset + basis.N
+    frame = Contribution(stiffness=(np.array([0, 5, 11]), np.array([0, 5, 11]), np.array([1.0, 2.0, 3.0])))
+    with_block = assemble(n, [frame, solid_contribution(basis, 2.1e11, 0.28, 7850.0, offset, (0, -1, 0))])
+    triplets = solid.stiffness_triplets(basis, 2.1e11, 0.28, dof_offset=offset)
+    reference = assemble_matrix(n, [frame.stiffness, triplets])
+    assert (with_block.stiffness != reference).nnz == 0
+    # a triplet inside the block's range: added instead of placed side by side
+    inside = Contribution(stiffness=(np.array([offset + 1]), np.array([offset + 1]), np.array([5.0])))
+    added = assemble(n, [inside, solid_contribution(basis, 2.1e11, 0.28, 7850.0, offset, (0, -1, 0))])
+    expected = assemble_matrix(n, [inside.stiffness, triplets])
+    assert abs(added.stiffness - expected).max() <= 1e-15 * abs(expected).max()

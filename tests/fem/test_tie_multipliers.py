@@ -1,0 +1,94 @@
+"""Distributing ties kept as unknowns with Lagrange multipliers: same solution as Tᵀ K T, no dense block."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from rvcoax.fem import solid
+from rvcoax.fem.assembly import assemble_matrix
+from rvcoax.fem.constraints import elimination_matrix
+from rvcoax.fem.solvers import SingularMatrixError, pardiso_available
+from rvcoax.fem.system import LONG_ROW, constrained_stiffness, long_rows, prepare_system, reduced_stiffness
+from rvcoax.fem.ties import FaceNodes, distributing_tie_equations
+from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
+
+needs_pardiso = pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
+FRAME_DOFS = 12  # two 6-DOF reference nodes, then the solid
+
+
+def end_face(basis, x_m: float) -> FaceNodes:
+    """The P2 nodes of the end face at x (unit weights), DOFs shifted past the frame."""
+    ux = np.flatnonzero((solid.dof_components(basis) == 0) & np.isclose(basis.doflocs[0], x_m))
+    dofs = np.column_stack([ux, ux + 1, ux + 2]) + FRAME_DOFS
+    return FaceNodes(basis.doflocs[:, ux].T, dofs, np.ones(ux.size))
+
+
+@pytest.fixture(scope="module")
+def tied_bar(tmp_path_factory):
+    """A solid bar, each end face tied (RBE3) to a reference node; node 0 on springs to ground, load on node 1."""
+    mesh = mesh_part(SolidPartGeometry("bar", ((0.0, 50.0, 40.0, 0.0),), (), 8.0),
+                     cache_dir=tmp_path_factory.mktemp("meshes"))
+    basis = solid.solid_basis(mesh)
+    n = FRAME_DOFS + basis.N
+    ground = np.array([1e9, 1e9, 1e9, 1e5, 1e5, 1e5])
+    k = assemble_matrix(n, [solid.stiffness_triplets(basis, 2.1e11, 0.3, dof_offset=FRAME_DOFS),
+                            (np.arange(6), np.arange(6), ground)])
+    equations = {**distributing_tie_equations(0, np.zeros(3), end_face(basis, 0.0)),
+                 **distributing_tie_equations(1, np.array([0.05, 0.0, 0.0]), end_face(basis, 0.05))}
+    t = elimination_matrix(n, [], equations)[0]
+    loads = np.zeros((n, 3))
+    loads[6 + 1, 0] = -500.0  # lateral force
+    loads[6 + 3, 1] = 20.0  # torque
+    loads[6 + 0, 2], loads[6 + 5, 2] = 300.0, 7.0  # axial force and bending moment
+    return k, t, loads, ground
+
+
+def test_long_rows_are_the_distributing_ties(tied_bar):
+    _, t, _, _ = tied_bar
+    assert np.array_equal(long_rows(t), np.arange(12))  # both reference nodes, nothing else
+    assert np.diff(t.indptr)[:12].min() > LONG_ROW
+
+
+def test_constrained_stiffness_is_the_reduced_stiffness_without_forming_it(tied_bar):
+    k, t, _, _ = tied_bar
+    formed = reduced_stiffness(k, t)
+    operator = constrained_stiffness(k, t, long_rows(t))
+    x = np.random.default_rng(1).standard_normal((t.shape[1], 2))
+    assert np.allclose(operator @ x, formed @ x, rtol=0, atol=1e-12 * abs(formed).max() * np.abs(x).max())
+    assert np.allclose(operator.diagonal(), formed.diagonal(), rtol=1e-12)
+    root = np.sqrt(formed.diagonal())
+    exact = abs(sp.diags(1 / root) @ formed @ sp.diags(1 / root)).sum(axis=0).max()
+    assert operator.scaled_one_norm(root, columns_per_chunk=97) == pytest.approx(exact, rel=1e-12)
+    # the multiplier form adds the tie rows (twice) to K and no dense face block
+    tie_entries = t[long_rows(t)].nnz
+    assert operator.saddle_point_matrix().nnz <= k.nnz + 2 * tie_entries + 2 * 12
+    grounded_face = np.diff(t.indptr)[1] // 3  # nodes on the face tied to the grounded node
+    assert formed.nnz > k.nnz + (3 * grounded_face) ** 2 // 2
+
+
+@needs_pardiso
+@pytest.mark.slow  # 2.7 s idle, 15 s on a loaded 2-core machine (SuperLU of the dense reference, condition estimates)
+def test_multiplier_solve_equals_the_eliminated_solve(tied_bar):
+    k, t, loads, _ = tied_bar
+    kept = prepare_system(k, t, "pardiso")
+    assert "multipliers" in kept.solver_name and "mtype=-2" in kept.solver_name
+    eliminated = prepare_system(k, t, "superlu", symmetrize=True)
+    u, reference = kept.solve(loads), eliminated.solve(loads)
+    assert np.all(np.abs(u - reference).max(axis=0) <= 1e-10 * np.abs(reference).max(axis=0))
+    assert kept.relative_residual(u, loads).max() < 1e-10
+    report = kept.solver.report
+    assert report.factor_nonzeros > 0 and report.matrix_nonzeros < reduced_stiffness(k, t).nnz
+    condition = kept.condition_estimate()
+    assert condition == pytest.approx(eliminated.condition_estimate(), rel=1e-6)
+
+
+@needs_pardiso
+@pytest.mark.slow
+def test_singular_constrained_stiffness_is_refused_every_time(tied_bar):
+    k, t, _, ground = tied_bar
+    free = k - sp.csr_matrix((ground, (np.arange(6), np.arange(6))), shape=k.shape)  # nothing grounded
+    for _ in range(3):
+        with pytest.raises(SingularMatrixError, match="singular"):
+            prepare_system(free.tocsr(), t, "pardiso")
