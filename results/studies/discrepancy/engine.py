@@ -110,8 +110,7 @@ class Engine:
         moved = solve(change) if np.any(change) else np.zeros_like(self.unit)
         u = self.unit + moved
         if operator is not None:
-            g = np.asarray(solve(operator.T.toarray()))  # K⁻¹ Uᵀ
-            ug = np.asarray(operator @ g)
+            g, ug = self._influence(operator)
             small = np.eye(delta.size) + delta[:, None] * ug
             u = u - g @ np.linalg.solve(small, delta[:, None] * np.asarray(operator @ u))
             self._check(system.stiffness + operator.T @ sp.diags(delta) @ operator, u, self._loads_with(loads, change))
@@ -119,14 +118,27 @@ class Engine:
             self._check(system.stiffness, u, self._loads_with(loads, change))
         return np.asarray(self.path_operator @ (u - self.unit)).T
 
+    def _influence(self, operator):
+        """G = K⁻¹ Uᵀ and U G of a spring operator (cached: a grid of one spring reuses them)."""
+        cache = self.__dict__.setdefault("_influence_cache", {})
+        key = (operator.indices.tobytes(), operator.data.tobytes(), operator.indptr.tobytes())
+        if key not in cache:
+            g = np.asarray(self.prepared.solve(operator.T.toarray()))
+            cache[key] = (g, np.asarray(operator @ g))
+        return cache[key]
+
     def _loads_with(self, loads, change):
         return np.column_stack([self.system.unit_loads[k] for k in UNIT_LOADS]) + change
 
     def _check(self, stiffness, u, load) -> None:
         elimination = self.system.elimination
         residual = np.linalg.norm(elimination.T @ (stiffness @ u - load), axis=0)
+        absolute = self.__dict__.get("_absolute_stiffness")
+        if absolute is None:
+            absolute = abs(self.system.stiffness)
+            object.__setattr__(self, "_absolute_stiffness", absolute)
         scale = np.linalg.norm(elimination.T @ load, axis=0) + np.linalg.norm(
-            elimination.T @ (abs(stiffness) @ np.abs(u)), axis=0)
+            elimination.T @ (absolute @ np.abs(u)), axis=0)
         worst = float(np.max(np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), 0.0)))
         if not np.all(np.isfinite(u)) or worst > RESIDUAL_LIMIT:
             raise ModelError(f"the updated unit responses miss equilibrium (relative residual {worst:.1e})")

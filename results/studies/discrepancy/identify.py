@@ -95,10 +95,20 @@ class Problem:
         def split(x):
             return tuple(np.array(part) for part in np.split(x, np.cumsum(sizes)[:-1]))
 
+        def jacobian(x):
+            values = split(x)
+            slope = self.observe.jacobian(self.paths(names, values)) if hasattr(self.observe, "jacobian") else None
+            if slope is None:
+                return "2-point"
+            blocks = [np.asarray(slope @ self.responses[n].derivative(v).T) for n, v in zip(names, values)]
+            return (-np.hstack(blocks) / self.sigma[:, None])[self.rows]
+
+        analytic = hasattr(self.observe, "jacobian")
         best = None
         for x0 in starts:
             x0 = np.clip(x0, lower, upper)
             result = least_squares(lambda x: self.scaled_residual(names, split(x)), x0, bounds=(lower, upper),
+                                   jac=jacobian if analytic else "2-point",
                                    x_scale=scale, method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10)
             chi2 = float(2.0 * result.cost)
             if best is None or chi2 < best[0]:

@@ -23,8 +23,8 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.studies.discrepancy.measured import MeasuredData
 from rvcoax.results.sweep import SweepSettings, run_sweep
 
-__all__ = ["EffectResponse", "GRID_POINTS", "Observation", "PathLayout", "effect_response", "full_paths",
-           "solve_full_paths"]
+__all__ = ["COARSE_POINTS", "EffectResponse", "GRID_POINTS", "Observation", "PathLayout", "effect_response",
+           "engine_response", "full_paths", "parameter_grid", "solve_full_paths"]
 
 GRID_POINTS = 11
 
@@ -85,11 +85,33 @@ class Observation:
             self.matrix = sp.csr_matrix((vals, (rows.astype(int), cols.astype(int))), shape=(data.n, layout.size))
         else:
             self.blocks = [layout.block(int(c), s) for c, s in zip(data.case_index, data.shaft)]
+            self._n_input = layout.stations_mm["input"].size
+            self._is_input = data.shaft == "input"
 
     def __call__(self, paths: np.ndarray) -> np.ndarray:
         if self.data.schema == "paths":
             return self.matrix @ paths
-        return np.array([np.max(np.abs(paths[b])) for b in self.blocks])
+        full = np.abs(paths.reshape(self.layout.n_cases, -1))  # |Y_max| of every case and shaft at once
+        first, second = full[:, : self._n_input].max(axis=1), full[:, self._n_input:].max(axis=1)
+        return np.where(self._is_input, first[self.data.case_index], second[self.data.case_index])
+
+
+    def jacobian(self, paths: np.ndarray):
+        """d(observations)/d(paths) at ``paths`` (sparse): the interpolation matrix for paths; for a table, sign(Y)
+        at the station of each |Y_max|."""
+        if self.data.schema == "paths":
+            return self.matrix
+        import scipy.sparse as sp
+
+        full = paths.reshape(self.layout.n_cases, -1)
+        n_in = self._n_input
+        first = np.argmax(np.abs(full[:, :n_in]), axis=1)
+        second = n_in + np.argmax(np.abs(full[:, n_in:]), axis=1)
+        case = self.data.case_index
+        column = np.where(self._is_input, first[case], second[case])
+        flat = case * full.shape[1] + column
+        return sp.csr_matrix((np.sign(paths[flat]) + (paths[flat] == 0), (np.arange(self.data.n), flat)),
+                             shape=(self.data.n, paths.size))
 
 
 def _spline_weights(stations: np.ndarray, x) -> np.ndarray:
@@ -112,12 +134,50 @@ class EffectResponse:
     grid: np.ndarray | None = None  # grid: parameter values
     grid_paths: np.ndarray | None = None  # grid: (n_grid, n_full) change at each grid value
     bounds: tuple[np.ndarray, np.ndarray] | None = None  # where the response is known
+    unit: np.ndarray | None = None  # (n_params or n_grid, 7, n_path): the change of the unit paths, when known
 
     def delta(self, values) -> np.ndarray:
         values = np.atleast_1d(np.asarray(values, dtype=float))
         if self.kind == "linear":
             return values @ self.columns
         return self._spline(np.clip(values[0], self.grid[0], self.grid[-1]))
+
+    def unit_at(self, values) -> np.ndarray | None:
+        """The change of the unit paths (7, n_path) at ``values``; None when only the data's cases were solved."""
+        if self.unit is None:
+            return None
+        values = np.atleast_1d(np.asarray(values, dtype=float))
+        if self.kind == "linear":
+            return np.tensordot(values, self.unit, axes=1)
+        spline = self.__dict__.get("_cached_unit_spline")
+        if spline is None:
+            spline = CubicSpline(self.grid, self.unit.reshape(self.grid.size, -1), axis=0)
+            object.__setattr__(self, "_cached_unit_spline", spline)
+        return spline(np.clip(values[0], self.grid[0], self.grid[-1])).reshape(self.unit.shape[1:])
+
+    def extremes(self) -> list[np.ndarray]:
+        """Parameter vectors at the ends of the physical range (one parameter at a time)."""
+        if self.kind == "grid":
+            return [np.array([self.grid[0]]), np.array([self.grid[-1]])]
+        out = []
+        for i, parameter in enumerate(self.effect.parameters):
+            for extreme in (parameter.lower, parameter.upper):
+                values = np.zeros(self.n_params)
+                values[i] = extreme
+                out.append(values)
+        return out
+
+    def derivative(self, values) -> np.ndarray:
+        """d(full paths)/d(values), (n_params, n_full)."""
+        if self.kind == "linear":
+            return self.columns
+        derivative = self.__dict__.get("_cached_derivative")
+        if derivative is None:
+            derivative = self._spline.derivative()
+            object.__setattr__(self, "_cached_derivative", derivative)
+        value = np.atleast_1d(np.asarray(values, dtype=float))[0]
+        inside = self.grid[0] <= value <= self.grid[-1]
+        return derivative(np.clip(value, self.grid[0], self.grid[-1]))[None, :] * (1.0 if inside else 0.0)
 
     @property
     def _spline(self):
@@ -147,8 +207,19 @@ class EffectResponse:
         return [np.zeros(self.n_params)]
 
 
+def parameter_grid(parameter, points: int = GRID_POINTS) -> np.ndarray:
+    """Grid values spanning a parameter's physical bounds, zero included (denser near zero for a one-sided one)."""
+    if parameter.lower == 0.0 or parameter.upper == 0.0:  # e.g. a gap: denser where the response bends most
+        other = parameter.upper if parameter.lower == 0.0 else parameter.lower
+        grid = other * np.linspace(0.0, 1.0, points) ** 2
+    else:
+        grid = np.linspace(parameter.lower, parameter.upper, points)
+    grid = np.unique(np.concatenate([grid, [0.0]]))
+    return grid[(grid >= parameter.lower) & (grid <= parameter.upper)]
+
+
 def effect_response(effect, rig, cases, settings: SweepSettings, base_paths: np.ndarray) -> EffectResponse:
-    """Compute a candidate's response around ``rig`` (real sweeps)."""
+    """Compute a candidate's response around ``rig`` (real sweeps; :func:`engine_response` is the fast way)."""
     parameters = effect.parameters
     if effect.linear:
         columns = []
@@ -160,14 +231,7 @@ def effect_response(effect, rig, cases, settings: SweepSettings, base_paths: np.
         return EffectResponse(effect, "linear", columns=np.array(columns))
     if len(parameters) != 1:
         raise ValueError(f"{effect.name}: nonlinear effects with more than one parameter are not supported")
-    parameter = parameters[0]
-    if parameter.lower == 0.0 or parameter.upper == 0.0:  # e.g. a gap: denser where the response bends most
-        other = parameter.upper if parameter.lower == 0.0 else parameter.lower
-        grid = other * np.linspace(0.0, 1.0, GRID_POINTS) ** 2
-    else:
-        grid = np.linspace(parameter.lower, parameter.upper, GRID_POINTS)
-    grid = np.unique(np.concatenate([grid, [0.0]]))
-    grid = grid[(grid >= parameter.lower) & (grid <= parameter.upper)]
+    grid = parameter_grid(parameters[0])
     rows = []
     for value in grid:
         if value == 0.0:
@@ -176,3 +240,53 @@ def effect_response(effect, rig, cases, settings: SweepSettings, base_paths: np.
         paths, _ = solve_full_paths(effect.apply(rig, [value]), cases, settings)
         rows.append(paths - base_paths)
     return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array(rows))
+
+
+COARSE_POINTS = 5
+
+
+def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
+    """A candidate's response on the factorised base model (:mod:`engine`).
+
+    Linear effects: one unit-path change per parameter. Nonlinear ones: a grid over the physical
+    bounds, each point exact; a clearance (solved case by case) first at its bound only, and on a
+    coarse grid only when ``visible(delta_full_paths)`` says the data can see it there.
+    """
+    parameters = effect.parameters
+    base_unit = engine.unit_paths
+    if engine.supports(effect) and effect.linear:
+        unit = []
+        for i, parameter in enumerate(parameters):
+            values = np.zeros(len(parameters))
+            values[i] = parameter.typical
+            unit.append(engine.unit_change([(effect, values)]) / parameter.typical)
+        unit = np.array(unit)
+        columns = np.array([engine.full_paths(u, cases) for u in unit])
+        return EffectResponse(effect, "linear", columns=columns, unit=unit)
+    if len(parameters) != 1:
+        raise ValueError(f"{effect.name}: nonlinear effects with more than one parameter are not supported")
+    parameter = parameters[0]
+    if engine.supports(effect) or (engine.linear and effect.kind != "bearing_clearance"):  # exact, or solved anew
+        grid = parameter_grid(parameter, GRID_POINTS if engine.supports(effect) else COARSE_POINTS)
+        unit = []
+        for value in grid:
+            if value == 0.0:
+                unit.append(np.zeros_like(base_unit))
+            elif engine.supports(effect):
+                unit.append(engine.unit_change([(effect, [value])]))
+            else:
+                unit.append(engine.swept_unit_paths(effect.apply(engine.rig, [value])) - base_unit)
+        unit = np.array(unit)
+        return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array([engine.full_paths(u, cases) for u in unit]),
+                              unit=unit)
+    base = engine.full_paths(base_unit, cases) if engine.linear else engine.swept_paths(engine.rig, cases)
+    bound = parameter.upper if abs(parameter.upper) >= abs(parameter.lower) else parameter.lower
+    far = engine.swept_paths(effect.apply(engine.rig, [bound]), cases) - base
+    grid = np.array(sorted({0.0, bound}))
+    rows = {0.0: np.zeros_like(base), bound: far}
+    if visible is None or visible(far):
+        grid = parameter_grid(parameter, COARSE_POINTS)
+        for value in grid:
+            if value not in rows:
+                rows[value] = engine.swept_paths(effect.apply(engine.rig, [value]), cases) - base
+    return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array([rows[v] for v in grid]))

@@ -26,6 +26,7 @@ from rvcoax.fem.solvers import SolverError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.studies.discrepancy.engine import Engine, prepare_engine
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
@@ -35,12 +36,30 @@ from rvcoax.results.studies.discrepancy.locate import (
     residual_structure,
 )
 from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
+from rvcoax.results.studies.discrepancy.observability import (
+    VISIBLE_NORM,
+    Suggestion,
+    Visibility,
+    direction,
+    discriminate,
+    observability,
+    parallel_groups,
+    signature,
+)
 from rvcoax.results.studies.discrepancy.responses import (
     EffectResponse,
     Observation,
     PathLayout,
-    effect_response,
+    engine_response,
     solve_full_paths,
+)
+from rvcoax.results.studies.discrepancy.sentinel import (
+    CrossValidation,
+    SentinelFit,
+    case_folds,
+    cross_validate,
+    fit_sentinel,
+    sentinel_columns,
 )
 from rvcoax.results.sweep import ModelError, SweepSettings
 
@@ -51,7 +70,7 @@ __all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_S", "CandidateLibrary", "Discre
 # what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
 CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
 
-OBSERVABLE_SIGMA = 0.5
+OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature's norm (VISIBLE_NORM)
 # measured costs (2-core AMD EPYC dev machine): the reference table (20 cases, 58 candidates) took 65 s end to
 # end, 56 ms per case and candidate (library sweeps, grid points of nonlinear effects, true-model refits);
 # per observation 20 µs to parse and 5.3 µs per observation-operator build, built about 100 times per run
@@ -69,11 +88,11 @@ class DiscrepancySettings:
     alpha: float = 0.01
     bic_margin: float = 10.0
     ambiguity_margin: float = 6.0
-    parallel_cosine: float = 0.999
+    parallel_cosine: float = 0.98
     model_form_fraction: float = 0.02
     hold_out_every: int = 3
     max_effects: int = 4
-    max_rounds: int = 2
+    max_rounds: int = 1  # kept for callers: one round on the factorised base model
     candidates: tuple[str, ...] | None = None  # effect names or kinds; None: the whole library
 
 
@@ -87,24 +106,33 @@ class CandidateLibrary:
     layout: PathLayout
     responses: dict[str, EffectResponse]
     failed: dict[str, str] = field(default_factory=dict)
+    engine: Engine | None = None
 
 
 def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | None = None,
-                  progress=None) -> CandidateLibrary:
-    """Solve the base rig and every candidate's response (real sweeps; beam model ≈ 0.1 s each).
+                  progress=None, visible=None, engine: Engine | None = None) -> CandidateLibrary:
+    """The base rig factorised once and every candidate's response on it (:mod:`engine`).
 
-    ``progress(i, n)`` is called after each candidate (for a progress bar with the time remaining)."""
-    base_paths, layout = solve_full_paths(rig, cases, settings)
+    ``progress(i, n)`` is called after each candidate; ``visible(delta_full_paths)`` (optional) tells
+    whether a nonlinear candidate that must be solved case by case is worth a grid (else only its bound)."""
+    cases = tuple(cases)
+    engine = engine if engine is not None and engine.rig is rig else prepare_engine(rig, settings)
+    if engine.linear:
+        base_paths, layout = engine.full_paths(engine.unit_paths, cases), engine.layout(len(cases))
+    else:
+        base_paths, layout = solve_full_paths(rig, cases, settings)
     effects = [e for e in candidate_effects(rig) if names is None or e.name in names or e.kind in names]
     responses, failed = {}, {}
     for done, effect in enumerate(effects, start=1):
         if progress is not None:
             progress(done - 1, len(effects))
         try:
-            responses[effect.name] = effect_response(effect, rig, cases, settings, base_paths)
+            responses[effect.name] = engine_response(effect, engine, cases, visible)
         except CANDIDATE_FAILURES as error:  # e.g. a clearance that leaves a part without support
             failed[effect.name] = f"cannot be solved over its physical range: {error}"
-    return CandidateLibrary(rig, tuple(cases), base_paths, layout, responses, failed)
+    if progress is not None:
+        progress(len(effects), len(effects))
+    return CandidateLibrary(rig, cases, base_paths, layout, responses, failed, engine)
 
 
 @dataclass(frozen=True)
@@ -116,6 +144,7 @@ class SelectedEffect:
     delta_bic: float
     group: tuple[str, ...]
     round: int
+    confident: bool = False
 
     def parameters(self, effect) -> dict:
         return {p.name: {"value": float(v), "unit": p.unit, "bounds": [p.lower, p.upper]}
@@ -133,6 +162,7 @@ class Discrimination:
     difference_mm: float
     in_sigma: float
     new_case: bool
+    other_datum: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,6 +186,13 @@ class DiscrepancyResult:
     rig_before: object
     rig_after: object
     effects: dict = field(default_factory=dict)
+    observability: dict[str, Visibility] = field(default_factory=dict)
+    parallel_groups: tuple[tuple[str, ...], ...] = ()
+    sentinel: SentinelFit | None = None
+    cross_validation: CrossValidation | None = None
+    sentinel_cross_validation: CrossValidation | None = None
+    reasons: tuple[str, ...] = ()
+    vocabulary_chi2: float | None = None
 
     def rms_mm(self, which: str, rows: np.ndarray | None = None) -> dict[str, float]:
         """RMS of measured − model per shaft (``which`` = before | after) over ``rows`` (default all)."""
@@ -216,23 +253,18 @@ def _applied(rig, effects_by_name, selected) -> object:
     return rig
 
 
-def _observable(response: EffectResponse, base_paths, observe, base_obs, sigma) -> float:
-    """Largest change of any observation (in σ) over the effect's physical range."""
-    if response.kind == "grid":
-        deltas = list(response.grid_paths)
-    else:
-        deltas = []
-        for i, parameter in enumerate(response.effect.parameters):
-            for extreme in (parameter.lower, parameter.upper):
-                values = np.zeros(response.n_params)
-                values[i] = extreme
-                deltas.append(response.delta(values))
-    return float(max(np.max(np.abs(observe(base_paths + d) - base_obs) / sigma) for d in deltas))
+def _true_paths(rig, effects_by_name, fits, cases, settings: SweepSettings, engine: Engine | None):
+    """Full paths of ``rig`` with the effects ``fits`` applied: exact on the factorisation when the engine
+    solves every one of them, else a real sweep."""
+    if engine is not None and engine.rig is rig and all(engine.supports(effects_by_name[n]) for n, _ in fits):
+        change = engine.unit_change([(effects_by_name[n], list(v)) for n, v in fits])
+        return engine.full_paths(engine.unit_paths + change, cases), engine.layout(len(cases))
+    return solve_full_paths(_applied(rig, effects_by_name, fits), cases, settings)
 
 
 def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data, observe_of, sigma, rows,
-                 settings: SweepSettings):
-    """Fit the selected effects' parameters again with the true model (real sweeps)."""
+                 settings: SweepSettings, engine: Engine | None = None):
+    """Fit the selected effects' parameters again with the true model (no response interpolation)."""
     names = [name for name, _ in fits]
     sizes = [effects_by_name[n].parameters for n in names]
     x0 = np.concatenate([np.atleast_1d(v) for _, v in fits])
@@ -242,8 +274,8 @@ def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data,
     splits = np.cumsum([len(ps) for ps in sizes])[:-1]
 
     def predicted(x):
-        values = np.split(x, splits)
-        paths, layout = solve_full_paths(_applied(rig, effects_by_name, zip(names, values)), data.cases, settings)
+        paths, layout = _true_paths(rig, effects_by_name, list(zip(names, np.split(x, splits))), data.cases, settings,
+                                    engine)
         return observe_of(layout)(paths)
 
     def residual(x):
@@ -255,149 +287,227 @@ def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data,
     return list(zip(names, np.split(result.x, splits))), predicted(result.x)
 
 
-def _discriminate(rig, effects_by_name, prior, group_fits: dict[str, Fit], data: MeasuredData, noise: NoiseEstimate,
-                  settings: SweepSettings, set_aside: dict[str, str]) -> list[Discrimination]:
-    """For the winner against each other member: the station and case where their predictions differ most.
-
-    A member whose prediction cannot be solved gets no discrimination; ``set_aside`` records why."""
+def _discriminations(group_fits: dict[str, Fit], library: CandidateLibrary, data, observe, sigma,
+                     from_rest: bool) -> list[Discrimination]:
+    """For the winner against each other member: the station and case where their predictions differ most."""
     names = list(group_fits)
-    if len(names) < 2:
-        return []
-    t1 = max(abs(c.input_torque_Nm) for c in data.cases)
-    t2 = max(abs(c.output_torque_Nm) for c in data.cases)
-    extra = [LoadCase(-t1, -t2), LoadCase(t1 / 2, t2 / 2)]
-    cases = list(data.cases) + [c for c in extra if c not in data.cases]
-    predictions = {}
-    for name in names:
-        fitted = group_fits[name]
-        member_rig = _applied(rig, effects_by_name, list(prior) + [(name, fitted.values[-1])])
-        try:
-            predictions[name] = solve_full_paths(member_rig, cases, settings)
-        except CANDIDATE_FAILURES as error:
-            set_aside[name] = f"no discriminating measurement: its prediction cannot be solved: {error}"
-    winner = names[0]
-    if winner not in predictions:
-        return []
     out = []
-    for other in (n for n in names[1:] if n in predictions):
-        (a, layout), (b, _) = predictions[winner], predictions[other]
-        best = None
-        for i, case in enumerate(cases):
-            for shaft in MEASURED_SHAFTS:
-                block = layout.block(i, shaft)
-                scaled = np.abs(a[block] - b[block]) / max(noise.noise_mm.get(shaft, 0.0), 1e-12)
-                j = int(np.argmax(scaled))
-                if best is None or scaled[j] > best[0]:
-                    best = (scaled[j], case, shaft, float(layout.stations_mm[shaft][j]), float(a[block][j] - b[block][j]),
-                            i >= len(data.cases))
-        out.append(Discrimination((winner, other), best[1], best[2], best[3], best[4], float(best[0]), best[5]))
+    for other in names[1:]:
+        found = discriminate(library.responses[names[0]], library.responses[other], data, library.base_paths, observe,
+                             sigma, library.engine, from_rest) if library.engine is not None else None
+        if found is not None:
+            out.append(_as_discrimination((names[0], other), found))
     return out
+
+
+def _as_discrimination(pair, found: Suggestion) -> Discrimination:
+    return Discrimination(pair, found.case, found.shaft, found.x_mm, 1e-3 * found.change_um, found.in_sigma,
+                          found.new_case, found.other_datum)
+
+
+FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
+STRUCTURE_T = 4.0  # |t| of the curvature along a shaft left in the residual
+
+
+def _fighting_pairs(problem: Problem, fitted: list[tuple[str, np.ndarray]]) -> list[str]:
+    """Pairs of selected effects that cancel each other: each large, their sum small."""
+    signatures = {n: signature(problem.responses[n], v, problem.base_paths, problem.observe, problem.sigma, problem.rows)
+                  for n, v in fitted if n in problem.responses}
+    out = []
+    names = list(signatures)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            sa, sb = signatures[a], signatures[b]
+            larger = max(np.linalg.norm(sa), np.linalg.norm(sb))
+            if larger > 0 and np.linalg.norm(sa + sb) < FIGHT_RATIO * larger:
+                out.append(f"{a} and {b} cancel each other (each {np.linalg.norm(sa):.3g} and {np.linalg.norm(sb):.3g} σ, "
+                           f"together {np.linalg.norm(sa + sb):.3g} σ): a shape mimicked, not an explanation")
+    return out
+
+
+def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled: np.ndarray, folds) -> CrossValidation | None:
+    """Held-out χ² of the selected vocabulary effects, each fold refitted without its cases."""
+    if not names:
+        return None
+
+    def predict(train):
+        fold = Problem(problem.measured, problem.sigma, problem.base_paths, problem.observe, problem.responses, train)
+        fit = fold.fit(names, start)
+        predicted = problem.observe(fold.paths(names, fit.values))
+        return (predicted - problem.observe(problem.base_paths)) / problem.sigma
+
+    return cross_validate(scaled, predict, folds)
+
+
+def _sentinel_cv(engine, sentinel: SentinelFit | None, data, base_paths, observe, sigma, scaled, folds, from_rest):
+    if sentinel is None or engine is None:
+        return None
+    columns = sentinel_columns(engine, sentinel, data, base_paths, observe, from_rest) / sigma[:, None]
+
+    def predict(train):
+        coefficients, *_ = np.linalg.lstsq(columns[train], scaled[train], rcond=None)
+        return columns @ coefficients
+
+    return cross_validate(scaled, predict, folds)
 
 
 def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = DiscrepancySettings(),
                     library: CandidateLibrary | None = None, progress=None) -> DiscrepancyResult:
-    """Locate, name, add and show (see the module docstring). A pure function of its arguments
+    """Observe, locate, name, add and show (see the module docstring). A pure function of its arguments
     (``progress(i, n)`` is told how far each library build is)."""
     sweep_settings = settings.sweep
-    base_paths, layout = solve_full_paths(rig, data.cases, sweep_settings)
-    check_stations(data, layout.length_mm)
-    observe_of = _observation_factory(data)
-    observe = observe_of(layout)
-    before = observe(base_paths)
+    from_rest = rig.paths.measured_from == "aligned_at_rest"
     noise = estimate_noise(data, settings.model_form_fraction)
     sigma = noise.sigma_mm
     fit_rows = held_out_mask(data, settings.hold_out_every)
-    test_before = gap_test(((data.value_mm - before) / sigma)[fit_rows], settings.alpha)
+    observe_of = _observation_factory(data)
+
+    def visible(delta):
+        base = observe(library_base)
+        return bool(np.linalg.norm((observe(library_base + delta) - base) / sigma) >= VISIBLE_NORM)
+
+    if library is None or library.rig is not rig or library.cases != tuple(data.cases):
+        engine = prepare_engine(rig, sweep_settings)
+        check_stations(data, engine.length_mm)
+        observe = observe_of(engine.layout(len(data.cases)))
+        library_base = (engine.full_paths(engine.unit_paths, data.cases) if engine.linear
+                        else solve_full_paths(rig, data.cases, sweep_settings)[0])
+        library = build_library(rig, data.cases, sweep_settings, settings.candidates, progress, visible, engine)
+    else:
+        check_stations(data, library.layout.length_mm)
+        observe = observe_of(library.layout)
+        library_base = library.base_paths
+    engine = library.engine
+    base_paths = library.base_paths
+    before = observe(base_paths)
+    scaled_before = (data.value_mm - before) / sigma
+    test_before = gap_test(scaled_before[fit_rows], settings.alpha)
     structure = residual_structure(data, data.value_mm - before, sigma)
     effects_by_name = {e.name: e for e in candidate_effects(rig)}
+    set_aside: dict[str, str] = dict(library.failed)
+    # 1. observability: which effects can these data see at all, and what would reveal the others
+    seen = observability(library.responses, data, base_paths, observe, sigma, engine, from_rest) \
+        if engine is not None else {}
+    not_observable = {n: v.reason for n, v in seen.items() if not v.visible}
+    responses = {n: r for n, r in library.responses.items() if n not in not_observable and n not in set_aside}
+    # 2. groups of look-alikes, from the signatures alone (independent of the noise level)
+    directions = {n: direction(r, base_paths, observe, sigma, fit_rows) for n, r in responses.items()}
+    groups = tuple(tuple(g) for g in parallel_groups(directions, settings.parallel_cosine))
+    # 3. the out-of-vocabulary sentinel and the folds for cross-validation
+    folds = case_folds(data)
+    sentinel = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest) \
+        if engine is not None and test_before.gap else None
+    sentinel_cv = _sentinel_cv(engine, sentinel, data, base_paths, observe, sigma, scaled_before, folds, from_rest) \
+        if sentinel is not None else None
+
     selected: list[SelectedEffect] = []
     steps: list[Step] = []
-    not_observable: dict[str, str] = {}
     rejected: dict[str, str] = {}
-    set_aside: dict[str, str] = {}
     discriminations: list[Discrimination] = []
-    current_rig, after, fitted = rig, before, []
+    after, fitted = before, []
+    problem = Problem(data.value_mm, sigma, base_paths, observe, responses, fit_rows)
     if test_before.gap:
-        for round_ in range(1, settings.max_rounds + 1):
-            if library is None or library.rig is not current_rig or library.cases != data.cases:
-                names = settings.candidates
-                if round_ > 1:  # an effect that could not change the data around the first rig cannot now either
-                    names = tuple(n for n, e in effects_by_name.items() if n not in not_observable
-                                  and (names is None or n in names or e.kind in names))
-                library = build_library(current_rig, data.cases, sweep_settings, names, progress)
-            set_aside.update(library.failed)
-            round_observe = observe_of(library.layout)
-            base_obs = round_observe(library.base_paths)
-            responses = {}
-            for name, response in library.responses.items():
-                if any(name == s.name for s in selected) or name in set_aside:
-                    continue
-                size = _observable(response, library.base_paths, round_observe, base_obs, sigma)
-                if size < OBSERVABLE_SIGMA:
-                    not_observable[name] = (f"changes no observation by more than {OBSERVABLE_SIGMA} σ over its "
-                                            f"physical range (largest change {size:.2g} σ)")
-                else:
-                    responses[name] = response
-            problem = Problem(data.value_mm, sigma, library.base_paths, round_observe, responses, fit_rows)
+        def no_gap_left(fit: Fit) -> bool:
+            return stats.chi2.sf(fit.chi2, fit.n) >= settings.alpha
 
-            def no_gap_left(fit: Fit) -> bool:
-                return stats.chi2.sf(fit.chi2, fit.n) >= settings.alpha
-
-            prior = list(fitted)
-            while True:  # until the true model confirms the screening fit (a candidate that fails is set aside)
-                screening, round_steps = forward_backward(
-                    problem, [n for n in responses if n not in set_aside], settings.bic_margin,
-                    settings.ambiguity_margin, settings.parallel_cosine, settings.max_effects - len(selected),
-                    stop=no_gap_left)
-                if not screening.names:
-                    break
-                trial = prior + list(zip(screening.names, screening.values))
-                try:
-                    if prior or any(library.responses[n].kind != "linear" for n in screening.names):
-                        trial, trial_after = _refine_true(rig, effects_by_name, trial, data, observe_of, sigma,
-                                                          fit_rows, sweep_settings)
-                    else:  # linear effects on a linear rig: the screening fit is exact
-                        paths, layout = solve_full_paths(_applied(rig, effects_by_name, trial), data.cases,
-                                                         sweep_settings)
-                        trial_after = observe_of(layout)(paths)
-                except CANDIDATE_FAILURES as error:
-                    for name in screening.names:
-                        set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
-                    continue
-                fitted, after = trial, trial_after
-                break
-            for step in round_steps:
-                rejected.update(step.rejected)
+        while True:  # until the true model confirms the screening fit (a candidate that fails is set aside)
+            candidates = [n for n in responses if n not in set_aside]
+            try:
+                screening, steps = forward_backward(problem, candidates, settings.bic_margin, settings.ambiguity_margin,
+                                                    settings.parallel_cosine, settings.max_effects, stop=no_gap_left)
+            except CANDIDATE_FAILURES as error:  # a response that cannot be evaluated: never ends the run
+                set_aside["(screening)"] = f"the screening fit failed: {error}"
+                screening, steps = Fit((), (), 0.0, 0), []
             if not screening.names:
                 break
-            for step in round_steps:
-                if step.added in screening.names:
-                    discriminations += _discriminate(current_rig, effects_by_name, prior, step.group_fits, data,
-                                                     noise, sweep_settings, set_aside)
-            gains = {step.added: step for step in round_steps}
-            selected = [s for s in selected if s.name in dict(fitted)]
-            for name, values in fitted:
-                if name in gains:
-                    step = gains[name]
-                    selected.append(SelectedEffect(name, tuple(float(v) for v in values), step.delta_bic, step.group,
-                                                   round_))
-                else:
-                    selected = [SelectedEffect(s.name, tuple(float(v) for v in values), s.delta_bic, s.group, s.round)
-                                if s.name == name else s for s in selected]
-            steps += round_steps
-            current_rig = _applied(rig, effects_by_name, fitted)
-            if not gap_test(((data.value_mm - after) / sigma)[fit_rows], settings.alpha).gap:
-                break
+            trial = list(zip(screening.names, screening.values))
+            try:
+                if any(library.responses[n].kind != "linear" for n in screening.names):
+                    trial, trial_after = _refine_true(rig, effects_by_name, trial, data, observe_of, sigma, fit_rows,
+                                                      sweep_settings, engine)
+                else:  # linear effects on a linear rig: the screening fit is exact
+                    paths, layout = _true_paths(rig, effects_by_name, trial, data.cases, sweep_settings, engine)
+                    trial_after = observe_of(layout)(paths)
+            except CANDIDATE_FAILURES as error:
+                for name in screening.names:
+                    set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
+                continue
+            fitted, after = trial, trial_after
+            break
+        for step in steps:
+            rejected.update(step.rejected)
+        for step in steps:
+            if step.added in dict(fitted):
+                discriminations += _discriminations(step.group_fits, library, data, observe, sigma, from_rest)
+        gains = {step.added: step for step in steps}
+        for name, values in fitted:
+            step = gains.get(name)
+            group = list(step.group) if step is not None else [name]
+            for members in groups:  # nearly parallel signatures on these data: the group, not one name
+                if name in members:
+                    group += [m for m in members if m not in group]
+            selected.append(SelectedEffect(name, tuple(float(v) for v in values),
+                                           step.delta_bic if step is not None else 0.0, tuple(group), 1))
+        for name, _ in fitted:  # a parallel look-alike that is not in the step's group still needs telling apart
+            step = gains.get(name)
+            extra = [m for m in next((g for g in groups if name in g), ()) if m != name
+                     and (step is None or m not in step.group_fits)]
+            for other in extra:
+                found = discriminate(library.responses[name], library.responses[other], data, base_paths, observe,
+                                     sigma, engine, from_rest) if engine is not None else None
+                if found is not None:
+                    discriminations.append(_as_discrimination((name, other), found))
+    current_rig = _applied(rig, effects_by_name, fitted)
     test_after = gap_test((data.value_mm - after) / sigma, settings.alpha)
     held = ~fit_rows
     test_held = gap_test(((data.value_mm - after) / sigma)[held], settings.alpha) if held.any() else None
-    verdict = "no_gap" if not test_before.gap else ("explained" if not test_after.gap and selected else "unexplained")
+    cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), scaled_before, folds) \
+        if fitted and all(n in responses for n, _ in fitted) else None
+    verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma, sentinel, cv,
+                                settings)
+    final = []
+    for s in selected:
+        confident = verdict == "explained" and len(s.group) == 1
+        final.append(SelectedEffect(s.name, s.values, s.delta_bic, s.group, s.round, confident))
+    vocabulary_chi2 = float(np.sum((((data.value_mm - after) / sigma)[fit_rows]) ** 2)) if fitted else None
     return DiscrepancyResult(verdict, data, noise, fit_rows, before, after, test_before, test_after, test_held,
-                             structure, tuple(selected), tuple(steps), not_observable, rejected, set_aside,
-                             tuple(discriminations), rig, current_rig, effects_by_name)
+                             structure, tuple(final), tuple(steps), not_observable, rejected, set_aside,
+                             tuple(discriminations), rig, current_rig, effects_by_name, seen, groups, sentinel, cv,
+                             sentinel_cv, tuple(reasons), vocabulary_chi2)
 
 
-def _observation_factory(data: MeasuredData):
+def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings):
+    """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last."""
+    if not test_before.gap:
+        return "no_gap", []
+    reasons = []
+    if not selected:
+        reasons.append("no effect of the vocabulary improves the fit by the margin")
+    if test_after.gap:
+        reasons.append(f"the gap left is beyond the noise and the model-form allowance ({test_after.describe()})")
+    reasons += _fighting_pairs(problem, fitted)
+    if fitted:
+        rows = problem.rows
+        chi2 = float(np.sum((((data.value_mm - after) / sigma)[rows]) ** 2))
+        k = int(sum(np.atleast_1d(v).size for _, v in fitted))
+        bic = chi2 + k * np.log(max(rows.size, 2))
+        if sentinel is not None:
+            if sentinel.bic < bic - settings.bic_margin:
+                reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
+                               f"against {bic:.4g})")
+            elif k > sentinel.k and sentinel.chi2 <= chi2:
+                reasons.append(f"the vocabulary needs {k} parameters where one generic load needs {sentinel.k} for a "
+                               "fit as good")
+        if cv is not None and not cv.improves:
+            reasons.append(f"held-out load cases do not improve (χ² {cv.chi2_before:.4g} → {cv.chi2_after:.4g})")
+        residual = data.value_mm - after
+        for finding in residual_structure(data, residual, sigma, threshold=STRUCTURE_T):
+            if finding.test == "curvature along the shaft" and finding.significant:
+                reasons.append(f"structure left along the {finding.shaft} shaft (curvature, {finding.detail})")
+    return ("unexplained" if reasons else "explained"), reasons
+
+
+def _observation_factory(data):
     def observe_of(layout: PathLayout) -> Observation:
         return Observation(data, layout)
 

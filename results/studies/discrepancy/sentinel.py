@@ -1,0 +1,187 @@
+"""The out-of-vocabulary sentinel, and cross-validation over load cases.
+
+The sentinel is a generic localized lateral load that no effect of the vocabulary names: a
+vertical force (or a moment about Z) at one node of any part, with a constant part, a part
+proportional to T1 and a part proportional to T2. Its location is scanned over every part's
+nodes (:meth:`engine.Engine.sentinel_sites`), every subset of the three parts is tried, and the
+best is kept by ``BIC = χ² + (k + 1) ln n`` (the location counts as one parameter). All of it is one
+block solve on the base factorisation and linear least squares.
+
+When a vocabulary explanation needs more parameters than the sentinel for no better fit, or the
+sentinel fits much better, the data show a load the vocabulary does not have; the sentinel then
+says where it acts and how it scales with torque.
+
+Cross-validation: the load cases are split into folds (every ``folds``-th case by torque); each
+fold is predicted from a fit on the others, and the held-out χ² is compared with the base
+model's on the same cases.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.geometry.model.loads import UNIT_LOADS
+from rvcoax.results.studies.discrepancy.engine import case_matrix
+
+__all__ = ["CrossValidation", "SentinelFit", "case_folds", "fit_sentinel", "linear_observation"]
+
+SLOTS = {"constant": "force_table", "T1": "T1", "T2": "T2"}  # a constant load acts like the rest loads
+FAMILIES = {"force": (1, "N"), "moment": (5, "N·m")}
+
+
+@dataclass(frozen=True)
+class SentinelFit:
+    """The best generic localized load."""
+
+    family: str  # force | moment
+    part: str
+    role: str  # shaft | body
+    x_mm: float
+    parts_fitted: tuple[str, ...]  # subset of constant, T1, T2
+    coefficients: tuple[float, ...]  # N (constant) and N per N·m (T1, T2); N·m and N·m per N·m for a moment
+    chi2: float
+    n: int
+    change: np.ndarray  # its change of every observation (mm)
+
+    @property
+    def k(self) -> int:
+        return len(self.coefficients) + 1
+
+    @property
+    def bic(self) -> float:
+        return self.chi2 + self.k * np.log(max(self.n, 2))
+
+    def describe(self) -> str:
+        unit = FAMILIES[self.family][1]
+        what = "lateral load" if self.family == "force" else "lateral moment"
+        terms = []
+        for part, value in zip(self.parts_fitted, self.coefficients):
+            terms.append(f"{value:+.3g} {unit}" if part == "constant" else f"{value:+.3g} {unit} per N·m of {part}")
+        where = f"the {self.part}" if self.role == "shaft" else f"the housing {self.part}"
+        return f"a vertical {what} of about {', '.join(terms)} near x = {self.x_mm:.0f} mm on {where}"
+
+
+def linear_observation(observe, base_paths) -> sp.csr_matrix:
+    """The observation operator as a matrix: exact for paths, linearised at ``base_paths`` for a table
+    (|Y_max| changes by sign(Y) at the station of the maximum)."""
+    if hasattr(observe, "matrix"):
+        return observe.matrix
+    rows, cols, vals = [], [], []
+    for i, block in enumerate(observe.blocks):
+        values = base_paths[block]
+        j = int(np.argmax(np.abs(values)))
+        rows.append(i)
+        cols.append(block.start + j)
+        vals.append(1.0 if values[j] >= 0 else -1.0)
+    return sp.csr_matrix((vals, (rows, cols)), shape=(len(observe.blocks), base_paths.size))
+
+
+def _columns(engine, sites, component, cases, from_rest, operator) -> dict[str, np.ndarray]:
+    """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site."""
+    g = engine.sentinel_paths(sites, component)  # (n_sites, n_path)
+    weights = case_matrix(cases, from_rest)
+    out = {}
+    for part, slot in SLOTS.items():
+        column = weights[:, UNIT_LOADS.index(slot)]
+        if not np.any(column):
+            continue  # e.g. a constant load when Y is read from the rig at rest
+        out[part] = np.asarray(operator @ np.kron(column[:, None], g.T))
+    return out
+
+
+def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool) -> SentinelFit | None:
+    """The best sentinel on the observations ``rows`` (see the module docstring)."""
+    operator = linear_observation(observe, base_paths)
+    residual = ((data.value_mm - observe(base_paths)) / sigma)
+    target = residual[rows]
+    n = int(np.count_nonzero(rows))
+    sites = engine.sentinel_sites()
+    best = None
+    for family, (component, _) in FAMILIES.items():
+        columns = _columns(engine, sites, component, data.cases, from_rest, operator)
+        parts = list(columns)
+        scaled = {p: columns[p][rows] / sigma[rows][:, None] for p in parts}
+        for size in range(1, len(parts) + 1):
+            for subset in itertools.combinations(parts, size):
+                for j in range(len(sites)):
+                    a = np.column_stack([scaled[p][:, j] for p in subset])
+                    if not np.any(a):
+                        continue
+                    coefficients, *_ = np.linalg.lstsq(a, target, rcond=None)
+                    chi2 = float(np.sum((target - a @ coefficients) ** 2))
+                    bic = chi2 + (size + 1) * np.log(max(n, 2))
+                    if best is None or bic < best[0]:
+                        best = (bic, family, j, subset, coefficients, chi2, columns)
+    if best is None:
+        return None
+    _, family, j, subset, coefficients, chi2, columns = best
+    part, x_mm, _ = sites[j]
+    change = sum(c * columns[p][:, j] for p, c in zip(subset, coefficients))
+    role = next(p.role for p in engine.rig.parts if p.name == part)
+    return SentinelFit(family, part, role, float(x_mm), tuple(subset), tuple(float(c) for c in coefficients), chi2, n,
+                       np.asarray(change))
+
+
+def sentinel_columns(engine, fit: SentinelFit, data, base_paths, observe, from_rest: bool) -> np.ndarray:
+    """The observed change per unit of each fitted part of ``fit`` (n_obs, k − 1), for refits on other rows."""
+    operator = linear_observation(observe, base_paths)
+    site = [(fit.part, fit.x_mm, s[2]) for s in engine.sentinel_sites() if s[0] == fit.part and s[1] == fit.x_mm]
+    columns = _columns(engine, site, FAMILIES[fit.family][0], data.cases, from_rest, operator)
+    return np.column_stack([columns[p][:, 0] for p in fit.parts_fitted])
+
+
+def case_folds(data, folds: int = 3) -> list[np.ndarray]:
+    """Held-out masks: the cases ordered by torque, every ``folds``-th in one fold (none below 2 × folds cases)."""
+    n_cases = len(data.cases)
+    if n_cases < 2 * folds:
+        return []
+    order = sorted(range(n_cases), key=lambda i: (abs(data.cases[i].output_torque_Nm), abs(data.cases[i].input_torque_Nm)))
+    fold_of = {case: rank % folds for rank, case in enumerate(order)}
+    return [np.array([fold_of[int(c)] == f for c in data.case_index]) for f in range(folds)]
+
+
+@dataclass(frozen=True)
+class CrossValidation:
+    """Held-out χ² over all folds: the base model's and the explanation's (each fold fitted without it)."""
+
+    chi2_before: float
+    chi2_after: float
+    n: int
+    folds: int
+
+    @property
+    def improves(self) -> bool:
+        return self.chi2_after < self.chi2_before
+
+    @property
+    def reduction(self) -> float:
+        return 1.0 - self.chi2_after / self.chi2_before if self.chi2_before > 0 else 0.0
+
+    def as_dict(self) -> dict:
+        return {"folds": self.folds, "held_out_observations": self.n, "chi2_before": float(f"{self.chi2_before:.6g}"),
+                "chi2_after": float(f"{self.chi2_after:.6g}"), "chi2_per_observation_after":
+                    float(f"{self.chi2_after / max(self.n, 1):.4g}"), "improves": self.improves,
+                "reduction_of_chi2": float(f"{self.reduction:.4g}")}
+
+
+def cross_validate(scaled_residual: np.ndarray, predict_fold, folds: list[np.ndarray]) -> CrossValidation | None:
+    """``predict_fold(train_mask)`` returns the scaled change of every observation fitted on ``train_mask``."""
+    if not folds:
+        return None
+    before = after = 0.0
+    n = 0
+    for held in folds:
+        change = predict_fold(~held)
+        before += float(np.sum(scaled_residual[held] ** 2))
+        after += float(np.sum((scaled_residual[held] - change[held]) ** 2))
+        n += int(held.sum())
+    return CrossValidation(before, after, n, len(folds))
+
+
+def shafts_of(data) -> list[str]:
+    return [s for s in MEASURED_SHAFTS if (data.shaft == s).any()]
