@@ -61,7 +61,7 @@ from pydantic import ValidationError
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["Effect", "EffectParameter", "RigChange", "STANDARD_GRAVITY", "candidate_effects", "effect_by_name"]
+__all__ = ["Effect", "EffectParameter", "RigChange", "STANDARD_GRAVITY", "candidate_effects", "effect_by_name", "meaning"]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
 
@@ -526,3 +526,34 @@ def effect_by_name(rig: Rig, name: str) -> Effect:
         if effect.name == name:
             return effect
     raise KeyError(f"no effect '{name}' on rig '{rig.rig.name}'; candidates: {', '.join(e.name for e in effects)}")
+
+
+def meaning(effect: Effect, values: Sequence[float]) -> str:
+    """What the fitted ``values`` of ``effect`` mean physically, in one engineering sentence."""
+    (v, *_) = [float(x) for x in values]
+    where = effect.location
+    if effect.kind == "thermal_growth":
+        return f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled (thermal growth or a shim)"
+    if effect.kind == "bearing_stiffness":
+        return f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, clearance or seat fit)"
+    if effect.kind == "bearing_clearance":
+        return f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)"
+    if effect.kind == "mount_compliance":
+        return f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled"
+    if effect.kind == "coupling_offset":
+        return f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled"
+    if effect.kind == "coupling_angle":
+        return f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) more than modelled"
+    if effect.kind == "torque_reaction":
+        return f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque arm or an asymmetric pedestal)"
+    if effect.kind == "mesh_force":
+        return f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input"
+    if effect.kind == "mesh_position_error":
+        return f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral force while torque flows)"
+    if effect.kind == "self_weight":
+        return f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)"
+    if effect.kind == "force_pairs":
+        return f"paper 000's force table acts with {v:+.3g}× its published forces"
+    if effect.kind == "shear_deformation":
+        return f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear flexibility"
+    return f"{effect.name} = {v:.4g}"

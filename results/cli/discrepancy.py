@@ -26,16 +26,59 @@ __all__ = ["register"]
 
 
 def _print_result(result, lengths_mm) -> None:
-    from rvcoax.results.studies.discrepancy.report import rms_table
+    from rvcoax.results.studies.discrepancy.report import engineering_summary, rms_table
 
-    console.print(f"measured data: {escape(str(result.data.source))} ({result.data.schema}, {result.data.n} observations in "
-                  f"{len(result.data.cases)} load cases, {int((~result.fit_mask).sum())} observations held out)")
+    message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
+               "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and "
+                            "held-out load cases improve)",
+               "unexplained": "[bold red]VERDICT: unexplained[/] (what is named below reduces the gap but does not "
+                              "explain it)"}[result.verdict]
+    console.print(message)
+    for line in engineering_summary(result, lengths_mm):
+        console.print(f"  {escape(line)}")
+    shown: dict[str, int] = {}
+    for d in result.discriminations:  # the three closest look-alikes of each named effect (all are in the JSON)
+        shown[d.effects[0]] = shown.get(d.effects[0], 0) + 1
+        if shown[d.effects[0]] > 3:
+            continue
+        console.print(f"  to tell {d.effects[0]} from {d.effects[1]}: measure u_y on the {d.shaft} shaft at x = "
+                      f"{d.x_mm:.0f} mm with T1 = {d.case.input_torque_Nm:.3g}, T2 = {d.case.output_torque_Nm:.3g} N·m"
+                      + (" (a new load case)" if d.new_case else "")
+                      + (" (Y from the unloaded geometry)" if d.other_datum else "")
+                      + f": they differ by {1e3 * abs(d.difference_mm):.3g} µm ({d.in_sigma:.2g} σ)")
+    visible = sorted(n for n, v in result.observability.items() if v.visible)
+    hidden = {n: v for n, v in result.observability.items() if not v.visible}
+    if result.observability:
+        console.print(f"what these data can reveal: {len(visible)} of {len(result.observability)} effects: "
+                      + escape(", ".join(visible)))
+        revealable = {n: v for n, v in hidden.items() if v.suggestion is not None and v.suggestion.in_sigma >= 3}
+        console.print(f"cannot reveal {len(hidden)} effects; {len(revealable)} of them with one more measurement:")
+        for name, v in sorted(revealable.items()):
+            console.print(f"  {escape(name)}: {escape(v.suggestion.sentence())}")
+        rest = sorted(set(hidden) - set(revealable))
+        if rest:
+            console.print("  too small on this rig for any measurement considered: " + escape(", ".join(rest)))
+    for group in result.parallel_groups:
+        console.print("look-alikes on these data (nearly parallel signatures): " + escape(", ".join(group)))
+    if result.sentinel is not None:
+        s = result.sentinel
+        console.print(f"out-of-vocabulary sentinel: {escape(s.describe())} (χ² {s.chi2:.4g} with {s.k} parameters"
+                      + (f"; the vocabulary: χ² {result.vocabulary_chi2:.4g} with "
+                         f"{sum(len(e.values) for e in result.selected)}" if result.vocabulary_chi2 is not None else "")
+                      + ")")
+    for label, cv in (("vocabulary", result.cross_validation), ("sentinel", result.sentinel_cross_validation)):
+        if cv is not None:
+            console.print(f"cross-validation over load cases ({label}): held-out χ² {cv.chi2_before:.4g} → "
+                          f"{cv.chi2_after:.4g} on {cv.n} observations in {cv.folds} folds"
+                          + ("" if cv.improves else " [bold red](does not improve)[/]"))
+    console.print("[bold]statistics[/]")
+    console.print(f"  measured data: {escape(str(result.data.source))} ({result.data.schema}, {result.data.n} "
+                  f"observations in {len(result.data.cases)} load cases, {int((~result.fit_mask).sum())} held out)")
     for shaft, sigma in result.noise.noise_mm.items():
         console.print(f"  noise σ {shaft}: {1e3 * sigma:.4g} µm ({result.noise.method[shaft]})")
-    console.print(f"locate: {result.test_before.describe()}")
-    significant = [f for f in result.structure if f.significant]
-    for finding in significant:
-        console.print(f"  {finding.shaft} shaft: {finding.test}: {escape(finding.detail)}")
+    console.print(f"  before: {result.test_before.describe()}")
+    for finding in (f for f in result.structure if f.significant):
+        console.print(f"    {finding.shaft} shaft: {finding.test}: {escape(finding.detail)}")
     for step in result.steps:
         table = Table(title=f"candidates ranked by ΔBIC (step adding {step.added})", title_justify="left")
         table.add_column("effect")
@@ -46,21 +89,13 @@ def _print_result(result, lengths_mm) -> None:
     for selected in result.selected:
         effect = result.effects[selected.name]
         values = ", ".join(f"{p.name} = {v:.4g} {p.unit}" for p, v in zip(effect.parameters, selected.values))
-        group = f" — ambiguous with {', '.join(g for g in selected.group if g != selected.name)}" \
-            if len(selected.group) > 1 else ""
-        console.print(f"added: [bold]{selected.name}[/] ({values}; ΔBIC {selected.delta_bic:.1f}){escape(group)}")
-    for d in result.discriminations:
-        console.print(f"  to tell {d.effects[0]} from {d.effects[1]}: measure the {d.shaft} shaft at x = {d.x_mm:g} mm "
-                      f"with T1 = {d.case.input_torque_Nm:g}, T2 = {d.case.output_torque_Nm:g} N·m"
-                      + (" (a new load case)" if d.new_case else "")
-                      + f": they differ by {1e3 * abs(d.difference_mm):.3g} µm ({d.in_sigma:.2g} σ)")
+        console.print(f"  added: {selected.name} ({values}; ΔBIC {selected.delta_bic:.1f}; "
+                      + ("confident" if selected.confident else "not a confident single name") + ")")
     if result.rejected:
-        console.print(f"rejected (outside physical bounds): {len(result.rejected)}; e.g. "
+        console.print(f"  rejected (outside physical bounds): {len(result.rejected)}; e.g. "
                       + escape(next(iter(result.rejected.values()))))
     for name, reason in result.set_aside.items():
-        console.print(f"set aside (cannot be solved): {escape(name)}: {escape(reason)}")
-    if result.not_observable:
-        console.print(f"not observable on these data: {', '.join(sorted(result.not_observable))}")
+        console.print(f"  set aside (cannot be solved): {escape(name)}: {escape(reason)}")
     table = Table(title="RMS gap, measured − model", title_justify="left")
     for column in ("cases", "shaft", "before µm", "after µm", "before µrad", "after µrad"):
         table.add_column(column, justify="right")
@@ -70,12 +105,7 @@ def _print_result(result, lengths_mm) -> None:
                           f"{values['rms_tilt_before_urad'].get(shaft, float('nan')):.4g}",
                           f"{values['rms_tilt_after_urad'].get(shaft, float('nan')):.4g}")
     console.print(table)
-    console.print(f"after: {result.test_after.describe()}")
-    message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
-               "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise)",
-               "unexplained": "[bold red]VERDICT: unexplained discrepancy remains[/] (the effects above reduce the "
-                              "gap but do not explain it)"}[result.verdict]
-    console.print(message)
+    console.print(f"  after: {result.test_after.describe()}")
 
 
 def register(app: typer.Typer) -> None:
@@ -102,9 +132,13 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Locate where model and measurement disagree, name the missing effect, add it, show the gap shrink.
 
-        Writes (with --out): discrepancy.json, discrepancy_observations.csv, discrepancy.png and
-        rig_updated.toml (the rig with the effects added, each with a provenance comment). Exit
-        status 0 when there is no gap or the gap is explained, 1 when a discrepancy remains.
+        Before fitting it reports which effects the data can see and what measurement would reveal the
+        others; it groups look-alike effects, fits a generic out-of-vocabulary load next to the
+        vocabulary, and checks every verdict on held-out load cases. Writes (with --out):
+        discrepancy.json, discrepancy_observations.csv, discrepancy.png and rig_updated.toml (explained:
+        the rig with the effects added, each with a provenance comment) or rig_candidate.toml
+        (unexplained: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when a
+        discrepancy remains.
         """
         from rvcoax.geometry.rigfile import load_rig
         from rvcoax.geometry.rigwrite import updated_rig_text
@@ -157,15 +191,21 @@ def register(app: typer.Typer) -> None:
             rig_path = None
             if result.selected:
                 names = ", ".join(s.name for s in result.selected)
+                candidate = result.verdict != "explained"
+                warning = ([f"NOT A FIX: the verdict is '{result.verdict}'. These effects reduce the gap but do not "
+                            "explain it;", "this file is a candidate for the next measurement, not an updated rig."]
+                           if candidate else [])
                 text, _ = updated_rig_text(
                     original, result.rig_after,
                     note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
-                    header=[f"Updated by rvcoax {sweep_report.rvcoax_version()} discrepancy workflow from {source}",
-                            f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
+                    header=warning + [
+                        f"{'Candidate' if candidate else 'Updated'} by rvcoax {sweep_report.rvcoax_version()} "
+                        f"discrepancy workflow from {source}",
+                        f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
                     + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in
                                                      zip(result.effects[s.name].parameters, s.values))
                        + f" (ΔBIC {s.delta_bic:.1f})" for s in result.selected])
-                rig_path = write_text_atomic(out / "rig_updated.toml", text)
+                rig_path = write_text_atomic(out / ("rig_candidate.toml" if candidate else "rig_updated.toml"), text)
                 written.append(rig_path)
             written.append(write_json_atomic(out / "discrepancy.json", report.document(
                 result, lengths, None if rig_path is None else str(rig_path), sweep_report.rvcoax_version())))

@@ -10,7 +10,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
-__all__ = ["ambiguous_groups", "document", "observation_rows", "plot", "rms_table"]
+__all__ = ["ambiguous_groups", "document", "engineering_summary", "observation_rows", "plot", "rms_table"]
 
 
 def _rounded(values: dict) -> dict:
@@ -37,12 +37,93 @@ def ambiguous_groups(result: DiscrepancyResult) -> list[list[str]]:
     return [list(s.group) for s in result.selected if len(s.group) > 1]
 
 
+def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float]) -> list[str]:
+    """The result in an engineer's words, gap first (µm, µrad), then what was named and what it means."""
+    from rvcoax.geometry.effects import meaning
+
+    lines = []
+    every = np.ones(result.data.n, bool)
+    before, after = result.rms_mm("before", every), result.rms_mm("after", every)
+    tilt_before, tilt_after = result.rms_tilt_urad("before", every, lengths_mm), result.rms_tilt_urad("after", every,
+                                                                                                    lengths_mm)
+    for shaft in before:
+        tilt = (f" ({tilt_before[shaft]:.3g} → {tilt_after.get(shaft, float('nan')):.3g} µrad in tilt)"
+                if shaft in tilt_before else "")
+        lines.append(f"{shaft} shaft: measured − model is {1e3 * before[shaft]:.3g} µm RMS before, "
+                     f"{1e3 * after[shaft]:.3g} µm after{tilt}")
+    if result.verdict == "no_gap":
+        lines.append("the model agrees with the measurement within the noise and the model-form allowance")
+        return lines
+    for s in result.selected:
+        effect = result.effects[s.name]
+        text = meaning(effect, s.values)
+        if len(s.group) > 1:
+            text += (f" — or, equally well on these data, one of {len(s.group) - 1} look-alike(s): "
+                     + ", ".join(g for g in s.group if g != s.name))
+        lines.append(("named: " if s.confident else "candidate: ") + text)
+    if result.verdict == "unexplained":
+        if result.sentinel is not None:
+            lines.append(f"what the data do show: {result.sentinel.describe()}; no effect in the vocabulary produces "
+                         "it" if any("generic load" in r or "cancel" in r for r in result.reasons) else
+                         f"closest generic load: {result.sentinel.describe()}")
+        lines.append("not explained: " + "; ".join(result.reasons))
+    return lines
+
+
+def _suggestion(s) -> dict | None:
+    if s is None:
+        return None
+    return {"T1_input_Nm": s.case.input_torque_Nm, "T2_output_Nm": s.case.output_torque_Nm, "shaft": s.shaft,
+            "x_mm": s.x_mm, "change_um": float(f"{s.change_um:.4g}"), "change_in_sigma": float(f"{s.in_sigma:.4g}"),
+            "new_load_case": s.new_case, "datum": "unloaded" if s.other_datum else "as measured",
+            "text": s.sentence()}
+
+
+def observability_document(result: DiscrepancyResult) -> dict:
+    """Which effects these data can see, and for the others what would reveal them."""
+    return {
+        "visible": sorted(n for n, v in result.observability.items() if v.visible),
+        "invisible": {n: {"signature_norm_sigma": float(f"{v.norm_sigma:.4g}"), "reason": v.reason,
+                          "revealed_by": _suggestion(v.suggestion)}
+                      for n, v in sorted(result.observability.items()) if not v.visible},
+        "visible_signature_norm_sigma": {n: float(f"{v.norm_sigma:.4g}") for n, v in sorted(result.observability.items())
+                                         if v.visible},
+    }
+
+
+def sentinel_document(result: DiscrepancyResult) -> dict | None:
+    s = result.sentinel
+    if s is None:
+        return None
+    return {"description": s.describe(), "family": s.family, "part": s.part, "part_role": s.role, "x_mm": s.x_mm,
+            "parts_fitted": list(s.parts_fitted), "coefficients": [float(f"{c:.6g}") for c in s.coefficients],
+            "coefficient_units": ["N" if p == "constant" else "N per N·m" for p in s.parts_fitted]
+            if s.family == "force" else ["N·m" if p == "constant" else "N·m per N·m" for p in s.parts_fitted],
+            "chi2": float(f"{s.chi2:.6g}"), "n": s.n, "k": s.k, "bic": float(f"{s.bic:.6g}")}
+
+
 def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: str | None, version: str) -> dict:
     """The machine-readable result (``discrepancy.json``)."""
+    from rvcoax.geometry.effects import meaning
+
     effects = result.effects
     return {
         "rvcoax_version": version,
         "verdict": result.verdict,
+        "confident": result.verdict == "explained" and all(s.confident for s in result.selected),
+        "summary": engineering_summary(result, lengths_mm),
+        "reasons": list(result.reasons),
+        "named": [{"effect": s.name, "meaning": meaning(effects[s.name], s.values), "group": list(s.group),
+                   "confident": s.confident} for s in result.selected],
+        "observability": observability_document(result),
+        "signature_groups": [list(g) for g in result.parallel_groups],
+        "sentinel": sentinel_document(result),
+        "cross_validation": {
+            "vocabulary": None if result.cross_validation is None else result.cross_validation.as_dict(),
+            "sentinel": None if result.sentinel_cross_validation is None else result.sentinel_cross_validation.as_dict()},
+        "vocabulary_fit": None if result.vocabulary_chi2 is None else {
+            "chi2": float(f"{result.vocabulary_chi2:.6g}"),
+            "k": int(sum(len(s.values) for s in result.selected)), "n": int(result.fit_mask.sum())},
         "measured": {"source": result.data.source, "schema": result.data.schema, "observations": result.data.n,
                      "cases": len(result.data.cases),
                      "cases_held_out": len({int(c) for c in result.data.case_index[~result.fit_mask]})},
@@ -54,13 +135,15 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
             "chi2": result.test_after_held_out.chi2, "n": result.test_after_held_out.n,
             "p": result.test_after_held_out.p_value},
         "selected": [{"effect": s.name, "parameters": s.parameters(effects[s.name]),
-                      "delta_bic": float(f"{s.delta_bic:.6g}"), "group": list(s.group), "round": s.round}
+                      "delta_bic": float(f"{s.delta_bic:.6g}"), "group": list(s.group), "round": s.round,
+                      "confident": s.confident}
                      for s in result.selected],
         "ambiguous_groups": ambiguous_groups(result),
         "discriminating_measurements": [
             {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
              "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
-             "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case}
+             "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case,
+             "datum": "unloaded" if d.other_datum else "as measured"}
             for d in result.discriminations],
         "rms_before_mm": _rounded(result.rms_mm("before")),
         "rms_after_mm": _rounded(result.rms_mm("after")),
@@ -73,6 +156,7 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
         "rejected": result.rejected,
         "set_aside": result.set_aside,
         "rig_file": rig_file,
+        "rig_file_is_candidate": result.verdict == "unexplained" and rig_file is not None,
     }
 
 

@@ -32,6 +32,8 @@ __all__ = ["CrossValidation", "SentinelFit", "case_folds", "fit_sentinel", "line
 
 SLOTS = {"constant": "force_table", "T1": "T1", "T2": "T2"}  # a constant load acts like the rest loads
 FAMILIES = {"force": (1, "N"), "moment": (5, "N·m")}
+# plausible sizes (constant, per N·m of torque): a sentinel beyond them is a fit of noise or of a linearisation
+LIMITS = {"force": (1e4, 1e3), "moment": (1e3, 1e2)}
 
 
 @dataclass(frozen=True)
@@ -113,6 +115,9 @@ def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool
                     if not np.any(a):
                         continue
                     coefficients, *_ = np.linalg.lstsq(a, target, rcond=None)
+                    limits = [LIMITS[family][0 if p == "constant" else 1] for p in subset]
+                    if any(abs(c) > limit for c, limit in zip(coefficients, limits)):
+                        continue
                     chi2 = float(np.sum((target - a @ coefficients) ** 2))
                     bic = chi2 + (size + 1) * np.log(max(n, 2))
                     if best is None or bic < best[0]:
