@@ -186,7 +186,7 @@ class Engine:
         return out
 
     # -- sentinel loads ------------------------------------------------------------------------------------
-    def sentinel_sites(self, per_part: int = 9) -> list[tuple[str, float, int]]:
+    def sentinel_sites(self, per_part: int = 25) -> list[tuple[str, float, int]]:
         """(part, x_mm, node) for up to ``per_part`` evenly spread nodes of every part."""
         frame = self.system.frame
         sites = []

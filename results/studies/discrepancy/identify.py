@@ -142,12 +142,20 @@ def _out_of_bounds(responses, names, values) -> str | None:
     return None
 
 
-def _representative(problem: Problem, group: list[str], fits: dict[str, Fit], winner: str) -> tuple[str, Fit]:
+def _representative(problem: Problem, group: list[str], fits: dict[str, Fit], winner: str,
+                    margin: float = 6.0) -> tuple[str, Fit]:
     """The member of an ambiguity group that is added: the best linear one if there is one (a linear
-    effect keeps the rig linear, so superposition stays valid: the simpler model), else the winner."""
-    linear = [name for name in group if problem.responses[name].kind == "linear"]
+    effect keeps the rig linear, so superposition stays valid: the simpler model) when it fits within ``margin`` of
+    the winner's BIC; else one solved exactly on the factorisation (not a coarse grid of a clearance); else the
+    winner."""
+    close = [name for name in group if fits[name].bic - fits[winner].bic < margin]
+    linear = [name for name in close if problem.responses[name].kind == "linear"]
     if linear and problem.responses[winner].kind != "linear":
         name = min(linear, key=lambda n: fits[n].bic)
+        return name, fits[name]
+    exact = [name for name in close if problem.responses[name].unit is not None]  # solved on the factorisation
+    if exact and problem.responses[winner].unit is None:
+        name = min(exact, key=lambda n: fits[n].bic)
         return name, fits[name]
     return winner, fits[winner]
 
@@ -184,7 +192,7 @@ def forward_backward(problem: Problem, candidates: list[str], margin: float = 10
                             if t.bic - best.bic < ambiguity_margin
                             or (before - t.bic >= margin
                                 and _cosine(winner_signature, problem.signature(name, t.values[-1])) > parallel_cosine)]
-        winner, best = _representative(problem, group, valid, winner)
+        winner, best = _representative(problem, group, valid, winner, ambiguity_margin)
         group.remove(winner)
         group.insert(0, winner)
         gain = before - best.bic

@@ -315,6 +315,11 @@ def _fighting_pairs(problem: Problem, fitted: list[tuple[str, np.ndarray]]) -> l
                   for n, v in fitted if n in problem.responses}
     out = []
     names = list(signatures)
+    total = sum(signatures.values()) if signatures else 0.0
+    largest = max((np.linalg.norm(v) for v in signatures.values()), default=0.0)
+    if len(names) > 2 and largest > 0 and np.linalg.norm(total) < FIGHT_RATIO * largest:
+        out.append(f"{', '.join(names)} cancel each other (the largest {largest:.3g} σ, together "
+                   f"{np.linalg.norm(total):.3g} σ): a shape mimicked, not an explanation")
     for i, a in enumerate(names):
         for b in names[i + 1:]:
             sa, sb = signatures[a], signatures[b]
@@ -501,9 +506,9 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
             if sentinel.bic < bic - settings.bic_margin:
                 reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
                                f"against {bic:.4g})")
-            elif k > sentinel.k and sentinel.chi2 <= chi2:
+            elif k > sentinel.k and (sentinel.bic < bic or stats.chi2.sf(sentinel.chi2, sentinel.n) >= settings.alpha):
                 reasons.append(f"the vocabulary needs {k} parameters where one generic load needs {sentinel.k} for a "
-                               "fit as good")
+                               f"fit as good (χ² {chi2:.4g} against {sentinel.chi2:.4g})")
         if cv is not None and not cv.improves:
             reasons.append(f"held-out load cases do not improve (χ² {cv.chi2_before:.4g} → {cv.chi2_after:.4g})")
         residual = data.value_mm - after
