@@ -104,24 +104,30 @@ def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool
     n = int(np.count_nonzero(rows))
     sites = engine.sentinel_sites()
     best = None
+    total = float(target @ target)
     for family, (component, _) in FAMILIES.items():
         columns = _columns(engine, sites, component, data.cases, from_rest, operator)
         parts = list(columns)
         scaled = {p: columns[p][rows] / sigma[rows][:, None] for p in parts}
         for size in range(1, len(parts) + 1):
             for subset in itertools.combinations(parts, size):
-                for j in range(len(sites)):
-                    a = np.column_stack([scaled[p][:, j] for p in subset])
-                    if not np.any(a):
-                        continue
-                    coefficients, *_ = np.linalg.lstsq(a, target, rcond=None)
-                    limits = [LIMITS[family][0 if p == "constant" else 1] for p in subset]
-                    if any(abs(c) > limit for c, limit in zip(coefficients, limits)):
-                        continue
-                    chi2 = float(np.sum((target - a @ coefficients) ** 2))
-                    bic = chi2 + (size + 1) * np.log(max(n, 2))
-                    if best is None or bic < best[0]:
-                        best = (bic, family, j, subset, coefficients, chi2, columns)
+                a = np.stack([scaled[p] for p in subset], axis=2)  # (n, sites, k): every site at once
+                gram = np.einsum("nsi,nsj->sij", a, a)
+                rhs = np.einsum("nsi,n->si", a, target)
+                usable = np.linalg.det(gram) > 1e-12 * np.prod(np.diagonal(gram, axis1=1, axis2=2), axis=1)
+                if not usable.any():
+                    continue
+                coefficients = np.zeros_like(rhs)
+                coefficients[usable] = np.linalg.solve(gram[usable], rhs[usable][..., None])[..., 0]
+                chi2 = total - np.einsum("si,si->s", rhs, coefficients)
+                limits = np.array([LIMITS[family][0 if p == "constant" else 1] for p in subset])
+                usable &= np.all(np.abs(coefficients) <= limits, axis=1)
+                if not usable.any():
+                    continue
+                bic = np.where(usable, chi2 + (size + 1) * np.log(max(n, 2)), np.inf)
+                j = int(np.argmin(bic))
+                if best is None or bic[j] < best[0]:
+                    best = (float(bic[j]), family, j, subset, coefficients[j], float(max(chi2[j], 0.0)), columns)
     if best is None:
         return None
     _, family, j, subset, coefficients, chi2, columns = best
