@@ -97,13 +97,15 @@ class Engine:
         for effect, values in applied:
             rig = effect.apply(rig, list(values))
         system = self.system
+        base_loads = system.unit_loads
+        springs_only = all(effect.kind in SPRING_KINDS for effect, _ in applied)
         try:
-            loads = system.with_loads_of(rig).unit_loads
+            loads = base_loads if springs_only else system.with_loads_of(rig).unit_loads
         except KeyError:  # a load where the base mesh has no node: the rig's own mesh, by a real sweep
             return self.swept_unit_paths(rig) - self.unit_paths
         operator, delta = self._springs(rig)
-        base_loads = system.unit_loads
-        change = np.column_stack([loads[k] - base_loads[k] for k in UNIT_LOADS])
+        change = np.zeros_like(self.unit) if springs_only else np.column_stack([loads[k] - base_loads[k]
+                                                                                 for k in UNIT_LOADS])
         if operator is not None:  # the springs' prestrain K Δ0 with their new stiffness
             change[:, UNIT_LOADS.index("prestrain")] += self._prestrain_change(rig, operator, delta)
         solve = self.prepared.solve
@@ -112,8 +114,12 @@ class Engine:
         if operator is not None:
             g, ug = self._influence(operator)
             small = np.eye(delta.size) + delta[:, None] * ug
+            if not np.linalg.cond(small) < 1e12:
+                raise ModelError("the changed spring stiffness makes the model (nearly) singular")
             u = u - g @ np.linalg.solve(small, delta[:, None] * np.asarray(operator @ u))
-            self._check(system.stiffness + operator.T @ sp.diags(delta) @ operator, u, self._loads_with(loads, change))
+            if not springs_only:
+                self._check(system.stiffness + operator.T @ sp.diags(delta) @ operator, u,
+                            self._loads_with(loads, change))
         elif np.any(change):
             self._check(system.stiffness, u, self._loads_with(loads, change))
         return np.asarray(self.path_operator @ (u - self.unit)).T
@@ -184,6 +190,48 @@ class Engine:
         out[:n] = (bushing.prestrain_load(structure.coordinates, replace(structure.bushings, stiffness=stiffness), free, n)
                    - bushing.prestrain_load(structure.coordinates, structure.bushings, free, n))
         return out
+
+    # -- a bearing clearance (nonlinear, condensed to the bearing's two radial motions) ------------------------
+    def clearance_paths(self, bearing: str, clearance_um: float, cases, from_rest: bool | None = None) -> np.ndarray:
+        """Full paths with a radial clearance at ``bearing`` (linear base rig): per case the 2-D clearance law
+        d = d_lin + U G r(d) is solved on the factorisation, r the force the gap releases (k d while open,
+        k c d/|d| once closed), then u = u_lin + G r. The rest state is solved the same way."""
+        from_rest = self.rig.paths.measured_from == "aligned_at_rest" if from_rest is None else from_rest
+        frame = self.system.frame
+        row = frame.bushing_names.index(SpringId("bearing", bearing))
+        operator = bushing.radial_operator(frame.structure.coordinates, frame.structure.bushings, [row],
+                                           self.system.n_dofs)
+        g, ug = self._influence(operator)
+        k = float(frame.structure.bushings.stiffness[row, 1])
+        c = clearance_um * 1e-6
+        paths_g = np.asarray(self.path_operator @ g)  # (n_path, 2)
+        unit_d = np.asarray(operator @ self.unit)  # (2, 7)
+        weights = case_matrix(cases, from_rest=False)
+        rest = case_matrix([type(cases[0])(0.0, 0.0)], from_rest=False)[0] if cases else None
+        linear_paths = weights @ self.unit_paths
+
+        def released(d_lin):
+            open_d = np.linalg.solve(np.eye(2) - k * ug, d_lin)
+            if np.linalg.norm(open_d) <= c:
+                return k * open_d
+            d = d_lin.copy() if np.linalg.norm(d_lin) > c else open_d
+            for _ in range(60):
+                size = np.linalg.norm(d)
+                r = k * c * d / size
+                jac = np.eye(2) - ug @ (k * c * (np.eye(2) / size - np.outer(d, d) / size ** 3))
+                step = np.linalg.solve(jac, d - d_lin - ug @ r)
+                d = d - step
+                if np.linalg.norm(step) <= 1e-14 * max(np.linalg.norm(d), c):
+                    break
+            else:
+                raise ModelError(f"the clearance law of bearing {bearing} did not converge")
+            return k * c * d / np.linalg.norm(d)
+
+        out = np.array([linear_paths[i] + paths_g @ released(unit_d @ w) for i, w in enumerate(weights)])
+        if from_rest:
+            rest_paths = rest @ self.unit_paths + paths_g @ released(unit_d @ rest)
+            out = out - rest_paths
+        return out.ravel()
 
     # -- sentinel loads ------------------------------------------------------------------------------------
     def sentinel_sites(self, per_part: int = 25) -> list[tuple[str, float, int]]:

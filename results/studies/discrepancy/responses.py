@@ -249,8 +249,9 @@ def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
     """A candidate's response on the factorised base model (:mod:`engine`).
 
     Linear effects: one unit-path change per parameter. Nonlinear ones: a grid over the physical
-    bounds, each point exact; a clearance (solved case by case) first at its bound only, and on a
-    coarse grid only when ``visible(delta_full_paths)`` says the data can see it there.
+    bounds, each point exact (a clearance on a linear rig by its condensed 2-D law); anything solved
+    by real sweeps first at its bound only, and on a coarse grid only when ``visible(delta_full_paths)``
+    says the data can see it there.
     """
     parameters = effect.parameters
     base_unit = engine.unit_paths
@@ -279,6 +280,12 @@ def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
         unit = np.array(unit)
         return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array([engine.full_paths(u, cases) for u in unit]),
                               unit=unit)
+    if engine.linear and effect.kind == "bearing_clearance":  # exact and cheap: the law condensed to the bearing
+        base = engine.full_paths(base_unit, cases)
+        grid = parameter_grid(parameter)
+        rows = [engine.clearance_paths(effect.location, value, cases) - base if value != 0.0 else np.zeros_like(base)
+                for value in grid]
+        return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array(rows))
     base = engine.full_paths(base_unit, cases) if engine.linear else engine.swept_paths(engine.rig, cases)
     bound = parameter.upper if abs(parameter.upper) >= abs(parameter.lower) else parameter.lower
     far = engine.swept_paths(effect.apply(engine.rig, [bound]), cases) - base

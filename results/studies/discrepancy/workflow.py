@@ -256,6 +256,11 @@ def _applied(rig, effects_by_name, selected) -> object:
 def _true_paths(rig, effects_by_name, fits, cases, settings: SweepSettings, engine: Engine | None):
     """Full paths of ``rig`` with the effects ``fits`` applied: exact on the factorisation when the engine
     solves every one of them, else a real sweep."""
+    if engine is not None and engine.rig is rig and engine.linear and len(fits) == 1 \
+            and effects_by_name[fits[0][0]].kind == "bearing_clearance":
+        (name, values), = fits
+        return (engine.clearance_paths(effects_by_name[name].location, float(np.atleast_1d(values)[0]), cases),
+                engine.layout(len(cases)))
     if engine is not None and engine.rig is rig and all(engine.supports(effects_by_name[n]) for n, _ in fits):
         change = engine.unit_change([(effects_by_name[n], list(v)) for n, v in fits])
         return engine.full_paths(engine.unit_paths + change, cases), engine.layout(len(cases))
