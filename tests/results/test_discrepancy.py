@@ -201,13 +201,12 @@ def test_measured_data_schemas_and_errors():
             parse_measured(text, "bad.csv")
 
 
-def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):
-    """The command end to end on paths data with a hidden C3 offset (a small candidate list keeps it fast)."""
-    rig_file = tmp_path / "rig.toml"
+def write_cli_inputs(tmp_path, rig: Rig, data: MeasuredData):
+    """The rig as a TOML file and ``data`` as a paths CSV, for the command (returns both paths)."""
     from tests.geometry.test_rigfile_errors import dump_toml
 
+    rig_file = tmp_path / "rig.toml"
     rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
-    data = hidden_data(rig, effects, "coupling_offset@C3", "paths", 0.01, 61)
     lines = ["T1_input_Nm,T2_output_Nm,shaft,x_mm,uy_mm"]
     for i in range(data.n):
         case = data.cases[data.case_index[i]]
@@ -215,6 +214,13 @@ def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):
                      f"{data.value_mm[i]:.9e}")
     measured = tmp_path / "measured.csv"
     measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return rig_file, measured
+
+
+def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):
+    """The command end to end on paths data with a hidden C3 offset (a small candidate list keeps it fast)."""
+    rig_file, measured = write_cli_inputs(tmp_path, rig, hidden_data(rig, effects, "coupling_offset@C3", "paths",
+                                                                     0.01, 61))
     out = tmp_path / "out"
     result = CliRunner().invoke(app, ["discrepancy", "--measured", str(measured), "--rig", str(rig_file), "--out",
                                       str(out), "--effects", "coupling_offset,mesh_force,bearing_stiffness"])

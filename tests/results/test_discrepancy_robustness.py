@@ -22,10 +22,11 @@ from rvcoax.geometry.effects import candidate_effects
 from rvcoax.geometry.rigfile import load_rig
 from rvcoax.loadcases.cases import LoadCase, paper_table
 from rvcoax.results.cli.app import app
+from rvcoax.results.studies.discrepancy.engine import Engine
 from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
-from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, SweepSettings, run_sweep
-from tests.results.test_discrepancy import hidden_data, test_rig
+from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, ModelError, SweepSettings, run_sweep
+from tests.results.test_discrepancy import hidden_data, test_rig, write_cli_inputs
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 
@@ -96,23 +97,17 @@ def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     """A clearance candidate whose iteration cannot converge: listed as set aside, the run finishes (not exit 2)."""
     rig = test_rig()
     effects = {e.name: e for e in candidate_effects(rig)}
-    rig_file = tmp_path / "rig.toml"
-    from tests.geometry.test_rigfile_errors import dump_toml
-
-    rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
-    data = hidden_data(rig, effects, "coupling_offset@C3", "paths", 0.01, 61)
-    lines = ["T1_input_Nm,T2_output_Nm,shaft,x_mm,uy_mm"]
-    for i in range(data.n):
-        case = data.cases[data.case_index[i]]
-        lines.append(f"{case.input_torque_Nm},{case.output_torque_Nm},{data.shaft[i]},{data.x_mm[i]:.6g},"
-                     f"{data.value_mm[i]:.9e}")
-    measured = tmp_path / "measured.csv"
-    measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    rig_file, measured = write_cli_inputs(tmp_path, rig, hidden_data(rig, effects, "coupling_offset@C3", "paths",
+                                                                     0.01, 61))
 
     def never_converges(*args, **kwargs):
         raise bushing.GapConvergenceError("the bearing-clearance iteration did not converge in 0 steps (test)")
 
-    monkeypatch.setattr(bushing, "solve_condensed", never_converges)  # only nonlinear (clearance) candidates call it
+    def law_never_converges(*args, **kwargs):
+        raise ModelError("the clearance law of bearing input_B2 did not converge (test)")
+
+    monkeypatch.setattr(bushing, "solve_with_gaps", never_converges)  # clearance candidates solved by sweeps
+    monkeypatch.setattr(Engine, "clearance_paths", law_never_converges)  # and on the factorisation
     out = tmp_path / "out"
     result = CliRunner().invoke(app, ["discrepancy", "--measured", str(measured), "--rig", str(rig_file), "--out",
                                       str(out), "--effects", "coupling_offset@C3,bearing_clearance@input_B2"])
@@ -121,6 +116,7 @@ def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     assert exit_for(document["verdict"]) == result.exit_code
     assert "bearing_clearance@input_B2" in document["set_aside"]
     assert "did not converge" in document["set_aside"]["bearing_clearance@input_B2"]
+    assert document["verdict"] in ("explained", "unexplained", "no_gap")
     assert "set aside (cannot be solved): bearing_clearance@input_B2" in " ".join(result.output.split())
     assert document["selected"][0]["effect"] == "coupling_offset@C3"
 

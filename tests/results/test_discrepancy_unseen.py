@@ -33,11 +33,16 @@ from rvcoax.results.studies.discrepancy.measured import read_measured
 from rvcoax.results.studies.discrepancy.observability import observability
 from rvcoax.results.studies.discrepancy.responses import Observation, engine_response, solve_full_paths
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
-from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
+from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
-from tests.results.test_discrepancy import LENGTHS, STATIONS, test_rig
+from tests.results import test_discrepancy as shared
+from tests.results.test_discrepancy import LENGTHS, STATIONS, test_rig, write_cli_inputs
 
 OUTPUT_STATION_MM = 470.0  # on the output shaft, between the reducer and the output bearing block
+
+
+rig = shared.rig  # the module fixtures: the identifying rig and its candidate library
+library = shared.library
 
 
 def finer(rig: Rig) -> Rig:
@@ -54,16 +59,6 @@ def with_lateral_load(rig: Rig, part: str, x_mm: float, force_per_torque: float)
                                          "on": {"part": part, "x_mm": x_mm},
                                          "force_per_torque_N_per_Nm": force_per_torque})
     return Rig.model_validate(data)
-
-
-@pytest.fixture(scope="module")
-def rig() -> Rig:
-    return test_rig()
-
-
-@pytest.fixture(scope="module")
-def library(rig):
-    return build_library(rig, paper_cases(), SweepSettings())
 
 
 def unseen_data(truth: Rig, noise: float, seed: int, schema: str = "paths"):
@@ -86,6 +81,18 @@ def test_the_engine_solves_every_linear_candidate_exactly_on_one_factorisation()
         truth, _ = solve_full_paths(effect.apply(rig, [value]), cases, SweepSettings())
         fast = engine.full_paths(engine.unit_paths + engine.unit_change([(effect, [value])]), cases)
         np.testing.assert_allclose(fast, truth, atol=1e-9 * np.abs(truth - base).max(), err_msg=name)
+
+
+def test_a_bearing_clearance_is_solved_exactly_by_its_condensed_law():
+    """The 2-D clearance law on the factorisation against the active-set gap sweep, gap open and closed."""
+    rig = test_rig()
+    cases = paper_cases()[::4]
+    engine = prepare_engine(rig, SweepSettings())
+    effect = {e.name: e for e in candidate_effects(rig)}["bearing_clearance@input_B2"]
+    for clearance_um in (0.15, 3.0, 15.0):
+        truth, _ = solve_full_paths(effect.apply(rig, [clearance_um]), cases, SweepSettings())
+        fast = engine.clearance_paths("input_B2", clearance_um, cases)
+        np.testing.assert_allclose(fast, truth, atol=1e-10 * np.abs(truth).max(), err_msg=str(clearance_um))
 
 
 @pytest.mark.slow
@@ -163,18 +170,8 @@ def test_an_effect_without_look_alike_is_named_with_confidence(rig, library):
 def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexplained(tmp_path):
     """Out-of-vocabulary data through the command (a short candidate list keeps it fast)."""
     rig = test_rig()
-    rig_file = tmp_path / "rig.toml"
-    from tests.geometry.test_rigfile_errors import dump_toml
-
-    rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
     data = unseen_data(with_lateral_load(rig, "output_shaft", OUTPUT_STATION_MM, 2.0), 0.01, seed=8)
-    lines = ["T1_input_Nm,T2_output_Nm,shaft,x_mm,uy_mm"]
-    for i in range(data.n):
-        case = data.cases[data.case_index[i]]
-        lines.append(f"{case.input_torque_Nm},{case.output_torque_Nm},{data.shaft[i]},{data.x_mm[i]:.6g},"
-                     f"{data.value_mm[i]:.9e}")
-    measured = tmp_path / "measured.csv"
-    measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    rig_file, measured = write_cli_inputs(tmp_path, rig, data)
     out = tmp_path / "out"
     result = CliRunner().invoke(app, ["discrepancy", "--measured", str(measured), "--rig", str(rig_file), "--out",
                                       str(out), "--effects", "torque_reaction,coupling_offset"])
