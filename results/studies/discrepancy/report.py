@@ -178,7 +178,10 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
 
 def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
     """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars."""
+    import textwrap
+
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter
 
     data = result.data
     figure = Figure(figsize=(13, 8), dpi=120, layout="constrained")
@@ -231,9 +234,12 @@ def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str 
         ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
         ax.set_xticks(position, labels)
         ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # plain numbers, no mathtext
         ax.set_ylabel(f"RMS gap [{unit}]")
         ax.legend()
         ax.grid(alpha=0.3, axis="y")
-    names = ", ".join(s.name + (f" (group: {', '.join(s.group)})" if len(s.group) > 1 else "") for s in result.selected)
-    figure.suptitle((title + "\n" if title else "") + f"verdict: {result.verdict}" + (f"; added: {names}" if names else ""))
+    names = ", ".join(s.name + (f" (or {len(s.group) - 1} look-alike{'s' if len(s.group) > 2 else ''})"
+                                if len(s.group) > 1 else "") for s in result.selected)
+    line = f"verdict: {result.verdict}" + (f"; added: {names}" if names else "")
+    figure.suptitle((title + "\n" if title else "") + "\n".join(textwrap.wrap(line, 150)))
     return write_png_atomic(path_png, figure)
