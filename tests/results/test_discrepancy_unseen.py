@@ -17,6 +17,8 @@ workflow identifies with its own model. Checked here:
 from __future__ import annotations
 
 import json
+from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,6 +41,7 @@ from tests.results import test_discrepancy as shared
 from tests.results.test_discrepancy import LENGTHS, STATIONS, test_rig, write_cli_inputs
 
 OUTPUT_STATION_MM = 470.0  # on the output shaft, between the reducer and the output bearing block
+HYBRID_FIXTURE = Path(__file__).with_name("data") / "discrepancy_hybrid_oov_paths.csv"
 
 
 rig = shared.rig  # the module fixtures: the identifying rig and its candidate library
@@ -189,3 +192,38 @@ def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexpl
     candidate = (out / "rig_candidate.toml").read_text()
     assert candidate.startswith("# NOT A FIX: the verdict is 'unexplained'")
     assert document["rig_file_is_candidate"] is True
+
+
+def make_hybrid_fixture(path: Path = HYBRID_FIXTURE) -> None:
+    """Write the hybrid-model fixture: the test rig solved with ``SweepSettings(model="hybrid")`` (solid housings,
+    ≈ 100 s) with 2 N per N·m of T2 at x = 470 mm on the output shaft, noise-free, at the test's stations."""
+    from rvcoax.results.io.writers import write_csv_atomic
+
+    template = observation_layout(paper_cases(), STATIONS, LENGTHS, "paths")
+    truth = with_lateral_load(test_rig(), "output_shaft", OUTPUT_STATION_MM, 2.0)
+    data = synthetic_data(truth, template, 0.0, 0, SweepSettings(model="hybrid"))
+    write_csv_atomic(path, [{"T1_input_Nm": data.cases[c].input_torque_Nm, "T2_output_Nm": data.cases[c].output_torque_Nm,
+                             "shaft": str(shaft), "x_mm": float(f"{x:.6g}"), "uy_mm": float(f"{value:.9e}")}
+                            for c, shaft, x, value in zip(data.case_index, data.shaft, data.x_mm, data.value_mm)])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("noise", (0.01, 0.05))
+def test_hybrid_model_data_with_a_load_outside_the_vocabulary_is_unexplained(rig, library, noise):
+    """Data from the hybrid model (solid housings: another discretisation and model form; 1.7–4 % from the beam
+    model on these paths) with the output-shaft load: the beam model calls it unexplained, and its sentinel finds
+    the load's station and size."""
+    clean = read_measured(HYBRID_FIXTURE)
+    rng = np.random.default_rng(17)
+    sigma = np.array([noise * np.sqrt(np.mean(clean.value_mm[clean.shaft == s] ** 2)) for s in clean.shaft])
+    data = replace(clean, value_mm=clean.value_mm + rng.normal(size=clean.n) * sigma)
+    result = run_discrepancy(rig, data, DiscrepancySettings(), library=library)
+    assert result.verdict == "unexplained" and not any(s.confident for s in result.selected)
+    sentinel = result.sentinel
+    assert sentinel.part == "output_shaft" and abs(sentinel.x_mm - OUTPUT_STATION_MM) <= 25.0, sentinel
+    force = sentinel.coefficients[sentinel.parts_fitted.index("T2")]
+    assert 1.0 < force < 4.0, sentinel
+
+
+if __name__ == "__main__":
+    make_hybrid_fixture()
