@@ -170,6 +170,7 @@ def test_an_effect_without_look_alike_is_named_with_confidence(rig, library):
     assert named.name == effect.name and named.confident
 
 
+@pytest.mark.slow
 def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexplained(tmp_path):
     """Out-of-vocabulary data through the command (a short candidate list keeps it fast)."""
     rig = test_rig()

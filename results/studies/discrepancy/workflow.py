@@ -396,8 +396,13 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     effects_by_name = {e.name: e for e in candidate_effects(rig)}
     set_aside: dict[str, str] = dict(library.failed)
     # 1. observability: which effects can these data see at all, and what would reveal the others
-    seen = observability(library.responses, data, base_paths, observe, sigma, engine, from_rest) \
-        if engine is not None else {}
+    seen = {}
+    for name, response in library.responses.items():
+        try:
+            seen.update(observability({name: response}, data, base_paths, observe, sigma, engine, from_rest)
+                        if engine is not None else {})
+        except CANDIDATE_FAILURES as error:
+            set_aside[name] = f"its signature cannot be evaluated: {error}"
     not_observable = {n: v.reason for n, v in seen.items() if not v.visible}
     responses = {n: r for n, r in library.responses.items() if n not in not_observable and n not in set_aside}
     # 2. groups of look-alikes, from the signatures alone (independent of the noise level)
@@ -405,10 +410,14 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     groups = tuple(tuple(g) for g in parallel_groups(directions, settings.parallel_cosine))
     # 3. the out-of-vocabulary sentinel and the folds for cross-validation
     folds = case_folds(data)
-    sentinel = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest) \
-        if engine is not None and test_before.gap else None
-    sentinel_cv = _sentinel_cv(engine, sentinel, data, base_paths, observe, sigma, scaled_before, folds, from_rest) \
-        if sentinel is not None else None
+    sentinel = sentinel_cv = None
+    if engine is not None and test_before.gap:
+        try:  # the sentinel, like any candidate, never ends the run
+            sentinel = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest)
+            sentinel_cv = _sentinel_cv(engine, sentinel, data, base_paths, observe, sigma, scaled_before, folds,
+                                       from_rest)
+        except CANDIDATE_FAILURES as error:
+            set_aside["sentinel"] = f"the generic load could not be fitted: {error}"
 
     selected: list[SelectedEffect] = []
     steps: list[Step] = []
