@@ -107,11 +107,13 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
     from rvcoax.geometry.effects import meaning
 
     effects = result.effects
+    summary = engineering_summary(result, lengths_mm)
     return {
         "rvcoax_version": version,
         "verdict": result.verdict,
         "confident": result.verdict == "explained" and all(s.confident for s in result.selected),
-        "summary": engineering_summary(result, lengths_mm),
+        "headline": "; ".join(summary),
+        "summary": summary,
         "reasons": list(result.reasons),
         "named": [{"effect": s.name, "meaning": meaning(effects[s.name], s.values), "group": list(s.group),
                    "confident": s.confident} for s in result.selected],
