@@ -87,12 +87,20 @@ def _columns(engine, sites, component, cases, from_rest, operator) -> dict[str, 
     """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site."""
     g = engine.sentinel_paths(sites, component)  # (n_sites, n_path)
     weights = case_matrix(cases, from_rest)
+    # each observation reads one case's block: the operator within a block, times that case's weight (no
+    # (cases × path) × sites matrix is ever formed)
+    n_path = g.shape[1]
+    coo = operator.tocoo()
+    local = sp.csr_matrix((coo.data, (coo.row, coo.col % n_path)), shape=(operator.shape[0], n_path))
+    case_of_row = np.zeros(operator.shape[0], dtype=int)
+    case_of_row[coo.row] = coo.col // n_path
+    shapes = np.asarray(local @ g.T)  # (n_obs, n_sites)
     out = {}
     for part, slot in SLOTS.items():
         column = weights[:, UNIT_LOADS.index(slot)]
         if not np.any(column):
             continue  # e.g. a constant load when Y is read from the rig at rest
-        out[part] = np.asarray(operator @ np.kron(column[:, None], g.T))
+        out[part] = column[case_of_row][:, None] * shapes
     return out
 
 

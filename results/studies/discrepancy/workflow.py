@@ -63,7 +63,7 @@ from rvcoax.results.studies.discrepancy.sentinel import (
 )
 from rvcoax.results.sweep import ModelError, SweepSettings
 
-__all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
+__all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_BYTES", "CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
            "Discrimination", "OBSERVABLE_SIGMA", "OBSERVATION_BYTES", "OBSERVATION_S", "SelectedEffect",
            "build_library", "discrepancy_workload", "held_out_mask", "run_discrepancy"]
 
@@ -77,7 +77,10 @@ OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature
 # (each true-model evaluation of the refit): a 20,000-row paths file, results/studies/discrepancy/responses.py
 CASE_CANDIDATE_S = 0.006
 OBSERVATION_S = 20e-6 + 100 * 5.3e-6
-OBSERVATION_BYTES = 2e3
+# memory: a candidate keeps its change of every case's paths on a grid (12 × 82 stations × 8 bytes per case); the
+# sentinel holds each observation's response to a load at ≈ 375 sites, for 3 torque parts and their fit
+CASE_CANDIDATE_BYTES = 8.5e3
+OBSERVATION_BYTES = 20e3
 
 
 @dataclass(frozen=True)
@@ -230,7 +233,8 @@ def discrepancy_workload(data: MeasuredData, n_candidates: int):
     cases = len(data.cases)
     seconds = CASE_CANDIDATE_S * cases * max(n_candidates, 1) + OBSERVATION_S * data.n
     return Workload(f"{count_text(data.n)} observations in {count_text(cases)} load cases × {n_candidates} "
-                    "candidate effects", seconds, BASE_BYTES + OBSERVATION_BYTES * data.n)
+                    "candidate effects", seconds,
+                    BASE_BYTES + OBSERVATION_BYTES * data.n + CASE_CANDIDATE_BYTES * cases * max(n_candidates, 1))
 
 
 def held_out_mask(data: MeasuredData, every: int) -> np.ndarray:
