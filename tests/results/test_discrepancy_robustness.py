@@ -106,7 +106,7 @@ def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     def law_never_converges(*args, **kwargs):
         raise ModelError("the clearance law of bearing input_B2 did not converge (test)")
 
-    monkeypatch.setattr(bushing, "solve_with_gaps", never_converges)  # clearance candidates solved by sweeps
+    monkeypatch.setattr(bushing, "solve_condensed", never_converges)  # clearance candidates solved by sweeps
     monkeypatch.setattr(Engine, "clearance_paths", law_never_converges)  # and on the factorisation
     out = tmp_path / "out"
     result = CliRunner().invoke(app, ["discrepancy", "--measured", str(measured), "--rig", str(rig_file), "--out",

@@ -298,7 +298,7 @@ def prepare_engine(rig, settings: SweepSettings) -> Engine:
     loads = np.column_stack([system.unit_loads[k] for k in UNIT_LOADS])
     unit = np.asarray(prepared.solve(loads))
     operator = sp.vstack([system.probes[s].uy for s in MEASURED_SHAFTS]).tocsr() * 1e3
-    linear = not any(b.radial_clearance_um > 0 for b in rig.bearings)
+    linear = not any(b.radial_clearance_um > 0 or getattr(b, "model", "linear") == "ball" for b in rig.bearings)
     for i, k in enumerate(UNIT_LOADS):
         reduced = system.elimination.T @ (system.stiffness @ unit[:, i] - loads[:, i])
         scale = np.linalg.norm(system.elimination.T @ loads[:, i])
