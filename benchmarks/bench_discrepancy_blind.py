@@ -15,7 +15,7 @@ Each run is scored from its ``discrepancy.json`` document (``report.document``):
   verdict ``unexplained``; a *faint* effect (one that cannot change the data by 10 % of the signal
   within its physical bounds) either named or nothing added;
 - **confident mis-name**: a selected effect reported alone (a group of one, and not marked
-  ambiguous or unconfident) that is not a hidden effect; this outranks *correct*: naming the
+  ``"confident": false``) that is not a hidden effect; this outranks *correct*: naming the
   truth and one confident spurious effect is a mis-name;
 - **aborted**: the run raised;
 - **wrong**: everything else (e.g. one of a pair missed, the truth not in any group, a load outside the
@@ -68,9 +68,10 @@ def load_sets(folder: Path) -> tuple[list[dict], dict]:
 
 
 def stratified(sets: list[dict], limit: int | None, seed: int) -> list[dict]:
-    """``limit`` sets spread evenly over (group, datum, schema, noise) strata, drawn at random with ``seed``."""
-    if limit is None or limit >= len(sets):
-        return sets
+    """``limit`` sets (default all) spread evenly over (group, datum, schema, noise) strata, drawn at random with
+    ``seed``, in round-robin order over the strata: every prefix of the order is itself a stratified subset, so a
+    run stopped by ``--max-minutes`` is one too, and two runs with the same seed share their common prefix."""
+    limit = len(sets) if limit is None else min(limit, len(sets))
     rng = np.random.default_rng(seed)
     strata: dict = collections.defaultdict(list)
     for s in sets:
@@ -82,14 +83,13 @@ def stratified(sets: list[dict], limit: int | None, seed: int) -> list[dict]:
         for queue, items in zip(queues, members):
             if queue and len(chosen) < limit:
                 chosen.append(items[queue.pop()])
-    return sorted(chosen, key=lambda s: s["id"])
+    return chosen
 
 
 def confident(entry: dict) -> bool:
-    """A selected effect named alone: a group of one, not marked ambiguous or unconfident."""
-    if entry.get("confident") is False or entry.get("ambiguous") is True:
-        return False
-    return len(entry.get("group") or [entry["effect"]]) <= 1
+    """A selected effect named alone: a group of one, and not marked ``"confident": false`` (the workflow may
+    report an effect it fitted as a mere candidate, e.g. under an ``unexplained`` verdict)."""
+    return bool(entry.get("confident", True)) and len(entry.get("group") or [entry["effect"]]) <= 1
 
 
 def score(document: dict, dataset: dict) -> tuple[str, str]:

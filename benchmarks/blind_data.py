@@ -38,6 +38,7 @@ import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,9 +47,13 @@ from rvcoax.geometry.effects import candidate_effects
 from rvcoax.geometry.rigfile import load_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase, paper_cases
-from rvcoax.results.studies.discrepancy.responses import Observation, PathLayout
-from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout
 from rvcoax.results.sweep import SweepSettings, run_sweep
+
+if TYPE_CHECKING:
+    from rvcoax.results.studies.discrepancy.responses import PathLayout
+
+# The workflow's own modules (observation operator, path layout, effect sizing) are imported where they are
+# used, so that the benchmark can run another tree's workflow on these data even if it reorganised them.
 
 ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / ".blindcache"
@@ -123,6 +128,8 @@ def _key(rig: Rig, cases, settings: SweepSettings) -> str:
 def absolute_paths(rig: Rig, settings: SweepSettings, cases=None, log=print) -> tuple[np.ndarray, PathLayout]:
     """u_y from the unloaded geometry of every case of ``cases`` (default :func:`solve_cases`) and both shafts,
     as (cases, stations) flattened like ``responses.full_paths``; cached under ``.blindcache``."""
+    from rvcoax.results.studies.discrepancy.responses import PathLayout  # noqa: F811 (at run time)
+
     cases = tuple(cases or solve_cases())
     path = CACHE / "solves" / f"{settings.model}-{_key(rig, cases, settings)}.npz"
     if path.exists():
@@ -183,6 +190,9 @@ def _observe(paths: np.ndarray, layout: PathLayout, datum: str, schema: str,
              cases: tuple[LoadCase, ...] | None = None, stations: int = STATIONS):
     """Observations of ``schema`` (11 stations per shaft for paths) of the paper's cases (or ``cases``, a subset),
     from absolute paths whose first case is the rest state."""
+    from rvcoax.results.studies.discrepancy.responses import Observation, PathLayout  # noqa: F811
+    from rvcoax.results.studies.discrepancy.synthetic import observation_layout
+
     per_case = paths.size // layout.n_cases
     table = paths.reshape(layout.n_cases, per_case)
     measured = table[1:] - (table[0] if datum == "aligned_at_rest" else 0.0)
@@ -202,6 +212,8 @@ def _relative_change(delta_obs, base_obs, shaft) -> float:
 
 def build_responses(log=print) -> Responses:
     """Solve (or read from the cache) every hybrid response the design needs."""
+    from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout
+
     rig = truth_rig("unloaded")
     effects = {e.name: e for e in candidate_effects(rig)}
     base, layout = absolute_paths(rig, HYBRID, log=log)
@@ -281,6 +293,8 @@ def _scaled_delta(responses: Responses, name: str, datum: str, fraction: float):
 
 
 def _observe_template_shaft():
+    from rvcoax.results.studies.discrepancy.synthetic import observation_layout
+
     return observation_layout(paper_cases(), STATIONS, LENGTHS, "paths").shaft
 
 
