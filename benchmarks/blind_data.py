@@ -413,6 +413,22 @@ def csv_text(template, values: np.ndarray, notation: str, seed: int) -> str:
     return "\n".join(lines) + "\n"
 
 
+MODEL_FORM = 0.02  # the workflow's model-form allowance, of the signal
+
+
+def detectability(paths: np.ndarray, responses: Responses, dataset: DataSet) -> float:
+    """RMS over the observations of the noise-free hidden change in units of σ, where σ² = (noise × RMS of the
+    shaft's values)² + (2 % of the value)²: below 1 the data cannot carry the effect (``no_gap`` is then right too).
+    """
+    _, hidden = _observe(paths, responses.layout, dataset.datum, dataset.schema)
+    template, plain = _observe(responses.base, responses.layout, dataset.datum, dataset.schema)
+    sigma = np.zeros_like(hidden)
+    for s in MEASURED_SHAFTS:
+        mask = template.shaft == s
+        sigma[mask] = np.hypot(dataset.noise * np.sqrt(np.mean(hidden[mask] ** 2)), MODEL_FORM * np.abs(plain[mask]))
+    return float(np.sqrt(np.mean(((hidden - plain) / np.maximum(sigma, 1e-300)) ** 2)))
+
+
 def write_sets(responses: Responses, out: Path, log=print) -> list[dict]:
     """Write every data set of :func:`design` as ``<id>.csv`` under ``out`` and ``manifest.json``."""
     effects = {e.name: e for e in candidate_effects(truth_rig())}
@@ -423,8 +439,10 @@ def write_sets(responses: Responses, out: Path, log=print) -> list[dict]:
         template, noisy = noisy_observations(paths, responses.layout, dataset.datum, dataset.schema, dataset.noise,
                                              dataset.seed)
         (out / f"{dataset.id}.csv").write_text(csv_text(template, noisy, dataset.notation, int(dataset.id)))
+        detect = detectability(paths, responses, dataset)
         entry = dict(dataset.__dict__, truth=list(dataset.truth), file=f"{dataset.id}.csv",
-                     values={k: float(v) for k, v in values.items()})
+                     values={k: float(v) for k, v in values.items()}, detectability=round(detect, 4),
+                     detectable=dataset.group == "none" or detect >= 1.0)
         manifest.append(entry)
     (out / "manifest.json").write_text(json.dumps({"superposition_check": superposition_check(responses),
                                                    "sets": manifest}, indent=1))
