@@ -163,6 +163,8 @@ def main() -> None:
     parser.add_argument("--keep", default="", help="folder to keep each run's discrepancy.json in")
     parser.add_argument("--rescore", default="", help="score the documents kept (--keep) in this folder again, "
                         "against the current manifest, without running the workflow")
+    parser.add_argument("--note", default="", help="a remark recorded with the figures (e.g. the load during a run "
+                        "that is rescored)")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
 
@@ -248,8 +250,10 @@ def main() -> None:
               f"{dataset['notation']:5s} truth {','.join(dataset['truth']) or dataset['load'] or 'none':60s} → "
               f"{document.get('verdict', 'ABORT')}: {chosen_names} [{outcome}] {elapsed:.1f} s", flush=True)
     lines = summary(runs, outcomes, confusion, seconds, misnames, aborts, library_seconds, superposition, len(sets),
-                    label)
-    lines.insert(7, ("vocabulary/pair runs scored wrong for an 'unexplained' verdict although the truth is among "
+                    label, bool(args.rescore))
+    if args.note:
+        lines.insert(1, ("note", args.note))
+    lines.insert(8 if args.note else 7, ("vocabulary/pair runs scored wrong for an 'unexplained' verdict although the truth is among "
                      "its candidates", str(len(truth_among_unexplained))))
     print()
     for name, value in lines:
@@ -262,14 +266,16 @@ def main() -> None:
                    f"{k}: " + ", ".join(f"{r} {n}" for r, n in v.most_common()) for k, v in sorted(confusion.items())))])
 
 
-def summary(runs, outcomes, confusion, seconds, misnames, aborts, library_seconds, superposition, total, label):
+def summary(runs, outcomes, confusion, seconds, misnames, aborts, library_seconds, superposition, total, label,
+            rescored=False):
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
     n = len(runs)
     all_ = outcomes["all"]
     lines = [("workflow", label),
              ("data sets run", f"{n} of {total} (strata: class × datum × schema × noise); not detectable by "
                                f"construction (nothing added is right too): {sum(not r.get('detectable', True) for r in runs)}"),
-             ("load average at the end (1, 5, 15 min)", load),
+             ("load average when rescored (1, 5, 15 min; the run's is in the note)" if rescored else
+              "load average at the end (1, 5, 15 min)", load),
              ("correct", f"{all_['correct']}/{n} ({100 * all_['correct'] / max(n, 1):.1f} %)"),
              ("confident mis-names", f"{all_['confident_misname']}" + (f": {'; '.join(misnames)}" if misnames else "")),
              ("wrong", str(all_["wrong"])),
