@@ -184,11 +184,30 @@ def _pictures(sweep, folder: Path, deformed_view: bool) -> tuple[dict[str, Path]
     return drawn, note
 
 
+def _parameter_text(name: str, value) -> str:
+    """``name = value unit`` for a fitted parameter, written as a number or as {value, unit, bounds}."""
+    if isinstance(value, dict) and isinstance(value.get("value"), int | float):
+        return f"{name} = {value['value']:.4g} {value.get('unit', '')}".rstrip()
+    return f"{name} = {value:.4g}" if isinstance(value, float) else f"{name} = {value}"
+
+
 def _discrepancy_html(document: dict, source: str) -> str:
     rows = []
-    for key in ("verdict", "summary", "headline"):
-        if isinstance(document.get(key), str):
-            rows.append((key, document[key]))
+    verdict = document.get("verdict")
+    if isinstance(verdict, str):
+        confident = document.get("confident")
+        rows.append(("verdict", verdict + ("" if not isinstance(confident, bool) else
+                                           " (confident)" if confident else " (not a confident single name)")))
+    summary = document.get("summary")
+    if isinstance(summary, str):
+        rows.append(("summary", summary))
+    elif isinstance(summary, list):
+        rows += [("summary" if i == 0 else "", str(line)) for i, line in enumerate(summary)]
+    elif isinstance(document.get("headline"), str):
+        rows.append(("headline", document["headline"]))
+    reasons = document.get("reasons")
+    if isinstance(reasons, list):
+        rows += [("why" if i == 0 else "", str(reason)) for i, reason in enumerate(reasons)]
     measured = document.get("measured") or {}
     if isinstance(measured, dict) and measured:
         rows.append(("measured data", f"{measured.get('source', '?')} ({measured.get('schema', '?')} schema, "
@@ -201,6 +220,27 @@ def _discrepancy_html(document: dict, source: str) -> str:
         elif isinstance(value, dict) and value:
             rows.append((label, ", ".join(f"{shaft} shaft {v * 1e3:.4g} µm" for shaft, v in value.items()
                                           if isinstance(v, int | float))))
+    sentinel = document.get("sentinel")
+    if isinstance(sentinel, dict) and isinstance(sentinel.get("description"), str):
+        rows.append(("closest generic load (outside the vocabulary)", sentinel["description"]))
+    folds = document.get("cross_validation")
+    if isinstance(folds, dict):
+        for name, figures in folds.items():
+            if isinstance(figures, dict) and isinstance(figures.get("reduction_of_chi2"), int | float):
+                rows.append((f"cross-validation, {name}",
+                             f"held-out χ² reduced by {100 * figures['reduction_of_chi2']:.1f} % over "
+                             f"{figures.get('folds', '?')} folds ({figures.get('held_out_observations', '?')} "
+                             f"held-out values); improves: {'yes' if figures.get('improves') else 'no'}"))
+    observability = document.get("observability")
+    if isinstance(observability, dict):
+        visible = observability.get("visible") or []
+        invisible = observability.get("invisible") or {}
+        if isinstance(visible, list) and isinstance(invisible, dict):
+            revealable = sum(1 for v in invisible.values() if isinstance(v, dict) and v.get("revealed_by"))
+            rows.append(("what these data can reveal", f"{len(visible)} of {len(visible) + len(invisible)} "
+                         f"effects: {', '.join(map(str, visible)) or 'none'}"))
+            rows.append(("what they cannot reveal", f"{len(invisible)} effects, {revealable} of them with one "
+                         "more measurement (listed in discrepancy.json under observability)"))
     parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
     gaps = document.get("rms")
     if isinstance(gaps, dict) and gaps:
@@ -219,15 +259,18 @@ def _discrepancy_html(document: dict, source: str) -> str:
                 "Gap between measurement and model, before and after the named effects",
                 ("cases", "shaft", "RMS Y gap before [µm]", "after [µm]", "RMS tilt gap before [µrad]", "after [µrad]"),
                 tuple(gap_rows), note="fit: the cases the effects were fitted on; held out: cases not used to fit.")))
+    meanings = {n.get("effect"): n.get("meaning") for n in document.get("named") or [] if isinstance(n, dict)}
     selected = document.get("selected") or []
     if selected:
         effect_rows = tuple((str(s.get("effect", "?")),
-                             "; ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
-                                       for k, v in (s.get("parameters") or {}).items()),
-                             ", ".join(map(str, s.get("group") or [])))
+                             str(meanings.get(s.get("effect")) or ""),
+                             "; ".join(_parameter_text(k, v) for k, v in (s.get("parameters") or {}).items()),
+                             ", ".join(str(g) for g in (s.get("group") or []) if g != s.get("effect")))
                             for s in selected if isinstance(s, dict))
-        parts.append(_table_html(tables.Table("Effects added to the model", ("effect", "parameters",
-                                                                            "indistinguishable from"), effect_rows)))
+        title = "Effects added to the model" if verdict == "explained" else \
+            "Candidate effects (they reduce the gap but do not explain it; not a fix)"
+        parts.append(_table_html(tables.Table(title, ("effect", "what it means", "parameters",
+                                                      "equally well on these data"), effect_rows)))
     else:
         parts.append("<p>No effect was added to the model.</p>")
     parts.append(f'<p class="note">From {html.escape(source)} (rvcoax {html.escape(str(document.get("rvcoax_version", "?")))}).</p>')

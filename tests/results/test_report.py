@@ -154,3 +154,33 @@ def test_the_report_prints_to_pdf(tmp_path):
     data = pdf.read_bytes()
     assert data.startswith(b"%PDF-") and b"/Type /Page" in data.replace(b"/Type/Page", b"/Type /Page")
     assert sorted(p.name for p in pdf.parent.iterdir()) == ["r.pdf"]  # no temporary left behind
+
+
+def test_the_discrepancy_section_reads_the_workflow_document():
+    """The keys `rvcoax discrepancy` writes: summary lines, meanings, parameters with units, sentinel, folds."""
+    from rvcoax.results.io.report import _discrepancy_html
+
+    document = {
+        "rvcoax_version": "test", "verdict": "unexplained", "confident": False,
+        "summary": ["output shaft: measured − model is 2.43 µm RMS before, 0.14 µm after",
+                    "not explained: the gap left is beyond the noise"],
+        "named": [{"effect": "torque_reaction@output_bearing_block",
+                   "meaning": "a vertical force of +9.44 N per N·m of T2 acts on the housing output_bearing_block"}],
+        "selected": [{"effect": "torque_reaction@output_bearing_block",
+                      "parameters": {"force_per_torque_N_per_Nm": {"value": 9.4412, "unit": "N/(N·m)"}},
+                      "group": ["torque_reaction@output_bearing_block", "torque_reaction@reducer"]}],
+        "sentinel": {"description": "a vertical lateral load of about +2 N per N·m of T2 near x = 470 mm"},
+        "cross_validation": {"vocabulary": {"folds": 3, "held_out_observations": 40, "reduction_of_chi2": 0.9717,
+                                            "improves": True}},
+        "observability": {"visible": ["torque_reaction@reducer"],
+                          "invisible": {"coupling_offset@C3": {"revealed_by": {"x_mm": 160}},
+                                        "bearing_stiffness@brake_b": {"revealed_by": None}}},
+    }
+    text = _discrepancy_html(document, "discrepancy.json")
+    assert "unexplained (not a confident single name)" in text
+    assert "0.14 µm after" in text and "not explained: the gap left" in text
+    assert "+9.44 N per N·m of T2 acts on the housing output_bearing_block" in text
+    assert "force_per_torque_N_per_Nm = 9.441 N/(N·m)" in text
+    assert "not a fix" in text and "<td>torque_reaction@reducer</td>" in text
+    assert "near x = 470 mm" in text and "reduced by 97.2 % over 3 folds" in text
+    assert "1 of 3 effects: torque_reaction@reducer" in text and "2 effects, 1 of them with one more measurement" in text
