@@ -37,7 +37,7 @@ Units: SI inside the solver; files and results say their unit in every key (``Y_
 
 from __future__ import annotations
 
-import importlib
+from rvcoax._lazy import lazy_names
 
 __version__ = "0.1.0"
 
@@ -59,7 +59,7 @@ _WHERE = {
     "read_cases": "rvcoax.loadcases.cases",
     "paired_cases": "rvcoax.loadcases.cases",
     "grid_cases": "rvcoax.loadcases.cases",
-    "MODEL_KINDS": "rvcoax.geometry.model.assemble",
+    "MODEL_KINDS": "rvcoax.geometry.model.system",
     "RigSystem": "rvcoax.geometry.model.system",
     "assemble_rig": "rvcoax.geometry.model.assemble",
     "SweepSettings": "rvcoax.results.sweep",
@@ -94,16 +94,4 @@ _WHERE = {
 __all__ = ["__version__", *_WHERE]
 
 
-def __getattr__(name: str):
-    """Load a public name from its module on first use (PEP 562)."""
-    try:
-        module = _WHERE[name]
-    except KeyError:
-        raise AttributeError(f"module 'rvcoax' has no attribute {name!r}") from None
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE))
+__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())

@@ -227,7 +227,21 @@ def check_clearance_model(rig: Rig, kind: str) -> list[str]:
 
 
 def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
-    """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver."""
+    """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig (:func:`rvcoax.load_rig`).
+    settings : SweepSettings
+        The model (beam, hybrid, solid), the solver and the solid mesh size.
+
+    Returns
+    -------
+    PreparedModel
+        The assembled system and its factorisation, to pass to :func:`run_sweep` (or calibration) so that
+        several sweeps of one rig assemble and factorise it once.
+    """
     check_clearance_model(rig, settings.model)
     check_supports(rig)
     too_big = preflight.memory_problem(rig, settings.model, settings.mesh_size_mm, settings.solver)
@@ -249,9 +263,30 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     ``engineering``: also compute each case's coupling, bearing and reaction tables
     (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
 
-    ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
-    parameters may differ: the unit loads are rebuilt from ``rig``). A rig with bearing clearance
-    is solved case by case (:func:`run_gap_sweep`).
+    A rig with bearing clearance is solved case by case (:func:`run_gap_sweep`); otherwise every case
+    is a superposition of unit loads on one factorisation.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig (:func:`rvcoax.load_rig`).
+    cases : tuple of LoadCase
+        The (T1, T2) pairs (:func:`rvcoax.paper_cases`, :func:`rvcoax.read_cases`, …).
+    settings : SweepSettings
+        The model (beam, hybrid, solid), the method, the solver and the solid mesh size.
+    progress : callable, optional
+        ``progress(i, n)`` after each case.
+    prepared : PreparedModel, optional
+        An assembled, factorised model whose structure is ``rig``'s, to reuse (only load parameters may
+        differ: the unit loads are rebuilt from ``rig``).
+    on_case : callable, optional
+        ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
+
+    Returns
+    -------
+    Sweep
+        Per case: Y along each measured shaft, Y_max, β = arcsin(Y_max / L) and the true tilt, with the
+        residual of the solve; and the rig, settings and solver that produced them.
     """
     gapped = check_clearance_model(rig, settings.model if prepared is None else prepared.system.kind)
     if prepared is None:

@@ -23,7 +23,7 @@ from rvcoax.fem.errors import RvcoaxError
 
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
            "BeamSize", "MAX_WORK_S", "REPORT_AFTER_S", "SAMPLE_BYTES", "SAMPLE_CASE_S", "SAMPLE_CASE_S_SOLID",
-           "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check",
+           "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check_workload",
            "check_cases", "check_study", "check_workers", "count_text", "duration_text", "rig_problem", "size_text",
            "study_workload", "sweep_workload"]
 
@@ -129,7 +129,7 @@ def count_text(n: float) -> str:
     return f"{n:,.0f}" if n < 1e12 else f"{n:.3g}"
 
 
-def check(workload: Workload, subject: str, suggestion: str) -> Workload:
+def check_workload(workload: Workload, subject: str, suggestion: str) -> Workload:
     """Raise :class:`WorkloadError` when ``workload`` exceeds the memory available or :data:`MAX_WORK_S`.
 
     ``subject`` names the input (file or option), ``suggestion`` says what to do instead. Returns
@@ -155,7 +155,7 @@ def sweep_workload(n_cases: int, what: str | None = None) -> Workload:
 def check_cases(n_cases: int, subject: str, what: str | None = None) -> Workload:
     """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid)."""
     fitting = _largest_fitting(sweep_workload)
-    return check(sweep_workload(n_cases, what), subject,
+    return check_workload(sweep_workload(n_cases, what), subject,
                  f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
 
 
@@ -222,7 +222,7 @@ def rig_problem(rig) -> str | None:
     suggestion = (f"raise [mesh] max_element_length_mm to {coarser:.2g} mm or more (5 mm is the default), "
                   "or describe the rig with fewer parts and segments")
     try:
-        check(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
+        check_workload(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
     except WorkloadError as error:
         return str(error)
     return None
@@ -259,6 +259,6 @@ def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, wha
                 strategy: str = "full") -> Workload:
     """Refuse a study design too large for this machine, before it is drawn."""
     fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy))
-    return check(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
+    return check_workload(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
                  f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
                  "Dask cluster in parts with --resume")

@@ -54,7 +54,7 @@ def check(
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.loadcases.cases import paper_table
     from rvcoax.results.io.result_files import write_check
-    from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
+    from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, CHECK_QUANTITIES
     from rvcoax.results.studies.check_run import NO_TABLE_HELP, CalibrationError, fit_output_torques, run_check
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
@@ -90,7 +90,7 @@ def check(
     support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
         f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
-        f"{blind_result.failures} of {len(rows) * len(QUANTITIES)} values outside tolerance."
+        f"{blind_result.failures} of {len(rows) * len(CHECK_QUANTITIES)} values outside tolerance."
     )
     worst = rows[result.worst_row].case
     support.console.print(

@@ -27,9 +27,8 @@ def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     import numpy as np
 
-    from rvcoax.geometry.model.beam import build_rig_model
-    from rvcoax.geometry.model.loads import gear_mesh_forces
-    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax import load_rig
+    from rvcoax.geometry.model import build_rig_model, gear_mesh_forces
 
     rig = load_rig(rig_file)
     built = build_rig_model(rig)
@@ -113,7 +112,7 @@ def rig_reference(
              "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly)")] = None,
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
-    from rvcoax.geometry.rigfile import reference_rig_text
+    from rvcoax import reference_rig_text
 
     sys.stdout.write(reference_rig_text(variant))
 

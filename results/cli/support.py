@@ -1,7 +1,7 @@
 """What every ``rvcoax`` command shares: consoles, option types, and the user-error guard.
 
 A user mistake ends with one paragraph on stderr and exit status 2, never a traceback. Command
-modules (``results/*_cli.py``) import from here and register their commands on the main app.
+modules (``results/cli/<command>.py``) import from here and register their commands on the main app.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
-from rvcoax.fem.errors import RvcoaxError, SolverError
-from rvcoax.geometry.inputfiles import plain_number
-from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
-from rvcoax.results.io.out_lock import output_folder_lock
+from rvcoax import RvcoaxError
+from rvcoax.fem import SolverError
+from rvcoax.geometry import MESH_SIZE_RANGE_MM, plain_number
+from rvcoax.results.io import output_folder_lock
 
 __all__ = ["CasesOption", "GridOption", "MeshOption", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
@@ -122,7 +122,7 @@ def torque_list(text: str, option: str) -> list[float]:
         Naming the option, the item (1-based) and the reason: an empty item (``1,,2``), a number
         that is not plain ASCII, or a torque beyond the load-case bound.
     """
-    from rvcoax.loadcases.limits import MAX_TORQUE_NM
+    from rvcoax.loadcases import MAX_TORQUE_NM
 
     values = []
     items = text.split(",")
@@ -194,7 +194,7 @@ def warn(message: str) -> None:
 
 def rig_text(path: Path | None) -> tuple[str, str]:
     """(source name, text) of the rig file, or of the built-in reference rig when ``path`` is None."""
-    from rvcoax.geometry.rigfile import reference_rig_text
+    from rvcoax import reference_rig_text
 
     if path is None:
         return "built-in reference_rig.toml", reference_rig_text()
@@ -206,7 +206,7 @@ def rig_text(path: Path | None) -> tuple[str, str]:
 
 def sweep_settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
     """Validated :class:`SweepSettings` from command-line options."""
-    from rvcoax.results.sweep import SweepSettings
+    from rvcoax import SweepSettings
 
     if mesh_size_mm is not None:
         finite_option(mesh_size_mm, "--mesh-size-mm", *MESH_SIZE_RANGE_MM, "mm")
@@ -230,7 +230,7 @@ def check_environment() -> None:
     ``RVCOAX_CASE_DELAY_S`` (a test hook, seconds to pause after each solved case) must be a plain
     number in 0 … 60 s; ``inf`` would never return and ``nan`` or a word would be silently ignored.
     """
-    from rvcoax.results.io.sweep_files import DELAY_VARIABLE as CASE_DELAY_VARIABLE
+    from rvcoax.results.io import CASE_DELAY_VARIABLE
 
     delay = os.environ.get(CASE_DELAY_VARIABLE)
     if delay:
@@ -263,10 +263,9 @@ def guard(function):
 
 def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
-    from rvcoax.geometry.catalogue import plausibility_warnings
-    from rvcoax.geometry.model.preflight import sag_warnings
-    from rvcoax.geometry.model.workload import REPORT_AFTER_S, beam_size, rig_problem
-    from rvcoax.results.sweep import prepare_model
+    from rvcoax import prepare_model
+    from rvcoax.geometry import plausibility_warnings
+    from rvcoax.geometry.model import REPORT_AFTER_S, beam_size, rig_problem, sag_warnings
 
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
@@ -290,7 +289,7 @@ def progress_bar() -> Progress:
 
 def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
     """A sweep with a progress bar."""
-    from rvcoax.results.sweep import run_sweep
+    from rvcoax import run_sweep
 
     with progress_bar() as progress:
         task = progress.add_task(label, total=len(cases))
@@ -301,7 +300,7 @@ def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=N
 def _case_rows_upper_bound(path: Path) -> int | None:
     """At most how many load cases ``path`` holds (lines of a CSV, ``[[cases]]`` of a TOML file), counted
     without parsing; None when it cannot be read (:func:`rvcoax.loadcases.cases.read_cases` says why)."""
-    from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES
+    from rvcoax.loadcases import MAX_CASE_FILE_BYTES
 
     try:
         with path.open("rb") as stream:

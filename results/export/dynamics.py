@@ -41,7 +41,7 @@ from rvcoax.results.sweep import Sweep
 __all__ = ["CSV_TABLES", "DynamicsExport", "IT3_RADIAL_DISPLACEMENT_MM", "ShaftStage", "UNITS", "UNLOADED",
            "bearing_rows", "coupling_rows", "dynamics_export", "export_document", "export_tables", "lever_arms_mm",
            "read_csv_table", "reducer_end_mm", "shaft_rows", "shaft_stages", "stage_rows", "tilt_direction",
-           "write_csv", "write_json"]
+           "write_dynamics_csv", "write_dynamics_json"]
 
 IT3_RADIAL_DISPLACEMENT_MM = {"input": 0.002, "output": 0.003}
 """Paper 000's radial displacement a of each shaft [P] (IT3, GB/T 1800.1-2009, sizes ≤ 500 mm)."""
@@ -260,17 +260,18 @@ def export_document(export: DynamicsExport, rig_source: str, rig_text: str) -> d
     }
 
 
-def write_json(export: DynamicsExport, path: str | Path, rig_source: str, rig_text: str) -> Path:
+def write_dynamics_json(export: DynamicsExport, path: str | Path, rig_source: str, rig_text: str) -> Path:
+    """``dynamics.json`` at ``path``: every table of ``export`` with the rig's provenance (source and SHA-256)."""
     return write_json_atomic(path, export_document(export, rig_source, rig_text))
 
 
-def write_csv(export: DynamicsExport, folder: str | Path, stem: str = "dynamics") -> list[Path]:
+def write_dynamics_csv(export: DynamicsExport, folder: str | Path, stem: str = "dynamics") -> list[Path]:
     """``<stem>_shafts.csv``, ``_stages.csv``, ``_couplings.csv``, ``_bearings.csv`` in ``folder``."""
     return [write_csv_atomic(Path(folder) / f"{stem}_{name}.csv", rows) for name, rows in export_tables(export).items()]
 
 
 def read_csv_table(path: str | Path) -> list[dict]:
-    """Read one export table back: numbers as float/int, text as str (the inverse of :func:`write_csv`)."""
+    """Read one export table back: numbers as float/int, text as str (the inverse of :func:`write_dynamics_csv`)."""
     def value(text: str):
         for kind in (int, float):
             try:

@@ -10,7 +10,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
 from rvcoax.results.studies.calibration import Calibration
-from rvcoax.results.studies.check import QUANTITIES, Comparison
+from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["ENGINEERING_DEFINITIONS", "UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
@@ -46,6 +46,7 @@ ENGINEERING_DEFINITIONS = {
 
 
 def rvcoax_version() -> str:
+    """The installed rvcoax version, as result files record it (``unknown (not installed)`` from a bare copy)."""
     try:
         return version("rvcoax")
     except PackageNotFoundError:
@@ -214,7 +215,7 @@ def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, 
     for i, row in enumerate(rows):
         entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
                  "used_for_fit": i in fit_rows}
-        for q in QUANTITIES:
+        for q in CHECK_QUANTITIES:
             entry[f"published_{q}"] = float(comparison_blind.published[q][i])
             for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
                 entry[f"{label}_{q}"] = float(comp.model[q][i])

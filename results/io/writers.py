@@ -97,6 +97,7 @@ def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
 
 
 def write_json_atomic(path: str | Path, data, durable: bool = True) -> Path:
+    """Write ``data`` as indented UTF-8 JSON (numpy numbers as floats), atomically like :func:`write_text_atomic`."""
     return write_text_atomic(path, json.dumps(data, indent=2, sort_keys=False, ensure_ascii=False, default=float) + "\n",
                              durable)
 

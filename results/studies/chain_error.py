@@ -47,7 +47,7 @@ from rvcoax.geometry.schema import Part, Rig
 from rvcoax.results.io.datafiles import read_data_text
 
 __all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
-           "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "chain_error",
+           "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "evaluate_chain_error",
            "contribution", "load_chain_model", "moment_arms_mm", "read_stage_forces", "rig_stages",
            "shear_modulus_Pa", "signed_total", "stage_midpoints_mm", "stage_twists_deg",
            "torsion_constant_deg_per_m"]
@@ -299,7 +299,7 @@ def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> f
     return float(sum(signs[name] * value for name, value in values_deg.items()))
 
 
-def chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
+def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
                 output_shaft: Coaxiality = NO_TILT) -> ChainError:
     """Each component's error vector and the total, with the shafts' tilts and offsets.
 

@@ -52,9 +52,10 @@ from rvcoax.results.sweep import (
 )
 
 __all__ = ["Exceedance", "QUANTILES", "STRATEGIES", "STRATEGY_TEXT", "Study", "classify_parameter", "describe",
-           "evaluate_sample", "exceedance", "parameters_needing", "plan_study", "stack"]
+           "evaluate_sample", "exceedance", "parameters_needing", "plan_study", "stack_records"]
 
 STRATEGIES = ("loads", "frame", "full")
+# what each evaluation strategy re-builds per sample, as the commands print it
 STRATEGY_TEXT = {
     "loads": "every toleranced parameter only changes loads: one assembled and factorised model serves every "
              "sample, only the unit loads are rebuilt",
@@ -270,7 +271,7 @@ def evaluate_sample(study: Study, values) -> dict:
     }
 
 
-def stack(records: list[dict], key: str) -> np.ndarray:
+def stack_records(records: list[dict], key: str) -> np.ndarray:
     """``key`` of every sample record as an array (samples, cases, shafts)."""
     return np.array([r[key] for r in records], dtype=float)
 

@@ -27,7 +27,7 @@ from scipy.stats import qmc
 __all__ = ["DISTRIBUTIONS", "Distribution", "EDGE", "SAMPLING_METHODS", "sample_values", "to_values", "unit_design"]
 
 DISTRIBUTIONS = ("normal", "uniform", "truncated_normal")
-SAMPLING_METHODS = ("lhs", "sobol", "random")
+SAMPLING_METHODS = ("lhs", "sobol", "random")  # Latin hypercube, scrambled Sobol' points, plain random
 EDGE = 2.0**-53
 
 

@@ -30,7 +30,7 @@ __all__ = ["BOOTSTRAP_RESAMPLES", "MORRIS_LEVELS", "MorrisIndices", "NORMAL_RANG
            "SobolIndices", "design_runs", "morris_design", "morris_indices", "morris_values", "sobol_design",
            "sobol_indices"]
 
-SENSITIVITY_METHODS = ("sobol", "morris")
+SENSITIVITY_METHODS = ("sobol", "morris")  # Sobol' indices (Saltelli design) or Morris screening
 MORRIS_LEVELS = 4
 NORMAL_RANGE = (0.00135, 0.99865)  # ±3 std of a normal law: Morris levels need a bounded range
 BOOTSTRAP_RESAMPLES = 200

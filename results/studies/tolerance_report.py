@@ -13,12 +13,13 @@ import numpy as np
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_png_atomic
-from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, Exceedance, Study, describe, exceedance, stack
+from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, Exceedance, Study, describe, exceedance, stack_records
 from rvcoax.results.studies.sensitivity import SobolIndices
 from rvcoax.results.studies.tolerances import Tolerances
 
 
 def case_label(case) -> str:
+    """``T1 = 0.07 N·m, T2 = 10 N·m``: a load case as reports and the console name it."""
     return f"T1 = {case.input_torque_Nm:g} N·m, T2 = {case.output_torque_Nm:g} N·m"
 
 
@@ -42,7 +43,7 @@ def distribution_rows(study: Study, records: list[dict]) -> list[dict]:
     """Per load case, shaft and quantity (Y_max_mm, beta_deg): mean, std, min, max and quantiles."""
     rows = []
     for key, quantity in (("Y_max_mm", "Y_mm"), ("beta_deg", "beta_deg")):
-        data = stack(records, key)
+        data = stack_records(records, key)
         for c, case in enumerate(study.cases):
             for s, shaft in enumerate(MEASURED_SHAFTS):
                 rows.append({"T1_input_Nm": case.input_torque_Nm, "T2_output_Nm": case.output_torque_Nm,
@@ -52,7 +53,7 @@ def distribution_rows(study: Study, records: list[dict]) -> list[dict]:
 
 def exceedances(study: Study, tolerances: Tolerances, records: list[dict]) -> list[tuple[int, object, Exceedance]]:
     """(case index, limit, P(β > limit)) for every load case and every limit of the tolerance file."""
-    beta = stack(records, "beta_deg")
+    beta = stack_records(records, "beta_deg")
     out = []
     for c in range(len(study.cases)):
         for limit in tolerances.limits:
@@ -62,6 +63,7 @@ def exceedances(study: Study, tolerances: Tolerances, records: list[dict]) -> li
 
 
 def exceedance_rows(study: Study, found) -> list[dict]:
+    """One row per load case, shaft and β limit of :func:`exceedances`: P(β > limit) with its interval."""
     rows = []
     for c, limit, e in found:
         case = study.cases[c]
@@ -141,7 +143,7 @@ def plot_beta_histograms(study: Study, tolerances: Tolerances, records: list[dic
     """β histograms per shaft (one colour per load case) with the limits and P(β > limit)."""
     from matplotlib.figure import Figure  # no pyplot: drawn by Agg whatever the backend
 
-    beta = stack(records, "beta_deg")
+    beta = stack_records(records, "beta_deg")
     figure = Figure(figsize=(12, 4.8), layout="constrained")
     axes = figure.subplots(1, len(MEASURED_SHAFTS))
     for s, (ax, shaft) in enumerate(zip(axes, MEASURED_SHAFTS)):
@@ -202,5 +204,5 @@ def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) ->
 
 
 __all__ = ["case_label", "distribution_rows", "exceedance_rows", "exceedances",
-           "plot_beta_histograms", "plot_indices", "ranking", "sample_rows", "sensitivity_rows", "stack",
+           "plot_beta_histograms", "plot_indices", "ranking", "sample_rows", "sensitivity_rows",
            "study_document"]

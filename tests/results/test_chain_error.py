@@ -23,8 +23,8 @@ from rvcoax.results.studies.chain_error import (
     NO_TILT,
     ChainDataError,
     Coaxiality,
-    chain_error,
     contribution,
+    evaluate_chain_error,
     load_chain_model,
     read_stage_forces,
     signed_total,
@@ -141,12 +141,12 @@ def test_printed_formulas_at_zero_tilt_with_our_units(chain):
 def test_example_forces_reproduce_the_papers_contributions(chain):
     forces = read_stage_forces(EXAMPLE_FORCES, chain)
     assert [int(i) + 1 for i in np.flatnonzero(forces["crankshaft"])] == [2, 4, 6, 8]  # the stages the paper names
-    result = chain_error(chain, forces)
+    result = evaluate_chain_error(chain, forces)
     for p in result.contributions:
         assert p.value_deg == pytest.approx(PAPER_CONTRIBUTIONS_DEG[p.component.name], rel=1e-5)
     assert result.total_deg == pytest.approx(PAPER_TOTAL_DEG, abs=1e-8)
     # a tilt of the sweep's size changes the total by a tiny amount, and only through θ11 and θ44
-    tilted = chain_error(chain, forces, Coaxiality(7.3e-5, 1.5e-4), Coaxiality(6.3e-5, 1.8e-4))
+    tilted = evaluate_chain_error(chain, forces, Coaxiality(7.3e-5, 1.5e-4), Coaxiality(6.3e-5, 1.8e-4))
     changed = {p.component.name for p in tilted.contributions if p.coaxiality_part_deg != 0}
     assert changed == {"input_shaft", "output_disk"}
     assert 0 < abs(tilted.total_deg - result.total_deg) < 1e-6

@@ -45,8 +45,8 @@ from rvcoax.results.export.dynamics import (
     read_csv_table,
     shaft_stages,
     tilt_direction,
-    write_csv,
-    write_json,
+    write_dynamics_csv,
+    write_dynamics_json,
 )
 from rvcoax.results.export.ross import RossUnavailableError, import_ross
 from rvcoax.results.sweep import SweepSettings, read_path, run_sweep
@@ -253,9 +253,9 @@ def test_a_sweep_without_unit_responses_is_refused(sweep):
 
 def test_csv_and_json_round_trip(export, tmp_path):
     tables = export_tables(export)
-    paths = write_csv(export, tmp_path)
+    paths = write_dynamics_csv(export, tmp_path)
     assert [p.name for p in paths] == [f"dynamics_{name}.csv" for name in CSV_TABLES]
-    document = json.loads(write_json(export, tmp_path / "dynamics.json", "test", "text").read_text(encoding="utf-8"))
+    document = json.loads(write_dynamics_json(export, tmp_path / "dynamics.json", "test", "text").read_text(encoding="utf-8"))
     assert document["measured_from"] == "aligned_at_rest"
     assert document["radial_displacement_a_mm"] == IT3_RADIAL_DISPLACEMENT_MM
     assert [s["length_mm"] for s in document["stages"]["input"]] == [32, 46, 14, 28]

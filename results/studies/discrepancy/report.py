@@ -178,7 +178,7 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
     return rows
 
 
-def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
+def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
     """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars."""
     import textwrap
 

@@ -170,6 +170,39 @@ class Discrimination:
 
 @dataclass(frozen=True, eq=False)
 class DiscrepancyResult:
+    """What :func:`run_discrepancy` found.
+
+    Attributes
+    ----------
+    verdict : str
+        ``no_gap`` (no gap beyond the noise before any effect), ``explained`` (effects were selected and no
+        gap remains on the fitted rows) or ``unexplained``.
+    data : MeasuredData
+        The measurements.
+    noise : NoiseEstimate
+        The measurement noise σ used by the gap tests.
+    fit_mask : ndarray of bool
+        The observations used to fit; the others are held out.
+    before, after : ndarray
+        The model's value of every observation (mm) without and with the selected effects.
+    test_before, test_after, test_after_held_out : GapTest
+        χ² tests of the gap before, after (fitted rows) and after on the held-out rows.
+    structure : list of StructureFinding
+        Tests of the residual before any effect, along the sweep and along the shaft.
+    selected : tuple of SelectedEffect
+        The effects added, with their fitted values and ΔBIC.
+    steps : tuple of Step
+        The forward/backward selection, step by step.
+    not_observable, rejected, set_aside : dict
+        Candidate → why it could not be seen in these data, was not selected, or could not be solved.
+    discriminations : tuple of Discrimination
+        For pairs of candidates that explain the data alike: the measurement that best tells them apart.
+    rig_before, rig_after : Rig
+        The rig as modelled, and with the selected effects added.
+    effects : dict
+        Candidate name → its effect definition.
+    """
+
     verdict: str
     data: MeasuredData
     noise: NoiseEstimate

@@ -98,6 +98,7 @@ def anova_document(table: Anova) -> dict:
 
 
 def regression_document(analysis: Analysis) -> dict:
+    """The regression part of the JSON of ``doe analyze``: terms, coefficients, fit statistics, prediction at the optimum."""
     fit, design = analysis.regression, analysis.design
     point = optimum_values(design, analysis.optimum)
     return {
