@@ -26,9 +26,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' rig and data helpers
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig  # noqa: E402
 from machine import record  # noqa: E402
 
 from rvcoax.geometry.effects import candidate_effects  # noqa: E402

@@ -1,15 +1,14 @@
 """Work and memory of a command, estimated from its sizes before any of the work is done.
 
 Every size-like input (load cases, a ``--grid``, the rig's beam nodes, ``--workers``, ``--samples``,
-a sensitivity design) goes through :func:`check`: above the memory this machine has available
+a sensitivity design) goes through :func:`check_workload`: above the memory this machine has available
 (:func:`available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
 it raises :class:`WorkloadError` with the estimate and a suggestion; above :data:`REPORT_AFTER_S`
 the caller prints the estimate (:meth:`Workload.describe`) before it starts.
 
-The per-unit costs are measured on the development machine (AMD EPYC, 2 cores, 24 GB, Python
-3.11, /usr/bin/time on the real command line; figures in benchmarks/RESULTS.md, blocks
-"geometry/model/workload.py: measured per-unit costs" and "bench_durable_sweep.py"); other machines differ
-by a small factor, which is what an estimate is for.
+The per-unit costs are fitted to measurements on the development machine (benchmarks/RESULTS.md, blocks
+"geometry/model/workload.py: measured per-unit costs", "bench_montecarlo.py" and "bench_durable_sweep.py");
+other machines differ by a small factor, which is what an estimate is for.
 """
 
 from __future__ import annotations
@@ -29,30 +28,22 @@ __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BE
 
 MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
 REPORT_AFTER_S = 5.0  # work estimated longer than this is announced before it starts
-BASE_BYTES = 0.2e9  # interpreter, numpy/scipy/rich, the rig's beam model (measured: 160 MB peak RSS, 1-case sweep)
 
-# sweep: end to end per load case (superposition, equilibrium check, journal line, sweep.csv/_paths.csv/.json):
-# 4000 cases of the reference rig took 20.2 s and 344 MB peak RSS against 2.2 s and 161 MB for one case
-SWEEP_CASE_S = 4.5e-3
-SWEEP_CASE_BYTES = 46e3
-# beam model per node (assembly, support and sag checks, factorisation, unit solves): reference rig with
-# max_element_length_mm = 0.05 (40,153 nodes) 17.2 s / 524 MB, 0.02 mm (100,315 nodes) 49.6 s / 1.01 GB
-BEAM_NODE_S = 0.48e-3
-BEAM_NODE_BYTES = 9.0e3
-# ... plus a term in nodes × springs (node look-ups per spring): 3,000 extra parts, each on a mount
-# (9,458 nodes, 3,020 springs) took 24.8 s against 6.1 s for 1,000 (3,458 nodes, 1,020 springs)
-BEAM_NODE_SPRING_S = 5.8e-7
-# ... plus a term in elements × segments of a part (each element looks up its segment): a part of 9,000
-# segments (9,427 nodes) took 6.6 s to build
-BEAM_ELEMENT_SEGMENT_S = 1.5e-7
-# a local Dask worker process (distributed, rvcoax imported, the study's model): ~0.25 GB resident
-WORKER_BYTES = 0.25e9
-# a Monte Carlo / sensitivity sample, per load case, by reuse strategy (bench_montecarlo.py, 2026-11-21,
-# example_tolerances.toml, 2 load cases per sample, serial): loads 3.8 ms, frame 12.6 ms (21.6 ms end to end
-# with the sample files), full 80.4 ms per sample; hybrid (4 mm mesh) 14.6 s per sample
+# Per-unit costs. Each value is fitted to a measurement in benchmarks/RESULTS.md, block
+# "geometry/model/workload.py: measured per-unit costs" (and, for the samples, "bench_montecarlo.py");
+# the table there gives the run behind each constant. Re-measure there, not here.
+BASE_BYTES = 0.2e9  # interpreter, numpy/scipy/rich and the rig's beam model: a 1-case sweep's peak RSS
+SWEEP_CASE_S = 4.5e-3  # sweep end to end per load case: superposition, equilibrium check, journal, result files
+SWEEP_CASE_BYTES = 46e3  # … and its memory per load case
+BEAM_NODE_S = 0.48e-3  # beam model per node: assembly, support and sag checks, factorisation, unit solves
+BEAM_NODE_BYTES = 9.0e3  # … and its memory per node
+BEAM_NODE_SPRING_S = 5.8e-7  # … plus a term in nodes × springs (node look-ups per spring)
+BEAM_ELEMENT_SEGMENT_S = 1.5e-7  # … plus a term in elements × segments of a part (segment look-ups)
+WORKER_BYTES = 0.25e9  # a local Dask worker process: distributed, rvcoax and the study's beam model, resident
+# a Monte Carlo / sensitivity sample, per load case, by reuse strategy (beam model; serial)
 SAMPLE_CASE_S = {"loads": 2.5e-3, "frame": 10.8e-3, "full": 40.2e-3}
-SAMPLE_CASE_S_SOLID = 7.3
-SAMPLE_BYTES = 2e3
+SAMPLE_CASE_S_SOLID = 7.3  # … hybrid or solid model (4 mm mesh), per load case
+SAMPLE_BYTES = 2e3  # per sample and load case: what its record keeps in memory
 
 
 def available_memory_bytes() -> float | None:

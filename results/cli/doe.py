@@ -306,8 +306,8 @@ def chain_error_command(
     t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
     t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
     tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
-    a_input_mm: Annotated[float | None, options.number_option("--a-input-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
-    a_output_mm: Annotated[float | None, options.number_option("--a-output-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003).")] = None,
+    a_input_mm: Annotated[float | None, options.number_option("--input-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-input-mm",), help="Radial displacement a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
+    a_output_mm: Annotated[float | None, options.number_option("--output-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-output-mm",), help="Radial displacement a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003, IT3).")] = None,
     model: options.ModelOption = "beam",
     out: options.OutOption = None,
 ) -> None:
@@ -344,7 +344,7 @@ def chain_error_command(
             shafts = {s: Coaxiality(p.beta_deg, p.y_max_mm if overrides[s] is None else overrides[s])
                       for s, p in sweep.cases[0].paths.items()}
         except ValueError as error:
-            raise UserError(f"--a-input-mm/--a-output-mm: {error}") from None
+            raise UserError(f"--input-radial-mm/--output-radial-mm: {error}") from None
         console.print(f"β and a from the {model} model at T1 = {t1:g}, T2 = {t2:g} N·m (Y measured from "
                       f"{rig.paths.measured_from}): " + "; ".join(
                           f"{s} β = {c.beta_deg:.4g}°, a = {c.offset_mm:.4g} mm" for s, c in shafts.items()))

@@ -135,10 +135,10 @@ def register(app: typer.Typer) -> None:
         grid: support.GridOption = False,
         input_radial_mm: Annotated[float | None, support.number_option(
             "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
+            help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
         output_radial_mm: Annotated[float | None, support.number_option(
             "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the output shaft in mm (default 0.003, IT3, paper 000).")] = None,
+            help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
         solver: support.SolverOption = "auto",
         mesh_size_mm: support.MeshOption = None,
     ) -> None:

@@ -95,12 +95,13 @@ def finite_option(value: float | int | str, option: str, low: float, high: float
 
 
 def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", exclusive: bool = False,
-                  integer: bool = False):
+                  integer: bool = False, aliases: tuple[str, ...] = ()):
     """A ``typer.Option`` for a numeric option checked by :func:`finite_option` as it is parsed.
 
     Click's own FLOAT accepts ``nan``, ``1_00`` and ``٧٠``, and its range errors print a usage block;
     an option made here refuses those with the same one-paragraph error (exit status 2, through
-    :func:`fail`) as every other user mistake, naming the option, the range and the unit.
+    :func:`fail`) as every other user mistake, naming the option, the range and the unit. ``aliases`` are
+    older names that still work (errors name ``name``).
     """
 
     def parse(value):
@@ -110,7 +111,7 @@ def number_option(name: str, low: float, high: float, unit: str = "", help: str 
             fail(str(error))
 
     parse.__name__ = "INTEGER" if integer else "FLOAT"  # the metavar that --help shows
-    return typer.Option(name, parser=parse, help=help)
+    return typer.Option(name, *aliases, parser=parse, help=help)
 
 
 def torque_list(text: str, option: str) -> list[float]:

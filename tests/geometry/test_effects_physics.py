@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 import pytest
+from frames import POISSON, YOUNGS_MODULUS, assert_close, rigidities
 
 from rvcoax.fem import bushing
 from rvcoax.fem.sections import CircularSection
@@ -24,7 +25,6 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import model_section
 from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
-from tests.frames import POISSON, YOUNGS_MODULUS, assert_close, rigidities
 
 MM, UM = 1e-3, 1e-6
 STEEL = {"youngs_modulus_MPa": YOUNGS_MODULUS / 1e6, "poisson_ratio": POISSON, "density_kg_per_m3": 7850.0}
@@ -275,7 +275,7 @@ def test_clearance_zero_is_the_linear_bearing():
 def test_clearance_nonlinear_solver_alone():
     """rvcoax.fem.bushing.solve_with_gaps on one spring: a unit mass-less node on a linear spring k1 to
     ground and a gapped spring k to ground; F < k1 c stays in the band, else (F + k c)/(k1 + k)."""
-    from tests import frames
+    import frames
 
     k1, k, c = 2.0e6, 3.0e6, 5e-6
     springs = frames.bushings([bushing.GROUND, bushing.GROUND], [0, 0], np.zeros((2, 3)),

@@ -155,3 +155,16 @@ def test_the_installed_wheel_runs_and_the_old_names_are_gone(wheel, tmp_path):
 
     for name in ("sweep.csv", "sweep.json", "sweep_paths.csv"):
         compare_result_file(GOLDEN / "sweep" / name, out / name)
+
+
+def test_tests_import_helpers_not_other_test_modules():
+    """Shared test helpers live in plain modules (tests/frames.py, tests/rigdata.py, …), found because the
+    tests folder holds the root conftest.py; a test module is never imported by another."""
+    problems = []
+    for path in (ROOT / "tests").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([node.module or ""] if isinstance(node, ast.ImportFrom)
+                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            problems += [f"{path.relative_to(ROOT)}:{node.lineno}: {name}" for name in names
+                         if name.split(".")[0] == "tests" or name.rsplit(".", 1)[-1].startswith("test_")]
+    assert not problems, problems

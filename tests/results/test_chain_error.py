@@ -12,6 +12,7 @@ import dataclasses
 import json
 import math
 
+import frames
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -30,7 +31,6 @@ from rvcoax.results.studies.chain_error import (
     signed_total,
     torsion_constant_deg_per_m,
 )
-from tests import frames
 
 DATA = __import__("pathlib").Path(__file__).resolve().parents[2] / "results" / "data"
 EXAMPLE_FORCES = DATA / "paper000_chain_forces.csv"
@@ -199,6 +199,13 @@ def test_cli_chain_error(tmp_path):
     assert result.exit_code == 0, result.output
     shafts = json.loads((tmp_path / "chain_error.json").read_text(encoding="utf-8"))["shafts"]
     assert shafts["input"]["beta_deg"] > 0 and shafts["output"]["offset_mm"] > 0
+    # a given instead of the sweep's Y_max, under the name `export` uses and under the old name
+    for option in ("--output-radial-mm", "--a-output-mm"):
+        result = runner.invoke(app, ["chain-error", "--forces", str(EXAMPLE_FORCES), option, "0.003",
+                                     "--out", str(tmp_path)])
+        assert result.exit_code == 0, result.output
+        shafts = json.loads((tmp_path / "chain_error.json").read_text(encoding="utf-8"))["shafts"]
+        assert shafts["output"]["offset_mm"] == 0.003
     bad = tmp_path / "bad.csv"
     bad.write_text("component,stage,force_N\ncrankshaft,0,1\n", encoding="utf-8")
     result = runner.invoke(app, ["chain-error", "--forces", str(bad)])

@@ -14,11 +14,12 @@ import json
 
 import numpy as np
 import pytest
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, hidden_data
 from typer.testing import CliRunner
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
-from rvcoax.geometry.rigfile import load_rig, parse_rig
+from rvcoax.geometry.rigfile import parse_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.cli.app import app
@@ -28,28 +29,15 @@ from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observ
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
 
-LENGTHS = {"input": 120.0, "output": 160.0}
-STATIONS = 11
 # One location per kind: where the kind reaches the measured shafts most (see the benchmark for all).
 HIDDEN = ("self_weight", "bearing_stiffness@input_B1", "bearing_stiffness@output_B2", "bearing_clearance@input_B2",
           "mount_compliance@reducer", "coupling_offset@C2", "coupling_angle@C3", "mesh_force@reducer_input",
           "torque_reaction@reducer", "thermal_growth@output_bearing_block")
 
 
-def test_rig(reference: Rig | None = None) -> Rig:
-    data = (reference or load_rig()).model_dump(by_alias=True)
-    data["paths"]["measured_from"] = "unloaded"
-    data["gravity"]["enabled"] = False
-    data["beam"]["shear_deformation"] = False
-    return Rig.model_validate(data)
-
-
-test_rig.__test__ = False  # a helper, not a test
-
-
 @pytest.fixture(scope="module")
 def rig() -> Rig:
-    return test_rig()
+    return discrepancy_rig()
 
 
 @pytest.fixture(scope="module")
@@ -60,13 +48,6 @@ def library(rig):
 @pytest.fixture(scope="module")
 def effects(rig):
     return {e.name: e for e in candidate_effects(rig)}
-
-
-def hidden_data(rig, effects, name, schema, noise, seed, fraction=0.3):
-    template = observation_layout(paper_cases(), STATIONS, LENGTHS, schema)
-    truth = rig if name is None else effects[name].apply(
-        rig, [effect_size_for(effects[name], rig, paper_cases(), template, fraction)])
-    return synthetic_data(truth, template, noise, seed)
 
 
 def named(result, name) -> bool:
