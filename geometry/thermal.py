@@ -108,7 +108,7 @@ def beam_thermal_load(rig: Rig, node_part: np.ndarray, beams, n_dofs: int) -> np
     strain = {p.name: part_strain(rig, p.name) for p in rig.parts}
     first = beams.connectivity[:, 0]
     element_strain = np.array([strain[node_part[n]] for n in first])
-    force = beams.youngs_modulus_pa * beams.area_m2 * element_strain
+    force = beams.youngs_modulus_Pa * beams.area_m2 * element_strain
     np.add.at(vector, 6 * beams.connectivity[:, 0], -force)
     np.add.at(vector, 6 * beams.connectivity[:, 1], force)
     return vector

@@ -93,7 +93,7 @@ class Sweep:
     """All cases of a sweep, plus what is needed to explain how they were obtained."""
 
     rig: Rig
-    model: RigModel
+    frame: RigModel
     settings: SweepSettings
     cases: tuple[CaseResult, ...]
     unit_paths: dict[str, dict[str, ShaftPathResult]] = field(default_factory=dict)
@@ -416,8 +416,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
 
 
-def solve_unit_responses(model: RigModel):
+def solve_unit_responses(frame: RigModel):
     """Beam model only (kept for callers that hold a RigModel): (system, loads, unit displacements)."""
-    system = assemble_beam(model.rig)
+    system = assemble_beam(frame.rig)
     factorised = factorize(system.stiffness, system.elimination)
     return factorised, system.unit_loads, factorised.solve(np.column_stack([system.unit_loads[k] for k in UNIT_LOADS]))

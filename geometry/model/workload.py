@@ -116,15 +116,42 @@ def size_text(n_bytes: float) -> str:
 
 
 def count_text(n: float) -> str:
-    """``9,000,000``, or ``1e+15`` beyond what a thousands separator makes readable."""
+    """``9,000,000``, or ``1e+15`` beyond what a thousands separator makes readable.
+
+    Parameters
+    ----------
+    n : float
+        A count.
+
+    Returns
+    -------
+    str
+        The count with thousands separators, or in exponent notation when very large.
+    """
     return f"{n:,.0f}" if n < 1e12 else f"{n:.3g}"
 
 
 def check_workload(workload: Workload, subject: str, suggestion: str) -> Workload:
     """Raise :class:`WorkloadError` when ``workload`` exceeds the memory available or :data:`MAX_WORK_S`.
 
-    ``subject`` names the input (file or option), ``suggestion`` says what to do instead. Returns
-    ``workload`` when it fits.
+    Parameters
+    ----------
+    workload : Workload
+        The estimate.
+    subject : str
+        The input that asks for the work (file or option).
+    suggestion : str
+        What to do instead, appended to the message.
+
+    Returns
+    -------
+    Workload
+        ``workload``, when it fits.
+
+    Raises
+    ------
+    WorkloadError
+        With the estimate, what is available and ``suggestion``.
     """
     room = available_memory_bytes()
     if room is not None and workload.bytes_needed > room:
@@ -138,16 +165,49 @@ def check_workload(workload: Workload, subject: str, suggestion: str) -> Workloa
 
 
 def sweep_workload(n_cases: int, what: str | None = None) -> Workload:
-    """A sweep of ``n_cases`` load cases on the beam model (solving, journal, result files)."""
+    """A sweep of ``n_cases`` load cases on the beam model (solving, journal, result files).
+
+    Parameters
+    ----------
+    n_cases : int
+        How many load cases.
+    what : str, optional
+        The cases in the user's terms; default ``"N load cases"``.
+
+    Returns
+    -------
+    Workload
+        Estimated time and peak memory.
+    """
     return Workload(what or f"{count_text(n_cases)} load cases", SWEEP_CASE_S * n_cases,
                     BASE_BYTES + SWEEP_CASE_BYTES * n_cases)
 
 
 def check_cases(n_cases: int, subject: str, what: str | None = None) -> Workload:
-    """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid)."""
+    """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid).
+
+    Parameters
+    ----------
+    n_cases : int
+        How many load cases.
+    subject : str
+        The input that asks for them (``--grid``, a load-case file), for the message.
+    what : str, optional
+        The cases in the user's terms; default ``"N load cases"``.
+
+    Returns
+    -------
+    Workload
+        The estimate, when it fits.
+
+    Raises
+    ------
+    WorkloadError
+        Naming ``subject``, the estimate and how many cases would fit.
+    """
     fitting = _largest_fitting(sweep_workload)
     return check_workload(sweep_workload(n_cases, what), subject,
-                 f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
+                          f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
 
 
 def _largest_fitting(workload_of) -> int:
@@ -190,6 +250,16 @@ def beam_size(rig) -> BeamSize:
 
     Each part has a node at each segment end and at each place something refers to, and elements
     at most ``mesh.max_element_length_mm`` long in between: counted, not built.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+
+    Returns
+    -------
+    BeamSize
+        Nodes, springs and element × segment pairs; ``.workload(max_element_length_mm)`` estimates the build.
     """
     length = rig.mesh.max_element_length_mm
     springs = len(rig.bearings) + len(rig.mounts) + len(rig.couplings) + len(rig.joints)
@@ -204,7 +274,18 @@ def beam_size(rig) -> BeamSize:
 
 
 def rig_problem(rig) -> str | None:
-    """Why ``rig``'s beam model is too large to build here (with the estimate and a suggestion), or None."""
+    """Why ``rig``'s beam model is too large to build here (with the estimate and a suggestion), or None.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+
+    Returns
+    -------
+    str or None
+        The reason, naming the rig-file keys that set the size; None when the model fits.
+    """
     size = beam_size(rig)
     length = rig.mesh.max_element_length_mm
     workload = size.workload(length)
@@ -223,7 +304,25 @@ def rig_problem(rig) -> str | None:
 
 
 def check_workers(workers: int | None, option: str = "--workers") -> int | None:
-    """Refuse more local Dask workers than this machine has cores for, or memory for."""
+    """Refuse more local Dask workers than this machine has cores for, or memory for.
+
+    Parameters
+    ----------
+    workers : int or None
+        Requested local worker processes; None leaves the choice to Dask.
+    option : str
+        The option, for the message.
+
+    Returns
+    -------
+    int or None
+        ``workers``, when the machine can run them.
+
+    Raises
+    ------
+    WorkloadError
+        Naming the option, the cores and memory available, and a number that fits.
+    """
     if workers is None:
         return None
     cores = os.cpu_count() or 1
@@ -248,8 +347,36 @@ def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, mo
 
 def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, model: str = "beam",
                 strategy: str = "full") -> Workload:
-    """Refuse a study design too large for this machine, before it is drawn."""
+    """Refuse a study design too large for this machine, before it is drawn.
+
+    Parameters
+    ----------
+    n_solves : int
+        Samples (Monte Carlo) or model runs (sensitivity design).
+    n_parameters : int
+        Toleranced parameters.
+    n_cases : int
+        Load cases each sample solves.
+    option : str
+        The option that sets the size (``--samples``), for the message.
+    what : str
+        The study in the user's terms.
+    model : str
+        ``beam``, ``hybrid`` or ``solid``.
+    strategy : str
+        What a sample re-assembles (``loads``, ``frame``, ``full``).
+
+    Returns
+    -------
+    Workload
+        The estimate, when it fits.
+
+    Raises
+    ------
+    WorkloadError
+        Naming ``option``, the estimate and the largest size that fits.
+    """
     fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy))
     return check_workload(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
-                 f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
-                 "Dask cluster in parts with --resume")
+                          f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
+                          "Dask cluster in parts with --resume")

@@ -105,7 +105,7 @@ def _write_ross(export, out: Path) -> list[Path]:
         static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
                    for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
         written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor.toml"))
-        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.name.split(":")[1] for s in line.supports),
+        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.spring.name for s in line.supports),
                       f"{comparison.largest_sag_m * 1e9:.4g}", f"{abs(comparison.ross_uy_m).max() * 1e9:.4g}",
                       f"{comparison.relative_difference:.1e}")
     written.append(write_csv_atomic(out / "ross_misalignment.csv", faults))

@@ -63,7 +63,7 @@ def _progress() -> Progress:
                     disable=not console.is_terminal)
 
 
-def _setup(rig_path, tolerances_path, model, mesh_size_mm):
+def _setup(rig_file, tolerances_path, model, mesh_size_mm):
     from rvcoax import load_rig
     from rvcoax.results.studies import (
         STRATEGY_TEXT,
@@ -74,7 +74,7 @@ def _setup(rig_path, tolerances_path, model, mesh_size_mm):
     )
 
     settings = sweep_settings(model, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_path)
+    rig = load_rig(rig_file)
     try:
         tolerances = load_tolerances(tolerances_path, rig)
     except ToleranceFileError as error:

@@ -31,7 +31,7 @@ def rig_show(rig_file: RigOption = None) -> None:
     from rvcoax.geometry.model import build_rig_model, gear_mesh_forces
 
     rig = load_rig(rig_file)
-    built = build_rig_model(rig)
+    frame = build_rig_model(rig)
     parts = Table(title=escape(f"{rig.rig.name}: parts (x along the drivetrain, mm)"), title_justify="left")
     for column in ("part", "role", "x from", "x to", "Ø outer mm", "material", "E GPa", "density kg/m³", "mass kg"):
         parts.add_column(column)
@@ -39,14 +39,14 @@ def rig_show(rig_file: RigOption = None) -> None:
         lo, hi = p.x_range_mm
         diameters = sorted({s.outer_diameter_mm for s in p.segments})
         material = rig.materials[p.material]
-        density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
+        density = frame.equivalent_density.get(p.name, material.density_kg_per_m3)
         add_text_row(parts, p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
                       f"{material.youngs_modulus_MPa / 1e3:g}",
-                      f"{density:.0f}" + (" (equiv.)" if p.name in built.equivalent_density else ""),
-                      f"{built.part_mass_kg[p.name]:.3f}")
+                      f"{density:.0f}" + (" (equiv.)" if p.name in frame.equivalent_density else ""),
+                      f"{frame.part_mass_kg[p.name]:.3f}")
     console.print(parts)
-    console.print(f"total mass {sum(built.part_mass_kg.values()):.2f} kg; beam model: {built.structure.n_nodes} nodes, "
-                  f"{built.structure.n_dofs} DOF")
+    console.print(f"total mass {sum(frame.part_mass_kg.values()):.2f} kg; beam model: {frame.structure.n_nodes} nodes, "
+                  f"{frame.structure.n_dofs} DOF")
     springs = Table(title="Supports and connections", title_justify="left")
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)

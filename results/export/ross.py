@@ -44,7 +44,7 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.system import factorize
-from rvcoax.geometry.model.beam import build_rig_model
+from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.export.dynamics import DynamicsExport
 
@@ -94,7 +94,7 @@ def import_ross():
 class Support:
     """A lateral support of a shaft line: a bearing or a joint to a housing (radial stiffness in N/m)."""
 
-    name: str
+    spring: SpringId
     x_mm: float
     radial_stiffness_N_per_m: float
 
@@ -119,7 +119,7 @@ class ShaftLine:
     inner_diameter_mm: np.ndarray
     material: str
     density_kg_per_m3: float
-    youngs_modulus_pa: float
+    youngs_modulus_Pa: float
     poisson_ratio: float
     supports: tuple[Support, ...]
     hubs: tuple[Hub, ...]
@@ -145,13 +145,13 @@ def shaft_line(rig: Rig, which: str) -> ShaftLine:
     frame = build_rig_model(rig)
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
-    supports = [Support(f"bearing:{b.name}", b.x_mm, b.radial_stiffness_N_per_um * 1e6)
+    supports = [Support(SpringId("bearing", b.name), b.x_mm, b.radial_stiffness_N_per_um * 1e6)
                 for b in rig.bearings if b.shaft == name]
     for j in rig.joints:
         lateral = min(j.translational_stiffness_N_per_um[1:]) * 1e6
         ends = {j.from_.part: j.from_.x_mm, j.to.part: j.to.x_mm}
         if name in ends and lateral > 0 and len(ends) == 2:
-            supports.append(Support(f"joint:{j.name}", ends[name], lateral))
+            supports.append(Support(SpringId("joint", j.name), ends[name], lateral))
     hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0) for c in rig.couplings for end in (c.from_, c.to)
             if end.part == name]
     material = rig.materials[part.material]
@@ -164,7 +164,7 @@ def build_rotor(line: ShaftLine, ross=None):
     """A ``ross.Rotor`` of ``line``: Timoshenko shaft elements, bearings at the supports, hubs as disks."""
     rs = ross if ross is not None else import_ross()
     material = rs.Material(name=f"rvcoax_{line.material}".replace(" ", "_"), rho=line.density_kg_per_m3,
-                           E=line.youngs_modulus_pa, Poisson=line.poisson_ratio)
+                           E=line.youngs_modulus_Pa, Poisson=line.poisson_ratio)
     lengths = np.diff(line.node_x_mm) * MM
     shaft = [rs.ShaftElement(L=float(length), idl=float(inner * MM), odl=float(outer * MM), material=material, n=i,
                              shear_method_calc="cowper")
@@ -172,7 +172,7 @@ def build_rotor(line: ShaftLine, ross=None):
     disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=0.0, Ip=0.0, tag=f"hub_{h.coupling}")
              for h in line.hubs]
     bearings = [rs.BearingElement(n=line.node_at(s.x_mm), kxx=s.radial_stiffness_N_per_m,
-                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0, tag=s.name.replace(":", "_"))
+                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0, tag=f"{s.spring.kind}_{s.spring.name}")
                 for s in line.supports]
     return rs.Rotor(shaft, disks, bearings, tag=f"rvcoax_{line.which}_shaft")
 
@@ -199,8 +199,8 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     beams = structure.beams
     keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
     local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_pa[keep],
-                         beams.shear_modulus_pa[keep], beams.density_kg_m3[keep], beams.reference_vector[keep])
+                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
+                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
     masses = structure.point_masses
     on_shaft = renumber[masses.node] >= 0
     hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],

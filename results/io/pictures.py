@@ -11,9 +11,9 @@ Intended call sequence for a sweep::
 
     out = Path("rvcoax_out/pictures")
     sweep = run_sweep(load_rig(), paper_cases())
-    mesh = beam_field_mesh(sweep.model)
-    cases = beam_field_cases(sweep.model, sweep.cases)      # u measured as the sweep measures Y
-    paths = path_point_indices(sweep.model)                  # {"input": nodes, "output": nodes}
+    mesh = beam_field_mesh(sweep.frame)
+    cases = beam_field_cases(sweep.frame, sweep.cases)      # u measured as the sweep measures Y
+    paths = path_point_indices(sweep.frame)                  # {"input": nodes, "output": nodes}
     limits = sweep_colour_limits_um(cases)                   # the same colours in every picture
     housings = enclosing_parts(mesh)                         # the same parts translucent in every picture
     for i, case in enumerate(cases):
@@ -673,7 +673,7 @@ def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     """(arrays keyed like sweep.csv, path lengths) from a Sweep, CaseResults, PublishedRows, a
     mapping of arrays or a list of row dicts."""
     lengths: dict[str, float] = {}
-    items = rows.cases if hasattr(rows, "cases") and hasattr(rows, "model") else rows
+    items = rows.cases if hasattr(rows, "cases") and hasattr(rows, "frame") else rows
     if isinstance(items, Mapping):
         data = {k: np.asarray(items[k], float) for k in items if k in _KEYS}
     else:

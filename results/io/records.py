@@ -137,11 +137,6 @@ def sweep_rows(sweep: Sweep) -> list[dict]:
     return [case_row(case) for case in sweep.cases]
 
 
-def path_rows(sweep: Sweep) -> list[dict]:
-    """Long table of the signed Y paths: one row per case, shaft and station."""
-    return [row for case in sweep.cases for row in entry_path_rows(case_record(case)["entry"])]
-
-
 def calibration_document(calibration: Calibration) -> dict:
     def entry(p):
         return {"address": p.parameter.address, "shaft": p.parameter.shaft, "unit": p.parameter.unit,
@@ -189,7 +184,24 @@ def model_section(sweep: Sweep) -> dict:
 
 
 def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
-    """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``."""
+    """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig solved.
+    model : dict
+        The ``model`` section (model kind, mesh, solver, DOFs, residual summary).
+    rig_source, rig_text : str
+        The rig file as the user named it, and its text.
+    calibration : Calibration, optional
+        Recorded when the sweep is of a calibrated rig.
+
+    Returns
+    -------
+    dict
+        The JSON header, in the order it is written.
+    """
     return canonical({
         "rvcoax_version": rvcoax_version(),
         "units": UNITS,
@@ -201,12 +213,6 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
         "engineering_definitions": ENGINEERING_DEFINITIONS,
         "calibration": calibration_document(calibration) if calibration is not None else None,
     })
-
-
-def sweep_document(sweep: Sweep, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
-    """The JSON document of a sweep: units, provenance, method and every case with its paths."""
-    header = sweep_header(sweep.rig, model_section(sweep), rig_source, rig_text, calibration)
-    return {**header, "cases": [case_record(case)["entry"] for case in sweep.cases]}
 
 
 def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows) -> list[dict]:

@@ -53,7 +53,24 @@ REJECTIONS = {
 
 
 def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -> list[Path]:
-    """``<stem>.csv``, ``<stem>_paths.csv`` and ``<stem>.json`` from a header and per-case records."""
+    """``<stem>.csv``, ``<stem>_paths.csv`` and ``<stem>.json`` from a header and per-case records.
+
+    Parameters
+    ----------
+    out : Path
+        The result folder.
+    stem : str
+        The files' common name (``sweep``).
+    header : dict
+        :func:`sweep_header`'s document.
+    records : list of dict
+        One record per case, in load-case order (from a sweep or the journal).
+
+    Returns
+    -------
+    list of Path
+        The files written, atomically.
+    """
     return [
         write_csv_atomic(out / f"{stem}.csv", [r["row"] for r in records]),
         write_csv_atomic(out / f"{stem}_paths.csv", [row for r in records for row in entry_path_rows(r["entry"])]),

@@ -269,7 +269,7 @@ def test_clearance_zero_is_the_linear_bearing():
     sweep = run_sweep(cantilever_with_gap(0.0), (LoadCase(0.1, 0.0),))
     assert sweep.unit_displacements is not None  # the linear path
     assert_close(sweep.cases[0].paths["input"].uy_mm[-1] * MM, 10.0 / (k_b + k), TOL)
-    assert_close(sweep.measured_displacement(0)[6 * sweep.model.node("left", L) + 1], 10.0 / (k_b + k), TOL)
+    assert_close(sweep.measured_displacement(0)[6 * sweep.frame.node("left", L) + 1], 10.0 / (k_b + k), TOL)
 
 
 def test_clearance_nonlinear_solver_alone():

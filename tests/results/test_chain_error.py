@@ -82,7 +82,7 @@ def _fem_twist_rad(length_m: float, outer_m: float, inner_m: float, torque_Nm: f
     """Twist of a shaft clamped at one end with an end torque, from the beam finite elements."""
     section = CircularSection(outer_m, inner_m)
     coordinates, beams = frames.polyline([[0, 0, 0], [length_m, 0, 0]], 3, section)
-    beams = dataclasses.replace(beams, shear_modulus_pa=np.full(3, shear_modulus))
+    beams = dataclasses.replace(beams, shear_modulus_Pa=np.full(3, shear_modulus))
     structure = frames.model(coordinates, beams, fixed_dofs=np.array(frames.node_dofs(0)))
     u = frames.solve(structure, frames.point_load(structure.n_dofs, 3, [0, 0, 0, torque_Nm, 0, 0]))
     return float(u[frames.dof(3, 3)])

@@ -87,10 +87,6 @@ class Design:
         """Level values of every factor in every run (runs × factors), e.g. for regression."""
         return np.column_stack([np.asarray(f.values)[self.codes[f.key] - 1] for f in self.factors])
 
-    def with_response(self, response: np.ndarray, name: str) -> Design:
-        return Design(self.runs, self.codes, self.factors, self.sources, np.asarray(response, float), name)
-
-
 def build_sources(factors: tuple[Factor, ...], columns: list[str]) -> tuple[Source, ...]:
     """Sources from column names: factor keys, ``<a>x<b>[_n]`` interactions and ``e<n>`` empty columns."""
     keys = [f.key for f in factors]
