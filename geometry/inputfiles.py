@@ -151,7 +151,6 @@ def csv_rows(text: str, comment: str | None = None) -> Iterator[tuple[int, list[
     With ``comment`` (e.g. ``"#"``), lines that start with it (after blanks) are skipped before the CSV
     is read, so that a quote in a comment cannot open a field; line numbers stay those of the file.
 
-
     Parameters
     ----------
     text : str

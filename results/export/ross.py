@@ -80,7 +80,18 @@ def _quiet_output():
 
 
 def import_ross():
-    """The ``ross`` module, or :class:`RossUnavailableError` with the install instruction."""
+    """The ``ross`` module, or :class:`RossUnavailableError` with the install instruction.
+
+    Returns
+    -------
+    module
+        ``ross``, imported with its start-up output and warnings silenced.
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed (the message says how to install it).
+    """
     try:
         with _quiet_output(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -240,7 +251,27 @@ class StaticComparison:
 
 
 def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticComparison]:
-    """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax."""
+    """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    which : str
+        ``"input"`` or ``"output"``.
+    ross : module, optional
+        The ``ross`` package (imported when not given).
+
+    Returns
+    -------
+    (ross.Rotor, StaticComparison)
+        The rotor, and both codes' gravity sag of the shaft on rigid supports with their difference.
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed.
+    """
     line = shaft_line(rig, which)
     rotor = build_rotor(line, ross)
     return rotor, StaticComparison(line, ross_gravity_sag(rotor), rvcoax_gravity_sag(rig, line))
@@ -263,6 +294,18 @@ def misalignment_parameters(export: DynamicsExport, line: ShaftLine) -> list[dic
     rig's coupling stiffnesses; ``input_torque_Nm``/``load_torque_Nm`` the torque the coupling
     carries; ``n`` the shaft element of :func:`fault_element`. :func:`fault_arguments` turns a row
     into ROSS's keyword arguments.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`rvcoax.results.export.dynamics_export`.
+    line : ShaftLine
+        From :func:`shaft_line`.
+
+    Returns
+    -------
+    list of dict
+        One row per case and hub, keys with SI units.
     """
     rig = export.sweep.rig
     couplings = {c.name: c for c in rig.couplings}
@@ -298,6 +341,21 @@ def fault_arguments(parameters: dict) -> dict:
 
 
 def misalignment_fault(rotor, parameters: dict, ross=None):
-    """``ross.MisalignmentFlex`` on ``rotor`` from one row of :func:`misalignment_parameters`."""
+    """``ross.MisalignmentFlex`` on ``rotor`` from one row of :func:`misalignment_parameters`.
+
+    Parameters
+    ----------
+    rotor : ross.Rotor
+        From :func:`build_rotor`.
+    parameters : dict
+        One row of :func:`misalignment_parameters`.
+    ross : module, optional
+        The ``ross`` package (imported when not given).
+
+    Returns
+    -------
+    ross.MisalignmentFlex
+        The fault, ready for ROSS's time response.
+    """
     rs = ross if ross is not None else import_ross()
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))

@@ -46,7 +46,13 @@ ENGINEERING_DEFINITIONS = {
 
 
 def rvcoax_version() -> str:
-    """The installed rvcoax version, as result files record it (``unknown (not installed)`` from a bare copy)."""
+    """The installed rvcoax version, as result files record it (``unknown (not installed)`` from a bare copy).
+
+    Returns
+    -------
+    str
+        The version string.
+    """
     try:
         return version("rvcoax")
     except PackageNotFoundError:

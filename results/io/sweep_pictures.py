@@ -69,7 +69,6 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
     window_size : (width, height)
         Size of each picture of the deformed rig, pixels.
 
-
     Returns
     -------
     SweepPictures

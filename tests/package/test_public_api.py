@@ -120,16 +120,19 @@ def test_every_public_name_is_documented(namespace):
     assert not missing, f"{namespace}: undocumented {missing}"
 
 
-def test_the_core_workflow_has_numpy_style_docstrings():
-    """The top-level functions say what each parameter is and what they return (numpydoc sections)."""
-    import rvcoax
-
+@pytest.mark.parametrize("namespace", NAMESPACES)
+def test_public_functions_have_numpy_style_docstrings(namespace):
+    """Every public function says what each parameter is and what it returns (numpydoc sections)."""
+    package = importlib.import_module(namespace)
     missing = []
-    for name in rvcoax.__all__:
-        value = getattr(rvcoax, name)
+    for name in package.__all__:
+        value = getattr(package, name)
         if not inspect.isfunction(value):
             continue
-        doc = inspect.getdoc(value) or ""
-        sections = ["Returns\n-------"] + (["Parameters\n----------"] if inspect.signature(value).parameters else [])
-        missing += [f"{name}: {s.splitlines()[0]}" for s in sections if s not in doc]
-    assert not missing, missing
+        doc, signature = inspect.getdoc(value) or "", inspect.signature(value)
+        if signature.parameters and "Parameters\n----------" not in doc:
+            missing.append(f"{name}: Parameters")
+        if signature.return_annotation not in (None, "None") and not ("Returns\n-------" in doc
+                                                                        or "Yields\n------" in doc):
+            missing.append(f"{name}: Returns")
+    assert not missing, f"{namespace}: {missing}"

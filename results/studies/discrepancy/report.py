@@ -18,7 +18,21 @@ def _rounded(values: dict) -> dict:
 
 
 def rms_table(result: DiscrepancyResult, lengths_mm: dict[str, float]) -> dict:
-    """RMS gaps before/after, per shaft, on the cases used to fit, the held-out cases and all cases."""
+    """RMS gaps before/after, per shaft, on the cases used to fit, the held-out cases and all cases.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        From :func:`run_discrepancy`.
+    lengths_mm : dict of str to float
+        Measured path length per shaft, for the gaps in tilt.
+
+    Returns
+    -------
+    dict
+        ``{"fit"|"held_out"|"all": {"rms_before_um"|"rms_after_um"|"rms_tilt_before_urad"|"rms_tilt_after_urad":
+        {shaft: value}}}``; a subset with no rows is left out.
+    """
     subsets = {"fit": result.fit_mask, "held_out": ~result.fit_mask, "all": np.ones(result.data.n, bool)}
     table = {}
     for label, rows in subsets.items():
@@ -163,7 +177,18 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
 
 
 def observation_rows(result: DiscrepancyResult) -> list[dict]:
-    """One row per observation: case, shaft, station, measured, model before/after, σ, used to fit."""
+    """One row per observation: case, shaft, station, measured, model before/after, σ, used to fit.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        From :func:`run_discrepancy`.
+
+    Returns
+    -------
+    list of dict
+        Keys with units (``measured_mm``, ``sigma_mm``, …).
+    """
     rows = []
     data = result.data
     for i in range(data.n):

@@ -260,7 +260,20 @@ class DiscrepancyResult:
 
 
 def discrepancy_workload(data: MeasuredData, n_candidates: int):
-    """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates."""
+    """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The measurements (:func:`read_measured`).
+    n_candidates : int
+        Candidate effects to solve.
+
+    Returns
+    -------
+    Workload
+        Estimated time and memory, to check or announce before the run.
+    """
     from rvcoax.geometry.model.workload import BASE_BYTES, Workload, count_text
 
     cases = len(data.cases)
