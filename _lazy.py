@@ -1,8 +1,8 @@
 """Lazy public names for the packages' ``__init__`` modules (PEP 562).
 
-A package lists its public names in a table, name → the module that defines it; a name is imported
-from its module on first use and kept. ``import rvcoax`` or ``import rvcoax.results.studies`` thus
-costs nothing, and the command line starts without numpy, scipy or the model.
+A package lists its public names by the module that defines them; a name is imported from its
+module on first use and kept. ``import rvcoax`` or ``import rvcoax.results.studies`` thus costs
+nothing, and the command line starts without numpy, scipy or the model.
 """
 
 from __future__ import annotations
@@ -13,24 +13,28 @@ from collections.abc import Callable, Mapping
 __all__ = ["lazy_names"]
 
 
-def lazy_names(package: str, where: Mapping[str, str],
-               namespace: dict) -> tuple[Callable[[str], object], Callable[[], list[str]]]:
-    """The module-level ``__getattr__`` and ``__dir__`` of a package whose public names load on use.
+def lazy_names(package: str, namespace: dict, modules: Mapping[str, tuple[str, ...]], eager: tuple[str, ...] = ()
+               ) -> tuple[dict[str, str], list[str], Callable[[str], object], Callable[[], list[str]]]:
+    """The public names of a package whose names load on use, and the ``__getattr__``/``__dir__`` that load them.
 
     Parameters
     ----------
     package
         The package's ``__name__`` (for the error message).
-    where
-        Public name → the full name of the module that defines it.
     namespace
         The package's ``globals()``: a loaded name is stored there, so it is looked up only once.
+    modules
+        The full name of each module → the public names it defines, in the order they are listed.
+    eager
+        Public names the package defines itself (listed first in ``__all__``).
 
     Returns
     -------
     tuple
-        ``(__getattr__, __dir__)`` to assign in the package's ``__init__``.
+        ``(_WHERE, __all__, __getattr__, __dir__)`` for the package's ``__init__``: ``_WHERE`` maps every
+        lazy name to its module.
     """
+    where = {name: module for module, names in modules.items() for name in names}
 
     def __getattr__(name: str):
         try:
@@ -44,4 +48,4 @@ def lazy_names(package: str, where: Mapping[str, str],
     def __dir__() -> list[str]:
         return sorted(set(namespace) | set(where))
 
-    return __getattr__, __dir__
+    return where, [*eager, *where], __getattr__, __dir__

@@ -13,14 +13,9 @@ from rvcoax._lazy import lazy_names
 DOFS_PER_NODE = 6
 """Nodal DOFs: ux, uy, uz, rx, ry, rz (translations in m, rotations in rad)."""
 
-# public name → the module that defines it
-_WHERE = {
-    "RvcoaxError": "rvcoax.fem.errors",
-    "SolverError": "rvcoax.fem.errors",
-    "avoid_compaction_stalls": "rvcoax.fem.hugepages",
-    "single_threaded_openblas": "rvcoax.fem.blas_threads",
-}
-
-__all__ = ["DOFS_PER_NODE", *_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.fem.errors": ("RvcoaxError", "SolverError"),
+    "rvcoax.fem.hugepages": ("avoid_compaction_stalls",),
+    "rvcoax.fem.blas_threads": ("single_threaded_openblas",),
+}, eager=("DOFS_PER_NODE",))

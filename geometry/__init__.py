@@ -10,22 +10,13 @@ from rvcoax._lazy import lazy_names
 MEASURED_SHAFTS = ("input", "output")
 """The shafts whose Y is measured and reported, named as the rig file's ``[paths]`` names them."""
 
-# public name → the module that defines it
-_WHERE = {
-    "Rig": "rvcoax.geometry.schema",
-    "load_rig": "rvcoax.geometry.rigfile",
-    "parse_rig_text": "rvcoax.geometry.rigfile",
-    "reference_rig_text": "rvcoax.geometry.rigfile",
-    "updated_rig_text": "rvcoax.geometry.rigwrite",
-    "candidate_effects": "rvcoax.geometry.effects",
-    "plausibility_warnings": "rvcoax.geometry.catalogue",
-    "InputFileError": "rvcoax.geometry.inputfiles",
-    "csv_rows": "rvcoax.geometry.inputfiles",
-    "plain_number": "rvcoax.geometry.inputfiles",
-    "read_input_text": "rvcoax.geometry.inputfiles",
-    "MESH_SIZE_RANGE_MM": "rvcoax.geometry.limits",
-}
-
-__all__ = ["MEASURED_SHAFTS", *_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.geometry.schema": ("Rig",),
+    "rvcoax.geometry.rigfile": ("load_rig", "parse_rig_text", "reference_rig_text"),
+    "rvcoax.geometry.rigwrite": ("updated_rig_text",),
+    "rvcoax.geometry.effects": ("candidate_effects",),
+    "rvcoax.geometry.catalogue": ("plausibility_warnings",),
+    "rvcoax.geometry.inputfiles": ("InputFileError", "csv_rows", "plain_number", "read_input_text"),
+    "rvcoax.geometry.limits": ("MESH_SIZE_RANGE_MM",),
+}, eager=("MEASURED_SHAFTS",))

@@ -258,7 +258,7 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     Parameters
     ----------
     rig : Rig
-        A validated rig.
+        A validated rig (the reference rig gives no warning).
 
     Returns
     -------

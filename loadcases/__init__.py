@@ -5,18 +5,8 @@ Public names (loaded on first use): the load case, its sources, and the limits e
 
 from rvcoax._lazy import lazy_names
 
-# public name → the module that defines it
-_WHERE = {
-    "LoadCase": "rvcoax.loadcases.cases",
-    "grid_cases": "rvcoax.loadcases.cases",
-    "paired_cases": "rvcoax.loadcases.cases",
-    "paper_cases": "rvcoax.loadcases.cases",
-    "paper_table": "rvcoax.loadcases.cases",
-    "read_cases": "rvcoax.loadcases.cases",
-    "MAX_CASE_FILE_BYTES": "rvcoax.loadcases.limits",
-    "MAX_TORQUE_NM": "rvcoax.loadcases.limits",
-}
-
-__all__ = [*_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.loadcases.cases": ("LoadCase", "grid_cases", "paired_cases", "paper_cases", "paper_table", "read_cases"),
+    "rvcoax.loadcases.limits": ("MAX_CASE_FILE_BYTES", "MAX_TORQUE_NM"),
+})

@@ -6,16 +6,8 @@ Public names (loaded on first use): a sweep, its settings and the prepared model
 
 from rvcoax._lazy import lazy_names
 
-# public name → the module that defines it
-_WHERE = {
-    "PreparedModel": "rvcoax.results.sweep",
-    "Sweep": "rvcoax.results.sweep",
-    "SweepSettings": "rvcoax.results.sweep",
-    "prepare_model": "rvcoax.results.sweep",
-    "run_sweep": "rvcoax.results.sweep",
-    "ConnectionsUnavailableError": "rvcoax.results.connections",
-}
-
-__all__ = [*_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.results.sweep": ("PreparedModel", "Sweep", "SweepSettings", "prepare_model", "run_sweep"),
+    "rvcoax.results.connections": ("ConnectionsUnavailableError",),
+})

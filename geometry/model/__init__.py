@@ -7,27 +7,14 @@ that refuse or announce work before it starts.
 
 from rvcoax._lazy import lazy_names
 
-# public name → the module that defines it
-_WHERE = {
-    "MODEL_KINDS": "rvcoax.geometry.model.system",
-    "assemble_rig": "rvcoax.geometry.model.assemble",
-    "RigSystem": "rvcoax.geometry.model.system",
-    "build_rig_model": "rvcoax.geometry.model.beam",
-    "gear_mesh_forces": "rvcoax.geometry.model.loads",
-    "sag_warnings": "rvcoax.geometry.model.preflight",
-    "REPORT_AFTER_S": "rvcoax.geometry.model.workload",
-    "Workload": "rvcoax.geometry.model.workload",
-    "WorkloadError": "rvcoax.geometry.model.workload",
-    "beam_size": "rvcoax.geometry.model.workload",
-    "check_cases": "rvcoax.geometry.model.workload",
-    "check_study": "rvcoax.geometry.model.workload",
-    "check_workers": "rvcoax.geometry.model.workload",
-    "check_workload": "rvcoax.geometry.model.workload",
-    "count_text": "rvcoax.geometry.model.workload",
-    "rig_problem": "rvcoax.geometry.model.workload",
-    "sweep_workload": "rvcoax.geometry.model.workload",
-}
-
-__all__ = [*_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.geometry.model.system": ("MODEL_KINDS", "RigSystem"),
+    "rvcoax.geometry.model.assemble": ("assemble_rig",),
+    "rvcoax.geometry.model.beam": ("build_rig_model",),
+    "rvcoax.geometry.model.loads": ("gear_mesh_forces",),
+    "rvcoax.geometry.model.preflight": ("sag_warnings",),
+    "rvcoax.geometry.model.workload": ("REPORT_AFTER_S", "Workload", "WorkloadError", "beam_size", "check_cases",
+                                       "check_study", "check_workers", "check_workload", "count_text", "rig_problem",
+                                       "sweep_workload"),
+})

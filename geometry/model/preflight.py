@@ -219,7 +219,7 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     Parameters
     ----------
     rig : Rig
-        A validated rig.
+        The rig to check (its gravity setting is ignored).
     limit_mm : float
         Sag under self-weight above which a part is named.
 

@@ -254,7 +254,7 @@ def beam_size(rig) -> BeamSize:
     Parameters
     ----------
     rig : Rig
-        A validated rig.
+        A validated rig; its beam model is counted, not built.
 
     Returns
     -------
@@ -279,7 +279,7 @@ def rig_problem(rig) -> str | None:
     Parameters
     ----------
     rig : Rig
-        A validated rig.
+        A validated rig, before its beam model is built.
 
     Returns
     -------
@@ -369,7 +369,7 @@ def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, wha
     Returns
     -------
     Workload
-        The estimate, when it fits.
+        Time and memory of the whole study, when they fit.
 
     Raises
     ------

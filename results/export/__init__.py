@@ -5,24 +5,11 @@ Public names (loaded on first use), by target.
 
 from rvcoax._lazy import lazy_names
 
-# public name → the module that defines it
-_WHERE = {
-    "bearing_rows": "rvcoax.results.export.dynamics",
-    "coupling_rows": "rvcoax.results.export.dynamics",
-    "dynamics_export": "rvcoax.results.export.dynamics",
-    "write_dynamics_csv": "rvcoax.results.export.dynamics",
-    "write_dynamics_json": "rvcoax.results.export.dynamics",
-    "AdamsExportError": "rvcoax.results.export.adams",
-    "adams_fragment": "rvcoax.results.export.adams",
-    "parse_adm": "rvcoax.results.export.adams",
-    "spline_layout": "rvcoax.results.export.adams",
-    "RossUnavailableError": "rvcoax.results.export.ross",
-    "compare_static": "rvcoax.results.export.ross",
-    "import_ross": "rvcoax.results.export.ross",
-    "misalignment_fault": "rvcoax.results.export.ross",
-    "misalignment_parameters": "rvcoax.results.export.ross",
-}
-
-__all__ = [*_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.results.export.dynamics": ("bearing_rows", "coupling_rows", "dynamics_export", "write_dynamics_csv",
+                                       "write_dynamics_json"),
+    "rvcoax.results.export.adams": ("AdamsExportError", "adams_fragment", "parse_adm", "spline_layout"),
+    "rvcoax.results.export.ross": ("RossUnavailableError", "compare_static", "import_ross", "misalignment_fault",
+                                   "misalignment_parameters"),
+})

@@ -250,7 +250,7 @@ def bearing_rows(export: DynamicsExport) -> list[dict]:
     Parameters
     ----------
     export : DynamicsExport
-        From :func:`dynamics_export`.
+        The sweep's dynamics inputs, with the bearings' reactions (:func:`dynamics_export`).
 
     Returns
     -------

@@ -635,7 +635,7 @@ def sweep_field_cases(sweep) -> list[FieldCase]:
     Parameters
     ----------
     sweep : Sweep
-        A solved sweep (beam, hybrid or solid).
+        A solved sweep; its displacements are measured as its Y is.
 
     Returns
     -------

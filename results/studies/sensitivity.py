@@ -92,10 +92,8 @@ def morris_design(trajectories: int, d: int, seed: int = 0) -> np.ndarray:
     ----------
     trajectories : int
         Number of one-at-a-time trajectories.
-    d : int
-        Parameters.
-    seed : int
-        The same seed gives the same design.
+    d, seed
+        As for :func:`sobol_design`.
 
     Returns
     -------
@@ -202,12 +200,8 @@ def morris_indices(points: np.ndarray, outputs, seed: int = 0, confidence_level:
         The design (:func:`morris_design`).
     outputs : array_like
         One model output per point, same order.
-    seed : int
-        Seed of the bootstrap.
-    confidence_level : float
-        Of the bootstrap intervals.
-    resamples : int
-        Bootstrap resamples.
+    seed, confidence_level, resamples
+        The bootstrap of μ*, as for :func:`sobol_indices`.
 
     Returns
     -------

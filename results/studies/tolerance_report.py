@@ -314,12 +314,12 @@ def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) ->
     found : dict
         (case index, shaft) → SobolIndices or MorrisIndices.
     path_png : str or Path
-        Where the picture goes.
+        The PNG file.
 
     Returns
     -------
     Path
-        ``path_png``, written atomically.
+        ``path_png`` (written atomically, like every picture here).
     """
     from matplotlib.figure import Figure
 

@@ -12,20 +12,11 @@ Public names (loaded on first use): the measured file, the workflow, and its rep
 
 from rvcoax._lazy import lazy_names
 
-# public name → the module that defines it
-_WHERE = {
-    "MeasuredDataError": "rvcoax.results.studies.discrepancy.measured",
-    "read_measured": "rvcoax.results.studies.discrepancy.measured",
-    "DiscrepancyResult": "rvcoax.results.studies.discrepancy.workflow",
-    "DiscrepancySettings": "rvcoax.results.studies.discrepancy.workflow",
-    "discrepancy_workload": "rvcoax.results.studies.discrepancy.workflow",
-    "run_discrepancy": "rvcoax.results.studies.discrepancy.workflow",
-    "discrepancy_document": "rvcoax.results.studies.discrepancy.report",
-    "observation_rows": "rvcoax.results.studies.discrepancy.report",
-    "plot_discrepancy": "rvcoax.results.studies.discrepancy.report",
-    "rms_table": "rvcoax.results.studies.discrepancy.report",
-}
-
-__all__ = [*_WHERE]
-
-__getattr__, __dir__ = lazy_names(__name__, _WHERE, globals())
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.results.studies.discrepancy.measured": ("MeasuredDataError", "read_measured"),
+    "rvcoax.results.studies.discrepancy.workflow": ("DiscrepancyResult", "DiscrepancySettings",
+                                                    "discrepancy_workload", "run_discrepancy"),
+    "rvcoax.results.studies.discrepancy.report": ("discrepancy_document", "observation_rows", "plot_discrepancy",
+                                                  "rms_table"),
+})

@@ -182,7 +182,7 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
     Parameters
     ----------
     result : DiscrepancyResult
-        From :func:`run_discrepancy`.
+        From :func:`run_discrepancy`: the data, the model before and after, the noise.
 
     Returns
     -------

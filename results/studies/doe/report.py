@@ -137,7 +137,7 @@ def regression_document(analysis: Analysis) -> dict:
     Parameters
     ----------
     analysis : Analysis
-        From :func:`analyse`.
+        From :func:`analyse`: its regression fit, design and optimal levels.
 
     Returns
     -------
@@ -173,7 +173,7 @@ def analysis_document(analysis: Analysis) -> dict:
     Parameters
     ----------
     analysis : Analysis
-        From :func:`analyse`.
+        One response's analysis (:func:`analyse`).
 
     Returns
     -------
@@ -199,12 +199,13 @@ def anova_rows(analysis: Analysis) -> list[dict]:
     Parameters
     ----------
     analysis : Analysis
-        From :func:`analyse`.
+        Both of its ANOVA tables are written.
 
     Returns
     -------
     list of dict
-        Table, source, S, f, V, F, p, F_critical, significant.
+        Keys response, table (``unpooled`` or ``pooled``), source, S, f, V, F, p, F_critical and
+        significant; the error and total rows close each table.
     """
     rows = []
     for label, table in (("unpooled", analysis.anova), ("pooled", analysis.pooled)):
