@@ -136,3 +136,21 @@ def test_public_functions_have_numpy_style_docstrings(namespace):
                                                                         or "Yields\n------" in doc):
             missing.append(f"{name}: Returns")
     assert not missing, f"{namespace}: {missing}"
+
+
+def test_docs_api_lists_every_public_name_and_nothing_else():
+    """docs/api.md's table row of each namespace names exactly its ``__all__``; the core table names ``rvcoax``'s."""
+    import re
+
+    text = (ROOT / "docs" / "api.md").read_text(encoding="utf-8")
+    core, namespaces = text.split("## The namespaces", 1)
+    core_rows = [line.split("|")[2] for line in core.split("## The core workflow", 1)[1].splitlines()
+                 if line.startswith("| ") and not line.startswith("| step")]
+    documented = {"rvcoax": {name for row in core_rows for name in re.findall(r"`(\w+)[(`]", row)} | {"__version__"}}
+    for line in namespaces.splitlines():
+        row = re.match(r"\| `(rvcoax[\w.]*)` \|[^|]*\|(.*)\|$", line)
+        if row:
+            documented[row.group(1)] = set(re.findall(r"`(\w+)`", row.group(2)))
+    assert set(documented) == set(NAMESPACES)
+    for namespace, names in documented.items():
+        assert names == _public(namespace), namespace
