@@ -53,7 +53,7 @@ from pathlib import Path
 import meshio
 import meshio.xdmf
 import numpy as np
-from meshio._mesh import CellBlock
+from meshio import CellBlock
 from meshio.xdmf.common import (
     meshio_type_to_xdmf_index,
     numpy_to_xdmf_dtype,
