@@ -322,5 +322,5 @@ def prestrain_load_vector(frame: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
     structure = frame.structure
     vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
                                                 structure.n_dofs)
-    vector[: structure.n_dofs] += beam_thermal_load(rig, model.node_part, structure.beams, structure.n_dofs)
+    vector[: structure.n_dofs] += beam_thermal_load(rig, frame.node_part, structure.beams, structure.n_dofs)
     return vector

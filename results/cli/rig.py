@@ -91,7 +91,7 @@ def rig_show(rig_file: RigOption = None) -> None:
                      f"{np.degrees(np.arctan2(lateral[1], lateral[0])):.4g}" if np.any(lateral) else "-")
     console.print(paths)
     if rig.thermal is not None:
-        from rvcoax.geometry.thermal import free_axial_growth_um, mount_lift_um
+        from rvcoax.geometry import free_axial_growth_um, mount_lift_um
 
         grows = [f"{name} {free_axial_growth_um(rig, name):.1f}" for name in rig.thermal.temperature_rise_K]
         lifts = [f"{m.name} {mount_lift_um(rig, m):.1f}" for m in rig.mounts if mount_lift_um(rig, m)]

@@ -182,6 +182,7 @@ def test_label_rows_never_overlap():
 def test_picture_command_on_a_rig_of_another_layout(tmp_path):
     """`rvcoax picture` on the tutorial's RV-40E bench: one warp factor for every case (the one of the largest
     displacement of the sweep, printed), the bending line, and the legend in the lower right, clear of the title."""
+    from tutorial_rig import rig_text
     from typer.testing import CliRunner
 
     from rvcoax.geometry.rigfile import parse_rig_text
@@ -189,7 +190,6 @@ def test_picture_command_on_a_rig_of_another_layout(tmp_path):
     from rvcoax.results.cli.app import app
     from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
     from rvcoax.results.io.pictures import mesh_length_m, sweep_warp_factor
-    from tests.package.test_tutorial import rig_text
 
     rig_file = tmp_path / "rv40e.toml"
     rig_file.write_text(rig_text(), encoding="utf-8")
