@@ -7,6 +7,7 @@ from rvcoax._lazy import lazy_names
 
 # the module that defines each public name
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
-    "rvcoax.loadcases.cases": ("LoadCase", "grid_cases", "paired_cases", "paper_cases", "paper_table", "read_cases"),
+    "rvcoax.loadcases.cases": ("LoadCase", "grid_cases", "paired_cases", "paper_cases", "paper_table",
+                               "read_cases", "NoLoadCasesError", "default_cases", "default_is_paper", "rig_cases"),
     "rvcoax.loadcases.limits": ("MAX_CASE_FILE_BYTES", "MAX_TORQUE_NM"),
 })

@@ -88,7 +88,18 @@ NO_CASES_HELP = ("give them in the rig file ([[load_cases]] tables with T1_input
 
 
 def rig_cases(rig) -> tuple[LoadCase, ...] | None:
-    """The load cases a rig file names (``[[load_cases]]`` or ``[sweep]``), or None when it names none."""
+    """The load cases a rig file names (``[[load_cases]]`` or ``[sweep]``), or None when it names none.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+
+    Returns
+    -------
+    tuple of LoadCase or None
+        In the file's order (a ``[sweep]`` gives evenly spaced pairs).
+    """
     if rig.load_cases:
         return _validated([(c.T1_input_Nm, c.T2_output_Nm) for c in rig.load_cases], "of the rig file",
                           [f"load_cases[{i}]" for i in range(len(rig.load_cases))])
@@ -104,6 +115,16 @@ def rig_cases(rig) -> tuple[LoadCase, ...] | None:
 def default_cases(rig) -> tuple[LoadCase, ...]:
     """The cases to solve when none are given: the rig file's own, else paper 000's 20 pairs for the
     built-in reference rig only (:func:`rvcoax.geometry.builtin.is_reference_rig`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose cases are wanted.
+
+    Returns
+    -------
+    tuple of LoadCase
+        Its own cases, or paper 000's for the reference rig.
 
     Raises
     ------
@@ -122,7 +143,18 @@ def default_cases(rig) -> tuple[LoadCase, ...]:
 
 
 def default_is_paper(rig) -> bool:
-    """True when :func:`default_cases` of ``rig`` are paper 000's (the reference rig naming no cases of its own)."""
+    """True when :func:`default_cases` of ``rig`` are paper 000's (the reference rig naming no cases of its own).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig in question.
+
+    Returns
+    -------
+    bool
+        Whether the default cases are the paper's.
+    """
     from rvcoax.geometry.builtin import is_reference_rig
 
     return rig_cases(rig) is None and is_reference_rig(rig)

@@ -314,8 +314,9 @@ def _case_rows_upper_bound(path: Path) -> int | None:
 def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig):
     """Load cases from --cases, or --t1/--t2 (paired or --grid), or the rig file's own
     (:func:`rvcoax.loadcases.cases.default_cases`: paper 000's 20 pairs for the reference rig only)."""
-    from rvcoax.geometry.model.workload import check_cases, count_text
-    from rvcoax.loadcases.cases import NoLoadCasesError, default_cases, grid_cases, paired_cases, read_cases
+    from rvcoax import default_cases, grid_cases, paired_cases, read_cases
+    from rvcoax.geometry.model import check_cases, count_text
+    from rvcoax.loadcases import NoLoadCasesError
 
     if cases_file is not None:
         if t1 or t2:

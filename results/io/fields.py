@@ -361,13 +361,6 @@ def _mesh_from_meshio(points, cells, cell_data, part_names) -> FieldMesh:
     )
 
 
-def _field_arrays(point_data) -> tuple[np.ndarray, np.ndarray]:
-    """(displacement in m, von Mises stress in Pa) of a file's point data; files written before the arrays
-    said their units in their names call them ``displacement`` and ``von_mises``."""
-    displacement = point_data["displacement_m"] if "displacement_m" in point_data else point_data["displacement"]
-    return displacement, point_data["von_mises_Pa"] if "von_mises_Pa" in point_data else point_data["von_mises"]
-
-
 def read_vtu(path: str | Path) -> tuple[FieldMesh, FieldCase]:
     """Read a file written by :func:`write_vtu` (the case's label is the file's stem)."""
     data = meshio.read(path, file_format="vtu")

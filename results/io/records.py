@@ -14,7 +14,7 @@ from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["ENGINEERING_DEFINITIONS", "UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
-           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header", "sweep_rows", "text_sha256"]
+           "entry_path_rows", "model_section", "rvcoax_version", "sweep_header", "sweep_rows", "text_sha256"]
 
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",

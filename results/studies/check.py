@@ -75,6 +75,18 @@ def measured_rows(data: MeasuredData, path_lengths_mm: dict[str, float]) -> tupl
     *table*: Y_max per shaft and case; β = arcsin(Y/L) with the rig's path lengths L (paper 000's
     definition). *paths*: per case and shaft, the largest |u_y| over the measured stations (the
     model is then read at the same stations); every case needs stations on both shafts.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        From :func:`rvcoax.read_measured`.
+    path_lengths_mm : dict of str to float
+        The rig's measured path length per shaft, for β.
+
+    Returns
+    -------
+    tuple of PublishedRow
+        One per case, to pass to :func:`rvcoax.run_check` as ``rows``.
     """
     check_stations(data, path_lengths_mm)
     rows = []
