@@ -258,10 +258,7 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
               prepared: PreparedModel | None = None, on_case=None, engineering: bool = True) -> Sweep:
-    """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case, and
-    ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
-    ``engineering``: also compute each case's coupling, bearing and reaction tables
-    (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
+    """Solve every load case of ``cases`` on ``rig``.
 
     A rig with bearing clearance is solved case by case (:func:`run_gap_sweep`); otherwise every case
     is a superposition of unit loads on one factorisation.
@@ -281,6 +278,9 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         differ: the unit loads are rebuilt from ``rig``).
     on_case : callable, optional
         ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
+    engineering : bool
+        Also compute each case's coupling, bearing and reaction tables
+        (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
 
     Returns
     -------
