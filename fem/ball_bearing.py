@@ -219,7 +219,24 @@ class BallLoads:
 def ball_loads(geometry: BallBearingGeometry, displacement, azimuth0_rad: float = 0.0,
                constant: float | None = None) -> BallLoads:
     """Ball loads, bearing force and tangent stiffness at the inner ring's displacement
-    q = (δx, δy, δz, θy, θz) relative to the outer ring (m, rad). ``constant`` is K_n if known."""
+    q = (δx, δy, δz, θy, θz) relative to the outer ring (m, rad). ``constant`` is K_n if known.
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    displacement : sequence of 5 float
+        q = (δx, δy, δz, θy, θz), m and rad.
+    azimuth0_rad : float
+        Angular position of the first ball.
+    constant : float, optional
+        The load-deflection constant K_n (computed from the geometry when not given).
+
+    Returns
+    -------
+    BallLoads
+        Per ball its contact load and angle, with the bearing force and tangent stiffness.
+    """
     q = np.asarray(displacement, dtype=float)
     if q.shape != (5,):
         raise ValueError(f"displacement must have 5 components (δx, δy, δz, θy, θz), got shape {q.shape}")
@@ -255,6 +272,24 @@ def bearing_force(geometry: BallBearingGeometry, relative_motion, preload_offset
     the preloading element (the part that holds the rings δ_0 apart: a shoulder, a nut) carries the
     preload back, so the force is F(Δ + δ_0 e_x) − F(δ_0 e_x): zero at Δ = 0. The rotation about
     the axis is free (zero row and column).
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    relative_motion : sequence of 6 float
+        Δ, m and rad.
+    preload_offset_m : float
+        δ_0 (0: no preload).
+    azimuth0_rad : float
+        Angular position of the first ball.
+    constant : float, optional
+        K_n, when known.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The force (6,) in N and N·m, and the tangent stiffness (6, 6).
     """
     motion = np.asarray(relative_motion, dtype=float)
     q = motion[list(TILT_COMPONENTS)].copy()
@@ -284,7 +319,22 @@ def _solve_monotone(function, target: float, start: float) -> float:
 
 def radial_deflection(geometry: BallBearingGeometry, radial_load_n: float, azimuth0_rad: float = 0.0) -> float:
     """Radial displacement δ_r (m) of the inner ring under a pure radial load along +y (tilt and axial
-    motion held at zero)."""
+    motion held at zero).
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    radial_load_n : float
+        The radial load (N).
+    azimuth0_rad : float
+        Angular position of the first ball.
+
+    Returns
+    -------
+    float
+        δ_r in m.
+    """
     if radial_load_n <= 0:
         return 0.0
     constant = geometry.load_deflection_constant

@@ -31,7 +31,7 @@ import skfem
 from scipy.spatial import cKDTree
 
 __all__ = ["DEFAULT_INTORDER", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
-           "element_stiffness", "facet_area", "facet_basis", "force_traction_vector", "lame_parameters", "logger",
+           "facet_basis", "force_traction_vector", "lame_parameters", "logger",
            "probe_matrix", "rigid_body_modes", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
 

@@ -140,6 +140,16 @@ def reference_rig_text(variant: str | None = None) -> str:
     """The built-in reference rig file, as text (to copy and edit); ``variant`` names one of
     :data:`REFERENCE_VARIANTS` (``"ball_bearings"``).
 
+    Parameters
+    ----------
+    variant : str, optional
+        A variant of the reference rig; None for the rig itself.
+
+    Returns
+    -------
+    str
+        The TOML text.
+
     Raises
     ------
     RigFileError

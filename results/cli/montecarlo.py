@@ -107,8 +107,7 @@ def _nominal(study) -> dict:
 
 def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool,
              setup_seconds: float | None = None):
-    from rvcoax.results.studies.distributed import ClusterError, ResumeError, SampleError, run_samples
-    from rvcoax.results.studies.montecarlo import evaluate_sample
+    from rvcoax.results.studies import ClusterError, ResumeError, SampleError, evaluate_sample, run_samples
 
     where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
         scheduler == "auto") else (
@@ -194,7 +193,7 @@ def montecarlo(
     nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
-    found = report.exceedances(study, tol, records)
+    found = exceedances(study, tol, records)
     source, text = rig_text(rig_file)
     document = study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
@@ -293,7 +292,7 @@ def sensitivity(
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
-    beta = report.stack(records, "beta_deg")
+    beta = stack_records(records, "beta_deg")
     found = {}
     for c in range(len(study.cases)):
         for s, shaft in enumerate(MEASURED_SHAFTS):

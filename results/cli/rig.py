@@ -52,7 +52,7 @@ def rig_show(rig_file: RigOption = None) -> None:
         springs.add_column(column)
     for b in rig.bearings:
         if b.model == "ball":
-            from rvcoax.geometry.ball_model import clearance_um_of, geometry_of
+            from rvcoax.geometry import clearance_um_of, geometry_of
 
             g = geometry_of(b)
             stiffness = (f"ball bearing {b.designation or ''} ({g.ball_count} × Ø{g.ball_diameter_m * 1e3:.3f} mm), "
