@@ -56,10 +56,10 @@ TILT_COMPONENTS = (0, 1, 2, 4, 5)
 all but the rotation about its own axis."""
 
 
-def reduced_modulus(youngs_modulus_pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA,
+def reduced_modulus(youngs_modulus_Pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA,
                     poisson: float = BEARING_STEEL_POISSON) -> float:
     """E' = 2 / ((1 − ν²)/E + (1 − ν²)/E) of two bodies of the same material (Pa)."""
-    return youngs_modulus_pa / (1.0 - poisson**2)
+    return youngs_modulus_Pa / (1.0 - poisson**2)
 
 
 @dataclass(frozen=True)
@@ -124,7 +124,7 @@ class BallBearingGeometry:
         f_i = r_i / D and f_o = r_o / D (> 0.5).
     clearance_m : float
         Diametral radial internal clearance P_d (≥ 0), ISO 5753-1's radial internal clearance.
-    youngs_modulus_pa, poisson : float
+    youngs_modulus_Pa, poisson : float
         Of balls and rings (bearing steel by default).
     """
 
@@ -134,7 +134,7 @@ class BallBearingGeometry:
     inner_conformity: float
     outer_conformity: float
     clearance_m: float = 0.0
-    youngs_modulus_pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA
+    youngs_modulus_Pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA
     poisson: float = BEARING_STEEL_POISSON
 
     def __post_init__(self) -> None:
@@ -177,7 +177,7 @@ class BallBearingGeometry:
         """The inner and outer ball–raceway Hertz contacts at the free contact angle."""
         d = self.ball_diameter_m
         gamma = d * math.cos(self.free_contact_angle_rad) / self.pitch_diameter_m
-        e_prime = reduced_modulus(self.youngs_modulus_pa, self.poisson)
+        e_prime = reduced_modulus(self.youngs_modulus_Pa, self.poisson)
         # curvatures (Harris & Kotzalas vol. 1 ch. 2): ball 2/D in both planes; raceway in the rolling
         # direction ±(2/D) γ/(1 ∓ γ), across the groove −1/(f D) (concave)
         inner = hertz_point_contact(2.0 / d + 2.0 / d * gamma / (1.0 - gamma),
@@ -197,7 +197,7 @@ class BallBearingGeometry:
         """The same bearing with another diametral clearance."""
         return BallBearingGeometry(self.ball_count, self.ball_diameter_m, self.pitch_diameter_m,
                                    self.inner_conformity, self.outer_conformity, clearance_m,
-                                   self.youngs_modulus_pa, self.poisson)
+                                   self.youngs_modulus_Pa, self.poisson)
 
 
 @dataclass(frozen=True)

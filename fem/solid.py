@@ -156,7 +156,7 @@ def stiffness_triplets(basis, youngs_modulus_Pa: float, poisson: float, dof_offs
     return rows, cols, values.ravel()
 
 
-def stiffness_matrix(basis, youngs_modulus_pa: float, poisson: float) -> sp.csr_matrix:
+def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float) -> sp.csr_matrix:
     """Stiffness (N × N, CSR) assembled in blocks of elements straight into its 3 × 3-block pattern.
 
     No triplet arrays: the pattern (:func:`rvcoax.fem.assembly.block_pattern`) is built from the
@@ -168,7 +168,7 @@ def stiffness_matrix(basis, youngs_modulus_pa: float, poisson: float) -> sp.csr_
     from rvcoax.fem.assembly import add_element_matrices, block_pattern
 
     _check_vector_p2(basis)
-    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
     gradients = [basis.basis[3 * a][0].grad[0] for a in range(_N_P2)]  # views: no stacked copy of all elements
     element_nodes = np.ascontiguousarray(basis.element_dofs[0::3].T // 3)  # (e, 10): DOFs 3 i + c per node i
     pattern = block_pattern(element_nodes, basis.N // 3)
