@@ -26,7 +26,7 @@ __all__ = ["register"]
 
 
 def _print_result(result, lengths_mm) -> None:
-    from rvcoax.results.studies.discrepancy.report import engineering_summary, rms_table
+    from rvcoax.results.studies.discrepancy import engineering_summary, rms_table
 
     message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
                "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and "
@@ -201,7 +201,7 @@ def register(app: typer.Typer) -> None:
                     original, result.rig_after,
                     note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
                     header=warning + [
-                        f"{'Candidate' if candidate else 'Updated'} by rvcoax {sweep_report.rvcoax_version()} "
+                        f"{'Candidate' if candidate else 'Updated'} by rvcoax {rvcoax_version()} "
                         f"discrepancy workflow from {source}",
                         f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
                     + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in

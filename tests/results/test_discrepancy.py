@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 import pytest
-from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, hidden_data
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, hidden_data, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.geometry import MEASURED_SHAFTS
@@ -180,22 +180,6 @@ def test_measured_data_schemas_and_errors():
     ):
         with pytest.raises(MeasuredDataError, match=expected):
             parse_measured(text, "bad.csv")
-
-
-def write_cli_inputs(tmp_path, rig: Rig, data: MeasuredData):
-    """The rig as a TOML file and ``data`` as a paths CSV, for the command (returns both paths)."""
-    from tests.geometry.test_rigfile_errors import dump_toml
-
-    rig_file = tmp_path / "rig.toml"
-    rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
-    lines = ["T1_input_Nm,T2_output_Nm,shaft,x_mm,uy_mm"]
-    for i in range(data.n):
-        case = data.cases[data.case_index[i]]
-        lines.append(f"{case.input_torque_Nm},{case.output_torque_Nm},{data.shaft[i]},{data.x_mm[i]:.6g},"
-                     f"{data.value_mm[i]:.9e}")
-    measured = tmp_path / "measured.csv"
-    measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return rig_file, measured
 
 
 def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):

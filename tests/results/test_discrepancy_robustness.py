@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 import pytest
-from discrepancy_data import discrepancy_rig, hidden_data
+from discrepancy_data import discrepancy_rig, hidden_data, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.fem import bushing
@@ -27,7 +27,6 @@ from rvcoax.results.studies.discrepancy.engine import Engine
 from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, ModelError, SweepSettings, run_sweep
-from tests.results.test_discrepancy import hidden_data, test_rig, write_cli_inputs
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 

@@ -17,6 +17,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.studies.discrepancy.measured": ("MeasuredDataError", "read_measured"),
     "rvcoax.results.studies.discrepancy.workflow": ("DiscrepancyResult", "DiscrepancySettings",
                                                     "discrepancy_workload", "run_discrepancy"),
-    "rvcoax.results.studies.discrepancy.report": ("discrepancy_document", "observation_rows", "plot_discrepancy",
+    "rvcoax.results.studies.discrepancy.report": ("engineering_summary", "discrepancy_document", "observation_rows", "plot_discrepancy",
                                                   "rms_table"),
 })

@@ -414,7 +414,27 @@ def _sentinel_cv(engine, sentinel: SentinelFit | None, data, base_paths, observe
 def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = DiscrepancySettings(),
                     library: CandidateLibrary | None = None, progress=None) -> DiscrepancyResult:
     """Observe, locate, name, add and show (see the module docstring). A pure function of its arguments
-    (``progress(i, n)`` is told how far each library build is)."""
+    (``progress(i, n)`` is told how far each library build is).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig as modelled.
+    data : MeasuredData
+        The measurements (:func:`rvcoax.read_measured`).
+    settings : DiscrepancySettings
+        Candidates, significance level, BIC margin, model-form allowance, held-out rows, the sweep settings.
+    library : CandidateLibrary, optional
+        Solved candidate responses to reuse (built when not given).
+    progress : callable, optional
+        ``progress(i, n)`` as each library build goes.
+
+    Returns
+    -------
+    DiscrepancyResult
+        The verdict, the selected effects with their values, the rig with them added, and the gaps before
+        and after, on fitted and held-out rows.
+    """
     sweep_settings = settings.sweep
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     noise = estimate_noise(data, settings.model_form_fraction)
