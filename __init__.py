@@ -37,73 +37,34 @@ Units: SI inside the solver; files and results say their unit in every key (``Y_
 
 from __future__ import annotations
 
-import importlib
+from rvcoax._lazy import lazy_names
 
 __version__ = "0.1.0"
 
-# public name → the module that defines it
-_WHERE = {
-    "Rig": "rvcoax.geometry.schema",
-    "load_rig": "rvcoax.geometry.rigfile",
-    "parse_rig_text": "rvcoax.geometry.rigfile",
-    "reference_rig_text": "rvcoax.geometry.rigfile",
-    "reference_from_geometry": "rvcoax.geometry.variants",
-    "load_example_rig": "rvcoax.geometry.builtin",
-    "example_rig_text": "rvcoax.geometry.builtin",
-    "is_reference_rig": "rvcoax.geometry.builtin",
-    "default_cases": "rvcoax.loadcases.cases",
-    "rig_cases": "rvcoax.loadcases.cases",
-    "LoadCase": "rvcoax.loadcases.cases",
-    "paper_cases": "rvcoax.loadcases.cases",
-    "paper_table": "rvcoax.loadcases.cases",
-    "read_cases": "rvcoax.loadcases.cases",
-    "paired_cases": "rvcoax.loadcases.cases",
-    "grid_cases": "rvcoax.loadcases.cases",
-    "MODEL_KINDS": "rvcoax.geometry.model.assemble",
-    "RigSystem": "rvcoax.geometry.model.system",
-    "assemble_rig": "rvcoax.geometry.model.assemble",
-    "SweepSettings": "rvcoax.results.sweep",
-    "PreparedModel": "rvcoax.results.sweep",
-    "Sweep": "rvcoax.results.sweep",
-    "prepare_model": "rvcoax.results.sweep",
-    "run_sweep": "rvcoax.results.sweep",
-    "engineering_tables": "rvcoax.results.engineering",
-    "write_sweep": "rvcoax.results.io.result_files",
-    "run_durable_sweep": "rvcoax.results.io.durable_sweep",
-    "write_check": "rvcoax.results.io.result_files",
-    "plot_y_vs_torque": "rvcoax.results.io.pictures",
-    "plot_bending_line": "rvcoax.results.io.bending_line",
-    "write_report": "rvcoax.results.io.report",
-    "render_deformed": "rvcoax.results.io.pictures",
-    "draw_sweep_pictures": "rvcoax.results.io.sweep_pictures",
-    "CheckRun": "rvcoax.results.studies.check_run",
-    "run_check": "rvcoax.results.studies.check_run",
-    "measured_rows": "rvcoax.results.studies.check",
-    "calibrate": "rvcoax.results.studies.calibration",
-    "read_measured": "rvcoax.results.studies.discrepancy.measured",
-    "DiscrepancySettings": "rvcoax.results.studies.discrepancy.workflow",
-    "run_discrepancy": "rvcoax.results.studies.discrepancy.workflow",
-    "RvcoaxError": "rvcoax.fem.errors",
-    "BallBearingGeometry": "rvcoax.fem.ball_bearing",
-    "ball_loads": "rvcoax.fem.ball_bearing",
-    "bearing_force": "rvcoax.fem.ball_bearing",
-    "radial_deflection": "rvcoax.fem.ball_bearing",
-    "BALL_BEARINGS": "rvcoax.geometry.ball_bearings",
-}
-
-__all__ = ["__version__", *_WHERE]
-
-
-def __getattr__(name: str):
-    """Load a public name from its module on first use (PEP 562)."""
-    try:
-        module = _WHERE[name]
-    except KeyError:
-        raise AttributeError(f"module 'rvcoax' has no attribute {name!r}") from None
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE))
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.geometry.schema": ("Rig",),
+    "rvcoax.geometry.rigfile": ("load_rig", "parse_rig_text", "reference_rig_text"),
+    "rvcoax.geometry.variants": ("reference_from_geometry",),
+    "rvcoax.geometry.builtin": ("load_example_rig", "example_rig_text", "is_reference_rig"),
+    "rvcoax.loadcases.cases": ("default_cases", "rig_cases", "LoadCase", "paper_cases", "paper_table", "read_cases",
+                               "paired_cases", "grid_cases"),
+    "rvcoax.geometry.model.system": ("MODEL_KINDS", "RigSystem"),
+    "rvcoax.geometry.model.assemble": ("assemble_rig",),
+    "rvcoax.results.sweep": ("SweepSettings", "PreparedModel", "Sweep", "prepare_model", "run_sweep"),
+    "rvcoax.results.engineering": ("engineering_tables",),
+    "rvcoax.results.io.result_files": ("write_sweep", "write_check"),
+    "rvcoax.results.io.durable_sweep": ("run_durable_sweep",),
+    "rvcoax.results.io.pictures": ("plot_y_vs_torque", "render_deformed"),
+    "rvcoax.results.io.bending_line": ("plot_bending_line",),
+    "rvcoax.results.io.report": ("write_report",),
+    "rvcoax.results.io.sweep_pictures": ("draw_sweep_pictures",),
+    "rvcoax.results.studies.check_run": ("CheckRun", "run_check"),
+    "rvcoax.results.studies.check": ("measured_rows",),
+    "rvcoax.results.studies.calibration": ("calibrate",),
+    "rvcoax.results.studies.discrepancy.measured": ("read_measured",),
+    "rvcoax.results.studies.discrepancy.workflow": ("DiscrepancySettings", "run_discrepancy"),
+    "rvcoax.fem.errors": ("RvcoaxError",),
+    "rvcoax.fem.ball_bearing": ("BallBearingGeometry", "ball_loads", "bearing_force", "radial_deflection"),
+    "rvcoax.geometry.ball_bearings": ("BALL_BEARINGS",),
+}, eager=("__version__",))

@@ -26,18 +26,19 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' rig and data helpers
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "results"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig  # noqa: E402
 from machine import record  # noqa: E402
+from test_discrepancy_unseen import finer  # noqa: E402  (a data helper of that test)
 
 from rvcoax.geometry.effects import candidate_effects  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases  # noqa: E402
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data  # noqa: E402
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy  # noqa: E402
 from rvcoax.results.sweep import SweepSettings  # noqa: E402
-from tests.results.test_discrepancy import LENGTHS, STATIONS, test_rig  # noqa: E402
-from tests.results.test_discrepancy_unseen import finer  # noqa: E402
 
 
 def timing(record_it: bool) -> None:
@@ -55,7 +56,7 @@ def timing(record_it: bool) -> None:
         result = run_discrepancy(run_rig, data, DiscrepancySettings())
         rows.append((f"{label}: end to end", f"{time.perf_counter() - start:.2f} s (verdict {result.verdict}, "
                      f"load average {os.getloadavg()[0]:.2f})"))
-    rig = test_rig()
+    rig = discrepancy_rig()
     effect = {e.name: e for e in candidate_effects(rig)}["bearing_stiffness@output_B2"]
     template = observation_layout(paper_cases(), 9, LENGTHS, "paths")
     truth = effect.apply(rig, [effect_size_for(effect, rig, paper_cases(), template, 0.3)])
@@ -83,7 +84,7 @@ def main() -> None:
     if args.timing:
         timing(not args.no_record)
         return
-    rig = test_rig()
+    rig = discrepancy_rig()
     cases = paper_cases()
     start = time.perf_counter()
     library = build_library(rig, cases, SweepSettings())

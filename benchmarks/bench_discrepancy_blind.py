@@ -8,7 +8,7 @@ noise, fixed/e/E/mixed notation; see its docstring); they are generated on the f
 whose ``paths.measured_from`` is the data set's datum. The candidate library of each datum is built
 once and reused when the installed ``run_discrepancy`` accepts one (``library=``).
 
-Each run is scored from its ``discrepancy.json`` document (``report.document``):
+Each run is scored from its ``discrepancy.json`` document (``report.discrepancy_document``):
 
 - **correct**: a vocabulary effect (or both of a pair) is the selected effect or in its reported
   group, and the verdict is not ``unexplained`` (which says that no vocabulary effect explains the
@@ -135,9 +135,9 @@ def _document(result, rig) -> dict:
     from rvcoax.results.studies.discrepancy import report
 
     lengths = {s: float(getattr(rig.paths, s).length_mm) for s in ("input", "output")}
-    parameters = inspect.signature(report.document).parameters
+    parameters = inspect.signature(report.discrepancy_document).parameters
     arguments = {"lengths_mm": lengths, "rig_file": None, "version": "blind"}
-    document = report.document(result, **{k: v for k, v in arguments.items() if k in parameters})
+    document = report.discrepancy_document(result, **{k: v for k, v in arguments.items() if k in parameters})
     return json.loads(json.dumps(document, default=str))
 
 

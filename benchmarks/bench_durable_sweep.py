@@ -30,8 +30,8 @@ from machine import record  # noqa: E402
 
 from rvcoax.geometry.rigfile import load_rig  # noqa: E402
 from rvcoax.loadcases.cases import grid_cases  # noqa: E402
-from rvcoax.results import report  # noqa: E402
-from rvcoax.results.cli.app import _solve_sweep  # noqa: E402
+from rvcoax.results.io import run_durable_sweep  # noqa: E402
+from rvcoax.results.io.records import case_record  # noqa: E402
 from rvcoax.results.io.sweep_files import CaseStore, case_inputs, inputs_sha256, sweep_inputs  # noqa: E402
 from rvcoax.results.io.writers import write_json_atomic  # noqa: E402
 from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep  # noqa: E402
@@ -64,9 +64,9 @@ def main() -> None:
             return run_sweep(rig, cases, settings, prepared=prepared)
 
         def records_only():
-            run_sweep(rig, cases, settings, prepared=prepared, on_case=lambda i, c: report.case_record(c))
+            run_sweep(rig, cases, settings, prepared=prepared, on_case=lambda i, c: case_record(c))
 
-        records = [report.case_record(c) for c in solve_only().cases]
+        records = [case_record(c) for c in solve_only().cases]
 
         def journal():
             store = CaseStore(scratch / "journal")
@@ -92,7 +92,7 @@ def main() -> None:
         t_read = time.perf_counter() - start
         end_to_end = scratch / "cli"
         start = time.perf_counter()
-        _solve_sweep(rig, cases, settings, "benchmark rig text", CaseStore(end_to_end / "cases"), resume=False)
+        run_durable_sweep(rig, cases, settings, "benchmark rig text", CaseStore(end_to_end / "cases"), resume=False)
         t_cli = time.perf_counter() - start
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
@@ -105,7 +105,7 @@ def main() -> None:
         ("file per case, atomic and fsync'ed each (the layout before the journal), per case", f"{t_files * per:.3f} ms"),
         ("journal size", f"{journal_bytes / N_CASES / 1e3:.1f} kB per case"),
         ("resume: read and verify the journal", f"{t_read * per:.3f} ms per case"),
-        ("_solve_sweep end to end (journal, progress, assembly)", f"{t_cli * per:.3f} ms per case"),
+        ("run_durable_sweep end to end (journal, assembly)", f"{t_cli * per:.3f} ms per case"),
         ("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}"),
     ]
     width = max(len(name) for name, _ in figures)

@@ -36,11 +36,11 @@ def best_of(function, repeats: int = REPEATS) -> tuple[float, float]:
 def main() -> None:
     rig = load_rig()
     cases = paper_cases()
-    model = build_rig_model(rig)
-    figures: list[tuple[str, str]] = [("model", f"beam, {model.structure.n_nodes} nodes, {model.structure.n_dofs} DOF")]
+    frame = build_rig_model(rig)
+    figures: list[tuple[str, str]] = [("model", f"beam, {frame.structure.n_nodes} nodes, {frame.structure.n_dofs} DOF")]
     t_load, _ = best_of(load_rig)
     t_build, _ = best_of(lambda: build_rig_model(rig))
-    t_factor, _ = best_of(lambda: solve_unit_responses(model))
+    t_factor, _ = best_of(lambda: solve_unit_responses(frame))
     t_sweep, t_sweep_median = best_of(lambda: run_sweep(rig, cases))
     t_direct, _ = best_of(lambda: run_sweep(rig, cases, SweepSettings(method="direct")))
     t_single, _ = best_of(lambda: run_sweep(rig, cases[:1]))

@@ -1,11 +1,21 @@
-"""Finite-element core of rvcoax: 3D Timoshenko beams, bushings, point masses, constraints.
+"""Finite-element core of rvcoax: 3D Timoshenko beams, bushings, point masses, constraints, solvers.
 
 Everything here knows nothing about rigs: it works on node coordinates, element tables and
-DOF numbers, in SI units. Each model piece returns COO triplets or load vectors that are
-assembled the same way (:mod:`rvcoax.fem.assembly`).
+DOF numbers, in SI units. Every model piece returns a :class:`rvcoax.fem.pieces.Contribution`
+(stiffness triplets, load entries, constraint rows) and one function assembles a list of them.
+
+Public names (loaded on first use): the error base and the solver error, and the two
+process-wide settings the ``rvcoax`` command makes at start (a program using the library may too).
 """
 
-__all__ = ["DOFS_PER_NODE"]
+from rvcoax._lazy import lazy_names
 
 DOFS_PER_NODE = 6
 """Nodal DOFs: ux, uy, uz, rx, ry, rz (translations in m, rotations in rad)."""
+
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.fem.errors": ("RvcoaxError", "SolverError"),
+    "rvcoax.fem.hugepages": ("avoid_compaction_stalls",),
+    "rvcoax.fem.blas_threads": ("single_threaded_openblas",),
+}, eager=("DOFS_PER_NODE",))

@@ -56,10 +56,10 @@ TILT_COMPONENTS = (0, 1, 2, 4, 5)
 all but the rotation about its own axis."""
 
 
-def reduced_modulus(youngs_modulus_pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA,
+def reduced_modulus(youngs_modulus_Pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA,
                     poisson: float = BEARING_STEEL_POISSON) -> float:
     """E' = 2 / ((1 − ν²)/E + (1 − ν²)/E) of two bodies of the same material (Pa)."""
-    return youngs_modulus_pa / (1.0 - poisson**2)
+    return youngs_modulus_Pa / (1.0 - poisson**2)
 
 
 @dataclass(frozen=True)
@@ -124,7 +124,7 @@ class BallBearingGeometry:
         f_i = r_i / D and f_o = r_o / D (> 0.5).
     clearance_m : float
         Diametral radial internal clearance P_d (≥ 0), ISO 5753-1's radial internal clearance.
-    youngs_modulus_pa, poisson : float
+    youngs_modulus_Pa, poisson : float
         Of balls and rings (bearing steel by default).
     """
 
@@ -134,7 +134,7 @@ class BallBearingGeometry:
     inner_conformity: float
     outer_conformity: float
     clearance_m: float = 0.0
-    youngs_modulus_pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA
+    youngs_modulus_Pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA
     poisson: float = BEARING_STEEL_POISSON
 
     def __post_init__(self) -> None:
@@ -177,7 +177,7 @@ class BallBearingGeometry:
         """The inner and outer ball–raceway Hertz contacts at the free contact angle."""
         d = self.ball_diameter_m
         gamma = d * math.cos(self.free_contact_angle_rad) / self.pitch_diameter_m
-        e_prime = reduced_modulus(self.youngs_modulus_pa, self.poisson)
+        e_prime = reduced_modulus(self.youngs_modulus_Pa, self.poisson)
         # curvatures (Harris & Kotzalas vol. 1 ch. 2): ball 2/D in both planes; raceway in the rolling
         # direction ±(2/D) γ/(1 ∓ γ), across the groove −1/(f D) (concave)
         inner = hertz_point_contact(2.0 / d + 2.0 / d * gamma / (1.0 - gamma),
@@ -197,7 +197,7 @@ class BallBearingGeometry:
         """The same bearing with another diametral clearance."""
         return BallBearingGeometry(self.ball_count, self.ball_diameter_m, self.pitch_diameter_m,
                                    self.inner_conformity, self.outer_conformity, clearance_m,
-                                   self.youngs_modulus_pa, self.poisson)
+                                   self.youngs_modulus_Pa, self.poisson)
 
 
 @dataclass(frozen=True)
@@ -219,7 +219,24 @@ class BallLoads:
 def ball_loads(geometry: BallBearingGeometry, displacement, azimuth0_rad: float = 0.0,
                constant: float | None = None) -> BallLoads:
     """Ball loads, bearing force and tangent stiffness at the inner ring's displacement
-    q = (δx, δy, δz, θy, θz) relative to the outer ring (m, rad). ``constant`` is K_n if known."""
+    q = (δx, δy, δz, θy, θz) relative to the outer ring (m, rad). ``constant`` is K_n if known.
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    displacement : sequence of 5 float
+        q = (δx, δy, δz, θy, θz), m and rad.
+    azimuth0_rad : float
+        Angular position of the first ball.
+    constant : float, optional
+        The load-deflection constant K_n (computed from the geometry when not given).
+
+    Returns
+    -------
+    BallLoads
+        Per ball its contact load and angle, with the bearing force and tangent stiffness.
+    """
     q = np.asarray(displacement, dtype=float)
     if q.shape != (5,):
         raise ValueError(f"displacement must have 5 components (δx, δy, δz, θy, θz), got shape {q.shape}")
@@ -255,6 +272,24 @@ def bearing_force(geometry: BallBearingGeometry, relative_motion, preload_offset
     the preloading element (the part that holds the rings δ_0 apart: a shoulder, a nut) carries the
     preload back, so the force is F(Δ + δ_0 e_x) − F(δ_0 e_x): zero at Δ = 0. The rotation about
     the axis is free (zero row and column).
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    relative_motion : sequence of 6 float
+        Δ, m and rad.
+    preload_offset_m : float
+        δ_0 (0: no preload).
+    azimuth0_rad : float
+        Angular position of the first ball.
+    constant : float, optional
+        K_n, when known.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The force (6,) in N and N·m, and the tangent stiffness (6, 6).
     """
     motion = np.asarray(relative_motion, dtype=float)
     q = motion[list(TILT_COMPONENTS)].copy()
@@ -284,7 +319,22 @@ def _solve_monotone(function, target: float, start: float) -> float:
 
 def radial_deflection(geometry: BallBearingGeometry, radial_load_n: float, azimuth0_rad: float = 0.0) -> float:
     """Radial displacement δ_r (m) of the inner ring under a pure radial load along +y (tilt and axial
-    motion held at zero)."""
+    motion held at zero).
+
+    Parameters
+    ----------
+    geometry : BallBearingGeometry
+        The bearing's internal geometry (SI; :func:`rvcoax.geometry.geometry_of` builds it from a rig entry).
+    radial_load_n : float
+        The radial load (N).
+    azimuth0_rad : float
+        Angular position of the first ball.
+
+    Returns
+    -------
+    float
+        δ_r in m.
+    """
     if radial_load_n <= 0:
         return 0.0
     constant = geometry.load_deflection_constant

@@ -17,7 +17,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["BeamElements", "element_dofs", "element_masses_kg", "end_forces_local", "gravity_load",
+__all__ = ["BeamElements", "element_dofs", "gravity_load",
            "local_stiffness", "stiffness_triplets"]
 
 
@@ -31,7 +31,7 @@ class BeamElements:
         Node indices of each element.
     area_m2, second_moment_m4, polar_moment_m4, shear_coefficient : (n,) arrays
         ``shear_coefficient = inf`` makes Φ = 0: an Euler–Bernoulli element (no shear flexibility).
-    youngs_modulus_pa, shear_modulus_pa, density_kg_m3 : (n,) arrays
+    youngs_modulus_Pa, shear_modulus_Pa, density_kg_per_m3 : (n,) arrays
     reference_vector : (n, 3) array
         A vector not parallel to the element axis that fixes local y.
     """
@@ -41,9 +41,9 @@ class BeamElements:
     second_moment_m4: np.ndarray
     polar_moment_m4: np.ndarray
     shear_coefficient: np.ndarray
-    youngs_modulus_pa: np.ndarray
-    shear_modulus_pa: np.ndarray
-    density_kg_m3: np.ndarray
+    youngs_modulus_Pa: np.ndarray
+    shear_modulus_Pa: np.ndarray
+    density_kg_per_m3: np.ndarray
     reference_vector: np.ndarray
 
 
@@ -81,8 +81,8 @@ def _transformation(direction_cosines: np.ndarray) -> np.ndarray:
 def local_stiffness(length_m, elements: BeamElements) -> np.ndarray:
     """Local 12×12 stiffness matrices of uniform Timoshenko beams, shape (n, 12, 12)."""
     L = np.asarray(length_m, dtype=float)
-    E = elements.youngs_modulus_pa
-    G = elements.shear_modulus_pa
+    E = elements.youngs_modulus_Pa
+    G = elements.shear_modulus_Pa
     A = elements.area_m2
     inertia = elements.second_moment_m4
     J = elements.polar_moment_m4
@@ -145,7 +145,7 @@ def gravity_load(
     if elements.connectivity.size == 0:
         return load
     cosines, length = _rotations(coordinates, elements)
-    q_global = (elements.density_kg_m3 * elements.area_m2)[:, None] * np.asarray(acceleration_m_s2)
+    q_global = (elements.density_kg_per_m3 * elements.area_m2)[:, None] * np.asarray(acceleration_m_s2)
     q = np.einsum("eij,ej->ei", cosines, q_global)  # local components
     f = np.zeros((length.size, 12))
     half = length / 2.0
@@ -160,20 +160,6 @@ def gravity_load(
     f_global = np.einsum("eji,ej->ei", _transformation(cosines), f)
     np.add.at(load, element_dofs(elements.connectivity).ravel(), f_global.ravel())
     return load
-
-
-def element_masses_kg(coordinates: np.ndarray, elements: BeamElements) -> np.ndarray:
-    """Mass of each beam element, ρ A L (kg)."""
-    _, length = _rotations(coordinates, elements)
-    return elements.density_kg_m3 * elements.area_m2 * length
-
-
-def end_forces_local(coordinates, elements: BeamElements, displacement: np.ndarray) -> np.ndarray:
-    """Element end forces in local axes, K_local T u_e, shape (n, 12) (no fixed-end terms)."""
-    cosines, length = _rotations(coordinates, elements)
-    t = _transformation(cosines)
-    u = displacement[element_dofs(elements.connectivity)]
-    return np.einsum("eij,ejk,ek->ei", local_stiffness(length, elements), t, u)
 
 
 def _empty_triplets():

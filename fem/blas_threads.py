@@ -35,6 +35,11 @@ def single_threaded_openblas() -> bool:
     """Hold every OpenBLAS of this process (and of its children) to one thread; True if it did.
 
     Does nothing where ``OPENBLAS_NUM_THREADS`` is already set.
+
+    Returns
+    -------
+    bool
+        True when the thread count was set; False when the user's ``OPENBLAS_NUM_THREADS`` stands.
     """
     if ENVIRONMENT_KEY in os.environ:
         return False

@@ -10,8 +10,9 @@ before it silently costs speed.
 - numpy's switch for huge-page requests (``numpy._core.multiarray._set_madvise_hugepage``):
   :mod:`rvcoax.fem.hugepages`. Tested with numpy 2.0 … 2.4.
 
-meshio's XDMF internals (time-series writer and reader classes) are used in one module,
-:mod:`rvcoax.results.io.fields`, which says why.
+meshio's XDMF internals (time-series writer and reader classes, the ``meshio.xdmf.common`` tables) are
+used in one module, :mod:`rvcoax.results.io.fields`, which says why; ``tests/results/test_fields.py``
+pins them the same way (tested with meshio 5.3).
 """
 
 from __future__ import annotations

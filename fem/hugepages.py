@@ -54,7 +54,19 @@ def compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:
 
 
 def avoid_compaction_stalls(defrag_path: Path = THP_DEFRAG) -> bool:
-    """Stop numpy's huge-page requests where they stall (see the module text); True if it did."""
+    """Stop numpy's huge-page requests where they stall (see the module text); True if it did.
+
+    Parameters
+    ----------
+    defrag_path : Path
+        The kernel's transparent-huge-page defrag setting (read to see whether requests stall).
+
+    Returns
+    -------
+    bool
+        True when the requests were switched off (``NUMPY_MADVISE_HUGEPAGE=0`` set for this process and
+        the processes it starts); False when they do not stall here or the user set the variable.
+    """
     if "NUMPY_MADVISE_HUGEPAGE" in os.environ or not compaction_stalls(defrag_path):
         return False
     os.environ["NUMPY_MADVISE_HUGEPAGE"] = "0"  # child processes (Dask workers) start the same way

@@ -8,7 +8,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity", "point_mass_triplets"]
+__all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity"]
 
 
 @dataclass(frozen=True)
@@ -51,14 +51,3 @@ def point_mass_gravity(masses: PointMasses, acceleration_m_s2: np.ndarray, n_dof
     components = np.concatenate([force, np.zeros_like(force)], axis=1)
     return nodal_load_vector(NodalLoads(np.asarray(masses.node, int), components), n_dofs)
 
-
-def point_mass_triplets(masses: PointMasses):
-    """Diagonal mass matrix entries of the point masses as COO triplets (for dynamics export)."""
-    node = np.asarray(masses.node, dtype=int)
-    values = np.concatenate(
-        [np.repeat(np.asarray(masses.mass_kg, float)[:, None], 3, axis=1),
-         np.asarray(masses.rotary_inertia_kg_m2, float)],
-        axis=1,
-    )
-    dofs = (DOFS_PER_NODE * node[:, None] + np.arange(DOFS_PER_NODE)).ravel()
-    return dofs, dofs, values.ravel()

@@ -150,12 +150,12 @@ def frame_contributions(model, gravity_direction) -> list[Contribution]:
             point_mass_contribution(model, gravity_direction), constraint_contribution(model)]
 
 
-def solid_contribution(basis, youngs_modulus_pa: float, poisson: float, density_kg_m3: float, dof_offset: int,
+def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,
                        gravity_direction) -> Contribution:
     """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
-    weight = solid.body_force_vector(basis, density_kg_m3, np.asarray(gravity_direction, dtype=float))
+    weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
     return Contribution(loads={"gravity": _dense(weight, dof_offset)},
-                        block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_pa, poisson)))
+                        block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_Pa, poisson)))
 
 
 def tie_contribution(equations: Mapping[int, Mapping[int, float]]) -> Contribution:

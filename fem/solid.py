@@ -31,7 +31,7 @@ import skfem
 from scipy.spatial import cKDTree
 
 __all__ = ["DEFAULT_INTORDER", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
-           "element_stiffness", "facet_area", "facet_basis", "force_traction_vector", "lame_parameters", "logger",
+           "facet_basis", "force_traction_vector", "lame_parameters", "logger",
            "probe_matrix", "rigid_body_modes", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
 
@@ -43,14 +43,14 @@ _N_P2 = 10  # scalar P2 functions per tet
 _CHUNK_ELEMENTS = 512  # element matrices are computed in blocks of this many tets (~4 MB temporaries)
 
 
-def lame_parameters(youngs_modulus_pa: float, poisson: float) -> tuple[float, float]:
+def lame_parameters(youngs_modulus_Pa: float, poisson: float) -> tuple[float, float]:
     """(λ, μ) from E and ν."""
-    if not youngs_modulus_pa > 0.0:
-        raise ValueError(f"Young's modulus must be > 0, got {youngs_modulus_pa}")
+    if not youngs_modulus_Pa > 0.0:
+        raise ValueError(f"Young's modulus must be > 0, got {youngs_modulus_Pa}")
     if not -1.0 < poisson < 0.5:
         raise ValueError(f"Poisson's ratio must be in (-1, 0.5), got {poisson}")
-    lam = youngs_modulus_pa * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
-    mu = youngs_modulus_pa / (2.0 * (1.0 + poisson))
+    lam = youngs_modulus_Pa * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
+    mu = youngs_modulus_Pa / (2.0 * (1.0 + poisson))
     return lam, mu
 
 
@@ -113,27 +113,16 @@ def _element_stiffness_into(out: np.ndarray, grads: np.ndarray, dx: np.ndarray, 
         k[:, :, i, :, i] += laplace
 
 
-def _lame_and_gradients(basis, youngs_modulus_pa, poisson):
+def _lame_and_gradients(basis, youngs_modulus_Pa, poisson):
     _check_vector_p2(basis)
-    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
     # ElementVector function 3 a + c is scalar function a in component c: its component-c gradient
     # is the scalar gradient; stacked: (10, 3, n_elements, n_points).
     grads = np.stack([basis.basis[3 * a][0].grad[0] for a in range(_N_P2)])
     return lam, mu, grads
 
 
-def element_stiffness(basis, youngs_modulus_pa: float, poisson: float) -> np.ndarray:
-    """Element stiffness matrices (n_elements, 30, 30) in the basis's local DOF order.
-
-    K[(a, i), (b, j)] = ∫ λ ∂ᵢNₐ ∂ⱼN_b + μ (δᵢⱼ ∇Nₐ·∇N_b + ∂ⱼNₐ ∂ᵢN_b) dV, local index 3 a + i.
-    """
-    lam, mu, grads = _lame_and_gradients(basis, youngs_modulus_pa, poisson)
-    out = np.empty((grads.shape[2], 9 * _N_P2 * _N_P2))
-    _element_stiffness_into(out, grads, basis.dx, lam, mu)
-    return out.reshape(-1, 3 * _N_P2, 3 * _N_P2)
-
-
-def stiffness_triplets(basis, youngs_modulus_pa: float, poisson: float, dof_offset: int = 0):
+def stiffness_triplets(basis, youngs_modulus_Pa: float, poisson: float, dof_offset: int = 0):
     """Stiffness of an isotropic linear-elastic solid as COO triplets ``(rows, cols, values)``.
 
     Element matrices are computed in blocks of :data:`_CHUNK_ELEMENTS` tets straight into the
@@ -143,7 +132,7 @@ def stiffness_triplets(basis, youngs_modulus_pa: float, poisson: float, dof_offs
     ----------
     basis : skfem.CellBasis
         From :func:`solid_basis`.
-    youngs_modulus_pa, poisson : float
+    youngs_modulus_Pa, poisson : float
     dof_offset : int
         Added to every DOF number (the solid's first DOF in a larger model).
 
@@ -154,7 +143,7 @@ def stiffness_triplets(basis, youngs_modulus_pa: float, poisson: float, dof_offs
         int64 beyond.
     values : (n_elements · 900,) float array
     """
-    lam, mu, grads = _lame_and_gradients(basis, youngs_modulus_pa, poisson)
+    lam, mu, grads = _lame_and_gradients(basis, youngs_modulus_Pa, poisson)
     index_type = np.int32 if basis.N + dof_offset < np.iinfo(np.int32).max else np.int64
     element_dofs = (basis.element_dofs.T.astype(np.int64) + dof_offset).astype(index_type)  # (e, 30)
     n, m = element_dofs.shape
@@ -167,7 +156,7 @@ def stiffness_triplets(basis, youngs_modulus_pa: float, poisson: float, dof_offs
     return rows, cols, values.ravel()
 
 
-def stiffness_matrix(basis, youngs_modulus_pa: float, poisson: float) -> sp.csr_matrix:
+def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float) -> sp.csr_matrix:
     """Stiffness (N × N, CSR) assembled in blocks of elements straight into its 3 × 3-block pattern.
 
     No triplet arrays: the pattern (:func:`rvcoax.fem.assembly.block_pattern`) is built from the
@@ -179,7 +168,7 @@ def stiffness_matrix(basis, youngs_modulus_pa: float, poisson: float) -> sp.csr_
     from rvcoax.fem.assembly import add_element_matrices, block_pattern
 
     _check_vector_p2(basis)
-    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
     gradients = [basis.basis[3 * a][0].grad[0] for a in range(_N_P2)]  # views: no stacked copy of all elements
     element_nodes = np.ascontiguousarray(basis.element_dofs[0::3].T // 3)  # (e, 10): DOFs 3 i + c per node i
     pattern = block_pattern(element_nodes, basis.N // 3)
@@ -200,22 +189,22 @@ def _scatter(basis, local: np.ndarray) -> np.ndarray:
     return np.bincount(basis.element_dofs.ravel(), weights=local.ravel(), minlength=basis.N)
 
 
-def body_force_vector(basis, density_kg_m3: float, acceleration_m_s2) -> np.ndarray:
+def body_force_vector(basis, density_kg_per_m3: float, acceleration_m_s2) -> np.ndarray:
     """Consistent load vector of the body force ρ g (self-weight: g = (0, −9.81, 0) or similar), (N,)."""
     _check_vector_p2(basis)
     g = np.asarray(acceleration_m_s2, dtype=float).reshape(3)
     integrals = np.einsum("aeq,eq->ae", _scalar_values(basis), basis.dx)  # ∫ Nₐ dV, (10, e)
-    local = density_kg_m3 * integrals[:, None, :] * g[None, :, None]  # (10, 3, e)
+    local = density_kg_per_m3 * integrals[:, None, :] * g[None, :, None]  # (10, 3, e)
     return _scatter(basis, local.reshape(3 * _N_P2, -1))
 
 
-def thermal_strain_vector(basis, youngs_modulus_pa: float, poisson: float, strain: float) -> np.ndarray:
+def thermal_strain_vector(basis, youngs_modulus_Pa: float, poisson: float, strain: float) -> np.ndarray:
     """Equivalent load of a uniform free (thermal) strain ε I: ∫ (3λ + 2μ) ε div v dV, (N,).
 
     Applied to an unconstrained body it gives the free growth u = ε (x − x₀) exactly (P2 holds it).
     """
     _check_vector_p2(basis)
-    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
     bulk_strain = (3.0 * lam + 2.0 * mu) * strain
     form = skfem.LinearForm(lambda v, w: bulk_strain * (v.grad[0][0] + v.grad[1][1] + v.grad[2][2]))
     return form.assemble(basis)
@@ -238,11 +227,6 @@ def _traction_vector(fbasis, traction: np.ndarray) -> np.ndarray:
     """Load vector of a traction field (3, n_facets, n_points) on the facets of ``fbasis``."""
     local = np.einsum("afq,cfq,fq->acf", _scalar_values(fbasis), traction, fbasis.dx)
     return _scatter(fbasis, local.reshape(3 * _N_P2, -1))
-
-
-def facet_area(mesh: skfem.MeshTet2, facets, intorder: int = FACET_INTORDER) -> float:
-    """Area of the (curved) facets, m²."""
-    return float(facet_basis(mesh, facets, intorder).dx.sum())
 
 
 def force_traction_vector(mesh: skfem.MeshTet2, facets, force_N, intorder: int = FACET_INTORDER) -> np.ndarray:
@@ -396,7 +380,7 @@ def probe_matrix(basis, points, outside_tolerance: float = 1e-6) -> sp.csr_matri
 # ------------------------------------------------------------------------------------------ output
 
 
-def stress_at_nodes(basis, displacement, youngs_modulus_pa: float, poisson: float) -> np.ndarray:
+def stress_at_nodes(basis, displacement, youngs_modulus_Pa: float, poisson: float) -> np.ndarray:
     """Cauchy stress (n_nodes, 3, 3) at the P2 nodes, averaged over the tets sharing each node.
 
     Each tet's stress is evaluated at its own 10 nodes (exact for its P2 displacement); the
@@ -404,7 +388,7 @@ def stress_at_nodes(basis, displacement, youngs_modulus_pa: float, poisson: floa
     node. Nodes are ordered as in :func:`dof_locations`.
     """
     _check_vector_p2(basis)
-    lam, mu = lame_parameters(youngs_modulus_pa, poisson)
+    lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
     u = np.asarray(displacement, dtype=float)
     scalar = skfem.ElementTetP2()
     at_nodes = skfem.Basis(basis.mesh, scalar, mapping=basis.mapping, quadrature=(scalar.doflocs.T, np.ones(10)))
@@ -428,9 +412,9 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(1.5 * np.einsum("...ij,...ij->...", deviator, deviator))
 
 
-def von_mises_at_nodes(basis, displacement, youngs_modulus_pa: float, poisson: float) -> np.ndarray:
+def von_mises_at_nodes(basis, displacement, youngs_modulus_Pa: float, poisson: float) -> np.ndarray:
     """Von Mises stress (n_nodes,) of the node-averaged stress (:func:`stress_at_nodes`), Pa."""
-    return von_mises(stress_at_nodes(basis, displacement, youngs_modulus_pa, poisson))
+    return von_mises(stress_at_nodes(basis, displacement, youngs_modulus_Pa, poisson))
 
 
 def rigid_body_modes(dof_coordinates, components=None) -> np.ndarray:

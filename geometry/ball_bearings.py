@@ -66,7 +66,7 @@ def _read_catalogue() -> dict[str, CatalogueBallBearing]:
     return out
 
 
-BALL_BEARINGS: dict[str, CatalogueBallBearing] = _read_catalogue()
+BALL_BEARINGS: dict[str, CatalogueBallBearing] = _read_catalogue()  # designation → its catalogue entry
 
 CLEARANCE_CLASSES = ("C2", "CN", "C3", "C4")
 

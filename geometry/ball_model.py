@@ -27,7 +27,18 @@ REFERENCE_DEFLECTION_UM = 5.0
 def clearance_um_of(bearing) -> float:
     """The diametral radial internal clearance (µm) a ball bearing entry asks for: ``clearance_um`` (the
     operating clearance) when given, else the middle of ``clearance_class``'s ISO 5753-1 range (CN
-    when neither is given and there is a designation)."""
+    when neither is given and there is a designation).
+
+    Parameters
+    ----------
+    bearing : Bearing
+        The bearing entry, with its ``clearance_um`` or ``clearance_class`` and designation.
+
+    Returns
+    -------
+    float
+        The clearance in µm.
+    """
     if bearing.clearance_um is not None:  # the operating clearance; a class then only records what was bought
         return float(bearing.clearance_um)
     if bearing.designation is None:
@@ -41,6 +52,16 @@ def clearance_um_of(bearing) -> float:
 
 def geometry_of(bearing) -> BallBearingGeometry:
     """The internal geometry of a ``model = "ball"`` bearing entry (SI).
+
+    Parameters
+    ----------
+    bearing : Bearing
+        A rig file's ``model = "ball"`` bearing entry.
+
+    Returns
+    -------
+    BallBearingGeometry
+        Ball count and diameter, pitch diameter, raceway conformities, contact angle, clearance.
 
     Raises
     ------

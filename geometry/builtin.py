@@ -24,12 +24,24 @@ EXAMPLE_RIG = "rv40e_example_rig.toml"
 
 
 def example_rig_text() -> str:
-    """The built-in example rig (RV-40E bench), as text (to copy and edit)."""
+    """The built-in example rig (RV-40E bench), as text (to copy and edit).
+
+    Returns
+    -------
+    str
+        The TOML text of the example rig file.
+    """
     return resources.files("rvcoax.geometry").joinpath("data", EXAMPLE_RIG).read_text(encoding="utf-8")
 
 
 def load_example_rig() -> Rig:
-    """The built-in example rig (RV-40E bench), validated."""
+    """The built-in example rig (RV-40E bench), validated.
+
+    Returns
+    -------
+    Rig
+        The example rig.
+    """
     return parse_rig_text(example_rig_text(), f"<built-in {EXAMPLE_RIG}>")
 
 
@@ -40,5 +52,16 @@ def _reference() -> Rig:
 
 
 def is_reference_rig(rig: Rig) -> bool:
-    """True when ``rig`` is the built-in reference rig (paper 000's bench), value for value."""
+    """True when ``rig`` is the built-in reference rig (paper 000's bench), value for value.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig to compare.
+
+    Returns
+    -------
+    bool
+        Whether every value equals the reference rig's.
+    """
     return rig == _reference()

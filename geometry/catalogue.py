@@ -254,6 +254,16 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     Each sentence names the key (``bearings[4] ('input_B1').radial_stiffness_N_per_um``), the value
     with its unit, the plausible range and, where a unit factor would bring the value into range,
     the likely slip. Empty for a plausible rig (the built-in reference rig among them).
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig (the reference rig gives no warning).
+
+    Returns
+    -------
+    list of str
+        The warnings, in rig-file order.
     """
     components = _component_warnings(rig)
     return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _mass_warnings(rig)

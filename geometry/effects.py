@@ -485,6 +485,16 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     compliance and thermal growth; mounted housings between T1 and T2: torque reaction; the
     reducer input (the first ``gear_mesh_load_sharing`` on T1): mesh force; global: self-weight,
     force pairs (when the rig has a force table), shear deformation (when it is off).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig as modelled.
+
+    Returns
+    -------
+    tuple of Effect
+        Each with its name (``kind@location``), parameters with units and bounds, and how it changes the rig.
     """
     linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
     mounted = list(dict.fromkeys(m.part for m in rig.mounts))

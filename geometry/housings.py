@@ -204,7 +204,7 @@ def solid_method() -> str:
     return "pardiso" if pardiso_available() else "auto"
 
 
-def build_housing_model(geometry: BlockGeometry, youngs_modulus_pa: float, poisson: float,
+def build_housing_model(geometry: BlockGeometry, youngs_modulus_Pa: float, poisson: float,
                         references: list[Reference], feet: str = "clamped",
                         bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                         cache_dir: Path | None = None) -> HousingModel:
@@ -214,7 +214,7 @@ def build_housing_model(geometry: BlockGeometry, youngs_modulus_pa: float, poiss
     basis = solid.solid_basis(mesh)
     offset = DOFS_PER_NODE * len(references)
     n = offset + int(basis.N)
-    pieces = [solid.stiffness_triplets(basis, youngs_modulus_pa, poisson, dof_offset=offset)]
+    pieces = [solid.stiffness_triplets(basis, youngs_modulus_Pa, poisson, dof_offset=offset)]
     bottom = housing_faces(mesh, geometry, ("bottom", *geometry.x_mm))
     fixed = np.zeros(0, dtype=int)
     if feet == "clamped":
@@ -283,11 +283,11 @@ def _load(path: Path) -> CondensedHousing | None:
         return None
 
 
-def condense_housing(geometry: BlockGeometry, youngs_modulus_pa: float, poisson: float, references: list[Reference],
+def condense_housing(geometry: BlockGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],
                      feet: str = "clamped", bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                      cache_dir: Path | None = None, use_cache: bool = True) -> CondensedHousing:
     """The condensed stiffness of a housing at its references (cached by everything it depends on)."""
-    key = {"geometry": geometry.cache_key(), "E": youngs_modulus_pa, "nu": poisson, "feet": feet,
+    key = {"geometry": geometry.cache_key(), "E": youngs_modulus_Pa, "nu": poisson, "feet": feet,
            "bed": list(bed_stiffness_N_per_um_per_mm2 or ()),
            "references": [[list(r.point_mm), list(r.face), r.tie] for r in references]}
     path = _cache_file(key, cache_dir)
@@ -296,7 +296,7 @@ def condense_housing(geometry: BlockGeometry, youngs_modulus_pa: float, poisson:
         if cached is not None:
             return cached
     start = time.perf_counter()
-    model = build_housing_model(geometry, youngs_modulus_pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2,
+    model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2,
                                 cache_dir)
     matrix = condensed_stiffness(model.stiffness, model.elimination, model.master_dofs, solid_method())
     result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False)

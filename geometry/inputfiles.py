@@ -68,6 +68,20 @@ def read_input_text(path: str | Path, max_bytes: int, what: str) -> str:
     Checks the path first (:func:`check_readable_file`); decodes UTF-8 with or without a
     byte-order mark (spreadsheets and Windows editors write one) and names the line of the first
     byte that is not UTF-8.
+
+    Parameters
+    ----------
+    path : str or Path
+        The input file.
+    max_bytes : int
+        Larger files are refused before they are read.
+    what : str
+        What the file is, for the message (``"load-case file"``).
+
+    Returns
+    -------
+    str
+        The decoded text.
     """
     try:
         check_readable_file(path, max_bytes, what)
@@ -136,6 +150,18 @@ def csv_rows(text: str, comment: str | None = None) -> Iterator[tuple[int, list[
 
     With ``comment`` (e.g. ``"#"``), lines that start with it (after blanks) are skipped before the CSV
     is read, so that a quote in a comment cannot open a field; line numbers stay those of the file.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    comment : str, optional
+        A prefix that marks comment lines.
+
+    Returns
+    -------
+    iterator of (int, list of str)
+        The 1-based line number where each row starts, and its cells as text.
 
     Raises
     ------

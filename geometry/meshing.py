@@ -138,16 +138,6 @@ class SolidPartGeometry:
         """Exact volume of the part."""
         return sum(math.pi / 4.0 * (o * o - i * i) * (x1 - x0) for x0, x1, o, i in self.segments)
 
-    @property
-    def surface_mm2(self) -> float:
-        """Exact surface area (mantles, bores, end faces and shoulder rings)."""
-        area = sum(math.pi * (o + i) * (x1 - x0) for x0, x1, o, i in self.segments)
-        first, last = self.segments[0], self.segments[-1]
-        area += math.pi / 4.0 * (first[2] ** 2 - first[3] ** 2 + last[2] ** 2 - last[3] ** 2)
-        for a, b in zip(self.segments[:-1], self.segments[1:]):
-            area += math.pi / 4.0 * abs(a[2] ** 2 - b[2] ** 2) + math.pi / 4.0 * abs(a[3] ** 2 - b[3] ** 2)
-        return area
-
     def cache_key(self) -> str:
         """SHA-256 over the shape, the mesh size, gmsh's version and :data:`MESHER_VERSION`."""
         import gmsh

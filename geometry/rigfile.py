@@ -79,7 +79,24 @@ def parse_rig(data: dict, source: str) -> Rig:
 
 
 def load_rig(path: str | Path | None = None) -> Rig:
-    """Load and validate a rig file; ``None`` loads the built-in reference rig."""
+    """Load and validate a rig file.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        The rig's TOML file; ``None`` loads the built-in reference rig (paper 000's test rig).
+
+    Returns
+    -------
+    Rig
+        The validated rig: parts, couplings, bearings, loads, paths and mesh settings, in the file's units.
+
+    Raises
+    ------
+    RigFileError
+        The file cannot be read, is not TOML, or a key is missing, unknown or out of its physical range
+        (the message names the file, the key and the reason).
+    """
     if path is None:
         text = resources.files("rvcoax.geometry").joinpath("data", REFERENCE_RIG).read_text(encoding="utf-8")
         source = f"<built-in {REFERENCE_RIG}>"
@@ -93,7 +110,19 @@ def load_rig(path: str | Path | None = None) -> Rig:
 
 
 def parse_rig_text(text: str, source: str = "<rig text>") -> Rig:
-    """Parse and validate the text of a rig file; ``source`` names it in error messages.
+    """Parse and validate the text of a rig file.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    source : str
+        What to call the text in error messages (a file name).
+
+    Returns
+    -------
+    Rig
+        The validated rig.
 
     Raises
     ------
@@ -110,6 +139,16 @@ def parse_rig_text(text: str, source: str = "<rig text>") -> Rig:
 def reference_rig_text(variant: str | None = None) -> str:
     """The built-in reference rig file, as text (to copy and edit); ``variant`` names one of
     :data:`REFERENCE_VARIANTS` (``"ball_bearings"``).
+
+    Parameters
+    ----------
+    variant : str, optional
+        A variant of the reference rig; None for the rig itself.
+
+    Returns
+    -------
+    str
+        The TOML text.
 
     Raises
     ------

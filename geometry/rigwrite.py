@@ -95,6 +95,11 @@ def updated_rig_text(original_text: str, new_rig: Rig, note: str, header: list[s
         A comment attached to every changed value (its provenance).
     header : list of str
         Comment lines put at the top of the file.
+
+    Returns
+    -------
+    (str, list of str)
+        The updated TOML text (comments and layout of ``original_text`` kept), and the changed keys.
     """
     old_rig = parse_rig(tomllib.loads(original_text), "original rig")
     document = tomlkit.parse(original_text)

@@ -43,7 +43,20 @@ def part_strain(rig: Rig, part: str) -> float:
 
 
 def free_axial_growth_um(rig: Rig, part: str) -> float:
-    """Free axial growth of ``part`` over its length, ε L (µm)."""
+    """Free axial growth of ``part`` over its length, ε L (µm).
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig with a ``[thermal]`` table (or none: no growth).
+    part : str
+        The part's name.
+
+    Returns
+    -------
+    float
+        The growth in µm.
+    """
     lo, hi = rig.part(part).x_range_mm
     return part_strain(rig, part) * (hi - lo) * 1e3
 
@@ -55,7 +68,20 @@ def radial_growth_um(rig: Rig) -> dict[str, list[tuple[float, float]]]:
 
 
 def mount_lift_um(rig: Rig, mount) -> float:
-    """Vertical lift of ``mount``'s support, α_s ΔT_s h (µm); ΔT_s defaults to its part's rise."""
+    """Vertical lift of ``mount``'s support, α_s ΔT_s h (µm); ΔT_s defaults to its part's rise.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    mount : Mount
+        One of ``rig.mounts``.
+
+    Returns
+    -------
+    float
+        The lift in µm; zero without ``[thermal]`` or without the support's height above the bed.
+    """
     thermal = rig.thermal
     if thermal is None or mount.height_above_bed_mm is None:
         return 0.0
@@ -108,7 +134,7 @@ def beam_thermal_load(rig: Rig, node_part: np.ndarray, beams, n_dofs: int) -> np
     strain = {p.name: part_strain(rig, p.name) for p in rig.parts}
     first = beams.connectivity[:, 0]
     element_strain = np.array([strain[node_part[n]] for n in first])
-    force = beams.youngs_modulus_pa * beams.area_m2 * element_strain
+    force = beams.youngs_modulus_Pa * beams.area_m2 * element_strain
     np.add.at(vector, 6 * beams.connectivity[:, 0], -force)
     np.add.at(vector, 6 * beams.connectivity[:, 1], force)
     return vector

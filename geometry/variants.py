@@ -67,6 +67,18 @@ def reference_from_geometry(readings=READINGS, block_mesh_size_mm: float | None 
     """The reference rig with the ``readings`` (a subset of :data:`READINGS`) taken from geometry.
 
     ``block_mesh_size_mm`` overrides the bearing blocks' mesh size (8 mm, converged to 0.3 %).
+
+    Parameters
+    ----------
+    readings : tuple of str
+        Which values are read from geometry instead of typed in (default: all of :data:`READINGS`).
+    block_mesh_size_mm : float, optional
+        Mesh size of the condensed bearing blocks.
+
+    Returns
+    -------
+    Rig
+        The validated rig.
     """
     unknown = set(readings) - set(READINGS) - set(OPTIONAL_READINGS)
     if unknown:

@@ -67,7 +67,13 @@ def _validated(pairs: list[tuple[float, float]], source: str, where: list[str] |
 
 
 def paper_cases() -> tuple[LoadCase, ...]:
-    """The 20 (T1, T2) pairs of paper 000's coaxiality table, in the table's order."""
+    """The 20 (T1, T2) pairs of paper 000's coaxiality table, in the table's order.
+
+    Returns
+    -------
+    tuple of LoadCase
+        Input torque T1 0.07 … 1.43 N·m paired with output torque T2 10 … 200 N·m.
+    """
     text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     return _read_csv_text(text, f"<built-in {PAPER_TABLE}>")
 
@@ -82,7 +88,18 @@ NO_CASES_HELP = ("give them in the rig file ([[load_cases]] tables with T1_input
 
 
 def rig_cases(rig) -> tuple[LoadCase, ...] | None:
-    """The load cases a rig file names (``[[load_cases]]`` or ``[sweep]``), or None when it names none."""
+    """The load cases a rig file names (``[[load_cases]]`` or ``[sweep]``), or None when it names none.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+
+    Returns
+    -------
+    tuple of LoadCase or None
+        In the file's order (a ``[sweep]`` gives evenly spaced pairs).
+    """
     if rig.load_cases:
         return _validated([(c.T1_input_Nm, c.T2_output_Nm) for c in rig.load_cases], "of the rig file",
                           [f"load_cases[{i}]" for i in range(len(rig.load_cases))])
@@ -98,6 +115,16 @@ def rig_cases(rig) -> tuple[LoadCase, ...] | None:
 def default_cases(rig) -> tuple[LoadCase, ...]:
     """The cases to solve when none are given: the rig file's own, else paper 000's 20 pairs for the
     built-in reference rig only (:func:`rvcoax.geometry.builtin.is_reference_rig`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose cases are wanted.
+
+    Returns
+    -------
+    tuple of LoadCase
+        Its own cases, or paper 000's for the reference rig.
 
     Raises
     ------
@@ -116,19 +143,59 @@ def default_cases(rig) -> tuple[LoadCase, ...]:
 
 
 def default_is_paper(rig) -> bool:
-    """True when :func:`default_cases` of ``rig`` are paper 000's (the reference rig naming no cases of its own)."""
+    """True when :func:`default_cases` of ``rig`` are paper 000's (the reference rig naming no cases of its own).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig in question.
+
+    Returns
+    -------
+    bool
+        Whether the default cases are the paper's.
+    """
     from rvcoax.geometry.builtin import is_reference_rig
 
     return rig_cases(rig) is None and is_reference_rig(rig)
 
 
 def grid_cases(t1_values, t2_values) -> tuple[LoadCase, ...]:
-    """Every combination of the given T1 and T2 values (N·m)."""
+    """Every combination of the given T1 and T2 values.
+
+    Parameters
+    ----------
+    t1_values, t2_values : sequence of float
+        Input and output torques in N·m.
+
+    Returns
+    -------
+    tuple of LoadCase
+        T1 varies slowest: ``(t1_values[0], t2_values[0]), (t1_values[0], t2_values[1]), …``.
+    """
     return _validated([(float(a), float(b)) for a in t1_values for b in t2_values], "grid")
 
 
 def paired_cases(t1_values, t2_values, source: str = "command line") -> tuple[LoadCase, ...]:
-    """Cases from two equally long lists of T1 and T2 (N·m)."""
+    """Cases from two equally long lists of T1 and T2, paired in order.
+
+    Parameters
+    ----------
+    t1_values, t2_values : sequence of float
+        Input and output torques in N·m.
+    source : str
+        What to call the lists in error messages.
+
+    Returns
+    -------
+    tuple of LoadCase
+        ``(t1_values[i], t2_values[i])`` for every i.
+
+    Raises
+    ------
+    LoadCaseError
+        The lists differ in length, or a torque is out of range.
+    """
     if len(t1_values) != len(t2_values):
         raise LoadCaseError(source, f"{len(t1_values)} T1 values but {len(t2_values)} T2 values")
     return _validated([(float(a), float(b)) for a, b in zip(t1_values, t2_values)], source)
@@ -183,7 +250,25 @@ def _read_csv_text(text: str, source: str) -> tuple[LoadCase, ...]:
 
 
 def read_cases(path: str | Path) -> tuple[LoadCase, ...]:
-    """Read load cases from a CSV or TOML file."""
+    """Read load cases from a CSV or TOML file.
+
+    Parameters
+    ----------
+    path : str or Path
+        A CSV with the columns ``T1_input_Nm, T2_output_Nm`` (any order, other columns ignored), or a TOML
+        file of ``[[cases]]`` tables with those keys.
+
+    Returns
+    -------
+    tuple of LoadCase
+        In the file's order.
+
+    Raises
+    ------
+    LoadCaseError
+        Naming the file, the line or table and the reason (a missing column, a value that is not a plain
+        number, a torque out of range, a duplicated case).
+    """
     source = str(path)
     try:
         text = read_input_text(path, MAX_CASE_FILE_BYTES, "a load-case file")
@@ -238,7 +323,13 @@ class PublishedRow:
 
 
 def paper_table() -> tuple[PublishedRow, ...]:
-    """The published ANSYS results of paper 000 (loadcases/data/paper000_coaxiality_table.csv)."""
+    """The published ANSYS results of paper 000 (loadcases/data/paper000_coaxiality_table.csv).
+
+    Returns
+    -------
+    tuple of PublishedRow
+        Per row: the load case, Y_input_mm, Y_output_mm, beta_input_deg and beta_output_deg as published.
+    """
     text = resources.files("rvcoax.loadcases").joinpath("data", PAPER_TABLE).read_text(encoding="utf-8")
     rows = []
     for row in csv.DictReader(io.StringIO(text)):

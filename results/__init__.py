@@ -1,1 +1,13 @@
-"""Sweeps, shaft-path results, the published-table check, calibration, reports and the CLI."""
+"""Solving and sweeps, shaft-path results, and the rooms that use them: files and pictures (:mod:`.io`),
+dynamics exports (:mod:`.export`), studies (:mod:`.studies`) and the command line (:mod:`.cli`).
+
+Public names (loaded on first use): a sweep, its settings and the prepared model it solves.
+"""
+
+from rvcoax._lazy import lazy_names
+
+# the module that defines each public name
+_WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
+    "rvcoax.results.sweep": ("PreparedModel", "Sweep", "SweepSettings", "prepare_model", "run_sweep"),
+    "rvcoax.results.connections": ("ConnectionsUnavailableError",),
+})

@@ -102,7 +102,7 @@ def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
 
 def connection_states(sweep: Sweep, reference: str = "measured") -> ConnectionStates:
     """Relative motion and force of every spring of the sweep's rig in every case."""
-    return spring_states(sweep.model, sweep.rig, case_displacements(sweep, reference),
+    return spring_states(sweep.frame, sweep.rig, case_displacements(sweep, reference),
                          from_rest=_from_rest(sweep, reference))
 
 

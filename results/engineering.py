@@ -313,6 +313,16 @@ def engineering_tables(sweep) -> list[dict]:
     (least-squares slope), the end slopes and the offsets at both ends. The other tables are
     :meth:`CaseEngineering.entry`'s. Raises ``ValueError`` when the sweep carries no engineering
     tables (a sweep run with ``engineering=False``).
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A sweep solved with ``engineering=True`` (the default).
+
+    Returns
+    -------
+    list of dict
+        One entry per case, in the sweep's order.
     """
     out = []
     for case in sweep.cases:

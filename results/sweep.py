@@ -93,7 +93,7 @@ class Sweep:
     """All cases of a sweep, plus what is needed to explain how they were obtained."""
 
     rig: Rig
-    model: RigModel
+    frame: RigModel
     settings: SweepSettings
     cases: tuple[CaseResult, ...]
     unit_paths: dict[str, dict[str, ShaftPathResult]] = field(default_factory=dict)
@@ -227,7 +227,21 @@ def check_clearance_model(rig: Rig, kind: str) -> list[str]:
 
 
 def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
-    """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver."""
+    """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig (:func:`rvcoax.load_rig`).
+    settings : SweepSettings
+        The model (beam, hybrid, solid), the solver and the solid mesh size.
+
+    Returns
+    -------
+    PreparedModel
+        The assembled system and its factorisation, to pass to :func:`run_sweep` (or calibration) so that
+        several sweeps of one rig assemble and factorise it once.
+    """
     check_clearance_model(rig, settings.model)
     check_supports(rig)
     too_big = preflight.memory_problem(rig, settings.model, settings.mesh_size_mm, settings.solver)
@@ -244,14 +258,35 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
               prepared: PreparedModel | None = None, on_case=None, engineering: bool = True) -> Sweep:
-    """Solve every load case of ``cases`` on ``rig``; ``progress(i, n)`` is called per case, and
-    ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
-    ``engineering``: also compute each case's coupling, bearing and reaction tables
-    (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
+    """Solve every load case of ``cases`` on ``rig``.
 
-    ``prepared`` reuses an assembled, factorised model whose structure is ``rig``'s (only load
-    parameters may differ: the unit loads are rebuilt from ``rig``). A rig with bearing clearance
-    is solved case by case (:func:`run_gap_sweep`).
+    A rig with bearing clearance is solved case by case (:func:`run_gap_sweep`); otherwise every case
+    is a superposition of unit loads on one factorisation.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig (:func:`rvcoax.load_rig`).
+    cases : tuple of LoadCase
+        The (T1, T2) pairs (:func:`rvcoax.paper_cases`, :func:`rvcoax.read_cases`, …).
+    settings : SweepSettings
+        The model (beam, hybrid, solid), the method, the solver and the solid mesh size.
+    progress : callable, optional
+        ``progress(i, n)`` after each case.
+    prepared : PreparedModel, optional
+        An assembled, factorised model whose structure is ``rig``'s, to reuse (only load parameters may
+        differ: the unit loads are rebuilt from ``rig``).
+    on_case : callable, optional
+        ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
+    engineering : bool
+        Also compute each case's coupling, bearing and reaction tables
+        (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
+
+    Returns
+    -------
+    Sweep
+        Per case: Y along each measured shaft, Y_max, β = arcsin(Y_max / L) and the true tilt, with the
+        residual of the solve; and the rig, settings and solver that produced them.
     """
     gapped = check_clearance_model(rig, settings.model if prepared is None else prepared.system.kind)
     if prepared is None:
@@ -381,8 +416,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
 
 
-def solve_unit_responses(model: RigModel):
+def solve_unit_responses(frame: RigModel):
     """Beam model only (kept for callers that hold a RigModel): (system, loads, unit displacements)."""
-    system = assemble_beam(model.rig)
+    system = assemble_beam(frame.rig)
     factorised = factorize(system.stiffness, system.elimination)
     return factorised, system.unit_loads, factorised.solve(np.column_stack([system.unit_loads[k] for k in UNIT_LOADS]))

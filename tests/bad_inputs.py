@@ -20,9 +20,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from rigdata import dump_toml, reference_data
+
 from rvcoax.geometry.rigfile import reference_rig_text
 from rvcoax.loadcases.cases import paper_table
-from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 HUGE_BYTES = 200_000_000  # written sparsely: the readers must refuse it before reading
 

@@ -99,9 +99,9 @@ def polyline(points, n_per_segment: int, section: CircularSection, reference=(0.
         second_moment_m4=section.second_moment_m4 * ones,
         polar_moment_m4=section.polar_moment_m4 * ones,
         shear_coefficient=section.shear_coefficient(POISSON) * ones,
-        youngs_modulus_pa=YOUNGS_MODULUS * ones,
-        shear_modulus_pa=SHEAR_MODULUS * ones,
-        density_kg_m3=density * ones,
+        youngs_modulus_Pa=YOUNGS_MODULUS * ones,
+        shear_modulus_Pa=SHEAR_MODULUS * ones,
+        density_kg_per_m3=density * ones,
         reference_vector=np.tile(np.asarray(reference, dtype=float), (n, 1)),
     )
     return coordinates, beams

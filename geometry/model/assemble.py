@@ -19,6 +19,11 @@ def assemble_rig(rig: Rig, kind: str = "beam", **options) -> RigSystem:
         hybrid_parts`` as quadratic tetrahedra, the rest beams; ``solid``: every part a solid.
     **options
         ``mesh_size_mm`` for the solid parts.
+
+    Returns
+    -------
+    RigSystem
+        The stiffness K, the constraint elimination T (u = T q) and one load vector per unit load.
     """
     if kind == "beam":
         return assemble_beam(rig)

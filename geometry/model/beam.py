@@ -164,6 +164,19 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
 
     Parts named in ``solid_parts`` get no beams: only reference nodes where springs attach (the
     solid model ties them to faces), and no mass (the solid carries it).
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    solid_parts : tuple of str
+        Parts that a solid model meshes instead.
+
+    Returns
+    -------
+    RigModel
+        The frame: nodes, beams, springs (bushings), point masses and fixed DOFs, with the maps from rig
+        names and positions to nodes and springs.
     """
     referenced = _referenced_positions(rig)
     attachments = attachment_positions(rig)
@@ -216,8 +229,8 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     table = np.array(element_rows, dtype=float).reshape(-1, 9)
     beams = BeamElements(
         connectivity=table[:, :2].astype(int), area_m2=table[:, 2], second_moment_m4=table[:, 3],
-        polar_moment_m4=table[:, 4], shear_coefficient=table[:, 5], youngs_modulus_pa=table[:, 6],
-        shear_modulus_pa=table[:, 7], density_kg_m3=table[:, 8],
+        polar_moment_m4=table[:, 4], shear_coefficient=table[:, 5], youngs_modulus_Pa=table[:, 6],
+        shear_modulus_Pa=table[:, 7], density_kg_per_m3=table[:, 8],
         reference_vector=np.tile([0.0, 1.0, 0.0], (table.shape[0], 1)),
     )
 
@@ -262,7 +275,7 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     fixed = (6 * np.asarray(bed_nodes, dtype=int)[:, None] + np.arange(6)).ravel()
     structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr,
                                 fixed_dofs=fixed)
-    element_mass = beams.density_kg_m3 * beams.area_m2 * np.diff(coordinates[beams.connectivity, 0], axis=1).ravel()
+    element_mass = beams.density_kg_per_m3 * beams.area_m2 * np.diff(coordinates[beams.connectivity, 0], axis=1).ravel()
     part_mass = {p.name: 0.0 for p in rig.parts}
     for e, m in zip(beams.connectivity[:, 0], element_mass):
         part_mass[node_part[e]] += float(m)
@@ -299,15 +312,15 @@ def stress_free_motions(rig: Rig) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(-1, 6) + thermal_stress_free_motions(rig)
 
 
-def prestrain_load_vector(model: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
+def prestrain_load_vector(frame: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
     """Equivalent load of the bushings' prestrain, K Δ0 through their rigid arms (length ``n_dofs``).
 
-    ``rig`` gives the offsets (it may differ from ``model.rig`` in offsets only). Zero when every
+    ``rig`` gives the offsets (it may differ from ``frame.rig`` in offsets only). Zero when every
     coupling is aligned and every mount at its nominal height. Adds the beams' thermal initial strain.
     """
     vector = np.zeros(n_dofs)
-    structure = model.structure
+    structure = frame.structure
     vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
                                                 structure.n_dofs)
-    vector[: structure.n_dofs] += beam_thermal_load(rig, model.node_part, structure.beams, structure.n_dofs)
+    vector[: structure.n_dofs] += beam_thermal_load(rig, frame.node_part, structure.beams, structure.n_dofs)
     return vector

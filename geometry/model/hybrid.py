@@ -69,9 +69,9 @@ class SolidPart:
     mesh: object
     basis: object
     offset: int
-    youngs_modulus_pa: float
+    youngs_modulus_Pa: float
     poisson: float
-    density_kg_m3: float
+    density_kg_per_m3: float
 
     @property
     def n_dofs(self) -> int:
@@ -281,7 +281,7 @@ class SolidLoads:
             strain = part_strain(rig, name)
             if strain:
                 vector[part.offset: part.offset + part.n_dofs] += solid.thermal_strain_vector(
-                    part.basis, part.youngs_modulus_pa, part.poisson, strain)
+                    part.basis, part.youngs_modulus_Pa, part.poisson, strain)
         return vector
 
 
@@ -320,7 +320,7 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         raise SolidModelError(f"housings {', '.join(housed)}: their part is a solid here; a condensed housing holds a "
                               "beam part's nodes (keep the part out of [solid] hybrid_parts)")
     pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
-    pieces += [solid_contribution(s.basis, s.youngs_modulus_pa, s.poisson, s.density_kg_m3, s.offset,
+    pieces += [solid_contribution(s.basis, s.youngs_modulus_Pa, s.poisson, s.density_kg_per_m3, s.offset,
                                   GRAVITY_DIRECTION) for s in solids.values()]
     for a in ties:
         s = solids[a.part]

@@ -67,6 +67,13 @@ def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
 def gear_mesh_forces(rig: Rig, mesh: GearMesh):
     """The mesh forces on the driving gear of ``mesh`` (:class:`rvcoax.geometry.gears.MeshForces`).
 
+    Parameters
+    ----------
+    rig : Rig
+        The rig, for the torque paths and positions the mesh refers to.
+    mesh : GearMesh
+        One of its ``gear_meshes``, with the gear data (module, teeth, width, position errors).
+
     Returns
     -------
     per_torque, engaged : MeshForces

@@ -134,7 +134,7 @@ def _stiffness_range_note(frame) -> str:
                 # compare translations (N/m) with rotations (N·m/rad) over a 0.1 m lever
                 entries.append((value if column < 3 else value / 0.01, _spring_label(name), COMPONENT_NAMES[column],
                                 shown))
-    moduli = frame.structure.beams.youngs_modulus_pa
+    moduli = frame.structure.beams.youngs_modulus_Pa
     note = f"Young's moduli of the beams {moduli.min() * 1e-6:.3g} … {moduli.max() * 1e-6:.3g} MPa"
     if not entries:
         return note
@@ -180,9 +180,9 @@ def support_problem(rig: Rig) -> str | None:
     if not motions:
         return None
     structure = frame.structure
-    steel = dataclasses.replace(structure.beams, youngs_modulus_pa=np.full_like(structure.beams.youngs_modulus_pa,
+    steel = dataclasses.replace(structure.beams, youngs_modulus_Pa=np.full_like(structure.beams.youngs_modulus_Pa,
                                                                                 TYPICAL_MODULI[0]),
-                                shear_modulus_pa=np.full_like(structure.beams.shear_modulus_pa, TYPICAL_MODULI[1]))
+                                shear_modulus_Pa=np.full_like(structure.beams.shear_modulus_Pa, TYPICAL_MODULI[1]))
     springless = dataclasses.replace(structure, beams=steel, bushings=dataclasses.replace(
         structure.bushings, stiffness=np.zeros_like(structure.bushings.stiffness)))
     scale = float(np.abs(fem_model.stiffness_matrix(springless).diagonal()).max())
@@ -215,6 +215,18 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     when the rig is plausible (the reference rig's largest sag is 1.6 µm). A rig that cannot be
     factorised, or is too large to build (:func:`rvcoax.geometry.model.workload.rig_problem`), gives no warning
     here (:func:`support_problem` names it).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig to check (its gravity setting is ignored).
+    limit_mm : float
+        Sag under self-weight above which a part is named.
+
+    Returns
+    -------
+    list of str
+        One sentence per part.
     """
     from rvcoax.geometry.model.workload import rig_problem
 

@@ -37,6 +37,7 @@ __all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "UnitLoadBuilder", "assemble
            "nodal_vector"]
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
+"""The models a rig can be solved with: beams only, beams with solid parts, or solids wherever meshed."""
 
 
 @dataclass(frozen=True, eq=False)

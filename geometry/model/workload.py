@@ -1,15 +1,14 @@
 """Work and memory of a command, estimated from its sizes before any of the work is done.
 
 Every size-like input (load cases, a ``--grid``, the rig's beam nodes, ``--workers``, ``--samples``,
-a sensitivity design) goes through :func:`check`: above the memory this machine has available
+a sensitivity design) goes through :func:`check_workload`: above the memory this machine has available
 (:func:`available_memory_bytes`) or above :data:`MAX_WORK_S` of estimated work,
 it raises :class:`WorkloadError` with the estimate and a suggestion; above :data:`REPORT_AFTER_S`
 the caller prints the estimate (:meth:`Workload.describe`) before it starts.
 
-The per-unit costs are measured on the development machine (AMD EPYC, 2 cores, 24 GB, Python
-3.11, /usr/bin/time on the real command line; figures in benchmarks/RESULTS.md, blocks
-"geometry/model/workload.py: measured per-unit costs" and "bench_durable_sweep.py"); other machines differ
-by a small factor, which is what an estimate is for.
+The per-unit costs are fitted to measurements on the development machine (benchmarks/RESULTS.md, blocks
+"geometry/model/workload.py: measured per-unit costs", "bench_montecarlo.py" and "bench_durable_sweep.py");
+other machines differ by a small factor, which is what an estimate is for.
 """
 
 from __future__ import annotations
@@ -23,36 +22,28 @@ from rvcoax.fem.errors import RvcoaxError
 
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
            "BeamSize", "MAX_WORK_S", "REPORT_AFTER_S", "SAMPLE_BYTES", "SAMPLE_CASE_S", "SAMPLE_CASE_S_SOLID",
-           "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check",
+           "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check_workload",
            "check_cases", "check_study", "check_workers", "count_text", "duration_text", "rig_problem", "size_text",
            "study_workload", "sweep_workload"]
 
 MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
 REPORT_AFTER_S = 5.0  # work estimated longer than this is announced before it starts
-BASE_BYTES = 0.2e9  # interpreter, numpy/scipy/rich, the rig's beam model (measured: 160 MB peak RSS, 1-case sweep)
 
-# sweep: end to end per load case (superposition, equilibrium check, journal line, sweep.csv/_paths.csv/.json):
-# 4000 cases of the reference rig took 20.2 s and 344 MB peak RSS against 2.2 s and 161 MB for one case
-SWEEP_CASE_S = 4.5e-3
-SWEEP_CASE_BYTES = 46e3
-# beam model per node (assembly, support and sag checks, factorisation, unit solves): reference rig with
-# max_element_length_mm = 0.05 (40,153 nodes) 17.2 s / 524 MB, 0.02 mm (100,315 nodes) 49.6 s / 1.01 GB
-BEAM_NODE_S = 0.48e-3
-BEAM_NODE_BYTES = 9.0e3
-# ... plus a term in nodes × springs (node look-ups per spring): 3,000 extra parts, each on a mount
-# (9,458 nodes, 3,020 springs) took 24.8 s against 6.1 s for 1,000 (3,458 nodes, 1,020 springs)
-BEAM_NODE_SPRING_S = 5.8e-7
-# ... plus a term in elements × segments of a part (each element looks up its segment): a part of 9,000
-# segments (9,427 nodes) took 6.6 s to build
-BEAM_ELEMENT_SEGMENT_S = 1.5e-7
-# a local Dask worker process (distributed, rvcoax imported, the study's model): ~0.25 GB resident
-WORKER_BYTES = 0.25e9
-# a Monte Carlo / sensitivity sample, per load case, by reuse strategy (bench_montecarlo.py, 2026-11-21,
-# example_tolerances.toml, 2 load cases per sample, serial): loads 3.8 ms, frame 12.6 ms (21.6 ms end to end
-# with the sample files), full 80.4 ms per sample; hybrid (4 mm mesh) 14.6 s per sample
+# Per-unit costs. Each value is fitted to a measurement in benchmarks/RESULTS.md, block
+# "geometry/model/workload.py: measured per-unit costs" (and, for the samples, "bench_montecarlo.py");
+# the table there gives the run behind each constant. Re-measure there, not here.
+BASE_BYTES = 0.2e9  # interpreter, numpy/scipy/rich and the rig's beam model: a 1-case sweep's peak RSS
+SWEEP_CASE_S = 4.5e-3  # sweep end to end per load case: superposition, equilibrium check, journal, result files
+SWEEP_CASE_BYTES = 46e3  # … and its memory per load case
+BEAM_NODE_S = 0.48e-3  # beam model per node: assembly, support and sag checks, factorisation, unit solves
+BEAM_NODE_BYTES = 9.0e3  # … and its memory per node
+BEAM_NODE_SPRING_S = 5.8e-7  # … plus a term in nodes × springs (node look-ups per spring)
+BEAM_ELEMENT_SEGMENT_S = 1.5e-7  # … plus a term in elements × segments of a part (segment look-ups)
+WORKER_BYTES = 0.25e9  # a local Dask worker process: distributed, rvcoax and the study's beam model, resident
+# a Monte Carlo / sensitivity sample, per load case, by reuse strategy (beam model; serial)
 SAMPLE_CASE_S = {"loads": 2.5e-3, "frame": 10.8e-3, "full": 40.2e-3}
-SAMPLE_CASE_S_SOLID = 7.3
-SAMPLE_BYTES = 2e3
+SAMPLE_CASE_S_SOLID = 7.3  # … hybrid or solid model (4 mm mesh), per load case
+SAMPLE_BYTES = 2e3  # per sample and load case: what its record keeps in memory
 
 
 def available_memory_bytes() -> float | None:
@@ -125,15 +116,42 @@ def size_text(n_bytes: float) -> str:
 
 
 def count_text(n: float) -> str:
-    """``9,000,000``, or ``1e+15`` beyond what a thousands separator makes readable."""
+    """``9,000,000``, or ``1e+15`` beyond what a thousands separator makes readable.
+
+    Parameters
+    ----------
+    n : float
+        A count.
+
+    Returns
+    -------
+    str
+        The count with thousands separators, or in exponent notation when very large.
+    """
     return f"{n:,.0f}" if n < 1e12 else f"{n:.3g}"
 
 
-def check(workload: Workload, subject: str, suggestion: str) -> Workload:
+def check_workload(workload: Workload, subject: str, suggestion: str) -> Workload:
     """Raise :class:`WorkloadError` when ``workload`` exceeds the memory available or :data:`MAX_WORK_S`.
 
-    ``subject`` names the input (file or option), ``suggestion`` says what to do instead. Returns
-    ``workload`` when it fits.
+    Parameters
+    ----------
+    workload : Workload
+        The estimate.
+    subject : str
+        The input that asks for the work (file or option).
+    suggestion : str
+        What to do instead, appended to the message.
+
+    Returns
+    -------
+    Workload
+        ``workload``, when it fits.
+
+    Raises
+    ------
+    WorkloadError
+        With the estimate, what is available and ``suggestion``.
     """
     room = available_memory_bytes()
     if room is not None and workload.bytes_needed > room:
@@ -147,16 +165,49 @@ def check(workload: Workload, subject: str, suggestion: str) -> Workload:
 
 
 def sweep_workload(n_cases: int, what: str | None = None) -> Workload:
-    """A sweep of ``n_cases`` load cases on the beam model (solving, journal, result files)."""
+    """A sweep of ``n_cases`` load cases on the beam model (solving, journal, result files).
+
+    Parameters
+    ----------
+    n_cases : int
+        How many load cases.
+    what : str, optional
+        The cases in the user's terms; default ``"N load cases"``.
+
+    Returns
+    -------
+    Workload
+        Estimated time and peak memory.
+    """
     return Workload(what or f"{count_text(n_cases)} load cases", SWEEP_CASE_S * n_cases,
                     BASE_BYTES + SWEEP_CASE_BYTES * n_cases)
 
 
 def check_cases(n_cases: int, subject: str, what: str | None = None) -> Workload:
-    """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid)."""
+    """Refuse a sweep of ``n_cases`` that would not fit (before the cases are built, for a grid).
+
+    Parameters
+    ----------
+    n_cases : int
+        How many load cases.
+    subject : str
+        The input that asks for them (``--grid``, a load-case file), for the message.
+    what : str, optional
+        The cases in the user's terms; default ``"N load cases"``.
+
+    Returns
+    -------
+    Workload
+        The estimate, when it fits.
+
+    Raises
+    ------
+    WorkloadError
+        Naming ``subject``, the estimate and how many cases would fit.
+    """
     fitting = _largest_fitting(sweep_workload)
-    return check(sweep_workload(n_cases, what), subject,
-                 f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
+    return check_workload(sweep_workload(n_cases, what), subject,
+                          f"split the load cases into sweeps of at most {count_text(fitting)} cases (each with its own --out)")
 
 
 def _largest_fitting(workload_of) -> int:
@@ -199,6 +250,16 @@ def beam_size(rig) -> BeamSize:
 
     Each part has a node at each segment end and at each place something refers to, and elements
     at most ``mesh.max_element_length_mm`` long in between: counted, not built.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig; its beam model is counted, not built.
+
+    Returns
+    -------
+    BeamSize
+        Nodes, springs and element × segment pairs; ``.workload(max_element_length_mm)`` estimates the build.
     """
     length = rig.mesh.max_element_length_mm
     springs = len(rig.bearings) + len(rig.mounts) + len(rig.couplings) + len(rig.joints)
@@ -213,7 +274,18 @@ def beam_size(rig) -> BeamSize:
 
 
 def rig_problem(rig) -> str | None:
-    """Why ``rig``'s beam model is too large to build here (with the estimate and a suggestion), or None."""
+    """Why ``rig``'s beam model is too large to build here (with the estimate and a suggestion), or None.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig, before its beam model is built.
+
+    Returns
+    -------
+    str or None
+        The reason, naming the rig-file keys that set the size; None when the model fits.
+    """
     size = beam_size(rig)
     length = rig.mesh.max_element_length_mm
     workload = size.workload(length)
@@ -222,7 +294,7 @@ def rig_problem(rig) -> str | None:
     suggestion = (f"raise [mesh] max_element_length_mm to {coarser:.2g} mm or more (5 mm is the default), "
                   "or describe the rig with fewer parts and segments")
     try:
-        check(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
+        check_workload(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
     except WorkloadError as error:
         return str(error)
     return None
@@ -232,7 +304,25 @@ def rig_problem(rig) -> str | None:
 
 
 def check_workers(workers: int | None, option: str = "--workers") -> int | None:
-    """Refuse more local Dask workers than this machine has cores for, or memory for."""
+    """Refuse more local Dask workers than this machine has cores for, or memory for.
+
+    Parameters
+    ----------
+    workers : int or None
+        Requested local worker processes; None leaves the choice to Dask.
+    option : str
+        The option, for the message.
+
+    Returns
+    -------
+    int or None
+        ``workers``, when the machine can run them.
+
+    Raises
+    ------
+    WorkloadError
+        Naming the option, the cores and memory available, and a number that fits.
+    """
     if workers is None:
         return None
     cores = os.cpu_count() or 1
@@ -257,8 +347,36 @@ def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, mo
 
 def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, model: str = "beam",
                 strategy: str = "full") -> Workload:
-    """Refuse a study design too large for this machine, before it is drawn."""
+    """Refuse a study design too large for this machine, before it is drawn.
+
+    Parameters
+    ----------
+    n_solves : int
+        Samples (Monte Carlo) or model runs (sensitivity design).
+    n_parameters : int
+        Toleranced parameters.
+    n_cases : int
+        Load cases each sample solves.
+    option : str
+        The option that sets the size (``--samples``), for the message.
+    what : str
+        The study in the user's terms.
+    model : str
+        ``beam``, ``hybrid`` or ``solid``.
+    strategy : str
+        What a sample re-assembles (``loads``, ``frame``, ``full``).
+
+    Returns
+    -------
+    Workload
+        Time and memory of the whole study, when they fit.
+
+    Raises
+    ------
+    WorkloadError
+        Naming ``option``, the estimate and the largest size that fits.
+    """
     fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy))
-    return check(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
-                 f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
-                 "Dask cluster in parts with --resume")
+    return check_workload(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
+                          f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
+                          "Dask cluster in parts with --resume")

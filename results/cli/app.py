@@ -124,10 +124,10 @@ def main(
 
 def run() -> None:
     """Console-script entry point."""
-    from rvcoax.fem import blas_threads, hugepages
+    from rvcoax.fem import avoid_compaction_stalls, single_threaded_openblas
 
-    hugepages.avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
-    blas_threads.single_threaded_openblas()  # process-wide too: see fem/blas_threads.py
+    avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
+    single_threaded_openblas()  # process-wide too: see fem/blas_threads.py
     app()
 
 

@@ -50,18 +50,20 @@ def check(
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
-    from rvcoax.geometry.builtin import is_reference_rig
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.loadcases.cases import paper_table
-    from rvcoax.results.io.result_files import write_check
-    from rvcoax.results.studies.check import EXIT_OUTSIDE, EXIT_WITHIN, QUANTITIES
-    from rvcoax.results.studies.check_run import NO_TABLE_HELP, CalibrationError, fit_output_torques, run_check
+    from rvcoax import is_reference_rig, load_rig, paper_table, run_check, write_check
+    from rvcoax.results.studies import (
+        CHECK_QUANTITIES,
+        EXIT_OUTSIDE,
+        EXIT_WITHIN,
+        NO_TABLE_HELP,
+        CalibrationError,
+        fit_output_torques,
+    )
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
     if measured is not None:
-        from rvcoax.results.studies.check import measured_rows
-        from rvcoax.results.studies.discrepancy.measured import read_measured
+        from rvcoax import measured_rows, read_measured
 
         lengths = {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}
         rows, table_name = measured_rows(read_measured(measured), lengths), f"measured ({measured})"
@@ -90,7 +92,7 @@ def check(
     support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
         f"({blind_result.worst_quantity}, T2 = {rows[blind_result.worst_row].case.output_torque_Nm:g} N·m); "
-        f"{blind_result.failures} of {len(rows) * len(QUANTITIES)} values outside tolerance."
+        f"{blind_result.failures} of {len(rows) * len(CHECK_QUANTITIES)} values outside tolerance."
     )
     worst = rows[result.worst_row].case
     support.console.print(

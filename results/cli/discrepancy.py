@@ -26,7 +26,7 @@ __all__ = ["register"]
 
 
 def _print_result(result, lengths_mm) -> None:
-    from rvcoax.results.studies.discrepancy.report import engineering_summary, rms_table
+    from rvcoax.results.studies.discrepancy import engineering_summary, rms_table
 
     message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
                "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and "
@@ -140,13 +140,15 @@ def register(app: typer.Typer) -> None:
         (unexplained: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when a
         discrepancy remains.
         """
-        from rvcoax.geometry.rigfile import load_rig
-        from rvcoax.geometry.rigwrite import updated_rig_text
-        from rvcoax.results.io import records as sweep_report
-        from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
-        from rvcoax.results.studies.discrepancy import report
-        from rvcoax.results.studies.discrepancy.measured import MeasuredDataError, read_measured
-        from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
+        from rvcoax import DiscrepancySettings, load_rig, read_measured, run_discrepancy
+        from rvcoax.geometry import updated_rig_text
+        from rvcoax.results.io import rvcoax_version, write_csv_atomic, write_json_atomic, write_text_atomic
+        from rvcoax.results.studies.discrepancy import (
+            MeasuredDataError,
+            discrepancy_document,
+            observation_rows,
+            plot_discrepancy,
+        )
 
         try:
             data = read_measured(measured)
@@ -155,7 +157,7 @@ def register(app: typer.Typer) -> None:
         rig = load_rig(rig_file)
         candidates = None
         if effects:
-            from rvcoax.geometry.effects import candidate_effects
+            from rvcoax.geometry import candidate_effects
 
             candidates = tuple(e.strip() for e in effects.split(",") if e.strip())
             known = {e.name for e in candidate_effects(rig)} | {e.kind for e in candidate_effects(rig)}
@@ -163,13 +165,13 @@ def register(app: typer.Typer) -> None:
             if unknown:
                 raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
                                 + ", ".join(sorted({e.kind for e in candidate_effects(rig)})))
-        from rvcoax.geometry.effects import candidate_effects as library_of
-        from rvcoax.geometry.model.workload import REPORT_AFTER_S, check
-        from rvcoax.results.studies.discrepancy.workflow import discrepancy_workload
+        from rvcoax.geometry import candidate_effects as library_of
+        from rvcoax.geometry.model import REPORT_AFTER_S, check_workload
+        from rvcoax.results.studies.discrepancy import discrepancy_workload
 
         n_candidates = sum(1 for e in library_of(rig)
                            if candidates is None or e.name in candidates or e.kind in candidates)
-        workload = check(discrepancy_workload(data, n_candidates), f"measured data {measured}",
+        workload = check_workload(discrepancy_workload(data, n_candidates), f"measured data {measured}",
                          "thin the stations or load cases (the workflow's time grows with cases × candidates), "
                          "or name fewer candidates with --effects")
         if workload.seconds > REPORT_AFTER_S:
@@ -199,7 +201,7 @@ def register(app: typer.Typer) -> None:
                     original, result.rig_after,
                     note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
                     header=warning + [
-                        f"{'Candidate' if candidate else 'Updated'} by rvcoax {sweep_report.rvcoax_version()} "
+                        f"{'Candidate' if candidate else 'Updated'} by rvcoax {rvcoax_version()} "
                         f"discrepancy workflow from {source}",
                         f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
                     + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in
@@ -207,10 +209,10 @@ def register(app: typer.Typer) -> None:
                        + f" (ΔBIC {s.delta_bic:.1f})" for s in result.selected])
                 rig_path = write_text_atomic(out / ("rig_candidate.toml" if candidate else "rig_updated.toml"), text)
                 written.append(rig_path)
-            written.append(write_json_atomic(out / "discrepancy.json", report.document(
-                result, lengths, None if rig_path is None else str(rig_path), sweep_report.rvcoax_version())))
-            written.append(write_csv_atomic(out / "discrepancy_observations.csv", report.observation_rows(result)))
-            written.append(report.plot(result, lengths, out / "discrepancy.png", title=rig.rig.name))
+            written.append(write_json_atomic(out / "discrepancy.json", discrepancy_document(
+                result, lengths, None if rig_path is None else str(rig_path), rvcoax_version())))
+            written.append(write_csv_atomic(out / "discrepancy_observations.csv", observation_rows(result)))
+            written.append(plot_discrepancy(result, lengths, out / "discrepancy.png", title=rig.rig.name))
             for path in written:
                 console.print(f"wrote {escape(str(path))}")
         raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)

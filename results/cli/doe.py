@@ -16,11 +16,11 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
-from rvcoax.loadcases.limits import MAX_TORQUE_NM
+from rvcoax.geometry import InputFileError, csv_rows, plain_number, read_input_text
+from rvcoax.loadcases import MAX_TORQUE_NM
 from rvcoax.results.cli import support as options
 from rvcoax.results.cli.support import UserError, console, guard, sweep_settings
-from rvcoax.results.studies.doe.limits import ALPHA_RANGE, POOL_BELOW_F_RANGE
+from rvcoax.results.studies.doe import ALPHA_RANGE, POOL_BELOW_F_RANGE
 
 __all__ = ["AlphaOption", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command", "doe_analyze",
            "doe_app", "doe_rig", "register"]
@@ -38,7 +38,7 @@ TORQUE_RANGE_NM = (-MAX_TORQUE_NM, MAX_TORQUE_NM)
 GoalOption = Annotated[str, typer.Option("--goal", help="min (smaller response is better) or max.")]
 
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
-    from rvcoax.results.studies.doe.analysis import Analysis
+    from rvcoax.results.studies.doe import Analysis
 
 
 def register(app: typer.Typer) -> None:
@@ -50,8 +50,7 @@ def register(app: typer.Typer) -> None:
 # -- doe analyze ---------------------------------------------------------------------------------
 def _terms_option(text: str, n_factors: int):
     """(terms or keyword, published coefficients or None) from --terms."""
-    from rvcoax.results.studies.doe.design import MAX_TABLE_BYTES
-    from rvcoax.results.studies.doe.regression import parse_term
+    from rvcoax.results.studies.doe import MAX_TABLE_BYTES, parse_term
 
     if text in ("auto", "full", "stepwise"):
         return text, None
@@ -124,7 +123,7 @@ def _anova_table(table, title: str) -> Table:
 
 
 def _print_analysis(analysis: Analysis, published_coefficients=None) -> None:
-    from rvcoax.results.studies.doe.report import combination_label, regression_document
+    from rvcoax.results.studies.doe import combination_label, regression_document
 
     design = analysis.design
     console.print(f"[bold]{escape(design.response_name)}[/]: {len(design.runs)} runs, factors "
@@ -190,9 +189,8 @@ def doe_analyze(
     json_file: Annotated[Path | None, typer.Option("--json", help="Write range, anova and regression to this JSON file.")] = None,
 ) -> None:
     """Analyse an orthogonal experiment: range analysis, ANOVA with pooling, optimal levels, regression."""
-    from rvcoax.results.io.writers import write_json_atomic
-    from rvcoax.results.studies.doe.design import DesignError, read_design, read_levels
-    from rvcoax.results.studies.doe.report import analyse, analysis_document
+    from rvcoax.results.io import write_json_atomic
+    from rvcoax.results.studies.doe import DesignError, analyse, analysis_document, read_design, read_levels
 
     if goal not in ("min", "max"):
         raise UserError(f"--goal: must be min or max, got '{goal}'")
@@ -219,9 +217,8 @@ def doe_analyze(
 
 # -- doe rig -------------------------------------------------------------------------------------
 def _study_outputs(result, analyses: list[Analysis], out: Path, rig_source: str, model: str) -> list[Path]:
-    from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
-    from rvcoax.results.studies.doe.report import analysis_document, anova_rows, plot_main_effects
-    from rvcoax.results.studies.doe.rig_study import run_values
+    from rvcoax.results.io import write_csv_atomic, write_json_atomic
+    from rvcoax.results.studies.doe import analysis_document, anova_rows, plot_main_effects, run_values
 
     stem = result.array.name.lower()
     design = analyses[0].design
@@ -274,9 +271,8 @@ def doe_rig(
     main-effects PNG."""
     from rich.progress import Progress
 
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.results.studies.doe.report import analyse
-    from rvcoax.results.studies.doe.rig_study import StudyError, load_study, run_study
+    from rvcoax import load_rig
+    from rvcoax.results.studies.doe import StudyError, analyse, load_study, run_study
 
     settings = sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
@@ -310,8 +306,8 @@ def chain_error_command(
     t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
     t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
     tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
-    a_input_mm: Annotated[float | None, options.number_option("--a-input-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
-    a_output_mm: Annotated[float | None, options.number_option("--a-output-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", help="Radial offset a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003).")] = None,
+    a_input_mm: Annotated[float | None, options.number_option("--input-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-input-mm",), help="Radial displacement a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
+    a_output_mm: Annotated[float | None, options.number_option("--output-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-output-mm",), help="Radial displacement a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003, IT3).")] = None,
     model: options.ModelOption = "beam",
     out: options.OutOption = None,
 ) -> None:
@@ -319,13 +315,12 @@ def chain_error_command(
     with the coaxiality terms (tilt β and radial offset a of the input and output shafts) from a sweep of the rig."""
     import numpy as np
 
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.loadcases.cases import LoadCase
-    from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
-    from rvcoax.results.studies.chain_error import (
+    from rvcoax import LoadCase, load_rig
+    from rvcoax.results.io import write_csv_atomic, write_json_atomic
+    from rvcoax.results.studies import (
         ChainDataError,
         Coaxiality,
-        chain_error,
+        evaluate_chain_error,
         load_chain_model,
         read_stage_forces,
         torsion_constant_deg_per_m,
@@ -341,7 +336,7 @@ def chain_error_command(
         raise UserError(str(error)) from None
     shafts = {"input": Coaxiality(), "output": Coaxiality()}
     if tilt == "sweep":
-        from rvcoax.results.sweep import run_sweep
+        from rvcoax import run_sweep
 
         sweep = run_sweep(rig, (LoadCase(t1, t2),), sweep_settings(model))
         overrides = {"input": a_input_mm, "output": a_output_mm}
@@ -349,11 +344,11 @@ def chain_error_command(
             shafts = {s: Coaxiality(p.beta_deg, p.y_max_mm if overrides[s] is None else overrides[s])
                       for s, p in sweep.cases[0].paths.items()}
         except ValueError as error:
-            raise UserError(f"--a-input-mm/--a-output-mm: {error}") from None
+            raise UserError(f"--input-radial-mm/--output-radial-mm: {error}") from None
         console.print(f"β and a from the {model} model at T1 = {t1:g}, T2 = {t2:g} N·m (Y measured from "
                       f"{rig.paths.measured_from}): " + "; ".join(
                           f"{s} β = {c.beta_deg:.4g}°, a = {c.offset_mm:.4g} mm" for s, c in shafts.items()))
-    result = chain_error(chain, stage_forces, shafts["input"], shafts["output"])
+    result = evaluate_chain_error(chain, stage_forces, shafts["input"], shafts["output"])
     table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",
                   title_justify="left")
     for column in ("component", "θ", "stages loaded", "G GPa", "C °/m", "transfer", "part twist °",

@@ -24,7 +24,7 @@ FORMATS = ("json", "csv", "adams", "ross")
 
 def _summary(export) -> Table:
     """Largest coupling misalignment and bearing force over the cases (measured reference)."""
-    from rvcoax.results.export.dynamics import bearing_rows, coupling_rows
+    from rvcoax.results.export import bearing_rows, coupling_rows
 
     table = Table(title=f"over {len(export.sweep.cases)} cases, from the {export.measured_from} state",
                   title_justify="left")
@@ -42,7 +42,7 @@ def _summary(export) -> Table:
 
 def _check_adams_cases(cases) -> None:
     """Refuse, before solving, cases that cannot make the ADAMS splines."""
-    from rvcoax.results.export.adams import AdamsExportError, spline_layout
+    from rvcoax.results.export import AdamsExportError, spline_layout
 
     try:
         for shaft in MEASURED_SHAFTS:
@@ -52,8 +52,8 @@ def _check_adams_cases(cases) -> None:
 
 
 def _write_adams(export, out: Path) -> list[Path]:
-    from rvcoax.results.export.adams import AdamsExportError, adams_fragment, parse_adm
-    from rvcoax.results.io.writers import write_text_atomic
+    from rvcoax.results.export import AdamsExportError, adams_fragment, parse_adm
+    from rvcoax.results.io import write_text_atomic
 
     try:
         text = adams_fragment(export)
@@ -76,14 +76,14 @@ def _save_rotor(rotor, path: Path) -> Path:
 
 
 def _write_ross(export, out: Path) -> list[Path]:
-    from rvcoax.results.export.ross import (
+    from rvcoax.results.export import (
         RossUnavailableError,
         compare_static,
         import_ross,
         misalignment_fault,
         misalignment_parameters,
     )
-    from rvcoax.results.io.writers import write_csv_atomic
+    from rvcoax.results.io import write_csv_atomic
 
     try:
         ross = import_ross()
@@ -105,7 +105,7 @@ def _write_ross(export, out: Path) -> list[Path]:
         static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
                    for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
         written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor.toml"))
-        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.name.split(":")[1] for s in line.supports),
+        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.spring.name for s in line.supports),
                       f"{comparison.largest_sag_m * 1e9:.4g}", f"{abs(comparison.ross_uy_m).max() * 1e9:.4g}",
                       f"{comparison.relative_difference:.1e}")
     written.append(write_csv_atomic(out / "ross_misalignment.csv", faults))
@@ -116,7 +116,7 @@ def _write_ross(export, out: Path) -> list[Path]:
 
 def register(app: typer.Typer) -> None:
     """Add ``rvcoax export`` to ``app``."""
-    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax import load_rig
 
 
     @app.command()
@@ -135,23 +135,23 @@ def register(app: typer.Typer) -> None:
         grid: support.GridOption = False,
         input_radial_mm: Annotated[float | None, support.number_option(
             "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the input shaft in mm (default 0.002, IT3, paper 000).")] = None,
+            help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
         output_radial_mm: Annotated[float | None, support.number_option(
             "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the output shaft in mm (default 0.003, IT3, paper 000).")] = None,
+            help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
         solver: support.SolverOption = "auto",
         mesh_size_mm: support.MeshOption = None,
     ) -> None:
         """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
         000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
-        from rvcoax.results.connections import ConnectionsUnavailableError
-        from rvcoax.results.export.dynamics import dynamics_export, write_csv, write_json
+        from rvcoax.results import ConnectionsUnavailableError
+        from rvcoax.results.export import dynamics_export, write_dynamics_csv, write_dynamics_json
 
         if output_format not in FORMATS:
             raise support.UserError(f"--format: '{output_format}' is not one of {', '.join(FORMATS)}")
         radial = {"input": input_radial_mm, "output": output_radial_mm}
         if output_format == "ross":
-            from rvcoax.results.export.ross import RossUnavailableError, import_ross
+            from rvcoax.results.export import RossUnavailableError, import_ross
 
             try:  # before solving: a missing optional package should not cost a sweep
                 import_ross()
@@ -167,13 +167,13 @@ def register(app: typer.Typer) -> None:
         try:
             exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
         except ConnectionsUnavailableError as error:
-            raise support.UserError(f"rig file {rig or 'built-in reference_rig.toml'}: cannot export: {error}") from None
+            raise support.UserError(f"rig file {rig_file or 'built-in reference_rig.toml'}: cannot export: {error}") from None
         support.console.print(_summary(exported))
         if output_format == "json":
             source, text = support.rig_text(rig_file)
-            written = [write_json(exported, out / "dynamics.json", source, text)]
+            written = [write_dynamics_json(exported, out / "dynamics.json", source, text)]
         elif output_format == "csv":
-            written = write_csv(exported, out)
+            written = write_dynamics_csv(exported, out)
         elif output_format == "adams":
             written = _write_adams(exported, out)
         else:

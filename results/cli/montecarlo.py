@@ -63,13 +63,18 @@ def _progress() -> Progress:
                     disable=not console.is_terminal)
 
 
-def _setup(rig_path, tolerances_path, model, mesh_size_mm):
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, parameters_needing, plan_study
-    from rvcoax.results.studies.tolerances import ToleranceFileError, load_tolerances
+def _setup(rig_file, tolerances_path, model, mesh_size_mm):
+    from rvcoax import load_rig
+    from rvcoax.results.studies import (
+        STRATEGY_TEXT,
+        ToleranceFileError,
+        load_tolerances,
+        parameters_needing,
+        plan_study,
+    )
 
     settings = sweep_settings(model, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_path)
+    rig = load_rig(rig_file)
     try:
         tolerances = load_tolerances(tolerances_path, rig)
     except ToleranceFileError as error:
@@ -88,15 +93,13 @@ def _setup(rig_path, tolerances_path, model, mesh_size_mm):
 def _nominal(study) -> dict:
     """Solve the nominal rig in this process first: a model error shows before any cluster starts."""
     from rvcoax.geometry import MEASURED_SHAFTS
-    from rvcoax.results.studies import tolerance_report as report
-    from rvcoax.results.studies.montecarlo import evaluate_sample
-    from rvcoax.results.studies.tolerances import parameter_value
+    from rvcoax.results.studies import case_label, evaluate_sample, parameter_value
 
     values = [parameter_value(study.rig, a) for a in study.addresses]
     with console.status("solving the nominal rig"):
         result = evaluate_sample(study, values)
     for c, case in enumerate(study.cases):
-        console.print(f"nominal, {report.case_label(case)}: "
+        console.print(f"nominal, {case_label(case)}: "
                       + ", ".join(f"Y_{s} = {result['Y_max_mm'][c][i]:.4g} mm (β {result['beta_deg'][c][i]:.3g}°)"
                                   for i, s in enumerate(MEASURED_SHAFTS)))
     return {"values": dict(zip(study.addresses, values)), **result}
@@ -104,8 +107,7 @@ def _nominal(study) -> dict:
 
 def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool,
              setup_seconds: float | None = None):
-    from rvcoax.results.studies.distributed import ClusterError, ResumeError, SampleError, run_samples
-    from rvcoax.results.studies.montecarlo import evaluate_sample
+    from rvcoax.results.studies import ClusterError, ResumeError, SampleError, evaluate_sample, run_samples
 
     where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
         scheduler == "auto") else (
@@ -134,7 +136,7 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
 
 def _check_size(n_solves: int, tol, study, option: str, what: str) -> None:
     """Refuse a design too large for this machine before it is drawn; announce a long one."""
-    from rvcoax.geometry.model.workload import REPORT_AFTER_S, check_study
+    from rvcoax.geometry.model import REPORT_AFTER_S, check_study
 
     work = check_study(n_solves, len(tol.parameters), len(study.cases), option,
                        f"{what} × {len(study.cases)} load case(s)", study.settings.model, study.strategy)
@@ -164,10 +166,18 @@ def montecarlo(
     Writes montecarlo_samples.csv (every sample), montecarlo_distribution.csv, montecarlo_exceedance.csv,
     montecarlo.json and montecarlo_beta_histogram.png.
     """
-    from rvcoax.geometry.model.workload import check_workers, count_text
-    from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
-    from rvcoax.results.studies import tolerance_report as report
-    from rvcoax.results.studies.sampling import SAMPLING_METHODS, sample_values
+    from rvcoax.geometry.model import check_workers, count_text
+    from rvcoax.results.io import write_csv_atomic, write_json_atomic
+    from rvcoax.results.studies import (
+        SAMPLING_METHODS,
+        distribution_rows,
+        exceedance_rows,
+        exceedances,
+        plot_beta_histograms,
+        sample_rows,
+        sample_values,
+        study_document,
+    )
 
     scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
@@ -183,19 +193,19 @@ def montecarlo(
     nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
-    found = report.exceedances(study, tol, records)
+    found = exceedances(study, tol, records)
     source, text = rig_text(rig_file)
-    document = report.study_document(study, tol, source, text,
+    document = study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
                                      run, nominal)
-    document["distribution"] = report.distribution_rows(study, records)
-    document["exceedance"] = report.exceedance_rows(study, found)
+    document["distribution"] = distribution_rows(study, records)
+    document["exceedance"] = exceedance_rows(study, found)
     written = [
-        write_csv_atomic(out / "montecarlo_samples.csv", report.sample_rows(study, values, records)),
+        write_csv_atomic(out / "montecarlo_samples.csv", sample_rows(study, values, records)),
         write_csv_atomic(out / "montecarlo_distribution.csv", document["distribution"]),
         write_csv_atomic(out / "montecarlo_exceedance.csv", document["exceedance"]),
         write_json_atomic(out / "montecarlo.json", document),
-        report.plot_beta_histograms(study, tol, records, found, out / "montecarlo_beta_histogram.png"),
+        plot_beta_histograms(study, tol, records, found, out / "montecarlo_beta_histogram.png"),
     ]
     console.print(_distribution_table(study, records, found))
     report_written(written)
@@ -205,13 +215,13 @@ def _distribution_table(study, records, found) -> Table:
     import numpy as np
 
     from rvcoax.geometry import MEASURED_SHAFTS
-    from rvcoax.results.studies import tolerance_report as report
+    from rvcoax.results.studies import stack_records
 
     table = Table(title="Y and β over the samples, and P(β > limit)", title_justify="left")
     for column in ("T1 N·m", "T2 N·m", "shaft", "Y mean mm", "Y 95 % mm", "β mean °", "β 95 % °", "β max °",
                    "limit", "P(β > limit) [interval]"):
         table.add_column(column, justify="right")
-    y, beta = report.stack(records, "Y_max_mm"), report.stack(records, "beta_deg")
+    y, beta = stack_records(records, "Y_max_mm"), stack_records(records, "beta_deg")
     for c, case in enumerate(study.cases):
         for s, shaft in enumerate(MEASURED_SHAFTS):
             limits = [(limit, e) for cc, limit, e in found if cc == c and limit.shaft == shaft] or [(None, None)]
@@ -243,18 +253,24 @@ def sensitivity(
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
     from rvcoax.geometry import MEASURED_SHAFTS
-    from rvcoax.geometry.model.workload import check_workers, count_text
-    from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
-    from rvcoax.results.studies import tolerance_report as report
-    from rvcoax.results.studies.sampling import to_values
-    from rvcoax.results.studies.sensitivity import (
+    from rvcoax.geometry.model import check_workers, count_text
+    from rvcoax.results.io import write_csv_atomic, write_json_atomic
+    from rvcoax.results.studies import (
         SENSITIVITY_METHODS,
+        case_label,
         design_runs,
         morris_design,
         morris_indices,
         morris_values,
+        plot_indices,
+        ranking,
+        sample_rows,
+        sensitivity_rows,
         sobol_design,
         sobol_indices,
+        stack_records,
+        study_document,
+        to_values,
     )
 
     scheduler_address(scheduler)
@@ -276,30 +292,30 @@ def sensitivity(
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
-    beta = report.stack(records, "beta_deg")
+    beta = stack_records(records, "beta_deg")
     found = {}
     for c in range(len(study.cases)):
         for s, shaft in enumerate(MEASURED_SHAFTS):
             found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, tol.confidence_level) if method == "sobol"
                                  else morris_indices(points, beta[:, c, s], seed, tol.confidence_level))
     source, text = rig_text(rig_file)
-    document = report.study_document(study, tol, source, text,
+    document = study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
                                       "solves": len(values)}, run, nominal)
-    document["indices"] = report.sensitivity_rows(study, tol, found)
+    document["indices"] = sensitivity_rows(study, tol, found)
     written = [
         write_csv_atomic(out / "sensitivity_indices.csv", document["indices"]),
-        write_csv_atomic(out / "sensitivity_samples.csv", report.sample_rows(study, values, records)),
+        write_csv_atomic(out / "sensitivity_samples.csv", sample_rows(study, values, records)),
         write_json_atomic(out / "sensitivity.json", document),
-        report.plot_indices(study, tol, found, out / "sensitivity_indices.png"),
+        plot_indices(study, tol, found, out / "sensitivity_indices.png"),
     ]
     for (c, shaft), indices in found.items():
         if indices.constant:
-            console.print(f"β {shaft}, {report.case_label(study.cases[c])}: does not vary with these parameters")
+            console.print(f"β {shaft}, {case_label(study.cases[c])}: does not vary with these parameters")
             continue
-        ranked = report.ranking(indices, tol.addresses)
+        ranked = ranking(indices, tol.addresses)
         measure = "ST" if method == "sobol" else "μ* (°)"
-        console.print(f"β {shaft}, {report.case_label(study.cases[c])}: tighten first "
+        console.print(f"β {shaft}, {case_label(study.cases[c])}: tighten first "
                       + "; ".join(f"{escape(name)} ({measure} {score:.3g})" for name, score in ranked[:3]))
     report_written(written)
 

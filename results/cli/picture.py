@@ -26,10 +26,9 @@ def picture(
 ) -> None:
     """Off-screen pictures: the deformed rig per case (u_y in µm, same colour limits across the sweep,
     measured paths drawn) and Y against torque with the published points."""
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.loadcases.cases import default_is_paper, paper_table
-    from rvcoax.results.io.pictures import RenderingUnavailableError
-    from rvcoax.results.io.sweep_pictures import draw_sweep_pictures
+    from rvcoax import draw_sweep_pictures, load_rig, paper_table
+    from rvcoax.loadcases import default_is_paper
+    from rvcoax.results.io import RenderingUnavailableError
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)

@@ -36,10 +36,8 @@ def report(
     reactions, the check against --measured, the --discrepancy result, and the provenance (version,
     rig file SHA-256, model, solver, mesh, date).
     """
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.results.io.report import read_discrepancy, write_report
-    from rvcoax.results.io.report_pdf import print_pdf
-    from rvcoax.results.studies.discrepancy.measured import read_measured
+    from rvcoax import load_rig, read_measured, write_report
+    from rvcoax.results.io import print_pdf, read_discrepancy
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)

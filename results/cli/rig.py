@@ -27,12 +27,11 @@ def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     import numpy as np
 
-    from rvcoax.geometry.model.beam import build_rig_model
-    from rvcoax.geometry.model.loads import gear_mesh_forces
-    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax import load_rig
+    from rvcoax.geometry.model import build_rig_model, gear_mesh_forces
 
     rig = load_rig(rig_file)
-    built = build_rig_model(rig)
+    frame = build_rig_model(rig)
     parts = Table(title=escape(f"{rig.rig.name}: parts (x along the drivetrain, mm)"), title_justify="left")
     for column in ("part", "role", "x from", "x to", "Ø outer mm", "material", "E GPa", "density kg/m³", "mass kg"):
         parts.add_column(column)
@@ -40,20 +39,20 @@ def rig_show(rig_file: RigOption = None) -> None:
         lo, hi = p.x_range_mm
         diameters = sorted({s.outer_diameter_mm for s in p.segments})
         material = rig.materials[p.material]
-        density = built.equivalent_density.get(p.name, material.density_kg_per_m3)
+        density = frame.equivalent_density.get(p.name, material.density_kg_per_m3)
         add_text_row(parts, p.name, p.role, f"{lo:g}", f"{hi:g}", "/".join(f"{d:g}" for d in diameters), p.material,
                       f"{material.youngs_modulus_MPa / 1e3:g}",
-                      f"{density:.0f}" + (" (equiv.)" if p.name in built.equivalent_density else ""),
-                      f"{built.part_mass_kg[p.name]:.3f}")
+                      f"{density:.0f}" + (" (equiv.)" if p.name in frame.equivalent_density else ""),
+                      f"{frame.part_mass_kg[p.name]:.3f}")
     console.print(parts)
-    console.print(f"total mass {sum(built.part_mass_kg.values()):.2f} kg; beam model: {built.structure.n_nodes} nodes, "
-                  f"{built.structure.n_dofs} DOF")
+    console.print(f"total mass {sum(frame.part_mass_kg.values()):.2f} kg; beam model: {frame.structure.n_nodes} nodes, "
+                  f"{frame.structure.n_dofs} DOF")
     springs = Table(title="Supports and connections", title_justify="left")
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)
     for b in rig.bearings:
         if b.model == "ball":
-            from rvcoax.geometry.ball_model import clearance_um_of, geometry_of
+            from rvcoax.geometry import clearance_um_of, geometry_of
 
             g = geometry_of(b)
             stiffness = (f"ball bearing {b.designation or ''} ({g.ball_count} × Ø{g.ball_diameter_m * 1e3:.3f} mm), "
@@ -92,7 +91,7 @@ def rig_show(rig_file: RigOption = None) -> None:
                      f"{np.degrees(np.arctan2(lateral[1], lateral[0])):.4g}" if np.any(lateral) else "-")
     console.print(paths)
     if rig.thermal is not None:
-        from rvcoax.geometry.thermal import free_axial_growth_um, mount_lift_um
+        from rvcoax.geometry import free_axial_growth_um, mount_lift_um
 
         grows = [f"{name} {free_axial_growth_um(rig, name):.1f}" for name in rig.thermal.temperature_rise_K]
         lifts = [f"{m.name} {mount_lift_um(rig, m):.1f}" for m in rig.mounts if mount_lift_um(rig, m)]
@@ -113,7 +112,7 @@ def rig_reference(
              "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly)")] = None,
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
-    from rvcoax.geometry.rigfile import reference_rig_text
+    from rvcoax import reference_rig_text
 
     sys.stdout.write(reference_rig_text(variant))
 
@@ -121,7 +120,7 @@ def rig_reference(
 @rig_app.command("example")
 def rig_example() -> None:
     """Print the built-in example rig of another layout (RV-40E bench, one torque sensor, 260 mm output shaft, hysteresis brake, its own load cases)."""
-    from rvcoax.geometry.builtin import example_rig_text
+    from rvcoax import example_rig_text
 
     sys.stdout.write(example_rig_text())
 

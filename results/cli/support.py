@@ -1,7 +1,7 @@
 """What every ``rvcoax`` command shares: consoles, option types, and the user-error guard.
 
 A user mistake ends with one paragraph on stderr and exit status 2, never a traceback. Command
-modules (``results/*_cli.py``) import from here and register their commands on the main app.
+modules (``results/cli/<command>.py``) import from here and register their commands on the main app.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
-from rvcoax.fem.errors import RvcoaxError, SolverError
-from rvcoax.geometry.inputfiles import plain_number
-from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
-from rvcoax.results.io.out_lock import output_folder_lock
+from rvcoax import RvcoaxError
+from rvcoax.fem import SolverError
+from rvcoax.geometry import MESH_SIZE_RANGE_MM, plain_number
+from rvcoax.results.io import output_folder_lock
 
 __all__ = ["CasesOption", "GridOption", "MeshOption", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
@@ -95,12 +95,13 @@ def finite_option(value: float | int | str, option: str, low: float, high: float
 
 
 def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", exclusive: bool = False,
-                  integer: bool = False):
+                  integer: bool = False, aliases: tuple[str, ...] = ()):
     """A ``typer.Option`` for a numeric option checked by :func:`finite_option` as it is parsed.
 
     Click's own FLOAT accepts ``nan``, ``1_00`` and ``٧٠``, and its range errors print a usage block;
     an option made here refuses those with the same one-paragraph error (exit status 2, through
-    :func:`fail`) as every other user mistake, naming the option, the range and the unit.
+    :func:`fail`) as every other user mistake, naming the option, the range and the unit. ``aliases`` are
+    older names that still work (errors name ``name``).
     """
 
     def parse(value):
@@ -110,7 +111,7 @@ def number_option(name: str, low: float, high: float, unit: str = "", help: str 
             fail(str(error))
 
     parse.__name__ = "INTEGER" if integer else "FLOAT"  # the metavar that --help shows
-    return typer.Option(name, parser=parse, help=help)
+    return typer.Option(name, *aliases, parser=parse, help=help)
 
 
 def torque_list(text: str, option: str) -> list[float]:
@@ -122,7 +123,7 @@ def torque_list(text: str, option: str) -> list[float]:
         Naming the option, the item (1-based) and the reason: an empty item (``1,,2``), a number
         that is not plain ASCII, or a torque beyond the load-case bound.
     """
-    from rvcoax.loadcases.limits import MAX_TORQUE_NM
+    from rvcoax.loadcases import MAX_TORQUE_NM
 
     values = []
     items = text.split(",")
@@ -194,7 +195,7 @@ def warn(message: str) -> None:
 
 def rig_text(path: Path | None) -> tuple[str, str]:
     """(source name, text) of the rig file, or of the built-in reference rig when ``path`` is None."""
-    from rvcoax.geometry.rigfile import reference_rig_text
+    from rvcoax import reference_rig_text
 
     if path is None:
         return "built-in reference_rig.toml", reference_rig_text()
@@ -206,7 +207,7 @@ def rig_text(path: Path | None) -> tuple[str, str]:
 
 def sweep_settings(model: str, method: str = "superposition", solver: str = "auto", mesh_size_mm: float | None = None):
     """Validated :class:`SweepSettings` from command-line options."""
-    from rvcoax.results.sweep import SweepSettings
+    from rvcoax import SweepSettings
 
     if mesh_size_mm is not None:
         finite_option(mesh_size_mm, "--mesh-size-mm", *MESH_SIZE_RANGE_MM, "mm")
@@ -230,7 +231,7 @@ def check_environment() -> None:
     ``RVCOAX_CASE_DELAY_S`` (a test hook, seconds to pause after each solved case) must be a plain
     number in 0 … 60 s; ``inf`` would never return and ``nan`` or a word would be silently ignored.
     """
-    from rvcoax.results.io.sweep_files import DELAY_VARIABLE as CASE_DELAY_VARIABLE
+    from rvcoax.results.io import CASE_DELAY_VARIABLE
 
     delay = os.environ.get(CASE_DELAY_VARIABLE)
     if delay:
@@ -263,10 +264,9 @@ def guard(function):
 
 def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
-    from rvcoax.geometry.catalogue import plausibility_warnings
-    from rvcoax.geometry.model.preflight import sag_warnings
-    from rvcoax.geometry.model.workload import REPORT_AFTER_S, beam_size, rig_problem
-    from rvcoax.results.sweep import prepare_model
+    from rvcoax import prepare_model
+    from rvcoax.geometry import plausibility_warnings
+    from rvcoax.geometry.model import REPORT_AFTER_S, beam_size, rig_problem, sag_warnings
 
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
@@ -290,7 +290,7 @@ def progress_bar() -> Progress:
 
 def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
     """A sweep with a progress bar."""
-    from rvcoax.results.sweep import run_sweep
+    from rvcoax import run_sweep
 
     with progress_bar() as progress:
         task = progress.add_task(label, total=len(cases))
@@ -301,7 +301,7 @@ def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=N
 def _case_rows_upper_bound(path: Path) -> int | None:
     """At most how many load cases ``path`` holds (lines of a CSV, ``[[cases]]`` of a TOML file), counted
     without parsing; None when it cannot be read (:func:`rvcoax.loadcases.cases.read_cases` says why)."""
-    from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES
+    from rvcoax.loadcases import MAX_CASE_FILE_BYTES
 
     try:
         with path.open("rb") as stream:
@@ -314,8 +314,9 @@ def _case_rows_upper_bound(path: Path) -> int | None:
 def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig):
     """Load cases from --cases, or --t1/--t2 (paired or --grid), or the rig file's own
     (:func:`rvcoax.loadcases.cases.default_cases`: paper 000's 20 pairs for the reference rig only)."""
-    from rvcoax.geometry.model.workload import check_cases, count_text
-    from rvcoax.loadcases.cases import NoLoadCasesError, default_cases, grid_cases, paired_cases, read_cases
+    from rvcoax import default_cases, grid_cases, paired_cases, read_cases
+    from rvcoax.geometry.model import check_cases, count_text
+    from rvcoax.loadcases import NoLoadCasesError
 
     if cases_file is not None:
         if t1 or t2:

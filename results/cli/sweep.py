@@ -103,7 +103,7 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
     or None when every case was reused).
     """
-    from rvcoax.results.io.durable_sweep import run_durable_sweep
+    from rvcoax import run_durable_sweep
 
     def plan(reading, n_missing: int) -> None:
         if resume:
@@ -154,10 +154,9 @@ def sweep(
     an interruption, the same command with --resume solves only the missing cases and writes the same
     files.
     """
-    from rvcoax.geometry.model.workload import REPORT_AFTER_S, sweep_workload
-    from rvcoax.geometry.rigfile import load_rig
-    from rvcoax.results.io import records as report
-    from rvcoax.results.io.sweep_files import CaseStore, write_sweep_files
+    from rvcoax import load_rig
+    from rvcoax.geometry.model import REPORT_AFTER_S, sweep_workload
+    from rvcoax.results.io import CaseStore, sweep_header, write_sweep_files
 
     if resume and fields:
         raise support.UserError("--fields needs every case's displacement field, which --resume does not keep: "
@@ -186,12 +185,12 @@ def sweep(
     else:
         how = "each case solved directly"
     support.console.print(f"Y measured from: {rig.paths.measured_from}; {how}")
-    header = report.sweep_header(rig, model_section, source, text)
+    header = sweep_header(rig, model_section, source, text)
     support.report_written(write_sweep_files(out, "sweep", header, records))
 
 
 def _write_fields(folder: Path, result) -> list[Path]:
-    from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
+    from rvcoax.results.io import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
 
     mesh, _ = sweep_field_mesh(result)
     cases = sweep_field_cases(result)

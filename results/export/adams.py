@@ -91,6 +91,18 @@ def spline_layout(cases, shaft: str) -> tuple[np.ndarray, np.ndarray | None]:
 
     Raises :class:`AdamsExportError` when the cases cannot make an ADAMS SPLINE (fewer than 4
     different torques, or repeated torques that are not a full (T1, T2) grid).
+
+    Parameters
+    ----------
+    cases : sequence of LoadCase
+        The exported load cases.
+    shaft : str
+        ``"input"`` (x is T1) or ``"output"`` (x is T2).
+
+    Returns
+    -------
+    (ndarray, ndarray or None)
+        The SPLINE's x values and, for a (T1, T2) grid, its z values.
     """
     own = np.array([_torque(c, shaft) for c in cases])
     other = np.array([_torque(c, OTHER_TORQUE[shaft]) for c in cases])
@@ -125,7 +137,20 @@ def marker_euler_deg(tilt_deg: float) -> tuple[float, float, float]:
 
 
 def adams_fragment(export: DynamicsExport, part_id: int = 1) -> str:
-    """The ``.adm`` fragment: tilted shaft markers per case and β-versus-torque splines per shaft."""
+    """The ``.adm`` fragment: tilted shaft markers per case and β-versus-torque splines per shaft.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`rvcoax.results.export.dynamics_export`.
+    part_id : int
+        The ADAMS PART the markers belong to.
+
+    Returns
+    -------
+    str
+        The dataset text, ready to merge into an ``.adm`` model.
+    """
     sweep = export.sweep
     if len(sweep.cases) >= 1000:
         raise AdamsExportError(f"{len(sweep.cases)} cases: the marker numbering allows at most 999")
@@ -251,7 +276,18 @@ def _check_spline(s: Statement) -> None:
 
 
 def parse_adm(text: str) -> list[Statement]:
-    """Statements of a dataset (fragment), checked against the rules above; raises :class:`AdamsSyntaxError`."""
+    """Statements of a dataset (fragment), checked against the rules above; raises :class:`AdamsSyntaxError`.
+
+    Parameters
+    ----------
+    text : str
+        An ``.adm`` dataset or fragment.
+
+    Returns
+    -------
+    list of Statement
+        Each statement with its type, id and arguments.
+    """
     groups: list[list[tuple[str, int]]] = []
     for number, raw in enumerate(text.splitlines(), start=1):
         if len(raw) > LINE_LIMIT:

@@ -41,7 +41,7 @@ from rvcoax.results.sweep import Sweep
 __all__ = ["CSV_TABLES", "DynamicsExport", "IT3_RADIAL_DISPLACEMENT_MM", "ShaftStage", "UNITS", "UNLOADED",
            "bearing_rows", "coupling_rows", "dynamics_export", "export_document", "export_tables", "lever_arms_mm",
            "read_csv_table", "reducer_end_mm", "shaft_rows", "shaft_stages", "stage_rows", "tilt_direction",
-           "write_csv", "write_json"]
+           "write_dynamics_csv", "write_dynamics_json"]
 
 IT3_RADIAL_DISPLACEMENT_MM = {"input": 0.002, "output": 0.003}
 """Paper 000's radial displacement a of each shaft [P] (IT3, GB/T 1800.1-2009, sizes ≤ 500 mm)."""
@@ -121,7 +121,26 @@ class DynamicsExport:
 
 
 def dynamics_export(sweep: Sweep, radial_mm: dict[str, float] | None = None) -> DynamicsExport:
-    """Collect the dynamics inputs of every case of ``sweep``; ``radial_mm`` overrides a per shaft."""
+    """Collect the dynamics inputs of every case of ``sweep``; ``radial_mm`` overrides a per shaft.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep.
+    radial_mm : dict, optional
+        ``{"input": a, "output": a}`` in mm; default paper 000's IT3 values.
+
+    Returns
+    -------
+    DynamicsExport
+        Per case and measured shaft: tilt β, radial displacement a and lever arms; per coupling its
+        misalignment; per bearing its reaction.
+
+    Raises
+    ------
+    ConnectionsUnavailableError
+        The sweep holds no displacements of its springs (a solid model).
+    """
     radial = dict(IT3_RADIAL_DISPLACEMENT_MM)
     radial.update(radial_mm or {})
     for shaft, value in radial.items():
@@ -195,7 +214,18 @@ def _coupling_values(states: ConnectionStates, case: int, row: int, suffix: str 
 
 
 def coupling_rows(export: DynamicsExport) -> list[dict]:
-    """One row per case and coupling: misalignment of the ``to`` hub relative to the ``from`` hub."""
+    """One row per case and coupling: misalignment of the ``to`` hub relative to the ``from`` hub.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`dynamics_export`.
+
+    Returns
+    -------
+    list of dict
+        Parallel offset (µm) and angle (degrees) per case and coupling, keys with units.
+    """
     rows = []
     for i, case in enumerate(export.sweep.cases):
         for c in export.sweep.rig.couplings:
@@ -215,7 +245,18 @@ def _bearing_values(states: ConnectionStates, case: int, row: int, suffix: str =
 
 
 def bearing_rows(export: DynamicsExport) -> list[dict]:
-    """One row per case and bearing: the force and moment the bearing exerts on its shaft."""
+    """One row per case and bearing: the force and moment the bearing exerts on its shaft.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        The sweep's dynamics inputs, with the bearings' reactions (:func:`dynamics_export`).
+
+    Returns
+    -------
+    list of dict
+        Keys with units (``force_y_N``, ``moment_z_Nm``, …), one row per case and bearing.
+    """
     rows = []
     for i, case in enumerate(export.sweep.cases):
         for b in export.sweep.rig.bearings:
@@ -260,17 +301,48 @@ def export_document(export: DynamicsExport, rig_source: str, rig_text: str) -> d
     }
 
 
-def write_json(export: DynamicsExport, path: str | Path, rig_source: str, rig_text: str) -> Path:
+def write_dynamics_json(export: DynamicsExport, path: str | Path, rig_source: str, rig_text: str) -> Path:
+    """``dynamics.json`` at ``path``: every table of ``export`` with the rig's provenance (source and SHA-256).
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`dynamics_export`.
+    path : str or Path
+        The JSON file.
+    rig_source, rig_text : str
+        The rig file as the user named it, and its text.
+
+    Returns
+    -------
+    Path
+        ``path``, written atomically.
+    """
     return write_json_atomic(path, export_document(export, rig_source, rig_text))
 
 
-def write_csv(export: DynamicsExport, folder: str | Path, stem: str = "dynamics") -> list[Path]:
-    """``<stem>_shafts.csv``, ``_stages.csv``, ``_couplings.csv``, ``_bearings.csv`` in ``folder``."""
+def write_dynamics_csv(export: DynamicsExport, folder: str | Path, stem: str = "dynamics") -> list[Path]:
+    """``<stem>_shafts.csv``, ``_stages.csv``, ``_couplings.csv``, ``_bearings.csv`` in ``folder``.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`dynamics_export`.
+    folder : str or Path
+        Where the tables go.
+    stem : str
+        The tables' common name.
+
+    Returns
+    -------
+    list of Path
+        The four tables, written atomically.
+    """
     return [write_csv_atomic(Path(folder) / f"{stem}_{name}.csv", rows) for name, rows in export_tables(export).items()]
 
 
 def read_csv_table(path: str | Path) -> list[dict]:
-    """Read one export table back: numbers as float/int, text as str (the inverse of :func:`write_csv`)."""
+    """Read one export table back: numbers as float/int, text as str (the inverse of :func:`write_dynamics_csv`)."""
     def value(text: str):
         for kind in (int, float):
             try:

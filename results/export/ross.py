@@ -44,7 +44,7 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.system import factorize
-from rvcoax.geometry.model.beam import build_rig_model
+from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.export.dynamics import DynamicsExport
 
@@ -80,7 +80,18 @@ def _quiet_output():
 
 
 def import_ross():
-    """The ``ross`` module, or :class:`RossUnavailableError` with the install instruction."""
+    """The ``ross`` module, or :class:`RossUnavailableError` with the install instruction.
+
+    Returns
+    -------
+    module
+        ``ross``, imported with its start-up output and warnings silenced.
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed (the message says how to install it).
+    """
     try:
         with _quiet_output(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -94,7 +105,7 @@ def import_ross():
 class Support:
     """A lateral support of a shaft line: a bearing or a joint to a housing (radial stiffness in N/m)."""
 
-    name: str
+    spring: SpringId
     x_mm: float
     radial_stiffness_N_per_m: float
 
@@ -119,7 +130,7 @@ class ShaftLine:
     inner_diameter_mm: np.ndarray
     material: str
     density_kg_per_m3: float
-    youngs_modulus_pa: float
+    youngs_modulus_Pa: float
     poisson_ratio: float
     supports: tuple[Support, ...]
     hubs: tuple[Hub, ...]
@@ -145,13 +156,13 @@ def shaft_line(rig: Rig, which: str) -> ShaftLine:
     frame = build_rig_model(rig)
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
-    supports = [Support(f"bearing:{b.name}", b.x_mm, b.radial_stiffness_N_per_um * 1e6)
+    supports = [Support(SpringId("bearing", b.name), b.x_mm, b.radial_stiffness_N_per_um * 1e6)
                 for b in rig.bearings if b.shaft == name]
     for j in rig.joints:
         lateral = min(j.translational_stiffness_N_per_um[1:]) * 1e6
         ends = {j.from_.part: j.from_.x_mm, j.to.part: j.to.x_mm}
         if name in ends and lateral > 0 and len(ends) == 2:
-            supports.append(Support(f"joint:{j.name}", ends[name], lateral))
+            supports.append(Support(SpringId("joint", j.name), ends[name], lateral))
     hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0) for c in rig.couplings for end in (c.from_, c.to)
             if end.part == name]
     material = rig.materials[part.material]
@@ -164,7 +175,7 @@ def build_rotor(line: ShaftLine, ross=None):
     """A ``ross.Rotor`` of ``line``: Timoshenko shaft elements, bearings at the supports, hubs as disks."""
     rs = ross if ross is not None else import_ross()
     material = rs.Material(name=f"rvcoax_{line.material}".replace(" ", "_"), rho=line.density_kg_per_m3,
-                           E=line.youngs_modulus_pa, Poisson=line.poisson_ratio)
+                           E=line.youngs_modulus_Pa, Poisson=line.poisson_ratio)
     lengths = np.diff(line.node_x_mm) * MM
     shaft = [rs.ShaftElement(L=float(length), idl=float(inner * MM), odl=float(outer * MM), material=material, n=i,
                              shear_method_calc="cowper")
@@ -172,7 +183,7 @@ def build_rotor(line: ShaftLine, ross=None):
     disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=0.0, Ip=0.0, tag=f"hub_{h.coupling}")
              for h in line.hubs]
     bearings = [rs.BearingElement(n=line.node_at(s.x_mm), kxx=s.radial_stiffness_N_per_m,
-                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0, tag=s.name.replace(":", "_"))
+                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0, tag=f"{s.spring.kind}_{s.spring.name}")
                 for s in line.supports]
     return rs.Rotor(shaft, disks, bearings, tag=f"rvcoax_{line.which}_shaft")
 
@@ -199,8 +210,8 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     beams = structure.beams
     keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
     local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_pa[keep],
-                         beams.shear_modulus_pa[keep], beams.density_kg_m3[keep], beams.reference_vector[keep])
+                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
+                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
     masses = structure.point_masses
     on_shaft = renumber[masses.node] >= 0
     hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],
@@ -240,7 +251,27 @@ class StaticComparison:
 
 
 def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticComparison]:
-    """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax."""
+    """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    which : str
+        ``"input"`` or ``"output"``.
+    ross : module, optional
+        The ``ross`` package (imported when not given).
+
+    Returns
+    -------
+    (ross.Rotor, StaticComparison)
+        The rotor, and both codes' gravity sag of the shaft on rigid supports with their difference.
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed.
+    """
     line = shaft_line(rig, which)
     rotor = build_rotor(line, ross)
     return rotor, StaticComparison(line, ross_gravity_sag(rotor), rvcoax_gravity_sag(rig, line))
@@ -263,6 +294,18 @@ def misalignment_parameters(export: DynamicsExport, line: ShaftLine) -> list[dic
     rig's coupling stiffnesses; ``input_torque_Nm``/``load_torque_Nm`` the torque the coupling
     carries; ``n`` the shaft element of :func:`fault_element`. :func:`fault_arguments` turns a row
     into ROSS's keyword arguments.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`rvcoax.results.export.dynamics_export`.
+    line : ShaftLine
+        From :func:`shaft_line`.
+
+    Returns
+    -------
+    list of dict
+        One row per case and hub, keys with SI units.
     """
     rig = export.sweep.rig
     couplings = {c.name: c for c in rig.couplings}
@@ -298,6 +341,21 @@ def fault_arguments(parameters: dict) -> dict:
 
 
 def misalignment_fault(rotor, parameters: dict, ross=None):
-    """``ross.MisalignmentFlex`` on ``rotor`` from one row of :func:`misalignment_parameters`."""
+    """``ross.MisalignmentFlex`` on ``rotor`` from one row of :func:`misalignment_parameters`.
+
+    Parameters
+    ----------
+    rotor : ross.Rotor
+        From :func:`build_rotor`.
+    parameters : dict
+        One row of :func:`misalignment_parameters`.
+    ross : module, optional
+        The ``ross`` package (imported when not given).
+
+    Returns
+    -------
+    ross.MisalignmentFlex
+        The fault, ready for ROSS's time response.
+    """
     rs = ross if ross is not None else import_ross()
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))

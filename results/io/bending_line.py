@@ -53,7 +53,7 @@ class PartLine:
 def bending_lines(sweep) -> list[PartLine]:
     """One :class:`PartLine` per part of a solved sweep, in the rig file's order."""
     system = sweep.system
-    frame = system.frame if system is not None else sweep.model
+    frame = system.frame if system is not None else sweep.frame
     n_nodes = frame.structure.n_nodes
     motion = np.stack([sweep.measured_displacement(i)[: 6 * n_nodes].reshape(-1, 6)
                        for i in range(len(sweep.cases))])  # (cases, nodes, 6)
@@ -145,6 +145,11 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
         The cases drawn; default up to four spread over the sweep (first and last included).
     title : str, optional
         The figure's title (the legend sits below the panels, clear of it).
+
+    Returns
+    -------
+    Path
+        ``path_png`` (``dpi`` sets its resolution), written atomically.
     """
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D

@@ -67,6 +67,12 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
         ``progress(done, total)`` over the cases solved now.
     on_plan : callable, optional
         ``on_plan(reading, n_to_solve)`` once the journal is read, before anything is solved.
+
+    Returns
+    -------
+    DurableSweep
+        The record of every case (reused from the journal or solved now), the sweep of the cases solved now,
+        and what the journal held.
     """
     sha = records.text_sha256(rig_text)
     common = sweep_inputs(sha, settings)

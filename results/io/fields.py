@@ -53,7 +53,7 @@ from pathlib import Path
 import meshio
 import meshio.xdmf
 import numpy as np
-from meshio._mesh import CellBlock
+from meshio import CellBlock
 from meshio.xdmf.common import (
     meshio_type_to_xdmf_index,
     numpy_to_xdmf_dtype,
@@ -168,7 +168,7 @@ class FieldCase:
     T1_input_Nm, T2_output_Nm : float
     displacement_m : (n, 3) float array
         Nodal translation (m), measured as the sweep measures Y.
-    von_mises_pa : (n,) float array or None
+    von_mises_Pa : (n,) float array or None
         Von Mises stress (Pa) at every point, or None where the model gives none (beams): the
         files then hold no stress field.
     """
@@ -177,17 +177,17 @@ class FieldCase:
     T1_input_Nm: float
     T2_output_Nm: float
     displacement_m: np.ndarray
-    von_mises_pa: np.ndarray | None = None
+    von_mises_Pa: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement_m, dtype=float)
         if u.ndim != 2 or u.shape[1] != 3:
             raise ValueError(f"displacement_m must be (n, 3), got {u.shape}")
-        if self.von_mises_pa is not None:
-            vm = np.asarray(self.von_mises_pa, float)
+        if self.von_mises_Pa is not None:
+            vm = np.asarray(self.von_mises_Pa, float)
             if vm.shape != (u.shape[0],) or not np.all(np.isfinite(vm)):
-                raise ValueError(f"von_mises_pa must be ({u.shape[0]},) finite values (or None), got {vm.shape}")
-            object.__setattr__(self, "von_mises_pa", _readonly(vm))
+                raise ValueError(f"von_mises_Pa must be ({u.shape[0]},) finite values (or None), got {vm.shape}")
+            object.__setattr__(self, "von_mises_Pa", _readonly(vm))
         object.__setattr__(self, "displacement_m", _readonly(u))
         object.__setattr__(self, "T1_input_Nm", float(self.T1_input_Nm))
         object.__setattr__(self, "T2_output_Nm", float(self.T2_output_Nm))
@@ -199,8 +199,8 @@ class FieldCase:
     def point_data(self) -> dict[str, np.ndarray]:
         """Point data as written to files (the unit in each name)."""
         data = {"displacement_mm": np.array(self.displacement_m) * MM, "displacement_y_um": self.displacement_y_um}
-        if self.von_mises_pa is not None:
-            data["von_mises_MPa"] = np.array(self.von_mises_pa) * 1e-6
+        if self.von_mises_Pa is not None:
+            data["von_mises_MPa"] = np.array(self.von_mises_Pa) * 1e-6
         return data
 
 
@@ -219,13 +219,13 @@ def beam_outer_radius_m(area_m2: np.ndarray, second_moment_m4: np.ndarray) -> np
     return np.sqrt(0.5 * (4.0 * np.asarray(second_moment_m4, float) / area + area / np.pi))
 
 
-def beam_field_mesh(model: RigModel) -> FieldMesh:
+def beam_field_mesh(frame: RigModel) -> FieldMesh:
     """The beam model's nodes and elements (tubes of the sections' outer radius), parts in rig order."""
-    structure = model.structure
-    names = tuple(p.name for p in model.rig.parts)
+    structure = frame.structure
+    names = tuple(p.name for p in frame.rig.parts)
     index = {n: i for i, n in enumerate(names)}
     connectivity = np.asarray(structure.beams.connectivity, dtype=np.int64)
-    part_id = np.array([index[model.node_part[a]] for a in connectivity[:, 0]], dtype=np.int32)
+    part_id = np.array([index[frame.node_part[a]] for a in connectivity[:, 0]], dtype=np.int32)
     radius = beam_outer_radius_m(structure.beams.area_m2, structure.beams.second_moment_m4)
     return FieldMesh(structure.coordinates, connectivity, radius, part_id, names)
 
@@ -235,7 +235,7 @@ def _load_case(case):
     return getattr(case, "case", case)
 
 
-def beam_field_cases(model: RigModel, cases: Iterable, unit_responses=None) -> list[FieldCase]:
+def beam_field_cases(frame: RigModel, cases: Iterable, unit_responses=None) -> list[FieldCase]:
     """Nodal translations of the beam model for each case (LoadCase or CaseResult).
 
     Built exactly as :func:`rvcoax.results.sweep.run_sweep` builds them (superposition of the unit
@@ -247,9 +247,9 @@ def beam_field_cases(model: RigModel, cases: Iterable, unit_responses=None) -> l
     if unit_responses is None:
         from rvcoax.results.sweep import solve_unit_responses
 
-        unit_responses = solve_unit_responses(model)[2]
+        unit_responses = solve_unit_responses(frame)[2]
     unit_by_name = {k: unit_responses[:, i] for i, k in enumerate(UNIT_LOADS)}
-    from_rest = model.rig.paths.measured_from == "aligned_at_rest"
+    from_rest = frame.rig.paths.measured_from == "aligned_at_rest"
     out = []
     for item in cases:
         case = _load_case(item)
@@ -259,14 +259,14 @@ def beam_field_cases(model: RigModel, cases: Iterable, unit_responses=None) -> l
     return out
 
 
-def path_point_indices(model: RigModel) -> dict[str, np.ndarray]:
+def path_point_indices(frame: RigModel) -> dict[str, np.ndarray]:
     """Point indices of the two measured shaft paths (``"input"``, ``"output"``), input end first."""
-    return {which: model.path_nodes(which)[0] for which in MEASURED_SHAFTS}
+    return {which: frame.path_nodes(which)[0] for which in MEASURED_SHAFTS}
 
 
-def path_polylines(model: RigModel) -> dict[str, np.ndarray]:
+def path_polylines(frame: RigModel) -> dict[str, np.ndarray]:
     """Undeformed positions (m) of the measured shaft paths, as (N, 3) polylines."""
-    return {which: model.structure.coordinates[nodes] for which, nodes in path_point_indices(model).items()}
+    return {which: frame.structure.coordinates[nodes] for which, nodes in path_point_indices(frame).items()}
 
 
 # --------------------------------------------------------------------------------------------
@@ -292,7 +292,22 @@ def _field_data_xml(mesh: FieldMesh, case: FieldCase) -> str:
 
 
 def write_vtu(path: str | Path, mesh: FieldMesh, case: FieldCase) -> Path:
-    """Write one case as a VTK unstructured grid (.vtu), atomically; returns the path."""
+    """Write one case as a VTK unstructured grid (.vtu), atomically; returns the path.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.vtu`` file.
+    mesh : FieldMesh
+        Points and cells (:func:`sweep_field_mesh`).
+    case : FieldCase
+        The case's fields on those points.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     _check(mesh, case)
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -469,6 +484,22 @@ def write_xdmf_series(path: str | Path, mesh: FieldMesh, cases: Sequence[FieldCa
     ``data_format``: ``"HDF"`` (``<stem>.h5`` beside the .xdmf; needs h5py), ``"XML"`` (inline,
     one self-contained file) or ``"auto"`` (HDF when h5py is installed). Returns the written files
     by kind (``"xdmf"``, ``"json"`` and, for HDF, ``"h5"``). See the module doc for atomicity.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.xdmf`` file.
+    mesh : FieldMesh
+        Points and cells, shared by every step.
+    cases : sequence of FieldCase
+        One time step each, in order.
+    data_format : {"auto", "HDF", "XML"}
+        Where the heavy data go.
+
+    Returns
+    -------
+    dict of str to Path
+        The files written, by kind.
     """
     if not cases:
         raise ValueError("no cases to write")
@@ -547,6 +578,16 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
 
     Returns the mesh and the point indices of the two measured paths. Path stations on a solid
     shaft are extra points (no cell) on the shaft's axis.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep (beam, hybrid or solid).
+
+    Returns
+    -------
+    (FieldMesh, dict)
+        The mesh, and ``{"input": point indices, "output": point indices}`` of the measured paths.
     """
     from skfem.io.meshio import to_meshio
 
@@ -582,7 +623,18 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
 
 
 def sweep_field_cases(sweep) -> list[FieldCase]:
-    """Point displacements (m) of every case of a solved sweep, measured as the sweep measures Y."""
+    """Point displacements (m) of every case of a solved sweep, measured as the sweep measures Y.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep; its displacements are measured as its Y is.
+
+    Returns
+    -------
+    list of FieldCase
+        One per load case, on the points of :func:`sweep_field_mesh`.
+    """
     system = sweep.system
     n_frame = system.frame.structure.n_nodes
     solid_dofs = [_solid_point_dofs(part) for part in system.solids]

@@ -66,6 +66,18 @@ def output_folder_lock(folder: Path, option: str = "--out") -> Iterator[Path]:
 
     Raises :class:`FolderLockedError` when another process holds it. A folder that this call
     created and that is still empty afterwards (the command failed before writing) is removed.
+
+    Parameters
+    ----------
+    folder : Path
+        The output folder.
+    option : str
+        The option that named it, for the message.
+
+    Yields
+    ------
+    Path
+        ``folder``, locked.
     """
     folder = Path(folder)
     created = not folder.exists()

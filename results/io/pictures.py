@@ -11,9 +11,9 @@ Intended call sequence for a sweep::
 
     out = Path("rvcoax_out/pictures")
     sweep = run_sweep(load_rig(), paper_cases())
-    mesh = beam_field_mesh(sweep.model)
-    cases = beam_field_cases(sweep.model, sweep.cases)      # u measured as the sweep measures Y
-    paths = path_point_indices(sweep.model)                  # {"input": nodes, "output": nodes}
+    mesh = beam_field_mesh(sweep.frame)
+    cases = beam_field_cases(sweep.frame, sweep.cases)      # u measured as the sweep measures Y
+    paths = path_point_indices(sweep.frame)                  # {"input": nodes, "output": nodes}
     limits = sweep_colour_limits_um(cases)                   # the same colours in every picture
     housings = enclosing_parts(mesh)                         # the same parts translucent in every picture
     for i, case in enumerate(cases):
@@ -673,7 +673,7 @@ def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     """(arrays keyed like sweep.csv, path lengths) from a Sweep, CaseResults, PublishedRows, a
     mapping of arrays or a list of row dicts."""
     lengths: dict[str, float] = {}
-    items = rows.cases if hasattr(rows, "cases") and hasattr(rows, "model") else rows
+    items = rows.cases if hasattr(rows, "cases") and hasattr(rows, "frame") else rows
     if isinstance(items, Mapping):
         data = {k: np.asarray(items[k], float) for k in items if k in _KEYS}
     else:
@@ -702,14 +702,33 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
                      micro: bool = False) -> Path:
     """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.
 
-    ``model_rows``: a Sweep, a sequence of CaseResult, a mapping of arrays or a list of dicts with
-    the sweep.csv keys ``T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm``; or a dict
-    label → one of those to draw several models (e.g. blind and calibrated). Y is the path's
-    largest |u_y|, as published. ``published``: paper rows (``rvcoax.loadcases.cases.paper_table()``) or
-    the same kinds of rows, drawn as markers. Each panel gets a right-hand axis with
-    β = arcsin(Y / L) in degrees when the path length L is known (from a Sweep, or
-    ``path_lengths_mm = (L_input, L_output)``). ``micro``: Y in µm and β in µrad instead of mm and
-    degrees (sub-µm values read as plain numbers, without a 1e-4 offset on the axis).
+    Y is the path's largest |u_y|, as published. Each panel gets a right-hand axis with
+    β = arcsin(Y / L) in degrees when the path length L is known.
+
+    Parameters
+    ----------
+    model_rows
+        A Sweep, a sequence of CaseResult, a mapping of arrays or a list of dicts with the sweep.csv keys
+        ``T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm``; or a dict label → one of those to draw
+        several models (e.g. blind and calibrated).
+    path_png : str or Path
+        Where the picture goes.
+    published : optional
+        Paper rows (:func:`rvcoax.paper_table`) or the same kinds of rows, drawn as markers.
+    title : str, optional
+        The figure's title.
+    path_lengths_mm : (float, float), optional
+        ``(L_input, L_output)`` for the β axis when ``model_rows`` is not a Sweep.
+    dpi : int
+        Resolution of the PNG.
+    micro : bool
+        Y in µm and β in µrad instead of mm and degrees (sub-µm values read as plain numbers, without a
+        1e-4 offset on the axis).
+
+    Returns
+    -------
+    Path
+        ``path_png``.
     """
     import matplotlib
     from matplotlib.figure import Figure  # no pyplot: the figure is drawn by Agg, whatever the backend

@@ -10,11 +10,11 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
 from rvcoax.results.studies.calibration import Calibration
-from rvcoax.results.studies.check import QUANTITIES, Comparison
+from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["ENGINEERING_DEFINITIONS", "UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
-           "entry_path_rows", "model_section", "path_rows", "rvcoax_version", "sweep_document", "sweep_header", "sweep_rows", "text_sha256"]
+           "entry_path_rows", "model_section", "rvcoax_version", "sweep_header", "sweep_rows", "text_sha256"]
 
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical displacement, +Y up)", "beta": "degree",
@@ -46,6 +46,13 @@ ENGINEERING_DEFINITIONS = {
 
 
 def rvcoax_version() -> str:
+    """The installed rvcoax version, as result files record it (``unknown (not installed)`` from a bare copy).
+
+    Returns
+    -------
+    str
+        The version string.
+    """
     try:
         return version("rvcoax")
     except PackageNotFoundError:
@@ -136,11 +143,6 @@ def sweep_rows(sweep: Sweep) -> list[dict]:
     return [case_row(case) for case in sweep.cases]
 
 
-def path_rows(sweep: Sweep) -> list[dict]:
-    """Long table of the signed Y paths: one row per case, shaft and station."""
-    return [row for case in sweep.cases for row in entry_path_rows(case_record(case)["entry"])]
-
-
 def calibration_document(calibration: Calibration) -> dict:
     def entry(p):
         return {"address": p.parameter.address, "shaft": p.parameter.shaft, "unit": p.parameter.unit,
@@ -188,7 +190,24 @@ def model_section(sweep: Sweep) -> dict:
 
 
 def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
-    """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``."""
+    """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig solved.
+    model : dict
+        The ``model`` section (model kind, mesh, solver, DOFs, residual summary).
+    rig_source, rig_text : str
+        The rig file as the user named it, and its text.
+    calibration : Calibration, optional
+        Recorded when the sweep is of a calibrated rig.
+
+    Returns
+    -------
+    dict
+        The JSON header, in the order it is written.
+    """
     return canonical({
         "rvcoax_version": rvcoax_version(),
         "units": UNITS,
@@ -202,19 +221,13 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
     })
 
 
-def sweep_document(sweep: Sweep, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
-    """The JSON document of a sweep: units, provenance, method and every case with its paths."""
-    header = sweep_header(sweep.rig, model_section(sweep), rig_source, rig_text, calibration)
-    return {**header, "cases": [case_record(case)["entry"] for case in sweep.cases]}
-
-
 def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows) -> list[dict]:
     """The columns of ``check.csv``: published, blind and calibrated values and errors per row."""
     out = []
     for i, row in enumerate(rows):
         entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
                  "used_for_fit": i in fit_rows}
-        for q in QUANTITIES:
+        for q in CHECK_QUANTITIES:
             entry[f"published_{q}"] = float(comparison_blind.published[q][i])
             for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
                 entry[f"{label}_{q}"] = float(comp.model[q][i])

@@ -278,7 +278,18 @@ def _discrepancy_html(document: dict, source: str) -> str:
 
 
 def read_discrepancy(path: str | Path) -> dict:
-    """The document of a ``discrepancy.json``; :class:`ReportError` names the file when it is not one."""
+    """The document of a ``discrepancy.json``; :class:`ReportError` names the file when it is not one.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``discrepancy.json`` written by ``rvcoax discrepancy --out``.
+
+    Returns
+    -------
+    dict
+        Its document.
+    """
     path = Path(path)
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
@@ -380,6 +391,11 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     deformed_view : bool
         Include the rendered deformed rig of the largest case (needs off-screen rendering; when it is
         unavailable the report says why instead).
+
+    Returns
+    -------
+    Path
+        ``path``.
     """
     from rvcoax.results.studies.discrepancy.measured import read_measured
 

@@ -45,7 +45,27 @@ def headless_command(browser: str, profile: Path, *options: str) -> list[str]:
 
 
 def print_pdf(html_path: str | Path, pdf_path: str | Path, timeout_s: float = 120.0) -> Path:
-    """Print the HTML report to a PDF (A4, as the browser lays it out for print) and return its path."""
+    """Print the HTML report to a PDF (A4, as the browser lays it out for print) and return its path.
+
+    Parameters
+    ----------
+    html_path : str or Path
+        The report (:func:`write_report`).
+    pdf_path : str or Path
+        The PDF, written atomically.
+    timeout_s : float
+        How long the browser may take.
+
+    Returns
+    -------
+    Path
+        ``pdf_path``.
+
+    Raises
+    ------
+    BrowserUnavailableError
+        No headless Chromium on the PATH, or it failed or timed out (the message says which).
+    """
     browser = find_browser()
     if browser is None:
         raise BrowserUnavailableError("--pdf needs a headless Chromium and none was found on the PATH "

@@ -117,9 +117,9 @@ def _tags_text(tags: dict[str, str], keys: tuple[str, ...] | None = None) -> str
 
 def rig_tables(sweep, rig_text: str) -> list[Table]:
     """Parts (with modelled masses), bearings and couplings, each with its provenance tags."""
-    rig, model = sweep.rig, sweep.model
+    rig, frame = sweep.rig, sweep.frame
     tags = provenance_tags(rig_text)
-    masses = getattr(model, "part_mass_kg", {}) or {}
+    masses = getattr(frame, "part_mass_kg", {}) or {}
     parts = []
     for p in rig.parts:
         x0, x1 = p.x_range_mm

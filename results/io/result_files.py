@@ -16,10 +16,27 @@ __all__ = ["write_check", "write_sweep"]
 
 def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibration: Calibration | None = None,
                 stem: str = "sweep") -> list[Path]:
-    """``<stem>.csv``, ``<stem>.json`` and ``<stem>_paths.csv`` of a sweep in ``out``.
+    """Write ``<stem>.csv``, ``<stem>.json`` and ``<stem>_paths.csv`` of a sweep in ``out``, atomically.
 
-    ``rig_source`` names the rig file (as the user gave it) and ``rig_text`` is its text, whose
-    SHA-256 goes into the JSON header so that a result can be traced to its input.
+    Parameters
+    ----------
+    out : Path
+        The result folder (created if needed).
+    sweep : Sweep
+        A solved sweep.
+    rig_source : str
+        The rig file as the user named it.
+    rig_text : str
+        The rig file's text: its SHA-256 goes into the JSON header, so that a result can be traced to its input.
+    calibration : Calibration, optional
+        Recorded in the JSON when the sweep is of a calibrated rig.
+    stem : str
+        The files' common name.
+
+    Returns
+    -------
+    list of Path
+        The files written.
     """
     header = records.sweep_header(sweep.rig, records.model_section(sweep), rig_source, rig_text, calibration)
     return write_sweep_files(out, stem, header, [records.case_record(case) for case in sweep.cases])
@@ -27,8 +44,26 @@ def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibra
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,
                 title: str | None = None) -> list[Path]:
-    """The check's files in ``out``: ``check.csv``, ``check_verdict.json``, the calibrated and blind
-    sweeps and, with ``picture_name``, the picture of Y against torque with the published points."""
+    """Write the check's files in ``out``, atomically.
+
+    Parameters
+    ----------
+    out : Path
+        The result folder (created if needed).
+    run : CheckRun
+        The result of :func:`rvcoax.run_check`.
+    rig_source, rig_text : str
+        The rig file's name and text, recorded (with the text's SHA-256) in every JSON.
+    picture_name : str, optional
+        With a name, also the PNG of Y against torque with the published points.
+    title : str, optional
+        The picture's title.
+
+    Returns
+    -------
+    list of Path
+        ``check.csv``, ``check_verdict.json``, the calibrated and blind sweeps' files and the picture.
+    """
     result = run.calibrated_verdict
     written = [
         write_csv_atomic(out / "check.csv", records.check_rows(run.comparison_blind, run.comparison_calibrated,

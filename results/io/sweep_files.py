@@ -35,13 +35,13 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import canonical, entry_path_rows, rvcoax_version
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
 
-__all__ = ["CaseStore", "DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "RECORD_FORMAT", "REJECTIONS",
+__all__ = ["CaseStore", "CASE_DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "RECORD_FORMAT", "REJECTIONS",
            "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal",
            "sweep_inputs", "write_sweep_files"]
 
 JOURNAL_FORMAT = 2
 JOURNAL_NAME = "journal.jsonl"
-DELAY_VARIABLE = "RVCOAX_CASE_DELAY_S"
+CASE_DELAY_VARIABLE = "RVCOAX_CASE_DELAY_S"  # test hook: seconds to pause after each solved case
 SYNC_EVERY_CASES = 256  # fsync after this many lines …
 SYNC_EVERY_S = 1.0  # … or this many seconds since the last fsync, whichever comes first
 # why a journal line was not reused (shown to the user, in this order)
@@ -53,7 +53,24 @@ REJECTIONS = {
 
 
 def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -> list[Path]:
-    """``<stem>.csv``, ``<stem>_paths.csv`` and ``<stem>.json`` from a header and per-case records."""
+    """``<stem>.csv``, ``<stem>_paths.csv`` and ``<stem>.json`` from a header and per-case records.
+
+    Parameters
+    ----------
+    out : Path
+        The result folder.
+    stem : str
+        The files' common name (``sweep``).
+    header : dict
+        :func:`sweep_header`'s document.
+    records : list of dict
+        One record per case, in load-case order (from a sweep or the journal).
+
+    Returns
+    -------
+    list of Path
+        The files written, atomically.
+    """
     return [
         write_csv_atomic(out / f"{stem}.csv", [r["row"] for r in records]),
         write_csv_atomic(out / f"{stem}_paths.csv", [row for r in records for row in entry_path_rows(r["entry"])]),
@@ -239,7 +256,7 @@ class CaseStore:
 
 def _case_delay_s() -> float:
     try:
-        delay = float(os.environ.get(DELAY_VARIABLE, "0") or 0)
+        delay = float(os.environ.get(CASE_DELAY_VARIABLE, "0") or 0)
     except ValueError:
         return 0.0
     return delay if delay > 0 and delay == delay else 0.0

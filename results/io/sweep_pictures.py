@@ -69,6 +69,11 @@ def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.
     window_size : (width, height)
         Size of each picture of the deformed rig, pixels.
 
+    Returns
+    -------
+    SweepPictures
+        The PNG of each case and the PNG of Y against torque.
+
     Raises
     ------
     RenderingUnavailableError

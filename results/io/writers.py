@@ -55,6 +55,20 @@ def write_text_atomic(path: str | Path, text: str, durable: bool = True) -> Path
     ``durable=False`` skips the fsync: still atomic, but after a power cut the file may be empty
     (for files that are checked when read again, such as Monte Carlo samples). An OSError names
     ``path`` (see :func:`naming_errors`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; its folder is created if needed.
+    text : str
+        Written as UTF-8.
+    durable : bool
+        Fsync the file and its folder, so that it survives a power cut.
+
+    Returns
+    -------
+    Path
+        ``path``.
     """
     target = Path(path)
     with naming_errors(target):
@@ -86,7 +100,20 @@ def format_number(value) -> str:
 
 
 def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
-    """Write a list of dicts (same keys, in order) as CSV."""
+    """Write a list of dicts (same keys, in order) as CSV.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; its folder is created if needed.
+    rows : list of dict
+        The header is the first row's keys.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     buffer = io.StringIO()
     if rows:
         writer = csv.writer(buffer, lineterminator="\n")
@@ -97,6 +124,22 @@ def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
 
 
 def write_json_atomic(path: str | Path, data, durable: bool = True) -> Path:
+    """Write ``data`` as indented UTF-8 JSON (numpy numbers as floats), atomically like :func:`write_text_atomic`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; its folder is created if needed.
+    data
+        Anything :func:`json.dumps` takes, with numpy numbers.
+    durable : bool
+        Fsync before the rename (see :func:`write_text_atomic`).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     return write_text_atomic(path, json.dumps(data, indent=2, sort_keys=False, ensure_ascii=False, default=float) + "\n",
                              durable)
 

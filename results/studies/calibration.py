@@ -200,6 +200,26 @@ def calibrate(
 
     When every parameter is a load parameter, the model is assembled and factorised once
     (``prepared`` may pass one in) and only the unit loads change between evaluations.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig as built (blind).
+    published : tuple of PublishedRow
+        The table to fit (:func:`rvcoax.paper_table`).
+    fit_output_torques_Nm : tuple of float
+        The rows used to fit, by T2; the other rows are predictions.
+    parameters : tuple of CalibrationParameter
+        Rig-file addresses to fit, each with its bounds and plausible range.
+    settings : SweepSettings, optional
+        How to solve (default: the beam model).
+    prepared : PreparedModel, optional
+        A prepared model of ``rig`` to reuse.
+
+    Returns
+    -------
+    Calibration
+        The fitted values, each with its plausibility, the calibrated rig and the fit's residuals.
     """
     if prepared is None and all(p.address.startswith(LOAD_GROUPS) for p in parameters):
         prepared = prepare_model(rig, settings or SweepSettings())

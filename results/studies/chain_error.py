@@ -47,7 +47,7 @@ from rvcoax.geometry.schema import Part, Rig
 from rvcoax.results.io.datafiles import read_data_text
 
 __all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
-           "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "chain_error",
+           "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "evaluate_chain_error",
            "contribution", "load_chain_model", "moment_arms_mm", "read_stage_forces", "rig_stages",
            "shear_modulus_Pa", "signed_total", "stage_midpoints_mm", "stage_twists_deg",
            "torsion_constant_deg_per_m"]
@@ -254,6 +254,16 @@ def torsion_constant_deg_per_m(shear_modulus: float) -> float:
     """The constant C of φ = C T / d⁴ (φ in °/m, T in N·m, d in mm) of a round shaft: 180/π · 32 / (π G).
 
     Paper 000's 7350 is this constant for G = 79.4 GPa.
+
+    Parameters
+    ----------
+    shear_modulus : float
+        G in Pa.
+
+    Returns
+    -------
+    float
+        C in (°/m) · mm⁴ / (N·m).
     """
     return 180.0 / math.pi * 32.0 / (math.pi * shear_modulus) * 1e12
 
@@ -299,8 +309,8 @@ def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> f
     return float(sum(signs[name] * value for name, value in values_deg.items()))
 
 
-def chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
-                output_shaft: Coaxiality = NO_TILT) -> ChainError:
+def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
+                         output_shaft: Coaxiality = NO_TILT) -> ChainError:
     """Each component's error vector and the total, with the shafts' tilts and offsets.
 
     Parameters
@@ -311,6 +321,11 @@ def chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_sha
     input_shaft, output_shaft : Coaxiality
         β and a of the rig's input and output shafts (components with ``coaxiality = "none"``
         ignore them).
+
+    Returns
+    -------
+    ChainError
+        Every component's contribution θ, θ_total, and θ_total with the shafts untilted (baseline), in degrees.
     """
     tilts = {"input": input_shaft, "output": output_shaft, "none": NO_TILT}
     parts = tuple(
@@ -378,7 +393,25 @@ def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, so
 
 
 def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
-    """Read a stage data file (default: the built-in RV-20E file), taking rig parts' stages from ``rig``."""
+    """Read a stage data file (default: the built-in RV-20E file), taking rig parts' stages from ``rig``.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose shafts and reducer parts the stages belong to.
+    path : str or Path, optional
+        A stage data TOML file (``results/data/rv20e_chain_stages.toml`` is the example).
+
+    Returns
+    -------
+    ChainModel
+        The reducer, its components and stages with their diameters, lengths, moment arms and moduli.
+
+    Raises
+    ------
+    ChainDataError
+        Naming the file, the key and the reason.
+    """
     source, text = read_data_text(path, STAGE_DATA, ChainDataError, "stage data")
     try:
         data = _StageFile.model_validate(parse_toml(text))
@@ -398,6 +431,23 @@ def read_stage_forces(path: str | Path, model: ChainModel) -> dict[str, np.ndarr
     """Average force per stage from a CSV with columns ``component, stage, force_N`` (others ignored).
 
     ``stage`` is 1-based; stages not listed carry no force. Errors name the file, line and reason.
+
+    Parameters
+    ----------
+    path : str or Path
+        The forces CSV (``results/data/paper000_chain_forces.csv`` is paper 000's).
+    model : ChainModel
+        From :func:`load_chain_model`: the components and stages the file may name.
+
+    Returns
+    -------
+    dict of str to ndarray
+        Component name → force per stage (N).
+
+    Raises
+    ------
+    ChainDataError
+        Naming the file, the line and the reason.
     """
     source, text = read_data_text(path, "", ChainDataError, "forces file")
     try:

@@ -14,10 +14,11 @@ from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stat
 from rvcoax.results.sweep import Sweep
 
 __all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "MeasuredTableError",
-           "QUANTITIES", "Tolerance", "Verdict", "check_verdict", "compare", "measured_rows", "published_values",
+           "CHECK_QUANTITIES", "Tolerance", "Verdict", "check_verdict", "compare", "measured_rows", "published_values",
            "sweep_values", "verdict", "y_at_stations"]
 
-QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
+CHECK_QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
+"""The four values of each row of the published table that the check compares."""
 
 
 @dataclass(frozen=True)
@@ -45,11 +46,11 @@ def y_at_stations(station_mm, uy_mm, stations_mm) -> float:
 
 
 def sweep_values(sweep: Sweep, rows: tuple[PublishedRow, ...] | None = None) -> dict[str, np.ndarray]:
-    """Y_max and β of every case of a sweep, keyed like :data:`QUANTITIES`.
+    """Y_max and β of every case of a sweep, keyed like :data:`CHECK_QUANTITIES`.
 
     With ``rows`` (one per case) whose stations are given, Y is the largest |u_y| at those stations.
     """
-    out: dict[str, list[float]] = {q: [] for q in QUANTITIES}
+    out: dict[str, list[float]] = {q: [] for q in CHECK_QUANTITIES}
     for i, case in enumerate(sweep.cases):
         for shaft in MEASURED_SHAFTS:
             path = case.paths[shaft]
@@ -74,6 +75,18 @@ def measured_rows(data: MeasuredData, path_lengths_mm: dict[str, float]) -> tupl
     *table*: Y_max per shaft and case; β = arcsin(Y/L) with the rig's path lengths L (paper 000's
     definition). *paths*: per case and shaft, the largest |u_y| over the measured stations (the
     model is then read at the same stations); every case needs stations on both shafts.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        From :func:`rvcoax.read_measured`.
+    path_lengths_mm : dict of str to float
+        The rig's measured path length per shaft, for β.
+
+    Returns
+    -------
+    tuple of PublishedRow
+        One per case, to pass to :func:`rvcoax.run_check` as ``rows``.
     """
     check_stations(data, path_lengths_mm)
     rows = []
@@ -121,7 +134,7 @@ def compare(rows: tuple[PublishedRow, ...], sweep: Sweep, tolerance: Tolerance =
     model = sweep_values(sweep, rows)
     lengths = {"input": sweep.rig.paths.input.length_mm, "output": sweep.rig.paths.output.length_mm}
     absolute, relative, within = {}, {}, {}
-    for q in QUANTITIES:
+    for q in CHECK_QUANTITIES:
         length = lengths["input" if "input" in q else "output"]
         absolute[q] = model[q] - published[q]
         relative[q] = absolute[q] / np.abs(published[q])
@@ -141,9 +154,9 @@ class Verdict:
 
 def verdict(comparison: Comparison, held_out: np.ndarray) -> Verdict:
     """Pass when every quantity of every held-out row is within tolerance; name the worst row."""
-    failures = sum(int(np.sum(~comparison.within[q][held_out])) for q in QUANTITIES)
+    failures = sum(int(np.sum(~comparison.within[q][held_out])) for q in CHECK_QUANTITIES)
     worst = (-1.0, -1, "")
-    for q in QUANTITIES:
+    for q in CHECK_QUANTITIES:
         errors = np.where(held_out, np.abs(comparison.relative_error[q]), -1.0)
         i = int(np.argmax(errors))
         if errors[i] > worst[0]:
@@ -152,9 +165,9 @@ def verdict(comparison: Comparison, held_out: np.ndarray) -> Verdict:
 
 
 # exit statuses of ``rvcoax check`` (2 is reserved for user errors, as in every command)
-EXIT_WITHIN = 0
-EXIT_OUTSIDE = 1
-EXIT_IMPLAUSIBLE_FIT = 3
+EXIT_WITHIN = 0  # every value within tolerance, every fitted parameter plausible
+EXIT_OUTSIDE = 1  # a value outside tolerance
+EXIT_IMPLAUSIBLE_FIT = 3  # within tolerance only with a fitted parameter outside its plausible range
 
 
 @dataclass(frozen=True)

@@ -65,6 +65,7 @@ NO_TABLE_HELP = ("paper 000's table belongs to the built-in reference rig only; 
                  "FILE a CSV with columns T1_input_Nm, "
                  "T2_output_Nm, Y_input_mm, Y_output_mm (a table), or T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm "
                  "(measured paths), at least three load cases with two different T2")
+"""What the check tells a user whose rig has no table to compare with: give its own measured Y."""
 
 
 class MissingTableError(RvcoaxError, ValueError):
@@ -73,7 +74,23 @@ class MissingTableError(RvcoaxError, ValueError):
 
 def fit_output_torques(rows: tuple[PublishedRow, ...]) -> tuple[float, float]:
     """The output torques whose rows the calibration fits: the smallest and the largest T2 of the table
-    (paper 000's table: T2 = 10 and 200 N·m); every other row is a prediction."""
+    (paper 000's table: T2 = 10 and 200 N·m); every other row is a prediction.
+
+    Parameters
+    ----------
+    rows : tuple of PublishedRow
+        The table the check compares with.
+
+    Returns
+    -------
+    (float, float)
+        The smallest and the largest T2 (N·m).
+
+    Raises
+    ------
+    CalibrationError
+        Fewer than three rows, or fewer than two different T2.
+    """
     torques = sorted({r.case.output_torque_Nm for r in rows})
     if len(torques) < 2 or len(rows) < 3:
         raise CalibrationError(f"the table has {len(rows)} row(s) with {len(torques)} different T2: the check fits "

@@ -223,6 +223,11 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
     setup_seconds : float, optional
         ``"auto"`` only: the model's set-up time (every cluster worker repeats it), when the caller has
         measured it (the model is then already set up here); default: the first sample's time less the second's.
+
+    Returns
+    -------
+    (list of dict, RunReport)
+        The results in row order, and how the run went.
     """
     folder = Path(folder)
     rows = np.atleast_2d(np.asarray(rows, dtype=float))

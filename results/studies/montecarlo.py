@@ -52,9 +52,10 @@ from rvcoax.results.sweep import (
 )
 
 __all__ = ["Exceedance", "QUANTILES", "STRATEGIES", "STRATEGY_TEXT", "Study", "classify_parameter", "describe",
-           "evaluate_sample", "exceedance", "parameters_needing", "plan_study", "stack"]
+           "evaluate_sample", "exceedance", "parameters_needing", "plan_study", "stack_records"]
 
 STRATEGIES = ("loads", "frame", "full")
+# what each evaluation strategy re-builds per sample, as the commands print it
 STRATEGY_TEXT = {
     "loads": "every toleranced parameter only changes loads: one assembled and factorised model serves every "
              "sample, only the unit loads are rebuilt",
@@ -189,7 +190,24 @@ def _probe_values(rig: Rig, tolerances: Tolerances) -> dict[str, float]:
 
 
 def parameters_needing(rig: Rig, tolerances: Tolerances, strategy: str, model: str = "beam") -> list[str]:
-    """The toleranced parameters that on their own need ``strategy`` (``rig`` as planned)."""
+    """The toleranced parameters that on their own need ``strategy`` (``rig`` as planned).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig as planned.
+    tolerances : Tolerances
+        From :func:`rvcoax.results.studies.load_tolerances`.
+    strategy : {"frame", "full"}
+        The reuse to look for.
+    model : str
+        ``beam``, ``hybrid`` or ``solid``.
+
+    Returns
+    -------
+    list of str
+        Their addresses.
+    """
     nominal = assemble_beam(rig)
     return [address for address, value in _probe_values(rig, tolerances).items()
             if classify_parameter(rig, address, value, model, nominal) == strategy]
@@ -202,6 +220,22 @@ def plan_study(rig: Rig, tolerances: Tolerances, settings: SweepSettings | None 
     The reuse is found with every parameter changed at once (a spring's stiffness and its offset
     interact through the prestrain K Δ0): the cheapest strategy whose system equals a fresh
     assembly of the changed rig. :func:`classify_parameter` tells which parameter needs what.
+
+    Parameters
+    ----------
+    rig : Rig
+        The nominal rig.
+    tolerances : Tolerances
+        From :func:`rvcoax.results.studies.load_tolerances`.
+    settings : SweepSettings, optional
+        How each sample is solved (default: the beam model).
+    strategy : {"loads", "frame", "full"}, optional
+        Force a reuse strategy.
+
+    Returns
+    -------
+    Study
+        The rig, the load cases, the addresses, the strategy and what every sample reuses.
     """
     settings = settings or SweepSettings()
     rig = study_rig(rig, tolerances)
@@ -245,6 +279,13 @@ def _nominal(study: Study) -> _Nominal:
 def evaluate_sample(study: Study, values) -> dict:
     """Solve the study's load cases on the rig with ``values`` (one per address).
 
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    values : sequence of float
+        One value per toleranced address, in ``study.addresses`` order.
+
     Returns
     -------
     dict
@@ -270,8 +311,21 @@ def evaluate_sample(study: Study, values) -> dict:
     }
 
 
-def stack(records: list[dict], key: str) -> np.ndarray:
-    """``key`` of every sample record as an array (samples, cases, shafts)."""
+def stack_records(records: list[dict], key: str) -> np.ndarray:
+    """``key`` of every sample record as an array (samples, cases, shafts).
+
+    Parameters
+    ----------
+    records : list of dict
+        From :func:`evaluate_sample`.
+    key : str
+        ``Y_max_mm``, ``Y_signed_mm`` or ``beta_deg``.
+
+    Returns
+    -------
+    ndarray, shape (samples, cases, 2)
+        The values, input shaft first.
+    """
     return np.array([r[key] for r in records], dtype=float)
 
 

@@ -27,7 +27,7 @@ from scipy.stats import qmc
 __all__ = ["DISTRIBUTIONS", "Distribution", "EDGE", "SAMPLING_METHODS", "sample_values", "to_values", "unit_design"]
 
 DISTRIBUTIONS = ("normal", "uniform", "truncated_normal")
-SAMPLING_METHODS = ("lhs", "sobol", "random")
+SAMPLING_METHODS = ("lhs", "sobol", "random")  # Latin hypercube, scrambled Sobol' points, plain random
 EDGE = 2.0**-53
 
 
@@ -142,7 +142,20 @@ def unit_design(n: int, d: int, method: str = "lhs", seed: int = 0) -> np.ndarra
 
 
 def to_values(distributions: tuple[Distribution, ...], unit_points: np.ndarray) -> np.ndarray:
-    """Map unit-cube points (n, d) to parameter values (n, d), column j through distribution j."""
+    """Map unit-cube points (n, d) to parameter values (n, d), column j through distribution j.
+
+    Parameters
+    ----------
+    distributions : tuple of Distribution
+        One per column.
+    unit_points : ndarray, shape (n, d)
+        Points in the open unit cube.
+
+    Returns
+    -------
+    ndarray, shape (n, d)
+        Parameter values.
+    """
     unit_points = np.atleast_2d(unit_points)
     if unit_points.shape[1] != len(distributions):
         raise ValueError(f"{unit_points.shape[1]} columns for {len(distributions)} distributions")
@@ -150,5 +163,22 @@ def to_values(distributions: tuple[Distribution, ...], unit_points: np.ndarray) 
 
 
 def sample_values(distributions: tuple[Distribution, ...], n: int, method: str = "lhs", seed: int = 0) -> np.ndarray:
-    """``n`` seeded samples (n, d) of the parameters' distributions."""
+    """``n`` seeded samples (n, d) of the parameters' distributions.
+
+    Parameters
+    ----------
+    distributions : tuple of Distribution
+        One per parameter (normal, uniform or truncated normal, in the parameter's unit).
+    n : int
+        Samples.
+    method : {"lhs", "sobol", "random"}
+        Latin hypercube, scrambled Sobol' points or plain random.
+    seed : int
+        The same seed gives the same samples.
+
+    Returns
+    -------
+    ndarray, shape (n, d)
+        Parameter values.
+    """
     return to_values(distributions, unit_design(n, len(distributions), method, seed))

@@ -30,7 +30,7 @@ __all__ = ["BOOTSTRAP_RESAMPLES", "MORRIS_LEVELS", "MorrisIndices", "NORMAL_RANG
            "SobolIndices", "design_runs", "morris_design", "morris_indices", "morris_values", "sobol_design",
            "sobol_indices"]
 
-SENSITIVITY_METHODS = ("sobol", "morris")
+SENSITIVITY_METHODS = ("sobol", "morris")  # Sobol' indices (Saltelli design) or Morris screening
 MORRIS_LEVELS = 4
 NORMAL_RANGE = (0.00135, 0.99865)  # ±3 std of a normal law: Morris levels need a bounded range
 BOOTSTRAP_RESAMPLES = 200
@@ -41,7 +41,22 @@ def _problem(d: int) -> dict:
 
 
 def design_runs(method: str, n: int, d: int) -> int:
-    """Model runs of a design: n (d + 2) for Sobol' (n base points), n (d + 1) for Morris (n trajectories)."""
+    """Model runs of a design: n (d + 2) for Sobol' (n base points), n (d + 1) for Morris (n trajectories).
+
+    Parameters
+    ----------
+    method : {"sobol", "morris"}
+        The design.
+    n : int
+        Base points (Sobol') or trajectories (Morris).
+    d : int
+        Parameters.
+
+    Returns
+    -------
+    int
+        Model runs.
+    """
     return n * (d + 2) if method == "sobol" else n * (d + 1)
 
 
@@ -49,6 +64,20 @@ def sobol_design(n: int, d: int, seed: int = 0) -> np.ndarray:
     """Saltelli's design for first- and total-order indices: (n (d + 2), d) points in the unit cube.
 
     ``n`` (base points) must be a power of two, for the Sobol' sequence to be balanced.
+
+    Parameters
+    ----------
+    n : int
+        Base points, a power of two.
+    d : int
+        Parameters.
+    seed : int
+        The same seed gives the same design.
+
+    Returns
+    -------
+    ndarray, shape (n (d + 2), d)
+        Points in the open unit cube.
     """
     if n < 2 or n & (n - 1):
         raise ValueError(f"Sobol' indices need a power of two base samples (e.g. {1 << max(n, 2).bit_length()}), got {n}")
@@ -57,14 +86,40 @@ def sobol_design(n: int, d: int, seed: int = 0) -> np.ndarray:
 
 
 def morris_design(trajectories: int, d: int, seed: int = 0) -> np.ndarray:
-    """Morris trajectories on a 4-level grid: (trajectories (d + 1), d) points in [0, 1]."""
+    """Morris trajectories on a 4-level grid: (trajectories (d + 1), d) points in [0, 1].
+
+    Parameters
+    ----------
+    trajectories : int
+        Number of one-at-a-time trajectories.
+    d, seed
+        As for :func:`sobol_design`.
+
+    Returns
+    -------
+    ndarray, shape (trajectories (d + 1), d)
+        Grid points in the unit cube.
+    """
     if trajectories < 2:
         raise ValueError(f"Morris screening needs at least 2 trajectories, got {trajectories}")
     return morris_sampling.sample(_problem(d), trajectories, num_levels=MORRIS_LEVELS, seed=seed)
 
 
 def morris_values(distributions: tuple[Distribution, ...], points: np.ndarray) -> np.ndarray:
-    """Morris grid points to parameter values: a normal law spans its central 99.73 %, bounded ones their range."""
+    """Morris grid points to parameter values: a normal law spans its central 99.73 %, bounded ones their range.
+
+    Parameters
+    ----------
+    distributions : tuple of Distribution
+        One per column.
+    points : ndarray
+        Grid points in the unit cube (:func:`morris_design`).
+
+    Returns
+    -------
+    ndarray
+        Parameter values, same shape as ``points``.
+    """
     probabilities = np.array(points, dtype=float)
     for j, dist in enumerate(distributions):
         if not dist.bounded:
@@ -105,7 +160,26 @@ def _nan(d: int) -> np.ndarray:
 
 def sobol_indices(outputs, d: int, seed: int = 0, confidence_level: float = 0.95,
                   resamples: int = BOOTSTRAP_RESAMPLES) -> SobolIndices:
-    """Sobol' indices of ``outputs`` (one per row of :func:`sobol_design`, same order)."""
+    """Sobol' indices of ``outputs`` (one per row of :func:`sobol_design`, same order).
+
+    Parameters
+    ----------
+    outputs : array_like
+        One model output per design point.
+    d : int
+        Parameters.
+    seed : int
+        Seed of the bootstrap.
+    confidence_level : float
+        Of the bootstrap intervals.
+    resamples : int
+        Bootstrap resamples.
+
+    Returns
+    -------
+    SobolIndices
+        First-order S1 and total ST per parameter, with their intervals.
+    """
     y = np.asarray(outputs, dtype=float)
     if np.ptp(y) == 0.0:
         return SobolIndices(_nan(d), _nan(d), _nan(d), _nan(d), confidence_level, constant=True)
@@ -118,7 +192,22 @@ def sobol_indices(outputs, d: int, seed: int = 0, confidence_level: float = 0.95
 
 def morris_indices(points: np.ndarray, outputs, seed: int = 0, confidence_level: float = 0.95,
                    resamples: int = BOOTSTRAP_RESAMPLES) -> MorrisIndices:
-    """Morris statistics of ``outputs`` at the unit-cube ``points`` of :func:`morris_design`."""
+    """Morris statistics of ``outputs`` at the unit-cube ``points`` of :func:`morris_design`.
+
+    Parameters
+    ----------
+    points : ndarray
+        The design (:func:`morris_design`).
+    outputs : array_like
+        One model output per point, same order.
+    seed, confidence_level, resamples
+        The bootstrap of μ*, as for :func:`sobol_indices`.
+
+    Returns
+    -------
+    MorrisIndices
+        μ, μ* (with its interval) and σ per parameter.
+    """
     y = np.asarray(outputs, dtype=float)
     d = points.shape[1]
     if np.ptp(y) == 0.0:

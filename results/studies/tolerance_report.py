@@ -13,17 +13,44 @@ import numpy as np
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_png_atomic
-from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, Exceedance, Study, describe, exceedance, stack
+from rvcoax.results.studies.montecarlo import STRATEGY_TEXT, Exceedance, Study, describe, exceedance, stack_records
 from rvcoax.results.studies.sensitivity import SobolIndices
 from rvcoax.results.studies.tolerances import Tolerances
 
 
 def case_label(case) -> str:
+    """``T1 = 0.07 N·m, T2 = 10 N·m``: a load case as reports and the console name it.
+
+    Parameters
+    ----------
+    case : LoadCase
+        The load case.
+
+    Returns
+    -------
+    str
+        Its label.
+    """
     return f"T1 = {case.input_torque_Nm:g} N·m, T2 = {case.output_torque_Nm:g} N·m"
 
 
 def sample_rows(study: Study, values: np.ndarray, records: list[dict]) -> list[dict]:
-    """One row per sample and load case: the parameter values, then Y and β of both shafts."""
+    """One row per sample and load case: the parameter values, then Y and β of both shafts.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    values : ndarray, shape (samples, parameters)
+        The sampled parameter values.
+    records : list of dict
+        One per sample (:func:`evaluate_sample`).
+
+    Returns
+    -------
+    list of dict
+        Keys are the parameter addresses (their unit in the address) and quantities with units.
+    """
     rows = []
     for index, (row_values, record) in enumerate(zip(values, records)):
         for c, case in enumerate(study.cases):
@@ -39,10 +66,23 @@ def sample_rows(study: Study, values: np.ndarray, records: list[dict]) -> list[d
 
 
 def distribution_rows(study: Study, records: list[dict]) -> list[dict]:
-    """Per load case, shaft and quantity (Y_max_mm, beta_deg): mean, std, min, max and quantiles."""
+    """Per load case, shaft and quantity (Y_max_mm, beta_deg): mean, std, min, max and quantiles.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    records : list of dict
+        One per sample (:func:`evaluate_sample`).
+
+    Returns
+    -------
+    list of dict
+        Keys with units (``T1_input_Nm``, ``mean``… in the quantity's unit, named in ``quantity``).
+    """
     rows = []
     for key, quantity in (("Y_max_mm", "Y_mm"), ("beta_deg", "beta_deg")):
-        data = stack(records, key)
+        data = stack_records(records, key)
         for c, case in enumerate(study.cases):
             for s, shaft in enumerate(MEASURED_SHAFTS):
                 rows.append({"T1_input_Nm": case.input_torque_Nm, "T2_output_Nm": case.output_torque_Nm,
@@ -51,8 +91,23 @@ def distribution_rows(study: Study, records: list[dict]) -> list[dict]:
 
 
 def exceedances(study: Study, tolerances: Tolerances, records: list[dict]) -> list[tuple[int, object, Exceedance]]:
-    """(case index, limit, P(β > limit)) for every load case and every limit of the tolerance file."""
-    beta = stack(records, "beta_deg")
+    """(case index, limit, P(β > limit)) for every load case and every limit of the tolerance file.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    tolerances : Tolerances
+        The tolerance file, with its β limits and confidence level.
+    records : list of dict
+        One per sample (:func:`evaluate_sample`).
+
+    Returns
+    -------
+    list of (int, limit, Exceedance)
+        P(β > limit) with its Wilson interval.
+    """
+    beta = stack_records(records, "beta_deg")
     out = []
     for c in range(len(study.cases)):
         for limit in tolerances.limits:
@@ -62,6 +117,20 @@ def exceedances(study: Study, tolerances: Tolerances, records: list[dict]) -> li
 
 
 def exceedance_rows(study: Study, found) -> list[dict]:
+    """One row per load case, shaft and β limit of :func:`exceedances`: P(β > limit) with its interval.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    found : list
+        From :func:`exceedances`.
+
+    Returns
+    -------
+    list of dict
+        Load case, shaft, limit (``beta_limit_deg``, ``Y_limit_mm``), samples above, P and its interval.
+    """
     rows = []
     for c, limit, e in found:
         case = study.cases[c]
@@ -75,7 +144,28 @@ def exceedance_rows(study: Study, found) -> list[dict]:
 
 def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_text: str, design: dict,
                    run, nominal: dict) -> dict:
-    """What every study's JSON holds: provenance, the parameters, how samples were solved and run."""
+    """What every study's JSON holds: provenance, the parameters, how samples were solved and run.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    tolerances : Tolerances
+        The tolerance file.
+    rig_source, rig_text : str
+        The rig file as the user named it, and its text (its SHA-256 is recorded).
+    design : dict
+        How the points were drawn (method, samples, seed).
+    run
+        How the samples ran (:func:`run_samples`: scheduler, workers, resumed and computed samples, seconds).
+    nominal : dict
+        The nominal rig's record.
+
+    Returns
+    -------
+    dict
+        The common part of ``montecarlo.json`` and ``sensitivity.json``.
+    """
     return {
         "rvcoax_version": rvcoax_version(),
         "rig": {"name": study.rig.rig.name, "source": rig_source, "sha256": text_sha256(rig_text)},
@@ -103,7 +193,22 @@ def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_te
 
 
 def sensitivity_rows(study: Study, tolerances: Tolerances, found: dict) -> list[dict]:
-    """One row per load case, shaft and parameter with the indices of β."""
+    """One row per load case, shaft and parameter with the indices of β.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    tolerances : Tolerances
+        The tolerance file (parameters).
+    found : dict
+        (case index, shaft) → SobolIndices or MorrisIndices.
+
+    Returns
+    -------
+    list of dict
+        S1 and ST (Sobol') or μ*, μ and σ in degrees (Morris), with their intervals.
+    """
     rows = []
     for (c, shaft), indices in found.items():
         case = study.cases[c]
@@ -122,7 +227,20 @@ def sensitivity_rows(study: Study, tolerances: Tolerances, found: dict) -> list[
 
 
 def ranking(indices, names) -> list[tuple[str, float]]:
-    """Parameters by importance (total index ST, or Morris μ*), most important first."""
+    """Parameters by importance (total index ST, or Morris μ*), most important first.
+
+    Parameters
+    ----------
+    indices : SobolIndices or MorrisIndices
+        Of one output.
+    names : sequence of str
+        The parameters, in the indices' order.
+
+    Returns
+    -------
+    list of (str, float)
+        Name and score; parameters whose score is NaN come last.
+    """
     score = indices.ST if isinstance(indices, SobolIndices) else indices.mu_star
     order = np.argsort(-np.nan_to_num(score, nan=-np.inf), kind="stable")
     return [(names[j], float(score[j])) for j in order]
@@ -138,10 +256,29 @@ def _short(address: str) -> str:
 
 
 def plot_beta_histograms(study: Study, tolerances: Tolerances, records: list[dict], found, path_png) -> Path:
-    """β histograms per shaft (one colour per load case) with the limits and P(β > limit)."""
+    """β histograms per shaft (one colour per load case) with the limits and P(β > limit).
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    tolerances : Tolerances
+        The tolerance file (name, limits).
+    records : list of dict
+        One per sample (:func:`evaluate_sample`).
+    found : list
+        From :func:`exceedances`.
+    path_png : str or Path
+        Where the picture goes.
+
+    Returns
+    -------
+    Path
+        ``path_png``, written atomically.
+    """
     from matplotlib.figure import Figure  # no pyplot: drawn by Agg whatever the backend
 
-    beta = stack(records, "beta_deg")
+    beta = stack_records(records, "beta_deg")
     figure = Figure(figsize=(12, 4.8), layout="constrained")
     axes = figure.subplots(1, len(MEASURED_SHAFTS))
     for s, (ax, shaft) in enumerate(zip(axes, MEASURED_SHAFTS)):
@@ -166,7 +303,24 @@ def plot_beta_histograms(study: Study, tolerances: Tolerances, records: list[dic
 
 
 def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) -> Path:
-    """Bar chart of the indices of β per load case (rows) and shaft (columns), with confidence intervals."""
+    """Bar chart of the indices of β per load case (rows) and shaft (columns), with confidence intervals.
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`plan_study`.
+    tolerances : Tolerances
+        The tolerance file (name, parameters, confidence level).
+    found : dict
+        (case index, shaft) → SobolIndices or MorrisIndices.
+    path_png : str or Path
+        The PNG file.
+
+    Returns
+    -------
+    Path
+        ``path_png`` (written atomically, like every picture here).
+    """
     from matplotlib.figure import Figure
 
     names = [_short(a) for a in tolerances.addresses]
@@ -202,5 +356,5 @@ def plot_indices(study: Study, tolerances: Tolerances, found: dict, path_png) ->
 
 
 __all__ = ["case_label", "distribution_rows", "exceedance_rows", "exceedances",
-           "plot_beta_histograms", "plot_indices", "ranking", "sample_rows", "sensitivity_rows", "stack",
+           "plot_beta_histograms", "plot_indices", "ranking", "sample_rows", "sensitivity_rows",
            "study_document"]

@@ -186,7 +186,20 @@ def _parts_address(address: str) -> tuple[str, str] | None:
 
 
 def parameter_value(rig: Rig, address: str) -> float:
-    """The rig's current (nominal) value at ``address``; a diameter deviation is 0."""
+    """The rig's current (nominal) value at ``address``; a diameter deviation is 0.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    address : str
+        A rig-file address (``bearings.input_B1.radial_stiffness_N_per_um``).
+
+    Returns
+    -------
+    float
+        The value, in the unit its key names.
+    """
     parts = _parts_address(address)
     if parts is None:
         return get_parameter(rig, address)
@@ -346,7 +359,25 @@ def parse_tolerances(text: str, source: str, rig: Rig) -> Tolerances:
 
 
 def load_tolerances(path: str | Path, rig: Rig) -> Tolerances:
-    """Read and validate a tolerance file against ``rig``."""
+    """Read and validate a tolerance file against ``rig``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The tolerance TOML file (``docs/tolerances.md``).
+    rig : Rig
+        The rig whose rig-file addresses the tolerances name.
+
+    Returns
+    -------
+    Tolerances
+        The parameters with their distributions, the β limits and the study settings.
+
+    Raises
+    ------
+    ToleranceFileError
+        Naming the file, the key and the reason.
+    """
     source = str(path)
     try:
         text = read_input_text(path, MAX_TOLERANCE_FILE_BYTES, "a tolerance file")

@@ -18,8 +18,10 @@ import time
 from pathlib import Path
 
 import pytest
+from bad_inputs import all_cases
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from rigdata import dump_toml, reference_data
 from typer.testing import CliRunner
 
 from rvcoax.geometry.model.preflight import support_problem
@@ -27,8 +29,6 @@ from rvcoax.geometry.rigfile import parse_rig
 from rvcoax.loadcases.cases import read_cases
 from rvcoax.results.cli.app import app
 from rvcoax.results.studies.discrepancy.measured import read_measured
-from tests.bad_inputs import all_cases
-from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 CORPUS = all_cases()
 BY_NAME = {case.name: case for case in CORPUS}

@@ -6,12 +6,12 @@ import errno
 import os
 
 import pytest
+from hostile._files import FORCES
 from typer.testing import CliRunner
 
 from rvcoax.results.cli.app import app
 from rvcoax.results.cli.support import UserError, finite_option, scheduler_address, torque_list, write_error_text
 from rvcoax.results.io import writers
-from tests.hostile._files import FORCES
 
 
 @pytest.mark.parametrize(("value", "expected"), [("4", 4.0), (" 0.05 ", 0.05), ("1e3", 1000.0), (2, 2.0)])

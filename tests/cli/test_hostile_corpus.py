@@ -9,10 +9,10 @@ error path (a ``SystemExit``), never from an exception that escaped.
 from __future__ import annotations
 
 import pytest
+from hostile import CLASSES, all_cases
 from typer.testing import CliRunner
 
 from rvcoax.results.cli.app import app
-from tests.hostile import CLASSES, all_cases
 
 CORPUS = all_cases()
 

@@ -200,9 +200,10 @@ def test_tangent_and_tilt_stiffness_against_finite_differences_of_the_model(moti
 def test_a_node_on_a_ball_bearing_through_the_condensed_newton_solve():
     """One node on a ball bearing to ground: the condensed Newton solve of rvcoax.fem.bushing, on the
     factorisation of the linear reference spring, returns the bearing's own radial deflection."""
+    import frames
+
     from rvcoax.fem.model import constraint_elimination, stiffness_matrix
     from rvcoax.fem.system import factorize
-    from tests import frames
 
     g = BEARING_6204
     reference = np.array([50e6, 50e6, 50e6, 0.0, 5e3, 5e3])

@@ -9,8 +9,10 @@ checks the reduced residual and the global equilibrium of applied loads and reac
 
 from __future__ import annotations
 
+import frames
 import numpy as np
 import pytest
+from frames import DENSITY, GRAVITY, REL_TOL, SHEAR_MODULUS, assert_close, dof, node_dofs, rigidities
 
 from rvcoax.fem.bushing import GROUND
 from rvcoax.fem.constraints import RigidLinks
@@ -21,8 +23,6 @@ from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import constraint_elimination, gravity_load_vector, stiffness_matrix
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
-from tests import frames
-from tests.frames import DENSITY, GRAVITY, REL_TOL, SHEAR_MODULUS, assert_close, dof, node_dofs, rigidities
 
 SOLID = CircularSection(0.04)
 HOLLOW = CircularSection(0.04, 0.028)

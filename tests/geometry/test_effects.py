@@ -12,6 +12,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from rigdata import dump_toml
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects, effect_by_name
@@ -20,7 +21,6 @@ from rvcoax.geometry.rigfile import load_rig, parse_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.sweep import prepare_model, run_sweep
-from tests.geometry.test_rigfile_errors import dump_toml
 
 CASES = paper_cases()
 SEEN = 1e-9  # mm: a change of Y larger than this is a real change (rounding is ~1e-15 mm)

@@ -13,74 +13,35 @@ import math
 
 import numpy as np
 import pytest
+from closed_form_rigs import (
+    HUGE,
+    HUGE_ROTATION,
+    MM,
+    UM,
+    D,
+    L,
+    body,
+    make_rig,
+    mount,
+    rest_displacement,
+    shaft,
+    value,
+)
+from frames import assert_close, rigidities
 
 from rvcoax.fem import bushing
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.model.loads import REST_LOADS
-from rvcoax.geometry.model.system import assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import model_section
 from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
-from tests.frames import POISSON, YOUNGS_MODULUS, assert_close, rigidities
 
-MM, UM = 1e-3, 1e-6
-STEEL = {"youngs_modulus_MPa": YOUNGS_MODULUS / 1e6, "poisson_ratio": POISSON, "density_kg_per_m3": 7850.0}
-HUGE, HUGE_ROTATION = 1e9, 1e13  # N/µm and N·m/rad: a clamp whose compliance is below 1e-9 of anything measured
-CLAMP = {"translational_stiffness_N_per_um": [HUGE] * 3, "rotational_stiffness_Nm_per_rad": [HUGE_ROTATION] * 3}
-L, D = 200.0, 20.0  # mm: the cantilevers
 SECTION = CircularSection(D * MM)
 R = rigidities(SECTION)
 TIP_COMPLIANCE = (L * MM) ** 3 / (3 * R.EI) + L * MM / R.kGA  # m/N, tip force on a Timoshenko cantilever
 TOL = 1e-7  # relative: the model is exact; clamps and tiny auxiliary springs leave < 1e-8
-
-
-def shaft(name: str, x0: float, x1: float, diameter: float = D) -> dict:
-    return {"name": name, "role": "shaft", "material": "steel",
-            "segments": [{"x_mm": [x0, x1], "outer_diameter_mm": diameter}]}
-
-
-def body(name: str, x0: float, x1: float, diameter: float) -> dict:
-    return {"name": name, "role": "body", "material": "steel", "mass_kg": 1.0,
-            "segments": [{"x_mm": [x0, x1], "outer_diameter_mm": diameter}]}
-
-
-def mount(name: str, part: str, x: float, stiffness=None, rotational=None, offset_um: float = 0.0) -> dict:
-    entry = {"name": name, "part": part, "x_mm": x,
-             "translational_stiffness_N_per_um": stiffness or CLAMP["translational_stiffness_N_per_um"],
-             "rotational_stiffness_Nm_per_rad": rotational or CLAMP["rotational_stiffness_Nm_per_rad"]}
-    if offset_um:
-        entry["vertical_offset_um"] = offset_um
-    return entry
-
-
-def make_rig(parts: list[dict], input_part: str, output_part: str, **groups) -> Rig:
-    """A validated rig of ``parts``; T1 and T2 act at the start of the input part; Y from the unloaded geometry."""
-    spans = {p["name"]: p["segments"][0]["x_mm"] for p in parts}
-
-    def path(name):
-        x0, x1 = spans[name]
-        return {"part": name, "x_start_mm": x0, "length_mm": x1 - x0}
-
-    start = {"part": input_part, "x_mm": spans[input_part][0]}
-    data = {"schema_version": 1, "rig": {"name": "closed-form test rig"}, "gravity": {"enabled": False},
-            "materials": {"steel": STEEL}, "parts": parts, "torques": {"T1": start, "T2": start},
-            "paths": {"measured_from": "unloaded", "input": path(input_part), "output": path(output_part)}}
-    data.update(groups)
-    return Rig.model_validate(data)
-
-
-def rest_displacement(rig: Rig):
-    """Beam model and its displacement at rest (self-weight, prestrain, force table)."""
-    system = assemble_beam(rig)
-    load = sum(system.unit_loads[k] for k in REST_LOADS)
-    return system.frame, factorize(system.stiffness, system.elimination).solve(load)
-
-
-def value(frame, u, part: str, x_mm: float, component: int) -> float:
-    return float(u[6 * frame.node(part, x_mm) + component])
 
 
 def tip_load(force_per_torque: float, x_mm: float = L, direction_deg: float = 0.0, part: str = "left", **more) -> dict:
@@ -269,13 +230,13 @@ def test_clearance_zero_is_the_linear_bearing():
     sweep = run_sweep(cantilever_with_gap(0.0), (LoadCase(0.1, 0.0),))
     assert sweep.unit_displacements is not None  # the linear path
     assert_close(sweep.cases[0].paths["input"].uy_mm[-1] * MM, 10.0 / (k_b + k), TOL)
-    assert_close(sweep.measured_displacement(0)[6 * sweep.model.node("left", L) + 1], 10.0 / (k_b + k), TOL)
+    assert_close(sweep.measured_displacement(0)[6 * sweep.frame.node("left", L) + 1], 10.0 / (k_b + k), TOL)
 
 
 def test_clearance_nonlinear_solver_alone():
     """rvcoax.fem.bushing.solve_with_gaps on one spring: a unit mass-less node on a linear spring k1 to
     ground and a gapped spring k to ground; F < k1 c stays in the band, else (F + k c)/(k1 + k)."""
-    from tests import frames
+    import frames
 
     k1, k, c = 2.0e6, 3.0e6, 5e-6
     springs = frames.bushings([bushing.GROUND, bushing.GROUND], [0, 0], np.zeros((2, 3)),

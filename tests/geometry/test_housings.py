@@ -184,7 +184,7 @@ def test_a_warm_housing_lifts_its_part_by_alpha_delta_t_h():
     """A block held only by its condensed housing (h = 100 mm, HT200 α = 1e-5/K, 30 K warmer, bed 10 K warmer
     pinned at x = 0): part and housing grow alike, so the part follows the housing free of stress:
     u_y = α ΔT h, u_x = α_bed ΔT_bed x_c + α ΔT (x − x_c) about the housing's centre x_c."""
-    from tests.geometry.test_effects_physics import body, make_rig, rest_displacement, value
+    from closed_form_rigs import body, make_rig, rest_displacement, value
 
     housing = {**INPUT_BLOCK, "part": "block", "material": "steel", "mesh_size_mm": 20.0}
     rig = make_rig([body("block", 248.0, 320.0, 90.0)], "block", "block", housings=[housing])

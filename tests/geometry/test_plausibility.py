@@ -5,10 +5,10 @@ a load reacted on its own part) each named with the key and the range."""
 from __future__ import annotations
 
 import pytest
+from rigdata import reference_data
 
 from rvcoax.geometry.catalogue import CATALOGUE, plausibility_warnings, plausible_range
 from rvcoax.geometry.rigfile import load_rig, parse_rig
-from tests.geometry.test_rigfile_errors import reference_data
 
 
 def warnings_of(data: dict) -> list[str]:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import skfem
+from closed_form_rigs import STEEL, body, make_rig, mount, rest_displacement, shaft, value
 
 from rvcoax.fem import solid
 from rvcoax.fem.assembly import assemble_matrix
@@ -19,7 +20,6 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.geometry.thermal import free_axial_growth_um, mount_lift_um, radial_growth_um
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.sweep import run_sweep
-from tests.geometry.test_effects_physics import STEEL, body, make_rig, mount, rest_displacement, shaft, value
 
 ALPHA = 11.5e-6  # 1/K
 WARM_STEEL = {**STEEL, "thermal_expansion_per_K": ALPHA}

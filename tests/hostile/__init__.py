@@ -60,9 +60,9 @@ def all_cases() -> list[Hostile]:
     cases: list[Hostile] = []
     for klass in CLASSES:
         try:
-            module = importlib.import_module(f"tests.hostile.{klass}")
+            module = importlib.import_module(f"hostile.{klass}")
         except ModuleNotFoundError as error:
-            if error.name != f"tests.hostile.{klass}":
+            if error.name != f"hostile.{klass}":
                 raise
             continue
         for case in module.CASES:

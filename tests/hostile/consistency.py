@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import json
 
-from tests.hostile import Hostile
-from tests.hostile._files import FORCES, STUDY, TOLERANCES, edited, reference_rig, run, write
+from hostile import Hostile
+from hostile._files import FORCES, STUDY, TOLERANCES, edited, reference_rig, run, write
 
 K = "consistency"
 BOUND = "beyond any plausible rig torque (|T| ≤ 1e+06 N·m)"

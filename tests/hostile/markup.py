@@ -4,8 +4,8 @@ and ``[link=x]`` were silently eaten. Valid inputs: each must succeed and print 
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import DESIGN, FORCES, LEVELS, TOLERANCES, edited, reference_rig, write
+from hostile import Hostile
+from hostile._files import DESIGN, FORCES, LEVELS, TOLERANCES, edited, reference_rig, write
 
 K = "markup"
 RIG_NAME = "[bold]RV[/] rig [link=http://x]y[/link]"

@@ -6,8 +6,8 @@ model), so each case here takes well under a second.
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import LONG_CELL, write
+from hostile import Hostile
+from hostile._files import LONG_CELL, write
 
 K = "measured"
 TABLE = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"

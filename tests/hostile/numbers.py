@@ -6,8 +6,8 @@ an empty item in a list are refused, naming the file and line and column (or the
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import DESIGN, FORCES, LEVELS, TERMS, edited, reference_rig, run, write
+from hostile import Hostile
+from hostile._files import DESIGN, FORCES, LEVELS, TERMS, edited, reference_rig, run, write
 
 K = "numbers"
 CASES_HEADER = "T1_input_Nm,T2_output_Nm\n"

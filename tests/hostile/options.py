@@ -4,8 +4,8 @@ environment variables too. Each is refused at the boundary, naming the option, t
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import DESIGN, FORCES, LEVELS, TOLERANCES, run
+from hostile import Hostile
+from hostile._files import DESIGN, FORCES, LEVELS, TOLERANCES, run
 
 K = "options"
 MESH_RANGE = "0.05 … 1000 mm"
@@ -51,11 +51,12 @@ for option, value, words in (("--alpha", "nan", "(0, 0.5)"), ("--alpha", "0", "(
     CASES.append(_case(f"doe analyze {option} {value}",
                        run("doe", "analyze", str(DESIGN), "--levels", str(LEVELS), option, value), option, words))
 
-# chain-error --t1/--t2 (|T| ≤ 1e6 N·m) and --a-input-mm/--a-output-mm (0 … 10 mm): refused as options,
+# chain-error --t1/--t2 (|T| ≤ 1e6 N·m) and --input-radial-mm/--output-radial-mm (0 … 10 mm, old names
+# --a-input-mm/--a-output-mm): refused as options,
 # not blamed on the rig file
 for option, value, words in (("--t1", "nan", "-1e+06 … 1e+06 N·m"), ("--t2", "inf", "-1e+06 … 1e+06 N·m"),
                              ("--t1", "1e300", "is outside the range"), ("--t2", "-1e300", "is outside the range"),
-                             ("--a-input-mm", "-1", "0 … 10 mm"), ("--a-output-mm", "nan", "0 … 10 mm")):
+                             ("--input-radial-mm", "-1", "0 … 10 mm"), ("--output-radial-mm", "nan", "0 … 10 mm")):
     CASES.append(_case(f"chain-error {option} {value}", run("chain-error", "--forces", str(FORCES), option, value),
                        option, words))
 

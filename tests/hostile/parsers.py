@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import json
 
-from tests.hostile import Hostile
-from tests.hostile._files import (
+from hostile import Hostile
+from hostile._files import (
     DEEP,
     DEEP_TABLES,
     DESIGN,

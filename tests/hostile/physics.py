@@ -8,8 +8,8 @@ range from :mod:`rvcoax.geometry.catalogue` (or the topology's explanation).
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import reference_rig, write
+from hostile import Hostile
+from hostile._files import reference_rig, write
 
 K = "physics"
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tests.hostile import Hostile
-from tests.hostile._files import TOLERANCES, reference_rig, write
+from hostile import Hostile
+from hostile._files import TOLERANCES, reference_rig, write
 
 K = "sizes"
 REFUSED = ("would take about", "estimated from measured per-unit costs", "Nothing was solved")

@@ -3,8 +3,8 @@ and study options out of range. Each is refused naming the file and key (or opti
 
 from __future__ import annotations
 
-from tests.hostile import Hostile
-from tests.hostile._files import DESIGN, LEVELS, STUDY, TOLERANCES, edited, run, tolerance_file, write
+from hostile import Hostile
+from hostile._files import DESIGN, LEVELS, STUDY, TOLERANCES, edited, run, tolerance_file, write
 
 K = "studies"
 

@@ -16,10 +16,10 @@ from pathlib import Path
 
 from typer.testing import CliRunner
 
+from hostile import Hostile
+from hostile._files import TOLERANCES
 from rvcoax.results.cli.app import app
 from rvcoax.results.io.sweep_files import journal_line
-from tests.hostile import Hostile
-from tests.hostile._files import TOLERANCES
 
 K = "trust"
 SWEEP = ("sweep", "--t1", "0.5,1,2", "--t2", "10,50,200")

@@ -1,6 +1,6 @@
 """The package as installed: one import name, no import cycles, a thin CLI that starts fast.
 
-The public API is ``rvcoax``'s top-level names and the names in each module's ``__all__``.
+The public API and the rule that the command line imports only it: tests/package/test_public_api.py.
 """
 
 import ast
@@ -21,7 +21,7 @@ PACKAGES = ("fem", "geometry", "loadcases", "results")
 
 
 def _modules() -> dict[str, Path]:
-    found = {"rvcoax": ROOT / "__init__.py"}
+    found = {"rvcoax": ROOT / "__init__.py", "rvcoax._lazy": ROOT / "_lazy.py"}
     for package in PACKAGES:
         for path in (ROOT / package).rglob("*.py"):
             parts = list(path.relative_to(ROOT).with_suffix("").parts)
@@ -72,22 +72,6 @@ def test_no_import_cycles_even_through_imports_inside_functions():
         if node not in state:
             visit(node, [node])
     assert not cycles, "import cycles: " + "; ".join(" → ".join(c) for c in cycles)
-
-
-def test_the_command_line_uses_only_public_names():
-    """A CLI module imports modules, or names that their modules list in ``__all__``, never private ones."""
-    modules = _modules()
-    problems = []
-    for name, path in modules.items():
-        if not name.startswith("rvcoax.results.cli."):
-            continue
-        for module, imported in _imports(path, modules):
-            if imported is None:
-                continue
-            public = getattr(__import__(module, fromlist=["__all__"]), "__all__", None)
-            if imported.startswith("_") or public is None or imported not in public:
-                problems.append(f"{name} imports {imported} from {module}")
-    assert not problems, problems
 
 
 def test_every_module_says_what_it_offers():
@@ -171,3 +155,16 @@ def test_the_installed_wheel_runs_and_the_old_names_are_gone(wheel, tmp_path):
 
     for name in ("sweep.csv", "sweep.json", "sweep_paths.csv"):
         compare_result_file(GOLDEN / "sweep" / name, out / name)
+
+
+def test_tests_import_helpers_not_other_test_modules():
+    """Shared test helpers live in plain modules (tests/frames.py, tests/rigdata.py, …), found because the
+    tests folder holds the root conftest.py; a test module is never imported by another."""
+    problems = []
+    for path in (ROOT / "tests").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([node.module or ""] if isinstance(node, ast.ImportFrom)
+                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            problems += [f"{path.relative_to(ROOT)}:{node.lineno}: {name}" for name in names
+                         if name.split(".")[0] == "tests" or name.rsplit(".", 1)[-1].startswith("test_")]
+    assert not problems, problems

@@ -8,25 +8,13 @@ import re
 import subprocess
 import sys
 import tomllib
-from pathlib import Path
 
 import pytest
+from tutorial_rig import CASES, page, rig_text
 
 from rvcoax.geometry.catalogue import plausibility_warnings
 from rvcoax.geometry.rigfile import parse_rig, parse_rig_text
-from rvcoax.loadcases.cases import paired_cases
 from rvcoax.results.sweep import run_sweep
-
-PAGE = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
-CASES = paired_cases([0.801, 4.006], [82.4, 412.0])
-
-
-def page() -> str:
-    return PAGE.read_text(encoding="utf-8")
-
-
-def rig_text() -> str:
-    return "\n".join(re.findall(r"```toml\n(.*?)```", page(), re.S))
 
 
 def _scale(entry: dict, keys: tuple[str, ...]) -> None:
@@ -64,9 +52,9 @@ def solved():
 def test_the_tutorial_rig_is_plausible_and_weighs_what_the_page_says(solved):
     rig, sweep = solved
     assert plausibility_warnings(rig) == []
-    assert sweep.model.part_mass_kg["motor_housing"] == pytest.approx(6.3)
+    assert sweep.frame.part_mass_kg["motor_housing"] == pytest.approx(6.3)
     assert "the whole rig 103 kg" in page()
-    assert sum(sweep.model.part_mass_kg.values()) == pytest.approx(103, abs=0.5)
+    assert sum(sweep.frame.part_mass_kg.values()) == pytest.approx(103, abs=0.5)
     last = sweep.cases[-1].paths
     assert f"output shaft's Y is {last['output'].y_max_mm * 1e3:.3f} µm" in page()
     assert f"input shaft's {last['input'].y_max_mm * 1e3:.3f} µm" in page()

@@ -12,6 +12,7 @@ import dataclasses
 import json
 import math
 
+import frames
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -23,14 +24,13 @@ from rvcoax.results.studies.chain_error import (
     NO_TILT,
     ChainDataError,
     Coaxiality,
-    chain_error,
     contribution,
+    evaluate_chain_error,
     load_chain_model,
     read_stage_forces,
     signed_total,
     torsion_constant_deg_per_m,
 )
-from tests import frames
 
 DATA = __import__("pathlib").Path(__file__).resolve().parents[2] / "results" / "data"
 EXAMPLE_FORCES = DATA / "paper000_chain_forces.csv"
@@ -82,7 +82,7 @@ def _fem_twist_rad(length_m: float, outer_m: float, inner_m: float, torque_Nm: f
     """Twist of a shaft clamped at one end with an end torque, from the beam finite elements."""
     section = CircularSection(outer_m, inner_m)
     coordinates, beams = frames.polyline([[0, 0, 0], [length_m, 0, 0]], 3, section)
-    beams = dataclasses.replace(beams, shear_modulus_pa=np.full(3, shear_modulus))
+    beams = dataclasses.replace(beams, shear_modulus_Pa=np.full(3, shear_modulus))
     structure = frames.model(coordinates, beams, fixed_dofs=np.array(frames.node_dofs(0)))
     u = frames.solve(structure, frames.point_load(structure.n_dofs, 3, [0, 0, 0, torque_Nm, 0, 0]))
     return float(u[frames.dof(3, 3)])
@@ -141,12 +141,12 @@ def test_printed_formulas_at_zero_tilt_with_our_units(chain):
 def test_example_forces_reproduce_the_papers_contributions(chain):
     forces = read_stage_forces(EXAMPLE_FORCES, chain)
     assert [int(i) + 1 for i in np.flatnonzero(forces["crankshaft"])] == [2, 4, 6, 8]  # the stages the paper names
-    result = chain_error(chain, forces)
+    result = evaluate_chain_error(chain, forces)
     for p in result.contributions:
         assert p.value_deg == pytest.approx(PAPER_CONTRIBUTIONS_DEG[p.component.name], rel=1e-5)
     assert result.total_deg == pytest.approx(PAPER_TOTAL_DEG, abs=1e-8)
     # a tilt of the sweep's size changes the total by a tiny amount, and only through θ11 and θ44
-    tilted = chain_error(chain, forces, Coaxiality(7.3e-5, 1.5e-4), Coaxiality(6.3e-5, 1.8e-4))
+    tilted = evaluate_chain_error(chain, forces, Coaxiality(7.3e-5, 1.5e-4), Coaxiality(6.3e-5, 1.8e-4))
     changed = {p.component.name for p in tilted.contributions if p.coaxiality_part_deg != 0}
     assert changed == {"input_shaft", "output_disk"}
     assert 0 < abs(tilted.total_deg - result.total_deg) < 1e-6
@@ -199,6 +199,13 @@ def test_cli_chain_error(tmp_path):
     assert result.exit_code == 0, result.output
     shafts = json.loads((tmp_path / "chain_error.json").read_text(encoding="utf-8"))["shafts"]
     assert shafts["input"]["beta_deg"] > 0 and shafts["output"]["offset_mm"] > 0
+    # a given instead of the sweep's Y_max, under the name `export` uses and under the old name
+    for option in ("--output-radial-mm", "--a-output-mm"):
+        result = runner.invoke(app, ["chain-error", "--forces", str(EXAMPLE_FORCES), option, "0.003",
+                                     "--out", str(tmp_path)])
+        assert result.exit_code == 0, result.output
+        shafts = json.loads((tmp_path / "chain_error.json").read_text(encoding="utf-8"))["shafts"]
+        assert shafts["output"]["offset_mm"] == 0.003
     bad = tmp_path / "bad.csv"
     bad.write_text("component,stage,force_N\ncrankshaft,0,1\n", encoding="utf-8")
     result = runner.invoke(app, ["chain-error", "--forces", str(bad)])

@@ -14,11 +14,12 @@ import json
 
 import numpy as np
 import pytest
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, hidden_data, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
-from rvcoax.geometry.rigfile import load_rig, parse_rig
+from rvcoax.geometry.rigfile import parse_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.cli.app import app
@@ -28,28 +29,15 @@ from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observ
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
 
-LENGTHS = {"input": 120.0, "output": 160.0}
-STATIONS = 11
 # One location per kind: where the kind reaches the measured shafts most (see the benchmark for all).
 HIDDEN = ("self_weight", "bearing_stiffness@input_B1", "bearing_stiffness@output_B2", "bearing_clearance@input_B2",
           "mount_compliance@reducer", "coupling_offset@C2", "coupling_angle@C3", "mesh_force@reducer_input",
           "torque_reaction@reducer", "thermal_growth@output_bearing_block")
 
 
-def test_rig(reference: Rig | None = None) -> Rig:
-    data = (reference or load_rig()).model_dump(by_alias=True)
-    data["paths"]["measured_from"] = "unloaded"
-    data["gravity"]["enabled"] = False
-    data["beam"]["shear_deformation"] = False
-    return Rig.model_validate(data)
-
-
-test_rig.__test__ = False  # a helper, not a test
-
-
 @pytest.fixture(scope="module")
 def rig() -> Rig:
-    return test_rig()
+    return discrepancy_rig()
 
 
 @pytest.fixture(scope="module")
@@ -60,13 +48,6 @@ def library(rig):
 @pytest.fixture(scope="module")
 def effects(rig):
     return {e.name: e for e in candidate_effects(rig)}
-
-
-def hidden_data(rig, effects, name, schema, noise, seed, fraction=0.3):
-    template = observation_layout(paper_cases(), STATIONS, LENGTHS, schema)
-    truth = rig if name is None else effects[name].apply(
-        rig, [effect_size_for(effects[name], rig, paper_cases(), template, fraction)])
-    return synthetic_data(truth, template, noise, seed)
 
 
 def named(result, name) -> bool:
@@ -199,22 +180,6 @@ def test_measured_data_schemas_and_errors():
     ):
         with pytest.raises(MeasuredDataError, match=expected):
             parse_measured(text, "bad.csv")
-
-
-def write_cli_inputs(tmp_path, rig: Rig, data: MeasuredData):
-    """The rig as a TOML file and ``data`` as a paths CSV, for the command (returns both paths)."""
-    from tests.geometry.test_rigfile_errors import dump_toml
-
-    rig_file = tmp_path / "rig.toml"
-    rig_file.write_text(dump_toml(rig.model_dump(by_alias=True, exclude_none=True, mode="json")), encoding="utf-8")
-    lines = ["T1_input_Nm,T2_output_Nm,shaft,x_mm,uy_mm"]
-    for i in range(data.n):
-        case = data.cases[data.case_index[i]]
-        lines.append(f"{case.input_torque_Nm},{case.output_torque_Nm},{data.shaft[i]},{data.x_mm[i]:.6g},"
-                     f"{data.value_mm[i]:.9e}")
-    measured = tmp_path / "measured.csv"
-    measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return rig_file, measured
 
 
 def test_cli_writes_json_plot_and_updated_rig(tmp_path, rig, effects):

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from discrepancy_data import discrepancy_rig
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
@@ -23,7 +24,6 @@ from rvcoax.results.studies.discrepancy.measured import read_measured
 from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
-from tests.results.test_discrepancy import test_rig
 
 FOLDER = Path(__file__).parent / "data" / "blind"
 MANIFEST = json.loads((FOLDER / "manifest.json").read_text())
@@ -33,7 +33,7 @@ SETS = {s["id"]: s for s in MANIFEST["sets"]}
 def rig_for(datum: str) -> Rig:
     """The identification rig: the discrepancy tests' rig with Timoshenko beams (the hybrid model's solid shafts
     deform in shear) and Y from ``datum``."""
-    data = test_rig().model_dump(by_alias=True)
+    data = discrepancy_rig().model_dump(by_alias=True)
     data["paths"]["measured_from"] = datum
     data["beam"]["shear_deformation"] = True
     return Rig.model_validate(data)

@@ -14,6 +14,7 @@ import json
 
 import numpy as np
 import pytest
+from discrepancy_data import discrepancy_rig, hidden_data, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.fem import bushing
@@ -26,7 +27,6 @@ from rvcoax.results.studies.discrepancy.engine import Engine
 from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_quantum
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, ModelError, SweepSettings, run_sweep
-from tests.results.test_discrepancy import hidden_data, test_rig, write_cli_inputs
 
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 
@@ -79,7 +79,7 @@ def test_the_exponent_notation_table_gives_the_same_verdict():
 
 def test_the_clearance_candidate_case_solves():
     """0.15 µm of clearance at input_B2 with self-weight off, T1 = 0.01 N·m: the gap stays open."""
-    rig = test_rig()
+    rig = discrepancy_rig()
     effect = {e.name: e for e in candidate_effects(rig)}["bearing_clearance@input_B2"]
     gapped = effect.apply(rig, [0.15])
     cases = (LoadCase(0.01, 1.0), LoadCase(0.1, 14.0), LoadCase(1.43, 200.0))
@@ -95,7 +95,7 @@ def test_the_clearance_candidate_case_solves():
 
 def test_the_clearance_candidate_that_fails_is_set_aside(tmp_path, monkeypatch):
     """A clearance candidate whose iteration cannot converge: listed as set aside, the run finishes (not exit 2)."""
-    rig = test_rig()
+    rig = discrepancy_rig()
     effects = {e.name: e for e in candidate_effects(rig)}
     rig_file, measured = write_cli_inputs(tmp_path, rig, hidden_data(rig, effects, "coupling_offset@C3", "paths",
                                                                      0.01, 61))

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.geometry.effects import candidate_effects
@@ -37,15 +38,23 @@ from rvcoax.results.studies.discrepancy.responses import Observation, engine_res
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
-from tests.results import test_discrepancy as shared
-from tests.results.test_discrepancy import LENGTHS, STATIONS, test_rig, write_cli_inputs
 
 OUTPUT_STATION_MM = 470.0  # on the output shaft, between the reducer and the output bearing block
 HYBRID_FIXTURE = Path(__file__).with_name("data") / "discrepancy_hybrid_oov_paths.csv"
 
 
-rig = shared.rig  # the module fixtures: the identifying rig and its candidate library
-library = shared.library
+@pytest.fixture(scope="module")
+def rig():
+    """The identifying rig of the discrepancy tests."""
+    return discrepancy_rig()
+
+
+@pytest.fixture(scope="module")
+def library(rig):
+    """Its candidate library (solved once per module)."""
+    from rvcoax.results.studies.discrepancy.workflow import build_library
+
+    return build_library(rig, paper_cases(), SweepSettings())
 
 
 def finer(rig: Rig) -> Rig:
@@ -71,7 +80,7 @@ def unseen_data(truth: Rig, noise: float, seed: int, schema: str = "paths"):
 
 def test_the_engine_solves_every_linear_candidate_exactly_on_one_factorisation():
     """Load effects, a bearing and a mount stiffness: the same paths as a real sweep of the changed rig."""
-    rig = test_rig()
+    rig = discrepancy_rig()
     cases = paper_cases()[::5]
     engine = prepare_engine(rig, SweepSettings())
     base, _ = solve_full_paths(rig, cases, SweepSettings())
@@ -88,7 +97,7 @@ def test_the_engine_solves_every_linear_candidate_exactly_on_one_factorisation()
 
 def test_a_bearing_clearance_is_solved_exactly_by_its_condensed_law():
     """The 2-D clearance law on the factorisation against the active-set gap sweep, gap open and closed."""
-    rig = test_rig()
+    rig = discrepancy_rig()
     cases = paper_cases()[::4]
     engine = prepare_engine(rig, SweepSettings())
     effect = {e.name: e for e in candidate_effects(rig)}["bearing_clearance@input_B2"]
@@ -173,7 +182,7 @@ def test_an_effect_without_look_alike_is_named_with_confidence(rig, library):
 @pytest.mark.slow
 def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexplained(tmp_path):
     """Out-of-vocabulary data through the command (a short candidate list keeps it fast)."""
-    rig = test_rig()
+    rig = discrepancy_rig()
     data = unseen_data(with_lateral_load(rig, "output_shaft", OUTPUT_STATION_MM, 2.0), 0.01, seed=8)
     rig_file, measured = write_cli_inputs(tmp_path, rig, data)
     out = tmp_path / "out"
@@ -201,7 +210,7 @@ def make_hybrid_fixture(path: Path = HYBRID_FIXTURE) -> None:
     from rvcoax.results.io.writers import write_csv_atomic
 
     template = observation_layout(paper_cases(), STATIONS, LENGTHS, "paths")
-    truth = with_lateral_load(test_rig(), "output_shaft", OUTPUT_STATION_MM, 2.0)
+    truth = with_lateral_load(discrepancy_rig(), "output_shaft", OUTPUT_STATION_MM, 2.0)
     data = synthetic_data(truth, template, 0.0, 0, SweepSettings(model="hybrid"))
     write_csv_atomic(path, [{"T1_input_Nm": data.cases[c].input_torque_Nm, "T2_output_Nm": data.cases[c].output_torque_Nm,
                              "shaft": str(shaft), "x_mm": float(f"{x:.6g}"), "uy_mm": float(f"{value:.9e}")}

@@ -83,7 +83,7 @@ def test_engineering_tables_of_the_example_rig(rig, sweep):
     assert [b["name"] for b in last["bearings"]] == [b.name for b in rig.bearings]
     assert [r["name"] for r in last["reactions"]] == [m.name for m in rig.mounts]
     weight = sum(r["force_N"][1] for r in last["reactions"])  # the mounts carry the whole rig's weight
-    mass_kg = sum(sweep.model.part_mass_kg.values())  # coupling masses are in their hubs' parts
+    mass_kg = sum(sweep.frame.part_mass_kg.values())  # coupling masses are in their hubs' parts
     assert weight == pytest.approx(mass_kg * 9.80665, rel=1e-9)
     assert last["equilibrium_residual"]["force_N"] < 1e-6 * weight
     # torque flows: the output-side reactions about x together carry T2 − T1 (the line's external torques)

@@ -45,8 +45,8 @@ from rvcoax.results.export.dynamics import (
     read_csv_table,
     shaft_stages,
     tilt_direction,
-    write_csv,
-    write_json,
+    write_dynamics_csv,
+    write_dynamics_json,
 )
 from rvcoax.results.export.ross import RossUnavailableError, import_ross
 from rvcoax.results.sweep import SweepSettings, read_path, run_sweep
@@ -135,9 +135,9 @@ def test_coupling_offsets_and_angles_from_the_nodal_displacements(sweep, export,
     for coupling in sweep.rig.couplings:
         mine = [r for r in rows if r["coupling"] == coupling.name]
         for i, row in enumerate(mine):
-            t_from, r_from = _point_motion(u[:, i], sweep.model, coupling.from_.part, coupling.from_.x_mm,
+            t_from, r_from = _point_motion(u[:, i], sweep.frame, coupling.from_.part, coupling.from_.x_mm,
                                            coupling.centre_x_mm)
-            t_to, r_to = _point_motion(u[:, i], sweep.model, coupling.to.part, coupling.to.x_mm, coupling.centre_x_mm)
+            t_to, r_to = _point_motion(u[:, i], sweep.frame, coupling.to.part, coupling.to.x_mm, coupling.centre_x_mm)
             offset_um, angle_deg = (t_to - t_from) * 1e6, np.degrees(r_to - r_from)
             scale = max(abs(offset_um).max(), 1e-9)
             assert row[f"offset_y{suffix}_um"] == pytest.approx(offset_um[0], abs=1e-12 * scale)
@@ -193,7 +193,7 @@ def _assert_each_shaft_in_equilibrium(sweep, states, reference: str, parts):
             dofs = _part_dofs(system, part)
             table = DofTable(system.dofs.position[dofs], system.dofs.component[dofs])
             applied = resultant_of(table, load[dofs])
-            springs, size = _spring_resultant_on(states, sweep.model, part, i)
+            springs, size = _spring_resultant_on(states, sweep.frame, part, i)
             size += np.abs(resultant_of(table, np.abs(load[dofs]))).reshape(2, 3).sum(axis=1)
             error = np.abs(springs + applied)
             assert error[:3].max() <= 1e-9 * size[0] + floor, (part, i, error, size)
@@ -253,9 +253,9 @@ def test_a_sweep_without_unit_responses_is_refused(sweep):
 
 def test_csv_and_json_round_trip(export, tmp_path):
     tables = export_tables(export)
-    paths = write_csv(export, tmp_path)
+    paths = write_dynamics_csv(export, tmp_path)
     assert [p.name for p in paths] == [f"dynamics_{name}.csv" for name in CSV_TABLES]
-    document = json.loads(write_json(export, tmp_path / "dynamics.json", "test", "text").read_text(encoding="utf-8"))
+    document = json.loads(write_dynamics_json(export, tmp_path / "dynamics.json", "test", "text").read_text(encoding="utf-8"))
     assert document["measured_from"] == "aligned_at_rest"
     assert document["radial_displacement_a_mm"] == IT3_RADIAL_DISPLACEMENT_MM
     assert [s["length_mm"] for s in document["stages"]["input"]] == [32, 46, 14, 28]
@@ -382,6 +382,19 @@ def ross():
         return import_ross()
     except RossUnavailableError:
         pytest.skip("ROSS is not installed (pip install 'rvcoax[ross]')")
+
+
+@pytest.mark.parametrize("which", ["input", "output"])
+def test_the_shaft_line_names_its_supports_by_record(rig, which):
+    """The ROSS shaft line's supports are the shaft's bearings (and joints), as (kind, name) records."""
+    from rvcoax.geometry.model.beam import SpringId
+    from rvcoax.results.export.ross import shaft_line
+
+    line = shaft_line(rig, which)
+    part = getattr(rig.paths, which).part
+    bearings = {SpringId("bearing", b.name) for b in rig.bearings if b.shaft == part}
+    assert bearings and {s.spring for s in line.supports if s.spring.kind == "bearing"} == bearings
+    assert {s.spring.kind for s in line.supports} <= {"bearing", "joint"}
 
 
 @pytest.mark.parametrize("which", ["input", "output"])

@@ -35,7 +35,7 @@ def sweep():
 
 @pytest.fixture(scope="module")
 def beam(sweep):
-    return beam_field_mesh(sweep.model), beam_field_cases(sweep.model, sweep.cases)
+    return beam_field_mesh(sweep.frame), beam_field_cases(sweep.frame, sweep.cases)
 
 
 def _hybrid() -> tuple[FieldMesh, list[FieldCase]]:
@@ -60,22 +60,22 @@ def _hybrid() -> tuple[FieldMesh, list[FieldCase]]:
 def test_beam_field_equals_sweep_paths(sweep, beam):
     mesh, cases = beam
     assert len(cases) == len(sweep.cases)
-    assert mesh.n_points == sweep.model.structure.n_nodes
+    assert mesh.n_points == sweep.frame.structure.n_nodes
     for result, field in zip(sweep.cases, cases):
         assert (field.T1_input_Nm, field.T2_output_Nm) == (result.case.input_torque_Nm, result.case.output_torque_Nm)
-        for shaft, nodes in path_point_indices(sweep.model).items():
+        for shaft, nodes in path_point_indices(sweep.frame).items():
             uy_mm = field.displacement_m[nodes, 1] * 1e3
             np.testing.assert_allclose(uy_mm, result.paths[shaft].uy_mm, rtol=0, atol=1e-12)
-        assert field.von_mises_pa is None  # a beam model gives no stress field (rather than a field of NaN)
+        assert field.von_mises_Pa is None  # a beam model gives no stress field (rather than a field of NaN)
 
 
 def test_beam_field_measured_from_unloaded(sweep):
     rig = sweep.rig
     unloaded = rig.model_copy(update={"paths": rig.paths.model_copy(update={"measured_from": "unloaded"})})
     other = run_sweep(unloaded, paper_cases()[:2])
-    fields = beam_field_cases(other.model, other.cases)
+    fields = beam_field_cases(other.frame, other.cases)
     for result, field in zip(other.cases, fields):
-        for shaft, nodes in path_point_indices(other.model).items():
+        for shaft, nodes in path_point_indices(other.frame).items():
             np.testing.assert_allclose(field.displacement_m[nodes, 1] * 1e3, result.paths[shaft].uy_mm, atol=1e-12)
             np.testing.assert_allclose(field.displacement_m[nodes, 1] * 1e3, result.absolute_paths[shaft].uy_mm,
                                        atol=1e-12)
@@ -89,8 +89,8 @@ def test_beam_mesh_radius_and_parts(sweep, beam):
     shaft = mesh.part_names.index("input_shaft")
     assert set(np.round(mesh.line_radius_m[mesh.line_part_id == shaft] * 2e3, 9)) == {18.0, 20.0}
     assert len(mesh.tetra10) == 0
-    polylines = path_polylines(sweep.model)
-    np.testing.assert_array_equal(polylines["input"], mesh.points[path_point_indices(sweep.model)["input"]])
+    polylines = path_polylines(sweep.frame)
+    np.testing.assert_array_equal(polylines["input"], mesh.points[path_point_indices(sweep.frame)["input"]])
 
 
 def test_vtu_roundtrip_beam(tmp_path, beam):
@@ -115,7 +115,7 @@ def test_vtu_roundtrip_beam(tmp_path, beam):
     np.testing.assert_allclose(again.line_radius_m, mesh.line_radius_m, rtol=1e-15)
     np.testing.assert_allclose(again.points, mesh.points, rtol=1e-15, atol=1e-18)
     np.testing.assert_allclose(case.displacement_m, cases[0].displacement_m, rtol=1e-15, atol=1e-24)
-    assert case.von_mises_pa is None
+    assert case.von_mises_Pa is None
     assert case.label == "case0"
 
 
@@ -125,13 +125,13 @@ def test_vtu_roundtrip_hybrid(tmp_path):
     data = meshio.read(path)
     assert [b.type for b in data.cells] == ["line", "tetra10"]
     np.testing.assert_array_equal(data.cells[1].data, mesh.tetra10)
-    np.testing.assert_allclose(data.point_data["von_mises_MPa"], cases[1].von_mises_pa * 1e-6, rtol=1e-15)
+    np.testing.assert_allclose(data.point_data["von_mises_MPa"], cases[1].von_mises_Pa * 1e-6, rtol=1e-15)
     np.testing.assert_array_equal(data.cell_data["part_id"][1], [1, 1])
     np.testing.assert_array_equal(data.cell_data["radius_mm"][1], [0.0, 0.0])  # tetrahedra have no tube radius
     again, case = read_vtu(path)
     np.testing.assert_array_equal(again.tetra10, mesh.tetra10)
     np.testing.assert_allclose(case.displacement_m, cases[1].displacement_m, rtol=1e-15, atol=1e-24)
-    np.testing.assert_allclose(case.von_mises_pa, cases[1].von_mises_pa, rtol=1e-15)
+    np.testing.assert_allclose(case.von_mises_Pa, cases[1].von_mises_Pa, rtol=1e-15)
 
 
 @pytest.mark.parametrize("data_format", ["XML", "HDF"])
@@ -175,7 +175,7 @@ def test_xdmf_series_roundtrip_hybrid(tmp_path, data_format):
     for a, b in zip(read, cases):
         assert (a.label, a.T1_input_Nm, a.T2_output_Nm) == (b.label, b.T1_input_Nm, b.T2_output_Nm)
         np.testing.assert_allclose(a.displacement_m, b.displacement_m, rtol=1e-15, atol=1e-24)
-        np.testing.assert_allclose(a.von_mises_pa, b.von_mises_pa, rtol=1e-15)
+        np.testing.assert_allclose(a.von_mises_Pa, b.von_mises_Pa, rtol=1e-15)
 
 
 def test_xdmf_overwrite_replaces_files(tmp_path, beam):
@@ -206,3 +206,18 @@ def test_invalid_input_is_refused(tmp_path, beam):
         write_xdmf_series(tmp_path / "bad.h5", mesh, cases[:1])
     assert list(tmp_path.iterdir()) == []
     assert not cases[0].displacement_m.flags.writeable
+
+
+def test_the_meshio_internals_the_field_files_use_are_there():
+    """fields.py subclasses meshio's XDMF time-series writer and reader and uses their internals; a meshio
+    release that moves them fails here, with the version, before a series is written wrong."""
+    import inspect
+
+    from meshio.xdmf import TimeSeriesReader, TimeSeriesWriter, common
+
+    major, minor = (int(v) for v in meshio.__version__.split(".")[:2])
+    assert (5, 3) <= (major, minor) <= (5, 3), f"fields.py is tested with meshio 5.3: {meshio.__version__}"
+    assert callable(TimeSeriesReader._read_data_item) and "mesh_grid" in inspect.getsource(TimeSeriesReader)
+    assert callable(TimeSeriesWriter.numpy_to_xml_string) and "h5_file" in inspect.getsource(TimeSeriesWriter)
+    assert common.meshio_type_to_xdmf_index["line"] == 2 and "tetra10" in common.meshio_type_to_xdmf_index
+    assert common.xdmf_idx_to_meshio_type[2] == "line" and common.numpy_to_xdmf_dtype["int64"] == ("Int", "8")

@@ -28,7 +28,7 @@ from rvcoax.results.studies.montecarlo import (
     evaluate_sample,
     exceedance,
     plan_study,
-    stack,
+    stack_records,
 )
 from rvcoax.results.studies.sampling import Distribution, sample_values, to_values, unit_design
 from rvcoax.results.studies.sensitivity import morris_design, morris_indices, morris_values, sobol_design, sobol_indices
@@ -276,7 +276,7 @@ def test_exceedance_of_one_linear_normal_parameter_matches_the_closed_form():
     assert 0.1 < exact < 0.6
     values = sample_values(tolerances.distributions, 1000, "lhs", seed=4)
     records = [evaluate_sample(study, row) for row in values]
-    found = exceedance(stack(records, "beta_deg")[:, 0, 1], limit.beta_deg, 0.95)
+    found = exceedance(stack_records(records, "beta_deg")[:, 0, 1], limit.beta_deg, 0.95)
     assert found.lower <= exact <= found.upper, (found, exact)
     assert found.upper - found.lower < 0.07
 

@@ -36,7 +36,7 @@ def sweep():
 
 @pytest.fixture(scope="module")
 def beam(sweep):
-    return beam_field_mesh(sweep.model), beam_field_cases(sweep.model, sweep.cases)
+    return beam_field_mesh(sweep.frame), beam_field_cases(sweep.frame, sweep.cases)
 
 
 @pytest.fixture(scope="module")
@@ -47,7 +47,7 @@ def rendered(tmp_path_factory, sweep, beam):
     limits = sweep_colour_limits_um(cases)
     housings = enclosing_parts(mesh)
     infos = [render_deformed(mesh, case, folder / f"case{i}.png", rig_length_m=None,
-                             paths=path_point_indices(sweep.model), colour_limits_um=limits,
+                             paths=path_point_indices(sweep.frame), colour_limits_um=limits,
                              translucent_parts=housings, title=case.label, window_size=SIZE)
              for i, case in enumerate(cases[:2])]
     return folder, limits, infos
@@ -116,7 +116,7 @@ def test_paths_given_as_coordinates(beam, sweep, tmp_path):
     mesh, cases = beam
     # input and output shafts overlap housings: their nodes coincide with housing nodes
     with pytest.raises(ValueError, match="point indices"):
-        render_deformed(mesh, cases[0], tmp_path / "x.png", paths=list(path_polylines(sweep.model).values()))
+        render_deformed(mesh, cases[0], tmp_path / "x.png", paths=list(path_polylines(sweep.frame).values()))
     with pytest.raises(ValueError, match="unknown parts"):
         render_deformed(mesh, cases[0], tmp_path / "x.png", translucent_parts=["no_such_part"])
     assert list(tmp_path.iterdir()) == []
@@ -182,6 +182,7 @@ def test_label_rows_never_overlap():
 def test_picture_command_on_a_rig_of_another_layout(tmp_path):
     """`rvcoax picture` on the tutorial's RV-40E bench: one warp factor for every case (the one of the largest
     displacement of the sweep, printed), the bending line, and the legend in the lower right, clear of the title."""
+    from tutorial_rig import rig_text
     from typer.testing import CliRunner
 
     from rvcoax.geometry.rigfile import parse_rig_text
@@ -189,7 +190,6 @@ def test_picture_command_on_a_rig_of_another_layout(tmp_path):
     from rvcoax.results.cli.app import app
     from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh
     from rvcoax.results.io.pictures import mesh_length_m, sweep_warp_factor
-    from tests.package.test_tutorial import rig_text
 
     rig_file = tmp_path / "rv40e.toml"
     rig_file.write_text(rig_text(), encoding="utf-8")

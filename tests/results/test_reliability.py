@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import skfem
+from rigdata import dump_toml, reference_data
 from typer.testing import CliRunner
 
 from rvcoax.fem import solvers
@@ -45,7 +46,6 @@ from rvcoax.results.sweep import (
     prepare_model,
     run_sweep,
 )
-from tests.geometry.test_rigfile_errors import dump_toml, reference_data
 
 RESULT_FILES = ("sweep.csv", "sweep_paths.csv", "sweep.json")
 CASE = (LoadCase(1.0, 100.0),)

@@ -39,7 +39,7 @@ def test_support_reactions_carry_the_rig_weight(sweep):
     """From the unloaded geometry the vertical support forces sum to the weight of the rig as modelled."""
     table = report_tables.reaction_table(sweep)
     total = float(table.rows[-1][1])
-    weight = sum(sweep.model.part_mass_kg.values()) * sweep.rig.gravity.acceleration_m_per_s2
+    weight = sum(sweep.frame.part_mass_kg.values()) * sweep.rig.gravity.acceleration_m_per_s2
     assert table.rows[-1][0] == "sum"
     assert total == pytest.approx(weight, rel=2e-3)  # the cell has 4 significant digits
 
@@ -121,10 +121,10 @@ def test_report_opens_in_headless_chromium(sweep, tmp_path):
 
 @pytest.mark.slow
 def test_report_command_on_a_rig_of_another_layout_and_a_bad_discrepancy_file(tmp_path):
+    from tutorial_rig import rig_text
     from typer.testing import CliRunner
 
     from rvcoax.results.cli.app import app
-    from tests.package.test_tutorial import rig_text
 
     rig_file = tmp_path / "rv40e.toml"  # the tutorial's RV-40E bench: a rig of another layout
     rig_file.write_text(rig_text(), encoding="utf-8")

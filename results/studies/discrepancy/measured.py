@@ -226,7 +226,23 @@ def _check_magnitudes(rows: list[tuple], schema: str, source: str) -> None:
 
 
 def read_measured(path: str | Path) -> MeasuredData:
-    """Read and validate a measured-data CSV file (table or paths schema)."""
+    """Read and validate a measured-data CSV file (table or paths schema).
+
+    Parameters
+    ----------
+    path : str or Path
+        A table of Y_max per load case and shaft, or Y at stations along the shafts (``docs/discrepancy.md``).
+
+    Returns
+    -------
+    MeasuredData
+        One observation per row, with its printed resolution.
+
+    Raises
+    ------
+    MeasuredDataError
+        Naming the file, the line and the reason.
+    """
     source = str(path)
     try:
         text = read_input_text(path, MAX_BYTES, "measured data")

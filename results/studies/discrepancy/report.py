@@ -10,7 +10,8 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
-__all__ = ["ambiguous_groups", "document", "engineering_summary", "observation_rows", "plot", "rms_table"]
+__all__ = ["ambiguous_groups", "discrepancy_document", "engineering_summary", "observation_rows", "plot_discrepancy",
+           "rms_table"]
 
 
 def _rounded(values: dict) -> dict:
@@ -18,7 +19,21 @@ def _rounded(values: dict) -> dict:
 
 
 def rms_table(result: DiscrepancyResult, lengths_mm: dict[str, float]) -> dict:
-    """RMS gaps before/after, per shaft, on the cases used to fit, the held-out cases and all cases."""
+    """RMS gaps before/after, per shaft, on the cases used to fit, the held-out cases and all cases.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        From :func:`run_discrepancy`.
+    lengths_mm : dict of str to float
+        Measured path length per shaft, for the gaps in tilt.
+
+    Returns
+    -------
+    dict
+        ``{"fit"|"held_out"|"all": {"rms_before_um"|"rms_after_um"|"rms_tilt_before_urad"|"rms_tilt_after_urad":
+        {shaft: value}}}``; a subset with no rows is left out.
+    """
     subsets = {"fit": result.fit_mask, "held_out": ~result.fit_mask, "all": np.ones(result.data.n, bool)}
     table = {}
     for label, rows in subsets.items():
@@ -38,7 +53,20 @@ def ambiguous_groups(result: DiscrepancyResult) -> list[list[str]]:
 
 
 def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float]) -> list[str]:
-    """The result in an engineer's words, gap first (µm, µrad), then what was named and what it means."""
+    """The result in an engineer's words, gap first (µm, µrad), then what was named and what it means.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        From :func:`run_discrepancy`.
+    lengths_mm : dict of str to float
+        Measured path length per shaft: the gap is said in µm and in µrad of tilt.
+
+    Returns
+    -------
+    list of str
+        The sentences, in reading order.
+    """
     from rvcoax.geometry.effects import meaning
 
     lines = []
@@ -102,8 +130,25 @@ def sentinel_document(result: DiscrepancyResult) -> dict | None:
             "chi2": float(f"{s.chi2:.6g}"), "n": s.n, "k": s.k, "bic": float(f"{s.bic:.6g}")}
 
 
-def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: str | None, version: str) -> dict:
-    """The machine-readable result (``discrepancy.json``)."""
+def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: str | None, version: str) -> dict:
+    """The machine-readable result (``discrepancy.json``).
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        What the workflow found (:func:`run_discrepancy`).
+    lengths_mm : dict of str to float
+        Measured path length per shaft, for β.
+    rig_file : str or None
+        The updated rig file written, if any.
+    version : str
+        The rvcoax version.
+
+    Returns
+    -------
+    dict
+        Verdict, gap tests, selected and rejected effects, RMS gaps, provenance.
+    """
     from rvcoax.geometry.effects import meaning
 
     effects = result.effects
@@ -163,7 +208,18 @@ def document(result: DiscrepancyResult, lengths_mm: dict[str, float], rig_file: 
 
 
 def observation_rows(result: DiscrepancyResult) -> list[dict]:
-    """One row per observation: case, shaft, station, measured, model before/after, σ, used to fit."""
+    """One row per observation: case, shaft, station, measured, model before/after, σ, used to fit.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        From :func:`run_discrepancy`: the data, the model before and after, the noise.
+
+    Returns
+    -------
+    list of dict
+        Keys with units (``measured_mm``, ``sigma_mm``, …).
+    """
     rows = []
     data = result.data
     for i in range(data.n):
@@ -178,8 +234,25 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
     return rows
 
 
-def plot(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
-    """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars."""
+def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
+    """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars.
+
+    Parameters
+    ----------
+    result : DiscrepancyResult
+        The workflow's result, with the data and the model before and after.
+    lengths_mm : dict of str to float
+        Measured path length per shaft.
+    path_png : str or Path
+        The PNG file.
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    Path
+        ``path_png``, written atomically.
+    """
     import textwrap
 
     from matplotlib.figure import Figure

@@ -11,10 +11,10 @@ from scipy.optimize import brentq
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.studies.discrepancy.measured import MeasuredData
-from rvcoax.results.studies.discrepancy.responses import Observation, PathLayout, solve_full_paths
+from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
 from rvcoax.results.sweep import SweepSettings
 
-__all__ = ["BEAM", "effect_size_for", "layout_lengths", "observation_layout", "synthetic_data"]
+__all__ = ["BEAM", "effect_size_for", "observation_layout", "synthetic_data"]
 
 BEAM = SweepSettings()
 
@@ -84,8 +84,4 @@ def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int
         noisy = np.abs(noisy)
     return MeasuredData(template.schema, template.cases, template.case_index, template.shaft, template.x_mm, noisy,
                         sigma if with_sigma else None, f"synthetic (noise {100 * noise_fraction:g} %, seed {seed})")
-
-
-def layout_lengths(layout: PathLayout) -> dict[str, float]:
-    return dict(layout.length_mm)
 

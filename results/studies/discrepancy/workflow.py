@@ -170,6 +170,39 @@ class Discrimination:
 
 @dataclass(frozen=True, eq=False)
 class DiscrepancyResult:
+    """What :func:`run_discrepancy` found.
+
+    Attributes
+    ----------
+    verdict : str
+        ``no_gap`` (no gap beyond the noise before any effect), ``explained`` (effects were selected and no
+        gap remains on the fitted rows) or ``unexplained``.
+    data : MeasuredData
+        The measurements.
+    noise : NoiseEstimate
+        The measurement noise σ used by the gap tests.
+    fit_mask : ndarray of bool
+        The observations used to fit; the others are held out.
+    before, after : ndarray
+        The model's value of every observation (mm) without and with the selected effects.
+    test_before, test_after, test_after_held_out : GapTest
+        χ² tests of the gap before, after (fitted rows) and after on the held-out rows.
+    structure : list of StructureFinding
+        Tests of the residual before any effect, along the sweep and along the shaft.
+    selected : tuple of SelectedEffect
+        The effects added, with their fitted values and ΔBIC.
+    steps : tuple of Step
+        The forward/backward selection, step by step.
+    not_observable, rejected, set_aside : dict
+        Candidate → why it could not be seen in these data, was not selected, or could not be solved.
+    discriminations : tuple of Discrimination
+        For pairs of candidates that explain the data alike: the measurement that best tells them apart.
+    rig_before, rig_after : Rig
+        The rig as modelled, and with the selected effects added.
+    effects : dict
+        Candidate name → its effect definition.
+    """
+
     verdict: str
     data: MeasuredData
     noise: NoiseEstimate
@@ -227,7 +260,20 @@ class DiscrepancyResult:
 
 
 def discrepancy_workload(data: MeasuredData, n_candidates: int):
-    """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates."""
+    """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The measurements (:func:`read_measured`).
+    n_candidates : int
+        Candidate effects to solve.
+
+    Returns
+    -------
+    Workload
+        Estimated time and memory, to check or announce before the run.
+    """
     from rvcoax.geometry.model.workload import BASE_BYTES, Workload, count_text
 
     cases = len(data.cases)
@@ -368,7 +414,27 @@ def _sentinel_cv(engine, sentinel: SentinelFit | None, data, base_paths, observe
 def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = DiscrepancySettings(),
                     library: CandidateLibrary | None = None, progress=None) -> DiscrepancyResult:
     """Observe, locate, name, add and show (see the module docstring). A pure function of its arguments
-    (``progress(i, n)`` is told how far each library build is)."""
+    (``progress(i, n)`` is told how far each library build is).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig as modelled.
+    data : MeasuredData
+        The measurements (:func:`rvcoax.read_measured`).
+    settings : DiscrepancySettings
+        Candidates, significance level, BIC margin, model-form allowance, held-out rows, the sweep settings.
+    library : CandidateLibrary, optional
+        Solved candidate responses to reuse (built when not given).
+    progress : callable, optional
+        ``progress(i, n)`` as each library build goes.
+
+    Returns
+    -------
+    DiscrepancyResult
+        The verdict, the selected effects with their values, the rig with them added, and the gaps before
+        and after, on fitted and held-out rows.
+    """
     sweep_settings = settings.sweep
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     noise = estimate_noise(data, settings.model_form_fraction)

@@ -34,15 +34,6 @@ class ColumnRange:
     k: tuple[float, ...]
     R: float
 
-    @property
-    def best_level_min(self) -> int:
-        return int(np.argmin(self.k)) + 1
-
-    @property
-    def best_level_max(self) -> int:
-        return int(np.argmax(self.k)) + 1
-
-
 @dataclass(frozen=True)
 class AnovaRow:
     """One source: sum of squares S, degrees of freedom f, mean square V, F, p, critical F at α."""

@@ -87,10 +87,6 @@ class Design:
         """Level values of every factor in every run (runs × factors), e.g. for regression."""
         return np.column_stack([np.asarray(f.values)[self.codes[f.key] - 1] for f in self.factors])
 
-    def with_response(self, response: np.ndarray, name: str) -> Design:
-        return Design(self.runs, self.codes, self.factors, self.sources, np.asarray(response, float), name)
-
-
 def build_sources(factors: tuple[Factor, ...], columns: list[str]) -> tuple[Source, ...]:
     """Sources from column names: factor keys, ``<a>x<b>[_n]`` interactions and ``e<n>`` empty columns."""
     keys = [f.key for f in factors]
@@ -136,7 +132,23 @@ def _number(text: str, where: str, column: str) -> float:
 
 
 def read_levels(path: str | Path) -> tuple[Factor, ...]:
-    """Factors from a levels CSV (``factor, name, unit, level_1, level_2, …``)."""
+    """Factors from a levels CSV (``factor, name, unit, level_1, level_2, …``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The levels CSV.
+
+    Returns
+    -------
+    tuple of Factor
+        Key, name, unit and level values of each factor.
+
+    Raises
+    ------
+    DesignError
+        Naming the file, the line and the reason.
+    """
     path = Path(path)
     header, rows = _rows(path, "levels file")
     level_columns = sorted((h for h in header if re.fullmatch(r"level_\d+", h)), key=lambda h: int(h[6:]))
@@ -159,7 +171,28 @@ def read_levels(path: str | Path) -> tuple[Factor, ...]:
 
 
 def read_design(path: str | Path, factors: tuple[Factor, ...], response: str | None = None) -> Design:
-    """A design CSV with the given factors; ``response`` names the response column if several could be."""
+    """A design CSV with the given factors; ``response`` names the response column if several could be.
+
+    Parameters
+    ----------
+    path : str or Path
+        The design CSV: one row per run, a column per factor (levels 1, 2, 3), empty or interaction
+        columns, and the response.
+    factors : tuple of Factor
+        From :func:`read_levels`.
+    response : str, optional
+        The response column.
+
+    Returns
+    -------
+    Design
+        Runs, level codes, sources and the response.
+
+    Raises
+    ------
+    DesignError
+        Naming the file, the line or column and the reason.
+    """
     path = Path(path)
     header, rows = _rows(path, "design file")
     keys = {f.key for f in factors}

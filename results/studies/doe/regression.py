@@ -82,7 +82,25 @@ def term_name(term: Term) -> str:
 
 
 def parse_term(text: str, n_factors: int) -> Term:
-    """``1``, ``xj``, ``xj^2`` or ``xj*xk`` (j, k from 1) → Term."""
+    """``1``, ``xj``, ``xj^2`` or ``xj*xk`` (j, k from 1) → Term.
+
+    Parameters
+    ----------
+    text : str
+        The term as written.
+    n_factors : int
+        Factors of the design (j, k ≤ this).
+
+    Returns
+    -------
+    Term
+        0-based factor indices: ``()``, ``(j,)`` or ``(j, k)``.
+
+    Raises
+    ------
+    ValueError
+        The text is not a term of this design.
+    """
     text = text.replace(" ", "")
     if text == "1":
         return ()

@@ -60,7 +60,30 @@ def choose_terms(design: Design, terms: str | tuple[Term, ...] = "auto") -> tupl
 
 def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),
             goal: str = "min", terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
-    """Range analysis, ANOVA (unpooled and pooled), optimal levels and the second-order regression."""
+    """Range analysis, ANOVA (unpooled and pooled), optimal levels and the second-order regression.
+
+    Parameters
+    ----------
+    design : Design
+        From :func:`read_design`.
+    alpha : float
+        Significance level of the F tests.
+    pool_below_F : float or None
+        Pool every source whose F is below this into the error (None: no pooling by F).
+    pool : tuple of str
+        Sources to pool by name.
+    goal : {"min", "max"}
+        Which response is better.
+    terms : {"auto", "full", "stepwise"} or tuple of Term
+        Regression terms (:func:`choose_terms`).
+    outliers : "auto", None or sequence of int
+        Runs left out of the regression: flagged by residual intervals, none, or given (0-based).
+
+    Returns
+    -------
+    Analysis
+        Ranges, both ANOVA tables, the optimal levels and the regression.
+    """
     table = anova(design, alpha)
     pooled = anova(design, alpha, pool_below_F, pool) if (pool_below_F is not None or pool) else table
     chosen, how = choose_terms(design, terms)
@@ -70,7 +93,18 @@ def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.
 
 
 def combination_label(optimum: dict[str, int]) -> str:
-    """``A3B1C2D3E1``."""
+    """``A3B1C2D3E1``.
+
+    Parameters
+    ----------
+    optimum : dict of str to int
+        Factor key → level (1-based).
+
+    Returns
+    -------
+    str
+        The factors' keys with their levels, in order.
+    """
     return "".join(f"{key}{level}" for key, level in optimum.items())
 
 
@@ -98,6 +132,18 @@ def anova_document(table: Anova) -> dict:
 
 
 def regression_document(analysis: Analysis) -> dict:
+    """The regression part of the JSON of ``doe analyze``: terms, coefficients, fit statistics, prediction at the optimum.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        From :func:`analyse`: its regression fit, design and optimal levels.
+
+    Returns
+    -------
+    dict
+        The ``regression`` section.
+    """
     fit, design = analysis.regression, analysis.design
     point = optimum_values(design, analysis.optimum)
     return {
@@ -122,7 +168,18 @@ def regression_document(analysis: Analysis) -> dict:
 
 
 def analysis_document(analysis: Analysis) -> dict:
-    """The JSON of `doe analyze`: range (K, k, R per column), anova (S, f, V, F, p per source), regression."""
+    """The JSON of `doe analyze`: range (K, k, R per column), anova (S, f, V, F, p per source), regression.
+
+    Parameters
+    ----------
+    analysis : Analysis
+        One response's analysis (:func:`analyse`).
+
+    Returns
+    -------
+    dict
+        The document, ready for :func:`rvcoax.results.io.write_json_atomic`.
+    """
     design = analysis.design
     return {
         "response": design.response_name,
@@ -137,7 +194,19 @@ def analysis_document(analysis: Analysis) -> dict:
 
 
 def anova_rows(analysis: Analysis) -> list[dict]:
-    """One CSV row per source of both tables (unpooled and pooled)."""
+    """One CSV row per source of both tables (unpooled and pooled).
+
+    Parameters
+    ----------
+    analysis : Analysis
+        Both of its ANOVA tables are written.
+
+    Returns
+    -------
+    list of dict
+        Keys response, table (``unpooled`` or ``pooled``), source, S, f, V, F, p, F_critical and
+        significant; the error and total rows close each table.
+    """
     rows = []
     for label, table in (("unpooled", analysis.anova), ("pooled", analysis.pooled)):
         for row in (*table.rows, table.error, table.total):
@@ -148,7 +217,24 @@ def anova_rows(analysis: Analysis) -> list[dict]:
 
 
 def plot_main_effects(analyses: list[Analysis], path_png: str | Path, title: str | None = None, dpi: int = 130) -> Path:
-    """Mean response at each level of each factor (one row of panels per response), as a PNG."""
+    """Mean response at each level of each factor (one row of panels per response), as a PNG.
+
+    Parameters
+    ----------
+    analyses : list of Analysis
+        One per response.
+    path_png : str or Path
+        Where the picture goes.
+    title : str, optional
+        The figure's title.
+    dpi : int
+        Resolution.
+
+    Returns
+    -------
+    Path
+        ``path_png``, written atomically.
+    """
     from matplotlib.figure import Figure  # Agg, no display needed
 
     n_factors = max(len(a.design.factors) for a in analyses)

@@ -116,7 +116,23 @@ class StudyResult:
 
 
 def load_study(path: str | Path | None = None) -> Study:
-    """Read and validate a study file (default: the built-in L27 rig-tolerance study)."""
+    """Read and validate a study file (default: the built-in L27 rig-tolerance study).
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        A study TOML file (``docs/doe.md``).
+
+    Returns
+    -------
+    Study
+        Array, factors with their rig-file addresses and levels, load case, model.
+
+    Raises
+    ------
+    StudyError
+        Naming the file, the key and the reason.
+    """
     source, text = read_data_text(path, STUDY_FILE, StudyError, "study file")
     try:
         return Study.model_validate(parse_toml(text))
@@ -168,7 +184,24 @@ def study_rig(rig: Rig, study: Study) -> Rig:
 
 
 def run_values(study: Study, array: OrthogonalArray, columns: dict[str, int], run: int) -> dict[str, float]:
-    """Rig parameter values (address → value) of run ``run`` (0-based)."""
+    """Rig parameter values (address → value) of run ``run`` (0-based).
+
+    Parameters
+    ----------
+    study : Study
+        From :func:`load_study`.
+    array : OrthogonalArray
+        The study's array.
+    columns : dict of str to int
+        Factor key → its column of the array (1-based).
+    run : int
+        The run.
+
+    Returns
+    -------
+    dict of str to float
+        Each factor's level value at each of its addresses.
+    """
     values = {}
     for factor in study.factors:
         level = int(array.table[run, columns[factor.key] - 1])
@@ -194,6 +227,26 @@ def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
 
     ``runs`` limits the solves to some runs (the others stay NaN), e.g. to try a slow model;
     ``source`` names the study in error messages.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose addresses the study names.
+    study : Study
+        From :func:`load_study`.
+    settings : SweepSettings, optional
+        How each run is solved (default: the study's model).
+    progress : callable, optional
+        ``progress(done, total)`` after each run.
+    runs : range, optional
+        The runs to solve.
+    source : str
+        The study's name in error messages.
+
+    Returns
+    -------
+    StudyResult
+        The array, the columns, and per run the responses (β per shaft) and Y_max.
     """
     settings = SweepSettings() if settings is None else settings
     array = standard_array(study.study.array)

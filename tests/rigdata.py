@@ -1,0 +1,64 @@
+"""The reference rig as mutable TOML data, and a small TOML writer to save an edited copy.
+
+Shared by the tests that make bad or changed rig files (rig-file errors, plausibility, effects,
+reliability, the bad-input corpus of the command line).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import tomllib
+
+from rvcoax.geometry.rigfile import reference_rig_text
+
+__all__ = ["dump_toml", "reference_data"]
+
+
+def reference_data() -> dict:
+    """A fresh, mutable copy of the reference rig as parsed TOML."""
+    return tomllib.loads(reference_rig_text())
+
+
+def _toml_key(key: str) -> str:
+    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key)
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)  # JSON escapes are valid TOML basic-string escapes
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_value(v)}" for k, v in value.items()) + " }"
+    raise TypeError(f"cannot write {value!r} as TOML")
+
+
+def _is_table_array(value) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
+
+
+def dump_toml(data: dict) -> str:
+    """Write a parsed rig back as TOML (tables, arrays of tables, inline tables below that)."""
+    lines = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in data.items()
+             if not isinstance(v, dict) and not _is_table_array(v)]
+    for key, value in data.items():
+        if isinstance(value, dict):
+            lines.append(f"[{_toml_key(key)}]")
+            lines += [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in value.items()]
+        elif _is_table_array(value):
+            for item in value:
+                lines.append(f"[[{_toml_key(key)}]]")
+                lines += [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in item.items()]
+    return "\n".join(lines) + "\n"
