@@ -17,8 +17,8 @@ from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.errors import GapConvergenceError  # noqa: F401 (re-exported)
 
 __all__ = ["Bushings", "CondensedSolution", "GROUND", "GapSolution", "RadialGaps", "gap_forces", "motion_operator",
-           "prepare_radial_gaps", "prestrain_load", "radial_operator", "relative_motion_operator", "solve_condensed",
-           "solve_with_gaps", "spring_forces", "stiffness_triplets"]
+           "prepare_radial_gaps", "prestrain_entries", "prestrain_load", "radial_operator", "relative_motion_operator",
+           "solve_condensed", "solve_with_gaps", "spring_forces", "stiffness_triplets"]
 
 GROUND = -1
 """Node index meaning "the fixed ground"."""
@@ -102,22 +102,29 @@ def spring_forces(coordinates: np.ndarray, bushings: Bushings, displacement: np.
     return np.asarray(bushings.stiffness, float) * delta
 
 
-def prestrain_load(coordinates: np.ndarray, bushings: Bushings, stress_free: np.ndarray, n_dofs: int) -> np.ndarray:
-    """Equivalent nodal load of bushings that are free of load at a relative motion Δ0 ≠ 0.
+def prestrain_entries(coordinates: np.ndarray, bushings: Bushings, stress_free: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Equivalent nodal load of bushings that are free of load at a relative motion Δ0 ≠ 0, as (DOFs, values).
 
     A bushing with a stress-free relative motion Δ0 (a misaligned coupling, a raised mount) exerts
     diag(k) (Δ − Δ0): on the straight, unloaded structure it pushes its nodes with
     f = Opᵀ diag(k) Δ0 (Op the relative-motion operator). The pair on two nodes is
     self-equilibrated; on a ground bushing it is reacted by the ground. ``stress_free`` is (n, 6).
+    A DOF appears once per bushing attached to it (the entries are summed where they are assembled).
     """
-    load = np.zeros(n_dofs)
     stress_free = np.asarray(stress_free, dtype=float)
     if len(bushings.node_b) == 0 or not np.any(stress_free):
-        return load
+        return np.zeros(0, dtype=int), np.zeros(0)
     operator, dofs = relative_motion_operator(coordinates, bushings)
     nodal = np.einsum("eji,ej->ei", operator, np.asarray(bushings.stiffness, float) * stress_free)
     keep = dofs >= 0
-    np.add.at(load, dofs[keep], nodal[keep])
+    return dofs[keep], nodal[keep]
+
+
+def prestrain_load(coordinates: np.ndarray, bushings: Bushings, stress_free: np.ndarray, n_dofs: int) -> np.ndarray:
+    """:func:`prestrain_entries` summed into a load vector of length ``n_dofs``."""
+    load = np.zeros(n_dofs)
+    np.add.at(load, *prestrain_entries(coordinates, bushings, stress_free))
     return load
 
 

@@ -6,6 +6,9 @@ by load name, and constraint rows. :func:`assemble` sums any list of them into t
 order given (so that the result does not depend on how the pieces were grouped). The beam, hybrid
 and solid rig models, calibration and a Monte Carlo sample that swaps springs all go through it.
 
+Loads are pieces too: nodal forces (:func:`nodal_load_contribution`) and the springs' prestrain
+(:func:`prestrain_contribution`) under the load name the caller gives, summed by :func:`load_vectors`.
+
 Matrices, vectors and DOF numbers only: the rig is unknown here. The one load name the pieces
 themselves give is ``"gravity"``: the weight per m/s² of acceleration along the direction asked for.
 """
@@ -19,13 +22,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import beam, bushing, loads, solid
+from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads, solid
 from rvcoax.fem.assembly import assemble_matrix, block_diagonal
 from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 
 __all__ = ["AssembledSystem", "Contribution", "assemble", "beam_contribution", "bushing_contribution",
-           "constraint_contribution", "frame_contributions", "point_mass_contribution", "solid_contribution",
-           "tie_contribution"]
+           "constraint_contribution", "dense_load_contribution", "frame_contributions", "load_vectors", "nodal_load_contribution",
+           "point_mass_contribution", "prestrain_contribution", "solid_contribution", "tie_contribution"]
 
 
 def _no_dofs() -> np.ndarray:
@@ -41,7 +44,7 @@ class Contribution:
     stiffness : (rows, cols, values) or None
         Stiffness triplets in global DOF numbers (duplicates are summed).
     loads : mapping
-        Load name → (dofs, values): entries added to that load vector (each DOF at most once per entry).
+        Load name → (dofs, values): entries added to that load vector (a DOF may repeat: every entry adds).
     equations : mapping
         Multi-point constraints u_dependent = Σ c u: dependent DOF → {DOF: coefficient}.
     fixed_dofs : array of int
@@ -90,15 +93,24 @@ def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSys
     """Sum ``contributions`` (in their order) into one system of ``n_dofs`` unknowns."""
     contributions = list(contributions)
     stiffness = _stiffness(n_dofs, contributions)
-    vectors: dict[str, np.ndarray] = {}
     equations: dict[int, Mapping[int, float]] = {}
     for c in contributions:
-        for name, (dofs, values) in c.loads.items():
-            vector = vectors.setdefault(name, np.zeros(n_dofs))
-            vector[dofs] += values
         equations.update(c.equations)
     fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
-    return AssembledSystem(int(n_dofs), stiffness, vectors, equations, fixed)
+    return AssembledSystem(int(n_dofs), stiffness, load_vectors(n_dofs, contributions), equations, fixed)
+
+
+def load_vectors(n_dofs: int, contributions: Iterable[Contribution]) -> dict[str, np.ndarray]:
+    """The load entries of ``contributions`` summed (in their order) into one vector per load name.
+
+    :func:`assemble` sums loads this way; a model whose loads change without its stiffness (calibration,
+    a Monte Carlo sample of load parameters) calls it alone.
+    """
+    vectors: dict[str, np.ndarray] = {}
+    for c in contributions:
+        for name, (dofs, values) in c.loads.items():
+            np.add.at(vectors.setdefault(name, np.zeros(n_dofs)), dofs, values)
+    return vectors
 
 
 def _stiffness(n_dofs: int, contributions: list[Contribution]) -> sp.csr_matrix:
@@ -136,6 +148,23 @@ def point_mass_contribution(model, gravity_direction) -> Contribution:
     """The point masses of a frame model: their weight."""
     weight = loads.point_mass_gravity(model.point_masses, np.asarray(gravity_direction, dtype=float), model.n_dofs)
     return Contribution(loads={"gravity": _dense(weight)})
+
+
+def nodal_load_contribution(name: str, nodal: loads.NodalLoads) -> Contribution:
+    """Forces and moments at frame nodes (:class:`rvcoax.fem.loads.NodalLoads`) as entries of load ``name``."""
+    node = np.asarray(nodal.node, dtype=int)
+    dofs = (DOFS_PER_NODE * node[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+    return Contribution(loads={name: (dofs, np.asarray(nodal.components, dtype=float).ravel())})
+
+
+def dense_load_contribution(name: str, vector: np.ndarray, offset: int = 0) -> Contribution:
+    """A load given as a vector on the DOFs ``offset, offset + 1, …`` (a thermal initial strain, a face traction)."""
+    return Contribution(loads={name: _dense(np.asarray(vector, dtype=float), offset)})
+
+
+def prestrain_contribution(model, stress_free: np.ndarray, name: str = "prestrain") -> Contribution:
+    """The springs of a frame model pushing their nodes towards their stress-free relative motion Δ0 (n, 6)."""
+    return Contribution(loads={name: bushing.prestrain_entries(model.coordinates, model.bushings, stress_free)})
 
 
 def constraint_contribution(model) -> Contribution:

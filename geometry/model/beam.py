@@ -14,16 +14,17 @@ from typing import NamedTuple
 import numpy as np
 
 from rvcoax.fem.beam import BeamElements
-from rvcoax.fem.bushing import GROUND, Bushings, prestrain_load
+from rvcoax.fem.bushing import GROUND, Bushings
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.pieces import Contribution, dense_load_contribution, prestrain_contribution
 from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 from rvcoax.geometry.thermal import beam_thermal_load, thermal_stress_free_motions
 
 __all__ = ["SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
-           "build_rig_model", "housing_bed_group", "prestrain_load_vector", "stress_free_motions"]
+           "build_rig_model", "housing_bed_group", "prestrain_contributions", "stress_free_motions"]
 
 MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
@@ -312,15 +313,14 @@ def stress_free_motions(rig: Rig) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(-1, 6) + thermal_stress_free_motions(rig)
 
 
-def prestrain_load_vector(frame: RigModel, rig: Rig, n_dofs: int) -> np.ndarray:
-    """Equivalent load of the bushings' prestrain, K Δ0 through their rigid arms (length ``n_dofs``).
+def prestrain_contributions(frame: RigModel, rig: Rig) -> list[Contribution]:
+    """The load ``"prestrain"`` of the frame: the bushings' K Δ0 through their rigid arms, then the beams'
+    thermal initial strain (a vector on the frame's DOFs; zero without ``[thermal]``).
 
-    ``rig`` gives the offsets (it may differ from ``frame.rig`` in offsets only). Zero when every
-    coupling is aligned and every mount at its nominal height. Adds the beams' thermal initial strain.
+    ``rig`` gives the offsets and temperatures (it may differ from ``frame.rig`` in those only). Zero when every
+    coupling is aligned, every mount at its nominal height and nothing is warm.
     """
-    vector = np.zeros(n_dofs)
     structure = frame.structure
-    vector[: structure.n_dofs] = prestrain_load(structure.coordinates, structure.bushings, stress_free_motions(rig),
-                                                structure.n_dofs)
-    vector[: structure.n_dofs] += beam_thermal_load(rig, frame.node_part, structure.beams, structure.n_dofs)
-    return vector
+    return [prestrain_contribution(structure, stress_free_motions(rig)),
+            dense_load_contribution("prestrain", beam_thermal_load(rig, frame.node_part, structure.beams,
+                                                                   structure.n_dofs))]

@@ -11,7 +11,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.condensation import superelement_contribution
-from rvcoax.fem.pieces import Contribution
+from rvcoax.fem.pieces import Contribution, dense_load_contribution
 from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
 from rvcoax.geometry.model.beam import housing_bed_group
 from rvcoax.geometry.schema import Housing, Rig
@@ -50,8 +50,9 @@ def housing_contributions(rig: Rig, frame, cache_dir=None) -> list[Contribution]
     return pieces
 
 
-def housing_prestrain(rig: Rig, frame, n_dofs: int) -> np.ndarray:
-    """The load of warm housings on their part's nodes, K_c Δ0 (length ``n_dofs``; zero without ``[thermal]``).
+def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
+    """The load of warm housings on their part's nodes, K_c Δ0, as load ``"prestrain"`` (a vector of length
+    ``n_dofs``; zero without ``[thermal]``).
 
     The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, 0, 0, 0, 0) at
     each attachment x (α of the housing's material, ΔT its ``support_temperature_rise_K`` or else its part's
@@ -60,7 +61,7 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> np.ndarray:
     """
     vector = np.zeros(n_dofs)
     if rig.thermal is None:
-        return vector
+        return dense_load_contribution("prestrain", vector)
     for housing in rig.housings:
         thermal = rig.thermal
         rise = thermal.support_temperature_rise_K.get(housing.name, thermal.temperature_rise_K.get(housing.part, 0.0))
@@ -74,4 +75,4 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> np.ndarray:
         matrix = housing.stiffness_factor * condensed_housing(rig, housing).matrix
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
         vector[_dofs(nodes)] += matrix @ motion.ravel()
-    return vector
+    return dense_load_contribution("prestrain", vector)

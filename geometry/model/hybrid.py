@@ -20,7 +20,14 @@ import scipy.sparse as sp
 from rvcoax.fem import solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.errors import RvcoaxError
-from rvcoax.fem.pieces import assemble, frame_contributions, solid_contribution, tie_contribution
+from rvcoax.fem.pieces import (
+    Contribution,
+    assemble,
+    dense_load_contribution,
+    frame_contributions,
+    solid_contribution,
+    tie_contribution,
+)
 from rvcoax.fem.ties import FaceNodes, distributing_tie_equations, rigid_tie_equations
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
@@ -31,7 +38,7 @@ from rvcoax.geometry.model.loads import (
     LocatedLoad,
     located_unit_loads,
 )
-from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, nodal_vector
+from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, located_contribution
 from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.thermal import part_strain
 
@@ -259,9 +266,9 @@ class SolidLoads:
             self._unit[key] = np.column_stack(columns)
         return self._unit[key]
 
-    def vector(self, frame: RigModel, loads: list[LocatedLoad], n: int) -> np.ndarray:
-        """Load vector of ``loads``: nodal on frame parts, tractions on solid parts."""
-        vector = nodal_vector(frame, [ld for ld in loads if ld.part not in self._solids], n)
+    def contributions(self, frame: RigModel, name: str, loads: list[LocatedLoad]) -> list[Contribution]:
+        """``loads`` as entries of load ``name``: nodal on frame parts, then a face traction per load on a solid part."""
+        pieces = [located_contribution(frame, name, [ld for ld in loads if ld.part not in self._solids])]
         for load in loads:
             if load.part not in self._solids:
                 continue
@@ -271,18 +278,19 @@ class SolidLoads:
             part = self._solids[load.part]
             face = _load_face(self._rig, self._parts[load.part], load)
             weights = np.concatenate([np.asarray(load.force_N, dtype=float), moment[:1]])
-            vector[part.offset: part.offset + part.n_dofs] += self._unit_vectors(part, face, load.x_mm) @ weights
-        return vector
+            traction = self._unit_vectors(part, face, load.x_mm) @ weights
+            pieces.append(dense_load_contribution(name, traction, part.offset))
+        return pieces
 
-    def thermal_vector(self, rig: Rig, n: int) -> np.ndarray:
-        """Initial-strain load of the solid parts' free thermal strain α ΔT (``[thermal]``)."""
-        vector = np.zeros(n)
+    def thermal_contributions(self, rig: Rig) -> list[Contribution]:
+        """Initial-strain load ``"prestrain"`` of the solid parts' free thermal strain α ΔT (``[thermal]``), one per part."""
+        pieces = []
         for name, part in self._solids.items():
             strain = part_strain(rig, name)
             if strain:
-                vector[part.offset: part.offset + part.n_dofs] += solid.thermal_strain_vector(
-                    part.basis, part.youngs_modulus_Pa, part.poisson, strain)
-        return vector
+                pieces.append(dense_load_contribution("prestrain", solid.thermal_strain_vector(
+                    part.basis, part.youngs_modulus_Pa, part.poisson, strain), part.offset))
+        return pieces
 
 
 def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None, cache_dir=None) -> RigSystem:

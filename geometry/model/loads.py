@@ -12,7 +12,7 @@ A model turns each :class:`LocatedLoad` into a load vector: nodal forces on a be
 traction on a solid part. For a linear model the response to (T1, T2) is
 ``u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2`` with
 ``u_rest = u_gravity + u_prestrain + u_force_table``. Prestrain is not a located load: it is built
-from the bushings where they are assembled (:func:`rvcoax.geometry.model.beam.prestrain_load_vector`).
+from the bushings where they are assembled (:func:`rvcoax.fem.pieces.prestrain_contribution`).
 """
 
 from __future__ import annotations

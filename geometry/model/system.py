@@ -19,10 +19,17 @@ import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
-from rvcoax.fem.loads import NodalLoads, nodal_load_vector
-from rvcoax.fem.pieces import assemble, frame_contributions
+from rvcoax.fem.loads import NodalLoads
+from rvcoax.fem.pieces import (
+    Contribution,
+    assemble,
+    dense_load_contribution,
+    frame_contributions,
+    load_vectors,
+    nodal_load_contribution,
+)
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_load_vector
+from rvcoax.geometry.model.beam import RigModel, build_rig_model, prestrain_contributions
 from rvcoax.geometry.model.housings import housing_contributions, housing_prestrain
 from rvcoax.geometry.model.loads import (
     GRAVITY_DIRECTION,
@@ -34,7 +41,7 @@ from rvcoax.geometry.model.loads import (
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "UnitLoadBuilder", "assemble_beam", "frame_path_probe",
-           "nodal_vector"]
+           "located_contribution"]
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
 """The models a rig can be solved with: beams only, beams with solid parts, or solids wherever meshed."""
@@ -125,29 +132,30 @@ class UnitLoadBuilder:
     solid_loads: object | None = None
 
     def __call__(self, rig: Rig) -> dict:
-        """One load vector per name in :data:`UNIT_LOADS`, for the loads of ``rig``."""
+        """One load vector per name in :data:`UNIT_LOADS`, for the loads of ``rig``: every load a
+        :class:`rvcoax.fem.pieces.Contribution`, summed by :func:`rvcoax.fem.pieces.load_vectors`."""
         located = located_unit_loads(rig)
-        if self.solid_loads is None:
-            loads = {name: nodal_vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
-        else:
-            loads = {name: self.solid_loads.vector(self.frame, located[name], self.n_dofs) for name in UNIT_LOADS}
-        loads["gravity"] = loads["gravity"] + gravity_acceleration(rig) * self.weight_per_g
-        loads["prestrain"] = prestrain_load_vector(self.frame, rig, self.n_dofs)  # springs act on frame nodes
+        pieces = []
+        for name in UNIT_LOADS:
+            if self.solid_loads is None:
+                pieces.append(located_contribution(self.frame, name, located[name]))
+            else:
+                pieces += self.solid_loads.contributions(self.frame, name, located[name])
+        pieces.append(dense_load_contribution("gravity", gravity_acceleration(rig) * self.weight_per_g))
+        pieces += prestrain_contributions(self.frame, rig)  # springs and beams act on frame nodes
         if rig.thermal is not None and rig.housings:
-            loads["prestrain"] = loads["prestrain"] + housing_prestrain(rig, self.frame, self.n_dofs)
+            pieces.append(housing_prestrain(rig, self.frame, self.n_dofs))
         if self.solid_loads is not None and rig.thermal is not None:
-            loads["prestrain"] = loads["prestrain"] + self.solid_loads.thermal_vector(rig, self.n_dofs)
-        return loads
+            pieces += self.solid_loads.thermal_contributions(rig)
+        vectors = load_vectors(self.n_dofs, pieces)
+        return {name: vectors[name] if name in vectors else np.zeros(self.n_dofs) for name in UNIT_LOADS}
 
 
-def nodal_vector(frame: RigModel, loads: list[LocatedLoad], n_dofs: int) -> np.ndarray:
-    """Located loads on frame nodes as a load vector of length ``n_dofs``."""
-    vector = np.zeros(n_dofs)
-    if loads:
-        nodes = np.array([frame.node(load.part, load.x_mm) for load in loads])
-        components = np.array([[*load.force_N, *load.moment_Nm] for load in loads], dtype=float)
-        vector[: frame.structure.n_dofs] = nodal_load_vector(NodalLoads(nodes, components), frame.structure.n_dofs)
-    return vector
+def located_contribution(frame: RigModel, name: str, loads: list[LocatedLoad]) -> Contribution:
+    """Located loads on frame parts as the nodal entries of load ``name``."""
+    nodes = np.array([frame.node(load.part, load.x_mm) for load in loads], dtype=int)
+    components = np.array([[*load.force_N, *load.moment_Nm] for load in loads], dtype=float).reshape(-1, 6)
+    return nodal_load_contribution(name, NodalLoads(nodes, components))
 
 
 def frame_path_probe(frame: RigModel, which: str, n_dofs: int) -> PathProbe:

@@ -6,17 +6,23 @@ independence of how the same pieces are grouped.
 
 import numpy as np
 import pytest
-from frames import GRAVITY, assert_close, dof, model, node_dofs, polyline, rigidities
+from frames import GRAVITY, assert_close, bushings, dof, model, no_beams, node_dofs, polyline, rigidities
 
 from rvcoax.fem import model as fem_model
+from rvcoax.fem.bushing import GROUND
+from rvcoax.fem.loads import NodalLoads, nodal_load_vector
 from rvcoax.fem.pieces import (
     Contribution,
     assemble,
     beam_contribution,
     bushing_contribution,
     constraint_contribution,
+    dense_load_contribution,
     frame_contributions,
+    load_vectors,
+    nodal_load_contribution,
     point_mass_contribution,
+    prestrain_contribution,
 )
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
@@ -83,6 +89,30 @@ def test_load_entries_and_constraint_rows_add_up():
     assert system.stiffness.shape == (4, 4) and system.stiffness.nnz == 0
     t = system.elimination.toarray()  # u = T q with u0 = 0 and u3 = 2 u1: q = (u1, u2)
     assert np.array_equal(t, [[0, 0], [1, 0], [0, 1], [2, 0]])
+
+
+def test_loads_are_pieces_too_and_repeated_dofs_add():
+    """Two forces on one node add (nodal loads), and a grounded spring with a stress-free offset Δ0 pushes
+    its node with k Δ0 (prestrain): the closed forms, summed by the same function as every other load."""
+    nodal = NodalLoads(np.array([1, 1, 0]), np.array([[0, 2.0, 0, 0, 0, 1.0], [0, 3.0, 0, 0, 0, 0], [1.0, 0, 0, 0, 0, 0]]))
+    k, offset = 2.5e7, 12e-6
+    springs = bushings([GROUND], [1], [[0.1, 0.0, 0.0]], [[1e6, k, 1e6, 1.0, 1.0, 1.0]])  # at the node: no arm
+    structure = model([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]], no_beams(), springs)
+    stress_free = np.array([[0.0, offset, 0.0, 0.0, 0.0, 0.0]])
+    vectors = load_vectors(12, [nodal_load_contribution("T1", nodal), prestrain_contribution(structure, stress_free)])
+    assert np.array_equal(vectors["T1"], nodal_load_vector(nodal, 12))
+    assert vectors["T1"][dof(1, 1)] == 5.0 and vectors["T1"][dof(1, 5)] == 1.0 and vectors["T1"][dof(0, 0)] == 1.0
+    assert_close(vectors["prestrain"][dof(1, 1)], k * offset, 1e-15)
+    assert np.count_nonzero(vectors["prestrain"]) == 1
+    assert load_vectors(12, [prestrain_contribution(structure, np.zeros((1, 6)))])["prestrain"].tolist() == [0.0] * 12
+
+
+
+def test_a_load_given_as_a_vector_lands_at_its_offset_and_adds_in_order():
+    """A vector load (a thermal initial strain, a face traction) on DOFs offset… adds to the entries before it."""
+    vectors = load_vectors(6, [Contribution(loads={"prestrain": (np.array([2, 3]), np.array([1.0, 2.0]))}),
+                               dense_load_contribution("prestrain", np.array([0.5, 1.0]), offset=2)])
+    assert vectors["prestrain"].tolist() == [0.0, 0.0, 1.5, 3.0, 0.0, 0.0]
 
 
 def test_an_index_outside_the_system_is_refused():
