@@ -22,7 +22,8 @@ from scipy import stats
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.studies.discrepancy.measured import MeasuredData
 
-__all__ = ["GapTest", "NoiseEstimate", "StructureFinding", "estimate_noise", "gap_test", "residual_structure"]
+__all__ = ["GapTest", "NoiseEstimate", "StructureFinding", "curvature_beyond_allowance", "estimate_noise", "gap_test",
+           "residual_structure"]
 
 
 @dataclass(frozen=True)
@@ -150,11 +151,12 @@ def _t_test(design: np.ndarray, r: np.ndarray, weights: np.ndarray) -> tuple[np.
 
 
 def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray,
-                       threshold: float = 3.0) -> list[StructureFinding]:
+                       threshold: float = 3.0, model_form_fraction: float = 0.0) -> list[StructureFinding]:
     """Tests of the residual along the sweep and along the shaft (|t| > ``threshold`` is significant).
 
     - *constant offset* and *torque-proportional*: r = a + b·T over the cases (T = the shaft's torque);
-    - *curvature along the shaft* (paths): r = a + b·x + c·x², the significance of c;
+    - *curvature along the shaft* (paths): judged against the model-form allowance (see
+      :func:`curvature_beyond_allowance`); with ``model_form_fraction`` 0, the significance of c alone;
     - *sign change*: a + b·T changes sign inside the measured torque range;
     - *dead band*: the line through the upper half of the sweep misses the lower half.
     """
@@ -190,8 +192,44 @@ def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np
                                                  f"lower half vs the line of the upper half: χ² = {chi2:.3g} "
                                                  f"on {int(lower.sum())} points (p = {p:.2g})"))
         if data.schema == "paths" and np.ptp(data.x_mm[mask]) > 0:
-            x = data.x_mm[mask] / max(np.ptp(data.x_mm[mask]), 1e-12)
-            _, tc = _t_test(np.column_stack([np.ones_like(x), x, x ** 2]), r, w)
-            findings.append(StructureFinding(shaft, "curvature along the shaft", float(tc[2]),
-                                             abs(tc[2]) > threshold, f"t = {tc[2]:+.1f}"))
+            finding = curvature_beyond_allowance(data, residual_mm, sigma_mm, shaft, model_form_fraction, threshold)
+            if finding is not None:
+                findings.append(finding)
     return findings
+
+
+def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray, shaft: str,
+                               model_form_fraction: float, threshold: float) -> StructureFinding | None:
+    """Curvature of the residual along one shaft, as a fraction of the signal, against the model-form allowance.
+
+    A model of another form (another discretisation, shear, a solid part) differs from the data by a smooth
+    shape along the shaft that grows with the load: a fixed fraction of the signal. The likelihood allows
+    ``model_form_fraction`` of the signal (σ² = σ_noise² + (f·s)²), so the structure test does too: the
+    residual relative to its path's RMS signal s, ρ = r/s (σ_ρ = σ/s), is fitted by a + b·x + c·x² over every
+    case, and the curvature's amplitude A = |c|·RMS(q) (q: x² without its part along 1 and x, both weighted)
+    is compared with f. The statistic is (A − f)/SE(A): the curvature exceeds the allowance by that many
+    standard errors; it is significant above ``threshold``. With f = 0 it is |t| of c. Curvature smaller
+    than the allowance is what the fit already tolerates as model form, however many points see it.
+    """
+    mask = data.shaft == shaft
+    scale = _group_rms(data)
+    keep = mask & (scale > 0) & (sigma_mm > 0)
+    if keep.sum() < 4 or np.ptp(data.x_mm[keep]) <= 0:
+        return None
+    x = data.x_mm[keep] / np.ptp(data.x_mm[keep])
+    s = scale[keep]
+    rho, weights = residual_mm[keep] / s, (s / sigma_mm[keep]) ** 2
+    design = np.column_stack([np.ones_like(x), x, x ** 2])
+    coefficients, t = _t_test(design, rho, weights)
+    root = np.sqrt(weights)
+    line, *_ = np.linalg.lstsq(design[:, :2] * root[:, None], x ** 2 * root, rcond=None)
+    q = x ** 2 - design[:, :2] @ line
+    shape = float(np.sqrt(np.average(q ** 2, weights=weights)))
+    amplitude = abs(float(coefficients[2])) * shape
+    error = amplitude / abs(float(t[2])) if t[2] != 0 else np.inf
+    statistic = float((amplitude - model_form_fraction) / error) if 0 < error < np.inf else 0.0
+    detail = f"{100 * amplitude:.2g} % of the signal, t = {t[2]:+.1f}"
+    if model_form_fraction > 0:
+        detail += (f"; {'beyond' if amplitude > model_form_fraction else 'within'} the "
+                   f"{100 * model_form_fraction:.3g} % model-form allowance ({statistic:+.1f} standard errors)")
+    return StructureFinding(shaft, "curvature along the shaft", statistic, statistic > threshold, detail)

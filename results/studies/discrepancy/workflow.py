@@ -361,7 +361,7 @@ def _as_discrimination(pair, found: Suggestion) -> Discrimination:
 
 
 FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
-STRUCTURE_T = 4.0  # |t| of the curvature along a shaft left in the residual
+STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
 
 
 def _fighting_pairs(problem: Problem, fitted: list[tuple[str, np.ndarray]]) -> list[str]:
@@ -462,7 +462,8 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     before = observe(base_paths)
     scaled_before = (data.value_mm - before) / sigma
     test_before = gap_test(scaled_before[fit_rows], settings.alpha)
-    structure = residual_structure(data, data.value_mm - before, sigma)
+    structure = residual_structure(data, data.value_mm - before, sigma,
+                                   model_form_fraction=settings.model_form_fraction)
     effects_by_name = {e.name: e for e in candidate_effects(rig)}
     set_aside: dict[str, str] = dict(library.failed)
     # 1. observability: which effects can these data see at all, and what would reveal the others
@@ -596,7 +597,8 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
         if cv is not None and not cv.improves:
             reasons.append(f"held-out load cases do not improve (χ² {cv.chi2_before:.4g} → {cv.chi2_after:.4g})")
         residual = data.value_mm - after
-        for finding in residual_structure(data, residual, sigma, threshold=STRUCTURE_T):
+        for finding in residual_structure(data, residual, sigma, threshold=STRUCTURE_T,
+                                          model_form_fraction=settings.model_form_fraction):
             if finding.test == "curvature along the shaft" and finding.significant:
                 reasons.append(f"structure left along the {finding.shaft} shaft (curvature, {finding.detail})")
     return ("unexplained" if reasons else "explained"), reasons
