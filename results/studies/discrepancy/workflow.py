@@ -364,6 +364,25 @@ FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them 
 STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
 
 
+def _opposite_loads(fitted: list[tuple[str, np.ndarray]], effects: dict) -> list[str]:
+    """Pairs of the same torque-proportional load (N per N·m) at two places with opposite signs: a force couple
+    between them, i.e. a localized load or moment that the vocabulary does not hold, mimicked by two reactions."""
+    loads = {}
+    for name, values in fitted:
+        effect = effects.get(name)
+        values = np.atleast_1d(values)
+        if effect is not None and len(effect.parameters) == 1 and effect.parameters[0].unit == "N/(N·m)":
+            loads.setdefault(effect.kind, []).append((name, float(values[0])))
+    out = []
+    for members in loads.values():
+        for i, (a, va) in enumerate(members):
+            for b, vb in members[i + 1:]:
+                if va * vb < 0:
+                    out.append(f"{a} and {b} are the same load at two places with opposite signs ({va:+.3g} and "
+                               f"{vb:+.3g} N per N·m): a couple mimicking a load between them, not an explanation")
+    return out
+
+
 def _fighting_pairs(problem: Problem, fitted: list[tuple[str, np.ndarray]]) -> list[str]:
     """Pairs of selected effects that cancel each other: each large, their sum small."""
     signatures = {n: signature(problem.responses[n], v, problem.base_paths, problem.observe, problem.sigma, problem.rows)
@@ -560,7 +579,7 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), scaled_before, folds) \
         if fitted and all(n in responses for n, _ in fitted) else None
     verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma, sentinel, cv,
-                                settings)
+                                settings, effects_by_name)
     final = []
     for s in selected:
         confident = verdict == "explained" and len(s.group) == 1
@@ -572,7 +591,8 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
                              sentinel_cv, tuple(reasons), vocabulary_chi2)
 
 
-def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings):
+def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings,
+             effects: dict | None = None):
     """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last."""
     if not test_before.gap:
         return "no_gap", []
@@ -582,6 +602,7 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
     if test_after.gap:
         reasons.append(f"the gap left is beyond the noise and the model-form allowance ({test_after.describe()})")
     reasons += _fighting_pairs(problem, fitted)
+    reasons += _opposite_loads(fitted, effects or {})
     if fitted:
         rows = problem.rows
         chi2 = float(np.sum((((data.value_mm - after) / sigma)[rows]) ** 2))
