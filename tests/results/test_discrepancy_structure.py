@@ -81,11 +81,12 @@ def test_the_allowance_is_the_one_the_likelihood_uses():
 def test_the_same_torque_proportional_load_at_two_places_with_opposite_signs_is_a_mimicked_shape():
     """Issue 14, class 1: a lateral load ∝ T2 between two housings, fitted as their torque reactions of opposite
     signs, is not an explanation; the same signs, or two different kinds of load, are left to the other rules."""
+    from discrepancy_data import discrepancy_rig
+
     from rvcoax.geometry.effects import candidate_effects
     from rvcoax.results.studies.discrepancy.workflow import _opposite_loads
-    from tests.results.test_discrepancy import test_rig
 
-    effects = {e.name: e for e in candidate_effects(test_rig())}
+    effects = {e.name: e for e in candidate_effects(discrepancy_rig())}
     a, b = "torque_reaction@output_bearing_block", "torque_reaction@output_sensor_housing"
     reasons = _opposite_loads([(a, np.array([12.0])), (b, np.array([-4.0]))], effects)
     assert len(reasons) == 1 and a in reasons[0] and b in reasons[0]
