@@ -30,9 +30,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the te
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "results"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig  # noqa: E402
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, finer  # noqa: E402
 from machine import record  # noqa: E402
-from test_discrepancy_unseen import finer  # noqa: E402  (a data helper of that test)
 
 from rvcoax.geometry.effects import candidate_effects  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases  # noqa: E402

@@ -12,7 +12,7 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
 
-__all__ = ["LENGTHS", "STATIONS", "discrepancy_rig", "hidden_data", "write_cli_inputs"]
+__all__ = ["LENGTHS", "STATIONS", "discrepancy_rig", "finer", "hidden_data", "write_cli_inputs"]
 
 LENGTHS = {"input": 120.0, "output": 160.0}
 STATIONS = 11
@@ -24,6 +24,13 @@ def discrepancy_rig(reference: Rig | None = None) -> Rig:
     data["paths"]["measured_from"] = "unloaded"
     data["gravity"]["enabled"] = False
     data["beam"]["shear_deformation"] = False
+    return Rig.model_validate(data)
+
+
+def finer(rig: Rig) -> Rig:
+    """The same rig meshed with beam elements of at most 2 mm (the identifying model uses 5 mm)."""
+    data = rig.model_dump(by_alias=True)
+    data["mesh"]["max_element_length_mm"] = 2.0
     return Rig.model_validate(data)
 
 

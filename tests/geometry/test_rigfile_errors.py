@@ -108,7 +108,7 @@ def test_reference_rig_tags_its_numbers():
 
 
 def _materials_csv() -> Path | None:
-    for candidate in (REPO / "shared" / "reference" / "materials.csv", Path("/work/shared/reference/materials.csv")):
+    for candidate in (REPO / "shared" / "reference" / "materials.csv", REPO.parent / "shared" / "reference" / "materials.csv"):
         if candidate.is_file():
             return candidate
     return None

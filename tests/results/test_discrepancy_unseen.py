@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, write_cli_inputs
+from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, finer, write_cli_inputs
 from typer.testing import CliRunner
 
 from rvcoax.geometry.effects import candidate_effects
@@ -55,13 +55,6 @@ def library(rig):
     from rvcoax.results.studies.discrepancy.workflow import build_library
 
     return build_library(rig, paper_cases(), SweepSettings())
-
-
-def finer(rig: Rig) -> Rig:
-    """The same rig meshed with beam elements of at most 2 mm (the identifying model uses 5 mm)."""
-    data = rig.model_dump(by_alias=True)
-    data["mesh"]["max_element_length_mm"] = 2.0
-    return Rig.model_validate(data)
 
 
 def with_lateral_load(rig: Rig, part: str, x_mm: float, force_per_torque: float) -> Rig:
