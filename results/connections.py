@@ -61,12 +61,17 @@ class ConnectionStates:
         the stress-free Δ0 (or since the rest state).
     force_on_b : (n_cases, n_springs, 6) array
         Force (N) and moment about the spring point (N·m) that the spring exerts on side b.
+    stiffness : (n_cases, n_springs, 6) array
+        Operating stiffness (N/m, N·m/rad) on each component: the spring's own for a linear spring; for a
+        nonlinear bearing (clearance, ball bearing) the diagonal of its tangent ∂F/∂Δ at the case's
+        converged state (the same in both references).
     """
 
     names: tuple[SpringId, ...]
     point_m: np.ndarray
     deformation: np.ndarray
     force_on_b: np.ndarray
+    stiffness: np.ndarray
 
     def index(self, kind: str, name: str) -> int:
         """Row of the spring ``name`` of ``kind`` (bearing, mount, coupling, joint)."""
@@ -87,13 +92,22 @@ def _from_rest(sweep: Sweep, reference: str) -> bool:
 
 
 def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
-    """Displacement vectors of every case, (n_dofs, n_cases), from ``reference`` (see :data:`REFERENCES`)."""
+    """Displacement vectors of every case, (n_dofs, n_cases), from ``reference`` (see :data:`REFERENCES`).
+
+    A linear sweep superposes its unit responses; a nonlinear one (bearings with radial clearance or
+    ball bearings from geometry, solved case by case) holds each case's displacement as measured and
+    the rest state."""
     from_rest = _from_rest(sweep, reference)
     if sweep.unit_displacements is None:
-        raise ConnectionsUnavailableError(
-            "spring forces and coupling misalignments need a linear model (unit responses); this rig has "
-            "bearings with radial clearance or ball bearings from geometry (nonlinear), whose sweep is solved case by "
-            "case without them")
+        if sweep.case_displacements is None or sweep.rest_displacement is None:
+            raise ConnectionsUnavailableError(
+                "spring forces and coupling misalignments need the sweep's unit responses (a linear model) or, "
+                "for bearings with radial clearance or ball bearings from geometry (nonlinear), each case's "
+                "displacement and the rest state; this sweep holds neither")
+        measured = np.asarray(sweep.case_displacements, dtype=float)
+        if sweep.rig.paths.measured_from == "aligned_at_rest" and not from_rest:
+            return measured + np.asarray(sweep.rest_displacement, dtype=float)[:, None]
+        return measured
     unit = np.asarray(sweep.unit_displacements)
     weights = np.array([[case_weights(c.case.input_torque_Nm, c.case.output_torque_Nm,
                                       include_rest=not from_rest)[k] for k in UNIT_LOADS] for c in sweep.cases])
@@ -101,9 +115,29 @@ def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
 
 
 def connection_states(sweep: Sweep, reference: str = "measured") -> ConnectionStates:
-    """Relative motion and force of every spring of the sweep's rig in every case."""
-    return spring_states(sweep.frame, sweep.rig, case_displacements(sweep, reference),
-                         from_rest=_from_rest(sweep, reference))
+    """Relative motion and force of every spring of the sweep's rig in every case.
+
+    In a nonlinear sweep each bearing with radial clearance or from ball geometry exerts its own law
+    F(Δ) at the case's converged state (:meth:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings.laws`),
+    −F(Δ) on its shaft from the unloaded geometry and −(F(Δ) − F(Δ_rest)) from rest, and its operating
+    stiffness is the tangent ∂F/∂Δ there; every other spring is linear."""
+    from_rest = _from_rest(sweep, reference)
+    states = spring_states(sweep.frame, sweep.rig, case_displacements(sweep, reference), from_rest=from_rest)
+    law = sweep.nonlinear_bearings
+    if law is None:
+        return states
+    operator = law.operator
+    motions = np.asarray(operator @ case_displacements(sweep, "unloaded"))  # (p, n_cases), as the laws see them
+    rest_force = law.laws(operator @ np.asarray(sweep.rest_displacement, dtype=float))[0] if from_rest else 0.0
+    force, stiffness = states.force_on_b.copy(), states.stiffness.copy()
+    rows = [(states.names.index(spring), list(components), block) for spring, components, block in law.spring_rows()]
+    for case in range(motions.shape[1]):
+        carried, tangent = law.laws(motions[:, case])
+        carried = carried - rest_force
+        for row, components, block in rows:
+            force[case, row, components] = -carried[block]
+            stiffness[case, row, components] = np.diag(tangent[block, block])
+    return ConnectionStates(states.names, states.point_m, states.deformation, force, stiffness)
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,7 +170,8 @@ class SpringMotion:
         deformation = np.einsum("sij,sjc->csi", self.operator, gathered)
         if not from_rest:
             deformation = deformation - self.stress_free[None, :, :]
-        return ConnectionStates(self.names, self.point_m, deformation, -self.stiffness[None, :, :] * deformation)
+        stiffness = np.broadcast_to(self.stiffness[None, :, :], deformation.shape)
+        return ConnectionStates(self.names, self.point_m, deformation, -stiffness * deformation, stiffness)
 
 
 def spring_states(model, rig, displacements: np.ndarray, from_rest: bool) -> ConnectionStates:

@@ -29,7 +29,11 @@ from rvcoax.geometry.model import preflight
 from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
 from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
-from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names, prepare_nonlinear_bearings
+from rvcoax.geometry.model.nonlinear_bearings import (
+    NonlinearBearings,
+    nonlinear_bearing_names,
+    prepare_nonlinear_bearings,
+)
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
@@ -103,6 +107,8 @@ class Sweep:
     unit_displacements: np.ndarray | None = None
     solver_report: dict = field(default_factory=dict)
     case_displacements: np.ndarray | None = None  # (n_dofs, n_cases), as measured; nonlinear sweeps only
+    rest_displacement: np.ndarray | None = None  # (n_dofs,), the rest state from the unloaded geometry; nonlinear only
+    nonlinear_bearings: NonlinearBearings | None = None  # their condensed laws (operating forces and stiffness)
 
     def measured_displacement(self, index: int) -> np.ndarray:
         """The displacement of case ``index`` measured as Y is (u − u_rest when aligned at rest, else u)."""
@@ -349,7 +355,9 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     of the nonlinear laws. (Against ‖Tᵀ f‖ alone, the floating-point floor of K u, ε ‖|K| |u|‖, is
     1.7e-9 for T1 = 0.01 N·m with an open gap: a correct solution failed a 1e-9 limit.) No unit
     responses exist: ``unit_paths`` is empty and ``unit_displacements`` None; ``case_displacements``
-    holds each case's displacement as measured. The solver report lists each ball bearing's operating
+    holds each case's displacement as measured, ``rest_displacement`` the rest state and
+    ``nonlinear_bearings`` the condensed laws, from which :func:`rvcoax.results.connections.connection_states`
+    gives every spring's state with each nonlinear bearing's own force and operating stiffness. The solver report lists each ball bearing's operating
     point (force, tangent stiffness, ball loads) at rest and in every case.
     """
     frame = system.frame.structure
@@ -413,7 +421,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         summary["ball_bearings"] = [ball.name for ball in bearings.balls]
         summary["ball_bearing_operating_points"] = operating
     return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
-                 np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)))
+                 np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)), rest_u, bearings)
 
 
 def solve_unit_responses(frame: RigModel):

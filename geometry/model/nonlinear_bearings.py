@@ -78,6 +78,29 @@ class NonlinearBearings:
         return value, tangent
 
     @property
+    def reference_stiffness(self) -> np.ndarray:
+        """K_ref (p,): the linear reference spring of every condensed row as assembled (the radial stiffness of
+        a gapped bearing, twice; each ball bearing's six reference stiffnesses)."""
+        return np.concatenate([np.repeat(np.asarray(self.gaps.stiffness, dtype=float), 2),
+                               np.asarray(self.ball_reference, dtype=float).ravel()])
+
+    def spring_rows(self) -> tuple[tuple[SpringId, tuple[int, ...], slice], ...]:
+        """Per nonlinear bearing: its spring, the components (of x, y, z, θx, θy, θz) of its condensed rows,
+        and where they sit in w."""
+        gaps = tuple((SpringId("bearing", name), (1, 2), slice(2 * i, 2 * i + 2))
+                     for i, name in enumerate(self.gap_names))
+        return gaps + tuple((SpringId("bearing", ball.name), tuple(range(6)), self._ball_slice(i))
+                            for i, ball in enumerate(self.balls))
+
+    def laws(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """F(w) (p,): what the nonlinear bearings carry at the condensed motion ``w`` (the shaft gets the
+        opposite), and their tangent ∂F/∂w (p, p): the operating stiffness. F = K_ref w − G(w)."""
+        w = np.asarray(w, dtype=float).ravel()
+        value, tangent = self.released(w)
+        reference = self.reference_stiffness
+        return reference * w - value, np.diag(reference) - tangent
+
+    @property
     def regularisation(self) -> np.ndarray | None:
         """For :func:`rvcoax.fem.bushing.solve_condensed`: the dead-band regularisation of the ball bearings
         (:func:`rvcoax.fem.ball_bearing.dead_band_regularisation`), None without ball bearings."""

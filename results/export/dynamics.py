@@ -49,6 +49,7 @@ IT3_RADIAL_DISPLACEMENT_MM = {"input": 0.002, "output": 0.003}
 UNITS = {
     "torque": "N·m", "length": "mm", "Y": "mm (vertical, +Y up)", "beta, angles": "degree",
     "offsets": "µm", "forces": "N", "moments": "N·m", "lever_arm": "mm",
+    "stiffness": "N/µm (translations), N·m/rad (tilts)",
 }
 CSV_TABLES = ("shafts", "stages", "couplings", "bearings")
 UNLOADED = "_unloaded_ref"
@@ -244,6 +245,13 @@ def _bearing_values(states: ConnectionStates, case: int, row: int, suffix: str =
             f"moment_y{suffix}_Nm": force[4], f"moment_z{suffix}_Nm": force[5]}
 
 
+def _bearing_stiffness(states: ConnectionStates, case: int, row: int) -> dict:
+    k = _float_list(states.stiffness[case, row])
+    return {"stiffness_axial_N_per_um": k[0] * 1e-6, "stiffness_y_N_per_um": k[1] * 1e-6,
+            "stiffness_z_N_per_um": k[2] * 1e-6, "tilt_stiffness_y_Nm_per_rad": k[4],
+            "tilt_stiffness_z_Nm_per_rad": k[5]}
+
+
 def bearing_rows(export: DynamicsExport) -> list[dict]:
     """One row per case and bearing: the force and moment the bearing exerts on its shaft.
 
@@ -255,7 +263,9 @@ def bearing_rows(export: DynamicsExport) -> list[dict]:
     Returns
     -------
     list of dict
-        Keys with units (``force_y_N``, ``moment_z_Nm``, …), one row per case and bearing.
+        Keys with units (``force_y_N``, ``moment_z_Nm``, …), one row per case and bearing, and the
+        bearing's operating stiffness in that case (``stiffness_y_N_per_um``, …: the typed-in value of a
+        linear bearing; the tangent at the converged state of a bearing with clearance or from ball geometry).
     """
     rows = []
     for i, case in enumerate(export.sweep.cases):
@@ -263,7 +273,8 @@ def bearing_rows(export: DynamicsExport) -> list[dict]:
             row = export.measured.index("bearing", b.name)
             rows.append({**_torques(case), "bearing": b.name, "shaft": b.shaft, "housing": b.housing,
                          "x_mm": b.x_mm, "measured_from": export.measured_from,
-                         **_bearing_values(export.measured, i, row), **_bearing_values(export.unloaded, i, row, UNLOADED)})
+                         **_bearing_values(export.measured, i, row), **_bearing_values(export.unloaded, i, row, UNLOADED),
+                         **_bearing_stiffness(export.measured, i, row)})
     return rows
 
 
@@ -289,7 +300,8 @@ def export_document(export: DynamicsExport, rig_source: str, rig_text: str) -> d
             "beta": "arcsin(Y_max / L) (paper 000), from the measured_from state",
             "lever_arm": "tan(beta) * ((l_k + l_{k-1}) / 2 + a / cos(beta)) + d_k / 2, l_0 = 0; stage 1 at the reducer",
             "couplings": "motion of the to-hub relative to the from-hub at the coupling centre; forces on the to-part",
-            "bearings": "force and moment the bearing exerts on its shaft, at the bearing centre",
+            "bearings": "force and moment the bearing exerts on its shaft, at the bearing centre; stiffness: the "
+                        "operating (tangent) stiffness in the case, the typed-in value for a linear bearing",
             "unloaded_ref": "columns ending in _unloaded_ref: from the unloaded geometry (forces: total, self-weight included)",
         },
         "radial_displacement_a_mm": dict(export.radial_mm),

@@ -22,7 +22,7 @@ from rvcoax.fem.bushing import GROUND
 from rvcoax.fem.equilibrium import DofTable, resultant_of
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
-from rvcoax.geometry.rigfile import load_rig, parse_rig, reference_rig_text
+from rvcoax.geometry.rigfile import load_rig, parse_rig, parse_rig_text, reference_rig_text
 from rvcoax.loadcases.cases import LoadCase, grid_cases, paired_cases, paper_cases
 from rvcoax.results.cli.app import app
 from rvcoax.results.connections import ConnectionsUnavailableError, case_displacements, connection_states
@@ -249,6 +249,64 @@ def test_hybrid_model_springs_balance_the_solid_input_shaft(rig):
 def test_a_sweep_without_unit_responses_is_refused(sweep):
     with pytest.raises(ConnectionsUnavailableError, match="radial clearance"):
         connection_states(dataclasses.replace(sweep, unit_displacements=None))
+
+
+NONLINEAR_CASES = (LoadCase(1.43, 200.0), LoadCase(0.07, 10.0))
+
+
+def _shafts(rig):
+    return [p.name for p in rig.parts if p.role == "shaft"]
+
+
+def test_a_ball_bearing_sweep_exports_each_bearing_s_own_force_and_operating_stiffness():
+    # each case is solved by Newton (no unit responses): the export reads the converged state, the ball
+    # bearings' forces from their Hertz law and their tangent stiffness, the other springs as linear
+    ball_rig = parse_rig_text(reference_rig_text("ball_bearings"), "variant")
+    result = run_sweep(ball_rig, NONLINEAR_CASES)
+    assert result.unit_displacements is None
+    for reference in ("measured", "unloaded"):  # the Hertz forces balance every shaft; k_ref Δ would not
+        _assert_each_shaft_in_equilibrium(result, connection_states(result, reference), reference, _shafts(ball_rig))
+    rows = export_tables(dynamics_export(result))["bearings"]
+    points = result.solver_report["ball_bearing_operating_points"]
+    balls = [b.name for b in ball_rig.bearings if b.model == "ball"]
+    for i, case in enumerate(NONLINEAR_CASES):
+        by_name = {r["bearing"]: r for r in rows if r["T2_output_Nm"] == case.output_torque_Nm}
+        for name in balls:
+            point, row = points[name][i + 1], by_name[name]  # [0] is the rest state
+            assert row["stiffness_y_N_per_um"] == pytest.approx(point["radial_stiffness_y_N_per_um"], rel=1e-9, abs=1e-12)
+            assert row["stiffness_axial_N_per_um"] == pytest.approx(point["axial_stiffness_N_per_um"], rel=1e-9, abs=1e-12)
+            assert row["tilt_stiffness_z_Nm_per_rad"] == pytest.approx(point["tilt_stiffness_z_Nm_per_rad"], rel=1e-9,
+                                                                        abs=1e-9)
+            assert row["force_radial_unloaded_ref_N"] == pytest.approx(point["radial_force_N"], rel=1e-9, abs=1e-12)
+        loaded = by_name["input_B2"]
+        assert loaded["stiffness_y_N_per_um"] > 1.0 and loaded["force_radial_unloaded_ref_N"] > 1.0
+        for b in ball_rig.bearings:
+            if b.model != "ball":  # a linear bearing keeps its typed-in stiffness
+                assert by_name[b.name]["stiffness_y_N_per_um"] == pytest.approx(b.radial_stiffness_N_per_um, rel=1e-12)
+
+
+def test_a_bearing_with_clearance_exports_the_gap_law_force():
+    data = tomllib.loads(reference_rig_text())
+    for bearing in data["bearings"]:
+        if bearing["name"] in ("input_B1", "input_B2"):
+            bearing["radial_clearance_um"] = 5.0
+    gapped = parse_rig(data, "test")
+    result = run_sweep(gapped, NONLINEAR_CASES)
+    for reference in ("measured", "unloaded"):
+        _assert_each_shaft_in_equilibrium(result, connection_states(result, reference), reference, _shafts(gapped))
+    states = connection_states(result, "unloaded")
+    for name in ("input_B1", "input_B2"):
+        row = states.index("bearing", name)
+        k = next(b for b in gapped.bearings if b.name == name).radial_stiffness_N_per_um * 1e6
+        for case in range(len(NONLINEAR_CASES)):
+            d = states.deformation[case, row, 1:3]
+            size = float(np.hypot(*d))
+            # F = k (|d| − c) d/|d| where the gap is closed, none where it is open; the shaft gets −F
+            expected = k * max(size - 5e-6, 0.0) * d / size
+            np.testing.assert_allclose(states.force_on_b[case, row, 1:3], -expected, rtol=1e-9, atol=1e-12)
+            tangent = states.stiffness[case, row, 1:3]
+            assert np.all(tangent >= 0) and np.all(tangent <= k * (1 + 1e-12))
+            assert (size > 5e-6) == bool(np.any(tangent > 0))
 
 
 def test_csv_and_json_round_trip(export, tmp_path):
