@@ -271,15 +271,27 @@ def plausibility_warnings(rig: Rig) -> list[str]:
 
 
 def _gear_contact_warnings(rig: Rig) -> list[str]:
-    """A gear stage whose position errors open a planet mesh at small torque (the linear model assumes contact)."""
-    from rvcoax.geometry.model.loads import gear_mesh_full_contact_torque
+    """A gear stage whose contact loss the sweep interpolates rather than follows exactly.
+
+    Below its full-contact torque T_c a stage's lagging meshes are open; the sweep weights the meshes'
+    constant part by clip(T / T_c, −1, 1), exact when the position errors take at most two values (two
+    planets always: :func:`rvcoax.geometry.model.loads.gear_contact_weight`) and one stage per torque.
+    """
+    from rvcoax.geometry.model.loads import gear_contact_torques, gear_mesh_full_contact_torque
 
     found = []
+    largest = dict(zip(("T1", "T2"), gear_contact_torques(rig)))
     for i, mesh in enumerate(rig.gear_meshes):
         torque = gear_mesh_full_contact_torque(rig, mesh)
-        if torque > 0.0:
-            found.append(f"gear_meshes[{i}] ('{mesh.name}'): below |{mesh.torque}| = {torque:.3g} N·m a planet mesh "
-                         "opens (planet_position_errors_um against the mesh stiffness); the linear model keeps every "
-                         "mesh in contact, so there it overstates the constant force and understates the "
-                         "torque-proportional one (docs/model.md, gear meshes)")
+        if torque <= 0.0:
+            continue
+        where = f"gear_meshes[{i}] ('{mesh.name}'): below |{mesh.torque}| = {torque:.3g} N·m a planet mesh opens"
+        if len(set(mesh.planet_position_errors_um)) > 2:
+            found.append(f"{where}, and with more than two different planet_position_errors_um the meshes close one "
+                         "after another: the sweep interpolates their load linearly in the torque below that torque "
+                         "(exact at 0 and above it; docs/model.md, gear meshes)")
+        elif torque != largest[mesh.torque]:
+            found.append(f"{where}, but another stage on {mesh.torque} opens below {largest[mesh.torque]:.3g} N·m: the "
+                         "sweep scales both stages' constant force with that torque (one per torque is exact; "
+                         "docs/model.md, gear meshes)")
     return found

@@ -33,7 +33,7 @@ import numpy as np
 from rvcoax.fem import bushing
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.model.beam import SpringId, stress_free_motions
-from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights
+from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights, gear_contact_torques
 
 if TYPE_CHECKING:
     from rvcoax.results.sweep import Sweep
@@ -109,8 +109,9 @@ def case_displacements(sweep: Sweep, reference: str = "measured") -> np.ndarray:
             return measured + np.asarray(sweep.rest_displacement, dtype=float)[:, None]
         return measured
     unit = np.asarray(sweep.unit_displacements)
-    weights = np.array([[case_weights(c.case.input_torque_Nm, c.case.output_torque_Nm,
-                                      include_rest=not from_rest)[k] for k in UNIT_LOADS] for c in sweep.cases])
+    contact = gear_contact_torques(sweep.rig)
+    weights = np.array([[case_weights(c.case.input_torque_Nm, c.case.output_torque_Nm, include_rest=not from_rest,
+                                      contact_torques_Nm=contact)[k] for k in UNIT_LOADS] for c in sweep.cases])
     return unit @ weights.T
 
 

@@ -28,7 +28,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
 from rvcoax.geometry.model.assemble import MODEL_KINDS, assemble_rig
 from rvcoax.geometry.model.beam import RigModel
-from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, superpose
+from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, gear_contact_torques, superpose
 from rvcoax.geometry.model.nonlinear_bearings import (
     NonlinearBearings,
     nonlinear_bearing_names,
@@ -117,7 +117,7 @@ class Sweep:
         unit = {k: self.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
         case = self.cases[index].case
         return superpose(unit, case.input_torque_Nm, case.output_torque_Nm,
-                         self.rig.paths.measured_from == "aligned_at_rest")
+                         self.rig.paths.measured_from == "aligned_at_rest", gear_contact_torques(self.rig))
 
 
 class ModelError(RvcoaxError, RuntimeError):
@@ -310,10 +310,11 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None
+    contact = gear_contact_torques(rig)
     results = []
     for i, case in enumerate(cases):
-        load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
-        u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest=False)
+        load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+        u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
              if settings.method == "superposition" else solve(load))
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
         reduced_residual = system.elimination.T @ (system.stiffness @ u - load)
@@ -391,13 +392,15 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         check_solution(label, u, check.relative_error, residual)
         return u, solution, check, residual
 
+    contact = gear_contact_torques(rig)
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     operating = {name: [{"case": "at rest", **point}]
                  for name, point in bearings.operating_points(rest_solution.motion).items()}
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     results, iterations, measured_all = [], [rest_solution.iterations], []
     for i, case in enumerate(cases):
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
+                               contact_torques_Nm=contact)
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
         for name, point in bearings.operating_points(solution.motion).items():

@@ -3,14 +3,19 @@
 ``gravity``        self-weight of every part (zero when switched off)
 ``prestrain``      the prestrain of misaligned couplings and raised mounts, K d0 (zero when aligned)
 ``force_table``    paper 000's force table as interpreted in the rig file (empty unless applied)
-``engaged_T1``     the constant lateral loads present while T1 flows (load-sharing position errors,
-                   of ``[[torque_lateral_loads]]`` and of ``[[gear_meshes]]``)
+``engaged_T1``     the constant lateral loads present while T1 flows (the load-sharing position errors
+                   of ``[[torque_lateral_loads]]``)
 ``engaged_T2``     the same for T2
 ``T1``, ``T2``     a unit torque (1 N·m) with its torque-proportional lateral loads
+``gear_contact_T1`` the constant part of the ``[[gear_meshes]]`` forces on T1 (their position errors),
+                   weighted by clip(T1 / T_c, −1, 1) with T_c the stage's full-contact torque
+                   (:func:`gear_contact_torques`): below T_c a planet mesh is open and carries nothing
+``gear_contact_T2`` the same for T2
 
 A model turns each :class:`LocatedLoad` into a load vector: nodal forces on a beam part, a face
 traction on a solid part. For a linear model the response to (T1, T2) is
-``u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2`` with
+``u = u_rest + sign(T1) u_engaged_T1 + sign(T2) u_engaged_T2 + T1 u_T1 + T2 u_T2
++ clip(T1/T_c1, −1, 1) u_gear_contact_T1 + clip(T2/T_c2, −1, 1) u_gear_contact_T2`` with
 ``u_rest = u_gravity + u_prestrain + u_force_table``. Prestrain is not a located load: it is built
 from the bushings where they are assembled (:func:`rvcoax.fem.pieces.prestrain_contribution`).
 """
@@ -26,9 +31,11 @@ from rvcoax.geometry.gears import full_contact_force, load_sharing, mesh_forces,
 from rvcoax.geometry.schema import GearMesh, Rig
 
 __all__ = ["GRAVITY_DIRECTION", "LocatedLoad", "REST_LOADS", "UNIT_LOADS", "case_weights", "force_table_loads",
-           "gear_mesh_forces", "gear_mesh_full_contact_torque", "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
+           "gear_contact_torques", "gear_contact_weight", "gear_mesh_forces", "gear_mesh_full_contact_torque",
+           "gravity_acceleration", "located_unit_loads", "superpose", "torque_loads"]
 
-UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2")
+UNIT_LOADS = ("gravity", "prestrain", "force_table", "engaged_T1", "engaged_T2", "T1", "T2",
+              "gear_contact_T1", "gear_contact_T2")
 REST_LOADS = ("gravity", "prestrain", "force_table")
 
 
@@ -50,7 +57,8 @@ def _direction(direction_deg: float) -> np.ndarray:
 
 
 def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
-    """The lateral force pairs tied to torque ``which``: ``proportional`` (per N·m) or ``engaged``."""
+    """The lateral force pairs tied to torque ``which``: ``proportional`` (per N·m, with the gear meshes') or
+    ``engaged`` (of ``[[torque_lateral_loads]]`` only: the gear meshes' constant part is ``gear_contact_*``)."""
     out = []
     for lateral in rig.torque_lateral_loads:
         if lateral.torque != which:
@@ -61,7 +69,7 @@ def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
         if lateral.reacted_on is not None:
             reacted = lateral.reacted_on
             out.append(LocatedLoad(reacted.part, reacted.x_mm, tuple(-force), band_mm=reacted.band_mm))
-    return out + _gear_mesh_loads(rig, which, part)
+    return (out + _gear_mesh_loads(rig, which, part)) if part == "proportional" else out
 
 
 def gear_mesh_forces(rig: Rig, mesh: GearMesh):
@@ -83,8 +91,11 @@ def gear_mesh_forces(rig: Rig, mesh: GearMesh):
         Each mesh's stiffness along its line of action.
 
     The split is the all-meshes-in-contact one (:func:`rvcoax.geometry.gears.load_sharing`), linear in the
-    torque; below :func:`gear_mesh_full_contact_torque` a mesh opens and the true loads are
-    :func:`rvcoax.geometry.gears.contact_loads` (a warning says so before a solve).
+    torque. Below :func:`gear_mesh_full_contact_torque` T_c a mesh opens: the true loads
+    (:func:`rvcoax.geometry.gears.contact_loads`) are then the straight line from no load at T = 0 to the
+    split at T_c whenever the position errors take at most two values (two planets always), which the
+    sweep reproduces by weighting ``engaged`` with clip(T / T_c, −1, 1) (:func:`gear_contact_weight`);
+    with more values it is a polyline and that weight interpolates it (a warning says so before a solve).
     """
     stage = mesh.stage
     if mesh.mesh_stiffness_N_per_mm_per_um is not None:
@@ -106,6 +117,28 @@ def gear_mesh_full_contact_torque(rig: Rig, mesh: GearMesh) -> float:
     _, _, stiffness = gear_mesh_forces(rig, mesh)
     share, constant = load_sharing(stiffness, np.asarray(mesh.planet_position_errors_um) * 1e-6)
     return full_contact_force(share, constant) * mesh.stage.base_radius_mm(0) * 1e-3
+
+
+def gear_contact_torques(rig: Rig) -> tuple[float, float]:
+    """(T_c1, T_c2): per torque, the largest full-contact torque |T| (N·m) of its ``[[gear_meshes]]``
+    (:func:`gear_mesh_full_contact_torque`; 0 without meshes or with equal position errors)."""
+    out = {"T1": 0.0, "T2": 0.0}
+    for mesh in rig.gear_meshes:
+        out[mesh.torque] = max(out[mesh.torque], gear_mesh_full_contact_torque(rig, mesh))
+    return out["T1"], out["T2"]
+
+
+def gear_contact_weight(torque_Nm: float, contact_torque_Nm: float) -> float:
+    """The weight of a ``gear_contact_*`` unit load: clip(T / T_c, −1, 1), sign(T) when T_c = 0.
+
+    Two meshes on a rigid sun carry W_i = s_i F + c_i (F = T / r_b, Σ c_i = 0) while both touch; below
+    F_c = −c_o / s_o the lagging mesh o is open and the other carries all of F. That is
+    W_i = s_i F + c_i F / F_c (W_o = F (s_o + c_o/F_c) = 0, W_j = F (s_j − c_o/F_c) = F): the constant
+    part scaled by F / F_c = T / T_c, continuous at T_c and odd in T.
+    """
+    if contact_torque_Nm > 0.0:
+        return float(np.clip(torque_Nm / contact_torque_Nm, -1.0, 1.0))
+    return float(np.sign(torque_Nm))
 
 
 def _gear_mesh_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
@@ -155,6 +188,8 @@ def located_unit_loads(rig: Rig) -> dict[str, list[LocatedLoad]]:
         "engaged_T2": _lateral_loads(rig, "T2", "engaged"),
         "T1": torque_loads(rig, "T1"),
         "T2": torque_loads(rig, "T2"),
+        "gear_contact_T1": _gear_mesh_loads(rig, "T1", "engaged"),
+        "gear_contact_T2": _gear_mesh_loads(rig, "T2", "engaged"),
     }
 
 
@@ -167,9 +202,15 @@ def gravity_acceleration(rig: Rig) -> float:
     return rig.gravity.acceleration_m_per_s2 if rig.gravity.enabled else 0.0
 
 
-def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: bool) -> dict[str, float]:
-    """Multipliers of the unit loads for one case; ``include_rest`` adds self-weight, prestrain and force table."""
+def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: bool,
+                 contact_torques_Nm: tuple[float, float] = (0.0, 0.0)) -> dict[str, float]:
+    """Multipliers of the unit loads for one case; ``include_rest`` adds self-weight, prestrain and force table.
+
+    ``contact_torques_Nm`` is the rig's (T_c1, T_c2) (:func:`gear_contact_torques`); the default (0, 0),
+    every gear mesh in contact at any torque, is exact for a rig without gear meshes or position errors.
+    """
     rest = 1.0 if include_rest else 0.0
+    contact_1, contact_2 = contact_torques_Nm
     return {
         "gravity": rest,
         "prestrain": rest,
@@ -178,11 +219,13 @@ def case_weights(input_torque_Nm: float, output_torque_Nm: float, include_rest: 
         "engaged_T2": float(np.sign(output_torque_Nm)),
         "T1": float(input_torque_Nm),
         "T2": float(output_torque_Nm),
+        "gear_contact_T1": gear_contact_weight(input_torque_Nm, contact_1),
+        "gear_contact_T2": gear_contact_weight(output_torque_Nm, contact_2),
     }
 
 
 def superpose(unit_responses: dict[str, np.ndarray], input_torque_Nm: float, output_torque_Nm: float,
-              from_rest: bool) -> np.ndarray:
+              from_rest: bool, contact_torques_Nm: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """The response of a linear model to the case (T1, T2), from its responses to the unit loads.
 
     Parameters
@@ -193,7 +236,9 @@ def superpose(unit_responses: dict[str, np.ndarray], input_torque_Nm: float, out
         The case's torques, N·m.
     from_rest : bool
         Subtract ``u_rest`` (Y measured from the aligned rig at rest) instead of returning ``u``.
+    contact_torques_Nm : (float, float)
+        The rig's gear-mesh full-contact torques (:func:`gear_contact_torques`).
     """
-    weights = case_weights(input_torque_Nm, output_torque_Nm, include_rest=True)
+    weights = case_weights(input_torque_Nm, output_torque_Nm, include_rest=True, contact_torques_Nm=contact_torques_Nm)
     response = sum(weights[k] * unit_responses[k] for k in UNIT_LOADS)
     return response - sum(unit_responses[k] for k in REST_LOADS) if from_rest else response

@@ -63,7 +63,7 @@ from meshio.xdmf.common import (
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel
-from rvcoax.geometry.model.loads import UNIT_LOADS, superpose
+from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques, superpose
 
 LINE = "line"
 MM = 1e3  # m → mm: field files are in mm
@@ -250,10 +250,11 @@ def beam_field_cases(frame: RigModel, cases: Iterable, unit_responses=None) -> l
         unit_responses = solve_unit_responses(frame)[2]
     unit_by_name = {k: unit_responses[:, i] for i, k in enumerate(UNIT_LOADS)}
     from_rest = frame.rig.paths.measured_from == "aligned_at_rest"
+    contact = gear_contact_torques(frame.rig)
     out = []
     for item in cases:
         case = _load_case(item)
-        measured = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest)
+        measured = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest, contact)
         out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm,
                              measured.reshape(-1, 6)[:, :3]))
     return out

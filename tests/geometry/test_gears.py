@@ -133,8 +133,9 @@ def test_rig_gear_mesh_forces_and_their_reaction():
     assert np.abs(per_torque.force_N).max() < 1e-12
     k = stiffness[0]
     assert engaged.per_mesh_N[0, 1] == pytest.approx(k * 1e-6 * math.cos(math.radians(20)), rel=1e-12)
-    loads = located_unit_loads(rig)["engaged_T1"]
-    on, reaction = [x for x in loads if x.part in ("input_shaft", "reducer")][-2:]
+    assert not any(x.part in ("input_shaft", "reducer") for x in located_unit_loads(rig)["engaged_T1"])
+    loads = located_unit_loads(rig)["gear_contact_T1"]  # the gear meshes' constant part, weighted by T1 / T_c
+    on, reaction = loads
     assert (on.part, reaction.part) == ("input_shaft", "reducer")
     assert np.array(on.force_N) == pytest.approx(-np.array(reaction.force_N))
     # the +Z planet (planet 1) carries more: it pushes the sun to +Y (its tangential reaction) and −Z
@@ -150,7 +151,7 @@ def test_reference_rig_input_stage_from_gear_data_solves_and_matches_the_typed_i
     assert np.linalg.norm(engaged.force_N) == pytest.approx(k_eff * 2e-6, rel=1e-12)
     system = assemble_beam(geared)
     solver = factorize(system.stiffness, system.elimination)
-    u = solver.solve(system.unit_loads["engaged_T1"])
+    u = solver.solve(system.unit_loads["gear_contact_T1"])
     node = system.frame.node("input_shaft", 330.0)
     assert u[6 * node + 1] > 0  # the sun moves towards +Y with its net force
     assert len(assemble_beam(typed).unit_loads) == len(system.unit_loads)
@@ -199,4 +200,67 @@ def test_contact_loss_below_the_full_contact_torque():
     torque = gear_mesh_full_contact_torque(rig, rig.gear_meshes[0])
     stiffness = gear_mesh_forces(rig, rig.gear_meshes[0])[2][0]
     assert torque == pytest.approx(stiffness * 2e-6 * SPUR.base_radius_mm(0) * 1e-3, rel=1e-12)
-    assert any("a planet mesh opens" in w for w in plausibility_warnings(rig))
+    # two planets: the sweep follows the contact loss exactly (below), nothing to warn about; three different
+    # position errors close one after another, which the sweep interpolates: said before the solve
+    assert not any("a planet mesh opens" in w for w in plausibility_warnings(rig))
+    three = reference({**FROM_GEAR_DATA, "planet_angles_deg": [90.0, 210.0, 330.0],
+                       "planet_position_errors_um": [0.0, 1.0, 2.0]})
+    assert any("a planet mesh opens" in w and "interpolates" in w for w in plausibility_warnings(three))
+
+
+def _true_mesh_forces(rig, torque_Nm: float):
+    """The net force of the stage on the sun for ``torque_Nm`` from the closed-form contact share: the meshes
+    that touch split F = |T| / r_b (:func:`contact_loads`), odd in T."""
+    from rvcoax.geometry.gears import contact_loads
+
+    mesh = rig.gear_meshes[0]
+    _, _, stiffness = gear_mesh_forces(rig, mesh)
+    errors = np.asarray(mesh.planet_position_errors_um) * 1e-6
+    loads = contact_loads(stiffness, errors, abs(torque_Nm) / (mesh.stage.base_radius_mm(0) * 1e-3))
+    sign = float(rig.torques.T1.sign) * np.sign(torque_Nm)
+    return mesh_forces(mesh.stage, mesh.planet_angles_deg, sign * loads)
+
+
+def test_the_sweep_loads_follow_the_closed_form_share_through_contact_loss():
+    # two equal meshes, the second 2 µm behind: below T_c = k Δε r_b the first carries all of F and the second
+    # none; the sweep's unit loads weighted by T and clip(T / T_c) give exactly those forces at every torque
+    from rvcoax.geometry.model.loads import case_weights, gear_contact_torques
+
+    rig = reference(FROM_GEAR_DATA)
+    per_torque, engaged, _ = gear_mesh_forces(rig, rig.gear_meshes[0])
+    contact = gear_contact_torques(rig)
+    t_c = contact[0]
+    assert t_c > 1.0 and contact[1] == 0.0
+    for torque in (0.05 * t_c, 0.5 * t_c, 0.999 * t_c, t_c, 1.7 * t_c, 40.0 * t_c, -0.3 * t_c, -3.0 * t_c):
+        weights = case_weights(torque, 0.0, include_rest=False, contact_torques_Nm=contact)
+        swept = per_torque.per_mesh_N * weights["T1"] + engaged.per_mesh_N * weights["gear_contact_T1"]
+        expected = _true_mesh_forces(rig, torque).per_mesh_N
+        np.testing.assert_allclose(swept, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+        if abs(torque) < t_c:
+            assert np.abs(swept[1]).max() < 1e-9 * np.abs(swept[0]).max()  # the lagging mesh carries nothing
+    # the old all-in-contact weight (sign T) would pull on the open mesh
+    weights = case_weights(0.5 * t_c, 0.0, include_rest=False)
+    wrong = per_torque.per_mesh_N * weights["T1"] + engaged.per_mesh_N * weights["gear_contact_T1"]
+    assert np.abs(wrong[1]).max() > 0.1 * np.abs(wrong[0]).max()
+
+
+def test_the_input_shaft_s_supports_carry_the_closed_form_gear_force_below_contact():
+    from rvcoax.geometry.model.loads import gear_contact_torques
+    from rvcoax.loadcases.cases import LoadCase
+    from rvcoax.results.connections import connection_states
+    from rvcoax.results.sweep import run_sweep
+
+    rig = reference(FROM_GEAR_DATA)
+    t_c = gear_contact_torques(rig)[0]
+    cases = (LoadCase(0.3 * t_c, 10.0), LoadCase(2.0 * t_c, 10.0))
+    sweep = run_sweep(rig, cases)
+    states = connection_states(sweep, "measured")  # from rest: the torque's loads only
+    springs = [states.index("bearing", b.name) for b in rig.bearings if b.shaft == "input_shaft"]
+    springs += [states.index("coupling", c.name) for c in rig.couplings if c.to.part == "input_shaft"]
+    for i, case in enumerate(cases):
+        gear = _true_mesh_forces(rig, case.input_torque_Nm).force_N
+        supports = states.force_on_b[i, springs, :3].sum(axis=0)
+        np.testing.assert_allclose((supports + gear)[1:], 0.0, atol=1e-9 * np.abs(gear).max())
+    # below T_c the net force is the one mesh's own (|F| = W = F), above it k Δε's: the rig sees the difference
+    below = np.linalg.norm(_true_mesh_forces(rig, 0.3 * t_c).force_N)
+    assert below == pytest.approx(0.3 * t_c / (SPUR.base_radius_mm(0) * 1e-3), rel=1e-12)

@@ -226,8 +226,11 @@ def test_superpose_weights_each_unit_response():
     unit = {name: np.eye(len(UNIT_LOADS))[i] for i, name in enumerate(UNIT_LOADS)}  # one slot per load
     u = superpose(unit, -0.5, 120.0, from_rest=False)
     expected = {"gravity": 1.0, "prestrain": 1.0, "force_table": 1.0, "engaged_T1": -1.0, "engaged_T2": 1.0,
-                "T1": -0.5, "T2": 120.0}
+                "T1": -0.5, "T2": 120.0, "gear_contact_T1": -1.0, "gear_contact_T2": 1.0}
     assert u.tolist() == [expected[name] for name in UNIT_LOADS]
     measured = superpose(unit, -0.5, 120.0, from_rest=True)
-    assert measured.tolist() == [0.0, 0.0, 0.0, -1.0, 1.0, -0.5, 120.0]
+    assert measured.tolist() == [0.0, 0.0, 0.0, -1.0, 1.0, -0.5, 120.0, -1.0, 1.0]
+    # below a gear stage's full-contact torque its constant mesh part scales with T / T_c
+    clipped = dict(zip(UNIT_LOADS, superpose(unit, -0.5, 120.0, from_rest=False, contact_torques_Nm=(2.0, 100.0))))
+    assert (clipped["gear_contact_T1"], clipped["gear_contact_T2"], clipped["engaged_T1"]) == (-0.25, 1.0, -1.0)
     assert superpose(unit, 0.0, 0.0, from_rest=True).tolist() == [0.0] * len(UNIT_LOADS)

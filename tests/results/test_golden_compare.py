@@ -44,3 +44,15 @@ def test_json_keys_may_be_added_but_golden_ones_compare_strictly(tmp_path):
                    {**added, "rig": {"name": "r", "sha256": "not a hash"}}):
         with pytest.raises(AssertionError):
             compare_result_file(golden, _write(tmp_path, "broken.json", json.dumps(broken)))
+
+
+def test_the_unit_load_names_may_grow_at_their_end_only(tmp_path):
+    names = ["gravity", "prestrain", "T1", "T2"]
+    golden = _write(tmp_path, "golden.json", json.dumps({"model": {"unit_loads": names}, "cases": [1, 2]}))
+    grown = {"model": {"unit_loads": [*names, "gear_contact_T1"]}, "cases": [1, 2]}
+    compare_result_file(golden, _write(tmp_path, "grown.json", json.dumps(grown)))
+    for broken in ({"model": {"unit_loads": ["gear_contact_T1", *names]}, "cases": [1, 2]},
+                   {"model": {"unit_loads": names[:3]}, "cases": [1, 2]},
+                   {"model": {"unit_loads": names}, "cases": [1, 2, 3]}):  # other lists still may not grow
+        with pytest.raises(AssertionError):
+            compare_result_file(golden, _write(tmp_path, "broken.json", json.dumps(broken)))

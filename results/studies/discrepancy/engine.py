@@ -1,8 +1,8 @@
 """One factorisation for every candidate: unit-load superposition on the prepared base model.
 
 The base rig is assembled and factorised once (:func:`rvcoax.results.sweep.prepare_model`). Its
-responses to the seven unit loads (:data:`rvcoax.geometry.model.loads.UNIT_LOADS`) are read on the
-measured paths as *unit paths* (7, n_path) in mm. Any load case and either datum is then a weighted
+responses to the unit loads (:data:`rvcoax.geometry.model.loads.UNIT_LOADS`) are read on the
+measured paths as *unit paths* (n_unit_loads, n_path) in mm. Any load case and either datum is then a weighted
 sum of unit paths, so a candidate's response is known for the data's cases and for cases that
 were not measured (what the observability report needs to suggest a measurement).
 
@@ -32,7 +32,7 @@ import scipy.sparse as sp
 from rvcoax.fem import DOFS_PER_NODE, bushing
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, stress_free_motions
-from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights
+from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, gear_contact_torques
 from rvcoax.results.studies.discrepancy.responses import PathLayout
 from rvcoax.results.sweep import ModelError, SweepSettings, check_solution, prepare_model, run_sweep
 
@@ -45,11 +45,14 @@ N_PER_UM = 1e6
 RESIDUAL_LIMIT = 1e-6
 
 
-def case_matrix(cases, from_rest: bool) -> np.ndarray:
-    """W (n_cases, 7): the weights of the unit loads in each case, minus the rest loads when Y is read from rest."""
+def case_matrix(cases, from_rest: bool, contact_torques_Nm: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+    """W (n_cases, n_unit_loads): the weights of the unit loads in each case, minus the rest loads when Y is read
+    from rest; ``contact_torques_Nm``: the rig's gear-mesh full-contact torques
+    (:func:`rvcoax.geometry.model.loads.gear_contact_torques`)."""
     rows = []
     for case in cases:
-        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True)
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
+                               contact_torques_Nm=contact_torques_Nm)
         if from_rest:
             for k in REST_LOADS:
                 weights[k] -= 1.0
@@ -76,15 +79,15 @@ class Engine:
 
     @property
     def unit_paths(self) -> np.ndarray:
-        return np.asarray(self.path_operator @ self.unit).T  # (7, n_path)
+        return np.asarray(self.path_operator @ self.unit).T  # (n_unit_loads, n_path)
 
     def layout(self, n_cases: int) -> PathLayout:
         return PathLayout(n_cases, self.stations_mm, self.length_mm)
 
     def full_paths(self, unit_paths: np.ndarray, cases, from_rest: bool | None = None) -> np.ndarray:
-        """Flattened (case, shaft, station) paths of unit paths ``(7, n_path)`` for ``cases``."""
+        """Flattened (case, shaft, station) paths of unit paths ``(n_unit_loads, n_path)`` for ``cases``."""
         from_rest = self.rig.paths.measured_from == "aligned_at_rest" if from_rest is None else from_rest
-        return (case_matrix(cases, from_rest) @ unit_paths).ravel()
+        return (case_matrix(cases, from_rest, gear_contact_torques(self.rig)) @ unit_paths).ravel()
 
     # -- candidates ---------------------------------------------------------------------------------------
     def supports(self, effect) -> bool:
@@ -92,7 +95,7 @@ class Engine:
         return self.linear and (effect.kind in LOAD_KINDS or (effect.kind in SPRING_KINDS and self.system.kind == "beam"))
 
     def unit_change(self, applied: list) -> np.ndarray:
-        """Change of the unit paths (7, n_path) when the effects ``applied`` [(effect, values)] act together."""
+        """Change of the unit paths (n_unit_loads, n_path) when the effects ``applied`` [(effect, values)] act together."""
         rig = self.rig
         for effect, values in applied:
             rig = effect.apply(rig, list(values))
@@ -206,8 +209,9 @@ class Engine:
         c = clearance_um * 1e-6
         paths_g = np.asarray(self.path_operator @ g)  # (n_path, 2)
         unit_d = np.asarray(operator @ self.unit)  # (2, 7)
-        weights = case_matrix(cases, from_rest=False)
-        rest = case_matrix([type(cases[0])(0.0, 0.0)], from_rest=False)[0] if cases else None
+        contact = gear_contact_torques(self.rig)
+        weights = case_matrix(cases, False, contact)
+        rest = case_matrix([type(cases[0])(0.0, 0.0)], False, contact)[0] if cases else None
         linear_paths = weights @ self.unit_paths
 
         def released(d_lin):
@@ -259,7 +263,7 @@ class Engine:
 
     # -- fallbacks -----------------------------------------------------------------------------------------
     def swept_unit_paths(self, rig) -> np.ndarray:
-        """Unit paths (7, n_path) of a linear ``rig`` assembled and solved on its own (a real sweep)."""
+        """Unit paths (n_unit_loads, n_path) of a linear ``rig`` assembled and solved on its own (a real sweep)."""
         from rvcoax.loadcases.cases import LoadCase
 
         sweep = run_sweep(rig, (LoadCase(0.0, 0.0),), self.settings)

@@ -143,7 +143,7 @@ class EffectResponse:
         return self._spline(np.clip(values[0], self.grid[0], self.grid[-1]))
 
     def unit_at(self, values) -> np.ndarray | None:
-        """The change of the unit paths (7, n_path) at ``values``; None when only the data's cases were solved."""
+        """The change of the unit paths (n_unit_loads, n_path) at ``values``; None when only the data's cases were solved."""
         if self.unit is None:
             return None
         values = np.atleast_1d(np.asarray(values, dtype=float))

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.model.loads import UNIT_LOADS
+from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques
 from rvcoax.results.studies.discrepancy.engine import case_matrix
 
 __all__ = ["CrossValidation", "SentinelFit", "case_folds", "fit_sentinel", "linear_observation"]
@@ -86,7 +86,7 @@ def linear_observation(observe, base_paths) -> sp.csr_matrix:
 def _columns(engine, sites, component, cases, from_rest, operator) -> dict[str, np.ndarray]:
     """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site."""
     g = engine.sentinel_paths(sites, component)  # (n_sites, n_path)
-    weights = case_matrix(cases, from_rest)
+    weights = case_matrix(cases, from_rest, gear_contact_torques(engine.rig))
     # each observation reads one case's block: the operator within a block, times that case's weight (no
     # (cases × path) × sites matrix is ever formed)
     n_path = g.shape[1]
