@@ -24,7 +24,8 @@ from machine import record  # noqa: E402
 
 from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text  # noqa: E402
 from rvcoax.loadcases.cases import paper_table  # noqa: E402
-from rvcoax.results.studies.check import QUANTITIES, compare  # noqa: E402
+from rvcoax.results.studies.check import CHECK_QUANTITIES as QUANTITIES  # noqa: E402
+from rvcoax.results.studies.check import compare  # noqa: E402
 from rvcoax.results.sweep import run_sweep  # noqa: E402
 
 REPEATS = 5

@@ -1,9 +1,11 @@
 """A rig file's ``[[bearings]] model = "ball"`` entry → :class:`rvcoax.fem.ball_bearing.BallBearingGeometry`.
 
 The catalogue (:mod:`rvcoax.geometry.ball_bearings`) gives the internal geometry of a designation;
-explicit keys override it. The clearance is ``clearance_um`` (the operating radial internal
-clearance, diametral: after fits and temperatures) or, without it, the middle of an ISO 5753-1
-class's range (``clearance_class``; CN when a designation is given and neither key is).
+explicit keys override it. The clearance is ``clearance_um`` (the radial internal clearance, diametral,
+as mounted: after fits, at the temperature the rig was built in) or, without it, the middle of an
+ISO 5753-1 class's range (``clearance_class``; CN when a designation is given and neither key is).
+A ``[thermal]`` table whose shaft and housing rises differ changes it in operation
+(:func:`thermal_clearance_change_um`).
 """
 
 from __future__ import annotations
@@ -13,10 +15,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem.ball_bearing import BallBearingGeometry, axial_offset_for_preload, ball_loads
+from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
-__all__ = ["BALL_BEARINGS", "BALL_KEYS", "BallBearingModel", "GEOMETRY_KEYS", "REFERENCE_DEFLECTION_UM", "ball_bearing_model",
-           "clearance_um_of", "clearance_upper_um", "geometry_of", "preload_upper_N", "reference_stiffness"]
+__all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "BallBearingModel", "GEOMETRY_KEYS",
+           "OperatingClearanceError", "REFERENCE_DEFLECTION_UM", "ball_bearing_model", "clearance_um_of",
+           "clearance_upper_um", "geometry_of", "operating_geometry", "preload_upper_N", "reference_stiffness",
+           "thermal_clearance_change_um"]
+
+BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
+"""α of through-hardened bearing steel (100Cr6 / GCr15), 1/K: SKF rolling bearings catalogue, *Materials for
+rolling bearings* (12 · 10⁻⁶ /K); rings and balls."""
 
 GEOMETRY_KEYS = ("ball_count", "ball_diameter_mm", "pitch_diameter_mm", "inner_conformity", "outer_conformity")
 BALL_KEYS = ("designation", "clearance_class", "clearance_um", "preload_N") + GEOMETRY_KEYS
@@ -107,6 +116,59 @@ def reference_stiffness(bearing) -> dict[str, float]:
             "tilt_stiffness_Nm_per_rad": radial * geometry.inner_centre_radius_m**2 / 2.0}
 
 
+class OperatingClearanceError(RvcoaxError, ValueError):
+    """The temperatures take up more than a ball bearing's whole clearance (the message says which and by how much)."""
+
+    stage = "cannot solve the rig"
+
+
+def thermal_clearance_change_um(rig, bearing) -> float:
+    """Change of a ball bearing's diametral clearance (µm) from the ``[thermal]`` rises of its rings.
+
+    The inner ring is as warm as its shaft (ΔT_i: the shaft part's ``temperature_rise_K``), the outer ring as
+    its housing part (ΔT_o), the balls at the mean of the two; all bearing steel (α_b,
+    :data:`BEARING_STEEL_EXPANSION_PER_K`). The outer raceway diameter d_m + D_w grows by α_b (d_m + D_w) ΔT_o,
+    the inner one d_m − D_w by α_b (d_m − D_w) ΔT_i and the two balls by 2 α_b D_w (ΔT_i + ΔT_o)/2, so
+
+        ΔP_d = α_b [(d_m + D_w) ΔT_o − (d_m − D_w) ΔT_i − D_w (ΔT_i + ΔT_o)] = −α_b d_m (ΔT_i − ΔT_o):
+
+    a shaft warmer than its housing takes clearance up; equal rises leave it (the rig grows as a rigid body).
+    Fits are not changed by the rises (shaft and housing materials other than steel would).
+    """
+    thermal = getattr(rig, "thermal", None)
+    if thermal is None:
+        return 0.0
+    inner = thermal.temperature_rise_K.get(bearing.shaft, 0.0)
+    outer = thermal.temperature_rise_K.get(bearing.housing, 0.0)
+    if inner == outer:
+        return 0.0
+    return -BEARING_STEEL_EXPANSION_PER_K * geometry_of(bearing).pitch_diameter_m * (inner - outer) * 1e6
+
+
+def operating_geometry(rig, bearing) -> BallBearingGeometry:
+    """:func:`geometry_of` with the clearance the ``[thermal]`` rises leave (:func:`thermal_clearance_change_um`).
+
+    Raises
+    ------
+    OperatingClearanceError
+        The rises take up more than the whole clearance (an interference the model does not take).
+    """
+    geometry = geometry_of(bearing)
+    change = thermal_clearance_change_um(rig, bearing)
+    if change == 0.0:
+        return geometry
+    clearance = geometry.clearance_m + change * 1e-6
+    if clearance < 0.0:
+        raise OperatingClearanceError(
+            f"bearings '{bearing.name}': [thermal] shaft '{bearing.shaft}' "
+            f"{rig.thermal.temperature_rise_K.get(bearing.shaft, 0.0):g} K against housing '{bearing.housing}' "
+            f"{rig.thermal.temperature_rise_K.get(bearing.housing, 0.0):g} K takes up {-change:.3g} µm of clearance, "
+            f"more than its {geometry.clearance_m * 1e6:.3g} µm: the rings would be forced together (an "
+            "interference this model does not take); give a larger clearance_um or clearance_class, or closer "
+            "temperature rises")
+    return geometry.with_clearance(clearance)
+
+
 @dataclass(frozen=True)
 class BallBearingModel:
     """What the nonlinear solve needs of one ball bearing (SI)."""
@@ -117,9 +179,10 @@ class BallBearingModel:
     constant: float  # K_n (N/m^1.5)
 
 
-def ball_bearing_model(bearing) -> BallBearingModel:
-    """The solver's view of a ``model = "ball"`` bearing entry."""
-    geometry = geometry_of(bearing)
+def ball_bearing_model(bearing, rig=None) -> BallBearingModel:
+    """The solver's view of a ``model = "ball"`` bearing entry; with ``rig``, at the clearance its
+    ``[thermal]`` rises leave (:func:`operating_geometry`)."""
+    geometry = geometry_of(bearing) if rig is None else operating_geometry(rig, bearing)
     return BallBearingModel(bearing.name, geometry, axial_offset_for_preload(geometry, bearing.preload_N),
                             geometry.load_deflection_constant)
 

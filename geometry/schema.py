@@ -184,8 +184,9 @@ class Bearing(Strict):
         "model = \"ball\": ISO 5753-1 radial internal clearance class; the middle of its range for the bore "
         "(CN when neither this nor clearance_um is given)."))
     clearance_um: Annotated[float, Field(ge=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="model = \"ball\": operating radial internal clearance (diametral, after fits and "
-                          "temperatures); used instead of the class when given.")
+        None, description="model = \"ball\": radial internal clearance (diametral) as mounted, after fits; used "
+                          "instead of the class when given. [thermal] rises of shaft and housing change it in "
+                          "operation by −α d_m (ΔT_shaft − ΔT_housing).")
     preload_N: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] = Field(
         0.0, description="model = \"ball\": axial position preload, carried by the balls at rest (takes up the "
                          "clearance, stiffens the bearing).")

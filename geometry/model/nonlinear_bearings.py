@@ -165,4 +165,4 @@ def prepare_nonlinear_bearings(rig, frame_model, solve, n_dofs: int) -> Nonlinea
                               influence[:, : 2 * len(gap_rows)], compliance[: 2 * len(gap_rows), : 2 * len(gap_rows)])
     reference = np.asarray(structure.bushings.stiffness[ball_rows], dtype=float).reshape(-1, 6)
     return NonlinearBearings(operator, influence, compliance, gaps, tuple(b.name for b in gapped),
-                             tuple(ball_bearing_model(b) for b in balls), reference)
+                             tuple(ball_bearing_model(b, rig) for b in balls), reference)

@@ -177,3 +177,43 @@ def test_a_fitted_temperature_is_written_into_the_rig_file():
         written, keys = updated_rig_text(text, changed, "fitted")
         assert keys == [f"thermal.temperature_rise_K.{part}"]
         assert parse_rig_text(written).thermal.temperature_rise_K[part] == expected
+
+
+def test_ring_temperatures_change_a_ball_bearing_s_clearance_by_alpha_d_delta_t():
+    # inner ring as warm as its shaft, outer ring as its housing, balls at the mean: ΔP_d = −α_b d_m (ΔT_i − ΔT_o)
+    from rvcoax.geometry.ball_model import (
+        BEARING_STEEL_EXPANSION_PER_K,
+        OperatingClearanceError,
+        geometry_of,
+        operating_geometry,
+        thermal_clearance_change_um,
+    )
+    from rvcoax.geometry.variants import reference_from_geometry
+
+    rig = reference_from_geometry(("thermal", "ball_bearings"))
+    rises = rig.thermal.temperature_rise_K
+    balls = [b for b in rig.bearings if b.model == "ball"]
+    expected = {}
+    for b in balls:
+        d_m = {"6204": 33.5e-3, "6206": 46.0e-3}[b.designation]
+        inner, outer = rises.get(b.shaft, 0.0), rises.get(b.housing, 0.0)
+        assert inner - outer == 10.0  # the warm-running reading: shafts 10 K above their blocks
+        expected[b.name] = -BEARING_STEEL_EXPANSION_PER_K * d_m * (inner - outer) * 1e6
+        assert thermal_clearance_change_um(rig, b) == pytest.approx(expected[b.name], rel=1e-12)
+        assert operating_geometry(rig, b).clearance_m == pytest.approx(
+            geometry_of(b).clearance_m + expected[b.name] * 1e-6, rel=1e-12)
+    assert expected["input_B1"] == pytest.approx(-4.02, rel=1e-12)  # 12e-6 · 33.5 mm · 10 K
+    # the sweep's nonlinear law runs at that operating clearance
+    sweep = run_sweep(rig, (LoadCase(1.43, 200.0),))
+    for model in sweep.nonlinear_bearings.balls:
+        bearing = next(b for b in balls if b.name == model.name)
+        assert model.geometry.clearance_m == pytest.approx(geometry_of(bearing).clearance_m + expected[bearing.name] * 1e-6,
+                                                           rel=1e-12)
+    # equal rises of shaft and housing leave the clearance; a shaft far warmer than its housing closes it: refused
+    level = rig.model_copy(update={"thermal": rig.thermal.model_copy(
+        update={"temperature_rise_K": {**rises, "input_bearing_block": rises["input_shaft"]}})})
+    assert thermal_clearance_change_um(level, balls[0]) == 0.0
+    hot = rig.model_copy(update={"thermal": rig.thermal.model_copy(
+        update={"temperature_rise_K": {**rises, "input_shaft": 50.0}})})
+    with pytest.raises(OperatingClearanceError, match=r"bearings 'input_B1'.*takes up 20.1 µm.*more than its 12.5 µm"):
+        operating_geometry(hot, balls[0])
