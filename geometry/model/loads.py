@@ -120,8 +120,20 @@ def gear_mesh_full_contact_torque(rig: Rig, mesh: GearMesh) -> float:
 
 
 def gear_contact_torques(rig: Rig) -> tuple[float, float]:
-    """(T_c1, T_c2): per torque, the largest full-contact torque |T| (N·m) of its ``[[gear_meshes]]``
-    (:func:`gear_mesh_full_contact_torque`; 0 without meshes or with equal position errors)."""
+    """Per torque, the full-contact torque of the rig's gear stages: below it a planet mesh is open.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig, with its ``[[gear_meshes]]`` (none: no contact loss).
+
+    Returns
+    -------
+    (float, float)
+        (T_c1, T_c2) in N·m: for each of T1 and T2 the largest |T| below which a mesh of a stage it drives
+        opens (:func:`gear_mesh_full_contact_torque`; 0 without stages or with equal position errors).
+        :func:`case_weights` scales the stages' constant force by clip(T / T_c, −1, 1).
+    """
     out = {"T1": 0.0, "T2": 0.0}
     for mesh in rig.gear_meshes:
         out[mesh.torque] = max(out[mesh.torque], gear_mesh_full_contact_torque(rig, mesh))
