@@ -26,12 +26,9 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHo
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
     material = rig.materials[housing.material]
-    bed = None
-    if housing.feet == "bed":
-        normal = housing.bed_stiffness_N_per_um_per_mm2
-        bed = (normal, housing.bed_shear_stiffness_N_per_um_per_mm2 or normal)
+    bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            housing.feet, bed, cache_dir=cache_dir)
+                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir)
 
 
 def _dofs(nodes) -> np.ndarray:
@@ -54,10 +51,11 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
     """The load of warm housings on their part's nodes, K_c Δ0, as load ``"prestrain"`` (a vector of length
     ``n_dofs``; zero without ``[thermal]``).
 
-    The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, 0, 0, 0, 0) at
+    The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, α ΔT d, 0, 0, 0) at
     each attachment x (α of the housing's material, ΔT its ``support_temperature_rise_K`` or else its part's
-    rise, h its ``height_above_bed_mm``, x_c the housing's centre): the housing lifts what it holds, as a
-    mount's support does, and grows along x about its centre, carried by the bed there.
+    rise, h its ``height_above_bed_mm`` and d = 0 for a block or pedestal, h = 0 and d its ``wall_distance_mm``
+    for a wall bracket, x_c the housing's centre): the housing lifts what it holds (a bracket pushes it away
+    from its wall), as a mount's support does, and grows along x about its centre, carried by the bed there.
     """
     vector = np.zeros(n_dofs)
     if rig.thermal is None:
@@ -69,7 +67,9 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
         motion = np.zeros((len(housing.attachments_x_mm), DOFS_PER_NODE))
         centre = 0.5 * sum(housing.x_mm)
         motion[:, 0] = [(bed_growth_mm(rig, centre) + alpha * rise * (x - centre)) * 1e-3 for x in housing.attachments_x_mm]
-        motion[:, 1] = alpha * rise * housing.height_above_bed_mm * 1e-3
+        lift_mm, away_mm = housing.thermal_motion_mm_per_K()
+        motion[:, 1] = alpha * rise * lift_mm * 1e-3
+        motion[:, 2] = alpha * rise * away_mm * 1e-3
         if not motion.any():
             continue
         matrix = housing.stiffness_factor * condensed_housing(rig, housing).matrix
