@@ -539,14 +539,14 @@ class Housing(Strict):
         for x in self.attachments_x_mm:
             if not x0 <= x <= x1:
                 raise ValueError(f"attachments_x_mm: {x:g} lies outside the housing's x_mm [{x0:g}, {x1:g}]")
-        given = self.model_fields_set
         keys = HOUSING_SHAPE_KEYS[self.shape]
         missing = [key for key in keys["required"] if getattr(self, key) is None]
         if missing:
             raise ValueError(f"shape = \"{self.shape}\" needs {', '.join(missing)}")
         own = set(keys["required"]) | set(keys["optional"])
-        foreign = sorted(key for shape in HOUSING_SHAPE_KEYS.values() for key in (*shape["required"], *shape["optional"])
-                         if key in given and key not in own)
+        # by value, not by what was typed: a dumped and re-read rig carries every default
+        foreign = sorted({key for shape in HOUSING_SHAPE_KEYS.values() for key in (*shape["required"], *shape["optional"])
+                          if key not in own and getattr(self, key) != type(self).model_fields[key].default})
         if foreign:
             owners = {key: [s for s, k in HOUSING_SHAPE_KEYS.items() if key in (*k["required"], *k["optional"])]
                       for key in foreign}
