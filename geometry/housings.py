@@ -37,7 +37,7 @@ import skfem
 
 from rvcoax.fem import DOFS_PER_NODE, solid
 from rvcoax.fem.assembly import assemble_matrix
-from rvcoax.fem.condensation import condensed_stiffness
+from rvcoax.fem.condensation import condensed_stiffness_and_loads
 from rvcoax.fem.constraints import elimination_matrix
 from rvcoax.fem.solvers import pardiso_available
 from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
@@ -47,7 +47,7 @@ __all__ = ["BlockGeometry", "BracketGeometry", "CondensedHousing", "FootPatch", 
            "HousingModel", "PedestalGeometry", "Reference", "build_housing_model", "condense_housing", "foot_facets",
            "housing_faces", "solid_method"]
 
-HOUSING_VERSION = 1
+HOUSING_VERSION = 2
 """Bump whenever a change here changes a condensed matrix (invalidates its cache entries)."""
 _TOL_MM = 1e-6
 
@@ -543,16 +543,21 @@ def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poi
 
 @dataclass(frozen=True)
 class CondensedHousing:
-    """A housing's condensed stiffness (6k × 6k, SI: N/m, N/rad, N·m/rad) at its reference nodes.
+    """A housing's condensed stiffness (6k × 6k, SI: N/m, N/rad, N·m/rad) at its reference nodes, and its weight.
 
-    ``seconds`` is the time it took (meshing included; near 0 when read from the cache) and ``solid_dofs``
-    the size of the solid model it came from.
+    ``weight_load`` (6k,) is the master load equivalent to the solid's own weight for a density of 1 kg/m³ under
+    1 m/s² along −y (N per kg/m³ per m/s²; :func:`rvcoax.fem.condensation.condensed_stiffness_and_loads`);
+    ``volume_m3`` and ``centroid_m`` are the meshed solid's. ``seconds`` is the time it took (meshing included;
+    near 0 when read from the cache) and ``solid_dofs`` the size of the solid model it came from.
     """
 
     matrix: np.ndarray
     solid_dofs: int
     seconds: float
     from_cache: bool
+    weight_load: np.ndarray | None = None
+    volume_m3: float = 0.0
+    centroid_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 def _cache_file(key: dict, cache_dir: Path | None) -> Path:
@@ -566,7 +571,8 @@ def _save(path: Path, result: CondensedHousing) -> None:
     handle = tempfile.NamedTemporaryFile(dir=path.parent, prefix=path.stem + ".", suffix=".tmp", delete=False)
     try:
         with handle:
-            np.savez(handle, matrix=result.matrix, solid_dofs=np.array(result.solid_dofs))
+            np.savez(handle, matrix=result.matrix, solid_dofs=np.array(result.solid_dofs), weight_load=result.weight_load,
+                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m))
         os.replace(handle.name, path)
     except BaseException:
         Path(handle.name).unlink(missing_ok=True)
@@ -577,9 +583,12 @@ def _load(path: Path) -> CondensedHousing | None:
     try:
         with np.load(path, allow_pickle=False) as data:
             matrix, dofs = np.array(data["matrix"]), int(data["solid_dofs"])
+            weight, volume, centroid = np.array(data["weight_load"]), float(data["volume_m3"]), np.array(data["centroid_m"])
         if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or not np.all(np.isfinite(matrix)):
             raise ValueError("bad matrix")
-        return CondensedHousing(matrix, dofs, 0.0, True)
+        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,):
+            raise ValueError("bad weight")
+        return CondensedHousing(matrix, dofs, 0.0, True, weight, volume, tuple(float(c) for c in centroid))
     except FileNotFoundError:
         return None
     except Exception:  # damaged entry: computed again and rewritten
@@ -602,8 +611,14 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
     start = time.perf_counter()
     model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2,
                                 cache_dir)
-    matrix = condensed_stiffness(model.stiffness, model.elimination, model.master_dofs, solid_method())
-    result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False)
+    weight = np.zeros(model.n_dofs)
+    weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
+    matrix, equivalent = condensed_stiffness_and_loads(model.stiffness, model.elimination, model.master_dofs, weight,
+                                                       solid_method())
+    volume = float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(model.basis))
+    centroid = tuple(float(skfem.Functional(lambda w, i=i: w.x[i]).assemble(model.basis)) / volume for i in range(3))
+    result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False, equivalent[:, 0], volume,
+                              centroid)
     if use_cache:
         try:
             _save(path, result)

@@ -237,6 +237,8 @@ MEANINGS = {
                                                 "(default: the normal one).",
     "housings[].mesh_size_mm": "Solid mesh size of the housing (condensed once, then read from the cache).",
     "housings[].stiffness_factor": "Multiplies the condensed stiffness matrix.",
+    "housings[].self_weight": "Add the solid's own weight (density × modelled volume) under gravity: the seats "
+                              "sag as in the full solid; leave it out of the part's mass_kg.",
     "thermal.temperature_rise_K.<name>": "Steady temperature rise ΔT of a part over the state the rig was aligned "
                                          "in: it grows by α ΔT axially and radially (parts not named: 0).",
     "thermal.support_temperature_rise_K.<name>": "Temperature rise of a mount's support or of a housing, by its "

@@ -494,8 +494,9 @@ class Housing(Strict):
     on ``springs`` (``foot_stiffness_N_per_um`` per foot, spread over its area). At each of ``attachments_x_mm`` a
     reference node on the axis is tied to a band ``attachment_width_mm`` wide of the bore (of the top face without
     a bore); the solid model condensed to these nodes (a 6k × 6k stiffness to the ground, times
-    ``stiffness_factor``) acts on the nodes of ``part`` there, as a bushing would. See
-    :mod:`rvcoax.geometry.housings`.
+    ``stiffness_factor``) acts on the nodes of ``part`` there, as a bushing would. With ``self_weight`` the solid's
+    own weight (its material's density × its volume) loads the rig too: the part of it the seats carry at the
+    attachments, the rest straight on the bed. See :mod:`rvcoax.geometry.housings`.
     """
 
     name: Name
@@ -532,6 +533,7 @@ class Housing(Strict):
     foot_shear_stiffness_N_per_um: FootStiffness = None
     mesh_size_mm: Positive = 8.0
     stiffness_factor: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False, strict=True)] = 1.0
+    self_weight: Flag = False
 
     @model_validator(mode="after")
     def _check(self) -> Housing:

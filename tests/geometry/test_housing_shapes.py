@@ -281,3 +281,48 @@ def test_a_warm_wall_bracket_pushes_its_part_away_from_the_wall():
     for x in (0.0, 6.0, 54.0, 60.0):
         assert value(frame, u, "block", x, 2) == pytest.approx(1e-5 * 30.0 * 0.110, rel=1e-6)
         assert abs(value(frame, u, "block", x, 1)) < 1e-12
+
+
+# ---- the housing's own weight ------------------------------------------------------------------------------
+
+def test_condensed_weight_reproduces_the_full_solid_sag(cache):
+    """The master load equivalent to the solid's weight: K_c⁻¹ f_c equals the seats' displacement of the full solid
+    model under its own weight (to rounding); the meshed volume is the drawn one (curved P2 bore: to 1e-4)."""
+    from rvcoax.fem import solid
+
+    geometry = pedestal()
+    model = build_housing_model(geometry, E, NU, SEATS, cache_dir=cache)
+    result = condense_housing(geometry, E, NU, SEATS, cache_dir=cache)
+    weight = np.zeros(model.n_dofs)
+    weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
+    sag = prepare_system(model.stiffness, model.elimination, solid_method(), symmetrize=True).solve(weight)[model.master_dofs]
+    assert np.linalg.solve(result.matrix, result.weight_load) == pytest.approx(sag, rel=1e-8, abs=1e-10 * np.abs(sag).max())
+    assert sag[1] < 0 and sag[7] < 0
+    assert result.volume_m3 * 1e9 == pytest.approx(geometry.volume_mm3, rel=1e-4)
+    assert result.centroid_m[0] == pytest.approx(0.03, abs=1e-9) and abs(result.centroid_m[2]) < 1e-6
+
+
+def test_sum_of_reactions_is_the_housings_weight():
+    """A 1 kg body held by a pedestal with ``self_weight`` (steel, ρ = 7850 kg/m³), gravity on: the ground's
+    reactions sum to ρ g V + m g, and their moment balances the weights'; the seats sag more than without it."""
+    from closed_form_rigs import body, make_rig, rest_displacement, value
+
+    from rvcoax.fem.equilibrium import check_equilibrium
+    from rvcoax.geometry.model.system import assemble_beam
+
+    entry = {**FOUR_FEET, "part": "block", "mesh_size_mm": 24.0, "self_weight": True}
+    rigs = [make_rig([body("block", 0.0, 60.0, 60.0)], "block", "block", housings=[{**entry, "self_weight": flag}],
+                     gravity={"enabled": True}) for flag in (True, False)]
+    rig = rigs[0]
+    system = assemble_beam(rig)
+    load = system.unit_loads["gravity"]
+    frame, u = rest_displacement(rig)
+    balance = check_equilibrium(system.frame.structure, system.stiffness, u, load)
+    g = rig.gravity.acceleration_m_per_s2
+    volume = rig.housings[0].geometry.volume_mm3 * 1e-9
+    density = rig.materials["steel"].density_kg_per_m3
+    assert balance.reactions[1] == pytest.approx((density * volume + 1.0) * g, rel=1e-4)  # meshed vs drawn volume
+    assert balance.relative_error < 1e-9
+    _, without = rest_displacement(rigs[1])
+    for x in (6.0, 54.0):
+        assert value(frame, u, "block", x, 1) < value(frame, without, "block", x, 1) < 0
