@@ -97,6 +97,12 @@ def _corner_feet(axis: int, at_mm: float, span_mm, pad: float) -> tuple[FootPatc
                  for b in ((b0, b0 + pad), (b1 - pad, b1)))
 
 
+def _check_feet_fit(where: str, pad: float, length: float, across: float, plate: str) -> None:
+    if not 2 * pad < min(length, across):
+        raise ValueError(f"{where}: two bolt feet of {pad:g} mm do not fit side by side on the {plate} plate "
+                         f"({length:g} × {across:g} mm)")
+
+
 def _fragment(occ, volumes: list) -> None:
     """Conforming volumes whose shared faces are split where they meet."""
     if len(volumes) > 1:
@@ -234,6 +240,11 @@ class _SeatGeometry:
     def centre_x_mm(self) -> float:
         return 0.5 * (self.x_mm[0] + self.x_mm[1])
 
+    def _centred(self, length_mm: float, across_mm: float) -> tuple[tuple[float, float], tuple[float, float]]:
+        """A plate's span, ``length_mm`` along x centred on the seat and ``across_mm`` centred on the axis."""
+        c, a, b = self.centre_x_mm, 0.5 * length_mm, 0.5 * across_mm
+        return (c - a, c + a), (-b, b)
+
     @property
     def _seat_volume_mm3(self) -> float:
         length = self.x_mm[1] - self.x_mm[0]
@@ -304,9 +315,7 @@ class PedestalGeometry(_SeatGeometry):
         if not (self.web_length_mm <= self.x_mm[1] - self.x_mm[0] and self.web_width_mm <= self.width_mm):
             raise ValueError(f"{where}: the web ({self.web_length_mm:g} × {self.web_width_mm:g} mm) must fit under the "
                              f"seat ({self.x_mm[1] - self.x_mm[0]:g} × {self.width_mm:g} mm)")
-        if not 2 * self.foot_pad_mm < min(self.base_length_mm, self.base_width_mm):
-            raise ValueError(f"{where}: two bolt feet of {self.foot_pad_mm:g} mm do not fit side by side on the base "
-                             f"plate ({self.base_length_mm:g} × {self.base_width_mm:g} mm)")
+        _check_feet_fit(where, self.foot_pad_mm, self.base_length_mm, self.base_width_mm, "base")
 
     def _own_payload(self) -> dict:
         return {"bottom_mm": self.bottom_mm, "web_mm": [self.web_length_mm, self.web_width_mm],
@@ -315,8 +324,7 @@ class PedestalGeometry(_SeatGeometry):
 
     @property
     def feet(self) -> tuple[FootPatch, ...]:
-        c, a, b = self.centre_x_mm, 0.5 * self.base_length_mm, 0.5 * self.base_width_mm
-        return _corner_feet(1, self.bottom_mm, ((c - a, c + a), (-b, b)), self.foot_pad_mm)
+        return _corner_feet(1, self.bottom_mm, self._centred(self.base_length_mm, self.base_width_mm), self.foot_pad_mm)
 
     @property
     def volume_mm3(self) -> float:
@@ -372,9 +380,7 @@ class BracketGeometry(_SeatGeometry):
         if not (self.arm_length_mm <= self.plate_length_mm and self.arm_height_mm <= self.plate_height_mm):
             raise ValueError(f"{where}: the arm ({self.arm_length_mm:g} × {self.arm_height_mm:g} mm) must meet the wall "
                              f"plate ({self.plate_length_mm:g} × {self.plate_height_mm:g} mm)")
-        if not 2 * self.foot_pad_mm < min(self.plate_length_mm, self.plate_height_mm):
-            raise ValueError(f"{where}: two bolt feet of {self.foot_pad_mm:g} mm do not fit side by side on the wall "
-                             f"plate ({self.plate_length_mm:g} × {self.plate_height_mm:g} mm)")
+        _check_feet_fit(where, self.foot_pad_mm, self.plate_length_mm, self.plate_height_mm, "wall")
 
     def _own_payload(self) -> dict:
         return {"wall_z_mm": self.wall_z_mm, "arm_mm": [self.arm_length_mm, self.arm_height_mm],
@@ -383,8 +389,8 @@ class BracketGeometry(_SeatGeometry):
 
     @property
     def feet(self) -> tuple[FootPatch, ...]:
-        c, a, b = self.centre_x_mm, 0.5 * self.plate_length_mm, 0.5 * self.plate_height_mm
-        return _corner_feet(2, self.wall_z_mm, ((c - a, c + a), (-b, b)), self.foot_pad_mm)
+        return _corner_feet(2, self.wall_z_mm, self._centred(self.plate_length_mm, self.plate_height_mm),
+                            self.foot_pad_mm)
 
     @property
     def volume_mm3(self) -> float:
