@@ -326,3 +326,31 @@ def test_sum_of_reactions_is_the_housings_weight():
     _, without = rest_displacement(rigs[1])
     for x in (6.0, 54.0):
         assert value(frame, u, "block", x, 1) < value(frame, without, "block", x, 1) < 0
+
+
+def test_rig_show_describes_each_shape_and_its_feet(tmp_path):
+    """``rvcoax rig show`` names the shape, the reach (above the bed or from the wall) and how the feet are held."""
+    import tomllib
+
+    import tomlkit
+    from typer.testing import CliRunner
+
+    from rvcoax.geometry.rigfile import reference_rig_text
+    from rvcoax.geometry.variants import BEARING_PEDESTALS
+    from rvcoax.results.cli.app import app
+
+    data = tomllib.loads(reference_rig_text())
+    data["mounts"] = [m for m in data["mounts"] if m["name"] not in ("input_block_base", "output_block_base")]
+    wall = {k: v for k, v in BEARING_PEDESTALS[1].items() if not k.startswith(("web_", "base_", "height_"))}
+    wall.update(shape="bracket", wall_distance_mm=160.0, arm_length_mm=90.0, arm_height_mm=60.0, plate_length_mm=140.0,
+                plate_height_mm=150.0, plate_thickness_mm=15.0, feet="springs", foot_stiffness_N_per_um=800.0,
+                self_weight=True)
+    data["housings"] = [dict(BEARING_PEDESTALS[0]), wall]
+    path = tmp_path / "rig.toml"
+    path.write_text(tomlkit.dumps(data))
+    result = CliRunner().invoke(app, ["rig", "show", "--rig", str(path)])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.replace("│", " ").split())  # the wrapped last column, read on
+    assert "HT200 pedestal, seat 72 × 90 mm, bore Ø47, axis 100 mm above the bed, feet clamped" in text
+    assert ("HT200 bracket, seat 90 × 110 mm, bore Ø62, axis 160 mm from the wall, feet on springs of 800 N/µm each, "
+            "its own weight included") in text
