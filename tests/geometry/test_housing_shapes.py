@@ -246,6 +246,19 @@ def test_rig_file_keys_of_each_shape_are_checked():
         reference_with({**bracket_entry, "shape": "bracket"})
 
 
+@pytest.mark.parametrize(("key", "value"), [("web_width_mm", -5.0), ("base_thickness_mm", float("nan")),
+                                          ("foot_pad_mm", "30"), ("foot_stiffness_N_per_um", 0.0), ("shape", "box")])
+def test_bad_values_of_the_new_keys_name_the_key(key, value):
+    from rvcoax.geometry.rigfile import RigFileError
+    from rvcoax.geometry.variants import BEARING_PEDESTALS
+
+    entry = {**BEARING_PEDESTALS[0], key: value}
+    if key == "foot_stiffness_N_per_um":
+        entry["feet"] = "springs"
+    with pytest.raises(RigFileError, match=rf"housings.*{key}"):
+        reference_with(entry)
+
+
 def test_reference_rig_blocks_as_pedestals_solve():
     """``reference_from_geometry(("pedestals",))``: both bearing blocks become web pedestals; the rig solves and its
     output Y moves from the solid blocks' by less than the bearings' share leaves room for (a few %)."""
