@@ -259,6 +259,7 @@ def test_bad_values_of_the_new_keys_name_the_key(key, value):
         reference_with(entry)
 
 
+@pytest.mark.slow  # 2.6 s idle, 3.1 s at load 4: two condensations and two sweeps
 def test_reference_rig_blocks_as_pedestals_solve():
     """``reference_from_geometry(("pedestals",))``: both bearing blocks become web pedestals; the rig solves and its
     output Y moves from the solid blocks' by less than the bearings' share leaves room for (a few %)."""
