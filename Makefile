@@ -70,6 +70,7 @@ bench: $(BIN)/rvcoax
 	$(BIN)/python benchmarks/bench_convergence.py
 	$(BIN)/python benchmarks/bench_fidelity.py
 	$(BIN)/python benchmarks/bench_calculix.py
+	$(BIN)/python benchmarks/bench_housing_calculix.py
 	$(BIN)/python benchmarks/bench_solid_scaling.py
 
 clean:

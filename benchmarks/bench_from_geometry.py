@@ -4,11 +4,17 @@
    seats tied to bore bands, feet clamped) condensed at mesh sizes 16 … 6 mm, cache off: solid DOFs,
    meshing + assembly + condensation time, and the block's vertical stiffness at the first seat
    (K_c[1, 1], N/µm: mesh convergence).
-2. Blind Y/β of the beam model on paper 000's 20 load cases for the typed-in reference rig and for the
+2. Mesh convergence of the other shapes (issue 16 item 2): the reference rig's input bearing block as a web
+   pedestal (``BEARING_PEDESTALS[0]``, bolt feet clamped) and a wall bracket (the test bracket of
+   tests/geometry/test_housing_shapes.py on a Winkler bed) at 16 … 5 mm: the vertical and lateral stiffness at the
+   first seat, the observed order p from the three finest meshes (K_h ≈ K_∞ + C h^p, non-uniform ratios solved
+   for p) and the Richardson-extrapolated K_∞ with each mesh's distance from it.
+3. Blind Y/β of the beam model on paper 000's 20 load cases for the typed-in reference rig and for the
    readings from geometry (gear data; condensed blocks; both; with temperatures): median and largest
    relative error of Y_input, Y_output, β_input, β_output against the published table. Nothing is fitted.
 
-Run: ``.venv/bin/python benchmarks/bench_from_geometry.py``. Prints the figures and appends them to
+Run: ``.venv/bin/python benchmarks/bench_from_geometry.py [--part condensation|shapes|blind]`` (all three by
+default). Prints the figures and appends them to
 benchmarks/RESULTS.md with the machine, date and load.
 """
 
@@ -37,6 +43,9 @@ READINGS = {
     "condensed blocks": ("housings",),
     "gear data + blocks": ("gears", "housings"),
     "all from geometry (+ temperatures)": ("gears", "housings", "thermal"),
+    "condensed pedestals": ("pedestals",),
+    "gear data + pedestals": ("gears", "pedestals"),
+    "all from geometry, blocks as pedestals (+ temperatures)": ("gears", "pedestals", "thermal"),
 }
 
 
@@ -53,6 +62,64 @@ def condensation_costs(rows: list) -> None:
                 f"K_yy at the first seat {result.matrix[1, 1] / 1e6:.1f} N/µm, K_yy between the two seats {result.matrix[1, 7] / 1e6:.1f} N/µm")
         print(f"input block, mesh {size:g} mm: {line}")
         rows.append((f"input block condensation, mesh {size:g} mm", line))
+
+
+def observed_order(sizes, values) -> tuple[float, float]:
+    """p and K_∞ of K_h = K_∞ + C h^p through the three (h, K) given (coarse to fine; any size ratios)."""
+    (h1, h2, h3), (k1, k2, k3) = sizes, values
+    ratio = (k1 - k2) / (k2 - k3)
+    low, high = 0.05, 8.0
+    for _ in range(200):  # (h1^p − h2^p)/(h2^p − h3^p) grows with p: bisection
+        p = 0.5 * (low + high)
+        if (h1**p - h2**p) / (h2**p - h3**p) < ratio:
+            low = p
+        else:
+            high = p
+    limit = k3 - (k2 - k3) * h3**p / (h2**p - h3**p)
+    return p, limit
+
+
+def shape_convergence(rows: list) -> None:
+    from rvcoax.geometry.housings import BracketGeometry, Reference, condense_housing
+
+    def bracket(size: float) -> BracketGeometry:  # as in tests/geometry/test_housing_shapes.py
+        return BracketGeometry(name="bracket", x_mm=(0.0, 60.0), width_mm=70.0, top_mm=35.0, seat_bottom_mm=-35.0,
+                               bore_diameter_mm=35.0, split_x_mm=(12.0, 48.0), mesh_size_mm=size, wall_z_mm=-110.0,
+                               arm_length_mm=60.0, arm_height_mm=40.0, plate_length_mm=100.0, plate_height_mm=110.0,
+                               plate_thickness_mm=12.0, foot_pad_mm=25.0)
+
+    seats = [Reference((6.0, 0.0, 0.0), ("bore", 0.0, 12.0)), Reference((54.0, 0.0, 0.0), ("bore", 48.0, 60.0))]
+
+    rig = reference_from_geometry(("pedestals",))
+    pedestal = rig.housings[0]
+    material = rig.materials[pedestal.material]
+    sizes = (16.0, 12.0, 8.0, 6.0, 5.0)
+    for label, condense in (
+            ("reference input pedestal (clamped bolt feet)",
+             lambda size, cache: condensed_housing(rig, pedestal.model_copy(update={"mesh_size_mm": size}), cache)),
+            ("wall bracket of the tests (Winkler bed 0.5 / 0.2 N/(µm·mm²))",
+             lambda size, cache: condense_housing(bracket(size), material.youngs_modulus_MPa * 1e6,
+                                                  material.poisson_ratio, seats, "bed", (0.5, 0.2), cache_dir=cache))):
+        stiffness = []
+        for size in sizes:
+            with tempfile.TemporaryDirectory() as cache:
+                start = time.perf_counter()
+                result = condense(size, Path(cache))
+                seconds = time.perf_counter() - start
+            stiffness.append(np.diag(result.matrix)[:3] / 1e6)
+            line = (f"{result.solid_dofs} solid DOFs, {seconds:.2f} s; K_xx, K_yy, K_zz at the first seat "
+                    + ", ".join(f"{k:.1f}" for k in stiffness[-1]) + " N/µm")
+            print(f"{label}, mesh {size:g} mm: {line}")
+            rows.append((f"{label}, mesh {size:g} mm", line))
+        stiffness = np.array(stiffness)
+        parts = []
+        for axis, name in ((1, "K_yy"), (2, "K_zz")):
+            p, limit = observed_order(sizes[-3:], stiffness[-3:, axis])
+            distance = ", ".join(f"{size:g} mm {100 * (k / limit - 1):+.1f} %" for size, k in zip(sizes, stiffness[:, axis]))
+            parts.append(f"{name}: order p = {p:.2f}, extrapolated {limit:.1f} N/µm; {distance}")
+        line = "; ".join(parts)
+        print(f"{label}, convergence: {line}")
+        rows.append((f"{label}, convergence (Richardson on 8/6/5 mm)", line))
 
 
 def blind_errors(rows: list) -> None:
@@ -79,13 +146,23 @@ def blind_errors(rows: list) -> None:
         rows.append((f"blind relative error (median / max), {label}", line))
 
 
+PARTS = {"condensation": condensation_costs, "shapes": shape_convergence, "blind": blind_errors}
+
+
 def main() -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--part", choices=sorted(PARTS), action="append", help="run only this part (repeatable)")
+    chosen = parser.parse_args().part or list(PARTS)
     rows: list = []
     load = os.getloadavg()
-    condensation_costs(rows)
-    blind_errors(rows)
-    rows.append(("load average at start (1, 5, 15 min)", ", ".join(f"{v:.2f}" for v in load)))
-    record("bench_from_geometry.py: housing condensation and the reference rig from geometry", rows)
+    for name in chosen:
+        PARTS[name](rows)
+    rows.append(("load average at start / end (1, 5, 15 min)",
+                 " / ".join(", ".join(f"{v:.2f}" for v in values) for values in (load, os.getloadavg()))))
+    record(f"bench_from_geometry.py ({', '.join(chosen)}): housing condensation and the reference rig from geometry",
+           rows)
 
 
 if __name__ == "__main__":

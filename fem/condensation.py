@@ -9,6 +9,9 @@ reference node where something attaches (bearings, a part). Two routes, which ag
   K_c = F⁻¹. It works whatever the masters are: independent DOFs, or reference nodes that depend on
   a face (a distributing tie, RBE3-like). It is exact: K_c reproduces the full model's master
   displacements for any load on the masters (Guyan's reduction is exact when only masters are loaded).
+* :func:`condensed_stiffness_and_loads` — the same, with the master loads equivalent to loads anywhere on
+  the structure (its own weight): f_c = K_c u_m, with u_m the masters' displacement under those loads in
+  the full model, so the condensed model moves its masters exactly as the full one does.
 * :func:`schur_complement` — Guyan's formula K_c = K_mm − K_ms K_ss⁻¹ K_sm when the masters are
   independent DOFs (no constraints).
 
@@ -25,7 +28,7 @@ from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.pieces import Contribution
 from rvcoax.fem.system import prepare_system
 
-__all__ = ["condensed_stiffness", "schur_complement", "superelement_contribution"]
+__all__ = ["condensed_stiffness", "condensed_stiffness_and_loads", "schur_complement", "superelement_contribution"]
 
 
 def condensed_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs,
@@ -48,19 +51,34 @@ def condensed_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, ma
     SingularModelError
         The model is not supported (a rigid-body motion is free) or the flexibility is singular.
     """
+    return condensed_stiffness_and_loads(stiffness, elimination, master_dofs, np.zeros((stiffness.shape[0], 0)),
+                                         method)[0]
+
+
+def condensed_stiffness_and_loads(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads,
+                                  method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+    """K_c (k × k) at ``master_dofs`` and the equivalent master loads f_c = K_c u_m (k × p) of ``loads`` (n × p).
+
+    One factorisation: the k unit loads on the masters and the p ``loads`` are solved together; u_m are the
+    masters' displacements under ``loads``. K_c⁻¹ f_c = u_m: the condensed model reproduces the full model's master
+    displacements under those loads (and any load on the masters added to them). Parameters and errors as
+    :func:`condensed_stiffness`.
+    """
     masters = np.asarray(master_dofs, dtype=int)
     n = stiffness.shape[0]
+    loads = np.asarray(loads, dtype=float).reshape(n, -1)
     unit = sp.csr_matrix((np.ones(masters.size), (masters, np.arange(masters.size))), shape=(n, masters.size))
     system = prepare_system(stiffness, elimination, method, symmetrize=True)
-    displacement = system.solve(unit.toarray())
-    flexibility = displacement[masters, :]
+    displacement = system.solve(np.hstack([unit.toarray(), loads]))
+    flexibility = displacement[masters, : masters.size]
     flexibility = 0.5 * (flexibility + flexibility.T)
     condition = np.linalg.cond(flexibility)
     if not np.isfinite(condition) or condition > 1e14:
         raise SingularModelError(f"the condensed flexibility is singular (condition number {condition:.1e}): a master "
                                  "DOF does not move the structure (check the ties)")
     result = np.linalg.inv(flexibility)
-    return 0.5 * (result + result.T)
+    result = 0.5 * (result + result.T)
+    return result, result @ displacement[masters, masters.size:]
 
 
 def schur_complement(stiffness: sp.csr_matrix, master_dofs, fixed_dofs=()) -> np.ndarray:

@@ -191,27 +191,54 @@ MEANINGS = {
     "housings[].part": "The part whose nodes the condensed housing holds to the ground (it keeps its beam and "
                        "mass; not a solid of the hybrid model).",
     "housings[].material": "Material of the housing's solid model (E, ν; α for its thermal lift).",
-    "housings[].x_mm": "Start and end of the block along the rig axis [start, end].",
-    "housings[].width_mm": "Width of the block across the axis (z), centred on it.",
-    "housings[].height_above_bed_mm": "Axis height above the bed face (the feet's underside): the block's "
-                                      "bottom, and h of its thermal lift α ΔT h.",
-    "housings[].top_above_axis_mm": "Height of the block's top face above the axis.",
+    "housings[].shape": "block (a box down to the bed), pedestal (bearing seat on a web on a base plate with "
+                        "bolt feet) or bracket (bearing seat on an arm from a plate bolted to a wall).",
+    "housings[].x_mm": "Start and end of the block or bearing seat along the rig axis [start, end].",
+    "housings[].width_mm": "Width of the block or bearing seat across the axis (z), centred on it.",
+    "housings[].height_above_bed_mm": "Axis height above the bed face (the feet's underside): the block's or "
+                                      "base plate's bottom, and h of its thermal lift α ΔT h (block, pedestal).",
+    "housings[].top_above_axis_mm": "Height of the block's or seat's top face above the axis.",
     "housings[].bore_diameter_mm": "Through bore on the axis (the bearing seat the attachments tie to); 0: no "
                                    "bore, they tie to the top face.",
-    "housings[].foot_thickness_mm": "Thickness of a foot plate (bolt flange) on the bed (0: none).",
-    "housings[].foot_width_mm": "Width (z) of the foot plate, at least the block's width.",
+    "housings[].foot_thickness_mm": "Block: thickness of a foot plate (bolt flange) on the bed (0: none).",
+    "housings[].foot_width_mm": "Block: width (z) of the foot plate, at least the block's width.",
+    "housings[].seat_below_axis_mm": "Pedestal, bracket: depth of the bearing seat's underside below the axis "
+                                     "(more than the bore's radius).",
+    "housings[].web_length_mm": "Pedestal: the web's length along the axis (x), centred under the seat; short: "
+                                "a plate across the axis.",
+    "housings[].web_width_mm": "Pedestal: the web's width across the axis (z); narrow: a plate along the axis.",
+    "housings[].base_length_mm": "Pedestal: the base plate's length along the axis (x), centred under the seat.",
+    "housings[].base_width_mm": "Pedestal: the base plate's width across the axis (z), centred on it.",
+    "housings[].base_thickness_mm": "Pedestal: the base plate's thickness; the web runs from its top to the seat.",
+    "housings[].wall_distance_mm": "Bracket: distance from the axis to the wall face (the plate's back), on the "
+                                   "−z side; d of its thermal push α ΔT d (+z).",
+    "housings[].arm_length_mm": "Bracket: the arm's length along the axis (x), centred on the seat.",
+    "housings[].arm_height_mm": "Bracket: the arm's height (y), centred on the axis; it runs along z from the "
+                                "wall plate to the seat's side face.",
+    "housings[].plate_length_mm": "Bracket: the wall plate's length along the axis (x), centred on the seat.",
+    "housings[].plate_height_mm": "Bracket: the wall plate's height (y), centred on the axis.",
+    "housings[].plate_thickness_mm": "Bracket: the wall plate's thickness (z).",
+    "housings[].foot_pad_mm": "Pedestal, bracket: side of the four square bolt feet at the corners of the base "
+                              "or wall plate (the areas clamped or sprung; 0: the whole plate face).",
     "housings[].attachments_x_mm": "Each attachment (bearing seat): a 6-DOF node on the axis, inside x_mm, that "
                                    "the condensed stiffness acts at on the part's node there.",
     "housings[].attachment_width_mm": "Width along x of the band of the bore (or top face) each attachment "
                                       "node is tied to (the bearing's width).",
     "housings[].tie": "How each attachment node is tied to its band: distributing (RBE3-like) or rigid.",
-    "housings[].feet": "Bed face clamped, or resting on a Winkler bed (\"bed\": bed_stiffness_N_per_um_per_mm2).",
-    "housings[].bed_stiffness_N_per_um_per_mm2": "Normal (y) stiffness per area of the Winkler bed under the "
-                                                 "bed face; required with feet = \"bed\".",
-    "housings[].bed_shear_stiffness_N_per_um_per_mm2": "Shear (x, z) stiffness per area of the Winkler bed "
-                                                       "(default: the normal one).",
-    "housings[].mesh_size_mm": "Solid mesh size of the block (condensed once, then read from the cache).",
+    "housings[].feet": "Feet (the bed face, or the bolt feet) clamped, resting on a Winkler bed (\"bed\": "
+                       "bed_stiffness_N_per_um_per_mm2) or on a spring each (\"springs\": foot_stiffness_N_per_um).",
+    "housings[].bed_stiffness_N_per_um_per_mm2": "Normal stiffness per area of the Winkler bed under the feet (y; "
+                                                 "z for a bracket's wall); required with feet = \"bed\".",
+    "housings[].bed_shear_stiffness_N_per_um_per_mm2": "Shear stiffness per area of the Winkler bed in the feet's "
+                                                       "plane (default: the normal one).",
+    "housings[].foot_stiffness_N_per_um": "Normal stiffness of each foot's spring (the bed's or wall's, and the "
+                                          "bolt's), spread evenly over the foot; required with feet = \"springs\".",
+    "housings[].foot_shear_stiffness_N_per_um": "Shear stiffness of each foot's spring in the foot's plane "
+                                                "(default: the normal one).",
+    "housings[].mesh_size_mm": "Solid mesh size of the housing (condensed once, then read from the cache).",
     "housings[].stiffness_factor": "Multiplies the condensed stiffness matrix.",
+    "housings[].self_weight": "Add the solid's own weight (density × modelled volume) under gravity: the seats "
+                              "sag as in the full solid; leave it out of the part's mass_kg.",
     "thermal.temperature_rise_K.<name>": "Steady temperature rise ΔT of a part over the state the rig was aligned "
                                          "in: it grows by α ΔT axially and radially (parts not named: 0).",
     "thermal.support_temperature_rise_K.<name>": "Temperature rise of a mount's support or of a housing, by its "

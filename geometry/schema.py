@@ -461,37 +461,80 @@ class GearMesh(Strict):
 
 # ---- housings condensed from a solid model (issue 16 item 2) ------------------------------------------------
 
-class Housing(Strict):
-    """``[[housings]]``: a block housing (bearing block, pedestal) of part ``part``, condensed from a solid model.
+HOUSING_SHAPE_KEYS = {
+    "block": {"required": ("height_above_bed_mm",), "optional": ("foot_thickness_mm", "foot_width_mm")},
+    "pedestal": {"required": ("height_above_bed_mm", "seat_below_axis_mm", "web_length_mm", "web_width_mm",
+                              "base_length_mm", "base_width_mm", "base_thickness_mm"), "optional": ("foot_pad_mm",)},
+    "bracket": {"required": ("seat_below_axis_mm", "wall_distance_mm", "arm_length_mm", "arm_height_mm",
+                             "plate_length_mm", "plate_height_mm", "plate_thickness_mm"), "optional": ("foot_pad_mm",)},
+}
+"""The dimension keys of each ``[[housings]]`` shape (the others are refused for it)."""
 
-    The block spans ``x_mm`` along the axis, ``width_mm`` across (z), from the bed face
-    ``height_above_bed_mm`` below the axis to ``top_above_axis_mm`` above it, with an optional bore
-    (``bore_diameter_mm``) on the axis and an optional foot plate (``foot_thickness_mm`` × ``foot_width_mm``).
-    Its feet are ``clamped`` or sit on a Winkler ``bed`` (normal and shear stiffness per area). At each of
-    ``attachments_x_mm`` a reference node on the axis is tied to a band ``attachment_width_mm`` wide of the
-    bore (of the top face without a bore); the solid model condensed to these nodes (a 6k × 6k stiffness
-    to the ground, times ``stiffness_factor``) acts on the nodes of ``part`` there, as a bushing would.
-    See :mod:`rvcoax.geometry.housings`.
+OptionalLength = Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None
+FootStiffness = Annotated[float, Field(gt=0.0, le=1e7, allow_inf_nan=False, strict=True)] | None
+
+
+class Housing(Strict):
+    """``[[housings]]``: a housing of part ``part`` (bearing block, web pedestal, wall bracket), condensed from a
+    solid model.
+
+    Every shape has a bearing seat spanning ``x_mm`` along the axis, ``width_mm`` across (z), up to
+    ``top_above_axis_mm`` above the axis, with an optional bore (``bore_diameter_mm``) on the axis:
+
+    * ``shape = "block"``: the seat reaches down to the bed face ``height_above_bed_mm`` below the axis, with an
+      optional foot plate (``foot_thickness_mm`` × ``foot_width_mm``); its foot is the whole bed face;
+    * ``"pedestal"``: the seat's underside is ``seat_below_axis_mm`` below the axis; a web (``web_length_mm`` ×
+      ``web_width_mm``) carries it from a base plate (``base_length_mm`` × ``base_width_mm`` ×
+      ``base_thickness_mm``) on the bed ``height_above_bed_mm`` below the axis;
+    * ``"bracket"``: an arm (``arm_length_mm`` × ``arm_height_mm``) carries the seat from a plate
+      (``plate_length_mm`` × ``plate_height_mm`` × ``plate_thickness_mm``) bolted to a wall parallel to the axis,
+      ``wall_distance_mm`` from it on the −z side.
+
+    A pedestal's or bracket's bolt feet are four squares of side ``foot_pad_mm`` at its plate's corners (0: the
+    whole plate face). The feet are ``clamped``, sit on a Winkler ``bed`` (normal and shear stiffness per area), or
+    on ``springs`` (``foot_stiffness_N_per_um`` per foot, spread over its area). At each of ``attachments_x_mm`` a
+    reference node on the axis is tied to a band ``attachment_width_mm`` wide of the bore (of the top face without
+    a bore); the solid model condensed to these nodes (a 6k × 6k stiffness to the ground, times
+    ``stiffness_factor``) acts on the nodes of ``part`` there, as a bushing would. With ``self_weight`` the solid's
+    own weight (its material's density × its volume) loads the rig too: the part of it the seats carry at the
+    attachments, the rest straight on the bed. See :mod:`rvcoax.geometry.housings`.
     """
 
     name: Name
     part: str
     material: str
+    shape: Literal["block", "pedestal", "bracket"] = "block"
     x_mm: tuple[Finite, Finite]
     width_mm: Positive
-    height_above_bed_mm: Positive
+    height_above_bed_mm: OptionalLength = None
     top_above_axis_mm: Positive
     bore_diameter_mm: NonNegative = 0.0
     foot_thickness_mm: NonNegative = 0.0
     foot_width_mm: NonNegative = 0.0
+    seat_below_axis_mm: OptionalLength = None
+    web_length_mm: OptionalLength = None
+    web_width_mm: OptionalLength = None
+    base_length_mm: OptionalLength = None
+    base_width_mm: OptionalLength = None
+    base_thickness_mm: OptionalLength = None
+    wall_distance_mm: OptionalLength = None
+    arm_length_mm: OptionalLength = None
+    arm_height_mm: OptionalLength = None
+    plate_length_mm: OptionalLength = None
+    plate_height_mm: OptionalLength = None
+    plate_thickness_mm: OptionalLength = None
+    foot_pad_mm: NonNegative = 0.0
     attachments_x_mm: list[Finite] = Field(min_length=1, max_length=8)
     attachment_width_mm: Positive = 10.0
     tie: Literal["distributing", "rigid"] = "distributing"
-    feet: Literal["clamped", "bed"] = "clamped"
+    feet: Literal["clamped", "bed", "springs"] = "clamped"
     bed_stiffness_N_per_um_per_mm2: Annotated[float, Field(gt=0.0, le=1e4, strict=True)] | None = None
     bed_shear_stiffness_N_per_um_per_mm2: Annotated[float, Field(gt=0.0, le=1e4, strict=True)] | None = None
+    foot_stiffness_N_per_um: FootStiffness = None
+    foot_shear_stiffness_N_per_um: FootStiffness = None
     mesh_size_mm: Positive = 8.0
     stiffness_factor: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False, strict=True)] = 1.0
+    self_weight: Flag = False
 
     @model_validator(mode="after")
     def _check(self) -> Housing:
@@ -499,8 +542,27 @@ class Housing(Strict):
         for x in self.attachments_x_mm:
             if not x0 <= x <= x1:
                 raise ValueError(f"attachments_x_mm: {x:g} lies outside the housing's x_mm [{x0:g}, {x1:g}]")
+        keys = HOUSING_SHAPE_KEYS[self.shape]
+        missing = [key for key in keys["required"] if getattr(self, key) is None]
+        if missing:
+            raise ValueError(f"shape = \"{self.shape}\" needs {', '.join(missing)}")
+        own = set(keys["required"]) | set(keys["optional"])
+        # by value, not by what was typed: a dumped and re-read rig carries every default
+        foreign = sorted({key for shape in HOUSING_SHAPE_KEYS.values() for key in (*shape["required"], *shape["optional"])
+                          if key not in own and getattr(self, key) != type(self).model_fields[key].default})
+        if foreign:
+            owners = {key: [s for s, k in HOUSING_SHAPE_KEYS.items() if key in (*k["required"], *k["optional"])]
+                      for key in foreign}
+            raise ValueError(f"shape = \"{self.shape}\" has no " + "; ".join(
+                f"{key} (a key of shape {' / '.join(owners[key])})" for key in foreign))
         if self.feet == "bed" and self.bed_stiffness_N_per_um_per_mm2 is None:
             raise ValueError("feet = \"bed\" needs bed_stiffness_N_per_um_per_mm2")
+        if self.feet == "springs" and self.foot_stiffness_N_per_um is None:
+            raise ValueError("feet = \"springs\" needs foot_stiffness_N_per_um (per bolt foot)")
+        for key, feet in (("bed_stiffness_N_per_um_per_mm2", "bed"), ("bed_shear_stiffness_N_per_um_per_mm2", "bed"),
+                          ("foot_stiffness_N_per_um", "springs"), ("foot_shear_stiffness_N_per_um", "springs")):
+            if getattr(self, key) is not None and self.feet != feet:
+                raise ValueError(f"{key} is used only with feet = \"{feet}\" (feet = \"{self.feet}\")")
         low, high = MESH_SIZE_RANGE_MM
         if not low <= self.mesh_size_mm <= high:
             raise ValueError(f"mesh_size_mm = {self.mesh_size_mm:g} mm is outside {low:g} … {high:g} mm")
@@ -512,15 +574,46 @@ class Housing(Strict):
         half = 0.5 * self.attachment_width_mm
         return [(max(x - half, self.x_mm[0]), min(x + half, self.x_mm[1])) for x in self.attachments_x_mm]
 
+    def bed_stiffness_per_area(self) -> tuple[float, float] | None:
+        """(normal, shear) stiffness per area under the feet, N/(µm·mm²): the Winkler bed's, or each bolt foot's
+        spring spread over the foot's area (uniformly: a foot moved as a whole resists with its spring); None when
+        clamped."""
+        if self.feet == "bed":
+            normal = self.bed_stiffness_N_per_um_per_mm2
+            return normal, self.bed_shear_stiffness_N_per_um_per_mm2 or normal
+        if self.feet == "springs":
+            area = self.geometry.feet[0].area_mm2
+            normal = self.foot_stiffness_N_per_um
+            return normal / area, (self.foot_shear_stiffness_N_per_um or normal) / area
+        return None
+
+    def thermal_motion_mm_per_K(self) -> tuple[float, float]:
+        """(y, z) growth of the axis per kelvin and per unit α: the pedestal's or block's height above the bed
+        (it lifts the axis), a bracket's distance from its wall (it pushes the axis away along +z)."""
+        if self.shape == "bracket":
+            return 0.0, self.wall_distance_mm
+        return self.height_above_bed_mm, 0.0
+
     @property
     def geometry(self):
-        """The :class:`rvcoax.geometry.housings.BlockGeometry` (rig coordinates, mm)."""
-        from rvcoax.geometry.housings import BlockGeometry
+        """The :class:`rvcoax.geometry.housings.HousingGeometry` (rig coordinates, mm)."""
+        from rvcoax.geometry.housings import BlockGeometry, BracketGeometry, PedestalGeometry
 
         splits = tuple(x for band in self.bands_mm() for x in band)
-        return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
-                             self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm, self.foot_width_mm,
-                             splits, self.mesh_size_mm)
+        if self.shape == "block":
+            return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
+                                 self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm,
+                                 self.foot_width_mm, splits, self.mesh_size_mm)
+        seat = {"name": self.name, "x_mm": tuple(self.x_mm), "width_mm": self.width_mm, "top_mm": self.top_above_axis_mm,
+                "seat_bottom_mm": -self.seat_below_axis_mm, "bore_diameter_mm": self.bore_diameter_mm,
+                "split_x_mm": splits, "mesh_size_mm": self.mesh_size_mm, "foot_pad_mm": self.foot_pad_mm}
+        if self.shape == "pedestal":
+            return PedestalGeometry(**seat, bottom_mm=-self.height_above_bed_mm, web_length_mm=self.web_length_mm,
+                                    web_width_mm=self.web_width_mm, base_length_mm=self.base_length_mm,
+                                    base_width_mm=self.base_width_mm, base_thickness_mm=self.base_thickness_mm)
+        return BracketGeometry(**seat, wall_z_mm=-self.wall_distance_mm, arm_length_mm=self.arm_length_mm,
+                               arm_height_mm=self.arm_height_mm, plate_length_mm=self.plate_length_mm,
+                               plate_height_mm=self.plate_height_mm, plate_thickness_mm=self.plate_thickness_mm)
 
 
 # ---- temperatures (issue 16 item 4) ------------------------------------------------------------------------

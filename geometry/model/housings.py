@@ -17,7 +17,7 @@ from rvcoax.geometry.model.beam import housing_bed_group
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
-__all__ = ["condensed_housing", "housing_contributions", "housing_prestrain"]
+__all__ = ["condensed_housing", "housing_contributions", "housing_prestrain", "housing_weight"]
 
 
 def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
@@ -26,12 +26,9 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHo
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
     material = rig.materials[housing.material]
-    bed = None
-    if housing.feet == "bed":
-        normal = housing.bed_stiffness_N_per_um_per_mm2
-        bed = (normal, housing.bed_shear_stiffness_N_per_um_per_mm2 or normal)
+    bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            housing.feet, bed, cache_dir=cache_dir)
+                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir)
 
 
 def _dofs(nodes) -> np.ndarray:
@@ -40,24 +37,48 @@ def _dofs(nodes) -> np.ndarray:
 
 def housing_contributions(rig: Rig, frame, cache_dir=None) -> list[Contribution]:
     """One superelement per ``[[housings]]`` entry between the frame nodes of its part and their fixed bed nodes
-    (:func:`rvcoax.geometry.model.beam.housing_bed_group`); empty without housings."""
+    (:func:`rvcoax.geometry.model.beam.housing_bed_group`), with its own weight where it has ``self_weight``
+    (:func:`housing_weight`); empty without housings."""
     pieces = []
     for housing in rig.housings:
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
         bed = [frame.node(housing_bed_group(housing.name), x) for x in housing.attachments_x_mm]
-        matrix = housing.stiffness_factor * condensed_housing(rig, housing, cache_dir).matrix
-        pieces.append(superelement_contribution(matrix, _dofs(nodes), _dofs(bed)))
+        condensed = condensed_housing(rig, housing, cache_dir)
+        pieces.append(superelement_contribution(housing.stiffness_factor * condensed.matrix, _dofs(nodes), _dofs(bed)))
+        if housing.self_weight:
+            density = rig.materials[housing.material].density_kg_per_m3
+            pieces.append(Contribution(loads={"gravity": housing_weight(condensed, density, housing.attachments_x_mm,
+                                                                        _dofs(nodes), _dofs(bed[:1]))}))
     return pieces
+
+
+def housing_weight(condensed: CondensedHousing, density_kg_per_m3: float, attachments_x_mm, dofs,
+                   bed_dofs) -> tuple[np.ndarray, np.ndarray]:
+    """The housing's weight per m/s² along gravity (−y) as load entries: the equivalent master load ρ f_c on the
+    attachment ``dofs`` (the seats sag as in the full solid model) and the rest of the weight ρ V at the centroid —
+    force and moment about the first attachment — on the fixed ``bed_dofs`` (6) there, so that the ground's
+    reactions sum to ρ g V."""
+    seats = density_kg_per_m3 * condensed.weight_load
+    per_node = seats.reshape(-1, DOFS_PER_NODE)
+    points = np.zeros((per_node.shape[0], 3))
+    points[:, 0] = np.asarray(attachments_x_mm, dtype=float) * 1e-3
+    origin = points[0]
+    weight = np.array([0.0, -density_kg_per_m3 * condensed.volume_m3, 0.0])
+    force = weight - per_node[:, :3].sum(axis=0)
+    moment = (np.cross(np.asarray(condensed.centroid_m) - origin, weight)
+              - (np.cross(points - origin, per_node[:, :3]) + per_node[:, 3:]).sum(axis=0))
+    return np.concatenate([np.asarray(dofs), np.asarray(bed_dofs)]), np.concatenate([seats, force, moment])
 
 
 def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
     """The load of warm housings on their part's nodes, K_c Δ0, as load ``"prestrain"`` (a vector of length
     ``n_dofs``; zero without ``[thermal]``).
 
-    The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, 0, 0, 0, 0) at
+    The housing's bed side moves by Δ0 = (α_bed ΔT_bed (x_c − x_fixed) + α ΔT (x − x_c), α ΔT h, α ΔT d, 0, 0, 0) at
     each attachment x (α of the housing's material, ΔT its ``support_temperature_rise_K`` or else its part's
-    rise, h its ``height_above_bed_mm``, x_c the housing's centre): the housing lifts what it holds, as a
-    mount's support does, and grows along x about its centre, carried by the bed there.
+    rise, h its ``height_above_bed_mm`` and d = 0 for a block or pedestal, h = 0 and d its ``wall_distance_mm``
+    for a wall bracket, x_c the housing's centre): the housing lifts what it holds (a bracket pushes it away
+    from its wall), as a mount's support does, and grows along x about its centre, carried by the bed there.
     """
     vector = np.zeros(n_dofs)
     if rig.thermal is None:
@@ -69,7 +90,9 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
         motion = np.zeros((len(housing.attachments_x_mm), DOFS_PER_NODE))
         centre = 0.5 * sum(housing.x_mm)
         motion[:, 0] = [(bed_growth_mm(rig, centre) + alpha * rise * (x - centre)) * 1e-3 for x in housing.attachments_x_mm]
-        motion[:, 1] = alpha * rise * housing.height_above_bed_mm * 1e-3
+        lift_mm, away_mm = housing.thermal_motion_mm_per_K()
+        motion[:, 1] = alpha * rise * lift_mm * 1e-3
+        motion[:, 2] = alpha * rise * away_mm * 1e-3
         if not motion.any():
             continue
         matrix = housing.stiffness_factor * condensed_housing(rig, housing).matrix

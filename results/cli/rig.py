@@ -66,8 +66,8 @@ def rig_show(rig_file: RigOption = None) -> None:
     for h in rig.housings:
         bore = f", bore Ø{h.bore_diameter_mm:g}" if h.bore_diameter_mm else ""
         add_text_row(springs, "housing", h.name, f"{h.part} / ground", "/".join(f"{x:g}" for x in h.attachments_x_mm),
-                     f"condensed from a {h.material} block {h.x_mm[1] - h.x_mm[0]:g} × {h.width_mm:g} × "
-                     f"{h.height_above_bed_mm + h.top_above_axis_mm:g} mm{bore}, feet {h.feet}, mesh "
+                     f"condensed from a {h.material} {h.shape}, seat {h.x_mm[1] - h.x_mm[0]:g} × {h.width_mm:g} mm"
+                     f"{bore}, {_housing_reach(h)}, {_housing_feet(h)}, mesh "
                      f"{h.mesh_size_mm:g} mm (× {h.stiffness_factor:g}); computed when solved, then cached")
     for c in rig.couplings:
         add_text_row(springs, "coupling", c.name, f"{c.from_.part} / {c.to.part}", f"{c.centre_x_mm:g}",
@@ -128,3 +128,21 @@ def rig_example() -> None:
 def register(app: typer.Typer) -> None:
     """Add the ``rig`` command group to ``app``."""
     app.add_typer(rig_app, name="rig")
+
+
+def _housing_reach(housing) -> str:
+    """How far the housing carries the axis: above the bed, or out from the wall."""
+    if housing.shape == "bracket":
+        return f"axis {housing.wall_distance_mm:g} mm from the wall"
+    return f"axis {housing.height_above_bed_mm:g} mm above the bed"
+
+
+def _housing_feet(housing) -> str:
+    """How the housing's feet are held, and whether its own weight loads the rig."""
+    if housing.feet == "bed":
+        feet = f"feet on a bed of {housing.bed_stiffness_N_per_um_per_mm2:g} N/(µm·mm²)"
+    elif housing.feet == "springs":
+        feet = f"feet on springs of {housing.foot_stiffness_N_per_um:g} N/µm each"
+    else:
+        feet = "feet clamped"
+    return feet + (", its own weight included" if housing.self_weight else "")
