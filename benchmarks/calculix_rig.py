@@ -456,16 +456,18 @@ def compare(log=print) -> dict:
     return out
 
 
-# effects (vocabulary names) and values of the hidden data; values are those of the effect's own parameter
+# the hidden effects (vocabulary names) and the value each is first solved at (its parameter's own unit); a linear
+# effect is then scaled to TARGET of the signal (within its bounds), a nonlinear one kept at this value
 HIDDEN = {
     "bearing_stiffness@output_B2": -2.0,          # log2 factor: a quarter of the stiffness
-    "mesh_position_error@crankshaft_load_sharing": 3.0,   # µm
-    "torque_reaction@output_bearing_block": 6.0,  # N per N·m of T2
-    "mesh_force@reducer_input": 40.0,             # N per N·m of T1
+    "mesh_position_error@crankshaft_load_sharing": 1.0,   # µm
+    "torque_reaction@output_bearing_block": 2.0,  # N per N·m of T2
+    "mesh_force@reducer_input": 2.0,              # N per N·m of T1
 }
-OOV_X_MM = 485.0  # an out-of-vocabulary lateral load ∝ T2 at this station of the output shaft (80 mm along its path)
-OOV_N_PER_NM = 1.5
-SETS = (  # name, truth, oov, schema, noise, notation
+OOV = "lateral_T2@output_x80"  # a lateral load ∝ T2 on the output shaft, 80 mm along its path (x = 485 mm)
+OOV_X_MM = 485.0
+TARGET = 0.3  # size of a hidden change: RMS over the paths, of the signal, on the shaft it changes most
+SETS = (  # name, truth, out-of-vocabulary, schema, noise, notation
     ("none_paths_1", (), False, "paths", 0.01, "e"),
     ("none_table_5", (), False, "table", 0.05, "E"),
     ("bearing_stiffness_paths_1", ("bearing_stiffness@output_B2",), False, "paths", 0.01, "fixed"),
@@ -476,54 +478,94 @@ SETS = (  # name, truth, oov, schema, noise, notation
     ("mesh_force_paths_5", ("mesh_force@reducer_input",), False, "paths", 0.05, "fixed"),
     ("pair_paths_1", ("bearing_stiffness@output_B2", "mesh_force@reducer_input"), False, "paths", 0.01, "e"),
     ("pair_table_5", ("bearing_stiffness@output_B2", "mesh_force@reducer_input"), False, "table", 0.05, "mixed"),
-    ("oov_lateral_T2_paths_1", (), True, "paths", 0.01, "e"),
-    ("oov_lateral_T2_paths_5", (), True, "paths", 0.05, "E"),
-    ("oov_lateral_T2_table_1", (), True, "table", 0.01, "fixed"),
+    ("oov_paths_1", (), True, "paths", 0.01, "e"),
+    ("oov_paths_5", (), True, "paths", 0.05, "E"),
+    ("oov_table_1", (), True, "table", 0.01, "fixed"),
 )
 FILE_CASES = (0, 3, 6, 9, 12, 15, 19)  # 7 of paper 000's cases
 FILE_STATIONS = 6
 
 
-def hidden_rig(truth: tuple[str, ...], oov: bool) -> Rig:
-    rig = truth_rig()
-    effects = {e.name: e for e in candidate_effects(rig)}
-    for name in truth:
-        rig = effects[name].apply(rig, [HIDDEN[name]])
-    if oov:
-        rig = blind_data._load_rig(rig, ("oov", "proportional", OOV_X_MM, False))
-        data = rig.model_dump(by_alias=True)
-        data["torque_lateral_loads"][-1]["force_per_torque_N_per_Nm"] = OOV_N_PER_NM
-        rig = Rig.model_validate(data)
-    return rig
+def _with_oov(rig: Rig, size: float) -> Rig:
+    data = blind_data._load_rig(rig, ("hidden", "proportional", OOV_X_MM, False)).model_dump(by_alias=True)
+    data["torque_lateral_loads"][-1]["force_per_torque_N_per_Nm"] = size
+    return Rig.model_validate(data)
+
+
+def _relative_change(delta: np.ndarray, base: np.ndarray, sizes: list[int]) -> float:
+    d, b = delta.reshape(-1, sum(sizes)), base.reshape(-1, sum(sizes))
+    edges = np.cumsum([0, *sizes])
+    return max(float(np.sqrt(np.mean(d[:, i:j] ** 2)) / np.sqrt(np.mean(b[:, i:j] ** 2)))
+               for i, j in zip(edges[:-1], edges[1:]))
+
+
+def detectability(paths: np.ndarray, base: np.ndarray, layout, schema: str, noise: float, cases) -> float:
+    """RMS of the noise-free hidden change over the file's observations in units of σ, σ² = (noise × RMS of the
+    shaft's values)² + (2 % of the value)² (the workflow's model-form allowance), as ``blind_data.detectability``:
+    below 1 the file cannot carry the effect and ``no_gap`` is right too."""
+    _, hidden = blind_data._observe(paths, layout, "aligned_at_rest", schema, cases, FILE_STATIONS)
+    template, plain = blind_data._observe(base, layout, "aligned_at_rest", schema, cases, FILE_STATIONS)
+    sigma = np.zeros_like(hidden)
+    for s in MEASURED_SHAFTS:
+        mask = template.shaft == s
+        sigma[mask] = np.hypot(noise * np.sqrt(np.mean(hidden[mask] ** 2)), blind_data.MODEL_FORM * np.abs(plain[mask]))
+    return float(np.sqrt(np.mean(((hidden - plain) / np.maximum(sigma, 1e-300)) ** 2)))
 
 
 def write_sets(out: Path, log=print) -> list[dict]:
+    """Solve the hidden effects with ccx and write every data set of :data:`SETS` and ``manifest.json``."""
     cases = tuple(paper_cases()[i] for i in FILE_CASES)
-    solve = (blind_data.REST, *cases)
+    solve = (blind_data.REST, *paper_cases())  # blind_data picks the files' cases from all of paper 000's
+    rig = truth_rig()
+    effects = {e.name: e for e in candidate_effects(rig)}
+    units, deck = solve_units(rig)
+    sizes = [len(deck.path_nodes[k]) for k in MEASURED_SHAFTS]
+    base = case_paths(units, solve)
+    layout = layout_for(deck, len(solve))
+    deltas, values = {}, {}
+    for name, value in HIDDEN.items():
+        units, _ = solve_units(effects[name].apply(rig, [value]))
+        delta = case_paths(units, solve) - base
+        if effects[name].linear:
+            p = effects[name].parameters[0]
+            scaled = float(np.clip(value * TARGET / _relative_change(delta, base, sizes), p.lower, p.upper))
+            delta, value = delta * scaled / value, scaled
+        deltas[name], values[name] = delta, value
+        log(f"  ccx: {name} = {value:.4g}: {100 * _relative_change(delta, base, sizes):.1f} % of the signal")
+    units, _ = solve_units(_with_oov(rig, 1.0))
+    delta = case_paths(units, solve) - base
+    values[OOV] = TARGET / _relative_change(delta, base, sizes)
+    deltas[OOV] = delta * values[OOV]
+    log(f"  ccx: {OOV}: {values[OOV]:.4g} N per N·m of T2")
+    paired = set()
+    for _, truth, _, _, _, _ in SETS:  # a pair with a nonlinear member is solved directly, not superposed
+        if len(truth) == 2 and truth not in paired:
+            paired.add(truth)
+            both = rig
+            for member in truth:
+                both = effects[member].apply(both, [values[member]])
+            units, _ = solve_units(both)
+            deltas[truth] = case_paths(units, solve) - base
     out.mkdir(parents=True, exist_ok=True)
-    solved: dict = {}
     manifest = []
     for seed, (name, truth, oov, schema, noise, notation) in enumerate(SETS):
-        key = (truth, oov)
-        if key not in solved:
-            units, deck = solve_units(hidden_rig(truth, oov))
-            solved[key] = (case_paths(units, solve), layout_for(deck, len(solve)))
-            log(f"  ccx: {'+'.join(truth) or ('oov' if oov else 'none')}")
-        paths, layout = solved[key]
+        key = OOV if oov else truth if len(truth) == 2 else truth[0] if truth else None
+        paths = base + (deltas[key] if key is not None else 0.0)
         template, noisy = blind_data.noisy_observations(paths, layout, "aligned_at_rest", schema, noise, seed, cases,
                                                         FILE_STATIONS)
         (out / f"{name}.csv").write_text(blind_data.csv_text(template, noisy, notation, seed))
+        detect = detectability(paths, base, layout, schema, noise, cases)
         group = "out_of_vocabulary" if oov else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary"
         manifest.append({"id": name, "file": f"{name}.csv", "group": group, "truth": list(truth),
-                         "load": f"lateral_T2@output_x{OOV_X_MM - 405:g}" if oov else "",
-                         "datum": "aligned_at_rest", "schema": schema, "noise": noise, "seed": seed,
-                         "notation": notation, "values": {n: HIDDEN[n] for n in truth} |
-                         ({"force_per_torque_N_per_Nm": OOV_N_PER_NM, "x_mm": OOV_X_MM} if oov else {}),
-                         "detectable": True})
+                         "load": OOV if oov else "", "datum": "aligned_at_rest", "schema": schema, "noise": noise,
+                         "seed": seed, "notation": notation,
+                         "values": {n: round(values[n], 6) for n in ((OOV,) if oov else truth)},
+                         "detectability": round(detect, 3), "detectable": not truth and not oov or detect >= 1.0})
     (out / "manifest.json").write_text(json.dumps({
-        "model": "CalculiX ccx, B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs, built from the rig's "
-                 "geometry by benchmarks/calculix_rig.py", "generator": "benchmarks/calculix_rig.py",
-        "cases": list(FILE_CASES), "stations": FILE_STATIONS, "sets": manifest}, indent=1) + "\n")
+        "model": "CalculiX ccx: B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs built from the reference "
+                 "rig's geometry (self-weight off), see benchmarks/calculix_rig.py",
+        "generator": "benchmarks/calculix_rig.py", "oov_x_mm": OOV_X_MM, "cases": list(FILE_CASES),
+        "stations": FILE_STATIONS, "sets": manifest}, indent=1) + "\n")
     log(f"wrote {len(manifest)} data sets to {out}")
     return manifest
 
