@@ -46,10 +46,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -574,13 +576,26 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", action="store_true", help="compare ccx with rvcoax on the unmodified rig")
     parser.add_argument("--out", default="", help="write the hidden-effect data sets to this folder")
+    parser.add_argument("--no-record", action="store_true", help="print only (no RESULTS.md block)")
     parser.add_argument("--keep", default="", help="keep the unmodified rig's deck and ccx output in this folder")
     args = parser.parse_args()
     require_ccx()
     if args.keep:
         solve_units(truth_rig(), Path(args.keep))
     if args.compare:
-        print(json.dumps(compare(), indent=1))
+        start = time.perf_counter()
+        figures = compare()
+        seconds = time.perf_counter() - start
+        if not args.no_record:
+            from machine import record
+            rows = [(f"RMS(ccx − rvcoax)/RMS(rvcoax), {name}", f"{100 * v['rms_relative']:.3f} %") for name, v in
+                    figures.items()]
+            rows += [(f"Y_max relative difference, worst of the 20 cases, {name}", f"{100 * v['ymax_relative_worst']:+.3f} %")
+                     for name, v in figures.items()]
+            rows += [("ccx model", f"B32R beams ≤ {ELEMENT_MM:g} mm (expanded to C3D20R), SPRING1/SPRING2, one run of 4 steps"),
+                     ("compare, end to end (ccx run + 2 beam sweeps)", f"{seconds:.1f} s"),
+                     ("load average (1, 5, 15 min)", ", ".join(f"{v:.2f}" for v in os.getloadavg()))]
+            record("CalculiX against the beam model on the reference rig (benchmarks/calculix_rig.py --compare)", rows)
     if args.out:
         write_sets(Path(args.out))
 
