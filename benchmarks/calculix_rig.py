@@ -63,6 +63,7 @@ import blind_data  # noqa: E402
 
 from rvcoax.geometry import MEASURED_SHAFTS  # noqa: E402
 from rvcoax.geometry.effects import candidate_effects  # noqa: E402
+from rvcoax.geometry.model.beam import attachment_positions  # noqa: E402
 from rvcoax.geometry.model.loads import located_unit_loads  # noqa: E402
 from rvcoax.geometry.schema import Rig  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases  # noqa: E402
@@ -103,16 +104,7 @@ class Deck:
 
 
 def _referenced(rig: Rig) -> dict[str, list[float]]:
-    refs: dict[str, list[float]] = {p.name: [] for p in rig.parts}
-    for b in rig.bearings:
-        refs[b.shaft].append(b.x_mm)
-        if b.housing != "ground":
-            refs[b.housing].append(b.x_mm)
-    for m in rig.mounts:
-        refs[m.part].append(m.x_mm)
-    for c in list(rig.couplings) + list(rig.joints):
-        refs[c.from_.part].append(c.from_.x_mm)
-        refs[c.to.part].append(c.to.x_mm)
+    refs = attachment_positions(rig)  # where bearings, mounts, couplings and joints attach, by part (rig data)
     for loads in located_unit_loads(rig).values():
         for load in loads:
             refs[load.part].append(load.x_mm)
