@@ -480,9 +480,12 @@ FILE_CASES = (0, 3, 6, 9, 12, 15, 19)  # 7 of paper 000's cases
 FILE_STATIONS = 6
 
 
-def _with_oov(rig: Rig, size: float) -> Rig:
-    data = blind_data._load_rig(rig, ("hidden", "proportional", OOV_X_MM, False)).model_dump(by_alias=True)
-    data["torque_lateral_loads"][-1]["force_per_torque_N_per_Nm"] = size
+def _with_oov(rig: Rig, size: float, kind: str = "proportional", x_mm: float = OOV_X_MM) -> Rig:
+    """``rig`` with a lateral load ∝ T2 of ``size`` N per N·m at ``x_mm`` on the output shaft (``couple``: +size at
+    x − 15 mm and −size at x + 15 mm)."""
+    data = blind_data._load_rig(rig, ("hidden", kind, x_mm, False)).model_dump(by_alias=True)
+    for i, entry in enumerate(data["torque_lateral_loads"][-(2 if kind == "couple" else 1):]):
+        entry["force_per_torque_N_per_Nm"] = size * (-1.0 if i else 1.0)
     return Rig.model_validate(data)
 
 
@@ -493,12 +496,13 @@ def _relative_change(delta: np.ndarray, base: np.ndarray, sizes: list[int]) -> f
                for i, j in zip(edges[:-1], edges[1:]))
 
 
-def detectability(paths: np.ndarray, base: np.ndarray, layout, schema: str, noise: float, cases) -> float:
+def detectability(paths: np.ndarray, base: np.ndarray, layout, schema: str, noise: float, cases,
+                  stations: int = FILE_STATIONS) -> float:
     """RMS of the noise-free hidden change over the file's observations in units of σ, σ² = (noise × RMS of the
     shaft's values)² + (2 % of the value)² (the workflow's model-form allowance), as ``blind_data.detectability``:
     below 1 the file cannot carry the effect and ``no_gap`` is right too."""
-    _, hidden = blind_data._observe(paths, layout, "aligned_at_rest", schema, cases, FILE_STATIONS)
-    template, plain = blind_data._observe(base, layout, "aligned_at_rest", schema, cases, FILE_STATIONS)
+    _, hidden = blind_data._observe(paths, layout, "aligned_at_rest", schema, cases, stations)
+    template, plain = blind_data._observe(base, layout, "aligned_at_rest", schema, cases, stations)
     sigma = np.zeros_like(hidden)
     for s in MEASURED_SHAFTS:
         mask = template.shaft == s
@@ -506,9 +510,30 @@ def detectability(paths: np.ndarray, base: np.ndarray, layout, schema: str, nois
     return float(np.sqrt(np.mean(((hidden - plain) / np.maximum(sigma, 1e-300)) ** 2)))
 
 
-def write_sets(out: Path, log=print) -> list[dict]:
-    """Solve the hidden effects with ccx and write every data set of :data:`SETS` and ``manifest.json``."""
-    cases = tuple(paper_cases()[i] for i in FILE_CASES)
+def _hidden_change(rig: Rig, effects: dict, name: str, value: float, base, solve, sizes, log) -> tuple:
+    """ccx change of the paths by vocabulary effect ``name`` (a linear one scaled to :data:`TARGET`), its value."""
+    units, _ = solve_units(effects[name].apply(rig, [value]))
+    delta = case_paths(units, solve) - base
+    if effects[name].linear:
+        p = effects[name].parameters[0]
+        scaled = float(np.clip(value * TARGET / _relative_change(delta, base, sizes), p.lower, p.upper))
+        delta, value = delta * scaled / value, scaled
+    log(f"  ccx: {name} = {value:.4g}: {100 * _relative_change(delta, base, sizes):.1f} % of the signal")
+    return delta, value
+
+
+def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_CASES, stations=FILE_STATIONS,
+               log=print) -> list[dict]:
+    """Solve the hidden effects with ccx and write every data set and ``manifest.json``.
+
+    ``sets``: (name, truth, out-of-vocabulary load name or "", schema, noise, notation, datum, seed) rows (default the
+    committed :data:`SETS`); ``hidden``: effect name → the value it is first solved at (default :data:`HIDDEN`);
+    ``loads``: out-of-vocabulary load name → (kind, x mm) (``proportional`` ∝ T2, or a ``couple`` 30 mm apart)."""
+    sets = sets or [(name, truth, OOV if oov else "", schema, noise, notation, "aligned_at_rest", seed)
+                    for seed, (name, truth, oov, schema, noise, notation) in enumerate(SETS)]
+    hidden = hidden or HIDDEN
+    loads = loads or {OOV: ("proportional", OOV_X_MM)}
+    cases = tuple(paper_cases()[i] for i in case_indices)
     solve = (blind_data.REST, *paper_cases())  # blind_data picks the files' cases from all of paper 000's
     rig = truth_rig()
     effects = {e.name: e for e in candidate_effects(rig)}
@@ -517,24 +542,17 @@ def write_sets(out: Path, log=print) -> list[dict]:
     base = case_paths(units, solve)
     layout = layout_for(deck, len(solve))
     deltas, values = {}, {}
-    for name, value in HIDDEN.items():
-        units, _ = solve_units(effects[name].apply(rig, [value]))
+    for name, value in hidden.items():
+        deltas[name], values[name] = _hidden_change(rig, effects, name, value, base, solve, sizes, log)
+    for load, (kind, x_mm) in loads.items():
+        units, _ = solve_units(_with_oov(rig, 1.0, kind, x_mm))
         delta = case_paths(units, solve) - base
-        if effects[name].linear:
-            p = effects[name].parameters[0]
-            scaled = float(np.clip(value * TARGET / _relative_change(delta, base, sizes), p.lower, p.upper))
-            delta, value = delta * scaled / value, scaled
-        deltas[name], values[name] = delta, value
-        log(f"  ccx: {name} = {value:.4g}: {100 * _relative_change(delta, base, sizes):.1f} % of the signal")
-    units, _ = solve_units(_with_oov(rig, 1.0))
-    delta = case_paths(units, solve) - base
-    values[OOV] = TARGET / _relative_change(delta, base, sizes)
-    deltas[OOV] = delta * values[OOV]
-    log(f"  ccx: {OOV}: {values[OOV]:.4g} N per N·m of T2")
-    paired = set()
-    for _, truth, _, _, _, _ in SETS:  # a pair with a nonlinear member is solved directly, not superposed
-        if len(truth) == 2 and truth not in paired:
-            paired.add(truth)
+        values[load] = TARGET / _relative_change(delta, base, sizes)
+        deltas[load] = delta * values[load]
+        log(f"  ccx: {load}: {values[load]:.4g} N per N·m of T2")
+    for row in sets:  # a pair is solved directly (a bearing stiffness is not linear), not superposed
+        truth = tuple(row[1])
+        if len(truth) == 2 and truth not in deltas:
             both = rig
             for member in truth:
                 both = effects[member].apply(both, [values[member]])
@@ -542,32 +560,66 @@ def write_sets(out: Path, log=print) -> list[dict]:
             deltas[truth] = case_paths(units, solve) - base
     out.mkdir(parents=True, exist_ok=True)
     manifest = []
-    for seed, (name, truth, oov, schema, noise, notation) in enumerate(SETS):
-        key = OOV if oov else truth if len(truth) == 2 else truth[0] if truth else None
+    for name, truth, load, schema, noise, notation, datum, seed in sets:
+        truth = tuple(truth)
+        key = load if load else truth if len(truth) == 2 else truth[0] if truth else None
         paths = base + (deltas[key] if key is not None else 0.0)
-        template, noisy = blind_data.noisy_observations(paths, layout, "aligned_at_rest", schema, noise, seed, cases,
-                                                        FILE_STATIONS)
+        template, noisy = blind_data.noisy_observations(paths, layout, datum, schema, noise, seed, cases, stations)
         (out / f"{name}.csv").write_text(blind_data.csv_text(template, noisy, notation, seed))
-        detect = detectability(paths, base, layout, schema, noise, cases)
-        group = "out_of_vocabulary" if oov else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary"
+        detect = detectability(paths, base, layout, schema, noise, cases, stations)
+        group = "out_of_vocabulary" if load else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary"
         manifest.append({"id": name, "file": f"{name}.csv", "group": group, "truth": list(truth),
-                         "load": OOV if oov else "", "datum": "aligned_at_rest", "schema": schema, "noise": noise,
+                         "load": load, "datum": datum, "schema": schema, "noise": noise,
                          "seed": seed, "notation": notation,
-                         "values": {n: round(values[n], 6) for n in ((OOV,) if oov else truth)},
-                         "detectability": round(detect, 3), "detectable": not truth and not oov or detect >= 1.0})
+                         "values": {n: round(values[n], 6) for n in ((load,) if load else truth)},
+                         "detectability": round(detect, 3), "detectable": not truth and not load or detect >= 1.0})
     (out / "manifest.json").write_text(json.dumps({
         "model": "CalculiX ccx: B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs built from the reference "
                  "rig's geometry (self-weight off), see benchmarks/calculix_rig.py",
-        "generator": "benchmarks/calculix_rig.py", "oov_x_mm": OOV_X_MM, "cases": list(FILE_CASES),
-        "stations": FILE_STATIONS, "sets": manifest}, indent=1) + "\n")
+        "generator": "benchmarks/calculix_rig.py", "oov_x_mm": OOV_X_MM, "cases": list(case_indices),
+        "stations": stations, "sets": manifest}, indent=1) + "\n")
     log(f"wrote {len(manifest)} data sets to {out}")
     return manifest
+
+
+# the larger benchmark set (--full): not committed, scored by bench_discrepancy_blind.py --sets DIR
+FULL_HIDDEN = {
+    "bearing_stiffness@input_B1": -2.0, "bearing_stiffness@output_B1": -2.0, "bearing_stiffness@output_B2": -2.0,
+    "mount_compliance@reducer": 10.0, "mount_compliance@output_bearing_block": 10.0,
+    "torque_reaction@input_bearing_block": 2.0, "torque_reaction@reducer": 2.0,
+    "torque_reaction@output_bearing_block": 2.0, "mesh_force@reducer_input": 2.0,
+    "mesh_position_error@sun_gear_load_sharing": 1.0, "mesh_position_error@crankshaft_load_sharing": 1.0,
+}
+FULL_PAIRS = (("bearing_stiffness@output_B2", "mesh_force@reducer_input"),
+              ("mesh_force@reducer_input", "torque_reaction@output_bearing_block"),
+              ("bearing_stiffness@input_B1", "torque_reaction@output_bearing_block"),
+              ("mesh_position_error@sun_gear_load_sharing", "torque_reaction@reducer"))
+FULL_LOADS = {"lateral_T2@output_x35": ("proportional", 440.0), "lateral_T2@output_x80": ("proportional", 485.0),
+              "lateral_T2@output_x135": ("proportional", 540.0), "moment_T2@output_x80": ("couple", 485.0)}
+
+
+def full_design() -> list[tuple]:
+    """Every kind above, none, pairs and out-of-vocabulary loads; both schemas, both datums, 1 % and 5 % noise;
+    paper 000's 20 cases, 11 stations per shaft; notations rotate."""
+    items = [((name,), "", seed) for name in FULL_HIDDEN for seed in (0, 1)]
+    items += [(pair, "", 0) for pair in FULL_PAIRS] + [((), load, 0) for load in FULL_LOADS]
+    items += [((), "", seed) for seed in (0, 1, 2)]
+    notations = ("fixed", "e", "E", "mixed")
+    rows = []
+    for truth, load, seed in items:
+        for datum in blind_data.DATUMS:
+            for schema in blind_data.SCHEMAS:
+                for noise in blind_data.NOISES:
+                    k = len(rows)
+                    rows.append((f"{k:03d}", truth, load, schema, noise, notations[k % 4], datum, 100 * seed + k))
+    return rows
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", action="store_true", help="compare ccx with rvcoax on the unmodified rig")
     parser.add_argument("--out", default="", help="write the hidden-effect data sets to this folder")
+    parser.add_argument("--full", default="", help="write the larger benchmark set (about 200 files) to this folder")
     parser.add_argument("--no-record", action="store_true", help="print only (no RESULTS.md block)")
     parser.add_argument("--keep", default="", help="keep the unmodified rig's deck and ccx output in this folder")
     args = parser.parse_args()
@@ -590,6 +642,8 @@ def main() -> None:
             record("CalculiX against the beam model on the reference rig (benchmarks/calculix_rig.py --compare)", rows)
     if args.out:
         write_sets(Path(args.out))
+    if args.full:
+        write_sets(Path(args.full), full_design(), FULL_HIDDEN, FULL_LOADS, tuple(range(20)), blind_data.STATIONS)
 
 
 if __name__ == "__main__":
