@@ -5,7 +5,7 @@ from the rig's **geometry** (the parsed rig file), not from rvcoax's assembled m
 
 - every part is a line of ``B32R`` beams (3-node, quadratic) on the axis, nodes at its segment ends, at
   every position something attaches or a load acts, at the path stations, and in between at most
-  ``--element-mm`` apart; each element gets ``*BEAM SECTION, SECTION=CIRC`` (solid: CalculiX reads the
+  ``ELEMENT_MM`` (5 mm) apart; each element gets ``*BEAM SECTION, SECTION=CIRC`` (solid: CalculiX reads the
   two *diameters*) or ``SECTION=PIPE`` (hollow: outer radius, wall thickness) and the part's material
   (E, ν from the rig's table). CalculiX expands each beam into 20-node bricks (C3D20R): its bending and
   shear come from 3-D elasticity over an 8-node section, not from beam theory — the model-form
@@ -13,12 +13,15 @@ from the rig's **geometry** (the parsed rig file), not from rvcoax's assembled m
 - every bearing, mount, coupling and joint is a set of ``SPRING2``/``SPRING1`` elements (``*SPRING``
   with a direction): the radial (Y, Z) stiffness as two springs at ``x ± d`` on stiff beam arms
   (E × 1000) fixed to the attachment node, each carrying half the stiffness, with
-  ``d = sqrt(k_rot / k_trans)`` so that the pair also has the item's tilt stiffness; an item with
-  tilt but no radial stiffness, or radial stiffness but no tilt, is one spring at the node (tilt
-  alone cannot be represented this way and is refused); the axial stiffness is one spring
-  in X at the node. Torsion does not couple to bending in a straight coaxial line, so every part's
-  rotation about x is held at one node instead of modelling the torsional springs, and the torques
-  themselves are not applied;
+  ``d = sqrt(k_rot / k_trans)`` so that the pair also has the item's tilt stiffness (k d²); an item with
+  radial stiffness but no tilt is one spring at the node (tilt alone cannot be represented this way and
+  is refused); a coupling's springs act at its centre, on stiff links to its two hubs; the axial
+  stiffness is one spring in X at the node. Every node that carries a spring or a point load gets a short
+  radial stub beam, so that CalculiX makes it a *knot* (a rigid section): on a plain expanded node the
+  force would dent the 8-node section locally (7 nm at input_B2 on the reference rig, 17 % of the input
+  shaft's Y). Torsion does not couple to bending in a straight coaxial line: the torsional springs and the
+  torques themselves are left out, and every part's rotation about x is held by a soft tangential spring
+  (10 N·m/rad) on a radial arm (a rotation boundary condition on an expanded node would clamp its bending);
 - loads: the rig's lateral loads per unit torque and the constant ``engaged`` loads of its reducer
   (``rvcoax.geometry.model.loads.located_unit_loads``: the load-sharing forces, and any hidden lateral
   load a test adds to the rig), a force on a band spread over the nodes in the band by trapezoid weights.
@@ -35,7 +38,13 @@ table) by ``blind_data.noisy_observations`` / ``csv_text`` — the files the ``d
 Usage::
 
     python benchmarks/calculix_rig.py --compare          # the unmodified reference rig: ccx against rvcoax
-    python benchmarks/calculix_rig.py --out tests/results/data/calculix   # write the data sets + manifest
+    python benchmarks/calculix_rig.py --out tests/results/data/calculix   # the 13 committed files + manifest
+    python benchmarks/calculix_rig.py --full .blindcache/calculix         # 264 files for the benchmark
+    python benchmarks/bench_discrepancy_blind.py --sets .blindcache/calculix   # score the workflow on them
+
+The comparison (``--compare``) appends its figures to benchmarks/RESULTS.md (``--no-record``: print only).
+Coupling offsets and angles, raised mounts, thermal growth, self-weight and bearing clearances are not
+generated: the deck has no prestrain, gravity or gap elements.
 
 Needs CalculiX's ``ccx`` on the PATH (Debian: ``apt-get install calculix-ccx``); without it the script
 says so and exits with status 2.
