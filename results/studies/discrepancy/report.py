@@ -89,11 +89,17 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
             text += (f" — or, equally well on these data, one of {len(s.group) - 1} look-alike(s): "
                      + ", ".join(g for g in s.group if g != s.name))
         lines.append(("named: " if s.confident else "candidate: ") + text)
+    if result.sentinel_at and result.sentinel is not None:
+        lines.append(f"the best generic load ({result.sentinel.describe()}) acts where {', '.join(result.sentinel_at)} "
+                     "already puts its load: taken as that load, spread or reacted a little differently than modelled"
+                     + ("" if result.sentinel_elsewhere is None else
+                        f"; away from there the best is {result.sentinel_elsewhere.describe()}"))
+    shown = result.verdict_sentinel
     if result.verdict == "unexplained":
-        if result.sentinel is not None:
-            lines.append(f"what the data do show: {result.sentinel.describe()}; no effect in the vocabulary produces "
+        if shown is not None:
+            lines.append(f"what the data do show: {shown.describe()}; no effect in the vocabulary produces "
                          "it" if any("generic load" in r or "cancel" in r for r in result.reasons) else
-                         f"closest generic load: {result.sentinel.describe()}")
+                         f"closest generic load: {shown.describe()}")
         lines.append("not explained: " + "; ".join(result.reasons))
     return lines
 
@@ -119,8 +125,8 @@ def observability_document(result: DiscrepancyResult) -> dict:
     }
 
 
-def sentinel_document(result: DiscrepancyResult) -> dict | None:
-    s = result.sentinel
+def sentinel_document(result: DiscrepancyResult, s=None) -> dict | None:
+    s = result.sentinel if s is None else s
     if s is None:
         return None
     return {"description": s.describe(), "family": s.family, "part": s.part, "part_role": s.role, "x_mm": s.x_mm,
@@ -165,6 +171,9 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
         "observability": observability_document(result),
         "signature_groups": [list(g) for g in result.parallel_groups],
         "sentinel": sentinel_document(result),
+        "sentinel_at_named_load": list(result.sentinel_at),
+        "sentinel_away_from_named_loads": sentinel_document(result, result.sentinel_elsewhere)
+        if result.sentinel_at else None,
         "cross_validation": {
             "vocabulary": None if result.cross_validation is None else result.cross_validation.as_dict(),
             "sentinel": None if result.sentinel_cross_validation is None else result.sentinel_cross_validation.as_dict()},

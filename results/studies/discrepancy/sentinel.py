@@ -28,7 +28,8 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques
 from rvcoax.results.studies.discrepancy.engine import case_matrix
 
-__all__ = ["CrossValidation", "SentinelFit", "case_folds", "fit_sentinel", "linear_observation"]
+__all__ = ["CrossValidation", "SentinelFit", "case_folds", "fit_sentinel", "linear_observation", "scan_spacing_mm",
+           "site_in"]
 
 SLOTS = {"constant": "force_table", "T1": "T1", "T2": "T2"}  # a constant load acts like the rest loads
 FAMILIES = {"force": (1, "N"), "moment": (5, "N·m")}
@@ -104,13 +105,28 @@ def _columns(engine, sites, component, cases, from_rest, operator) -> dict[str, 
     return out
 
 
-def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool) -> SentinelFit | None:
-    """The best sentinel on the observations ``rows`` (see the module docstring)."""
+def scan_spacing_mm(sites, part: str) -> float:
+    """The distance between neighbouring sentinel sites on ``part`` (the scan's resolution along x)."""
+    x = np.sort([s[1] for s in sites if s[0] == part])
+    return float(np.median(np.diff(x))) if x.size > 1 else 0.0
+
+
+def site_in(site, regions) -> bool:
+    """Whether a sentinel site (part, x_mm, …) lies in one of ``regions`` ((part, lo_mm, hi_mm), …)."""
+    return any(site[0] == part and lo <= site[1] <= hi for part, lo, hi in regions)
+
+
+def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool,
+                 exclude: tuple[tuple[str, float, float], ...] = ()) -> SentinelFit | None:
+    """The best sentinel on the observations ``rows`` (see the module docstring), scanned over every site
+    except those in ``exclude`` ((part, lo_mm, hi_mm), …)."""
     operator = linear_observation(observe, base_paths)
     residual = ((data.value_mm - observe(base_paths)) / sigma)
     target = residual[rows]
     n = int(np.count_nonzero(rows))
-    sites = engine.sentinel_sites()
+    sites = [s for s in engine.sentinel_sites() if not site_in(s, exclude)]
+    if not sites:
+        return None
     best = None
     total = float(target @ target)
     for family, (component, _) in FAMILIES.items():

@@ -59,7 +59,9 @@ from rvcoax.results.studies.discrepancy.sentinel import (
     case_folds,
     cross_validate,
     fit_sentinel,
+    scan_spacing_mm,
     sentinel_columns,
+    site_in,
 )
 from rvcoax.results.sweep import ModelError, SweepSettings
 
@@ -229,6 +231,14 @@ class DiscrepancyResult:
     sentinel_cross_validation: CrossValidation | None = None
     reasons: tuple[str, ...] = ()
     vocabulary_chi2: float | None = None
+    sentinel_elsewhere: SentinelFit | None = None
+    sentinel_at: tuple[str, ...] = ()
+
+    @property
+    def verdict_sentinel(self) -> SentinelFit | None:
+        """The generic load the verdict compared the vocabulary with: the best one, or, when that one acts where a
+        named effect already puts its load (``sentinel_at``), the best one away from there."""
+        return self.sentinel_elsewhere if self.sentinel_at else self.sentinel
 
     def rms_mm(self, which: str, rows: np.ndarray | None = None) -> dict[str, float]:
         """RMS of measured − model per shaft (``which`` = before | after) over ``rows`` (default all)."""
@@ -578,8 +588,23 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     test_held = gap_test(((data.value_mm - after) / sigma)[held], settings.alpha) if held.any() else None
     cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), scaled_before, folds) \
         if fitted and all(n in responses for n, _ in fitted) else None
-    verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma, sentinel, cv,
-                                settings, effects_by_name)
+    # a generic load where a named effect already puts its load (a mesh force's teeth, a reaction) is that
+    # effect's load with a model-form difference in how it is spread or reacted, not a load outside the
+    # vocabulary: the verdict then compares with the best generic load away from there
+    sentinel_elsewhere, sentinel_at = None, ()
+    if sentinel is not None and fitted and engine is not None:
+        sites = engine.sentinel_sites()
+        regions = _load_regions(effects_by_name, rig, [n for n, _ in fitted], sites)
+        sentinel_at = tuple(n for n, r in regions.items() if site_in((sentinel.part, sentinel.x_mm), r))
+        if sentinel_at:
+            try:
+                sentinel_elsewhere = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest,
+                                                  exclude=tuple(x for r in regions.values() for x in r))
+            except CANDIDATE_FAILURES as error:
+                set_aside["sentinel"] = f"the generic load away from the named loads could not be fitted: {error}"
+    verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma,
+                                sentinel_elsewhere if sentinel_at else sentinel, cv, settings, effects_by_name,
+                                mimic=sentinel)
     final = []
     for s in selected:
         confident = verdict == "explained" and len(s.group) == 1
@@ -588,12 +613,42 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     return DiscrepancyResult(verdict, data, noise, fit_rows, before, after, test_before, test_after, test_held,
                              structure, tuple(final), tuple(steps), not_observable, rejected, set_aside,
                              tuple(discriminations), rig, current_rig, effects_by_name, seen, groups, sentinel, cv,
-                             sentinel_cv, tuple(reasons), vocabulary_chi2)
+                             sentinel_cv, tuple(reasons), vocabulary_chi2, sentinel_elsewhere, sentinel_at)
+
+
+def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tuple[str, float, float], ...]]:
+    """Where each named effect puts a lateral load on the rig: (part, lo_mm, hi_mm) of every load it adds or
+    changes, at its ``on`` and ``reacted_on`` places (the band of the teeth where given), widened by the
+    sentinel scan's spacing on that part (the scan cannot place a load more finely)."""
+    before = {t.name: t for t in rig.torque_lateral_loads}
+    out = {}
+    for name in names:
+        effect = effects_by_name[name]
+        try:
+            changed = effect.apply(rig, [p.typical for p in effect.parameters])
+        except CANDIDATE_FAILURES:
+            continue
+        regions = []
+        for load in changed.torque_lateral_loads:
+            if before.get(load.name) == load:
+                continue
+            for place in (load.on, load.reacted_on):
+                if place is None:
+                    continue
+                lo, hi = place.band_mm if place.band_mm is not None else (place.x_mm, place.x_mm)
+                pad = scan_spacing_mm(sites, place.part)
+                regions.append((place.part, float(lo) - pad, float(hi) + pad))
+        if regions:
+            out[name] = tuple(regions)
+    return out
 
 
 def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings,
-             effects: dict | None = None):
-    """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last."""
+             effects: dict | None = None, mimic=None):
+    """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
+
+    ``sentinel`` is the generic load the vocabulary must beat; ``mimic`` (default ``sentinel``) the best generic
+    load anywhere, which tells whether effects that cancel each other mimic a load's shape."""
     if not test_before.gap:
         return "no_gap", []
     reasons = []
@@ -601,13 +656,17 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
         reasons.append("no effect of the vocabulary improves the fit by the margin")
     if test_after.gap:
         reasons.append(f"the gap left is beyond the noise and the model-form allowance ({test_after.describe()})")
-    reasons += _fighting_pairs(problem, fitted)
+    mimic = sentinel if mimic is None else mimic
+    rows = problem.rows
+    chi2 = float(np.sum((((data.value_mm - after) / sigma)[rows]) ** 2))
+    k = int(sum(np.atleast_1d(v).size for _, v in fitted))
+    bic = chi2 + k * np.log(max(rows.size, 2))
+    # effects that cancel each other mimic a shape only if some simpler load makes that shape: when every single
+    # generic load fits far worse than the pair, the two oppose each other in the data, as real effects may
+    if mimic is None or mimic.bic < bic + settings.bic_margin:
+        reasons += _fighting_pairs(problem, fitted)
     reasons += _opposite_loads(fitted, effects or {})
     if fitted:
-        rows = problem.rows
-        chi2 = float(np.sum((((data.value_mm - after) / sigma)[rows]) ** 2))
-        k = int(sum(np.atleast_1d(v).size for _, v in fitted))
-        bic = chi2 + k * np.log(max(rows.size, 2))
         if sentinel is not None:
             if sentinel.bic < bic - settings.bic_margin:
                 reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
