@@ -197,6 +197,46 @@ def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexpl
     assert document["rig_file_is_candidate"] is True
 
 
+def test_the_places_where_named_effects_load_the_rig(rig):
+    """A mesh force acts on the input shaft's teeth band and is reacted on the reducer; the places are widened by
+    the sentinel scan's spacing. A lift of a housing puts no lateral load anywhere."""
+    from rvcoax.results.studies.discrepancy.sentinel import scan_spacing_mm, site_in
+    from rvcoax.results.studies.discrepancy.workflow import _load_regions
+
+    effects = {e.name: e for e in candidate_effects(rig)}
+    sites = [("input_shaft", float(x), 0) for x in np.arange(0.0, 361.0, 15.0)] + [("reducer", 320.0, 0),
+                                                                                    ("reducer", 340.0, 0)]
+    assert scan_spacing_mm(sites, "input_shaft") == 15.0
+    regions = _load_regions(effects, rig, ["mesh_force@reducer_input", "thermal_growth@output_bearing_block"], sites)
+    assert set(regions) == {"mesh_force@reducer_input"}
+    assert regions["mesh_force@reducer_input"] == (("input_shaft", 307.0, 355.0), ("reducer", 310.0, 350.0))
+    assert site_in(("input_shaft", 340.0), regions["mesh_force@reducer_input"])
+    assert not site_in(("input_shaft", 300.0), regions["mesh_force@reducer_input"])
+    assert not site_in(("output_shaft", 340.0), regions["mesh_force@reducer_input"])
+
+
+@pytest.mark.slow
+def test_a_mesh_force_spread_over_its_teeth_is_the_mesh_force_not_a_load_outside_the_vocabulary(rig, library):
+    """Data whose mesh force is spread over the teeth band and carried by the supports (the model puts it at one
+    node, reacted on the reducer): a generic load in the band fits better than the vocabulary by far more than the
+    BIC margin, but it is where the named mesh force acts, so it is that force with another form; away from the
+    band no generic load comes near. The verdict names the mesh force (its look-alikes with it)."""
+    data = rig.model_dump(by_alias=True)
+    for i, x in enumerate((324.0, 332.0, 340.0)):
+        data["torque_lateral_loads"].append({"name": f"spread_{i}", "torque": "T1", "kind": "proportional",
+                                             "on": {"part": "input_shaft", "x_mm": x},
+                                             "force_per_torque_N_per_Nm": 2.0 / 3})
+    result = run_discrepancy(rig, unseen_data(Rig.model_validate(data), 0.01, seed=3), DiscrepancySettings(),
+                             library=library)
+    chi2 = result.vocabulary_chi2 + sum(len(s.values) for s in result.selected) * np.log(result.data.n)
+    assert result.sentinel.bic < chi2 - 50  # the comparison with the best generic load anywhere would call it
+    assert result.sentinel.part == "input_shaft" and 322 <= result.sentinel.x_mm <= 340
+    assert result.sentinel_at == ("mesh_force@reducer_input",)
+    assert result.sentinel_elsewhere.bic > chi2 + 100
+    assert result.verdict == "explained", result.reasons
+    assert result.selected[0].name == "mesh_force@reducer_input" and 1.5 < result.selected[0].values[0] < 2.5
+
+
 def make_hybrid_fixture(path: Path = HYBRID_FIXTURE) -> None:
     """Write the hybrid-model fixture: the test rig solved with ``SweepSettings(model="hybrid")`` (solid housings,
     ≈ 100 s) with 2 N per N·m of T2 at x = 470 mm on the output shaft, noise-free, at the test's stations."""

@@ -647,8 +647,9 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
              effects: dict | None = None, mimic=None):
     """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
 
-    ``sentinel`` is the generic load the vocabulary must beat; ``mimic`` (default ``sentinel``) the best generic
-    load anywhere, which tells whether effects that cancel each other mimic a load's shape."""
+    ``sentinel`` is the generic load the vocabulary must beat by the BIC margin; ``mimic`` (default ``sentinel``)
+    the best generic load anywhere, which tells whether effects that cancel each other mimic a load's shape and
+    whether the vocabulary needs more parameters than one load for a fit as good."""
     if not test_before.gap:
         return "no_gap", []
     reasons = []
@@ -667,13 +668,16 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
         reasons += _fighting_pairs(problem, fitted)
     reasons += _opposite_loads(fitted, effects or {})
     if fitted:
-        if sentinel is not None:
-            if sentinel.bic < bic - settings.bic_margin:
-                reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
-                               f"against {bic:.4g})")
-            elif k > sentinel.k and (sentinel.bic < bic or stats.chi2.sf(sentinel.chi2, sentinel.n) >= settings.alpha):
-                reasons.append(f"the vocabulary needs {k} parameters where one generic load needs {sentinel.k} for a "
-                               f"fit as good (χ² {chi2:.4g} against {sentinel.chi2:.4g})")
+        better = sentinel is not None and sentinel.bic < bic - settings.bic_margin
+        if better:
+            reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
+                           f"against {bic:.4g})")
+        # more parameters than one generic load for a fit as good: judged against the best generic load anywhere,
+        # also where a named effect puts its load (a named load and spurious companions mimicking its form)
+        elif mimic is not None and k > mimic.k \
+                and (mimic.bic < bic or stats.chi2.sf(mimic.chi2, mimic.n) >= settings.alpha):
+            reasons.append(f"the vocabulary needs {k} parameters where one generic load needs {mimic.k} for a "
+                           f"fit as good (χ² {chi2:.4g} against {mimic.chi2:.4g})")
         if cv is not None and not cv.improves:
             reasons.append(f"held-out load cases do not improve (χ² {cv.chi2_before:.4g} → {cv.chi2_after:.4g})")
         residual = data.value_mm - after
