@@ -273,9 +273,24 @@ class Engine:
         """Full paths of ``rig`` (the base rig's structure with a clearance, or any rig) by a real sweep."""
         from rvcoax.results.studies.discrepancy.responses import full_paths
 
-        same_structure = self.system.kind == "beam" and _same_but_clearance(self.rig, rig)
+        same_structure = (self.system.kind == "beam" and _same_but_clearance(self.rig, rig)
+                          and _loads_on_nodes(self.system.frame, rig))
         sweep = run_sweep(rig, tuple(cases), self.settings, prepared=self.prepared if same_structure else None)
         return full_paths(sweep)[0]
+
+
+def _loads_on_nodes(frame, rig) -> bool:
+    """True when every place a lateral load of ``rig`` acts on is a node of ``frame`` (a load added at a new place,
+    e.g. a torque reaction at a housing's middle, needs the rig meshed anew)."""
+    for load in rig.torque_lateral_loads:
+        for place in (load.on, load.reacted_on):
+            if place is None:
+                continue
+            try:
+                frame.node(place.part, place.x_mm)
+            except KeyError:
+                return False
+    return True
 
 
 def _same_but_clearance(base, rig) -> bool:
@@ -295,6 +310,11 @@ def _same_but_clearance(base, rig) -> bool:
     return a == b
 
 
+def rig_is_linear(rig) -> bool:
+    """True when the rig's response is linear in its loads: no bearing with a clearance, no ball bearing."""
+    return not any(b.radial_clearance_um > 0 or getattr(b, "model", "linear") == "ball" for b in rig.bearings)
+
+
 def prepare_engine(rig, settings: SweepSettings) -> Engine:
     """Assemble and factorise ``rig`` once and solve its unit loads."""
     prepared = prepare_model(rig, settings)
@@ -302,7 +322,7 @@ def prepare_engine(rig, settings: SweepSettings) -> Engine:
     loads = np.column_stack([system.unit_loads[k] for k in UNIT_LOADS])
     unit = np.asarray(prepared.solve(loads))
     operator = sp.vstack([system.probes[s].uy for s in MEASURED_SHAFTS]).tocsr() * 1e3
-    linear = not any(b.radial_clearance_um > 0 or getattr(b, "model", "linear") == "ball" for b in rig.bearings)
+    linear = rig_is_linear(rig)
     for i, k in enumerate(UNIT_LOADS):
         reduced = system.elimination.T @ (system.stiffness @ unit[:, i] - loads[:, i])
         scale = np.linalg.norm(system.elimination.T @ loads[:, i])

@@ -65,7 +65,7 @@ from rvcoax.results.studies.discrepancy.sentinel import (
 )
 from rvcoax.results.sweep import ModelError, SweepSettings
 
-__all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_BYTES", "CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
+__all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_BYTES", "CASE_CANDIDATE_S", "NONLINEAR_CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
            "Discrimination", "OBSERVABLE_SIGMA", "OBSERVATION_BYTES", "OBSERVATION_S", "SelectedEffect",
            "build_library", "discrepancy_workload", "held_out_mask", "run_discrepancy"]
 
@@ -78,6 +78,10 @@ OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature
 # per observation 20 µs to parse and 5.3 µs per observation-operator build, built about 100 times per run
 # (each true-model evaluation of the refit): a 20,000-row paths file, results/studies/discrepancy/responses.py
 CASE_CANDIDATE_S = 0.006
+# on a nonlinear rig (ball bearings, clearances) every candidate is solved by real Newton sweeps, at its bound and on
+# a coarse grid: the reference rig with ball bearings and the paper's table (20 cases, 57 candidates) took 121 s on
+# the same machine (load average 3–5), ≈ 0.11 s per case and candidate
+NONLINEAR_CASE_CANDIDATE_S = 0.11
 OBSERVATION_S = 20e-6 + 100 * 5.3e-6
 # memory: a candidate keeps its change of every case's paths on a grid (12 × 82 stations × 8 bytes per case); the
 # sentinel holds each observation's response to a load at ≈ 375 sites, for 3 torque parts and their fit
@@ -269,7 +273,7 @@ class DiscrepancyResult:
         return out
 
 
-def discrepancy_workload(data: MeasuredData, n_candidates: int):
+def discrepancy_workload(data: MeasuredData, n_candidates: int, linear: bool = True):
     """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates.
 
     Parameters
@@ -278,6 +282,9 @@ def discrepancy_workload(data: MeasuredData, n_candidates: int):
         The measurements (:func:`read_measured`).
     n_candidates : int
         Candidate effects to solve.
+    linear : bool
+        Whether the rig is linear (one factorisation serves every candidate); a nonlinear rig (ball bearings,
+        clearances) solves each candidate by real sweeps (see ``rvcoax.results.studies.discrepancy.engine``).
 
     Returns
     -------
@@ -287,7 +294,8 @@ def discrepancy_workload(data: MeasuredData, n_candidates: int):
     from rvcoax.geometry.model.workload import BASE_BYTES, Workload, count_text
 
     cases = len(data.cases)
-    seconds = CASE_CANDIDATE_S * cases * max(n_candidates, 1) + OBSERVATION_S * data.n
+    per = CASE_CANDIDATE_S if linear else NONLINEAR_CASE_CANDIDATE_S
+    seconds = per * cases * max(n_candidates, 1) + OBSERVATION_S * data.n
     return Workload(f"{count_text(data.n)} observations in {count_text(cases)} load cases × {n_candidates} "
                     "candidate effects", seconds,
                     BASE_BYTES + OBSERVATION_BYTES * data.n + CASE_CANDIDATE_BYTES * cases * max(n_candidates, 1))
