@@ -215,6 +215,24 @@ def test_the_places_where_named_effects_load_the_rig(rig):
     assert not site_in(("output_shaft", 340.0), regions["mesh_force@reducer_input"])
 
 
+def test_opposite_loads_count_only_at_neighbouring_places(rig):
+    """Two torque reactions of opposite signs at neighbouring housings mimic a couple (a load between them); at
+    housings with another candidate's housing between them they do not (the vocabulary would load that one)."""
+    from rvcoax.results.studies.discrepancy.workflow import _load_x, _opposite_loads
+
+    effects = {e.name: e for e in candidate_effects(rig)}
+    places = _load_x(effects, rig)
+    assert places["mesh_force@reducer_input"] == 330.0
+    near = [("torque_reaction@output_bearing_block", np.array([12.0])),
+            ("torque_reaction@output_sensor_housing", np.array([-4.0]))]
+    far = [("torque_reaction@input_bearing_block", np.array([0.125])),
+           ("torque_reaction@output_sensor_housing", np.array([-0.576]))]
+    assert places[far[0][0]] < places["torque_reaction@reducer"] < places[far[1][0]]
+    assert len(_opposite_loads(near, effects, places)) == 1
+    assert _opposite_loads(far, effects, places) == []
+    assert len(_opposite_loads(far, effects)) == 1  # without places every pair counts
+
+
 @pytest.mark.slow
 def test_a_mesh_force_spread_over_its_teeth_is_the_mesh_force_not_a_load_outside_the_vocabulary(rig, library):
     """Data whose mesh force is spread over the teeth band and carried by the supports (the model puts it at one

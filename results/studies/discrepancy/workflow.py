@@ -382,9 +382,12 @@ FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them 
 STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
 
 
-def _opposite_loads(fitted: list[tuple[str, np.ndarray]], effects: dict) -> list[str]:
-    """Pairs of the same torque-proportional load (N per N·m) at two places with opposite signs: a force couple
-    between them, i.e. a localized load or moment that the vocabulary does not hold, mimicked by two reactions."""
+def _opposite_loads(fitted: list[tuple[str, np.ndarray]], effects: dict, places: dict | None = None) -> list[str]:
+    """Pairs of the same torque-proportional load (N per N·m) at two neighbouring places with opposite signs: a
+    force couple between them, i.e. a localized load or moment that the vocabulary does not hold, mimicked by two
+    reactions. ``places`` (name → x in mm of every such candidate) restricts the pairs to neighbours: no candidate
+    of the same kind acts between them (the vocabulary would put a load there itself); without it every pair
+    counts."""
     loads = {}
     for name, values in fitted:
         effect = effects.get(name)
@@ -395,6 +398,11 @@ def _opposite_loads(fitted: list[tuple[str, np.ndarray]], effects: dict) -> list
     for members in loads.values():
         for i, (a, va) in enumerate(members):
             for b, vb in members[i + 1:]:
+                if places and a in places and b in places:
+                    lo, hi = sorted((places[a], places[b]))
+                    kind = effects[a].kind
+                    if any(lo < x < hi for n, x in places.items() if effects[n].kind == kind):
+                        continue  # not neighbours
                 if va * vb < 0:
                     out.append(f"{a} and {b} are the same load at two places with opposite signs ({va:+.3g} and "
                                f"{vb:+.3g} N per N·m): a couple mimicking a load between them, not an explanation")
@@ -535,7 +543,9 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     problem = Problem(data.value_mm, sigma, base_paths, observe, responses, fit_rows)
     if test_before.gap:
         def no_gap_left(fit: Fit) -> bool:
-            return stats.chi2.sf(fit.chi2, fit.n) >= settings.alpha
+            # the same test as the verdict's: every row, the held-out ones predicted by the fit on the others
+            scaled = (data.value_mm - observe(problem.paths(fit.names, fit.values))) / sigma
+            return stats.chi2.sf(float(scaled @ scaled), scaled.size) >= settings.alpha
 
         while True:  # until the true model confirms the screening fit (a candidate that fails is set aside)
             candidates = [n for n in responses if n not in set_aside]
@@ -610,9 +620,11 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
                                                   exclude=tuple(x for r in regions.values() for x in r))
             except CANDIDATE_FAILURES as error:
                 set_aside["sentinel"] = f"the generic load away from the named loads could not be fitted: {error}"
+    kinds = [effects_by_name[n].kind for n, _ in fitted]
+    places = _load_x(effects_by_name, rig) if len(kinds) > len(set(kinds)) else None  # the same load at two places
     verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma,
                                 sentinel_elsewhere if sentinel_at else sentinel, cv, settings, effects_by_name,
-                                mimic=sentinel)
+                                mimic=sentinel, places=places)
     final = []
     for s in selected:
         confident = verdict == "explained" and len(s.group) == 1
@@ -624,22 +636,35 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
                              sentinel_cv, tuple(reasons), vocabulary_chi2, sentinel_elsewhere, sentinel_at)
 
 
+def _changed_loads(effect, rig) -> list:
+    """The lateral loads (torque_lateral_loads) that ``effect`` at its typical value adds to ``rig`` or changes."""
+    before = {t.name: t for t in rig.torque_lateral_loads}
+    try:
+        changed = effect.apply(rig, [p.typical for p in effect.parameters])
+    except CANDIDATE_FAILURES:
+        return []
+    return [load for load in changed.torque_lateral_loads if before.get(load.name) != load]
+
+
+def _load_x(effects_by_name: dict, rig) -> dict[str, float]:
+    """x (mm) where each torque-proportional load of the vocabulary (one parameter in N per N·m) acts."""
+    out = {}
+    for name, effect in effects_by_name.items():
+        if len(effect.parameters) == 1 and effect.parameters[0].unit == "N/(N·m)":
+            loads = _changed_loads(effect, rig)
+            if loads:
+                out[name] = float(loads[0].on.x_mm)
+    return out
+
+
 def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tuple[str, float, float], ...]]:
     """Where each named effect puts a lateral load on the rig: (part, lo_mm, hi_mm) of every load it adds or
     changes, at its ``on`` and ``reacted_on`` places (the band of the teeth where given), widened by the
     sentinel scan's spacing on that part (the scan cannot place a load more finely)."""
-    before = {t.name: t for t in rig.torque_lateral_loads}
     out = {}
     for name in names:
-        effect = effects_by_name[name]
-        try:
-            changed = effect.apply(rig, [p.typical for p in effect.parameters])
-        except CANDIDATE_FAILURES:
-            continue
         regions = []
-        for load in changed.torque_lateral_loads:
-            if before.get(load.name) == load:
-                continue
+        for load in _changed_loads(effects_by_name[name], rig):
             for place in (load.on, load.reacted_on):
                 if place is None:
                     continue
@@ -652,12 +677,13 @@ def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[t
 
 
 def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings,
-             effects: dict | None = None, mimic=None):
+             effects: dict | None = None, mimic=None, places: dict | None = None):
     """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
 
     ``sentinel`` is the generic load the vocabulary must beat by the BIC margin; ``mimic`` (default ``sentinel``)
     the best generic load anywhere, which tells whether effects that cancel each other mimic a load's shape and
-    whether the vocabulary needs more parameters than one load for a fit as good."""
+    whether the vocabulary needs more parameters than one load for a fit as good; ``places`` where the
+    vocabulary's torque-proportional loads act (:func:`_opposite_loads`)."""
     if not test_before.gap:
         return "no_gap", []
     reasons = []
@@ -674,7 +700,7 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
     # generic load fits far worse than the pair, the two oppose each other in the data, as real effects may
     if mimic is None or mimic.bic < bic + settings.bic_margin:
         reasons += _fighting_pairs(problem, fitted)
-    reasons += _opposite_loads(fitted, effects or {})
+    reasons += _opposite_loads(fitted, effects or {}, places)
     if fitted:
         better = sentinel is not None and sentinel.bic < bic - settings.bic_margin
         if better:
