@@ -168,11 +168,10 @@ def register(app: typer.Typer) -> None:
         from rvcoax.geometry import candidate_effects as library_of
         from rvcoax.geometry.model import REPORT_AFTER_S, check_workload
         from rvcoax.results.studies.discrepancy import discrepancy_workload
-        from rvcoax.results.studies.discrepancy.engine import rig_is_linear
 
         n_candidates = sum(1 for e in library_of(rig)
                            if candidates is None or e.name in candidates or e.kind in candidates)
-        workload = check_workload(discrepancy_workload(data, n_candidates, rig_is_linear(rig)),
+        workload = check_workload(discrepancy_workload(data, n_candidates, rig),
                                   f"measured data {measured}",
                                   "thin the stations or load cases (the workflow's time grows with cases × candidates), "
                                   "or name fewer candidates with --effects")

@@ -26,7 +26,7 @@ from rvcoax.fem.solvers import SolverError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.studies.discrepancy.engine import Engine, prepare_engine
+from rvcoax.results.studies.discrepancy.engine import Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
@@ -273,7 +273,7 @@ class DiscrepancyResult:
         return out
 
 
-def discrepancy_workload(data: MeasuredData, n_candidates: int, linear: bool = True):
+def discrepancy_workload(data: MeasuredData, n_candidates: int, rig=None):
     """The estimated time and memory of :func:`run_discrepancy` on ``data`` with ``n_candidates`` candidates.
 
     Parameters
@@ -282,9 +282,9 @@ def discrepancy_workload(data: MeasuredData, n_candidates: int, linear: bool = T
         The measurements (:func:`read_measured`).
     n_candidates : int
         Candidate effects to solve.
-    linear : bool
-        Whether the rig is linear (one factorisation serves every candidate); a nonlinear rig (ball bearings,
-        clearances) solves each candidate by real sweeps (see ``rvcoax.results.studies.discrepancy.engine``).
+    rig : Rig, optional
+        The rig: on a nonlinear one (ball bearings, clearances) each candidate is solved by real sweeps, not on
+        one factorisation (default: a linear rig).
 
     Returns
     -------
@@ -294,7 +294,7 @@ def discrepancy_workload(data: MeasuredData, n_candidates: int, linear: bool = T
     from rvcoax.geometry.model.workload import BASE_BYTES, Workload, count_text
 
     cases = len(data.cases)
-    per = CASE_CANDIDATE_S if linear else NONLINEAR_CASE_CANDIDATE_S
+    per = CASE_CANDIDATE_S if rig is None or rig_is_linear(rig) else NONLINEAR_CASE_CANDIDATE_S
     seconds = per * cases * max(n_candidates, 1) + OBSERVATION_S * data.n
     return Workload(f"{count_text(data.n)} observations in {count_text(cases)} load cases × {n_candidates} "
                     "candidate effects", seconds,
