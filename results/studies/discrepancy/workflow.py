@@ -697,8 +697,9 @@ def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, 
     k = int(sum(np.atleast_1d(v).size for _, v in fitted))
     bic = chi2 + k * np.log(max(rows.size, 2))
     # effects that cancel each other mimic a shape only if some simpler load makes that shape: when every single
-    # generic load fits far worse than the pair, the two oppose each other in the data, as real effects may
-    if mimic is None or mimic.bic < bic + settings.bic_margin:
+    # generic load fits far worse than the pair and leaves a gap itself, the two oppose each other in the data, as
+    # real effects may
+    if mimic is None or mimic.bic < bic + settings.bic_margin or stats.chi2.sf(mimic.chi2, mimic.n) >= settings.alpha:
         reasons += _fighting_pairs(problem, fitted)
     reasons += _opposite_loads(fitted, effects or {}, places)
     if fitted:
