@@ -22,7 +22,7 @@ the set-up stops after PARDISO's symbolic analysis and reports what the factoris
 (factor nonzeros, MKL's memory estimate and the factorisation's floating-point operations) —
 for sizes whose factorisation would not fit or not finish.
 
-Run: ``.venv/bin/python benchmarks/bench_solid_rig.py [--sizes 4.5,3] [--analyse-only]``; run it
+Run: ``.venv/bin/python benchmarks/bench_solid_rig.py [--sizes 4.5,3] [--analyse-only] [--analyse-sizes 2.8]``; run it
 alone (it may need several GB). Prints the figures and appends them to benchmarks/RESULTS.md
 (``--no-record``: print only).
 """
@@ -177,6 +177,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="4.5,3", help="global mesh sizes, mm, comma-separated")
     parser.add_argument("--analyse-only", action="store_true", help="stop the set-up after PARDISO's analysis")
+    parser.add_argument("--analyse-sizes", default="", help="further sizes, mm, run with --analyse-only")
     parser.add_argument("--no-record", action="store_true")
     parser.add_argument("--child", type=float, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -185,8 +186,10 @@ def main() -> None:
         return
     load_before = os.getloadavg()[0]
     rows = []
-    for size in (float(text) for text in args.sizes.split(",")):
-        command = [sys.executable, __file__, "--child", str(size)] + (["--analyse-only"] if args.analyse_only else [])
+    runs = [(float(text), args.analyse_only) for text in args.sizes.split(",") if text]
+    runs += [(float(text), True) for text in args.analyse_sizes.split(",") if text]
+    for size, analyse in runs:
+        command = [sys.executable, __file__, "--child", str(size)] + (["--analyse-only"] if analyse else [])
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode:
             rows.append((f"solid rig at {size:g} mm", f"failed (exit {done.returncode}): "
