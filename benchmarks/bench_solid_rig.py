@@ -222,7 +222,7 @@ def _summary_row(figures: dict) -> tuple[str, str]:
         row = ", ".join(f"{k} = {v}" for k, v in zip(header, last) if k.startswith(("T1", "T2", "Y_")))
         text += (f"; {figures['solver']}; condition estimate {report.get('condition_estimate') or float('nan'):.2g}"
                  f"; last row of sweep.csv: {row}")
-    return f"solid rig at {size:g} mm", text
+    return f"solid rig at {size:g} mm" + (" (assembly and PARDISO analysis only)" if "analysis" in figures else ""), text
 
 
 if __name__ == "__main__":
