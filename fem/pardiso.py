@@ -39,7 +39,7 @@ import scipy.sparse as sp
 
 from rvcoax.fem.errors import PardisoError
 
-__all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT", "available",
+__all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT", "analyse", "available",
            "mkl_runtime_path", "upper_csr", "upper_storage"]
 
 BLOCK_SIZE = 3
@@ -181,7 +181,7 @@ class Factorization:
     20 succeeded), so a caller that must know tests the factor (:mod:`rvcoax.fem.solvers` does).
     """
 
-    def __init__(self, storage: UpperStorage, indefinite: bool = False):
+    def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False):
         self._pardiso = _library()
         self.storage = storage
         self.mtype = _INDEFINITE if indefinite else _SPD
@@ -192,6 +192,7 @@ class Factorization:
         iparm[1] = 3  # METIS nested dissection, OpenMP version
         iparm[9] = 8  # pivot perturbation 1e-8 (not used for SPD)
         iparm[17] = -1  # report the nonzeros of the factor
+        iparm[18] = -1 if analysis_only else 0  # the factorisation's MFLOP (it slows the ordering a little)
         iparm[34] = 1  # zero-based indices
         iparm[36] = storage.block_size if storage.block_size > 1 else 0
         if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
@@ -202,7 +203,8 @@ class Factorization:
         try:
             no_rhs = np.zeros((storage.n, 1), order="F")
             self._call(11, no_rhs, "analysis")  # ordering and symbolic factorisation: the pattern only
-            self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
+            if not analysis_only:
+                self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
         except PardisoError:
             self.release()
             raise
@@ -226,6 +228,16 @@ class Factorization:
     def memory_MB(self) -> float:
         """MKL's memory for the factor and its solves (``iparm[15] + iparm[16]``, reported in KiB), MB."""
         return float(int(self._iparm[15]) + int(self._iparm[16])) / 1024.0
+
+    @property
+    def factorisation_gflop(self) -> float:
+        """Floating-point operations of the numerical factorisation (``iparm[18]``, MFLOP), GFLOP."""
+        return float(int(self._iparm[18])) / 1e3
+
+    @property
+    def analysis_peak_MB(self) -> float:
+        """MKL's peak memory during the analysis (``iparm[14]``, KiB), MB."""
+        return float(int(self._iparm[14])) / 1024.0
 
     def _call(self, phase: int, rhs: np.ndarray, what: str) -> np.ndarray:
         s = self.storage
@@ -270,3 +282,17 @@ class Factorization:
         if self._alive:
             self._alive = False
             self._call(-1, np.zeros((self.storage.n, 1), order="F"), "release")
+
+
+def analyse(storage: UpperStorage, indefinite: bool = False) -> dict:
+    """PARDISO's ordering and symbolic factorisation only: what the factorisation would need, without doing it.
+
+    Returns a dict: ``factor_nonzeros``, ``memory_MB`` (MKL's memory for the factor and its solves),
+    ``analysis_peak_MB`` and ``factorisation_gflop``. For sizing a model before factorising it.
+    """
+    factor = Factorization(storage, indefinite=indefinite, analysis_only=True)
+    try:
+        return {"factor_nonzeros": factor.factor_nonzeros, "memory_MB": factor.memory_MB,
+                "analysis_peak_MB": factor.analysis_peak_MB, "factorisation_gflop": factor.factorisation_gflop}
+    finally:
+        factor.release()

@@ -45,7 +45,6 @@ PARDISO_MAX_DOFS = 400_000
 SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
 SINGULAR_INVERSE_NORM = 1.0 / SINGULAR_PIVOT_RATIO  # PARDISO: 1/λ_min of the Jacobi-scaled matrix above this
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
-REFINEMENT_STEPS = 1  # saddle-point solves: steps of iterative refinement on the constrained stiffness
 
 
 @dataclass(frozen=True)
@@ -295,7 +294,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
     unknown and the relation as d Lagrange multipliers λ; it is as sparse as K' and C. Its solution
     for the right-hand side [b; 0; 0] has q = A⁻¹ b (the constraint gives y = S q, and Sᵀ K' S q = b).
     Factorised by MKL PARDISO in symmetric indefinite mode (``mtype = -2``, weighted matching and
-    scaling, iterative refinement).
+    scaling, MKL's iterative refinement on the saddle-point matrix).
 
     Parameters
     ----------
@@ -330,19 +329,16 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
     except pardiso.PardisoError as error:
         raise _pardiso_singular(error) from error
 
-    def solve_once(block):
+    # MKL refines each solve on the saddle-point matrix (iparm[7]); a further step on A itself, tried, changed
+    # the hybrid reference rig's solution by 4e-10 of each column's largest value at twice the solve time
+    # (benchmarks/RESULTS.md, issue 17), so there is none.
+    def solve(block):
         padded = np.zeros((total, block.shape[1]))
         padded[:m] = block
         try:
-            return factor.solve(padded)[:m]
+            return factor.solve(padded)[:m], ()
         except pardiso.PardisoError as error:
             raise SolverError(str(error)) from error
-
-    def solve(block):
-        x = solve_once(block)
-        for _ in range(REFINEMENT_STEPS):  # refined against A itself, not the saddle-point matrix
-            x = x + solve_once(block - operator @ x)
-        return x, ()
 
     positive, negative = factor.inertia
     if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank

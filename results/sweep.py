@@ -16,6 +16,7 @@ are then solved on their own by Newton's method on the condensed bearing motions
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -205,14 +206,46 @@ def rigid_body_modes(system: RigSystem) -> np.ndarray:
     return modes
 
 
+CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)
+CACHED_SOLUTION_FLOATS = 2**25
+
+
 @dataclass(frozen=True, eq=False)
 class PreparedModel:
-    """An assembled system with its solver set up (one factorisation), reusable across sweeps."""
+    """An assembled system with its solver set up (one factorisation), reusable across sweeps.
+
+    The solutions of the unit loads are kept (the last :data:`CACHED_SOLUTIONS`, within
+    :data:`CACHED_SOLUTION_FLOATS` numbers) by the bytes of each load vector, so that a sweep whose rig differs only in some
+    load parameters (a calibration's trial, a tolerance sample) solves only the vectors that changed.
+    """
 
     system: RigSystem
     solve: object
     solver_name: str
     report: dict  # rvcoax.fem.system.ReducedSystem.summary(): method, size, times, memory, condition estimate
+    solved: dict = field(default_factory=dict, repr=False)
+
+    def solve_unit_loads(self, columns: np.ndarray) -> np.ndarray:
+        """Solutions of the load vectors ``columns`` (n, m): those solved before are taken from the cache, the
+        others are solved together in one call (the first sweep of a model solves them all at once)."""
+        keys = [hashlib.blake2b(np.ascontiguousarray(columns[:, j]).tobytes(), digest_size=20).digest()
+                for j in range(columns.shape[1])]
+        missing = [j for j, key in enumerate(keys) if key not in self.solved]
+        if len(missing) == len(keys):
+            solutions = np.asarray(self.solve(columns))
+        else:
+            solutions = np.empty_like(columns, dtype=float)
+            if missing:
+                solutions[:, missing] = np.asarray(self.solve(columns[:, missing])).reshape(len(columns), -1)
+            for j, key in enumerate(keys):
+                if j not in missing:
+                    solutions[:, j] = self.solved[key]
+        room = max(columns.shape[1], min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(len(columns), 1)))
+        for j in missing:
+            self.solved[keys[j]] = solutions[:, j].copy()
+        while len(self.solved) > room:
+            del self.solved[next(iter(self.solved))]
+        return solutions
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
@@ -304,7 +337,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     if gapped:
         return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case)
     loads = system.unit_loads
-    unit = solve(np.column_stack([loads[k] for k in UNIT_LOADS]))
+    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
     rest = sum(unit_by_name[k] for k in REST_LOADS)
     from_rest = rig.paths.measured_from == "aligned_at_rest"

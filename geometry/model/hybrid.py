@@ -226,12 +226,17 @@ def ring_probe(part: SolidPart, stations_x_mm: np.ndarray, n_dofs: int) -> tuple
     outer, inner = _radii(part.geometry, np.asarray(stations_x_mm, float))
     lo, hi = part.geometry.segments[0][0], part.geometry.segments[-1][1]
     angles = 2 * np.pi * (np.arange(RING_POINTS) + 0.5) / RING_POINTS
-    rows_y, rows_r = [], []
+    rings = []
     for k, x in enumerate(stations_x_mm):
         r = 0.5 * (outer[k] + inner[k]) * MM
         xs = np.clip(x, lo + 1e-3, hi - 1e-3) * MM
-        points = np.vstack([np.full(RING_POINTS, xs), r * np.cos(angles), r * np.sin(angles)])
-        probe = solid.probe_matrix(part.basis, points.T)  # (3 * points, N): ux, uy, uz per point
+        rings.append(np.vstack([np.full(RING_POINTS, xs), r * np.cos(angles), r * np.sin(angles)]))
+    # every ring located in one vectorised Newton iteration, each ring stopping on its own convergence
+    stations = np.repeat(np.arange(len(rings)), RING_POINTS)
+    probe_all = solid.probe_matrix(part.basis, np.hstack(rings).T, groups=stations) if rings else None
+    rows_y, rows_r = [], []
+    for k, points in enumerate(rings):
+        probe = probe_all[3 * RING_POINTS * k:3 * RING_POINTS * (k + 1)]  # (3 * points, N): ux, uy, uz per point
         ux = probe[0::3]
         uy = probe[1::3]
         y = points[1]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 import skfem
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
@@ -163,6 +164,23 @@ def test_probe_matrix_interpolates_linear_fields_exactly(stepped):
     np.testing.assert_allclose((probe @ u).reshape(-1, 3), points @ gradient.T + shift, rtol=0, atol=1e-12)
     with pytest.raises(ValueError, match="outside the mesh"):
         solid.probe_matrix(basis, [[0.06, 0.0, 0.0]])  # in the bore
+
+
+def test_probe_matrix_groups_give_the_rows_of_separate_calls_bit_for_bit(stepped):
+    """Points located together in labelled groups give exactly the matrix of one call per group
+    (each group's Newton iteration stops on its own convergence); a bad label is refused."""
+    _, _, basis = stepped
+    rng = np.random.default_rng(3)
+    rings = []
+    for x in (0.01, 0.05, 0.07, 0.11):
+        radius = 1e-3 * (8.0 if x < 0.1 else 6.0)
+        angle = rng.uniform(0.0, 2 * np.pi, 5)
+        rings.append(np.column_stack([np.full(5, x), radius * np.cos(angle), radius * np.sin(angle)]))
+    together = solid.probe_matrix(basis, np.vstack(rings), groups=np.repeat(np.arange(4), 5))
+    apart = sp.vstack([solid.probe_matrix(basis, ring) for ring in rings]).tocsr()
+    assert (together != apart).nnz == 0
+    with pytest.raises(ValueError, match="groups"):
+        solid.probe_matrix(basis, rings[0], groups=[0, 1])
 
 
 def test_stress_of_uniform_strain(stepped):
