@@ -168,7 +168,7 @@ def run_one(label: str) -> dict:
 
     available = available_memory_bytes()
     chosen = choose_method(reduced.shape[0], reduced.nnz, 1, available)
-    estimates = {"pardiso_s": COST_MODEL.pardiso_seconds(reduced.shape[0]), "amg_s": COST_MODEL.amg_seconds(reduced.nnz),
+    estimates = {"pardiso_s": COST_MODEL.pardiso_seconds(reduced.shape[0]), "amg_s": COST_MODEL.amg_seconds(reduced.nnz, 1, reduced.shape[0]),
                  "pardiso_gb": COST_MODEL.pardiso_bytes(reduced.shape[0], reduced.nnz) / 1e9,
                  "amg_gb": COST_MODEL.amg_bytes(reduced.nnz) / 1e9, "available_gb": (available or 0.0) / 1e9,
                  "chosen": chosen}

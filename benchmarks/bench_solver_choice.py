@@ -36,7 +36,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_solid_scaling import LENGTH_MM, POISSON, SEGMENTS, TIP_FORCE_N, YOUNGS_PA, peak_rss_mb  # noqa: E402
-from machine import record  # noqa: E402
+from machine import publish  # noqa: E402
 
 SIZES_MM = (4.0, 2.8, 2.1)
 
@@ -164,7 +164,7 @@ def main() -> None:
                                         f"{p['solve20_s']:.3f} s → {p['substitution_s'] * 1e3:.1f} ms per right-hand side"))
         rows.append((f"{tag}: AMG-CG", f"set-up {a['setup_s']:.2f} s, {a['iterations']} iterations × "
                                        f"{a['iteration_s']:.3f} s = {a['solve_s']:.2f} s (model total "
-                                       f"{COST_MODEL.amg_seconds(a['nnz']):.2f} s, measured {a['setup_s'] + a['solve_s']:.2f} s); "
+                                       f"{COST_MODEL.amg_seconds(a['nnz'], 1, a['n']):.2f} s, measured {a['setup_s'] + a['solve_s']:.2f} s); "
                                        f"residual {a['residual']:.1e}, error estimate {a['estimate']:.1e}; "
                                        f"{a['iterations_energy_rule_only']} iterations with the energy rule alone; "
                                        f"peak +{a['extra_MB']:.0f} MB above the matrix"))
@@ -192,11 +192,8 @@ def main() -> None:
                  f"({COST_MODEL.factor_memory_exponent}); amg_setup_s_per_nnz {setup:.2e} ({COST_MODEL.amg_setup_s_per_nnz:.2e}), "
                  f"amg_iteration_s_per_nnz {iteration:.2e} ({COST_MODEL.amg_iteration_s_per_nnz:.2e}), amg_iterations "
                  f"{iterations} ({COST_MODEL.amg_iterations:g}), amg_bytes_per_nnz {memory_amg:.0f} ({COST_MODEL.amg_bytes_per_nnz:g})"))
-    rows.append(("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}"))
-    for name, value in rows:
-        print(f"{name}: {value}")
-    if not args.no_record:
-        record("bench_solver_choice.py: PARDISO and AMG-CG costs behind rvcoax.fem.solver_cost", rows)
+    publish("bench_solver_choice.py: PARDISO and AMG-CG costs behind rvcoax.fem.solver_cost", rows, load_before,
+            keep=not args.no_record)
 
 
 if __name__ == "__main__":

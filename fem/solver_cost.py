@@ -33,8 +33,9 @@ class SolverCostModel:
     PARDISO: ``factor_s · (n / 1e5)^factor_exponent`` + ``n_rhs · substitution_s · (n / 1e5)^substitution_exponent``
     seconds; ``factor_bytes · (n / 1e5)^factor_memory_exponent`` + 12 bytes per stored nonzero (its
     upper-triangle copy of the matrix) bytes.
-    AMG: ``(amg_setup_s_per_nnz + n_rhs · amg_iterations · amg_iteration_s_per_nnz) · nnz`` seconds;
-    ``amg_bytes_per_nnz · nnz`` bytes.
+    AMG: ``(amg_setup_s_per_nnz + n_rhs · iterations · amg_iteration_s_per_nnz) · nnz`` seconds with
+    ``iterations = amg_iterations · (n / 1e5)^amg_iteration_exponent``; ``amg_bytes_per_nnz · nnz`` bytes
+    above the matrix.
     """
 
     factor_s: float
@@ -46,6 +47,7 @@ class SolverCostModel:
     amg_setup_s_per_nnz: float
     amg_iteration_s_per_nnz: float
     amg_iterations: float
+    amg_iteration_exponent: float
     amg_bytes_per_nnz: float
 
     def pardiso_seconds(self, n_dofs: int, n_rhs: int = 1) -> float:
@@ -55,16 +57,24 @@ class SolverCostModel:
     def pardiso_bytes(self, n_dofs: int, nonzeros: float) -> float:
         return self.factor_bytes * (n_dofs / 1e5) ** self.factor_memory_exponent + 6.0 * nonzeros
 
-    def amg_seconds(self, nonzeros: float, n_rhs: int = 1) -> float:
-        return (self.amg_setup_s_per_nnz + n_rhs * self.amg_iterations * self.amg_iteration_s_per_nnz) * nonzeros
+    def amg_seconds(self, nonzeros: float, n_rhs: int = 1, n_dofs: float | None = None) -> float:
+        n = nonzeros / NONZEROS_PER_ROW if n_dofs is None else n_dofs
+        iterations = self.amg_iterations * (n / 1e5) ** self.amg_iteration_exponent
+        return (self.amg_setup_s_per_nnz + n_rhs * iterations * self.amg_iteration_s_per_nnz) * nonzeros
 
     def amg_bytes(self, nonzeros: float) -> float:
         return self.amg_bytes_per_nnz * nonzeros
 
 
 COST_MODEL = SolverCostModel(
+    # PARDISO: 61 k, 158 k, 341 k DOF at load average 0.5-1.7 (set-up 1.03, 5.66, 21.9 s; factor 276, 1042, 2951 MB;
+    # 20 solves - 1 solve: 7.6, 20, 62 ms per right-hand side). Under load 3-4 its two threads slowed 4x at 341 k (92 s).
     factor_s=2.5, factor_exponent=1.78, substitution_s=0.014, substitution_exponent=1.22,
     factor_bytes=0.57e9, factor_memory_exponent=1.38,
-    amg_setup_s_per_nnz=1.4e-7, amg_iteration_s_per_nnz=9.2e-9, amg_iterations=45.0, amg_bytes_per_nnz=40.0,
+    # AMG-CG with the default stopping rule: 47, 41, 50 and 65 iterations at 61 k, 158 k, 341 k and 1.14 M DOF;
+    # set-up 1.0-1.9e-7 s and one iteration 0.84-1.4e-8 s per nonzero (idle to load 4; 1.2e-8 at 1.14 M DOF, load 2-3);
+    # 27 bytes per nonzero above the matrix at 341 k DOF
+    amg_setup_s_per_nnz=1.4e-7, amg_iteration_s_per_nnz=1.2e-8, amg_iterations=45.0, amg_iteration_exponent=0.15,
+    amg_bytes_per_nnz=30.0,
 )
 """Fitted to benchmarks/RESULTS.md, block "bench_solver_choice.py" (see the module docstring)."""

@@ -156,7 +156,7 @@ def choose_method(
     room = available_memory_bytes() if available_bytes is None else available_bytes
     if room is not None and cost_model.pardiso_bytes(n_dofs, nnz) > MEMORY_HEADROOM * room:
         return "amg"
-    return "pardiso" if cost_model.pardiso_seconds(n_dofs, n_rhs) <= cost_model.amg_seconds(nnz, n_rhs) else "amg"
+    return "pardiso" if cost_model.pardiso_seconds(n_dofs, n_rhs) <= cost_model.amg_seconds(nnz, n_rhs, n_dofs) else "amg"
 
 
 class PreparedSolver:

@@ -171,7 +171,7 @@ def crossover(model, n_rhs: int) -> int:
     while high - low > 1:
         middle = (low + high) // 2
         nnz = solvers.NONZEROS_PER_ROW * middle
-        if model.pardiso_seconds(middle, n_rhs) <= model.amg_seconds(nnz, n_rhs):
+        if model.pardiso_seconds(middle, n_rhs) <= model.amg_seconds(nnz, n_rhs, middle):
             low = middle
         else:
             high = middle
