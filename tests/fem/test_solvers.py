@@ -91,6 +91,12 @@ def test_amg_outputs_agree_with_the_direct_solve_to_the_stated_accuracy(cantilev
         assert sum(tight.report.iterations) > sum(solver.report.iterations)
 
 
+def test_conjugate_gradients_refuses_an_indefinite_matrix():
+    indefinite = sp.diags([1.0, 2.0, -1.0]).tocsr()
+    with pytest.raises(SolverError, match="not positive definite"):
+        solvers.conjugate_gradients(indefinite, np.ones(3), lambda r: r.copy())
+
+
 def test_amg_builds_one_hierarchy_for_every_right_hand_side(cantilever, monkeypatch):
     import pyamg
 
