@@ -9,18 +9,19 @@ rvcoax.geometry.meshing (gmsh, one thread) at three mesh sizes:
     300k  h = 2.1 mm   298,017 DOF
     1M    h = 1.35 mm 1,043,940 DOF
 
-Phases: meshing (gmsh, cache bypassed), basis (scikit-fem), element matrices (rvcoax.fem.solid),
-sparse assembly (rvcoax.fem.assembly), load vector, constraint elimination (slicing out the clamped
-DOFs), solver set-up and solve (rvcoax.fem.solvers.prepare, method "auto": PARDISO up to 400 k DOF,
-AMG above) and probing (interpolation at 41 points on the axis, tip-face mean). Each size runs in a
-fresh Python process, so the peak resident memory read after every phase (VmHWM, the process's
-high-water mark of resident memory: ru_maxrss without the parent's share) is that size's own; the
-table also gives the rise of that high-water mark during each phase, and the CPU time (user and
-system, all threads) of each phase.
+Phases: meshing (gmsh, cache bypassed), basis (scikit-fem), stiffness (rvcoax.fem.solid.stiffness_matrix:
+element matrices added in chunks straight into the 3 × 3-block pattern, no triplet arrays), load vector,
+constraint elimination (slicing out the clamped DOFs), solver set-up and solve (rvcoax.fem.solvers.prepare,
+method "auto": PARDISO or AMG-CG with the rigid-body modes, whichever the measured cost model of
+rvcoax.fem.solver_cost expects to be faster for one right-hand side in the memory available; AMG stops
+at its default accuracy) and probing (interpolation at 41 points on the axis, tip-face mean). Each size
+runs in a fresh Python process, so the peak resident memory read after every phase (VmHWM, the
+process's high-water mark of resident memory: ru_maxrss without the parent's share) is that size's
+own; the table also gives the rise of that high-water mark during each phase, the CPU time (user and
+system, all threads) of each phase, and the cost model's estimates for both methods.
 
-Up to 400 k DOF the child also times the previous assembly (scipy ``coo_matrix(...).tocsr()``,
-kept below as :func:`scipy_reference_assembly`) against :func:`rvcoax.fem.assembly.assemble_matrix`
-(best of 3, alternating) and checks that both give the same matrix.
+The previous triplet assembly (element matrices, then ``rvcoax.fem.assembly.assemble_matrix``) is
+compared with the chunked one in bench_assembly_memory.py.
 
 Run: ``.venv/bin/python benchmarks/bench_solid_scaling.py [--sizes 50k,300k,1M]``. Prints the
 figures and appends them to benchmarks/RESULTS.md (``--no-record``: print only).
@@ -48,7 +49,7 @@ LENGTH_MM = 160.0
 YOUNGS_PA, POISSON = 206e9, 0.28  # Q460, paper 000
 TIP_FORCE_N = (0.0, -100.0, 0.0)
 SIZES = {"50k": 4.0, "300k": 2.1, "1M": 1.35}  # label -> mesh size (mm)
-COMPARE_ASSEMBLY_MAX_DOFS = 400_000
+TARGET_1M = (60.0, 8.0)  # issue 17: the 1 M-DOF cantilever in ≤ 60 s and ≤ 8 GB
 N_PROBES = 41
 
 
@@ -82,23 +83,6 @@ def nodes_at_x(basis, x_m: float, tol: float = 1e-9):
     coordinates, dofs = solid.dof_locations(basis)
     on_plane = abs(coordinates[:, 0] - x_m) < tol
     return coordinates[on_plane], dofs[on_plane]
-
-
-def scipy_reference_assembly(n_dofs, pieces):
-    """rvcoax.fem.assembly.assemble_matrix before the counting-sort rewrite (scipy's COO -> CSR)."""
-    import numpy as np
-    import scipy.sparse as sp
-
-    rows, cols, vals = [], [], []
-    for r, c, v in pieces:
-        rows.append(np.asarray(r, dtype=np.int64))
-        cols.append(np.asarray(c, dtype=np.int64))
-        vals.append(np.asarray(v, dtype=float))
-    matrix = sp.coo_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n_dofs, n_dofs)
-    ).tocsr()
-    matrix.sum_duplicates()
-    return matrix
 
 
 def first_touch_seconds_per_gib() -> tuple[float, float]:
@@ -146,8 +130,9 @@ def run_one(label: str) -> dict:
     import numpy as np
 
     from rvcoax.fem import blas_threads, hugepages, solid
-    from rvcoax.fem.assembly import assemble_matrix
-    from rvcoax.fem.solvers import prepare
+    from rvcoax.fem.memory import available_memory_bytes
+    from rvcoax.fem.solver_cost import COST_MODEL
+    from rvcoax.fem.solvers import choose_method, prepare
     from rvcoax.geometry.meshing import mesh_part
 
     hugepages.avoid_compaction_stalls()  # as the rvcoax command does at start
@@ -157,10 +142,9 @@ def run_one(label: str) -> dict:
     mesh = phases.run("meshing (gmsh, 1 thread)", lambda: mesh_part(geometry(label), use_cache=False))
     basis = phases.run("basis (scikit-fem, intorder 2)", lambda: solid.solid_basis(mesh))
     n = int(basis.N)
-    triplets = phases.run("element matrices", lambda: solid.stiffness_triplets(basis, YOUNGS_PA, POISSON))
-    n_triplets = int(triplets[0].size)
-    stiffness = phases.run("sparse assembly", assemble_matrix, n, [triplets])
-    del triplets
+    stiffness = phases.run("stiffness (chunked 3×3-block assembly)",
+                           lambda: solid.stiffness_matrix(basis, YOUNGS_PA, POISSON))
+    matrix_mb = (stiffness.data.nbytes + stiffness.indices.nbytes + stiffness.indptr.nbytes) / 2**20
 
     def load_vector():
         tip_facets = mesh.facets_satisfying(lambda x: np.isclose(x[0], LENGTH_MM * 1e-3, rtol=0.0, atol=1e-9))
@@ -182,6 +166,12 @@ def run_one(label: str) -> dict:
         modes = solid.rigid_body_modes(basis.doflocs.T)[free]
         return prepare(reduced, method="auto", near_null_space=modes)
 
+    available = available_memory_bytes()
+    chosen = choose_method(reduced.shape[0], reduced.nnz, 1, available)
+    estimates = {"pardiso_s": COST_MODEL.pardiso_seconds(reduced.shape[0]), "amg_s": COST_MODEL.amg_seconds(reduced.nnz, 1, reduced.shape[0]),
+                 "pardiso_gb": COST_MODEL.pardiso_bytes(reduced.shape[0], reduced.nnz) / 1e9,
+                 "amg_gb": COST_MODEL.amg_bytes(reduced.nnz) / 1e9, "available_gb": (available or 0.0) / 1e9,
+                 "chosen": chosen}
     solver = phases.run("solver set-up", set_up)
     q = phases.run("solve", lambda: solver.solve(reduced_force))
     report = solver.report
@@ -205,82 +195,20 @@ def run_one(label: str) -> dict:
         "n_free": int(free.size),
         "n_tets": int(mesh.t.shape[1]),
         "n_nodes": int(mesh.doflocs.shape[1]),
-        "n_triplets": n_triplets,
+        "matrix_mb": matrix_mb,
         "nnz": int(reduced.nnz),
+        "cost_model": estimates,
         "phases": phases.rows,
         "baseline_rss_mb": phases.baseline_mb,
         "solver": report.name,
         "iterations": [int(i) for i in report.iterations],
+        "error_estimates": [float(e) for e in report.error_estimates],
         "residual": max(report.relative_residuals),
         "tip_mean_uy_um": 1e6 * tip_mean_uy,
         "axis_tip_uy_um": 1e6 * float(along_axis[-1, 1]),
         "load_average": [load_before, load_after],
     }
-    if n <= COMPARE_ASSEMBLY_MAX_DOFS:
-        result["assembly_comparison"] = compare_assembly(basis)
     return result
-
-
-def _status_mb(key: str) -> float | None:
-    try:
-        with open("/proc/self/status", encoding="ascii") as status:
-            for line in status:
-                if line.startswith(key + ":"):
-                    return int(line.split()[1]) / 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
-    return None
-
-
-def _reset_peak() -> bool:
-    """Reset this process's VmHWM to its current resident size (Linux ≥ 4.0: clear_refs 5)."""
-    try:
-        with open("/proc/self/clear_refs", "w", encoding="ascii") as refs:
-            refs.write("5")
-        return True
-    except OSError:
-        return False
-
-
-def compare_assembly(basis, repeats: int = 3) -> dict:
-    """Best-of-``repeats`` times of the new and the previous sparse assembly (and element matrices).
-
-    The two run alternately, in turn first; each call's extra peak memory (peak resident memory
-    during the call minus the resident memory before it) is measured by resetting VmHWM.
-    """
-    import numpy as np
-
-    from rvcoax.fem import solid
-    from rvcoax.fem.assembly import assemble_matrix
-
-    previous = "previous (scipy coo->csr)"
-    times = {"element matrices": [], "new": [], previous: []}
-    extra_mb = {"new": [], previous: []}
-    matrices = {}
-    for repeat in range(repeats):
-        start = time.perf_counter()
-        triplets = solid.stiffness_triplets(basis, YOUNGS_PA, POISSON)
-        times["element matrices"].append(time.perf_counter() - start)
-        order = [("new", assemble_matrix), (previous, scipy_reference_assembly)]
-        for name, function in order if repeat % 2 == 0 else order[::-1]:
-            matrices.pop(name, None)
-            resettable = _reset_peak()
-            before = _status_mb("VmRSS")
-            start = time.perf_counter()
-            matrix = function(basis.N, [triplets])
-            times[name].append(time.perf_counter() - start)
-            peak = _status_mb("VmHWM")
-            if resettable and before is not None and peak is not None:
-                extra_mb[name].append(peak - before)
-            matrices[name] = matrix
-            del matrix
-        del triplets
-    new, old = matrices["new"], matrices[previous]
-    same_pattern = bool(np.array_equal(new.indptr, old.indptr) and np.array_equal(new.indices, old.indices))
-    difference = float(np.abs(new.data - old.data).max() / np.abs(old.data).max()) if same_pattern else float("nan")
-    return {"best_seconds": {k: min(v) for k, v in times.items()}, "all_seconds": times,
-            "extra_peak_mb": {k: max(v) for k, v in extra_mb.items() if v},
-            "same_pattern": same_pattern, "max_relative_difference": difference}
 
 
 def fmt_mb(mb: float) -> str:
@@ -311,7 +239,7 @@ def openblas_policy() -> str:
 def figures_of(result: dict) -> list[tuple[str, str]]:
     tag = f"{result['label']} ({result['n_dofs']:,} DOF)"
     rows = [(f"{tag}: model", f"h = {result['mesh_size_mm']} mm, {result['n_tets']:,} tets, {result['n_nodes']:,} nodes, "
-                              f"{result['n_triplets']:,} triplets, {result['nnz']:,} nonzeros after elimination")]
+                              f"stiffness {fmt_mb(result['matrix_mb'])} (CSR), {result['nnz']:,} nonzeros after elimination")]
     total = 0.0
     for row in result["phases"]:
         total += row["seconds"]
@@ -319,34 +247,27 @@ def figures_of(result: dict) -> list[tuple[str, str]]:
                      f"{row['seconds']:.2f} s (CPU user {row['user_seconds']:.2f} s, system {row['system_seconds']:.2f} s), "
                      f"peak RSS {fmt_mb(row['peak_rss_mb'])} (+{fmt_mb(row['increase_mb'])})"))
     by_name = {row["phase"]: row["seconds"] for row in result["phases"]}
-    assembly = by_name["element matrices"] + by_name["sparse assembly"]
+    assembly = by_name["stiffness (chunked 3×3-block assembly)"]
+    peak_gb = result["phases"][-1]["peak_rss_mb"] / 1024
     rows.append((f"{tag}: total", f"{total:.1f} s (meshing to probed displacement); peak RSS "
                                   f"{fmt_mb(result['phases'][-1]['peak_rss_mb'])}, of which {fmt_mb(result['baseline_rss_mb'])} "
                                   "before meshing (interpreter and imports)"))
-    rows.append((f"{tag}: element matrices + sparse assembly", f"{assembly:.2f} s = {result['n_dofs'] / assembly / 1e3:.0f} k DOF/s"))
+    if result["n_dofs"] > 900_000:
+        seconds, gigabytes = TARGET_1M
+        rows.append((f"{tag}: issue 17 target ≤ {seconds:.0f} s, ≤ {gigabytes:.0f} GB",
+                     f"time {'met' if total <= seconds else 'NOT met'} ({total:.1f} s), memory "
+                     f"{'met' if peak_gb <= gigabytes else 'NOT met'} ({peak_gb:.2f} GiB)"))
+    rows.append((f"{tag}: stiffness assembly", f"{assembly:.2f} s = {result['n_dofs'] / assembly / 1e3:.0f} k DOF/s"))
+    model = result["cost_model"]
+    rows.append((f"{tag}: cost model (one right-hand side)",
+                 f"PARDISO {model['pardiso_s']:.1f} s, {model['pardiso_gb']:.1f} GB; AMG-CG {model['amg_s']:.1f} s, "
+                 f"{model['amg_gb']:.1f} GB; available {model['available_gb']:.1f} GB → {model['chosen']}"))
     iterations = f", {result['iterations'][0]} CG iterations" if result["iterations"] else ""
-    rows.append((f"{tag}: solver", f"{result['solver']}{iterations}, relative residual {result['residual']:.1e}"))
+    estimate = (f", estimated relative energy-norm error {result['error_estimates'][0]:.1e}"
+                if result.get("error_estimates") else "")
+    rows.append((f"{tag}: solver", f"{result['solver']}{iterations}{estimate}, relative residual {result['residual']:.1e}"))
     rows.append((f"{tag}: tip deflection", f"tip-face node mean u_y {result['tip_mean_uy_um']:.4f} µm, "
                                            f"axis point at the tip {result['axis_tip_uy_um']:.4f} µm"))
-    comparison = result.get("assembly_comparison")
-    if comparison:
-        best = comparison["best_seconds"]
-        element, new, old = best["element matrices"], best["new"], best["previous (scipy coo->csr)"]
-        rows.append((f"{tag}: sparse assembly, previous → new (best of 3)",
-                     f"{old:.2f} s → {new:.2f} s ({old / new:.1f}× faster); same pattern: {comparison['same_pattern']}, "
-                     f"values differ by ≤ {comparison['max_relative_difference']:.1e} (relative to max)"))
-        extra = comparison.get("extra_peak_mb", {})
-        if extra:
-            rows.append((f"{tag}: sparse assembly, extra peak memory during the call, previous → new",
-                         f"{fmt_mb(extra['previous (scipy coo->csr)'])} → {fmt_mb(extra['new'])} "
-                         f"(triplets {fmt_mb(result['n_triplets'] * 24 / 2**20)}, held by the caller)"))
-        runs = comparison["all_seconds"]
-        rows.append((f"{tag}: sparse assembly, every run, previous / new",
-                     f"{', '.join(f'{t:.2f}' for t in runs['previous (scipy coo->csr)'])} s / "
-                     f"{', '.join(f'{t:.2f}' for t in runs['new'])} s"))
-        rows.append((f"{tag}: element matrices + sparse assembly, previous → new (best of 3)",
-                     f"{element + old:.2f} s → {element + new:.2f} s = {result['n_dofs'] / (element + old) / 1e3:.0f} → "
-                     f"{result['n_dofs'] / (element + new) / 1e3:.0f} k DOF/s"))
     rows.append((f"{tag}: load average (1 min) before / after", "{:.2f} / {:.2f}".format(*result["load_average"])))
     return rows
 

@@ -162,7 +162,8 @@ def reduced_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, symm
 
 
 def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",
-                   near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False) -> ReducedSystem:
+                   near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False,
+                   n_rhs: int = 1) -> ReducedSystem:
     """Reduce K with T and set up ``method`` for Tᵀ K T.
 
     Parameters
@@ -170,18 +171,21 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     stiffness, elimination : csr_matrix
         K (n × n) and T (n × m).
     method : {"auto", "superlu", "pardiso", "amg"}
-        ``"auto"`` picks by size (:func:`rvcoax.fem.solvers.choose_method`).
+        ``"auto"`` picks by size, nonzeros (those of K stand in for Tᵀ K T's), ``n_rhs`` and the
+        memory available (:func:`rvcoax.fem.solvers.choose_method`).
     near_null_space : callable, optional
         Returns the rigid-body modes of the full DOF vector (n × k); called only when AMG is used.
     symmetrize : bool
         See :func:`reduced_stiffness`.
+    n_rhs : int
+        How many right-hand sides the set-up will serve (a sweep: its unit loads).
 
     Raises
     ------
     rvcoax.fem.errors.SingularMatrixError
         A direct factorisation found Tᵀ K T singular.
     """
-    chosen = solvers.choose_method(elimination.shape[1]) if method == "auto" else method
+    chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
     long = long_rows(elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
         operator = constrained_stiffness(stiffness, elimination, long)

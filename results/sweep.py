@@ -180,7 +180,8 @@ def _prepare(system: RigSystem, settings: SweepSettings):
     try:
         reduced = fem_system.prepare_system(system.stiffness, system.elimination,
                                             "superlu" if beam_superlu else settings.solver,
-                                            near_null_space=lambda: rigid_body_modes(system), symmetrize=beam_superlu)
+                                            near_null_space=lambda: rigid_body_modes(system), symmetrize=beam_superlu,
+                                            n_rhs=len(UNIT_LOADS))
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
     check_condition(reduced.condition_estimate())

@@ -306,11 +306,12 @@ def _solid_dofs(rig: Rig, model: str, mesh_size_mm: float) -> dict[str, int]:
 def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> MemoryEstimate:
     """Estimate DOFs (:func:`rvcoax.geometry.meshing.estimate_dofs`, within a factor 1.3) and peak memory."""
     from rvcoax.fem.solvers import choose_method
+    from rvcoax.geometry.model.loads import UNIT_LOADS
 
     size = rig.solid.mesh_size_mm if mesh_size_mm is None else mesh_size_mm
     part_dofs = _solid_dofs(rig, model, size)
     dofs = int(sum(part_dofs.values()))
-    method = choose_method(dofs) if solver == "auto" else solver
+    method = choose_method(dofs, n_rhs=len(UNIT_LOADS)) if solver == "auto" else solver
     needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
     from rvcoax.geometry.model.workload import available_memory_bytes
 

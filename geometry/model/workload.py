@@ -16,9 +16,9 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.fem.memory import available_memory_bytes
 
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
            "BeamSize", "MAX_WORK_S", "REPORT_AFTER_S", "SAMPLE_BYTES", "SAMPLE_CASE_S", "SAMPLE_CASE_S_SOLID",
@@ -44,30 +44,6 @@ WORKER_BYTES = 0.25e9  # a local Dask worker process: distributed, rvcoax and th
 SAMPLE_CASE_S = {"loads": 2.5e-3, "frame": 10.8e-3, "full": 40.2e-3}
 SAMPLE_CASE_S_SOLID = 7.3  # … hybrid or solid model (4 mm mesh), per load case
 SAMPLE_BYTES = 2e3  # per sample and load case: what its record keeps in memory
-
-
-def available_memory_bytes() -> float | None:
-    """Memory this process may still use: MemAvailable (/proc/meminfo), capped by a cgroup v2 limit.
-
-    None where neither can be read (not Linux).
-    """
-    available = None
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                available = float(line.split()[1]) * 1024.0
-                break
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
-        if limit != "max":
-            used = float(Path("/sys/fs/cgroup/memory.current").read_text().strip())
-            room = float(limit) - used
-            available = room if available is None else min(available, room)
-    except (OSError, ValueError):
-        pass
-    return available
 
 
 class WorkloadError(RvcoaxError, ValueError):
