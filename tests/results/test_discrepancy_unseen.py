@@ -198,8 +198,10 @@ def test_the_cli_leads_with_engineering_words_and_never_writes_a_fix_when_unexpl
 
 
 def test_the_places_where_named_effects_load_the_rig(rig):
-    """A mesh force acts on the input shaft's teeth band and is reacted on the reducer; the places are widened by
-    the sentinel scan's spacing. A lift of a housing puts no lateral load anywhere."""
+    """A mesh force acts on the input shaft's teeth band and is reacted on the reducer; the places on a shaft are
+    widened by the sentinel scan's spacing. A housing (a body) is claimed whole, and through the flange joint
+    that ties it to a shaft (not through the torsion-only sun-gear mesh). A bearing's stiffness change acts over
+    the bearing's width on its shaft and housing. A lift of a housing puts no lateral load anywhere."""
     from rvcoax.results.studies.discrepancy.sentinel import scan_spacing_mm, site_in
     from rvcoax.results.studies.discrepancy.workflow import _load_regions
 
@@ -207,12 +209,20 @@ def test_the_places_where_named_effects_load_the_rig(rig):
     sites = [("input_shaft", float(x), 0) for x in np.arange(0.0, 361.0, 15.0)] + [("reducer", 320.0, 0),
                                                                                     ("reducer", 340.0, 0)]
     assert scan_spacing_mm(sites, "input_shaft") == 15.0
-    regions = _load_regions(effects, rig, ["mesh_force@reducer_input", "thermal_growth@output_bearing_block"], sites)
-    assert set(regions) == {"mesh_force@reducer_input"}
-    assert regions["mesh_force@reducer_input"] == (("input_shaft", 307.0, 355.0), ("reducer", 310.0, 350.0))
+    names = ["mesh_force@reducer_input", "thermal_growth@output_bearing_block", "bearing_stiffness@output_B1"]
+    regions = _load_regions(effects, rig, names, sites)
+    assert set(regions) == {"mesh_force@reducer_input", "bearing_stiffness@output_B1"}
+    flange = next(j for j in rig.joints if j.name == "reducer_output_flange")
+    assert regions["mesh_force@reducer_input"] == (("input_shaft", 307.0, 355.0), ("reducer", -np.inf, np.inf),
+                                                   ("output_shaft", flange.to.x_mm, flange.to.x_mm))
     assert site_in(("input_shaft", 340.0), regions["mesh_force@reducer_input"])
+    assert site_in(("reducer", 390.0), regions["mesh_force@reducer_input"])
     assert not site_in(("input_shaft", 300.0), regions["mesh_force@reducer_input"])
     assert not site_in(("output_shaft", 340.0), regions["mesh_force@reducer_input"])
+    bearing = next(b for b in rig.bearings if b.name == "output_B1")
+    half = bearing.width_mm / 2
+    assert regions["bearing_stiffness@output_B1"] == (
+        (bearing.shaft, bearing.x_mm - half, bearing.x_mm + half), (bearing.housing, -np.inf, np.inf))
 
 
 def test_opposite_loads_count_only_at_neighbouring_places(rig):

@@ -660,7 +660,26 @@ def _load_x(effects_by_name: dict, rig) -> dict[str, float]:
 def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tuple[str, float, float], ...]]:
     """Where each named effect puts a lateral load on the rig: (part, lo_mm, hi_mm) of every load it adds or
     changes, at its ``on`` and ``reacted_on`` places (the band of the teeth where given), widened by the
-    sentinel scan's spacing on that part (the scan cannot place a load more finely)."""
+    sentinel scan's spacing on that part (the scan cannot place a load more finely).
+
+    Two places more, both model form rather than a load the vocabulary lacks:
+    - a bearing whose stiffness an effect changes acts on its shaft and housing as a force over the bearing's
+      width (Δk times the deflection there), so a generic load there is that effect's load;
+    - on a housing (a body, far stiffer than the shafts) a load anywhere differs from the named load at another
+      x of the same body only by a moment about its mount, which the way another model spreads and reacts the
+      load decides: a named load on a body claims the whole body, and the shaft where a joint that carries
+      lateral force (a flange; not a torsion-only gear mesh or brake gap) ties the body to it."""
+    bodies = {p.name for p in rig.parts if p.role == "body"}
+    bearings = {b.name: b for b in rig.bearings}
+    lateral_joints = [pair for j in rig.joints if j.translational_stiffness_N_per_um[1] > 0
+                      for pair in ((j.from_, j.to), (j.to, j.from_))]
+
+    def region(part, lo, hi):
+        if part in bodies:
+            return (part, -np.inf, np.inf)
+        pad = scan_spacing_mm(sites, part)
+        return (part, float(lo) - pad, float(hi) + pad)
+
     out = {}
     for name in names:
         regions = []
@@ -669,8 +688,14 @@ def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[t
                 if place is None:
                     continue
                 lo, hi = place.band_mm if place.band_mm is not None else (place.x_mm, place.x_mm)
-                pad = scan_spacing_mm(sites, place.part)
-                regions.append((place.part, float(lo) - pad, float(hi) + pad))
+                regions.append(region(place.part, lo, hi))
+                if place.part in bodies:  # through a joint that carries lateral force (a flange) into a shaft
+                    regions += [region(b.part, b.x_mm, b.x_mm) for a, b in lateral_joints if a.part == place.part]
+        bearing = bearings.get(effects_by_name[name].location)
+        if bearing is not None and effects_by_name[name].kind == "bearing_stiffness":
+            half = 0.5 * bearing.width_mm  # the bearing's reaction spreads over its width
+            regions += [region(bearing.shaft, bearing.x_mm - half, bearing.x_mm + half),
+                        region(bearing.housing, bearing.x_mm - half, bearing.x_mm + half)]
         if regions:
             out[name] = tuple(regions)
     return out
