@@ -40,7 +40,7 @@ import scipy.sparse as sp
 from rvcoax.fem.errors import PardisoError
 
 __all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT", "analyse", "available",
-           "mkl_runtime_path", "upper_csr", "upper_storage"]
+           "mkl_runtime_path", "stored_nonzeros", "upper_csr", "upper_saddle_point", "upper_storage"]
 
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
@@ -158,6 +158,56 @@ def upper_csr(a: sp.csr_matrix) -> UpperStorage:
     indptr = np.zeros(n + 1, dtype=np.int32)
     np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
     return UpperStorage(n, 1, indptr, a.indices[keep].astype(np.int32), a.data[keep])
+
+
+def upper_saddle_point(kept: sp.csr_matrix, constraint: sp.csr_matrix) -> UpperStorage:
+    """Upper triangle of the saddle-point matrix [[K, Cᵀ], [C, 0]] as scalar CSR, without forming the matrix.
+
+    The same arrays, entry for entry, as :func:`upper_csr` of the assembled, canonical matrix
+    (``scipy.sparse.bmat``): row i < k of the result holds row i of K's upper triangle followed by
+    row i of Cᵀ (columns k + j); the rows of the multipliers are empty. Only the upper triangle is
+    ever stored: the full saddle-point matrix (both triangles of K once more, and C twice) is not.
+
+    Parameters
+    ----------
+    kept : csr_matrix (k × k)
+        K, symmetric; its duplicates are summed and its indices sorted in place.
+    constraint : sparse (d × k)
+        C.
+    """
+    kept.sum_duplicates()
+    kept.sort_indices()
+    k, d = kept.shape[0], constraint.shape[0]
+    upper = upper_csr(kept)
+    transposed = sp.csr_matrix(constraint).T.tocsr()  # Cᵀ, k × d
+    transposed.sum_duplicates()
+    transposed.sort_indices()
+    lengths_k = np.diff(upper.indptr).astype(np.int64)
+    lengths_c = np.diff(transposed.indptr).astype(np.int64)
+    indptr = np.zeros(k + d + 1, dtype=np.int64)
+    np.cumsum(lengths_k + lengths_c, out=indptr[1:k + 1])
+    indptr[k + 1:] = indptr[k]
+    total = int(indptr[-1])
+    if total > np.iinfo(np.int32).max:
+        raise ValueError(f"the saddle-point matrix's upper triangle has {total} nonzeros, more than 32-bit indices hold")
+    indices = np.empty(total, dtype=np.int32)
+    data = np.empty(total, dtype=float)
+    place = np.repeat(indptr[:k] - upper.indptr[:k], lengths_k) + np.arange(upper.indices.size)
+    indices[place] = upper.indices
+    data[place] = upper.data
+    del upper, place
+    place = np.repeat(indptr[:k] + lengths_k - transposed.indptr[:k], lengths_c) + np.arange(transposed.nnz)
+    indices[place] = transposed.indices + k
+    data[place] = transposed.data
+    return UpperStorage(k + d, 1, indptr.astype(np.int32), indices, data)
+
+
+def stored_nonzeros(storage: UpperStorage) -> int:
+    """Nonzeros of the whole symmetric matrix whose upper triangle ``storage`` is (scalar CSR): the upper
+    triangle mirrored, so a matrix whose two triangles differ in a few stored entries (a triple product's
+    rounding-size leftovers) counts those on both sides."""
+    rows = np.repeat(np.arange(storage.n, dtype=np.int32), np.diff(storage.indptr))
+    return 2 * int(storage.indices.size) - int(np.count_nonzero(storage.indices == rows))
 
 
 def upper_storage(a: sp.csr_matrix) -> UpperStorage:

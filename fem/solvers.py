@@ -333,7 +333,7 @@ def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
     return SolverError(str(error))
 
 
-def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
+def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStorage) -> PreparedSolver:
     """Set up A q = b for an SPD A that is known only as an operator, through its saddle-point form.
 
     A = Sᵀ K' S, S = [I; Q] ((m + d) × m), is the stiffness with d dependent unknowns p = Q q (tie
@@ -348,8 +348,10 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
     ----------
     operator : rvcoax.fem.system.ConstrainedStiffness
         A: ``shape`` (m, m), ``diagonal()``, ``@``, ``scaled_one_norm(root)``.
-    augmented : csr_matrix (m + 2d, m + 2d)
-        The saddle-point matrix, symmetric, the m rows of q first.
+    augmented : csr_matrix (m + 2d, m + 2d), or its upper triangle (:class:`rvcoax.fem.pardiso.UpperStorage`)
+        The saddle-point matrix, symmetric, the m rows of q first. Pass the upper triangle
+        (:meth:`rvcoax.fem.system.ConstrainedStiffness.saddle_point_upper`) where memory counts: PARDISO
+        reads only that, and the whole matrix given here is alive until the call returns.
 
     Raises
     ------
@@ -364,16 +366,18 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
         raise SolverError("method 'pardiso' needs Intel MKL (x86-64 only): pip install mkl")
     start = time.perf_counter()
     m = operator.shape[0]
-    total = augmented.shape[0]
+    upper = augmented if isinstance(augmented, pardiso.UpperStorage) else pardiso.upper_csr(_symmetric_csr(augmented))
+    del augmented  # the caller's whole matrix, if any, is the caller's; only the upper triangle is kept here
+    total = upper.n
     d = (total - m) // 2
     diagonal = operator.diagonal()
     if np.any(diagonal <= 0.0):
         equation = int(np.flatnonzero(diagonal <= 0.0)[0])
         raise SingularMatrixError(f"PARDISO: diagonal entry {diagonal[equation]:.1e} at equation {equation}: "
                                   "the matrix is singular or not positive definite")
-    a = _symmetric_csr(augmented)
+    del diagonal
     try:
-        factor = pardiso.Factorization(pardiso.upper_csr(a), indefinite=True)
+        factor = pardiso.Factorization(upper, indefinite=True)
     except pardiso.PardisoError as error:
         raise _pardiso_singular(error) from error
 
@@ -424,7 +428,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix) -> PreparedSolver:
     _refuse_singular(operator, solve, factor)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, time.perf_counter() - start, rss_before, factor.release,
-                          (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=a.nnz)
+                          (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=pardiso.stored_nonzeros(upper))
 
 
 def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,

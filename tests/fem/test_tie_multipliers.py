@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from rvcoax.fem import solid
+from rvcoax.fem import pardiso, solid
 from rvcoax.fem.assembly import assemble_matrix
 from rvcoax.fem.constraints import elimination_matrix
 from rvcoax.fem.solvers import SingularMatrixError, pardiso_available
@@ -66,6 +66,27 @@ def test_constrained_stiffness_is_the_reduced_stiffness_without_forming_it(tied_
     assert operator.saddle_point_matrix().nnz <= k.nnz + 2 * tie_entries + 2 * 12
     grounded_face = np.diff(t.indptr)[1] // 3  # nodes on the face tied to the grounded node
     assert formed.nnz > k.nnz + (3 * grounded_face) ** 2 // 2
+
+
+def test_upper_triangle_is_built_without_the_whole_saddle_point_matrix(tied_bar):
+    """PARDISO's input, built from K' and C directly, is entry for entry the upper triangle of the whole matrix."""
+    k, t, _, _ = tied_bar
+    operator = constrained_stiffness(k, t, long_rows(t))
+    whole = operator.saddle_point_matrix()
+    whole.sum_duplicates()
+    whole.sort_indices()
+    expected = pardiso.upper_csr(whole)
+    built = operator.saddle_point_upper()
+    assert built.n == expected.n == whole.shape[0] and built.block_size == 1
+    for name in ("indptr", "indices", "data"):
+        assert getattr(built, name).dtype == getattr(expected, name).dtype
+        assert np.array_equal(getattr(built, name), getattr(expected, name)), name
+    # the symmetric pattern's count (K' = T'ᵀ K T' leaves a few entries of one triangle only, rounding-size)
+    assert pardiso.stored_nonzeros(built) == (sp.triu(whole) + sp.triu(whole, 1).T).nnz
+    assert abs(pardiso.stored_nonzeros(built) - whole.nnz) < 1e-3 * whole.nnz
+    assert np.array_equal(operator.diagonal(), operator.diagonal())  # kept, and a copy each time
+    operator.diagonal()[0] = -1.0
+    assert operator.diagonal()[0] > 0.0
 
 
 @needs_pardiso
