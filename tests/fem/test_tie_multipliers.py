@@ -87,6 +87,19 @@ def test_upper_triangle_is_built_without_the_whole_saddle_point_matrix(tied_bar)
     assert np.array_equal(operator.diagonal(), operator.diagonal())  # kept, and a copy each time
     operator.diagonal()[0] = -1.0
     assert operator.diagonal()[0] > 0.0
+    # K' read back from that upper triangle: the same operator, to rounding, sparse and dense
+    served = operator.served_from(built)
+    assert served.kept._upper.data is built.data or np.shares_memory(served.kept._upper.data, built.data)
+    x = np.random.default_rng(2).standard_normal((t.shape[1], 3))
+    scale = abs(operator.kept).max() * np.abs(x).max()
+    assert np.allclose(served @ x, operator @ x, rtol=0, atol=1e-13 * scale)
+    assert np.allclose(served @ x[:, 0], operator @ x[:, 0], rtol=0, atol=1e-13 * scale)
+    assert np.array_equal(served.diagonal(), operator.diagonal())
+    assert np.array_equal(served.kept.diagonal(), operator.kept.diagonal())
+    sparse = sp.random(operator.kept.shape[0], 5, density=0.01, random_state=3, format="csc")
+    assert abs(served.kept @ sparse - operator.kept @ sparse).max() <= 1e-13 * abs(operator.kept).max()
+    root = np.sqrt(operator.diagonal())
+    assert served.scaled_one_norm(root, 97) == pytest.approx(operator.scaled_one_norm(root, 97), rel=1e-12)
 
 
 @needs_pardiso
