@@ -60,7 +60,7 @@ AMG_ERROR_DELAY = 4  # CG steps between the iterate whose error is estimated and
 SINGULAR_PIVOT_RATIO = 1e-14  # SuperLU: |pivot| / |its diagonal entry| below this: numerically singular
 SINGULAR_INVERSE_NORM = 1.0 / SINGULAR_PIVOT_RATIO  # PARDISO: 1/λ_min of the Jacobi-scaled matrix above this
 DIRECT_RESIDUAL_LIMIT = 1e-6  # a direct solve worse than this means a (nearly) singular matrix
-REFINE_ABOVE = 1e-7  # saddle-point solves: a column with a relative residual on A above this is refined
+REFINE_ABOVE = 1e-7  # direct solves: a column with a relative residual on the matrix above this is refined
 MAX_REFINEMENT_STEPS = 3  # ... at most this many times, and only while each step at least halves it
 
 
@@ -211,8 +211,37 @@ class PreparedSolver:
             self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b.reshape(-1, 1))[0])
         return self._condition
 
+    def _refine(self, block, x, residual, residuals, scale):
+        """Iterative refinement against the matrix itself, column by column, only where it is needed.
+
+        A column whose relative residual is above :data:`REFINE_ABOVE` gets a correction solve, at most
+        :data:`MAX_REFINEMENT_STEPS` times and only while a step at least halves its residual. Measured
+        (issue 17): an unconditional step on the tied models changed their solutions by 4e-10 for twice the
+        solve time and does not lower their rounding floor of 4e-9 … 4e-8; a factor of a nearby matrix
+        (PARDISO's perturbed pivots on a saddle-point matrix: a fresh 10 mm solid-rig mesh once left 2.8e-6,
+        above :data:`DIRECT_RESIDUAL_LIMIT`) is what refinement repairs.
+        """
+        for _ in range(MAX_REFINEMENT_STEPS):
+            rough = residuals > REFINE_ABOVE
+            if not np.any(rough):
+                break
+            trial = x[:, rough] + self._solve_block(residual[:, rough])[0]
+            trial_residual = block[:, rough] - self.matrix @ trial
+            trial_residuals = np.linalg.norm(trial_residual, axis=0) / scale[rough]
+            better = trial_residuals <= 0.5 * residuals[rough]
+            if not np.any(better):
+                break
+            columns = np.flatnonzero(rough)[better]
+            x[:, columns] = trial[:, better]
+            residual[:, columns] = trial_residual[:, better]
+            residuals[columns] = trial_residuals[better]
+        return x, residuals
+
     def solve(self, rhs) -> np.ndarray:
-        """Solution of A x = b for b of shape (n,) or (n, m) (all columns in one go), same shape."""
+        """Solution of A x = b for b of shape (n,) or (n, m) (all columns in one go), same shape.
+
+        Direct methods refine a column against the matrix where its residual needs it (:meth:`_refine`).
+        """
         b = np.asarray(rhs, dtype=float)
         if b.ndim not in (1, 2) or b.shape[0] != self.n_dofs:
             raise ValueError(f"right-hand side must have shape ({self.n_dofs},) or ({self.n_dofs}, m), got {b.shape}")
@@ -221,11 +250,15 @@ class PreparedSolver:
             raise SolverError(f"{self._report.name}: solver was released")
         start = time.perf_counter()
         x, iterations, estimates = self._solve_block(block)
-        elapsed = time.perf_counter() - start
         if not np.all(np.isfinite(x)):
             raise SingularMatrixError(f"{self._report.name}: the solution contains NaN or inf (singular matrix)")
         scale = np.linalg.norm(block, axis=0)
-        residuals = np.linalg.norm(self.matrix @ x - block, axis=0) / np.where(scale > 0.0, scale, 1.0)
+        scale = np.where(scale > 0.0, scale, 1.0)
+        residual = block - self.matrix @ x
+        residuals = np.linalg.norm(residual, axis=0) / scale
+        if self._direct:
+            x, residuals = self._refine(block, x, residual, residuals, scale)
+        elapsed = time.perf_counter() - start
         if self._direct and np.any(residuals > DIRECT_RESIDUAL_LIMIT):
             raise SingularMatrixError(
                 f"{self._report.name}: relative residual {residuals.max():.1e} after a direct solve; "
@@ -381,44 +414,15 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
     except pardiso.PardisoError as error:
         raise _pardiso_singular(error) from error
 
-    # MKL refines each solve on the saddle-point matrix (iparm[7]). A further step on A itself, always taken,
-    # changed the hybrid reference rig's solution by 4e-10 of each column's largest value at twice the solve
-    # time (benchmarks/RESULTS.md, issue 17); nor does it lower the residuals of 4e-9 … 4e-8 that the
-    # reference rig's hybrid and solid models leave (their rounding floor: measured, steps change them by
-    # 3 %). So a column is refined only when its residual on A is above REFINE_ABOVE, and only while that
-    # helps: with perturbed pivots a fresh 10 mm solid-rig mesh once left 2.8e-6, above the direct-solve
-    # limit, where a factor of a nearby matrix is what refinement repairs.
-    def solve_once(block):
+    # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
+    # A itself where a column's residual needs it (REFINE_ABOVE).
+    def solve(block):
         padded = np.zeros((total, block.shape[1]))
         padded[:m] = block
         try:
-            return factor.solve(padded)[:m]
+            return factor.solve(padded)[:m], (), ()
         except pardiso.PardisoError as error:
             raise SolverError(str(error)) from error
-
-    def relative_residual(x, block, scale):
-        residual = block - operator @ x
-        return residual, np.linalg.norm(residual, axis=0) / scale
-
-    def solve(block):
-        x = solve_once(block)
-        scale = np.linalg.norm(block, axis=0)
-        scale = np.where(scale > 0.0, scale, 1.0)
-        residual, size = relative_residual(x, block, scale)
-        for _ in range(MAX_REFINEMENT_STEPS):
-            rough = size > REFINE_ABOVE
-            if not np.any(rough):
-                break
-            trial = x.copy()
-            trial[:, rough] += solve_once(residual[:, rough])
-            trial_residual, trial_size = relative_residual(trial, block, scale)
-            better = rough & (trial_size <= 0.5 * size)
-            if not np.any(better):
-                break
-            x[:, better] = trial[:, better]
-            residual[:, better], size[better] = trial_residual[:, better], trial_size[better]
-        return x, (), ()
-
 
     positive, negative = factor.inertia
     if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
