@@ -8,6 +8,10 @@ Public names (loaded on first use): the error base and the solver error, and the
 process-wide settings the ``rvcoax`` command makes at start (a program using the library may too).
 """
 
+if __name__ != "rvcoax.fem":  # run from the repository root, the folder itself is on sys.path: not a package of its own
+    raise ImportError("'fem' is part of rvcoax and is imported as rvcoax.fem "
+                      "(install the project, e.g. `make test`, and import rvcoax.fem)")
+
 from rvcoax._lazy import lazy_names
 
 DOFS_PER_NODE = 6

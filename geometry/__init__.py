@@ -5,6 +5,10 @@ reader shares, plausibility warnings, and the candidate effects of the discrepan
 The model built from a rig is :mod:`rvcoax.geometry.model`.
 """
 
+if __name__ != "rvcoax.geometry":  # run from the repository root, the folder itself is on sys.path: not a package of its own
+    raise ImportError("'geometry' is part of rvcoax and is imported as rvcoax.geometry "
+                      "(install the project, e.g. `make test`, and import rvcoax.geometry)")
+
 from rvcoax._lazy import lazy_names
 
 MEASURED_SHAFTS = ("input", "output")

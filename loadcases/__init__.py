@@ -3,6 +3,10 @@
 Public names (loaded on first use): the load case, its sources, and the limits every source enforces.
 """
 
+if __name__ != "rvcoax.loadcases":  # run from the repository root, the folder itself is on sys.path: not a package of its own
+    raise ImportError("'loadcases' is part of rvcoax and is imported as rvcoax.loadcases "
+                      "(install the project, e.g. `make test`, and import rvcoax.loadcases)")
+
 from rvcoax._lazy import lazy_names
 
 # the module that defines each public name

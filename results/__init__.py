@@ -4,6 +4,10 @@ dynamics exports (:mod:`.export`), studies (:mod:`.studies`) and the command lin
 Public names (loaded on first use): a sweep, its settings and the prepared model it solves.
 """
 
+if __name__ != "rvcoax.results":  # run from the repository root, the folder itself is on sys.path: not a package of its own
+    raise ImportError("'results' is part of rvcoax and is imported as rvcoax.results "
+                      "(install the project, e.g. `make test`, and import rvcoax.results)")
+
 from rvcoax._lazy import lazy_names
 
 # the module that defines each public name

@@ -168,3 +168,11 @@ def test_tests_import_helpers_not_other_test_modules():
             problems += [f"{path.relative_to(ROOT)}:{node.lineno}: {name}" for name in names
                          if name.split(".")[0] == "tests" or name.rsplit(".", 1)[-1].startswith("test_")]
     assert not problems, problems
+
+
+def test_the_folders_are_not_packages_of_their_own_from_the_repository_root():
+    """Python started in the repository root sees the folders; importing one says to import rvcoax.<name>."""
+    for name in ("fem", "geometry", "loadcases", "results"):
+        done = subprocess.run([sys.executable, "-c", f"import {name}"], capture_output=True, text=True, cwd=ROOT)
+        assert done.returncode == 1
+        assert f"ImportError: '{name}' is part of rvcoax and is imported as rvcoax.{name}" in done.stderr
