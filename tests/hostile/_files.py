@@ -21,7 +21,7 @@ LONG_CELL = "1" * 140_000  # over the csv module's 131 072-character field limit
 
 
 def reference_rig() -> str:
-    return resources.files("geometry").joinpath("data", "reference_rig.toml").read_text(encoding="utf-8")
+    return resources.files("rvcoax.geometry").joinpath("data", "reference_rig.toml").read_text(encoding="utf-8")
 
 
 def write(folder: Path, name: str, text: str, newline: str | None = "") -> str:
