@@ -496,7 +496,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     tuple of Effect
         Each with its name (``kind@location``), parameters with units and bounds, and how it changes the rig.
     """
-    linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
+    linear_rig = not any(b.radial_clearance_um > 0 or b.model != "linear" for b in rig.bearings)
     mounted = list(dict.fromkeys(m.part for m in rig.mounts))
     effects: list[Effect | None] = [_self_weight(rig)]
     if rig.force_table.pairs or rig.force_table.singles:
@@ -504,6 +504,8 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     for b in rig.bearings:
         if b.model == "ball":  # its stiffness follows from geometry, clearance and preload
             effects += [_ball_clearance(rig, b.name), _ball_preload(rig, b.name)]
+        elif b.model != "linear":  # angular-contact and roller bearings: no effect of their own yet
+            continue
         else:
             effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
     for part in mounted:

@@ -57,6 +57,9 @@ def rig_show(rig_file: RigOption = None) -> None:
             g = geometry_of(b)
             stiffness = (f"ball bearing {b.designation or ''} ({g.ball_count} × Ø{g.ball_diameter_m * 1e3:.3f} mm), "
                          f"clearance {clearance_um_of(b):g} µm, preload {b.preload_N:g} N: nonlinear")
+        elif b.model != "linear":
+            arrangement = "" if b.arrangement == "single" else f" {b.arrangement} pair"
+            stiffness = f"{b.model.replace('_', ' ')} bearing {b.designation or ''}{arrangement} from geometry: nonlinear"
         else:
             stiffness = f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm"
         add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}", stiffness)

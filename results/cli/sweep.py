@@ -177,7 +177,8 @@ def sweep(
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
     if model_section.get("nonlinear"):
-        nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+        nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+                     + model_section.get("rolling_bearings", []))
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"
     elif method == "superposition":
         how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "
