@@ -1,0 +1,172 @@
+"""Angular-contact, cylindrical and tapered roller bearings from geometry in a rig: the catalogue, the
+rig-file keys and their errors, the reference-rig variant and its nonlinear sweep."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rvcoax.fem.ball_bearing import BallBearingGeometry
+from rvcoax.fem.rolling_bearing import rolling_element_loads
+from rvcoax.geometry.rigfile import RigFileError, parse_rig_text, reference_rig_text
+from rvcoax.geometry.rolling_catalogue import (
+    BALL_FC,
+    ROLLER_FC,
+    ROLLING_BEARINGS,
+    _fc,
+    ball_dynamic_rating_N,
+    ball_static_rating_N,
+    nearest_designations,
+)
+from rvcoax.geometry.rolling_model import PRELOAD_CLASS_SHARE, rolling_bearing_of
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.io.records import model_section
+from rvcoax.results.sweep import ModelError, SweepSettings, run_sweep
+
+NAMES = ("input_B1", "input_B2", "output_B1", "output_B2")
+CASES = (LoadCase(1.43, 200.0), LoadCase(0.07, 10.0))
+INPUT_B1 = '''name = "input_B1"                   # 7204 B DB pair at the coupling side (locating)
+shaft = "input_shaft"
+housing = "input_bearing_block"
+x_mm = 255                          # rig_reference part 5
+'''
+
+
+def _variant():
+    return parse_rig_text(reference_rig_text("rolling_bearings"), "variant")
+
+
+def _with_input_b1(keys: str):
+    text = reference_rig_text("rolling_bearings")
+    start = text.index(INPUT_B1) + len(INPUT_B1)
+    end = text.index("[[bearings]]", start)
+    return text[:start] + keys + "\n" + text[end:]
+
+
+def test_catalogue_entries_build_and_are_plausible():
+    kinds = {e.kind for e in ROLLING_BEARINGS.values()}
+    assert kinds == {"angular_contact", "cylindrical_roller", "tapered_roller"}
+    assert {"7000C", "7210AC", "7306B", "NU204", "N310", "NJ206", "30204", "32010X", "32210"} <= set(ROLLING_BEARINGS)
+    for name, entry in ROLLING_BEARINGS.items():
+        assert entry.bore_mm < entry.pitch_diameter_mm < entry.outside_diameter_mm, name
+        assert entry.element_count * entry.element_diameter_mm < math.pi * entry.pitch_diameter_mm, name
+        assert 0 < entry.static_rating_N and 0 < entry.dynamic_rating_N < 2e5, name
+        assert all(tag for tag in entry.sources.values()), name  # every number says where it comes from
+        assert "ESTIMATED" in entry.sources["element_diameter_mm"] and "COMPUTED" in entry.sources["static_rating_N"]
+    # larger series, larger ratings; a B (40°) bearing carries less radially than its 15° C sibling
+    assert ROLLING_BEARINGS["7306B"].dynamic_rating_N > ROLLING_BEARINGS["7206B"].dynamic_rating_N
+    assert ROLLING_BEARINGS["7206B"].dynamic_rating_N < ROLLING_BEARINGS["7206C"].dynamic_rating_N
+    assert ROLLING_BEARINGS["NU206"].dynamic_rating_N > ROLLING_BEARINGS["7206C"].dynamic_rating_N  # line contact
+
+
+def test_load_ratings_from_geometry_against_a_published_catalogue_bearing():
+    # the 6204 (the ball bearing catalogue's geometry: Z = 8, D_w = 7.938 mm, d_m = 33.5 mm, f_i 0.52, f_o 0.53):
+    # SKF's catalogue gives C = 13.5 kN, C0 = 6.55 kN. ISO 281's C (b_m = 1.3) is a few per cent below SKF's (their
+    # own, higher factors); C0 by ISO 76's definition (4 200 MPa at Q_max = 5 F_r / Z) on this model's Hertz contact
+    geometry = BallBearingGeometry(8, 7.938e-3, 33.5e-3, 0.52, 0.53)
+    assert ball_static_rating_N(geometry) == pytest.approx(6550.0, rel=0.05)
+    assert ball_dynamic_rating_N(8, 7.938, 33.5, 0.0) == pytest.approx(13500.0, rel=0.10)
+    # ISO 281's f_c of radial ball bearings peaks at γ = 0.18–0.20 (59.9); C ∝ Z^(2/3) at a fixed ball
+    assert _fc(BALL_FC, 0.19) == pytest.approx(59.9) and _fc(ROLLER_FC, 0.05) == pytest.approx(74.1)
+    assert ball_dynamic_rating_N(16, 7.938, 67.0, 0.0) == pytest.approx(
+        ball_dynamic_rating_N(8, 7.938, 33.5, 0.0) * 2 ** (2 / 3) * _fc(BALL_FC, 7.938 / 67) / _fc(BALL_FC, 7.938 / 33.5))
+
+
+def test_the_variant_solves_with_the_four_bearings_from_geometry():
+    rig = _variant()
+    bearings = {b.name: b for b in rig.bearings if b.name in NAMES}
+    assert [bearings[n].model for n in NAMES] == ["angular_contact", "cylindrical_roller", "tapered_roller",
+                                                   "tapered_roller"]
+    assert bearings["input_B1"].width_mm == 28.0  # a DB pair of two 14 mm rows
+    assert bearings["output_B1"].width_mm == 17.25  # T of the 30206
+    assert all(20 < bearings[n].radial_stiffness_N_per_um < 2000 for n in NAMES)
+    sweep = run_sweep(rig, CASES)
+    report = sweep.solver_report
+    assert report["rolling_bearings"] == list(NAMES) and "ball_bearings" not in report
+    points = report["rolling_bearing_operating_points"]
+    for name in NAMES:
+        assert [p["case"] for p in points[name]] == ["at rest"] + [c.label for c in CASES]
+    pair = points["input_B1"][0]
+    z = ROLLING_BEARINGS["7204B"].element_count
+    assert pair["loaded_elements"] == 2 * z  # the light preload loads every ball of both rows at rest
+    assert 40.0 < pair["contact_angle_min_deg"] <= pair["contact_angle_max_deg"] < 41.0  # 40° grown by the preload
+    assert pair["axial_stiffness_N_per_um"] > 50 and pair["model"] == "angular_contact"
+    section = model_section(sweep)
+    assert section["rolling_bearings"] == list(NAMES) and "rolling_bearing_operating_points" in section
+    # the converged motions feed the per-element state (for life and static safety)
+    motion = sweep.nonlinear_bearings.motions(sweep.nonlinear_bearings.operator @ sweep.rest_displacement)
+    model = next(m for m in sweep.nonlinear_bearings.rolling if m.name == "input_B1")
+    elements = rolling_element_loads(model.bearing, motion["input_B1"])
+    assert elements.max_load_n == pytest.approx(pair["max_element_load_N"], rel=1e-9)
+    with pytest.raises(ModelError, match="the beam and hybrid models solve it"):
+        run_sweep(rig, CASES[:1], SweepSettings(model="solid"))
+
+
+def test_preload_class_loads_each_row_with_its_share_of_c():
+    rig = _variant()
+    entry = ROLLING_BEARINGS["7204B"]
+    pair = rolling_bearing_of(next(b for b in rig.bearings if b.name == "input_B1"))
+    for row in pair.rows:
+        carried = row.state(np.zeros(5)).force[0]
+        assert carried == pytest.approx(PRELOAD_CLASS_SHARE["light"] * entry.dynamic_rating_N, rel=1e-9)
+    assert not np.any(np.abs(pair.force(np.zeros(5))[0]) > 1e-6)
+    heavier = parse_rig_text(_with_input_b1('model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\n'
+                                            'preload_class = "heavy"'))
+    heavy = rolling_bearing_of(next(b for b in heavier.bearings if b.name == "input_B1"))
+    assert heavy.force(np.zeros(5))[1][1, 1] > pair.force(np.zeros(5))[1][1, 1]
+
+
+def test_a_warm_shaft_presses_an_angular_pair_together():
+    rig = _variant()
+    bearing = next(b for b in rig.bearings if b.name == "input_B1")
+    from rvcoax.geometry.variants import reference_from_geometry
+
+    thermal = reference_from_geometry(("thermal",)).thermal  # shafts 10 K above their blocks
+    warm = rig.model_copy(update={"thermal": thermal})
+    cold_load = rolling_bearing_of(bearing).rows[0].state(np.zeros(5)).force[0]
+    warm_load = rolling_bearing_of(bearing, warm).rows[0].state(np.zeros(5)).force[0]
+    assert warm_load > 1.5 * cold_load
+
+
+def test_bad_keys_are_refused_with_the_key_and_the_reason():
+    cases = {
+        'model = "angular_contact"\ndesignation = "7207"': "nearest: 7207",
+        'model = "angular_contact"\ndesignation = "NU204"': "it is a cylindrical roller bearing",
+        'model = "tapered_roller"\ndesignation = "30299"': "unknown tapered roller bearing '30299'; nearest: 302",
+        'model = "angular_contact"\ndesignation = "7204B"\npreload_class = "light"':
+            "preload_class = \"light\" needs a DB or DF pair (arrangement): a single bearing has no partner row",
+        'model = "tapered_roller"\ndesignation = "30206"\narrangement = "DT"\npreload_class = "medium"':
+            "a tandem (DT) pair has no partner row",
+        'model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\npreload_class = "light"\npreload_N = 50':
+            "preload_class and preload_N: give one way",
+        'model = "angular_contact"\ndesignation = "7204B"\nclearance_class = "C3"':
+            "clearance_class: not a key of model = \"angular_contact\"",
+        'model = "cylindrical_roller"\ndesignation = "NU204"\ncrowning = "circular"': "needs crown_drop_um",
+        'model = "cylindrical_roller"\ndesignation = "NU204"\narrangement = "DB"': "arrangement: not a key",
+        'model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\naxial_direction = -1':
+            "axial_direction: a DB pair carries thrust both ways",
+        'model = "angular_contact"\nball_count = 10\nball_diameter_mm = 8': "missing: pitch_diameter_mm",
+        'radial_stiffness_N_per_um = 50\narrangement = "DB"': "arrangement only apply to model = \"angular_contact\"",
+        'model = "tapered_roller"\ndesignation = "30206"\nradial_clearance_um = 5': "axial_offset_um < 0",
+    }
+    for keys, reason in cases.items():
+        with pytest.raises(RigFileError) as error:
+            parse_rig_text(_with_input_b1(keys), "rig.toml")
+        message = str(error.value)
+        assert "rig.toml" in message and "bearings[4] ('input_B1')" in message and reason in message, message
+    assert nearest_designations("7207")[:3] == ["7207C", "7207B", "7207AC"]
+    assert nearest_designations("32006 x", "tapered_roller")[0] == "32006X"
+
+
+def test_explicit_geometry_and_designations_written_loosely():
+    rig = parse_rig_text(_with_input_b1('model = "tapered_roller"\ndesignation = "32006 x"\naxial_offset_um = 3'))
+    bearing = rolling_bearing_of(next(b for b in rig.bearings if b.name == "input_B1"))
+    assert bearing.rows[0].law.roller_count == ROLLING_BEARINGS["32006X"].element_count
+    explicit = parse_rig_text(_with_input_b1(
+        'model = "angular_contact"\nball_count = 11\nball_diameter_mm = 8\npitch_diameter_mm = 33.5\n'
+        'inner_conformity = 0.52\nouter_conformity = 0.53\ncontact_angle_deg = 30\npreload_N = 100'))
+    law = rolling_bearing_of(next(b for b in explicit.bearings if b.name == "input_B1")).rows[0]
+    assert law.law.ball_count == 11 and law.law.contact_angle_rad == pytest.approx(math.radians(30))
+    assert law.state(np.zeros(5)).force[0] == pytest.approx(100.0, rel=1e-9)
