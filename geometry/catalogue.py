@@ -200,13 +200,19 @@ def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
 
 
 def _ball_bore_warnings(rig: Rig) -> list[str]:
-    """A catalogue ball bearing (``model = "ball"``, ``designation``) whose bore is not the shaft's Ø at it."""
+    """A catalogue bearing (``model = "ball"`` or another model from geometry, ``designation``) whose bore is not
+    the shaft's Ø at it."""
     from rvcoax.geometry.ball_bearings import BALL_BEARINGS
+    from rvcoax.geometry.rolling_catalogue import ROLLING_BEARINGS, normalise_designation
 
     found = []
     for i, bearing in enumerate(rig.bearings):
         bore = bearing_bore_mm(rig, bearing)
-        entry = BALL_BEARINGS.get(bearing.designation) if bearing.model == "ball" and bearing.designation else None
+        entry = None
+        if bearing.designation and bearing.model == "ball":
+            entry = BALL_BEARINGS.get(bearing.designation)
+        elif bearing.designation and bearing.model != "linear":
+            entry = ROLLING_BEARINGS.get(normalise_designation(bearing.designation))
         if entry is not None and bore is not None and abs(entry.bore_mm - bore) > 0.05 * entry.bore_mm:
             found.append(f"bearings[{i}] ('{bearing.name}').designation = {bearing.designation}: its bore is "
                          f"{entry.bore_mm:g} mm, but the shaft's Ø at x = {bearing.x_mm:g} mm is {bore:g} mm: "

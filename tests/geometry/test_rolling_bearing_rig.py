@@ -104,6 +104,16 @@ def test_the_variant_solves_with_the_four_bearings_from_geometry():
         run_sweep(rig, CASES[:1], SweepSettings(model="solid"))
 
 
+def test_a_designation_whose_bore_is_not_the_shaft_is_a_plausibility_warning():
+    from rvcoax.geometry.catalogue import plausibility_warnings
+
+    assert plausibility_warnings(_variant()) == []  # 20 mm bores on the Ø20 input shaft, 30 mm on the Ø30 output
+    rig = parse_rig_text(_with_input_b1('model = "angular_contact"\ndesignation = "7206B"'))
+    assert plausibility_warnings(rig) == [
+        "bearings[4] ('input_B1').designation = 7206B: its bore is 30 mm, but the shaft's Ø at x = 255 mm is 20 mm: "
+        "another designation, or the shaft's segment?"]
+
+
 def test_preload_class_loads_each_row_with_its_share_of_c():
     rig = _variant()
     entry = ROLLING_BEARINGS["7204B"]
