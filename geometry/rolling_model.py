@@ -27,13 +27,13 @@ import numpy as np
 from scipy.optimize import brentq
 
 from rvcoax.fem.ball_bearing import BallBearingGeometry
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.roller_bearing import RollerBearingGeometry
 from rvcoax.fem.rolling_bearing import BearingRow, RollingBearing
+from rvcoax.geometry.ball_model import clearance_from_keys, operating_clearance_m, thermal_clearance_change_um
 from rvcoax.geometry.rolling_catalogue import CatalogueRollingBearing, catalogue_entry
 
-__all__ = ["CYLINDRICAL_CLEARANCE_CLASSES", "GEOMETRIC_MODELS", "MODEL_KEYS", "PRELOAD_CLASS_SHARE",
-           "RollingBearingModel", "cylindrical_clearance_range_um", "entry_of", "reference_stiffness",
+__all__ = ["GEOMETRIC_MODELS", "MODEL_KEYS", "PRELOAD_CLASS_SHARE", "RollingBearingModel", "clearance_um_of",
+           "entry_of", "reference_stiffness",
            "rolling_bearing_model", "rolling_bearing_of"]
 
 GEOMETRIC_MODELS = ("angular_contact", "cylindrical_roller", "tapered_roller")
@@ -50,25 +50,7 @@ MODEL_KEYS = {
 }
 """The rig-file keys each model takes (beyond name, shaft, housing, x_mm, the stiffness keys and width)."""
 
-CYLINDRICAL_CLEARANCE_CLASSES = ("C2", "CN", "C3", "C4")
-# ISO 5753-1, radial internal clearance of cylindrical roller bearings with a cylindrical bore (µm): bore over …
-# incl, then (min, max) for C2, CN, C3, C4 (transcribed from the makers' catalogue tables that reproduce it)
-_CYLINDRICAL_CLEARANCE_UM = (
-    (10.0, 24.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
-    (24.0, 30.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
-    (30.0, 40.0, ((5, 30), (25, 50), (45, 70), (60, 85))),
-    (40.0, 50.0, ((5, 35), (30, 60), (50, 80), (70, 100))),
-    (50.0, 65.0, ((10, 40), (40, 70), (60, 90), (80, 110))),
-)
 REFERENCE_DEFLECTION_UM = 5.0
-
-
-def cylindrical_clearance_range_um(bore_mm: float, clearance_class: str) -> tuple[float, float]:
-    """ISO 5753-1 radial internal clearance range (µm) of a cylindrical roller bearing (cylindrical bore)."""
-    for low, high, ranges in _CYLINDRICAL_CLEARANCE_UM:
-        if low < bore_mm <= high:
-            return tuple(float(v) for v in ranges[CYLINDRICAL_CLEARANCE_CLASSES.index(clearance_class)])
-    raise ValueError(f"bore {bore_mm:g} mm is outside the clearance table (over 10 up to 65 mm); give clearance_um")
 
 
 def entry_of(bearing) -> CatalogueRollingBearing | None:
@@ -144,15 +126,8 @@ def _default_crowning_load(count: int, diameter: float, length: float, pitch: fl
 def clearance_um_of(bearing) -> float:
     """The diametral radial clearance (µm) of a cylindrical roller bearing entry: ``clearance_um``, else the
     middle of ``clearance_class``'s ISO 5753-1 range (CN with a designation)."""
-    if bearing.clearance_um is not None:
-        return float(bearing.clearance_um)
-    if bearing.designation is None:
-        if bearing.clearance_class is not None:
-            raise ValueError("clearance_class needs a designation (the class range depends on the bore); "
-                             "give clearance_um with explicit geometry")
-        raise ValueError("a cylindrical roller bearing with explicit geometry needs clearance_um")
-    low, high = cylindrical_clearance_range_um(entry_of(bearing).bore_mm, bearing.clearance_class or "CN")
-    return 0.5 * (low + high)
+    return clearance_from_keys(bearing, lambda: entry_of(bearing).bore_mm, "cylindrical_roller",
+                               "a cylindrical roller bearing")
 
 
 def _row_width_m(bearing) -> float:
@@ -206,26 +181,6 @@ def _rated(bearing, law) -> float:
                                    law.pitch_diameter_m * 1e3, math.degrees(law.contact_angle_rad))
 
 
-class OperatingPreloadError(RvcoaxError, ValueError):
-    """The temperatures take up more than a cylindrical roller bearing's whole clearance."""
-
-    stage = "cannot solve the rig"
-
-
-def thermal_radial_change_um(rig, bearing, pitch_diameter_m: float) -> float:
-    """Change of the diametral radial clearance (µm) from the ``[thermal]`` rises of shaft and housing:
-    −α_b d_m (ΔT_i − ΔT_o), as for the deep-groove ball bearing
-    (:func:`rvcoax.geometry.ball_model.thermal_clearance_change_um`)."""
-    from rvcoax.geometry.ball_model import BEARING_STEEL_EXPANSION_PER_K
-
-    thermal = getattr(rig, "thermal", None) if rig is not None else None
-    if thermal is None:
-        return 0.0
-    inner = thermal.temperature_rise_K.get(bearing.shaft, 0.0)
-    outer = thermal.temperature_rise_K.get(bearing.housing, 0.0)
-    return -BEARING_STEEL_EXPANSION_PER_K * pitch_diameter_m * (inner - outer) * 1e6
-
-
 def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     """The rows of an ``angular_contact``, ``cylindrical_roller`` or ``tapered_roller`` entry (SI); with
     ``rig``, its ``[thermal]`` rises act: on a cylindrical roller bearing's clearance, and on an angular
@@ -239,20 +194,12 @@ def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     """
     if bearing.model == "cylindrical_roller":
         law = _law(bearing, clearance_um_of(bearing))
-        change = thermal_radial_change_um(rig, bearing, law.pitch_diameter_m)
-        if change:
-            clearance = law.clearance_m + change * 1e-6
-            if clearance < 0:
-                raise OperatingPreloadError(
-                    f"bearings '{bearing.name}': the [thermal] rises of shaft '{bearing.shaft}' and housing "
-                    f"'{bearing.housing}' take up {-change:.3g} µm of clearance, more than its "
-                    f"{law.clearance_m * 1e6:.3g} µm (an interference this model does not take); give a larger "
-                    "clearance_um or clearance_class, or closer temperature rises")
-            law = law.with_clearance(clearance)
+        if rig is not None:
+            law = law.with_clearance(operating_clearance_m(rig, bearing, law))
         return RollingBearing((BearingRow(law),), linear_axial_stiffness=bearing.axial_stiffness_N_per_um * 1e6)
     law = _law(bearing)
     offset = _row_offset_m(bearing, law, _rated(bearing, law))
-    change = thermal_radial_change_um(rig, bearing, law.pitch_diameter_m)
+    change = thermal_clearance_change_um(rig, bearing, law.pitch_diameter_m)
     if change:
         offset += -0.5 * change * 1e-6 / math.tan(law.contact_angle_rad)
     if bearing.arrangement == "single":

@@ -13,12 +13,21 @@ import tomllib
 
 from rvcoax.geometry.rigfile import reference_rig_text
 
-__all__ = ["dump_toml", "reference_data"]
+__all__ = ["dump_toml", "reference_data", "with_bearing_keys"]
 
 
 def reference_data() -> dict:
     """A fresh, mutable copy of the reference rig as parsed TOML."""
     return tomllib.loads(reference_rig_text())
+
+
+def with_bearing_keys(variant: str, header: str, keys: str) -> str:
+    """The text of the reference rig's ``variant`` with the keys after ``header`` (a bearing entry's first lines,
+    name to x_mm) up to the next ``[[bearings]]`` replaced by ``keys``."""
+    text = reference_rig_text(variant)
+    start = text.index(header) + len(header)
+    end = text.index("[[bearings]]", start)
+    return text[:start] + keys + "\n" + text[end:]
 
 
 def _toml_key(key: str) -> str:

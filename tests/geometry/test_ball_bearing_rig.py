@@ -7,6 +7,7 @@ import difflib
 
 import numpy as np
 import pytest
+from rigdata import with_bearing_keys
 
 from rvcoax.geometry.ball_model import clearance_um_of, geometry_of
 from rvcoax.geometry.effects import candidate_effects, effect_by_name
@@ -29,11 +30,8 @@ def _variant():
 
 
 def _with_input_b1(keys: str):
-    """The variant with input_B1's ball keys replaced by ``keys``."""
-    text = reference_rig_text("ball_bearings")
-    start = text.index(INPUT_B1) + len(INPUT_B1)
-    end = text.index("[[bearings]]", start)
-    return text[:start] + keys + "\n" + text[end:]
+    """The variant with input_B1's model keys replaced by ``keys``."""
+    return with_bearing_keys("ball_bearings", INPUT_B1, keys)
 
 
 def test_the_variant_differs_from_the_reference_rig_only_in_the_four_shaft_bearings():

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from rigdata import with_bearing_keys
 
 from rvcoax.fem.ball_bearing import BallBearingGeometry
 from rvcoax.fem.rolling_bearing import rolling_element_loads
@@ -27,11 +28,7 @@ from rvcoax.results.sweep import ModelError, SweepSettings, run_sweep
 
 NAMES = ("input_B1", "input_B2", "output_B1", "output_B2")
 CASES = (LoadCase(1.43, 200.0), LoadCase(0.07, 10.0))
-INPUT_B1 = '''name = "input_B1"                   # 7204 B DB pair at the coupling side (locating)
-shaft = "input_shaft"
-housing = "input_bearing_block"
-x_mm = 255                          # rig_reference part 5
-'''
+INPUT_B1 = "x_mm = 255                          # rig_reference part 5\n"  # input_B1's last common line
 
 
 def _variant():
@@ -39,10 +36,8 @@ def _variant():
 
 
 def _with_input_b1(keys: str):
-    text = reference_rig_text("rolling_bearings")
-    start = text.index(INPUT_B1) + len(INPUT_B1)
-    end = text.index("[[bearings]]", start)
-    return text[:start] + keys + "\n" + text[end:]
+    """The variant with input_B1's model keys replaced by ``keys``."""
+    return with_bearing_keys("rolling_bearings", INPUT_B1, keys)
 
 
 def test_catalogue_entries_build_and_are_plausible():
