@@ -122,6 +122,28 @@ class Sweep:
                          self.rig.paths.measured_from == "aligned_at_rest", gear_contact_torques(self.rig))
 
 
+    def total_displacement(self, index: int | None) -> np.ndarray:
+        """The full displacement u of case ``index`` (None: the rest state) of a nonlinear sweep, from the
+        unloaded geometry (not measured from rest)."""
+        if self.case_displacements is None or self.rest_displacement is None:
+            raise ValueError("total_displacement needs a nonlinear sweep (bearings from geometry or clearance)")
+        if index is None:
+            return self.rest_displacement
+        measured = self.case_displacements[:, index]
+        return measured + self.rest_displacement if self.rig.paths.measured_from == "aligned_at_rest" else measured
+
+    def rolling_element_loads(self, index: int | None) -> dict:
+        """Per bearing from internal geometry, every rolling element's contact load, contact angle and largest
+        contact pressure in case ``index`` (None: at rest): :func:`rvcoax.fem.rolling_bearing.rolling_element_loads`
+        at the converged state — what a life (ISO/TS 16281) or static-safety (ISO 76) calculation reads."""
+        from rvcoax.fem.rolling_bearing import rolling_element_loads
+
+        if self.nonlinear_bearings is None:
+            return {}
+        motions = self.nonlinear_bearings.motions(self.nonlinear_bearings.operator @ self.total_displacement(index))
+        return {m.name: rolling_element_loads(m.bearing, motions[m.name]) for m in self.nonlinear_bearings.rolling}
+
+
 class ModelError(RvcoaxError, RuntimeError):
     """A model that cannot be solved, with the reason in the user's terms."""
 

@@ -90,11 +90,17 @@ def test_the_variant_solves_with_the_four_bearings_from_geometry():
     assert pair["axial_stiffness_N_per_um"] > 50 and pair["model"] == "angular_contact"
     section = model_section(sweep)
     assert section["rolling_bearings"] == list(NAMES) and "rolling_bearing_operating_points" in section
-    # the converged motions feed the per-element state (for life and static safety)
+    # the converged states feed the per-element loads (for life and static safety), at rest and per case
+    for index, position in ((None, 0), (0, 1), (1, 2)):
+        elements = sweep.rolling_element_loads(index)
+        for name in NAMES:
+            point = points[name][position]
+            assert elements[name].max_load_n == pytest.approx(point["max_element_load_N"], rel=1e-6, abs=1e-9)
+            assert elements[name].loaded_elements == point["loaded_elements"]
     motion = sweep.nonlinear_bearings.motions(sweep.nonlinear_bearings.operator @ sweep.rest_displacement)
     model = next(m for m in sweep.nonlinear_bearings.rolling if m.name == "input_B1")
-    elements = rolling_element_loads(model.bearing, motion["input_B1"])
-    assert elements.max_load_n == pytest.approx(pair["max_element_load_N"], rel=1e-9)
+    assert rolling_element_loads(model.bearing, motion["input_B1"]).max_load_n == pytest.approx(
+        pair["max_element_load_N"], rel=1e-9)
     with pytest.raises(ModelError, match="the beam and hybrid models solve it"):
         run_sweep(rig, CASES[:1], SweepSettings(model="solid"))
 
