@@ -169,7 +169,7 @@ class Bearing(Strict):
             "cylindrical_roller, tapered_roller: roller bearings, line contact by slicing (Palmgren laminae, "
             "crowning)."))
     radial_stiffness_N_per_um: Annotated[Positive | None, Field(validate_default=True, json_schema_extra={
-        "default_text": "required (model = \"ball\": from the geometry)"})] = None
+        "default_text": "required (a bearing from geometry: from its geometry)"})] = None
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
