@@ -153,8 +153,10 @@ class Bearing(Strict):
 
     ``model = "linear"`` (default): springs typed in (``radial_stiffness_N_per_um`` required).
     ``model = "ball"``: a deep-groove ball bearing from its internal geometry (see the block below and
-    :mod:`rvcoax.fem.ball_bearing`); the stiffness keys are then optional and only set the linear
-    reference the nonlinear solve is condensed on (filled from the geometry when absent).
+    :mod:`rvcoax.fem.ball_bearing`); ``"angular_contact"``, ``"cylindrical_roller"``, ``"tapered_roller"``:
+    those bearings (single or paired) from their internal geometry (:mod:`rvcoax.geometry.rolling_model`).
+    The stiffness keys are then optional and only set the linear reference the nonlinear solve is condensed
+    on (filled from the geometry when absent; a cylindrical roller bearing's axial key is its axial spring).
     """
 
     name: Name
