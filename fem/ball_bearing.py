@@ -45,7 +45,7 @@ at s_r0 = A cos α_0, s_a0 = A sin α_0, so that
 and the contact angle of every ball, tan α_j = s_a/s_r, follows the load. Such a bearing has one high
 shoulder per ring and carries thrust in +x only (inner ring against outer): where s_a < 0 the ball
 would have to run over the low shoulder, and the model takes s_a = 0 there (contact at the groove
-bottom, α_j = 0; continuous with a continuous tangent). A bearing facing −x is mirrored
+bottom, α_j = 0; the force is continuous, the tangent loses the ball's axial geometric term Q/s there). A bearing facing −x is mirrored
 (:mod:`rvcoax.fem.rolling_bearing`).
 
 Contact pressure: the largest Hertz pressure of a ball, p_max = 3 Q / (2π a b), with the semi-axes
