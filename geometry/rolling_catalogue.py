@@ -224,7 +224,7 @@ def catalogue_entry(designation: str, kind: str) -> CatalogueRollingBearing:
     """
     entry = ROLLING_BEARINGS.get(normalise_designation(designation))
     if entry is None or entry.kind != kind:
-        other = f" (it is a {entry.kind.replace('_', ' ')} bearing)" if entry is not None else ""
+        other = f" (it is a designation of model = \"{entry.kind}\")" if entry is not None else ""
         raise ValueError(f"designation: unknown {kind.replace('_', ' ')} bearing {designation!r}{other}; nearest: "
                          f"{', '.join(nearest_designations(designation, kind))}")
     return entry

@@ -154,7 +154,7 @@ def test_a_warm_shaft_presses_an_angular_pair_together():
 def test_bad_keys_are_refused_with_the_key_and_the_reason():
     cases = {
         'model = "angular_contact"\ndesignation = "7207"': "nearest: 7207",
-        'model = "angular_contact"\ndesignation = "NU204"': "it is a cylindrical roller bearing",
+        'model = "angular_contact"\ndesignation = "NU204"': "it is a designation of model = \"cylindrical_roller\"",
         'model = "tapered_roller"\ndesignation = "30299"': "unknown tapered roller bearing '30299'; nearest: 302",
         'model = "angular_contact"\ndesignation = "7204B"\npreload_class = "light"':
             "preload_class = \"light\" needs a DB or DF pair (arrangement): a single bearing has no partner row",
