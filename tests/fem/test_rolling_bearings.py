@@ -133,6 +133,28 @@ def test_one_roller_against_palmgren():
     assert ratios[2] < 1.1
 
 
+def _line_contact_integral(epsilon: float) -> float:
+    """J_r(ε) = (1/2π) ∫ (1 − (1 − cos ψ)/(2ε))^(10/9) cos ψ dψ over the load zone (line contact)."""
+    limit = math.acos(max(1.0 - 2.0 * epsilon, -1.0))
+    value, _ = quad(lambda psi: (1.0 - (1.0 - math.cos(psi)) / (2.0 * epsilon)) ** (10 / 9) * math.cos(psi),
+                    -limit, limit, epsabs=1e-13)
+    return value / (2.0 * math.pi)
+
+
+def test_radial_load_distribution_against_the_line_contact_integrals():
+    # Stribeck/Sjövall for line contact (Harris & Kotzalas vol. 1 ch. 7): zero clearance Z Q_max / F_r = 1/J_r(½)
+    # = 4.08; with clearance Q_max = F_r / (Z J_r(ε)), ε = ½ (1 − P_d / (2 δ_r)); many rollers make the sum the integral
+    assert 1.0 / _line_contact_integral(0.5) == pytest.approx(4.08, abs=0.01)
+    for clearance in (0.0, 10e-6):
+        geometry = RollerBearingGeometry(60, 3e-3, 10e-3, 80e-3, clearance_m=clearance, crowning="none", slices=4)
+        for load in (1000.0, 20000.0):
+            radial = brentq(lambda d, g=geometry, f=load: roller_loads(g, np.array([0, d, 0, 0, 0])).force[1] - f,
+                            0.5 * clearance, 1e-3, xtol=1e-17, rtol=1e-14)
+            epsilon = 0.5 * (1.0 - clearance / (2.0 * radial))
+            state = roller_loads(geometry, np.array([0, radial, 0, 0, 0]))
+            assert state.load_n.max() == pytest.approx(load / (60 * _line_contact_integral(epsilon)), rel=3e-3)
+
+
 def test_laminae_under_tilt_converge_to_the_continuum_of_palmgren_laminae():
     # uncrowned rollers, no clearance, pure tilt θ: roller j's laminae carry K_l/l (θ |s cos ψ_j|)^(10/9) ds on the
     # half s cos ψ_j > 0, so M = Σ_j K_l/l θ^(10/9) |cos ψ_j|^(19/9) ∫_0^{l/2} s^(19/9) ds
