@@ -187,3 +187,13 @@ def test_explicit_geometry_and_designations_written_loosely():
     law = rolling_bearing_of(next(b for b in explicit.bearings if b.name == "input_B1")).rows[0]
     assert law.law.ball_count == 11 and law.law.contact_angle_rad == pytest.approx(math.radians(30))
     assert law.state(np.zeros(5)).force[0] == pytest.approx(100.0, rel=1e-9)
+    # arrangements: the rows' facings and positions (a bearing width apart); a DT pair shares a preload force
+    for keys, facings in (('arrangement = "DF"\npreload_N = 200', (-1, 1)),
+                          ('arrangement = "DT"\naxial_direction = -1\npreload_N = 200', (-1, -1))):
+        rig = parse_rig_text(_with_input_b1(f'model = "angular_contact"\ndesignation = "7204C"\n{keys}'))
+        entry = next(b for b in rig.bearings if b.name == "input_B1")
+        pair = rolling_bearing_of(entry)
+        assert tuple(r.facing for r in pair.rows) == facings and entry.width_mm == 28.0
+        assert [r.axial_position_m for r in pair.rows] == pytest.approx([-7e-3, 7e-3])
+        carried = [r.state(np.zeros(5)).force[0] for r in pair.rows]
+        assert carried == pytest.approx([200.0, 200.0] if facings == (-1, 1) else [100.0, 100.0], rel=1e-9)
