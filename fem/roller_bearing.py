@@ -30,8 +30,9 @@ The force the bearing carries and its tangent are
 
 Crowning (the drop c(s) of roller and raceway profiles together, at |s| ≤ l/2):
 
-- ``logarithmic``: Lundberg's profile, c(s) = (2 Q_d / (π l E')) ln(1 / (1 − (2s/l)²)), which gives an
-  even pressure along the roller at its design load Q_d (G. Lundberg, "Elastische Berührung zweier
+- ``logarithmic``: Lundberg's profile, c(s) = (2 Q_d / (π l E')) ln(1 / (1 − (2s/l)²)), which on an elastic
+  half-space gives an even pressure along the roller at its design load Q_d (the laminae here are independent,
+  so it softens the roller's ends rather than evening the pressure exactly) (G. Lundberg, "Elastische Berührung zweier
   Halbräume", Forsch. Ing.-Wes. 10 (1939) 201–211; ISO/TS 16281 uses a logarithmic profile);
 - ``circular``: c(s) = c_e (2s/l)², an arc dropping c_e at the roller's ends;
 - ``none``: a straight roller (edge loading under tilt is then the lamina at the end carrying more).
