@@ -33,7 +33,7 @@ from rvcoax.geometry.ball_model import clearance_from_keys, operating_clearance_
 from rvcoax.geometry.rolling_catalogue import CatalogueRollingBearing, catalogue_entry
 
 __all__ = ["GEOMETRIC_MODELS", "MODEL_KEYS", "PRELOAD_CLASS_SHARE", "RollingBearingModel", "clearance_um_of",
-           "entry_of", "reference_stiffness",
+           "clearance_upper_um", "entry_of", "heavy_setting", "reference_stiffness",
            "rolling_bearing_model", "rolling_bearing_of"]
 
 GEOMETRIC_MODELS = ("angular_contact", "cylindrical_roller", "tapered_roller")
@@ -207,6 +207,27 @@ def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     half = 0.5 * _row_width_m(bearing)
     facings = {"DB": (1, -1), "DF": (-1, 1), "DT": (bearing.axial_direction,) * 2}[bearing.arrangement]
     return RollingBearing((BearingRow(law, -half, facings[0], offset), BearingRow(law, half, facings[1], offset)))
+
+
+def clearance_upper_um(bearing) -> float:
+    """The largest clearance a cylindrical roller bearing entry plausibly runs with (µm): the top of ISO 5753-1's
+    C4 range for its bore, or 100 µm for explicit geometry."""
+    from rvcoax.geometry.ball_bearings import clearance_range_um
+
+    if bearing.designation is None:
+        return 100.0
+    return clearance_range_um(entry_of(bearing).bore_mm, "C4", "cylindrical_roller")[1]
+
+
+def heavy_setting(bearing) -> tuple[float, float]:
+    """An angular-contact or tapered entry's heavy-class setting: the preload force (N; what ``preload_N`` means
+    for its arrangement) and the axial offset (µm; what ``axial_offset_um`` means) at which each row carries
+    the heavy class's share of its C."""
+    law = _law(bearing)
+    row_load = PRELOAD_CLASS_SHARE["heavy"] * _rated(bearing, law)
+    row_offset_um = _offset_for_axial_load(law, row_load) * 1e6
+    force = row_load * (2.0 if bearing.arrangement == "DT" else 1.0)
+    return force, row_offset_um * (2.0 if bearing.arrangement in ("DB", "DF") else 1.0)
 
 
 def reference_stiffness(bearing) -> dict[str, float]:

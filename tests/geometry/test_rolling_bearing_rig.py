@@ -197,3 +197,28 @@ def test_explicit_geometry_and_designations_written_loosely():
         assert [r.axial_position_m for r in pair.rows] == pytest.approx([-7e-3, 7e-3])
         carried = [r.state(np.zeros(5)).force[0] for r in pair.rows]
         assert carried == pytest.approx([200.0, 200.0] if facings == (-1, 1) else [100.0, 100.0], rel=1e-9)
+
+
+def test_the_discrepancy_vocabulary_has_the_clearance_and_setting_of_these_bearings():
+    from rvcoax.geometry.effects import candidate_effects
+    from rvcoax.geometry.rolling_model import clearance_um_of
+
+    rig = _variant()
+    names = {e.name: e for e in candidate_effects(rig)}
+    assert not any(n.endswith("@input_B1") and n.startswith("bearing_") for n in names)  # set by a preload class
+    assert "bearing_stiffness@input_B2" not in names  # the stiffness follows from geometry
+    (c,) = names["bearing_clearance@input_B2"].parameters
+    assert (c.name, c.unit, c.lower, c.upper) == ("clearance_um", "µm", -12.5, 75.0 - 12.5)  # 0 … C4 max (NU 204)
+    (p,) = names["bearing_preload@output_B1"].parameters
+    assert (p.name, p.unit, p.lower) == ("axial_offset_um", "µm", -25.0) and 5 < p.upper < 100
+    assert not names["bearing_preload@output_B1"].linear
+    closed = names["bearing_clearance@input_B2"].apply(rig, [-10.0])
+    assert clearance_um_of(next(b for b in closed.bearings if b.name == "input_B2")) == 2.5
+    pressed = names["bearing_preload@output_B1"].apply(rig, [8.0])
+    assert next(b for b in pressed.bearings if b.name == "output_B1").axial_offset_um == 3.0
+    # a pair preloaded by a force: the effect changes the force, up to the heavy class
+    forced = parse_rig_text(_with_input_b1('model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\n'
+                                           'preload_N = 100'))
+    (f,) = {e.name: e for e in candidate_effects(forced)}["bearing_preload@input_B1"].parameters
+    assert (f.name, f.lower) == ("preload_N", -100.0)
+    assert f.upper == pytest.approx(0.04 * ROLLING_BEARINGS["7204B"].dynamic_rating_N - 100.0, rel=1e-9)
