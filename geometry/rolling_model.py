@@ -33,7 +33,7 @@ from rvcoax.geometry.ball_model import clearance_from_keys, operating_clearance_
 from rvcoax.geometry.rolling_catalogue import CatalogueRollingBearing, catalogue_entry
 
 __all__ = ["GEOMETRIC_MODELS", "MODEL_KEYS", "PRELOAD_CLASS_SHARE", "RollingBearingModel", "clearance_um_of",
-           "clearance_upper_um", "entry_of", "heavy_setting", "reference_stiffness",
+           "clearance_upper_um", "entry_of", "heavy_setting", "load_ratings_N", "reference_stiffness",
            "rolling_bearing_model", "rolling_bearing_of"]
 
 GEOMETRIC_MODELS = ("angular_contact", "cylindrical_roller", "tapered_roller")
@@ -167,12 +167,16 @@ def _row_offset_m(bearing, law, rated_n: float) -> float:
     return 0.0
 
 
+_GEOMETRY_KEYS = ("ball_count", "ball_diameter_mm", "inner_conformity", "outer_conformity", "pitch_diameter_mm",
+                  "contact_angle_deg", "roller_count", "roller_diameter_mm", "roller_length_mm")
+
+
 def _rated(bearing, law) -> float:
+    """C (N) of one row: the catalogue's for a designation without geometry overrides, else ISO 281 on ``law``."""
     from rvcoax.geometry.rolling_catalogue import ball_dynamic_rating_N, roller_dynamic_rating_N
 
     entry = entry_of(bearing)
-    if entry is not None and bearing.model != "cylindrical_roller" and all(
-            getattr(bearing, key) is None for key in MODEL_KEYS[bearing.model] if key.endswith(("_count", "_mm"))):
+    if entry is not None and all(getattr(bearing, key) is None for key in _GEOMETRY_KEYS):
         return entry.dynamic_rating_N
     if isinstance(law, BallBearingGeometry):
         return ball_dynamic_rating_N(law.ball_count, law.ball_diameter_m * 1e3, law.pitch_diameter_m * 1e3,
@@ -207,6 +211,29 @@ def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     half = 0.5 * _row_width_m(bearing)
     facings = {"DB": (1, -1), "DF": (-1, 1), "DT": (bearing.axial_direction,) * 2}[bearing.arrangement]
     return RollingBearing((BearingRow(law, -half, facings[0], offset), BearingRow(law, half, facings[1], offset)))
+
+
+def load_ratings_N(bearing) -> tuple[float, float]:
+    """(C, C0) in N of one row of a bearing from geometry (``ball`` included): the catalogue's values for a
+    designation without geometry overrides, else computed from the geometry the same way
+    (:mod:`rvcoax.geometry.rolling_catalogue`: C by ISO 281, C0 by ISO 76's definition). A pair's ratings
+    follow from a row's by ISO 281/76's rules for i rows."""
+    from rvcoax.geometry.rolling_catalogue import ball_static_rating_N, roller_static_rating_N
+
+    if bearing.model == "ball":
+        from rvcoax.geometry.ball_model import geometry_of
+        from rvcoax.geometry.rolling_catalogue import ball_dynamic_rating_N
+
+        law = geometry_of(bearing).with_clearance(0.0)
+        return (ball_dynamic_rating_N(law.ball_count, law.ball_diameter_m * 1e3, law.pitch_diameter_m * 1e3, 0.0),
+                ball_static_rating_N(law))
+    law = _law(bearing)
+    entry = entry_of(bearing)
+    if entry is not None and all(getattr(bearing, key) is None for key in _GEOMETRY_KEYS):
+        return entry.dynamic_rating_N, entry.static_rating_N
+    static = ball_static_rating_N(law) if isinstance(law, BallBearingGeometry) else roller_static_rating_N(
+        law.with_clearance(0.0))
+    return _rated(bearing, law), static
 
 
 def clearance_upper_um(bearing) -> float:

@@ -222,3 +222,21 @@ def test_the_discrepancy_vocabulary_has_the_clearance_and_setting_of_these_beari
     (f,) = {e.name: e for e in candidate_effects(forced)}["bearing_preload@input_B1"].parameters
     assert (f.name, f.lower) == ("preload_N", -100.0)
     assert f.upper == pytest.approx(0.04 * ROLLING_BEARINGS["7204B"].dynamic_rating_N - 100.0, rel=1e-9)
+
+
+def test_load_ratings_of_an_entry():
+    from rvcoax.geometry.rolling_model import load_ratings_N
+
+    rig = _variant()
+    by_name = {b.name: b for b in rig.bearings}
+    entry = ROLLING_BEARINGS["30206"]
+    assert load_ratings_N(by_name["output_B1"]) == (entry.dynamic_rating_N, entry.static_rating_N)
+    # a geometry override recomputes both (ISO 281, ISO 76's definition): more rollers, higher ratings
+    more = parse_rig_text(_with_input_b1('model = "tapered_roller"\ndesignation = "30206"\nroller_count = 17'))
+    c, c0 = load_ratings_N(next(b for b in more.bearings if b.name == "input_B1"))
+    assert c == pytest.approx(entry.dynamic_rating_N * (17 / entry.element_count) ** 0.75, rel=1e-9)
+    assert c0 == pytest.approx(entry.static_rating_N * 17 / entry.element_count, rel=1e-6)
+    # a deep-groove ball bearing's, from its geometry (the 6204: about SKF's 13.5 / 6.55 kN)
+    ball = parse_rig_text(reference_rig_text("ball_bearings"), "ball")
+    c, c0 = load_ratings_N(next(b for b in ball.bearings if b.name == "input_B1"))
+    assert c == pytest.approx(13500.0, rel=0.10) and c0 == pytest.approx(6550.0, rel=0.05)
