@@ -161,7 +161,10 @@ def _row_offset_m(bearing, law, rated_n: float) -> float:
         return _offset_for_axial_load(law, PRELOAD_CLASS_SHARE[bearing.preload_class] * rated_n)
     if bearing.preload_N:
         share = 1.0 if bearing.arrangement in ("single", "DB", "DF") else 0.5
-        return _offset_for_axial_load(law, share * bearing.preload_N)
+        try:
+            return _offset_for_axial_load(law, share * bearing.preload_N)
+        except ValueError as error:
+            raise ValueError(f"preload_N = {bearing.preload_N:g} N: {error}") from None
     if bearing.axial_offset_um is not None:
         return bearing.axial_offset_um * 1e-6 / (2.0 if pair else 1.0)
     return 0.0

@@ -301,6 +301,10 @@ class Bearing(Strict):
             raise ValueError(f"preload_class = \"{self.preload_class}\" needs a DB or DF pair (arrangement): "
                              f"{what} has no partner row to be preloaded against; give preload_N (a preload "
                              "against its mounting) or axial_offset_um")
+        for key, crowning in (("crown_drop_um", "circular"), ("crowning_load_N", "logarithmic")):
+            if getattr(self, key) is not None and self.crowning != crowning:
+                raise ValueError(f"{key} applies to crowning = \"{crowning}\" (this bearing's crowning is "
+                                 f"\"{self.crowning}\")")
         if self.axial_direction != 1 and self.arrangement in ("DB", "DF"):
             raise ValueError(f"axial_direction: a {self.arrangement} pair carries thrust both ways (its rows' "
                              "directions follow from the arrangement)")

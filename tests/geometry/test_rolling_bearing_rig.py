@@ -128,6 +128,10 @@ def test_a_designation_whose_bore_is_not_the_shaft_is_a_plausibility_warning():
     assert plausibility_warnings(rig) == [
         "bearings[4] ('input_B1').designation = 7206B: its bore is 30 mm, but the shaft's Ø at x = 255 mm is 20 mm: "
         "another designation, or the shaft's segment?"]
+    # a preload far beyond the heavy class: the rows carry most of their C at rest
+    (message,) = plausibility_warnings(parse_rig_text(_with_input_b1(
+        'model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\npreload_N = 9000')))
+    assert message.startswith("bearings[4] ('input_B1').preload_N: each row carries 9000 N at rest, 69 % of its C")
 
 
 @pytest.mark.slow
@@ -181,6 +185,8 @@ def test_bad_keys_are_refused_with_the_key_and_the_reason():
             "clearance_class: not a key of model = \"angular_contact\"",
         'model = "cylindrical_roller"\ndesignation = "NU204"\ncrowning = "circular"': "needs crown_drop_um",
         'model = "cylindrical_roller"\ndesignation = "NU204"\narrangement = "DB"': "arrangement: not a key",
+        'model = "cylindrical_roller"\ndesignation = "NU204"\ncrown_drop_um = 5':
+            "crown_drop_um applies to crowning = \"circular\"",
         'model = "angular_contact"\ndesignation = "7204B"\narrangement = "DB"\naxial_direction = -1':
             "axial_direction: a DB pair carries thrust both ways",
         'model = "angular_contact"\nball_count = 10\nball_diameter_mm = 8': "missing: pitch_diameter_mm",
