@@ -177,6 +177,10 @@ class ElementLoads:
         lamina for a roller).
     kind : tuple of str
         Per row, ``ball`` or ``roller`` (ISO 76/281 treat them apart).
+    lamina_load_n : tuple
+        Per row, the (Z, n) lamina loads of a roller row (ISO/TS 16281's life sums over them), None for a ball row.
+    lamina_width_m : tuple
+        Per row, the lamina width of a roller row, None for a ball row.
     """
 
     row: np.ndarray
@@ -185,6 +189,8 @@ class ElementLoads:
     contact_angle_rad: np.ndarray
     max_contact_pressure_Pa: np.ndarray
     kind: tuple[str, ...]
+    lamina_load_n: tuple = ()
+    lamina_width_m: tuple = ()
 
     @property
     def max_load_n(self) -> float:
@@ -216,7 +222,7 @@ def rolling_element_loads(bearing: RollingBearing, relative_motion) -> ElementLo
     -------
     ElementLoads
     """
-    rows, azimuth, load, angle, pressure, kinds = [], [], [], [], [], []
+    rows, azimuth, load, angle, pressure, kinds, laminae, widths = [], [], [], [], [], [], [], []
     for r, (row, state) in enumerate(zip(bearing.rows, row_states(bearing, relative_motion))):
         rows.append(np.full(state.load_n.size, r))
         azimuth.append(state.azimuth_rad)
@@ -225,8 +231,12 @@ def rolling_element_loads(bearing: RollingBearing, relative_motion) -> ElementLo
         if isinstance(row.law, BallBearingGeometry):
             pressure.append(row.law.max_contact_pressure(state.load_n))
             kinds.append("ball")
+            laminae.append(None)
+            widths.append(None)
         else:
             pressure.append(state.max_contact_pressure_Pa)
             kinds.append("roller")
+            laminae.append(state.lamina_load_n)
+            widths.append(row.law.roller_length_m / row.law.slices)
     return ElementLoads(np.concatenate(rows), np.concatenate(azimuth), np.concatenate(load), np.concatenate(angle),
-                        np.concatenate(pressure), tuple(kinds))
+                        np.concatenate(pressure), tuple(kinds), tuple(laminae), tuple(widths))

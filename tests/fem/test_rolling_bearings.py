@@ -258,3 +258,6 @@ def test_element_loads_and_contact_pressures():
     radius = 1 / (2 / 10e-3 + 2 / (60e-3 - 10e-3))
     assert loads.max_contact_pressure_Pa[0] == pytest.approx(math.sqrt(q * E_PRIME / (2 * math.pi * radius)), rel=1e-9)
     assert loads.kind == ("roller",) and loads.max_load_n == loads.load_n[0]
+    (laminae,) = loads.lamina_load_n
+    assert laminae.shape == (14, 20) and np.allclose(laminae.sum(axis=1), loads.load_n, rtol=1e-12)
+    assert loads.lamina_width_m == (pytest.approx(14e-3 / 20),)
