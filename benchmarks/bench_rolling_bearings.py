@@ -46,7 +46,7 @@ def _variant(replacements: dict[str, str]) -> str:
     text = reference_rig_text("rolling_bearings")
     for old, new in replacements.items():
         assert old in text, old
-        text = text.replace(old, new)
+        text = text.replace(old, new)  # every occurrence (both tapered bearings)
     return text
 
 
@@ -57,7 +57,10 @@ def main() -> None:
     for label, text in (("typed-in linear bearings (reference rig)", reference_rig_text()),
                         ("deep-groove ball bearings, CN (ball_bearings variant)", reference_rig_text("ball_bearings")),
                         ("7204 B DB + NU 204 + 2 × 30206 (rolling_bearings variant)",
-                         reference_rig_text("rolling_bearings"))):
+                         reference_rig_text("rolling_bearings")),
+                        ("the same with every bearing engaged: NU 204 zero clearance, 30206 pair preloaded (+5 µm "
+                         "each)", _variant({'clearance_class = "C2"': "clearance_um = 0",
+                                            "axial_offset_um = -5": "axial_offset_um = 5"}))):
         rig = parse_rig_text(text, label)
         median, best, cpu, sweep = _timed(lambda rig=rig: run_sweep(rig, cases))
         newton = sweep.solver_report.get("newton_iterations_max")
