@@ -60,14 +60,12 @@ def entry_of(bearing) -> CatalogueRollingBearing | None:
     return catalogue_entry(bearing.designation, bearing.model)
 
 
-def _value(bearing, entry, key: str, entry_key: str, scale: float = 1.0):
+def _value(bearing, entry, key: str, entry_key: str):
+    """The entry's ``key`` where given, else the catalogue's ``entry_key`` (None without either)."""
     given = getattr(bearing, key)
-    if given is not None:
+    if given is not None or entry is None:
         return given
-    if entry is None:
-        return None
-    value = getattr(entry, entry_key)
-    return None if value is None else value * scale
+    return getattr(entry, entry_key)
 
 
 def _law(bearing, clearance_um: float = 0.0):
