@@ -58,7 +58,8 @@ def test_catalogue_entries_build_and_are_plausible():
 
 def test_load_ratings_from_geometry_against_a_published_catalogue_bearing():
     # the 6204 (the ball bearing catalogue's geometry: Z = 8, D_w = 7.938 mm, d_m = 33.5 mm, f_i 0.52, f_o 0.53):
-    # SKF's catalogue gives C = 13.5 kN, C0 = 6.55 kN. ISO 281's C (b_m = 1.3) is a few per cent below SKF's (their
+    # SKF's rolling bearings catalogue gives C = 13.5 kN, C0 = 6.55 kN (quoted as remembered: the catalogue page was
+    # not at hand this session; the tolerances are wider than the doubt). ISO 281's C (b_m = 1.3) is a few per cent below SKF's (their
     # own, higher factors); C0 by ISO 76's definition (4 200 MPa at Q_max = 5 F_r / Z) on this model's Hertz contact
     geometry = BallBearingGeometry(8, 7.938e-3, 33.5e-3, 0.52, 0.53)
     assert ball_static_rating_N(geometry) == pytest.approx(6550.0, rel=0.05)
