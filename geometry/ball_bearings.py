@@ -84,7 +84,8 @@ _CLEARANCE_TABLE_UM = (
 
 
 # ISO 5753-1, radial internal clearance of cylindrical roller bearings with a cylindrical bore (µm), the same
-# layout (transcribed from the makers' catalogue tables that reproduce it)
+# layout (as the makers' catalogue tables reproduce it; written from memory of those tables, not re-read against
+# the standard: check before relying on a class's edges)
 _CYLINDRICAL_CLEARANCE_TABLE_UM = (
     (10.0, 24.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
     (24.0, 30.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
