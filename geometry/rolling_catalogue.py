@@ -6,7 +6,8 @@ load ratings follow here from rules, and every number says where it comes from (
 - **published** — bore d, outside diameter D, width B (tapered: total width T and cup width C): ISO 15
   (radial bearings; 70xx, 72xx, 73xx, NU2xx, NU3xx share the dimensions of 60xx, 62xx, 63xx) and
   ISO 355 (tapered roller bearings, series 02, 20 (X), 22), as in every maker's catalogue (the 60xx and tapered
-  rows written from memory of those tables; 72xx/73xx/NU from the 62xx/63xx rows of the ball catalogue).
+  rows written from memory of those tables, the tapered bores 20–30 mm checked against a maker's table in the
+  tests; 72xx/73xx/NU from the 62xx/63xx rows of the ball catalogue).
 - **ESTIMATED** — the internal geometry (makers publish it rarely):
 
   * angular-contact ball bearings: d_m = (d + D)/2, D_w = 0.30 (D − d) (the 62xx/63xx ball sizes are

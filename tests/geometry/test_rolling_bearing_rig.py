@@ -85,6 +85,30 @@ def test_the_estimated_7206_b_against_a_makers_published_data():
     assert 0.8 < entry.dynamic_rating_N / 22500.0 < 1.0 and 0.8 < entry.static_rating_N / 14300.0 < 1.0
 
 
+def test_tapered_dimensions_and_estimated_ratings_against_a_makers_table():
+    # a maker's metric tapered roller bearing table, bore 15–35 mm (as reproduced at zanotowane.pl/1106/3332): d, D,
+    # T, cup width C (mm) and, for three of them, C_r and C_0r (N)
+    published = {"32004X": (20, 42, 15, 12), "30204": (20, 47, 15.25, 12), "32204": (20, 47, 19.25, 15),
+                 "32005X": (25, 47, 15, 11.5), "30205": (25, 52, 16.25, 13), "32205": (25, 52, 19.25, 15),
+                 "32006X": (30, 55, 17, 13), "30206": (30, 62, 17.25, 14), "32206": (30, 62, 21.25, 17)}
+    import csv
+    import io
+    from importlib import resources
+
+    from rvcoax.geometry.rolling_catalogue import ROLLING_CATALOGUE_FILE
+
+    rows = {r["designation"]: r for r in csv.DictReader(io.StringIO(
+        resources.files("rvcoax.geometry").joinpath("data", ROLLING_CATALOGUE_FILE).read_text(encoding="utf-8")))}
+    for name, (d, big_d, width, cup) in published.items():
+        row = rows[name]
+        assert (float(row["bore_mm"]), float(row["outside_diameter_mm"]), float(row["width_mm"]),
+                float(row["cup_width_mm"])) == (d, big_d, width, cup), name
+    for name, (rating, static) in {"32006X": (37500, 46500), "30206": (43500, 48000), "32206": (53000, 61500)}.items():
+        entry = ROLLING_BEARINGS[name]  # the estimated roller set: within 10 % of the maker's ratings
+        assert entry.dynamic_rating_N == pytest.approx(rating, rel=0.10), name
+        assert entry.static_rating_N == pytest.approx(static, rel=0.10), name
+
+
 def test_the_variant_solves_with_the_four_bearings_from_geometry():
     rig = _variant()
     bearings = {b.name: b for b in rig.bearings if b.name in NAMES}
