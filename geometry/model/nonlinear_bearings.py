@@ -136,10 +136,11 @@ class NonlinearBearings:
         range of the balls' operating contact angles.
         """
         out = {}
+        motions = self.motions(w)
         for model in self.rolling:
             if model.model not in models:
                 continue
-            motion = self.motions(w)[model.name]
+            motion = motions[model.name]
             force, stiffness = bearing_force(model.bearing, motion)
             elements = rolling_element_loads(model.bearing, motion)
             point = {
