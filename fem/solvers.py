@@ -200,15 +200,16 @@ class PreparedSolver:
     def condition_estimate(self) -> float | None:
         """Estimated condition number of the Jacobi-scaled matrix (:func:`rvcoax.fem.diagnostics.scaled_condition_estimate`).
 
-        About ten solves with the factorisation, computed once. None for AMG, where every solve is a
-        full CG run (a preconditioned solve that converges is its own evidence of conditioning).
+        Three or four multi-column solves with the factorisation (a few probe vectors each), computed once.
+        None for AMG, where every solve is a full CG run (a preconditioned solve that converges is its own
+        evidence of conditioning).
         """
         if not self._direct:
             return None
         if self._condition is None:
             from rvcoax.fem.diagnostics import scaled_condition_estimate
 
-            self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b.reshape(-1, 1))[0])
+            self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b)[0])
         return self._condition
 
     def _refine(self, block, x, residual, residuals, scale):
