@@ -17,7 +17,7 @@ from scipy.sparse.csgraph import connected_components
 from rvcoax.fem import DOFS_PER_NODE
 
 __all__ = ["FreeMotion", "MOTION_NAMES", "constraint_penalty", "find_free_motions", "scaled_condition_estimate",
-           "scaled_inverse_norm_bound"]
+           "scaled_inverse_norm_bound", "singularity_and_condition"]
 
 MOTION_NAMES = ("translation x", "translation y", "translation z", "rotation about x",
                 "rotation about y", "rotation about z")
@@ -149,17 +149,61 @@ def scaled_inverse_norm_bound(matrix: sp.spmatrix, solve, steps: int = 2, seed: 
     if n == 0:
         return 0.0, 0
     root = np.sqrt(_diagonal(matrix))
-    y = np.random.default_rng(seed).standard_normal(n)
-    bound = 0.0
-    for _ in range(steps):
-        y = root * np.asarray(solve(root * (y / np.linalg.norm(y))), dtype=float).reshape(-1)
-        bound = float(np.linalg.norm(y))
-        if not np.isfinite(bound):
-            return float("inf"), int(np.argmax(~np.isfinite(y)))
-    return bound, int(np.argmax(np.abs(y)))
+    iteration = _InverseIteration(n, steps, seed)
+    iteration.finish(lambda b: root * np.asarray(solve(root * b), dtype=float).reshape(-1))
+    return iteration.bound, iteration.equation
 
 
-def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 5, columns: int = 1) -> float:
+class _InverseIteration:
+    """The steps of :func:`scaled_inverse_norm_bound` in the scaled space, one column at a time, so that they
+    can ride along in the solves of another computation (:func:`singularity_and_condition`)."""
+
+    def __init__(self, n: int, steps: int, seed: int):
+        self.y = np.random.default_rng(seed).standard_normal(n)
+        self.left = steps
+        self.bound = 0.0
+        self.equation = 0
+
+    def column(self) -> np.ndarray:
+        """The next vector to solve for (the last iterate, normalised)."""
+        return self.y / np.linalg.norm(self.y)
+
+    def take(self, y: np.ndarray) -> None:
+        """Record S⁻¹ of :meth:`column`."""
+        self.left -= 1
+        self.y = y
+        self.bound = float(np.linalg.norm(y))
+        if not np.isfinite(self.bound):
+            self.bound, self.equation, self.left = float("inf"), int(np.argmax(~np.isfinite(y))), 0
+        elif self.left == 0:
+            self.equation = int(np.argmax(np.abs(y)))
+
+    def finish(self, inverse) -> None:
+        """The steps still left, each its own solve ``inverse(vector)`` = S⁻¹ vector."""
+        while self.left > 0:
+            self.take(inverse(self.column()))
+
+
+def singularity_and_condition(matrix, solve, steps: int = 2, seed: int = 0) -> tuple[float, int, float]:
+    """:func:`scaled_inverse_norm_bound` and :func:`scaled_condition_estimate` in the same solves.
+
+    Each inverse-iteration step is one more column in a solve of the condition estimate (the two
+    are independent), so a set-up that must test for singularity gets the condition number for the
+    estimate's solves alone; a solve call with a direct factor costs far less per added column than
+    per call. Returns (bound, equation, condition estimate).
+    """
+    n = matrix.shape[0]
+    if n == 0:
+        return 0.0, 0, 1.0
+    iteration = _InverseIteration(n, steps, seed)
+    kappa = scaled_condition_estimate(matrix, solve, riding=iteration)
+    root = np.sqrt(_diagonal(matrix))
+    iteration.finish(lambda b: root * np.asarray(solve(root[:, None] * b[:, None]), dtype=float).reshape(-1))
+    return iteration.bound, iteration.equation, kappa
+
+
+def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 5, columns: int = 1,
+                              riding: _InverseIteration | None = None) -> float:
     """Estimated 1-norm condition number of the Jacobi-scaled matrix D^-½ A D^-½ (D = diag A).
 
     The scaling removes what only reflects units (N/m next to N·m/rad), so the number measures how
@@ -185,6 +229,9 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
         Block iterations (each two block solves, the last one one).
     columns : int
         Probe vectors per block (t of Higham & Tisseur).
+    riding : optional
+        Inverse-iteration steps to take as an extra column of the first solves
+        (:func:`singularity_and_condition`).
     """
     n = matrix.shape[0]
     if n == 0:
@@ -200,8 +247,14 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
         norm = float(abs(scaled).sum(axis=0).max())
 
     def inverse(b: np.ndarray) -> np.ndarray:  # (D^-½ A D^-½)⁻¹ B = D^½ A⁻¹ D^½ B, all columns at once
-        block = np.asarray(solve(root[:, None] * b), dtype=float).reshape(n, b.shape[1])
-        return root[:, None] * block
+        ride = riding is not None and riding.left > 0
+        if ride:
+            b = np.column_stack([b, riding.column()])
+        block = root[:, None] * np.asarray(solve(root[:, None] * b), dtype=float).reshape(n, b.shape[1])
+        if ride:
+            riding.take(block[:, -1])
+            return block[:, :-1]
+        return block
 
     t = max(1, min(columns, n))
     start = np.ones((n, t))
