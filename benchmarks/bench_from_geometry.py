@@ -80,7 +80,8 @@ def observed_order(sizes, values) -> tuple[float, float]:
 
 
 def shape_convergence(rows: list) -> None:
-    from rvcoax.geometry.housings import BracketGeometry, Reference, condense_housing
+    from rvcoax.geometry.housings import BracketGeometry, Reference
+    from rvcoax.geometry.model.condensed_housing import condense_housing
 
     def bracket(size: float) -> BracketGeometry:  # as in tests/geometry/test_housing_shapes.py
         return BracketGeometry(name="bracket", x_mm=(0.0, 60.0), width_mm=70.0, top_mm=35.0, seat_bottom_mm=-35.0,

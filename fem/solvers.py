@@ -555,7 +555,7 @@ def prepare(
         Symmetric positive definite (constraints already eliminated).
     method : {"auto", "superlu", "pardiso", "amg"}
     near_null_space : (n, k) array, optional
-        AMG only: the rigid-body modes of the unconstrained structure (``rvcoax.fem.solid.rigid_body_modes``)
+        AMG only: the rigid-body modes of the unconstrained structure (:func:`rvcoax.fem.rigid_body.rigid_body_modes`)
         restricted to the free DOFs. Without them AMG converges slowly on elasticity.
     n_rhs : int
         ``"auto"``: how many right-hand sides the set-up will serve (:func:`choose_method`).

@@ -24,6 +24,7 @@ import numpy as np
 from rvcoax.fem import bushing, equilibrium
 from rvcoax.fem import system as fem_system
 from rvcoax.fem.errors import RvcoaxError, SingularModelError
+from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
@@ -44,7 +45,7 @@ from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
            "MEASURED_SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
-           "check_supports", "prepare_model", "prepare_system", "read_path", "rigid_body_modes", "run_gap_sweep",
+           "check_supports", "prepare_model", "prepare_system", "read_path", "run_gap_sweep",
            "run_sweep", "solve_unit_responses"]
 
 
@@ -178,33 +179,14 @@ def _prepare(system: RigSystem, settings: SweepSettings):
     """
     beam_superlu = system.kind == "beam" and settings.solver in ("auto", "superlu")
     try:
-        reduced = fem_system.prepare_system(system.stiffness, system.elimination,
-                                            "superlu" if beam_superlu else settings.solver,
-                                            near_null_space=lambda: rigid_body_modes(system), symmetrize=beam_superlu,
-                                            n_rhs=len(UNIT_LOADS))
+        reduced = fem_system.prepare_system(
+            system.stiffness, system.elimination, "superlu" if beam_superlu else settings.solver,
+            near_null_space=lambda: rigid_body_modes(system.dofs.position, system.dofs.component),
+            symmetrize=beam_superlu, n_rhs=len(UNIT_LOADS))
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
     check_condition(reduced.condition_estimate())
     return reduced.solve, reduced.solver_name, reduced.summary()
-
-
-def rigid_body_modes(system: RigSystem) -> np.ndarray:
-    """The six rigid-body motions of the whole DOF vector (near-null space for AMG)."""
-    table = system.dofs
-    modes = np.zeros((system.n_dofs, 6))
-    translational = table.component < 3
-    centre = table.position.mean(axis=0)
-    r = table.position - centre
-    for axis in range(3):
-        modes[table.component == axis, axis] = 1.0
-        modes[table.component == 3 + axis, 3 + axis] = 1.0
-    for rot in range(3):
-        e = np.zeros(3)
-        e[rot] = 1.0
-        motion = np.cross(e, r)  # θ × r
-        rows = np.flatnonzero(translational)
-        modes[rows, 3 + rot] = motion[rows, table.component[rows]]
-    return modes
 
 
 CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)

@@ -1,6 +1,6 @@
 """``[[housings]]`` in a rig model: each housing's condensed stiffness on the frame nodes it holds.
 
-The condensed matrix (:func:`rvcoax.geometry.housings.condense_housing`, cached by content) is a
+The condensed matrix (:func:`rvcoax.geometry.model.condensed_housing.condense_housing`, cached by content) is a
 superelement between the ground and the reference nodes of the housing's part at
 ``attachments_x_mm``; it enters the system like a bushing (:func:`rvcoax.fem.condensation.superelement_contribution`).
 """
@@ -12,8 +12,9 @@ import numpy as np
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.condensation import superelement_contribution
 from rvcoax.fem.pieces import Contribution, dense_load_contribution
-from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
+from rvcoax.geometry.housings import Reference
 from rvcoax.geometry.model.beam import housing_bed_group
+from rvcoax.geometry.model.condensed_housing import CondensedHousing, condense_housing
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 

@@ -37,12 +37,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.system import factorize
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
@@ -222,9 +222,8 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     no_springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
     model = StructuralModel(structure.coordinates[nodes], local, no_springs, point_masses=hubs,
                             fixed_dofs=np.array(sorted(fixed)))
-    elimination, _ = fem_model.constraint_elimination(model)
-    load = fem_model.gravity_load_vector(model, [0.0, -gravity_m_per_s2, 0.0])
-    u = factorize(fem_model.stiffness_matrix(model), elimination).solve(load)
+    system = assemble_frame(model, [0.0, -gravity_m_per_s2, 0.0])
+    u = factorize(system.stiffness, system.elimination).solve(system.loads["gravity"])
     return u[1::DOFS_PER_NODE]
 
 

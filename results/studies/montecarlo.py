@@ -32,7 +32,6 @@ import numpy as np
 import scipy.sparse as sp
 from scipy import stats
 
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.pieces import Contribution, assemble, beam_contribution, bushing_contribution
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import build_rig_model
@@ -115,11 +114,13 @@ class _FixedStiffness:
 
 def _fixed_stiffness(system: RigSystem, solid_parts: tuple[str, ...]) -> _FixedStiffness:
     structure = system.frame.structure
+    beams = beam_contribution(structure, GRAVITY_DIRECTION)
     block = None
     if system.solids:
-        solid = (system.stiffness - _pad(fem_model.stiffness_matrix(structure), system.n_dofs)).tocoo()
+        frame = assemble(structure.n_dofs, [beams, bushing_contribution(structure)]).stiffness
+        solid = (system.stiffness - _pad(frame, system.n_dofs)).tocoo()
         block = Contribution((solid.row, solid.col, solid.data))
-    return _FixedStiffness(beam_contribution(structure, GRAVITY_DIRECTION), block, solid_parts)
+    return _FixedStiffness(beams, block, solid_parts)
 
 
 def _frame_system(system: RigSystem, fixed: _FixedStiffness, rig: Rig) -> RigSystem:

@@ -13,15 +13,8 @@ import numpy as np
 import pytest
 
 from rvcoax.fem.system import prepare_system
-from rvcoax.geometry.housings import (
-    BracketGeometry,
-    PedestalGeometry,
-    Reference,
-    build_housing_model,
-    condense_housing,
-    foot_facets,
-    solid_method,
-)
+from rvcoax.geometry.housings import BracketGeometry, PedestalGeometry, Reference, foot_facets
+from rvcoax.geometry.model.condensed_housing import build_housing_model, condense_housing, solid_method
 
 E, NU = 1.57e11, 0.27  # HT200
 G = E / (2 * (1 + NU))
