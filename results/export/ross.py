@@ -33,6 +33,7 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -44,14 +45,16 @@ from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.system import factorize
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.export.dynamics import DynamicsExport
+from rvcoax.results.io.writers import write_csv_atomic
 
 __all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
            "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
            "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
-           "rvcoax_gravity_sag", "shaft_line"]
+           "RossFiles", "rvcoax_gravity_sag", "save_rotor", "shaft_line", "write_ross"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
@@ -358,3 +361,53 @@ def misalignment_fault(rotor, parameters: dict, ross=None):
     """
     rs = ross if ross is not None else import_ross()
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))
+
+
+def save_rotor(rotor, path: str | Path) -> Path:
+    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
+    try:
+        rotor.save(temporary)
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return path
+
+
+@dataclass(frozen=True)
+class RossFiles:
+    """What :func:`write_ross` wrote, and the static comparison of each measured shaft (in file order)."""
+
+    paths: tuple[Path, ...]
+    comparisons: tuple[StaticComparison, ...]
+
+
+def write_ross(export: DynamicsExport, folder: str | Path, ross=None) -> RossFiles:
+    """The ROSS files of ``export`` in ``folder``: ``ross_<shaft>_rotor.toml`` per measured shaft (the rotor with
+    its misalignment faults checked by ROSS), ``ross_misalignment.csv`` (the fault parameters per case) and
+    ``ross_static.csv`` (ROSS's and rvcoax's gravity sag of each shaft on rigid supports).
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed.
+    """
+    ross = import_ross() if ross is None else ross
+    folder = Path(folder)
+    written, faults, static, comparisons = [], [], [], []
+    for shaft in MEASURED_SHAFTS:
+        rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
+        line = comparison.line
+        parameters = misalignment_parameters(export, line)
+        for row in parameters:
+            misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
+        faults += parameters
+        static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
+                   for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
+        written.append(save_rotor(rotor, folder / f"ross_{shaft}_rotor.toml"))
+        comparisons.append(comparison)
+    written.append(write_csv_atomic(folder / "ross_misalignment.csv", faults))
+    written.append(write_csv_atomic(folder / "ross_static.csv", static))
+    return RossFiles(tuple(written), tuple(comparisons))
