@@ -19,15 +19,14 @@ from rich.table import Table
 from rvcoax.geometry import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases import MAX_TORQUE_NM
 from rvcoax.results.cli import support as options
-from rvcoax.results.cli.support import UserError, console, guard, sweep_settings
+from rvcoax.results.cli.support import UserError, console, sweep_settings
 from rvcoax.results.studies.doe import ALPHA_RANGE, POOL_BELOW_F_RANGE
 
-__all__ = ["AlphaOption", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command", "doe_analyze",
-           "doe_app", "doe_rig", "register"]
+__all__ = ["AlphaOption", "COMMANDS", "DOE_HELP", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command",
+           "doe_analyze", "doe_rig"]
 
-doe_app = typer.Typer(no_args_is_help=True, help=(
-    "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
-    "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig)."))
+DOE_HELP = ("Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
+            "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig).")
 
 AlphaOption = Annotated[float, options.number_option("--alpha", *ALPHA_RANGE, exclusive=True,
                                                     help="Significance level of the F tests, in (0, 0.5).")]
@@ -39,12 +38,6 @@ GoalOption = Annotated[str, typer.Option("--goal", help="min (smaller response i
 
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
     from rvcoax.results.studies.doe import Analysis
-
-
-def register(app: typer.Typer) -> None:
-    """Add ``doe`` and ``chain-error`` to the main app."""
-    app.add_typer(doe_app, name="doe")
-    app.command("chain-error")(chain_error_command)
 
 
 # -- doe analyze ---------------------------------------------------------------------------------
@@ -170,8 +163,6 @@ def _print_analysis(analysis: Analysis, published_coefficients=None) -> None:
                   f"{document['prediction_at_optimum']['levels']}: {document['prediction_at_optimum']['y']:.6g}")
 
 
-@doe_app.command("analyze")
-@guard
 def doe_analyze(
     design_file: Annotated[Path, typer.Argument(metavar="DESIGN.csv", help=(
         "One row per run: optional run column (test/run), a level-code column per factor (named by its key), "
@@ -256,8 +247,6 @@ def _study_outputs(result, analyses: list[Analysis], out: Path, rig_source: str,
     ]
 
 
-@doe_app.command("rig")
-@guard
 def doe_rig(
     study: Annotated[Path | None, typer.Option("--study", help="Study file (TOML). Default: the built-in L27 rig-tolerance study.")] = None,
     rig_file: options.RigOption = None,
@@ -298,7 +287,6 @@ def doe_rig(
 
 
 # -- chain-error ---------------------------------------------------------------------------------
-@guard
 def chain_error_command(
     forces: Annotated[Path, typer.Option("--forces", help="CSV of stage forces: component, stage (1-based), force_N.")],
     rig_file: options.RigOption = None,
@@ -380,3 +368,8 @@ def chain_error_command(
                     "total_deg": result.total_deg, "total_beta0_deg": result.baseline_total_deg,
                     "sign_convention": "clockwise positive: θ_total = Σ sign · θ (paper 000: θ22 − θ11 − θ44 − θ55)"}
         options.report_written((write_csv_atomic(out / "chain_error.csv", rows), write_json_atomic(out / "chain_error.json", document)))
+
+
+COMMANDS = {"doe": options.CommandGroup(DOE_HELP, {"analyze": doe_analyze, "rig": doe_rig}),
+            "chain-error": chain_error_command}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -15,7 +15,7 @@ from rich.table import Table
 
 from rvcoax.results.cli import support
 
-__all__ = ["register"]
+__all__ = ["COMMANDS", "export"]
 
 
 def _summary(export) -> Table:
@@ -63,59 +63,53 @@ def _print_table(table) -> None:
     support.console.print(shown)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``rvcoax export`` to ``app``."""
-    from rvcoax import load_rig
+@support.model_options
+@support.case_options
+def export(
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
+    output_format: Annotated[str, typer.Option("--format", help=_format_help())] = "json",
+    out: support.OutOption = Path("rvcoax_out"),
+    input_radial_mm: Annotated[float | None, support.number_option(
+        "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
+        help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
+    output_radial_mm: Annotated[float | None, support.number_option(
+        "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
+        help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
+) -> None:
+    """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
+    000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
+    from rvcoax.results import ConnectionsUnavailableError
+    from rvcoax.results.export import ExportFormatError, dynamics_export, export_format, write_export
+
+    try:
+        chosen = export_format(output_format)
+    except ExportFormatError as error:
+        raise support.UserError(f"--format: {error}") from None
+    _refusal(chosen.name, chosen.check_ready)  # before solving: a missing optional package should not cost a sweep
+    radial = {"input": input_radial_mm, "output": output_radial_mm}
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
+    load_cases = case_choice.load(rig)
+    _refusal(chosen.name, chosen.check_cases, load_cases)
+    result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
+                                       support.prepare_with_status(rig, settings))
+    try:
+        exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
+    except ConnectionsUnavailableError as error:
+        raise support.UserError(f"rig file {model_choice.rig_text()[0]}: cannot export: {error}") from None
+    support.console.print(_summary(exported))
+    source, text = model_choice.rig_text()
+    with support.console.status(f"writing the {chosen.name} export"):
+        written = write_export(exported, out, chosen.name, rig_source=source, rig_text=text)
+    for table in written.tables:
+        _print_table(table)
+    support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
+                          f"couplings, bearings and β from the {exported.measured_from} state "
+                          "(columns *_unloaded_ref: from the unloaded geometry)")
+    support.report_written(list(written.paths))
 
 
-    @app.command()
-    @support.guard
-    def export(
-        output_format: Annotated[str, typer.Option("--format", help=_format_help())] = "json",
-        rig_file: support.RigOption = None,
-        model: support.ModelOption = "beam",
-        out: support.OutOption = Path("rvcoax_out"),
-        cases: support.CasesOption = None,
-        t1: support.T1Option = None,
-        t2: support.T2Option = None,
-        grid: support.GridOption = False,
-        input_radial_mm: Annotated[float | None, support.number_option(
-            "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
-        output_radial_mm: Annotated[float | None, support.number_option(
-            "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
-        solver: support.SolverOption = "auto",
-        mesh_size_mm: support.MeshOption = None,
-    ) -> None:
-        """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
-        000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
-        from rvcoax.results import ConnectionsUnavailableError
-        from rvcoax.results.export import ExportFormatError, dynamics_export, export_format, write_export
-
-        try:
-            chosen = export_format(output_format)
-        except ExportFormatError as error:
-            raise support.UserError(f"--format: {error}") from None
-        _refusal(chosen.name, chosen.check_ready)  # before solving: a missing optional package should not cost a sweep
-        radial = {"input": input_radial_mm, "output": output_radial_mm}
-        settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-        rig = load_rig(rig_file)
-        load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
-        _refusal(chosen.name, chosen.check_cases, load_cases)
-        result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
-                                           support.prepare_with_status(rig, settings))
-        try:
-            exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
-        except ConnectionsUnavailableError as error:
-            raise support.UserError(f"rig file {rig_file or 'built-in reference_rig.toml'}: cannot export: {error}") from None
-        support.console.print(_summary(exported))
-        source, text = support.rig_text(rig_file)
-        with support.console.status(f"writing the {chosen.name} export"):
-            written = write_export(exported, out, chosen.name, rig_source=source, rig_text=text)
-        for table in written.tables:
-            _print_table(table)
-        support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
-                              f"couplings, bearings and β from the {exported.measured_from} state "
-                              "(columns *_unloaded_ref: from the unloaded geometry)")
-        support.report_written(list(written.paths))
+COMMANDS = {"export": export}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

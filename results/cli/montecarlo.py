@@ -25,7 +25,6 @@ from rvcoax.results.cli.support import (
     RigOption,
     UserError,
     console,
-    guard,
     number_option,
     report_written,
     rig_text,
@@ -34,7 +33,7 @@ from rvcoax.results.cli.support import (
 )
 
 __all__ = ["MAX_SAMPLES", "ResumeOption", "SchedulerOption", "SeedOption", "TolerancesOption", "WorkersOption",
-           "montecarlo", "register", "sensitivity"]
+           "COMMANDS", "montecarlo", "sensitivity"]
 
 TolerancesOption = Annotated[Path, typer.Option(
     "--tolerances", help="Tolerance file (TOML): parameters with distributions, load cases, β limits. "
@@ -320,7 +319,5 @@ def sensitivity(
     report_written(written)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``montecarlo`` and ``sensitivity`` to the main command line."""
-    app.command("montecarlo")(guard(montecarlo))
-    app.command("sensitivity")(guard(sensitivity))
+COMMANDS = {"montecarlo": montecarlo, "sensitivity": sensitivity}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""
