@@ -43,8 +43,8 @@ from rvcoax.results.connections import SpringMotion
 from rvcoax.results.engineering import CaseEngineering, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 
-__all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
-           "MEASURED_SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
+__all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
+           "ModelError", "NonlinearStates", "PreparedModel", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
            "check_supports", "prepare_model", "prepare_system", "read_path", "run_gap_sweep",
            "run_sweep", "solve_unit_responses"]
 
@@ -82,7 +82,7 @@ class SweepSettings:
             raise ValueError(f"mesh size must be > 0 mm, got {self.mesh_size_mm}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CaseResult:
     """Results of one load case."""
 
@@ -95,8 +95,44 @@ class CaseResult:
 
 
 @dataclass(frozen=True, eq=False)
+class LinearStates:
+    """The states of a linear sweep: its unit-load responses; a case's displacement superposes them.
+
+    Attributes
+    ----------
+    unit_displacements : (n_dofs, len(UNIT_LOADS)) array
+        One column per unit load of :data:`rvcoax.geometry.model.loads.UNIT_LOADS`, in that order (m, rad).
+    """
+
+    unit_displacements: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearStates:
+    """The states of a sweep with nonlinear bearings: each case solved on its own.
+
+    Attributes
+    ----------
+    case_displacements : (n_dofs, n_cases) array
+        Each case's displacement as Y is measured (from the rest state when the rig is aligned at rest).
+    rest_displacement : (n_dofs,) array
+        The rest state from the unloaded geometry.
+    bearings : NonlinearBearings
+        Their condensed laws (operating forces and stiffness).
+    """
+
+    case_displacements: np.ndarray
+    rest_displacement: np.ndarray
+    bearings: NonlinearBearings
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Sweep:
-    """All cases of a sweep, plus what is needed to explain how they were obtained."""
+    """All cases of a sweep, plus what is needed to explain how they were obtained.
+
+    ``states`` holds the displacements every case comes from: :class:`LinearStates` (unit responses) or
+    :class:`NonlinearStates` (each case's own); None for a sweep rebuilt without them.
+    """
 
     rig: Rig
     frame: RigModel
@@ -106,17 +142,34 @@ class Sweep:
     solver: str = ""
     n_dofs: int = 0
     system: RigSystem | None = None
-    unit_displacements: np.ndarray | None = None
+    states: LinearStates | NonlinearStates | None = None
     solver_report: dict = field(default_factory=dict)
-    case_displacements: np.ndarray | None = None  # (n_dofs, n_cases), as measured; nonlinear sweeps only
-    rest_displacement: np.ndarray | None = None  # (n_dofs,), the rest state from the unloaded geometry; nonlinear only
-    nonlinear_bearings: NonlinearBearings | None = None  # their condensed laws (operating forces and stiffness)
+
+    @property
+    def unit_displacements(self) -> np.ndarray | None:
+        """The unit-load responses (n_dofs, len(UNIT_LOADS)) of a linear sweep; None otherwise."""
+        return self.states.unit_displacements if isinstance(self.states, LinearStates) else None
+
+    @property
+    def case_displacements(self) -> np.ndarray | None:
+        """(n_dofs, n_cases), as measured, of a nonlinear sweep; None otherwise."""
+        return self.states.case_displacements if isinstance(self.states, NonlinearStates) else None
+
+    @property
+    def rest_displacement(self) -> np.ndarray | None:
+        """(n_dofs,), the rest state from the unloaded geometry, of a nonlinear sweep; None otherwise."""
+        return self.states.rest_displacement if isinstance(self.states, NonlinearStates) else None
+
+    @property
+    def nonlinear_bearings(self) -> NonlinearBearings | None:
+        """The condensed laws of a nonlinear sweep's bearings; None otherwise."""
+        return self.states.bearings if isinstance(self.states, NonlinearStates) else None
 
     def measured_displacement(self, index: int) -> np.ndarray:
         """The displacement of case ``index`` measured as Y is (u − u_rest when aligned at rest, else u)."""
-        if self.case_displacements is not None:
-            return self.case_displacements[:, index]
-        unit = {k: self.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
+        if isinstance(self.states, NonlinearStates):
+            return self.states.case_displacements[:, index]
+        unit = {k: self.states.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
         case = self.cases[index].case
         return superpose(unit, case.input_torque_Nm, case.output_torque_Nm,
                          self.rig.paths.measured_from == "aligned_at_rest", gear_contact_torques(self.rig))
@@ -339,21 +392,22 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         check_solution(case.label, u, check.relative_error, residual)
         measured = u - rest if from_rest else u
         results.append(CaseResult(
-            case,
-            {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
-            {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-            check.relative_error,
-            residual,
-            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs)
-            if engineering else None,
+            case=case,
+            paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+            absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
+            equilibrium_error=check.relative_error,
+            residual=residual,
+            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions,
+                                         springs) if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
     unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in MEASURED_SHAFTS} for k in UNIT_LOADS}
-    return Sweep(rig, system.frame, settings, tuple(results), unit_paths, solver_name, system.n_dofs, system, unit,
-                 dict(report))
+    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), unit_paths=unit_paths,
+                 solver=solver_name, n_dofs=system.n_dofs, system=system, states=LinearStates(unit),
+                 solver_report=dict(report))
 
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
@@ -424,9 +478,9 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not
-        results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
-                                  {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
-                                  residual))
+        results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+                                  absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
+                                  equilibrium_error=check.relative_error, residual=residual))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
@@ -439,8 +493,11 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     if bearings.balls:
         summary["ball_bearings"] = [ball.name for ball in bearings.balls]
         summary["ball_bearing_operating_points"] = operating
-    return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
-                 np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)), rest_u, bearings)
+    states = NonlinearStates(np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)),
+                             rest_u, bearings)
+    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), solver=solver_name,
+                 n_dofs=system.n_dofs, system=system, states=states,
+                 solver_report=summary)
 
 
 def solve_unit_responses(frame: RigModel):

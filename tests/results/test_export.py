@@ -248,7 +248,7 @@ def test_hybrid_model_springs_balance_the_solid_input_shaft(rig):
 
 def test_a_sweep_without_unit_responses_is_refused(sweep):
     with pytest.raises(ConnectionsUnavailableError, match="radial clearance"):
-        connection_states(dataclasses.replace(sweep, unit_displacements=None))
+        connection_states(dataclasses.replace(sweep, states=None))
 
 
 NONLINEAR_CASES = (LoadCase(1.43, 200.0), LoadCase(0.07, 10.0))
