@@ -172,9 +172,10 @@ class PreparedSolver:
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
         peak = _peak_rss_mb()
-        self._report = SolverReport(name, matrix.shape[0], setup_seconds, 0.0, peak, max(0.0, peak - rss_before),
-                                    matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros), factor_nonzeros=int(factor[0]),
-                                    factor_memory_MB=float(factor[1]))
+        self._report = SolverReport(name=name, n_dofs=matrix.shape[0], setup_seconds=setup_seconds, solve_seconds=0.0,
+                                    peak_memory_MB=peak, peak_memory_increase_MB=max(0.0, peak - rss_before),
+                                    matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros),
+                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]))
 
     def release(self) -> None:
         """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
@@ -431,8 +432,9 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
                                   f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
     _refuse_singular(operator, solve, factor)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
-    return PreparedSolver(operator, name, solve, time.perf_counter() - start, rss_before, factor.release,
-                          (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=pardiso.stored_nonzeros(upper))
+    return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
+                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
+                          matrix_nonzeros=pardiso.stored_nonzeros(upper))
 
 
 def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,
@@ -587,4 +589,5 @@ def prepare(
         name, solve, release, factor = _setup_amg(a, near_null_space, accuracy, maxiter)
     else:
         raise SolverError(f"unknown solver method '{method}': choose one of auto, {', '.join(METHODS)}")
-    return PreparedSolver(a, name, solve, time.perf_counter() - start, rss_before, release, factor)
+    return PreparedSolver(a, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
+                          release=release, factor=factor)

@@ -454,8 +454,10 @@ class GearMesh(Strict):
         """The :class:`rvcoax.geometry.gears.GearStage` of the sun and one planet."""
         from rvcoax.geometry.gears import GearStage
 
-        return GearStage(self.normal_module_mm, (self.sun_teeth, self.planet_teeth), self.normal_pressure_angle_deg,
-                         self.face_width_mm, self.helix_angle_deg, tuple(self.profile_shift), self.dedendum_factor)
+        return GearStage(normal_module_mm=self.normal_module_mm, teeth=(self.sun_teeth, self.planet_teeth),
+                         normal_pressure_angle_deg=self.normal_pressure_angle_deg, face_width_mm=self.face_width_mm,
+                         helix_angle_deg=self.helix_angle_deg, profile_shift=tuple(self.profile_shift),
+                         dedendum_factor=self.dedendum_factor)
 
 
 
@@ -601,9 +603,10 @@ class Housing(Strict):
 
         splits = tuple(x for band in self.bands_mm() for x in band)
         if self.shape == "block":
-            return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
-                                 self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm,
-                                 self.foot_width_mm, splits, self.mesh_size_mm)
+            return BlockGeometry(name=self.name, x_mm=tuple(self.x_mm), width_mm=self.width_mm,
+                                 bottom_mm=-self.height_above_bed_mm, top_mm=self.top_above_axis_mm,
+                                 bore_diameter_mm=self.bore_diameter_mm, foot_thickness_mm=self.foot_thickness_mm,
+                                 foot_width_mm=self.foot_width_mm, split_x_mm=splits, mesh_size_mm=self.mesh_size_mm)
         seat = {"name": self.name, "x_mm": tuple(self.x_mm), "width_mm": self.width_mm, "top_mm": self.top_above_axis_mm,
                 "seat_bottom_mm": -self.seat_below_axis_mm, "bore_diameter_mm": self.bore_diameter_mm,
                 "split_x_mm": splits, "mesh_size_mm": self.mesh_size_mm, "foot_pad_mm": self.foot_pad_mm}

@@ -353,8 +353,9 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
     structure = StructuralModel(nodes.coordinates, frame_beams(rig, nodes), springs.bushings,
                                 point_masses=frame_masses(rig, nodes).point_masses, node_group=nodes.node_part,
                                 fixed_dofs=fixed)
-    return RigModel(rig, structure, nodes.node_part, nodes.node_x_mm, springs.names, _part_masses(rig, nodes, structure),
-                    nodes.equivalent_density)
+    return RigModel(rig=rig, structure=structure, node_part=nodes.node_part, node_x_mm=nodes.node_x_mm,
+                    bushing_names=springs.names, part_mass_kg=_part_masses(rig, nodes, structure),
+                    equivalent_density=nodes.equivalent_density)
 
 
 def housing_bed_group(name: str) -> str:

@@ -152,7 +152,8 @@ def _load(path: Path) -> CondensedHousing | None:
             raise ValueError("bad matrix")
         if weight.shape != (matrix.shape[0],) or centroid.shape != (3,):
             raise ValueError("bad weight")
-        return CondensedHousing(matrix, dofs, 0.0, True, weight, volume, tuple(float(c) for c in centroid))
+        return CondensedHousing(matrix=matrix, solid_dofs=dofs, seconds=0.0, from_cache=True, weight_load=weight,
+                                volume_m3=volume, centroid_m=tuple(float(c) for c in centroid))
     except FileNotFoundError:
         return None
     except Exception:  # damaged entry: computed again and rewritten
@@ -181,8 +182,8 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
                                                        solid_method())
     volume = float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(model.basis))
     centroid = tuple(float(skfem.Functional(lambda w, i=i: w.x[i]).assemble(model.basis)) / volume for i in range(3))
-    result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False, equivalent[:, 0], volume,
-                              centroid)
+    result = CondensedHousing(matrix=matrix, solid_dofs=int(model.basis.N), seconds=time.perf_counter() - start,
+                              from_cache=False, weight_load=equivalent[:, 0], volume_m3=volume, centroid_m=centroid)
     if use_cache:
         try:
             _save(path, result)

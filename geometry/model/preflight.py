@@ -297,7 +297,8 @@ def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, sol
     needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
     from rvcoax.geometry.model.workload import available_memory_bytes
 
-    return MemoryEstimate(model, size, dofs, part_dofs, method, needed, available_memory_bytes())
+    return MemoryEstimate(model=model, mesh_size_mm=size, dofs=dofs, part_dofs=part_dofs, solver=method,
+                          bytes_needed=needed, bytes_available=available_memory_bytes())
 
 
 def memory_problem(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> str | None:

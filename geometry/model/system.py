@@ -183,5 +183,6 @@ def assemble_beam(rig: Rig) -> RigSystem:
     assembled = assemble(n, beam_contributions(rig, frame))
     loads = UnitLoadBuilder(frame, n, assembled.loads["gravity"])
     probes = {which: frame_path_probe(frame, which, n) for which in MEASURED_SHAFTS}
-    return RigSystem(rig, "beam", frame, assembled.stiffness, assembled.elimination, loads(rig), probes,
-                     frame_dof_table(structure.coordinates), load_builder=loads)
+    return RigSystem(rig=rig, kind="beam", frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
+                     unit_loads=loads(rig), probes=probes, dofs=frame_dof_table(structure.coordinates),
+                     load_builder=loads)

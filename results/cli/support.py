@@ -383,9 +383,10 @@ def prepare_with_status(rig, settings):
 
 
 def progress_bar() -> Progress:
-    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(), console=console, transient=True,
-                    disable=not console.is_terminal)
+    """A progress bar on the console: what runs, the bar, done/total, the time taken and the time left."""
+    columns = (TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+               TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn())
+    return Progress(*columns, console=console, transient=True, disable=not console.is_terminal)
 
 
 def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):

@@ -169,9 +169,11 @@ def shaft_line(rig: Rig, which: str) -> ShaftLine:
     hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0) for c in rig.couplings for end in (c.from_, c.to)
             if end.part == name]
     material = rig.materials[part.material]
-    return ShaftLine(which, name, x, sections[:, 0], sections[:, 1], part.material, material.density_kg_per_m3,
-                     material.youngs_modulus_MPa * 1e6, material.poisson_ratio,
-                     tuple(sorted(supports, key=lambda s: s.x_mm)), tuple(hubs))
+    return ShaftLine(which=which, part=name, node_x_mm=x, outer_diameter_mm=sections[:, 0],
+                     inner_diameter_mm=sections[:, 1], material=part.material,
+                     density_kg_per_m3=material.density_kg_per_m3, youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6,
+                     poisson_ratio=material.poisson_ratio, supports=tuple(sorted(supports, key=lambda s: s.x_mm)),
+                     hubs=tuple(hubs))
 
 
 def build_rotor(line: ShaftLine, ross=None):
@@ -212,9 +214,11 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     renumber[nodes] = np.arange(nodes.size)
     beams = structure.beams
     keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
-    local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
-                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
+    local = BeamElements(connectivity=renumber[beams.connectivity[keep]], area_m2=beams.area_m2[keep],
+                         second_moment_m4=beams.second_moment_m4[keep], polar_moment_m4=beams.polar_moment_m4[keep],
+                         shear_coefficient=beams.shear_coefficient[keep],
+                         youngs_modulus_Pa=beams.youngs_modulus_Pa[keep], shear_modulus_Pa=beams.shear_modulus_Pa[keep],
+                         density_kg_per_m3=beams.density_kg_per_m3[keep], reference_vector=beams.reference_vector[keep])
     masses = structure.point_masses
     on_shaft = renumber[masses.node] >= 0
     hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],

@@ -63,9 +63,10 @@ def bending_lines(sweep) -> list[PartLine]:
         nodes = np.flatnonzero(frame.node_part == part.name)
         nodes = nodes[np.argsort(frame.node_x_mm[nodes], kind="stable")]
         picked = motion[:, nodes, :]
-        lines.append(PartLine(part.name, part.role, part.name in solid, np.asarray(frame.node_x_mm[nodes], float),
-                              picked[:, :, 1] * 1e6, picked[:, :, 2] * 1e6, picked[:, :, 5] * 1e6,
-                              picked[:, :, 4] * 1e6))
+        lines.append(PartLine(part=part.name, role=part.role, solid=part.name in solid,
+                              x_mm=np.asarray(frame.node_x_mm[nodes], float), u_y_um=picked[:, :, 1] * 1e6,
+                              u_z_um=picked[:, :, 2] * 1e6, rotation_z_urad=picked[:, :, 5] * 1e6,
+                              rotation_y_urad=picked[:, :, 4] * 1e6))
     return lines
 
 

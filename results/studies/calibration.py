@@ -58,22 +58,20 @@ class CalibrationParameter:
 
 DEFAULT_PARAMETERS = (
     CalibrationParameter(
-        "torque_lateral_loads.sun_gear_load_sharing.imbalance", "input", "-", (-1.0, 1.0), (-0.15, 0.15), 0.02,
-        "mesh-stiffness imbalance (k1-k2)/(k1+k2) of the two crankshaft gears on the input gear; "
+        address="torque_lateral_loads.sun_gear_load_sharing.imbalance", shaft="input", unit="-", bounds=(-1.0, 1.0),
+        plausible=(-0.15, 0.15), scale=0.02,
+        meaning="mesh-stiffness imbalance (k1-k2)/(k1+k2) of the two crankshaft gears on the input gear; "
         "|imbalance| <= 0.15 is a load-sharing factor K_gamma <= 1.15",
     ),
-    CalibrationParameter(
-        "torque_lateral_loads.sun_gear_load_sharing.position_error_um", "input", "µm", (-50.0, 50.0), (-2.0, 2.0),
-        0.01, "position error of the two input-gear meshes along their line of action; IT3 band is ±2 µm [P]",
-    ),
-    CalibrationParameter(
-        "torque_lateral_loads.crankshaft_load_sharing.imbalance", "output", "-", (-1.0, 1.0), (-0.15, 0.15), 0.02,
-        "stiffness imbalance of the two crankshafts driving the output carrier",
-    ),
-    CalibrationParameter(
-        "torque_lateral_loads.crankshaft_load_sharing.position_error_um", "output", "µm", (-50.0, 50.0), (-3.0, 3.0),
-        0.01, "position error of the two crankshafts in the carrier; IT3 band is ±3 µm [P]",
-    ),
+    CalibrationParameter(address="torque_lateral_loads.sun_gear_load_sharing.position_error_um", shaft="input",
+                         unit="µm", bounds=(-50.0, 50.0), plausible=(-2.0, 2.0), scale=0.01,
+                         meaning="position error of the two input-gear meshes along their line of action; IT3 band is ±2 µm [P]"),
+    CalibrationParameter(address="torque_lateral_loads.crankshaft_load_sharing.imbalance", shaft="output", unit="-",
+                         bounds=(-1.0, 1.0), plausible=(-0.15, 0.15), scale=0.02,
+                         meaning="stiffness imbalance of the two crankshafts driving the output carrier"),
+    CalibrationParameter(address="torque_lateral_loads.crankshaft_load_sharing.position_error_um", shaft="output",
+                         unit="µm", bounds=(-50.0, 50.0), plausible=(-3.0, 3.0), scale=0.01,
+                         meaning="position error of the two crankshafts in the carrier; IT3 band is ±3 µm [P]"),
 )
 
 

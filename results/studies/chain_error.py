@@ -298,10 +298,10 @@ def contribution(component: Component, forces_N, coaxiality: Coaxiality = NO_TIL
         coaxiality = NO_TILT
     twists = stage_twists_deg(component, forces_N, coaxiality)
     baseline = stage_twists_deg(component, forces_N, NO_TILT)
-    return Contribution(component, coaxiality, np.asarray(forces_N, dtype=float),
-                        moment_arms_mm(component.stages, coaxiality), twists,
-                        component.transmission_factor * float(twists.sum()),
-                        component.transmission_factor * float(baseline.sum()))
+    return Contribution(component=component, coaxiality=coaxiality, forces_N=np.asarray(forces_N, dtype=float),
+                        arms_mm=moment_arms_mm(component.stages, coaxiality), stage_twists_deg=twists,
+                        value_deg=component.transmission_factor * float(twists.sum()),
+                        baseline_deg=component.transmission_factor * float(baseline.sum()))
 
 
 def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> float:
@@ -386,10 +386,11 @@ def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, so
     else:
         known = sorted(set(data.materials) | set(rig.materials))
         raise problem(f"material '{material}' is neither in the stage data nor in the rig (known: {', '.join(known)})")
-    return Component(name, entry.symbol, entry.description, stages,
-                     shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio), material,
-                     entry.transmission, reducer.transmission_factor(entry.transmission), entry.sign,
-                     entry.coaxiality)
+    return Component(name=name, symbol=entry.symbol, description=entry.description, stages=stages,
+                     shear_modulus_Pa=shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio),
+                     material=material, transmission=entry.transmission,
+                     transmission_factor=reducer.transmission_factor(entry.transmission), sign=entry.sign,
+                     coaxiality=entry.coaxiality)
 
 
 def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:

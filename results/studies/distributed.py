@@ -283,8 +283,9 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
             client = _connect(stack, scheduler, workers)
             n_workers = len(client.scheduler_info()["workers"])
             resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries)
-    report = RunReport(scheduler, n_workers, total, resumed, computed_here + len(pending), resubmitted,
-                       time.perf_counter() - start, choice)
+    report = RunReport(scheduler=scheduler, workers=n_workers, n_samples=total, resumed=resumed,
+                       computed=computed_here + len(pending), resubmitted=resubmitted,
+                       seconds=time.perf_counter() - start, choice=choice)
     return [results[i] for i in range(total)], report
 
 

@@ -247,7 +247,8 @@ def plan_study(rig: Rig, tolerances: Tolerances, settings: SweepSettings | None 
     key = _fingerprint(rig.model_dump(mode="json", by_alias=True),
                        [(c.input_torque_Nm, c.output_torque_Nm) for c in tolerances.cases],
                        dataclasses.asdict(settings), tolerances.addresses, strategy)
-    return Study(rig, tolerances.cases, settings, tolerances.addresses, strategy, key)
+    return Study(rig=rig, cases=tolerances.cases, settings=settings, addresses=tolerances.addresses, strategy=strategy,
+                 key=key)
 
 
 @dataclass(frozen=True, eq=False)
@@ -358,7 +359,8 @@ def exceedance(beta_deg, limit_deg: float, confidence_level: float = 0.95) -> Ex
     z = float(stats.norm.ppf(0.5 + confidence_level / 2))
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return Exceedance(count, n, confidence_level, p, max(0.0, float(centre - half)), min(1.0, float(centre + half)))
+    return Exceedance(count=count, n=n, confidence_level=confidence_level, probability=p,
+                      lower=max(0.0, float(centre - half)), upper=min(1.0, float(centre + half)))
 
 
 def describe(values) -> dict:

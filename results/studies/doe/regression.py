@@ -175,8 +175,9 @@ def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, remove
         p_value = float(stats.f.sf(F, p - 1, n - p))
     else:
         F, p_value = (float("inf"), 0.0) if p > 1 else (float("nan"), float("nan"))
-    return RegressionFit(tuple(terms), coefficients, r2, adjusted, float(F), p_value, float(np.sqrt(sse / (n - p))),
-                         used, tuple(removed), np.full(y.size, np.nan) if studentized is None else studentized, note)
+    return RegressionFit(terms=tuple(terms), coefficients=coefficients, r2=r2, adjusted_r2=adjusted, F=float(F),
+                         p=p_value, residual_std=float(np.sqrt(sse / (n - p))), used=used, removed=tuple(removed),
+                         studentized=np.full(y.size, np.nan) if studentized is None else studentized, note=note)
 
 
 def outlier_runs(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], alpha: float = 0.05) -> tuple[np.ndarray, tuple[int, ...]]:
