@@ -34,7 +34,7 @@ def report(
     rig file SHA-256, model, solver, mesh, date).
     """
     from rvcoax import read_measured, write_report
-    from rvcoax.results.io import print_pdf, read_discrepancy
+    from rvcoax.results.reports import print_pdf, read_discrepancy
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
