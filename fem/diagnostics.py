@@ -75,7 +75,7 @@ def find_free_motions(
     elimination: sp.csr_matrix,
     free_dofs: np.ndarray,
     node_group: np.ndarray,
-    relative_tolerance: float = 1e-9,
+    *, relative_tolerance: float = 1e-9,
 ) -> list[FreeMotion]:
     """Rigid-body motions of single parts, and of connected sets of parts, with no energy."""
     n_dofs = stiffness.shape[0]

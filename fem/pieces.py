@@ -200,7 +200,7 @@ def assemble_frame(model, gravity_direction=(0.0, 0.0, 0.0)) -> AssembledSystem:
 
 
 def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,
-                       gravity_direction) -> Contribution:
+                       *, gravity_direction) -> Contribution:
     """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
     weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
     return Contribution(loads={"gravity": _dense(weight, dof_offset)},

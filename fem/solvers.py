@@ -163,7 +163,7 @@ class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
     def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,
-                 release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
+                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
         self._rss_before = rss_before
@@ -438,7 +438,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
 
 
 def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,
-                        residual_limit: float = AMG_RESIDUAL_LIMIT, maxiter: int | None = None,
+                        residual_limit: float = AMG_RESIDUAL_LIMIT, *, maxiter: int | None = None,
                         delay: int = AMG_ERROR_DELAY) -> tuple[np.ndarray, int, float]:
     """Preconditioned CG from x₀ = 0 that stops on an estimate of the displacement's error.
 

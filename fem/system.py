@@ -227,7 +227,7 @@ def reduced_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, symm
 
 def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",
                    near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False,
-                   n_rhs: int = 1) -> ReducedSystem:
+                   *, n_rhs: int = 1) -> ReducedSystem:
     """Reduce K with T and set up ``method`` for Tᵀ K T.
 
     Parameters

@@ -270,7 +270,7 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
 
 
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+                     *, applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters

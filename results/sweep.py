@@ -332,7 +332,7 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
-              prepared: PreparedModel | None = None, on_case=None, engineering: bool = True) -> Sweep:
+              prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
 
     A rig with bearing clearance is solved case by case (:func:`run_gap_sweep`); otherwise every case
@@ -371,7 +371,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
-        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case)
+        return run_gap_sweep(rig, cases, settings, system, solve, solver_name=solver_name, report=report, progress=progress, on_case=on_case)
     loads = system.unit_loads
     unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -397,8 +397,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             equilibrium_error=check.relative_error,
             residual=residual,
-            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions,
-                                         springs) if engineering else None,
+            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied, reactions=check.reactions,
+                                         springs=springs) if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
@@ -410,7 +410,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
                  solver_report=dict(report))
 
 
-def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
+def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, *, solver_name: str, report,
                   progress=None, on_case=None) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
     beam or hybrid): the rest state and each case solved on its own.

@@ -67,7 +67,7 @@ def solid_method() -> str:
 
 def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float,
                         references: list[Reference], feet: str = "clamped",
-                        bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
+                        *, bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                         cache_dir: Path | None = None) -> HousingModel:
     """Mesh ``geometry`` and build its supported model: ``feet`` ``"clamped"`` (the feet held) or ``"bed"`` (a
     Winkler bed of (normal, shear) stiffness per area under the feet; normal along the feet's normal, shear in
@@ -76,7 +76,7 @@ def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poi
     basis = solid.solid_basis(mesh)
     offset = DOFS_PER_NODE * len(references)
     pieces = [Contribution(solid.stiffness_triplets(basis, youngs_modulus_Pa, poisson, dof_offset=offset))]
-    pieces += _support_contributions(mesh, basis, geometry, offset, feet, bed_stiffness_N_per_um_per_mm2)
+    pieces += _support_contributions(mesh, basis, geometry, offset, feet, bed_stiffness_N_per_um_per_mm2=bed_stiffness_N_per_um_per_mm2)
     for i, reference in enumerate(references):
         nodes = face_nodes(mesh, basis, housing_faces(mesh, geometry, reference.face), offset)
         point = np.asarray(reference.point_mm, dtype=float) * 1e-3
@@ -87,7 +87,7 @@ def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poi
 
 
 def _support_contributions(mesh, basis, geometry: HousingGeometry, offset: int, feet: str,
-                           bed_stiffness_N_per_um_per_mm2) -> list[Contribution]:
+                           *, bed_stiffness_N_per_um_per_mm2) -> list[Contribution]:
     """The feet held (``"clamped"``: their DOFs fixed) or on a Winkler bed (``"bed"``: a stiffness per foot)."""
     if feet == "clamped":
         bottom = np.concatenate(foot_facets(mesh, geometry))
@@ -162,7 +162,7 @@ def _load(path: Path) -> CondensedHousing | None:
 
 
 def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],
-                     feet: str = "clamped", bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
+                     feet: str = "clamped", *, bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                      cache_dir: Path | None = None, use_cache: bool = True) -> CondensedHousing:
     """The condensed stiffness of a housing at its references (cached by everything it depends on)."""
     key = {"geometry": geometry.cache_key(), "E": youngs_modulus_Pa, "nu": poisson, "feet": feet,
@@ -174,8 +174,8 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
         if cached is not None:
             return cached
     start = time.perf_counter()
-    model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2,
-                                cache_dir)
+    model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2=bed_stiffness_N_per_um_per_mm2,
+                                cache_dir=cache_dir)
     weight = np.zeros(model.n_dofs)
     weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
     matrix, equivalent = condensed_stiffness_and_loads(model.stiffness, model.elimination, model.master_dofs, weight,

@@ -29,7 +29,7 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHo
     material = rig.materials[housing.material]
     bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir)
+                            "clamped" if bed is None else "bed", bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache_dir)
 
 
 def _dofs(nodes) -> np.ndarray:

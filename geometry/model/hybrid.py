@@ -335,7 +335,7 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
                               "beam part's nodes (keep the part out of [solid] hybrid_parts)")
     pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
     pieces += [solid_contribution(s.basis, s.youngs_modulus_Pa, s.poisson, s.density_kg_per_m3, s.offset,
-                                  GRAVITY_DIRECTION) for s in solids.values()]
+                                  gravity_direction=GRAVITY_DIRECTION) for s in solids.values()]
     for a in ties:
         s = solids[a.part]
         nodes = face_nodes(s, select_facets(s, a.face))

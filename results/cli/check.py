@@ -15,7 +15,7 @@ from rvcoax.results.cli import support
 __all__ = ["COMMANDS", "check"]
 
 
-def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, table_name: str) -> Table:
+def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, *, table_name: str) -> Table:
     table = Table(title=escape(f"{shaft} shaft: {table_name} vs rvcoax"), title_justify="left")
     for column in ("T1 N·m", "T2 N·m", "fit", "Y table µm", "Y blind µm", "blind err", "Y cal µm", "cal err",
                    "β table °", "β cal °", "β cal err", "ok"):
@@ -86,7 +86,7 @@ def check(
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
-                                   rows, table_name))
+                                   rows, table_name=table_name))
     _print_calibration(run.calibration, fit_output_torques(rows))
     support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "

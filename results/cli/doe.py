@@ -171,7 +171,7 @@ def doe_analyze(
     response: Annotated[str | None, typer.Option("--response", help="Response column (needed if several columns could be).")] = None,
     alpha: AlphaOption = 0.05,
     pool_below_F: PoolOption = 1.0,
-    pool: Annotated[str | None, typer.Option("--pool", help="Also pool these sources, comma-separated (e.g. AxB,C).")] = None,
+    *, pool: Annotated[str | None, typer.Option("--pool", help="Also pool these sources, comma-separated (e.g. AxB,C).")] = None,
     goal: GoalOption = "min",
     terms: Annotated[str, typer.Option("--terms", help=(
         "Regression terms: auto (full second-order if the runs allow, else stepwise), full, stepwise, a comma list "
@@ -197,8 +197,8 @@ def doe_analyze(
     if unknown:
         raise UserError(f"--pool: {', '.join(unknown)} is not a source of {design_file} (sources: {', '.join(sources)})")
     try:
-        analysis = analyse(design, alpha, pool_below_F or None, pooled_names, goal, chosen,
-                           _outliers_option(outliers, design.runs))
+        analysis = analyse(design, alpha, pool_below_F or None, pooled_names, goal, terms=chosen,
+                           outliers=_outliers_option(outliers, design.runs))
     except ValueError as error:
         raise UserError(f"{design_file}: {error}") from None
     _print_analysis(analysis, published)
@@ -253,7 +253,7 @@ def doe_rig(
     model: options.ModelOption = "beam",
     out: options.OutOption = Path("rvcoax_out/doe_rig"),
     solver: options.SolverOption = "auto",
-    mesh_size_mm: options.MeshOption = None,
+    *, mesh_size_mm: options.MeshOption = None,
 ) -> None:
     """Orthogonal study of rig tolerances on β: every run is a solve of the rig (beam: about 0.1 s a run;
     hybrid: about 20 s). Writes the design, levels, runs, ANOVA (CSV and JSON), regression (JSON) and a
@@ -280,7 +280,7 @@ def doe_rig(
                   + f"; case T1 = {s.T1_input_Nm:g} N·m, T2 = {s.T2_output_Nm:g} N·m; Y measured from: {s.measured_from}")
     analyses = []
     for name in result.responses:
-        analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, "auto", "auto")
+        analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, terms="auto", outliers="auto")
         _print_analysis(analysis)
         analyses.append(analysis)
     options.report_written(_study_outputs(result, analyses, out, str(rig_file) if rig_file else "built-in reference_rig.toml", model))
@@ -293,7 +293,7 @@ def chain_error_command(
     stages: Annotated[Path | None, typer.Option("--stages", help="Stage data file (TOML). Default: the built-in RV-20E stages.")] = None,
     t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
     t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
-    tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
+    *, tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
     a_input_mm: Annotated[float | None, options.number_option("--input-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-input-mm",), help="Radial displacement a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
     a_output_mm: Annotated[float | None, options.number_option("--output-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-output-mm",), help="Radial displacement a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003, IT3).")] = None,
     model: options.ModelOption = "beam",

@@ -104,7 +104,7 @@ def _nominal(study) -> dict:
     return {"values": dict(zip(study.addresses, values)), **result}
 
 
-def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool,
+def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, *, workers, resume: bool,
              setup_seconds: float | None = None):
     from rvcoax.results.studies import ClusterError, ResumeError, SampleError, evaluate_sample, run_samples
 
@@ -117,8 +117,8 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
     try:
         with _progress() as progress:
             task = progress.add_task("solving samples", total=len(values))
-            records, run = run_samples(evaluate_sample, study, values, out / "samples", fingerprint, scheduler,
-                                       workers, resume, progress=lambda done, total: progress.update(task, completed=done),
+            records, run = run_samples(evaluate_sample, study, values, out / "samples", fingerprint, scheduler=scheduler,
+                                       workers=workers, resume=resume, progress=lambda done, total: progress.update(task, completed=done),
                                        setup_seconds=setup_seconds)
     except (ResumeError, ClusterError) as error:
         raise UserError(str(error)) from None
@@ -138,7 +138,7 @@ def _check_size(n_solves: int, tol, study, option: str, what: str) -> None:
     from rvcoax.geometry.model import REPORT_AFTER_S, check_study
 
     work = check_study(n_solves, len(tol.parameters), len(study.cases), option,
-                       f"{what} × {len(study.cases)} load case(s)", study.settings.model, study.strategy)
+                       f"{what} × {len(study.cases)} load case(s)", model=study.settings.model, strategy=study.strategy)
     if work.seconds > REPORT_AFTER_S:
         console.print(f"{work.what}: {work.describe()} on one core (estimated)")
 
@@ -153,7 +153,7 @@ def montecarlo(
     sampling: Annotated[str, typer.Option("--sampling", help="lhs (Latin hypercube, default), sobol (scrambled Sobol', a power of two samples) or random.")] = "lhs",
     rig_file: RigOption = None,
     model: ModelOption = "beam",
-    mesh_size_mm: MeshOption = None,
+    *, mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/montecarlo"),
     scheduler: SchedulerOption = "auto",
     workers: WorkersOption = None,
@@ -191,12 +191,12 @@ def montecarlo(
     begin = time.perf_counter()
     nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
+    records, run = _execute(study, values, out, fingerprint, scheduler, workers=workers, resume=resume, setup_seconds=time.perf_counter() - begin)
     found = exceedances(study, tol, records)
     source, text = rig_text(rig_file)
     document = study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
-                                     run, nominal)
+                                     run=run, nominal=nominal)
     document["distribution"] = distribution_rows(study, records)
     document["exceedance"] = exceedance_rows(study, found)
     written = [
@@ -240,7 +240,7 @@ def sensitivity(
     method: Annotated[str, typer.Option("--method", help="sobol (first-order and total indices, default) or morris (cheaper screening).")] = "sobol",
     rig_file: RigOption = None,
     model: ModelOption = "beam",
-    mesh_size_mm: MeshOption = None,
+    *, mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/sensitivity"),
     scheduler: SchedulerOption = "auto",
     workers: WorkersOption = None,
@@ -290,7 +290,7 @@ def sensitivity(
     begin = time.perf_counter()
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
+    records, run = _execute(study, values, out, fingerprint, scheduler, workers=workers, resume=resume, setup_seconds=time.perf_counter() - begin)
     beta = stack_records(records, "beta_deg")
     found = {}
     for c in range(len(study.cases)):
@@ -300,7 +300,7 @@ def sensitivity(
     source, text = rig_text(rig_file)
     document = study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
-                                      "solves": len(values)}, run, nominal)
+                                      "solves": len(values)}, run=run, nominal=nominal)
     document["indices"] = sensitivity_rows(study, tol, found)
     written = [
         write_csv_atomic(out / "sensitivity_indices.csv", document["indices"]),

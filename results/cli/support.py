@@ -51,7 +51,7 @@ def _range_text(low: float, high: float, unit: str, exclusive: bool, integer: bo
 
 
 def finite_option(value: float | int | str, option: str, low: float, high: float, unit: str = "",
-                  exclusive: bool = False, integer: bool = False) -> float | int:
+                  *, exclusive: bool = False, integer: bool = False) -> float | int:
     """The value of a numeric command-line option, checked at the boundary.
 
     Parameters
@@ -96,7 +96,7 @@ def finite_option(value: float | int | str, option: str, low: float, high: float
     return number
 
 
-def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", exclusive: bool = False,
+def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", *, exclusive: bool = False,
                   integer: bool = False, aliases: tuple[str, ...] = ()):
     """A ``typer.Option`` for a numeric option checked by :func:`finite_option` as it is parsed.
 
@@ -108,7 +108,7 @@ def number_option(name: str, low: float, high: float, unit: str = "", help: str 
 
     def parse(value):
         try:
-            return finite_option(value, name, low, high, unit, exclusive, integer)
+            return finite_option(value, name, low, high, unit, exclusive=exclusive, integer=integer)
         except UserError as error:
             fail(str(error))
 
@@ -389,7 +389,7 @@ def progress_bar() -> Progress:
     return Progress(*columns, console=console, transient=True, disable=not console.is_terminal)
 
 
-def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
+def run_with_progress(rig, cases, settings, label: str, prepared=None, *, on_case=None):
     """A sweep with a progress bar."""
     from rvcoax import run_sweep
 

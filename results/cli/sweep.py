@@ -97,7 +97,7 @@ def _print_engineering(records: list[dict]) -> None:
                           f"{residual['moment_Nm']:.2g} N·m. Every case's tables are in sweep.csv and sweep.json.")
 
 
-def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
+def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
     """:func:`rvcoax.results.io.durable_sweep.run_durable_sweep` with the resume messages and a progress bar.
 
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
@@ -123,7 +123,7 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
         live["bar"].update(live["task"], completed=i)
 
     try:
-        done = run_durable_sweep(rig, load_cases, settings, text, store, resume,
+        done = run_durable_sweep(rig, load_cases, settings, text, store, resume=resume,
                                  prepare=support.prepare_with_status, on_plan=plan, progress=progress)
     finally:
         if "bar" in live:
@@ -165,7 +165,7 @@ def sweep(
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
     source, text = model_choice.rig_text()
     records, model_section, result = _solve_sweep(rig, load_cases, settings, text, CaseStore(out / "cases"),
-                                                  resume)
+                                                  resume=resume)
     if fields:
         support.report_written(_write_fields(out / "fields", result))
     support.console.print(_sweep_table(rig.rig.name, method, [r["row"] for r in records]))

@@ -45,7 +45,7 @@ class DurableSweep:
 
 
 def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,
-                      store: CaseStore, resume: bool = False,
+                      store: CaseStore, *, resume: bool = False,
                       prepare: Callable[[Rig, SweepSettings], PreparedModel] = prepare_model,
                       progress: Callable[[int, int], None] | None = None,
                       on_plan: Callable[[JournalReading, int], None] | None = None) -> DurableSweep:

@@ -14,7 +14,7 @@ __all__ = ["check_rows", "write_check"]
 
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,
-                title: str | None = None) -> list[Path]:
+                *, title: str | None = None) -> list[Path]:
     """Write the check's files in ``out``, atomically.
 
     Parameters

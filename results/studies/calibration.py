@@ -137,7 +137,7 @@ def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return _row_y(rig, rows, shaft, _paths(rig, rows, shaft, prepared))
 
 
-def _affine_surrogate(rig, parameters, rows, shaft, prepared, scale):
+def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):
     """If the paths are affine in the (scaled) parameters, a function x → paths that is exact.
 
     Load-sharing parameters enter the loads linearly, so the paths at the fitting rows are
@@ -176,7 +176,7 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
     upper = np.array([p.bounds[1] for p in parameters]) / scale
     reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
 
-    surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale) if prepared is not None else None
+    surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale=scale) if prepared is not None else None
 
     def residual(x):
         if surrogate is not None:
@@ -208,7 +208,7 @@ def calibrate(
     fit_output_torques_Nm=(10.0, 200.0),
     parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS,
     settings: SweepSettings | None = None,
-    prepared=None,
+    *, prepared=None,
 ) -> Calibration:
     """Fit ``parameters`` to the published Y of the rows whose T2 is in ``fit_output_torques_Nm``.
 

@@ -357,7 +357,7 @@ def _key(location: tuple) -> str:
 
 
 def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,
-               reducer: Reducer) -> Component:
+               *, reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
         return ChainDataError(f"stage data {source}: components.{name}: {text}")
 
@@ -423,7 +423,7 @@ def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
         raise ChainDataError(f"stage data {source}: {problems}") from None
     r = data.reducer
     reducer = Reducer(r.name, r.ratio_i16, r.cycloid_teeth_Z4, r.pin_teeth_Z5, r.pin_count)
-    components = tuple(_component(name, entry, data, rig, source, reducer)
+    components = tuple(_component(name, entry, data, rig, source, reducer=reducer)
                        for name, entry in data.components.items())
     return ChainModel(reducer, components, source)
 

@@ -196,7 +196,7 @@ def _connect(stack: ExitStack, scheduler: str, workers: int | None):
 
 
 def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,
-                fingerprint: str, scheduler: str = "local", workers: int | None = None, resume: bool = False,
+                fingerprint: str, *, scheduler: str = "local", workers: int | None = None, resume: bool = False,
                 progress: Callable[[int, int], None] | None = None, retries: int = 3,
                 on_result: Callable[[int, dict], None] | None = None,
                 setup_seconds: float | None = None) -> tuple[list[dict], RunReport]:
@@ -282,7 +282,7 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
         with ExitStack() as stack:
             client = _connect(stack, scheduler, workers)
             n_workers = len(client.scheduler_info()["workers"])
-            resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries)
+            resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint=fingerprint, store=store, retries=retries)
     report = RunReport(scheduler=scheduler, workers=n_workers, n_samples=total, resumed=resumed,
                        computed=computed_here + len(pending), resubmitted=resubmitted,
                        seconds=time.perf_counter() - start, choice=choice)
@@ -303,7 +303,7 @@ def future_outcome(future) -> tuple[object, BaseException | None]:
         return None, error
 
 
-def _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries) -> int:
+def _run_on_cluster(client, function, shared, rows, pending, *, fingerprint, store, retries) -> int:
     """Submit every pending sample, store results as they complete; returns the number resubmitted."""
     from distributed import KilledWorker, as_completed
 

@@ -143,7 +143,7 @@ def exceedance_rows(study: Study, found) -> list[dict]:
 
 
 def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_text: str, design: dict,
-                   run, nominal: dict) -> dict:
+                   *, run, nominal: dict) -> dict:
     """What every study's JSON holds: provenance, the parameters, how samples were solved and run.
 
     Parameters

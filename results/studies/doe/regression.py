@@ -151,7 +151,7 @@ def studentized_residuals(matrix: np.ndarray, y: np.ndarray) -> np.ndarray:
     return t
 
 
-def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), studentized=None,
+def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), *, studentized=None,
         note: str = "") -> RegressionFit:
     """Least-squares fit of ``terms`` (must include the intercept) on the runs ``used``."""
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -208,7 +208,7 @@ def fit_without_outliers(x, y, terms: tuple[Term, ...], outliers="auto", alpha: 
             raise ValueError(f"outlier runs must be among the {y.size} runs")
     used = np.ones(y.size, dtype=bool)
     used[list(removed)] = False
-    return fit(x, y, terms, used, removed, studentized, note)
+    return fit(x, y, terms, used, removed, studentized=studentized, note=note)
 
 
 def _coefficient_p_values(x, y, terms) -> np.ndarray:
@@ -224,7 +224,7 @@ def _coefficient_p_values(x, y, terms) -> np.ndarray:
 
 
 def stepwise_terms(x, y, candidates: tuple[Term, ...] | None = None, p_enter: float = 0.05, p_remove: float = 0.10,
-                   min_residual_dof: int = 3) -> tuple[Term, ...]:
+                   *, min_residual_dof: int = 3) -> tuple[Term, ...]:
     """Forward–backward selection from ``candidates`` (default: the full second-order model).
 
     Starting from the intercept, add the candidate with the smallest partial-F p value while it is

@@ -59,7 +59,7 @@ def choose_terms(design: Design, terms: str | tuple[Term, ...] = "auto") -> tupl
 
 
 def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),
-            goal: str = "min", terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
+            goal: str = "min", *, terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
     """Range analysis, ANOVA (unpooled and pooled), optimal levels and the second-order regression.
 
     Parameters

@@ -222,7 +222,7 @@ def check_addresses(rig: Rig, study: Study, source: str = "study file") -> None:
 
 def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
               progress: Callable[[int, int], None] | None = None, runs: range | None = None,
-              source: str = "study file") -> StudyResult:
+              *, source: str = "study file") -> StudyResult:
     """Solve the rig once per run of the study's array and collect β and Y_max of both shafts.
 
     ``runs`` limits the solves to some runs (the others stay NaN), e.g. to try a slow model;
