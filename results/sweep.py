@@ -410,6 +410,58 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
                  solver_report=dict(report))
 
 
+@dataclass(frozen=True, eq=False)
+class _NonlinearProblem:
+    """What every case of a sweep with nonlinear bearings is solved on: the system, its condensed bearings, the
+    solve of the linear reference model and |K| (for the backward error)."""
+
+    system: RigSystem
+    bearings: NonlinearBearings
+    solve: object
+    abs_stiffness: object
+
+
+def _solve_nonlinear_case(problem: _NonlinearProblem, weights: dict, label: str):
+    """One case by Newton on the condensed bearing motions, checked: (u, solution, equilibrium, residual)."""
+    system, bearings = problem.system, problem.bearings
+    load = sum(weights[k] * system.unit_loads[k] for k in UNIT_LOADS)
+    try:
+        solution = bushing.solve_condensed(bearings, problem.solve, load, bearings.released, what="nonlinear bearing",
+                                           regularisation=bearings.regularisation)
+    except bushing.GapConvergenceError as error:
+        raise ModelError(f"case {label}: {error}") from None
+    u = solution.displacement
+    # the nonlinear laws as a load: K u = f + Uᵀ G(U u) is their equilibrium
+    released, _ = bearings.released(bearings.operator @ u)
+    effective = load + bearings.operator.T @ released
+    reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
+    loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
+    residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
+    # backward error: against the terms K u is summed from (|K| |u|), which is what floating point resolves
+    terms = loads_norm + np.linalg.norm(system.elimination.T @ (problem.abs_stiffness @ np.abs(u)))
+    backward = float(reduced_residual / terms) if terms > 0 else 0.0
+    if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
+        raise ModelError(f"case {label}: the nonlinear bearing solution misses equilibrium: backward error "
+                         f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
+    check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, effective, system.dofs)
+    check_solution(label, u, check.relative_error, residual)
+    return u, solution, check, residual
+
+
+def _nonlinear_summary(report, bearings: NonlinearBearings, iterations: list[int], operating: dict) -> dict:
+    """The solver report of a nonlinear sweep: which nonlinearity, the Newton iterations, the ball bearings'
+    operating points."""
+    summary = dict(report)
+    kinds = (["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
+    summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
+                    "gapped_bearings": list(bearings.gap_names),
+                    "newton_iterations_max": int(max(iterations))})
+    if bearings.balls:
+        summary["ball_bearings"] = [ball.name for ball in bearings.balls]
+        summary["ball_bearing_operating_points"] = operating
+    return summary
+
+
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, *, solver_name: str, report,
                   progress=None, on_case=None) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
@@ -431,36 +483,11 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     gives every spring's state with each nonlinear bearing's own force and operating stiffness. The solver report lists each ball bearing's operating
     point (force, tangent stiffness, ball loads) at rest and in every case.
     """
-    frame = system.frame.structure
     bearings = prepare_nonlinear_bearings(rig, system.frame, solve, system.n_dofs)
-    operator = bearings.operator
-    regularisation = bearings.regularisation
-    loads = system.unit_loads
-    abs_stiffness = abs(system.stiffness)
+    problem = _NonlinearProblem(system, bearings, solve, abs(system.stiffness))
 
     def solve_case(weights: dict, label: str):
-        load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
-        try:
-            solution = bushing.solve_condensed(bearings, solve, load, bearings.released, what="nonlinear bearing",
-                                               regularisation=regularisation)
-        except bushing.GapConvergenceError as error:
-            raise ModelError(f"case {label}: {error}") from None
-        u = solution.displacement
-        # the nonlinear laws as a load: K u = f + Uᵀ G(U u) is their equilibrium
-        released, _ = bearings.released(operator @ u)
-        effective = load + operator.T @ released
-        reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
-        loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
-        residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
-        # backward error: against the terms K u is summed from (|K| |u|), which is what floating point resolves
-        terms = loads_norm + np.linalg.norm(system.elimination.T @ (abs_stiffness @ np.abs(u)))
-        backward = float(reduced_residual / terms) if terms > 0 else 0.0
-        if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
-            raise ModelError(f"case {label}: the nonlinear bearing solution misses equilibrium: backward error "
-                             f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
-        check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
-        check_solution(label, u, check.relative_error, residual)
-        return u, solution, check, residual
+        return _solve_nonlinear_case(problem, weights, label)
 
     contact = gear_contact_torques(rig)
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
@@ -485,14 +512,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
-    summary = dict(report)
-    kinds = (["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
-    summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
-                    "gapped_bearings": list(bearings.gap_names),
-                    "newton_iterations_max": int(max(iterations))})
-    if bearings.balls:
-        summary["ball_bearings"] = [ball.name for ball in bearings.balls]
-        summary["ball_bearing_operating_points"] = operating
+    summary = _nonlinear_summary(report, bearings, iterations, operating)
     states = NonlinearStates(np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)),
                              rest_u, bearings)
     return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), solver=solver_name,

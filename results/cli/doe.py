@@ -287,6 +287,33 @@ def doe_rig(
 
 
 # -- chain-error ---------------------------------------------------------------------------------
+def _chain_table(chain, result) -> tuple[Table, list[dict]]:
+    """The chain-error table on the console and its rows for chain_error.csv, one per component."""
+    import numpy as np
+
+    from rvcoax.results.studies import torsion_constant_deg_per_m
+
+    table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",
+                  title_justify="left")
+    for column in ("component", "θ", "stages loaded", "G GPa", "C °/m", "transfer", "part twist °",
+                   "θ at β = 0 °", "θ °", "coaxiality part °", "sign"):
+        table.add_column(column, justify="right")
+    rows = []
+    for p in result.contributions:
+        c = p.component
+        loaded = ",".join(str(i + 1) for i in np.flatnonzero(p.forces_N))
+        table.add_row(escape(c.name), escape(c.symbol), loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
+                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{escape(c.transmission)} = {c.transmission_factor:.4g}",
+                      f"{p.twist_deg:.4g}", f"{p.baseline_deg:.4g}", f"{p.value_deg:.6g}",
+                      f"{p.coaxiality_part_deg:.3g}", "+" if c.sign > 0 else "−")
+        rows.append({"component": c.name, "symbol": c.symbol, "coaxiality": c.coaxiality,
+                     "beta_deg": p.coaxiality.beta_deg, "a_mm": p.coaxiality.offset_mm,
+                     "shear_modulus_GPa": c.shear_modulus_Pa / 1e9, "transmission_factor": c.transmission_factor,
+                     "part_twist_deg": p.twist_deg, "theta_beta0_deg": p.baseline_deg, "theta_deg": p.value_deg,
+                     "coaxiality_part_deg": p.coaxiality_part_deg, "sign": c.sign, "signed_theta_deg": p.signed_deg})
+    return table, rows
+
+
 def chain_error_command(
     forces: Annotated[Path, typer.Option("--forces", help="CSV of stage forces: component, stage (1-based), force_N.")],
     rig_file: options.RigOption = None,
@@ -301,7 +328,6 @@ def chain_error_command(
 ) -> None:
     """Paper 000's transmission-chain error vector: θ11, θ22, θ44, θ55 and θ_total = θ22 − θ11 − θ44 − θ55 (°),
     with the coaxiality terms (tilt β and radial offset a of the input and output shafts) from a sweep of the rig."""
-    import numpy as np
 
     from rvcoax import LoadCase, load_rig
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
@@ -337,24 +363,7 @@ def chain_error_command(
                       f"{rig.paths.measured_from}): " + "; ".join(
                           f"{s} β = {c.beta_deg:.4g}°, a = {c.offset_mm:.4g} mm" for s, c in shafts.items()))
     result = evaluate_chain_error(chain, stage_forces, shafts["input"], shafts["output"])
-    table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",
-                  title_justify="left")
-    for column in ("component", "θ", "stages loaded", "G GPa", "C °/m", "transfer", "part twist °",
-                   "θ at β = 0 °", "θ °", "coaxiality part °", "sign"):
-        table.add_column(column, justify="right")
-    rows = []
-    for p in result.contributions:
-        c = p.component
-        loaded = ",".join(str(i + 1) for i in np.flatnonzero(p.forces_N))
-        table.add_row(escape(c.name), escape(c.symbol), loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
-                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{escape(c.transmission)} = {c.transmission_factor:.4g}",
-                      f"{p.twist_deg:.4g}", f"{p.baseline_deg:.4g}", f"{p.value_deg:.6g}",
-                      f"{p.coaxiality_part_deg:.3g}", "+" if c.sign > 0 else "−")
-        rows.append({"component": c.name, "symbol": c.symbol, "coaxiality": c.coaxiality,
-                     "beta_deg": p.coaxiality.beta_deg, "a_mm": p.coaxiality.offset_mm,
-                     "shear_modulus_GPa": c.shear_modulus_Pa / 1e9, "transmission_factor": c.transmission_factor,
-                     "part_twist_deg": p.twist_deg, "theta_beta0_deg": p.baseline_deg, "theta_deg": p.value_deg,
-                     "coaxiality_part_deg": p.coaxiality_part_deg, "sign": c.sign, "signed_theta_deg": p.signed_deg})
+    table, rows = _chain_table(chain, result)
     console.print(table)
     console.print(f"C: torsion constant 180/π · 32 / (π G), φ = C T / d⁴ in °/m (T in N·m, d in mm); paper 000's 7350 is "
                   f"C at G = 79.4 GPa ({torsion_constant_deg_per_m(79.4e9):.1f}). Stage data: {escape(chain.source)}")

@@ -251,22 +251,17 @@ def sensitivity(
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
-    from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.geometry.model import check_workers, count_text
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import (
         SENSITIVITY_METHODS,
-        case_label,
         design_runs,
         morris_design,
-        morris_indices,
         morris_values,
         plot_indices,
-        ranking,
         sample_rows,
         sensitivity_rows,
         sobol_design,
-        sobol_indices,
         stack_records,
         study_document,
         to_values,
@@ -291,12 +286,7 @@ def sensitivity(
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
     records, run = _execute(study, values, out, fingerprint, scheduler, workers=workers, resume=resume, setup_seconds=time.perf_counter() - begin)
-    beta = stack_records(records, "beta_deg")
-    found = {}
-    for c in range(len(study.cases)):
-        for s, shaft in enumerate(MEASURED_SHAFTS):
-            found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, tol.confidence_level) if method == "sobol"
-                                 else morris_indices(points, beta[:, c, s], seed, tol.confidence_level))
+    found = _indices(stack_records(records, "beta_deg"), points, method, seed, tol)
     source, text = rig_text(rig_file)
     document = study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
@@ -308,6 +298,28 @@ def sensitivity(
         write_json_atomic(out / "sensitivity.json", document),
         plot_indices(study, tol, found, out / "sensitivity_indices.png"),
     ]
+    _print_rankings(study, tol, found, method)
+    report_written(written)
+
+
+def _indices(beta, points, method: str, seed: int, tol) -> dict:
+    """The sensitivity indices of β per (case, shaft): Sobol' (first-order and total) or Morris (μ*, σ)."""
+    from rvcoax.geometry import MEASURED_SHAFTS
+    from rvcoax.results.studies import morris_indices, sobol_indices
+
+    d, confidence_level = len(tol.parameters), tol.confidence_level
+    found = {}
+    for c in range(beta.shape[1]):
+        for s, shaft in enumerate(MEASURED_SHAFTS):
+            found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, confidence_level) if method == "sobol"
+                                 else morris_indices(points, beta[:, c, s], seed, confidence_level))
+    return found
+
+
+def _print_rankings(study, tol, found: dict, method: str) -> None:
+    """Per shaft and case: the three parameters to tighten first (or that β does not vary)."""
+    from rvcoax.results.studies import case_label, ranking
+
     for (c, shaft), indices in found.items():
         if indices.constant:
             console.print(f"β {shaft}, {case_label(study.cases[c])}: does not vary with these parameters")
@@ -316,7 +328,6 @@ def sensitivity(
         measure = "ST" if method == "sobol" else "μ* (°)"
         console.print(f"β {shaft}, {case_label(study.cases[c])}: tighten first "
                       + "; ".join(f"{escape(name)} ({measure} {score:.3g})" for name, score in ranked[:3]))
-    report_written(written)
 
 
 COMMANDS = {"montecarlo": montecarlo, "sensitivity": sensitivity}
