@@ -263,7 +263,7 @@ class CondensedSolution:
     condensed_residual: float
 
 
-def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,
+def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,  # noqa: PLR0913
                     *, max_iterations: int = 100, what: str = "nonlinear spring",
                     regularisation: np.ndarray | None = None) -> CondensedSolution:
     """Static solution of a linear structure with nonlinear springs, condensed on their motions.

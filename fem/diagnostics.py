@@ -69,7 +69,7 @@ def constraint_penalty(n_dofs: int, elimination: sp.csr_matrix, free_dofs: np.nd
     return (c.T @ c).tocsr()
 
 
-def find_free_motions(
+def find_free_motions(  # noqa: PLR0913
     coordinates: np.ndarray,
     stiffness: sp.csr_matrix,
     elimination: sp.csr_matrix,

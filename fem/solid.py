@@ -242,7 +242,7 @@ def force_traction_vector(mesh: skfem.MeshTet2, facets, force_N, intorder: int =
     return _traction_vector(fbasis, traction)
 
 
-def torque_traction_vector(
+def torque_traction_vector(  # noqa: PLR0913
     mesh: skfem.MeshTet2, facets, axis_point, axis_dir, torque_Nm: float, *, intorder: int = FACET_INTORDER
 ) -> np.ndarray:
     """Load vector (N,) of a torsional shear traction with moment ``torque_Nm`` about the axis.

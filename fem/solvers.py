@@ -122,7 +122,7 @@ def pardiso_available() -> bool:
     return pardiso.available()
 
 
-def choose_method(
+def choose_method(  # noqa: PLR0913
     n_dofs: int,
     nonzeros: float | None = None,
     n_rhs: int = 1,
@@ -162,7 +162,7 @@ def choose_method(
 class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
-    def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,
+    def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,  # noqa: PLR0913
                  *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
@@ -437,7 +437,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
                           matrix_nonzeros=pardiso.stored_nonzeros(upper))
 
 
-def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,
+def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,  # noqa: PLR0913
                         residual_limit: float = AMG_RESIDUAL_LIMIT, *, maxiter: int | None = None,
                         delay: int = AMG_ERROR_DELAY) -> tuple[np.ndarray, int, float]:
     """Preconditioned CG from x₀ = 0 that stops on an estimate of the displacement's error.
@@ -538,7 +538,7 @@ def _setup_amg(a: sp.csr_matrix, near_null_space, accuracy: float, maxiter: int 
             f"of {accuracy:.0e})", solve, None, (0, 0.0))
 
 
-def prepare(
+def prepare(  # noqa: PLR0913
     matrix,
     method: str = "auto",
     near_null_space=None,

@@ -41,7 +41,7 @@ def _table_of(entry: dict):
     return table
 
 
-def _update(node, old: dict, new: dict, note: str, path: str, *, changed: list[str]) -> None:
+def _update(node, old: dict, new: dict, note: str, path: str, *, changed: list[str]) -> None:  # noqa: PLR0913
     for key, value in new.items():
         before = old.get(key)
         if before == value:

@@ -98,7 +98,7 @@ def bed_growth_mm(rig: Rig, x_mm: float) -> float:
     return _alpha(rig, thermal.bed_material) * thermal.bed_temperature_rise_K * (x_mm - thermal.bed_fixed_x_mm)
 
 
-def _spacing_growth_mm(rig: Rig, from_part: str, from_x: float, to_part: str, to_x: float, *, centre_x: float) -> float:
+def _spacing_growth_mm(rig: Rig, from_part: str, from_x: float, to_part: str, to_x: float, *, centre_x: float) -> float:  # noqa: PLR0913
     """Growth of the axial spacing of two nodes joined at ``centre_x``: each part's strain on its side."""
     return part_strain(rig, from_part) * (centre_x - from_x) + part_strain(rig, to_part) * (to_x - centre_x)
 

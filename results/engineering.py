@@ -269,7 +269,7 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
     return tuple(out)
 
 
-def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
+def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,  # noqa: PLR0913
                      *, applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
     """The engineering tables of one case.
 

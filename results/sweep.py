@@ -16,6 +16,7 @@ are then solved on their own by Newton's method on the condensed bearing motions
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from dataclasses import dataclass, field
 
@@ -331,7 +332,7 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
     return PreparedModel(system, *_prepare(system, settings))
 
 
-def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
+def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
               prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
 
@@ -371,7 +372,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
-        return run_gap_sweep(rig, cases, settings, system, solve, solver_name=solver_name, report=report, progress=progress, on_case=on_case)
+        return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
+                             on_case=on_case)
     loads = system.unit_loads
     unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -462,12 +464,11 @@ def _nonlinear_summary(report, bearings: NonlinearBearings, iterations: list[int
     return summary
 
 
-def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, *, solver_name: str, report,
-                  progress=None, on_case=None) -> Sweep:
+def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, progress=None, on_case=None) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
     beam or hybrid): the rest state and each case solved on its own.
 
-    ``solve`` solves the model as assembled (every bearing on its linear reference spring); the
+    ``prepared.solve`` solves the model as assembled (every bearing on its linear reference spring); the
     nonlinear bearings are condensed on it once
     (:func:`rvcoax.geometry.model.nonlinear_bearings.prepare_nonlinear_bearings`) and each case is
     solved by Newton's method on the condensed motions (:func:`rvcoax.fem.bushing.solve_condensed`)
@@ -483,6 +484,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     gives every spring's state with each nonlinear bearing's own force and operating stiffness. The solver report lists each ball bearing's operating
     point (force, tangent stiffness, ball loads) at rest and in every case.
     """
+    system, solve = prepared.system, prepared.solve
+    rig = system.rig
     bearings = prepare_nonlinear_bearings(rig, system.frame, solve, system.n_dofs)
     problem = _NonlinearProblem(system, bearings, solve, abs(system.stiffness))
 
@@ -512,10 +515,10 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
-    summary = _nonlinear_summary(report, bearings, iterations, operating)
+    summary = _nonlinear_summary(prepared.report, bearings, iterations, operating)
     states = NonlinearStates(np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)),
                              rest_u, bearings)
-    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), solver=solver_name,
+    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), solver=prepared.solver_name,
                  n_dofs=system.n_dofs, system=system, states=states,
                  solver_report=summary)
 

@@ -65,7 +65,7 @@ def solid_method() -> str:
     return "pardiso" if pardiso_available() else "auto"
 
 
-def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float,
+def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float,  # noqa: PLR0913
                         references: list[Reference], feet: str = "clamped",
                         *, bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                         cache_dir: Path | None = None) -> HousingModel:
@@ -76,7 +76,7 @@ def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poi
     basis = solid.solid_basis(mesh)
     offset = DOFS_PER_NODE * len(references)
     pieces = [Contribution(solid.stiffness_triplets(basis, youngs_modulus_Pa, poisson, dof_offset=offset))]
-    pieces += _support_contributions(mesh, basis, geometry, offset, feet, bed_stiffness_N_per_um_per_mm2=bed_stiffness_N_per_um_per_mm2)
+    pieces += _support_contributions(mesh, basis, geometry, offset, (feet, bed_stiffness_N_per_um_per_mm2))
     for i, reference in enumerate(references):
         nodes = face_nodes(mesh, basis, housing_faces(mesh, geometry, reference.face), offset)
         point = np.asarray(reference.point_mm, dtype=float) * 1e-3
@@ -86,9 +86,10 @@ def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poi
     return HousingModel(system.stiffness, system.elimination, np.arange(offset), mesh, basis)
 
 
-def _support_contributions(mesh, basis, geometry: HousingGeometry, offset: int, feet: str,
-                           *, bed_stiffness_N_per_um_per_mm2) -> list[Contribution]:
-    """The feet held (``"clamped"``: their DOFs fixed) or on a Winkler bed (``"bed"``: a stiffness per foot)."""
+def _support_contributions(mesh, basis, geometry: HousingGeometry, offset: int, support: tuple) -> list[Contribution]:
+    """The feet held (``support`` = ("clamped", None): their DOFs fixed) or on a Winkler bed (("bed", (normal,
+    shear) stiffness per area in N/(µm·mm²)): a stiffness per foot); the solid's DOFs start at ``offset``."""
+    feet, bed_stiffness_N_per_um_per_mm2 = support
     if feet == "clamped":
         bottom = np.concatenate(foot_facets(mesh, geometry))
         return [Contribution(fixed_dofs=np.unique(face_nodes(mesh, basis, bottom, offset).dofs.ravel()))]
@@ -161,7 +162,7 @@ def _load(path: Path) -> CondensedHousing | None:
         return None
 
 
-def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],
+def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],  # noqa: PLR0913
                      feet: str = "clamped", *, bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
                      cache_dir: Path | None = None, use_cache: bool = True) -> CondensedHousing:
     """The condensed stiffness of a housing at its references (cached by everything it depends on)."""

@@ -312,7 +312,7 @@ def check_workers(workers: int | None, option: str = "--workers") -> int | None:
     return workers
 
 
-def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",
+def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",  # noqa: PLR0913
                    *, strategy: str = "full") -> Workload:
     """A Monte Carlo or sensitivity study of ``n_solves`` samples, each solving ``n_cases`` load cases
     (``strategy``: what a sample re-assembles, :data:`rvcoax.results.studies.montecarlo.STRATEGIES`)."""
@@ -321,7 +321,7 @@ def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, mo
                     BASE_BYTES + n_solves * (SAMPLE_BYTES * max(n_cases, 1) + 8.0 * (3 * n_parameters + 8)))
 
 
-def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, *, model: str = "beam",
+def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, *, model: str = "beam",  # noqa: PLR0913
                 strategy: str = "full") -> Workload:
     """Refuse a study design too large for this machine, before it is drawn.
 

@@ -367,7 +367,7 @@ def _named_paths(paths) -> list[tuple[str, np.ndarray]]:
     return out
 
 
-def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, rig_length_m: float | None = None,
+def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, rig_length_m: float | None = None,  # noqa: PLR0913
                     paths=None, warp_fraction: float = 0.05, colour_limits_um: tuple[float, float] | None = None,
                     title: str | None = None, window_size: tuple[int, int] = (1600, 600),
                     warp_factor: float | None = None, translucent_parts: Sequence[str] | None = None,
@@ -409,9 +409,9 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
     ``translucent_parts``, ``window_class`` and ``seconds`` (time to build, render and write).
     """
     started = time.perf_counter()
-    scene = _deformed_scene(mesh, case, rig_length_m=rig_length_m, paths=paths, warp_fraction=warp_fraction,
-                            colour_limits_um=colour_limits_um, warp_factor=warp_factor,
-                            translucent_parts=translucent_parts, min_radius_fraction=min_radius_fraction)
+    scene = _deformed_scene(mesh, case, _SceneOptions(
+        rig_length_m=rig_length_m, paths=paths, warp_fraction=warp_fraction, colour_limits_um=colour_limits_um,
+        warp_factor=warp_factor, translucent_parts=translucent_parts, min_radius_fraction=min_radius_fraction))
     target = Path(path_png)
     target.parent.mkdir(parents=True, exist_ok=True)
 
@@ -462,9 +462,26 @@ class _DeformedScene:
     translucent_parts: tuple[str, ...] | None  # as asked for (None: the enclosing parts)
 
 
-def _deformed_scene(mesh: FieldMesh, case: FieldCase, *, rig_length_m, paths, warp_fraction, colour_limits_um,
-                    warp_factor, translucent_parts, min_radius_fraction) -> _DeformedScene:
+@dataclass(frozen=True, eq=False)
+class _SceneOptions:
+    """The drawing options of :func:`render_deformed` that decide what is drawn (see its parameters)."""
+
+    rig_length_m: float | None
+    paths: object
+    warp_fraction: float
+    colour_limits_um: tuple[float, float] | None
+    warp_factor: float | None
+    translucent_parts: object
+    min_radius_fraction: float
+
+
+def _deformed_scene(mesh: FieldMesh, case: FieldCase, options: _SceneOptions) -> _DeformedScene:
     """Check the inputs of :func:`render_deformed` and scale the case: the warp factor, the colour limits, the paths."""
+    rig_length_m, colour_limits_um, translucent_parts = (options.rig_length_m, options.colour_limits_um,
+                                                         options.translucent_parts)
+    warp_fraction, warp_factor, min_radius_fraction = (options.warp_fraction, options.warp_factor,
+                                                       options.min_radius_fraction)
+    paths = options.paths
     if case.displacement_m.shape[0] != mesh.n_points:
         raise ValueError(f"case {case.label!r} has {case.displacement_m.shape[0]} points, the mesh {mesh.n_points}")
     length = mesh_length_m(mesh) if rig_length_m is None else float(rig_length_m)
@@ -772,7 +789,7 @@ def _beta_axis(ax, length: float, micro: bool) -> None:
         secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
 
 
-def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,
+def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,  # noqa: PLR0913
                      path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150,
                      micro: bool = False) -> Path:
     """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.

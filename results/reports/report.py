@@ -397,7 +397,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
             f"<nav>{nav}</nav>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
-def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
+def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,  # noqa: PLR0913
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
                  deformed_view: bool = True) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.

@@ -137,7 +137,7 @@ def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return _row_y(rig, rows, shaft, _paths(rig, rows, shaft, prepared))
 
 
-def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):
+def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):  # noqa: PLR0913
     """If the paths are affine in the (scaled) parameters, a function x → paths that is exact.
 
     Load-sharing parameters enter the loads linearly, so the paths at the fitting rows are
@@ -202,7 +202,7 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
     return unique, best
 
 
-def calibrate(
+def calibrate(  # noqa: PLR0913
     rig: Rig,
     published: tuple[PublishedRow, ...],
     fit_output_torques_Nm=(10.0, 200.0),

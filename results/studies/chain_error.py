@@ -356,7 +356,7 @@ def _key(location: tuple) -> str:
     return "".join(f"[{item}]" if isinstance(item, int) else f".{item}" for item in location).lstrip(".")
 
 
-def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,
+def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,  # noqa: PLR0913
                *, reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
         return ChainDataError(f"stage data {source}: components.{name}: {text}")

@@ -213,7 +213,7 @@ def _timed_choice(run_here, first: list[int], remaining: int, setup_seconds: flo
     return choose_scheduler(remaining, per_sample, setup_seconds, workers)
 
 
-def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,
+def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,  # noqa: PLR0913
                 fingerprint: str, *, scheduler: str = "local", workers: int | None = None, resume: bool = False,
                 progress: Callable[[int, int], None] | None = None, retries: int = 3,
                 on_result: Callable[[int, dict], None] | None = None,
@@ -308,7 +308,7 @@ def future_outcome(future) -> tuple[object, BaseException | None]:
         return None, error
 
 
-def _run_on_cluster(client, function, shared, rows, pending, *, fingerprint, store, retries) -> int:
+def _run_on_cluster(client, function, shared, rows, pending, *, fingerprint, store, retries) -> int:  # noqa: PLR0913
     """Submit every pending sample, store results as they complete; returns the number resubmitted."""
     from distributed import KilledWorker, as_completed
 

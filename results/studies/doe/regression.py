@@ -151,7 +151,7 @@ def studentized_residuals(matrix: np.ndarray, y: np.ndarray) -> np.ndarray:
     return t
 
 
-def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), *, studentized=None,
+def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), *, studentized=None,  # noqa: PLR0913
         note: str = "") -> RegressionFit:
     """Least-squares fit of ``terms`` (must include the intercept) on the runs ``used``."""
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -223,7 +223,7 @@ def _coefficient_p_values(x, y, terms) -> np.ndarray:
     return np.where(np.isfinite(t), 2.0 * stats.t.sf(np.abs(t), n - p), 0.0)
 
 
-def stepwise_terms(x, y, candidates: tuple[Term, ...] | None = None, p_enter: float = 0.05, p_remove: float = 0.10,
+def stepwise_terms(x, y, candidates: tuple[Term, ...] | None = None, p_enter: float = 0.05, p_remove: float = 0.10,  # noqa: PLR0913
                    *, min_residual_dof: int = 3) -> tuple[Term, ...]:
     """Forward–backward selection from ``candidates`` (default: the full second-order model).
 

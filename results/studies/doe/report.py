@@ -58,7 +58,7 @@ def choose_terms(design: Design, terms: str | tuple[Term, ...] = "auto") -> tupl
     raise ValueError(f"terms must be auto, full, stepwise or a list of terms, got {terms!r}")
 
 
-def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),
+def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),  # noqa: PLR0913
             goal: str = "min", *, terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
     """Range analysis, ANOVA (unpooled and pooled), optimal levels and the second-order regression.
 

@@ -220,7 +220,7 @@ def check_addresses(rig: Rig, study: Study, source: str = "study file") -> None:
                 raise StudyError(f"{source}: factor {factor.key}: {error.args[0]}") from None
 
 
-def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
+def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,  # noqa: PLR0913
               progress: Callable[[int, int], None] | None = None, runs: range | None = None,
               *, source: str = "study file") -> StudyResult:
     """Solve the rig once per run of the study's array and collect β and Y_max of both shafts.
