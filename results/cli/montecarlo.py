@@ -9,7 +9,9 @@ arrives and then the tables and the picture.
 from __future__ import annotations
 
 import hashlib
+import inspect
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -20,20 +22,18 @@ from rich.table import Table
 
 from rvcoax.results.cli.support import (
     SEED_RANGE,
-    MeshOption,
-    ModelOption,
-    RigOption,
+    ModelChoice,
     UserError,
     console,
+    model_options,
     number_option,
+    option_block,
     report_written,
-    rig_text,
     scheduler_address,
-    sweep_settings,
 )
 
 __all__ = ["MAX_SAMPLES", "ResumeOption", "SchedulerOption", "SeedOption", "TolerancesOption", "WorkersOption",
-           "COMMANDS", "montecarlo", "sensitivity"]
+           "COMMANDS", "StudyChoice", "montecarlo", "sensitivity", "study_options"]
 
 TolerancesOption = Annotated[Path, typer.Option(
     "--tolerances", help="Tolerance file (TOML): parameters with distributions, load cases, β limits. "
@@ -52,6 +52,27 @@ SeedOption = Annotated[int, number_option("--seed", *SEED_RANGE, integer=True,
                                                f"{SEED_RANGE[0]} … {SEED_RANGE[1]}.")]
 MAX_SAMPLES = 10_000_000  # every sample is a solve: ten million beam solves is days of work
 
+
+@dataclass(frozen=True)
+class StudyChoice:
+    """``--tolerances``, ``--scheduler``, ``--workers``, ``--resume``, ``--seed``: the options every tolerance study
+    (``montecarlo``, ``sensitivity``) shares."""
+
+    tolerances: Path
+    scheduler: str = "auto"
+    workers: int | None = None
+    resume: bool = False
+    seed: int = 0
+
+
+_STUDY_BLOCK = (("tolerances", TolerancesOption, inspect.Parameter.empty), ("scheduler", SchedulerOption, "auto"),
+                ("workers", WorkersOption, None), ("resume", ResumeOption, False), ("seed", SeedOption, 0))
+
+
+def study_options(function):
+    """Give a command the tolerance-study options as one :class:`StudyChoice` argument ``study_choice``."""
+    return option_block(function, "study_choice", StudyChoice, _STUDY_BLOCK)
+
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
     import numpy as np
 
@@ -62,8 +83,7 @@ def _progress() -> Progress:
                     disable=not console.is_terminal)
 
 
-def _setup(rig_file, tolerances_path, model, mesh_size_mm):
-    from rvcoax import load_rig
+def _setup(model_choice: ModelChoice, tolerances_path: Path):
     from rvcoax.results.studies import (
         STRATEGY_TEXT,
         ToleranceFileError,
@@ -72,8 +92,9 @@ def _setup(rig_file, tolerances_path, model, mesh_size_mm):
         plan_study,
     )
 
-    settings = sweep_settings(model, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_file)
+    model = model_choice.model
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
     try:
         tolerances = load_tolerances(tolerances_path, rig)
     except ToleranceFileError as error:
@@ -104,9 +125,11 @@ def _nominal(study) -> dict:
     return {"values": dict(zip(study.addresses, values)), **result}
 
 
-def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, *, workers, resume: bool,
+def _execute(study, values: np.ndarray, out: Path, fingerprint: str, choice: StudyChoice, *,
              setup_seconds: float | None = None):
     from rvcoax.results.studies import ClusterError, ResumeError, SampleError, evaluate_sample, run_samples
+
+    scheduler, workers, resume = choice.scheduler, choice.workers, choice.resume
 
     where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
         scheduler == "auto") else (
@@ -147,18 +170,15 @@ def _fingerprint(*items) -> str:
     return hashlib.sha256(repr(items).encode()).hexdigest()
 
 
+@model_options
+@study_options
 def montecarlo(
-    tolerances: TolerancesOption,
+    *,
+    model_choice: ModelChoice,
+    study_choice: StudyChoice,
     samples: Annotated[int, number_option("--samples", 1, MAX_SAMPLES, integer=True, help="Number of samples (each a solve of every load case).")] = 1000,
     sampling: Annotated[str, typer.Option("--sampling", help="lhs (Latin hypercube, default), sobol (scrambled Sobol', a power of two samples) or random.")] = "lhs",
-    rig_file: RigOption = None,
-    model: ModelOption = "beam",
-    *, mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/montecarlo"),
-    scheduler: SchedulerOption = "auto",
-    workers: WorkersOption = None,
-    resume: ResumeOption = False,
-    seed: SeedOption = 0,
 ) -> None:
     """Monte Carlo of the tilt β: distribution of Y and β per shaft and load case, and P(β > limit) with its interval.
 
@@ -178,11 +198,12 @@ def montecarlo(
         study_document,
     )
 
+    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
     scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
         raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
     check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
+    tol, study = _setup(model_choice, study_choice.tolerances)
     _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
@@ -191,9 +212,10 @@ def montecarlo(
     begin = time.perf_counter()
     nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers=workers, resume=resume, setup_seconds=time.perf_counter() - begin)
+    records, run = _execute(study, values, out, fingerprint, study_choice,
+                            setup_seconds=time.perf_counter() - begin)
     found = exceedances(study, tol, records)
-    source, text = rig_text(rig_file)
+    source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
                                      run=run, nominal=nominal)
@@ -234,18 +256,15 @@ def _distribution_table(study, records, found) -> Table:
     return table
 
 
+@model_options
+@study_options
 def sensitivity(
-    tolerances: TolerancesOption,
+    *,
+    model_choice: ModelChoice,
+    study_choice: StudyChoice,
     samples: Annotated[int, number_option("--samples", 2, MAX_SAMPLES, integer=True, help="sobol: base samples N, a power of two (N (d + 2) solves for d parameters); morris: trajectories r (r (d + 1) solves).")] = 256,
     method: Annotated[str, typer.Option("--method", help="sobol (first-order and total indices, default) or morris (cheaper screening).")] = "sobol",
-    rig_file: RigOption = None,
-    model: ModelOption = "beam",
-    *, mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/sensitivity"),
-    scheduler: SchedulerOption = "auto",
-    workers: WorkersOption = None,
-    resume: ResumeOption = False,
-    seed: SeedOption = 0,
 ) -> None:
     """Global sensitivity of β to the toleranced parameters: which tolerance to tighten first.
 
@@ -267,11 +286,12 @@ def sensitivity(
         to_values,
     )
 
+    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
     scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:
         raise UserError(f"--method: must be sobol or morris, got '{method}'")
     check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
+    tol, study = _setup(model_choice, study_choice.tolerances)
     d = len(tol.parameters)
     _check_size(design_runs(method, samples, d), tol, study, "--samples",
                 f"{count_text(design_runs(method, samples, d))} solves ({method}: --samples {samples}, {d} parameters)")
@@ -285,9 +305,10 @@ def sensitivity(
     begin = time.perf_counter()
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers=workers, resume=resume, setup_seconds=time.perf_counter() - begin)
+    records, run = _execute(study, values, out, fingerprint, study_choice,
+                            setup_seconds=time.perf_counter() - begin)
     found = _indices(stack_records(records, "beta_deg"), points, method, seed, tol)
-    source, text = rig_text(rig_file)
+    source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
                                       "solves": len(values)}, run=run, nominal=nominal)

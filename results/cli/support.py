@@ -27,7 +27,7 @@ from rvcoax.results.io import output_folder_lock
 __all__ = ["CaseChoice", "CasesOption", "CommandGroup", "GridOption", "MeshOption", "ModelChoice", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
            "add_text_row", "case_options", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
-           "guard", "model_options", "number_option", "prepare_with_status", "register_commands", "progress_bar", "report_written", "rig_text",
+           "guard", "model_options", "number_option", "option_block", "prepare_with_status", "register_commands", "progress_bar", "report_written", "rig_text",
            "run_with_progress", "scheduler_address", "sweep_settings", "torque_list", "warn", "write_error_text"]
 
 console = Console()
@@ -222,7 +222,7 @@ _CASE_BLOCK = (("cases", CasesOption, None), ("t1", T1Option, None), ("t2", T2Op
                ("grid", GridOption, False))
 
 
-def _option_block(function, name: str, record, block):
+def option_block(function, name: str, record, block):
     """``function`` with the options of ``block`` in front of its own, passed to it as one ``record`` named ``name``."""
     own = [p for p in inspect.signature(function, eval_str=True).parameters.values() if p.name != name]
     added = [inspect.Parameter(key, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)
@@ -242,13 +242,13 @@ def _option_block(function, name: str, record, block):
 def model_options(function):
     """Give a command ``--rig``, ``--model``, ``--solver`` and ``--mesh-size-mm`` as one :class:`ModelChoice`
     argument ``model_choice`` (the same options, help and defaults for every command)."""
-    return _option_block(function, "model_choice", ModelChoice, _MODEL_BLOCK)
+    return option_block(function, "model_choice", ModelChoice, _MODEL_BLOCK)
 
 
 def case_options(function):
     """Give a command ``--cases``, ``--t1``, ``--t2`` and ``--grid`` as one :class:`CaseChoice` argument
     ``case_choice``."""
-    return _option_block(function, "case_choice", CaseChoice, _CASE_BLOCK)
+    return option_block(function, "case_choice", CaseChoice, _CASE_BLOCK)
 
 
 @dataclass(frozen=True)
