@@ -69,15 +69,15 @@ def constraint_penalty(n_dofs: int, elimination: sp.csr_matrix, free_dofs: np.nd
     return (c.T @ c).tocsr()
 
 
-def find_free_motions(  # noqa: PLR0913
-    coordinates: np.ndarray,
-    stiffness: sp.csr_matrix,
-    elimination: sp.csr_matrix,
-    free_dofs: np.ndarray,
-    node_group: np.ndarray,
-    *, relative_tolerance: float = 1e-9,
-) -> list[FreeMotion]:
-    """Rigid-body motions of single parts, and of connected sets of parts, with no energy."""
+def find_free_motions(structure, system, *, relative_tolerance: float = 1e-9) -> list[FreeMotion]:
+    """Rigid-body motions of single parts, and of connected sets of parts, with no energy.
+
+    ``structure`` gives the node ``coordinates`` and each node's part (``node_group``; a
+    :class:`rvcoax.fem.model.StructuralModel`), ``system`` the ``stiffness``, its constraint ``elimination`` and
+    ``free_dofs`` (a :class:`rvcoax.fem.pieces.AssembledSystem`).
+    """
+    coordinates, node_group = structure.coordinates, structure.node_group
+    stiffness, elimination, free_dofs = system.stiffness, system.elimination, system.free_dofs
     n_dofs = stiffness.shape[0]
     scale = float(np.abs(stiffness.diagonal()).max()) or 1.0
     k = (stiffness + scale * constraint_penalty(n_dofs, elimination, free_dofs)).tocsr()

@@ -61,8 +61,7 @@ def _assembled(frame, structure=None) -> AssembledSystem:
 
 
 def _free_motions(structure, system: AssembledSystem) -> list[diagnostics.FreeMotion]:
-    return diagnostics.find_free_motions(structure.coordinates, system.stiffness, system.elimination, system.free_dofs,
-                                         structure.node_group)
+    return diagnostics.find_free_motions(structure, system)
 
 
 def _non_finite_parts(frame, system: AssembledSystem) -> list[str]:

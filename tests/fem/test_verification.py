@@ -32,6 +32,7 @@ from rvcoax.fem.diagnostics import MOTION_NAMES, find_free_motions
 from rvcoax.fem.equilibrium import ground_reactions
 from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.loads import PointMasses
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
 
@@ -317,9 +318,7 @@ def test_rigid_link_offset_load():
 # 10 --------------------------------------------------------------------------------------------
 def free_motions(structure):
     """find_free_motions of a model."""
-    elimination, free = constraint_elimination(structure)
-    return find_free_motions(structure.coordinates, stiffness_matrix(structure), elimination, free,
-                             structure.node_group)
+    return find_free_motions(structure, assemble_frame(structure))
 
 
 def motion_names(motion) -> set[str]:
