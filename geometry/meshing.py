@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 import skfem
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 
 __all__ = ["MESHER_VERSION", "MIN_SHAPE_QUALITY", "MM", "MeshingError", "SolidPartGeometry", "cache_path",
            "check_mesh", "default_cache_dir", "estimate_dofs", "logger", "mesh_part", "shape_quality"]

@@ -10,11 +10,12 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict, Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
+from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
@@ -31,8 +32,7 @@ Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 
 
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+Strict = StrictModel  # every table of the rig file: unknown keys are errors, values frozen
 
 
 class RigInfo(Strict):

@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.pieces import (
     Contribution,
     assemble,

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
 

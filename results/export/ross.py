@@ -36,11 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem import model as fem_model
 from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.system import factorize

@@ -39,11 +39,12 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field
 
-from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number
+from rvcoax.errors import RvcoaxError, problems_text
+from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number
 from rvcoax.geometry.schema import Part, Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.results.io.datafiles import read_data_text
 
 __all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
@@ -65,8 +66,7 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+_Strict = StrictModel
 
 
 class _StageEntry(_Strict):
@@ -352,10 +352,6 @@ def rig_stages(part: Part) -> tuple[Stage, ...]:
     return tuple(stages)
 
 
-def _key(location: tuple) -> str:
-    return "".join(f"[{item}]" if isinstance(item, int) else f".{item}" for item in location).lstrip(".")
-
-
 def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,
                reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
@@ -413,13 +409,7 @@ def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
         Naming the file, the key and the reason.
     """
     source, text = read_data_text(path, STAGE_DATA, ChainDataError, "stage data")
-    try:
-        data = _StageFile.model_validate(parse_toml(text))
-    except InputFileError as error:
-        raise ChainDataError(f"stage data {source}: {error}") from None
-    except ValidationError as error:
-        problems = "; ".join(f"{_key(e['loc'])}: {e['msg']}" for e in error.errors())
-        raise ChainDataError(f"stage data {source}: {problems}") from None
+    data = read_toml_model(_StageFile, text, lambda problems: ChainDataError(problems_text("stage data", source, problems)))
     r = data.reducer
     reducer = Reducer(r.name, r.ratio_i16, r.cycloid_teeth_Z4, r.pin_teeth_Z5, r.pin_count)
     components = tuple(_component(name, entry, data, rig, source, reducer)

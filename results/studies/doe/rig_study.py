@@ -14,13 +14,13 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, model_validator
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError, problems_text
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.inputfiles import InputFileError, parse_toml
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase
 from rvcoax.results.io.datafiles import read_data_text
 from rvcoax.results.studies.doe.design import Design, Factor, build_sources
@@ -39,8 +39,7 @@ class StudyError(RvcoaxError, ValueError):
     """A study file that cannot be used; the message names the file, key and reason."""
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+_Strict = StrictModel
 
 
 class StudySettings(_Strict):
@@ -134,13 +133,7 @@ def load_study(path: str | Path | None = None) -> Study:
         Naming the file, the key and the reason.
     """
     source, text = read_data_text(path, STUDY_FILE, StudyError, "study file")
-    try:
-        return Study.model_validate(parse_toml(text))
-    except InputFileError as error:
-        raise StudyError(f"study file {source}: {error}") from None
-    except ValidationError as error:
-        problems = "; ".join(".".join(str(p) for p in e["loc"]) + f": {e['msg']}" for e in error.errors())
-        raise StudyError(f"study file {source}: {problems}") from None
+    return read_toml_model(Study, text, lambda problems: StudyError(problems_text("study file", source, problems)))
 
 
 def preferred_columns(array: OrthogonalArray) -> list[int]:
