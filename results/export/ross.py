@@ -46,16 +46,16 @@ from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.system import factorize
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.units import MM
 from rvcoax.results.export.dynamics import DynamicsExport
 
-__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
            "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
            "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
            "rvcoax_gravity_sag", "shaft_line"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
-MM = 1e-3
 INSTALL_HINT = 'pip install "rvcoax[ross]"  (the package ross-rotordynamics)'
 
 

@@ -47,7 +47,7 @@ from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.results.io.datafiles import read_data_text
 
-__all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
+__all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainErrorBudget", "ChainModel", "Coaxiality", "Component",
            "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "evaluate_chain_error",
            "contribution", "load_chain_model", "moment_arms_mm", "read_stage_forces", "rig_stages",
            "shear_modulus_Pa", "signed_total", "stage_midpoints_mm", "stage_twists_deg",
@@ -236,8 +236,8 @@ class Contribution:
 
 
 @dataclass(frozen=True)
-class ChainError:
-    """Every contribution and the total, θ_total = Σ sign · θ."""
+class ChainErrorBudget:
+    """The chain-error budget of a load case: every contribution and the total, θ_total = Σ sign · θ."""
 
     contributions: tuple[Contribution, ...]
     total_deg: float
@@ -310,7 +310,7 @@ def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> f
 
 
 def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
-                         output_shaft: Coaxiality = NO_TILT) -> ChainError:
+                         output_shaft: Coaxiality = NO_TILT) -> ChainErrorBudget:
     """Each component's error vector and the total, with the shafts' tilts and offsets.
 
     Parameters
@@ -324,7 +324,7 @@ def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], 
 
     Returns
     -------
-    ChainError
+    ChainErrorBudget
         Every component's contribution θ, θ_total, and θ_total with the shafts untilted (baseline), in degrees.
     """
     tilts = {"input": input_shaft, "output": output_shaft, "none": NO_TILT}
@@ -333,7 +333,7 @@ def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], 
         for c in model.components
     )
     signs = {p.component.name: p.component.sign for p in parts}
-    return ChainError(parts, signed_total({p.component.name: p.value_deg for p in parts}, signs),
+    return ChainErrorBudget(parts, signed_total({p.component.name: p.value_deg for p in parts}, signs),
                       signed_total({p.component.name: p.baseline_deg for p in parts}, signs))
 
 
