@@ -66,16 +66,13 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 
 
-_Strict = StrictModel
-
-
-class _StageEntry(_Strict):
+class _StageEntry(StrictModel):
     length_mm: Positive
     outer_diameter_mm: Positive
     inner_diameter_mm: NonNegative = 0.0
 
 
-class _Reducer(_Strict):
+class _Reducer(StrictModel):
     name: str
     ratio_i16: Positive
     cycloid_teeth_Z4: Annotated[int, Field(gt=0, strict=True)]
@@ -83,12 +80,12 @@ class _Reducer(_Strict):
     pin_count: Annotated[int, Field(gt=0, strict=True)]
 
 
-class _MaterialEntry(_Strict):
+class _MaterialEntry(StrictModel):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
 
 
-class _ComponentEntry(_Strict):
+class _ComponentEntry(StrictModel):
     symbol: str
     description: str = ""
     transmission: Literal["1/i16", "2/Z4", "1", "pins*Z5/Z4"]
@@ -99,7 +96,7 @@ class _ComponentEntry(_Strict):
     stages: list[_StageEntry] | None = None
 
 
-class _StageFile(_Strict):
+class _StageFile(StrictModel):
     schema_version: Literal[1]
     reducer: _Reducer
     materials: dict[str, _MaterialEntry] = Field(default_factory=dict)

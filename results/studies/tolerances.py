@@ -68,22 +68,19 @@ class ToleranceFileError(InputFileProblems):
     what = "tolerance file"
 
 
-_Strict = StrictModel
-
-
-class _Study(_Strict):
+class _Study(StrictModel):
     name: str
     description: str = ""
     measured_from: Literal["aligned_at_rest", "unloaded"] | None = None
     confidence_level: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] = 0.95
 
 
-class _Case(_Strict):
+class _Case(StrictModel):
     T1_input_Nm: Number
     T2_output_Nm: Number
 
 
-class _Parameter(_Strict):
+class _Parameter(StrictModel):
     address: str
     distribution: Literal["normal", "uniform", "truncated_normal"]
     mean: Number | None = None
@@ -98,7 +95,7 @@ class _Parameter(_Strict):
         return self
 
 
-class _Limit(_Strict):
+class _Limit(StrictModel):
     shaft: Literal["input", "output"]
     label: str = ""
     Y_max_mm: Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)] | None = None
@@ -112,7 +109,7 @@ class _Limit(_Strict):
         return self
 
 
-class _File(_Strict):
+class _File(StrictModel):
     schema_version: Literal[1]
     study: _Study
     cases: list[_Case] = []

@@ -39,10 +39,7 @@ class StudyError(RvcoaxError, ValueError):
     """A study file that cannot be used; the message names the file, key and reason."""
 
 
-_Strict = StrictModel
-
-
-class StudySettings(_Strict):
+class StudySettings(StrictModel):
     """The ``[study]`` table."""
 
     name: str
@@ -55,7 +52,7 @@ class StudySettings(_Strict):
     T2_output_Nm: Torque = 200.0
 
 
-class StudyFactor(_Strict):
+class StudyFactor(StrictModel):
     """One ``[[factors]]`` entry."""
 
     key: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9]*$")]
@@ -73,7 +70,7 @@ class StudyFactor(_Strict):
         return self
 
 
-class Study(_Strict):
+class Study(StrictModel):
     """A whole study file."""
 
     schema_version: Literal[1]
