@@ -189,10 +189,10 @@ def _scatter(basis, local: np.ndarray) -> np.ndarray:
     return np.bincount(basis.element_dofs.ravel(), weights=local.ravel(), minlength=basis.N)
 
 
-def body_force_vector(basis, density_kg_per_m3: float, acceleration_m_s2) -> np.ndarray:
+def body_force_vector(basis, density_kg_per_m3: float, acceleration_m_per_s2) -> np.ndarray:
     """Consistent load vector of the body force ρ g (self-weight: g = (0, −9.81, 0) or similar), (N,)."""
     _check_vector_p2(basis)
-    g = np.asarray(acceleration_m_s2, dtype=float).reshape(3)
+    g = np.asarray(acceleration_m_per_s2, dtype=float).reshape(3)
     integrals = np.einsum("aeq,eq->ae", _scalar_values(basis), basis.dx)  # ∫ Nₐ dV, (10, e)
     local = density_kg_per_m3 * integrals[:, None, :] * g[None, :, None]  # (10, 3, e)
     return _scatter(basis, local.reshape(3 * _N_P2, -1))

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem.ball_bearing import BallBearingGeometry, ball_loads
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "GEOMETRY_KEYS", "OperatingClearanceError",

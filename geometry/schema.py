@@ -10,11 +10,12 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict, Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
+from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
@@ -31,25 +32,24 @@ Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 
 
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+Strict = StrictModel  # the name the rig schema had for it (rvcoax.geometry.validation.StrictModel)
 
 
-class RigInfo(Strict):
+class RigInfo(StrictModel):
     name: str
     description: str = ""
 
 
-class Gravity(Strict):
+class Gravity(StrictModel):
     enabled: Flag = True
     acceleration_m_per_s2: Positive = 9.80665
 
 
-class MeshSettings(Strict):
+class MeshSettings(StrictModel):
     max_element_length_mm: Positive = 5.0
 
 
-class BeamSettings(Strict):
+class BeamSettings(StrictModel):
     """Shaft beams: Timoshenko (shear flexibility, default) or Euler–Bernoulli.
 
     ``shear_deformation = false`` makes the beams of every shaft (``role = "shaft"``)
@@ -70,7 +70,7 @@ class BeamSettings(Strict):
         return self.shear_flexibility_factor if self.shear_deformation else 0.0
 
 
-class Material(Strict):
+class Material(StrictModel):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
     density_kg_per_m3: Positive
@@ -82,7 +82,7 @@ class Material(Strict):
         return self.youngs_modulus_MPa / (2.0 * (1.0 + self.poisson_ratio))
 
 
-class Segment(Strict):
+class Segment(StrictModel):
     x_mm: tuple[Finite, Finite]
     outer_diameter_mm: Diameter
     inner_diameter_mm: Annotated[float, Field(ge=0, le=1e5, allow_inf_nan=False, strict=True)] = 0.0
@@ -103,7 +103,7 @@ class Segment(Strict):
         return math.pi / 4 * (self.outer_diameter_mm**2 - self.inner_diameter_mm**2) * (self.x_mm[1] - self.x_mm[0])
 
 
-class Part(Strict):
+class Part(StrictModel):
     name: Name
     role: Literal["shaft", "body"]
     material: str
@@ -132,7 +132,7 @@ class Part(Strict):
         return sum(s.volume_mm3 for s in self.segments)
 
 
-class Location(Strict):
+class Location(StrictModel):
     """A place on a part. On a solid part it is a face: ``band_mm`` (a band of the lateral surface),
     the end face when x is at the part's end, or a band ``[solid] attachment_band_mm`` wide."""
 
@@ -148,7 +148,7 @@ class Location(Strict):
         return self
 
 
-class Bearing(Strict):
+class Bearing(StrictModel):
     """A bearing between a shaft and its housing (or the ground).
 
     ``model = "linear"`` (default): springs typed in (``radial_stiffness_N_per_um`` required).
@@ -321,7 +321,7 @@ class Bearing(Strict):
 Triple = tuple[NonNegative, NonNegative, NonNegative]
 
 
-class Mount(Strict):
+class Mount(StrictModel):
     name: Name
     part: str
     x_mm: Finite
@@ -336,7 +336,7 @@ class Mount(Strict):
     support_material: str | None = None
 
 
-class Connection(Strict):
+class Connection(StrictModel):
     """Something joining two parts: ``from`` and ``to`` locations."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
@@ -374,18 +374,18 @@ class Joint(Connection):
     rotational_stiffness_Nm_per_rad: Triple
 
 
-class TorqueInput(Strict):
+class TorqueInput(StrictModel):
     part: str
     x_mm: Finite
     sign: Literal[1, -1] = 1
 
 
-class Torques(Strict):
+class Torques(StrictModel):
     T1: TorqueInput
     T2: TorqueInput
 
 
-class TorqueLateralLoad(Strict):
+class TorqueLateralLoad(StrictModel):
     """A lateral force that appears when torque flows, applied as a pair (on / reacted_on).
 
     Kinds
@@ -473,7 +473,7 @@ class TorqueLateralLoad(Strict):
 PlanetError = Annotated[float, Field(ge=-100.0, le=100.0, allow_inf_nan=False, strict=True)]
 
 
-class GearMesh(Strict):
+class GearMesh(StrictModel):
     """``[[gear_meshes]]``: a driving gear in mesh with planet gears, from its gear data.
 
     The RV reducer's first stage: the input (sun) gear on part ``on`` drives ``len(planet_angles_deg)``
@@ -563,7 +563,7 @@ OptionalLength = Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, str
 FootStiffness = Annotated[float, Field(gt=0.0, le=1e7, allow_inf_nan=False, strict=True)] | None
 
 
-class Housing(Strict):
+class Housing(StrictModel):
     """``[[housings]]``: a housing of part ``part`` (bearing block, web pedestal, wall bracket), condensed from a
     solid model.
 
@@ -711,7 +711,7 @@ class Housing(Strict):
 TemperatureRise = Annotated[float, Field(ge=-100.0, le=300.0, allow_inf_nan=False, strict=True)]
 
 
-class Thermal(Strict):
+class Thermal(StrictModel):
     """``[thermal]``: steady temperature rises (K, = °C of difference) from the state the rig was built in.
 
     ``temperature_rise_K`` per part (missing parts: 0) grows every part axially and radially by its
@@ -727,20 +727,20 @@ class Thermal(Strict):
     bed_fixed_x_mm: Finite = 0.0
 
 
-class ForcePair(Strict):
+class ForcePair(StrictModel):
     label: str
     force_N: Finite
     plus_at: Location
     minus_at: Location
 
 
-class SingleForce(Strict):
+class SingleForce(StrictModel):
     label: str
     force_N: Finite
     at: Location
 
 
-class ForceTable(Strict):
+class ForceTable(StrictModel):
     apply: Flag = False
     scale: Finite = 1.0  # multiplies every force of the table when applied
     pairs: list[ForcePair] = []
@@ -749,14 +749,14 @@ class ForceTable(Strict):
 
 # --- load cases in the rig file (issue 15, outputs) ---------------------------------------------
 
-class RigLoadCase(Strict):
+class RigLoadCase(StrictModel):
     """One ``[[load_cases]]`` entry: a torque pair (N·m)."""
 
     T1_input_Nm: Finite
     T2_output_Nm: Finite
 
 
-class TorqueRange(Strict):
+class TorqueRange(StrictModel):
     """``[sweep]``: ``cases`` evenly spaced (T1, T2) pairs from the first to the last values (N·m)."""
 
     T1_input_Nm: tuple[Finite, Finite]
@@ -771,7 +771,7 @@ class TorqueRange(Strict):
         return self
 
 
-class SolidSettings(Strict):
+class SolidSettings(StrictModel):
     """Solid and hybrid models: which parts are solid in ``hybrid``, and mesh sizes."""
 
     hybrid_parts: list[str] | None = None
@@ -780,20 +780,20 @@ class SolidSettings(Strict):
     attachment_band_mm: Positive = 10.0
 
 
-class Path(Strict):
+class Path(StrictModel):
     part: str
     x_start_mm: Finite
     length_mm: Positive
     stations: Annotated[int, Field(ge=25, le=2001, strict=True)] = 41
 
 
-class Paths(Strict):
+class Paths(StrictModel):
     measured_from: Literal["aligned_at_rest", "unloaded"] = "aligned_at_rest"
     input: Path
     output: Path
 
 
-class Rig(Strict):
+class Rig(StrictModel):
     """A whole rig file."""
 
     schema_version: Literal[1]

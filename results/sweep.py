@@ -22,9 +22,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import bushing, equilibrium
 from rvcoax.fem import system as fem_system
-from rvcoax.fem.errors import RvcoaxError, SingularModelError
+from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS

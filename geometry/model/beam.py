@@ -22,12 +22,12 @@ from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 from rvcoax.geometry.thermal import beam_thermal_load, thermal_stress_free_motions
+from rvcoax.geometry.units import MM
 
 __all__ = ["FrameMasses", "FrameNodes", "FrameSprings", "SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM",
            "RigModel", "UM", "attachment_positions", "build_rig_model", "frame_beams", "frame_masses", "frame_nodes",
            "frame_springs", "housing_bed_group", "prestrain_contributions", "stress_free_motions"]
 
-MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
 N_PER_MM = 1e3  # N/mm → N/m
 # Positions on one part closer than this (mm) share a node: a shorter beam element would be so stiff next to

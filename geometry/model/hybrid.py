@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.pieces import (
     Contribution,
     assemble,
@@ -41,12 +41,12 @@ from rvcoax.geometry.model.loads import (
 from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, located_contribution
 from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.thermal import part_strain
+from rvcoax.geometry.units import MM
 
-__all__ = ["Attachment", "FaceSpec", "MM", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
+__all__ = ["Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
            "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
            "select_facets", "solid_geometry"]
 
-MM = 1e-3
 RING_POINTS = 8
 TOL_MM = 1e-6
 

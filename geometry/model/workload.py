@@ -17,7 +17,7 @@ import math
 import os
 from dataclasses import dataclass
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem.memory import available_memory_bytes
 
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",

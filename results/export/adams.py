@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
 from rvcoax.results.io.writers import write_text_atomic

@@ -37,10 +37,10 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
 from rvcoax.fem.pieces import assemble_frame
@@ -48,17 +48,17 @@ from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.units import MM
 from rvcoax.results.export.dynamics import DynamicsExport
 from rvcoax.results.io.writers import write_csv_atomic
 
-__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
            "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
            "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
            "RossFiles", "rvcoax_gravity_sag", "save_rotor", "shaft_line", "write_ross"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
-MM = 1e-3
 INSTALL_HINT = 'pip install "rvcoax[ross]"  (the package ross-rotordynamics)'
 
 

@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.fields import FieldCase, FieldMesh
 from rvcoax.results.io.writers import write_png_atomic

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables

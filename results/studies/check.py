@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.paths import beta_from_y_deg

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table

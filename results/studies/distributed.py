@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.results.io.writers import write_json_atomic
 
 __all__ = ["CLUSTER_START_SECONDS", "CLUSTER_STEADY_CORES", "ClusterError", "MANIFEST", "PAYS_BELOW", "ResumeError",

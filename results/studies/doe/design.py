@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.results.studies.doe.orthogonal import orthogonality_problems
 

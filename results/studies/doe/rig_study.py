@@ -14,13 +14,13 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, model_validator
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError, problems_text
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.inputfiles import InputFileError, parse_toml
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase
 from rvcoax.results.io.datafiles import read_data_text
 from rvcoax.results.studies.doe.design import Design, Factor, build_sources
@@ -39,11 +39,7 @@ class StudyError(RvcoaxError, ValueError):
     """A study file that cannot be used; the message names the file, key and reason."""
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class StudySettings(_Strict):
+class StudySettings(StrictModel):
     """The ``[study]`` table."""
 
     name: str
@@ -56,7 +52,7 @@ class StudySettings(_Strict):
     T2_output_Nm: Torque = 200.0
 
 
-class StudyFactor(_Strict):
+class StudyFactor(StrictModel):
     """One ``[[factors]]`` entry."""
 
     key: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9]*$")]
@@ -74,7 +70,7 @@ class StudyFactor(_Strict):
         return self
 
 
-class Study(_Strict):
+class Study(StrictModel):
     """A whole study file."""
 
     schema_version: Literal[1]
@@ -134,13 +130,7 @@ def load_study(path: str | Path | None = None) -> Study:
         Naming the file, the key and the reason.
     """
     source, text = read_data_text(path, STUDY_FILE, StudyError, "study file")
-    try:
-        return Study.model_validate(parse_toml(text))
-    except InputFileError as error:
-        raise StudyError(f"study file {source}: {error}") from None
-    except ValidationError as error:
-        problems = "; ".join(".".join(str(p) for p in e["loc"]) + f": {e['msg']}" for e in error.errors())
-        raise StudyError(f"study file {source}: {problems}") from None
+    return read_toml_model(Study, text, lambda problems: StudyError(problems_text("study file", source, problems)))
 
 
 def preferred_columns(array: OrthogonalArray) -> list[int]:
