@@ -6,6 +6,10 @@ one location, named in a stable vocabulary (``coupling_offset@C3``, ``bearing_cl
 rig's results unchanged, so every candidate is available on any rig and the base model is
 "all parameters zero". :func:`candidate_effects` lists every candidate at every location of a rig.
 
+Every kind is declared once, in :data:`EFFECT_KINDS`: its builder, how it changes the model (``response``: a load,
+a spring, a clearance, or a rebuilt model; the discrepancy engine solves each accordingly) and what a fitted value
+means in an engineer's words (``Effect.meaning``).
+
 Each effect is expressed as rig-file changes: :meth:`Effect.rig_changes` gives parameter
 addresses (:mod:`rvcoax.geometry.parameters`) and their new values, :meth:`Effect.new_items` the
 entries it adds to a list (e.g. a new ``[[torque_lateral_loads]]`` of kind ``proportional``), and
@@ -54,14 +58,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from pydantic import ValidationError
 
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["Effect", "EffectParameter", "RigChange", "STANDARD_GRAVITY", "candidate_effects", "effect_by_name", "meaning"]
+__all__ = ["EFFECT_KINDS", "Effect", "EffectKind", "EffectParameter", "KINDS", "RESPONSES", "RigChange", "STANDARD_GRAVITY",
+           "candidate_effects", "effect_by_name", "meaning"]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
 
@@ -160,6 +165,16 @@ class Effect:
         except ValidationError as error:
             reasons = "; ".join(f"{'.'.join(str(x) for x in e['loc']) or 'rig'}: {e['msg']}" for e in error.errors())
             raise ValueError(f"{self.name} = {list(values)}: {reasons}") from None
+
+    @property
+    def response(self) -> str:
+        """How the effect changes the model (:data:`RESPONSES`): ``load``, ``spring``, ``clearance`` or ``rebuild``."""
+        return KINDS[self.kind].response
+
+    def meaning(self, values: Sequence[float]) -> str:
+        """What the fitted ``values`` mean physically, in one engineering sentence."""
+        (v, *_) = [float(x) for x in values]
+        return KINDS[self.kind].says(self.location, v)
 
     def out_of_bounds(self, values: Sequence[float]) -> list[str]:
         """One reason per value outside its physical bounds (empty when all are inside)."""
@@ -461,10 +476,7 @@ def _thermal_candidates(rig: Rig) -> list[Effect]:
 
 
 def _with_linearity(effect: Effect, linear_rig: bool) -> Effect:
-    if effect.linear and not linear_rig:
-        return Effect(effect.name, effect.kind, effect.location, effect.parameters, False, effect.description,
-                      effect.change)
-    return effect
+    return replace(effect, linear=False) if effect.linear and not linear_rig else effect
 
 
 def _torque_reaction_parts(rig: Rig, mounted: list[str]) -> list[str]:
@@ -478,13 +490,117 @@ def _torque_reaction_parts(rig: Rig, mounted: list[str]) -> list[str]:
     return out
 
 
-def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
-    """Every candidate effect at every location of ``rig``.
+def _mounted(rig: Rig) -> list[str]:
+    return list(dict.fromkeys(m.part for m in rig.mounts))
 
-    Couplings: offset and angle; bearings: stiffness and clearance; parts with mounts: mount
-    compliance and thermal growth; mounted housings between T1 and T2: torque reaction; the
-    reducer input (the first ``gear_mesh_load_sharing`` on T1): mesh force; global: self-weight,
-    force pairs (when the rig has a force table), shear deformation (when it is off).
+
+# ---- the vocabulary, declared once ------------------------------------------------------------------------
+
+RESPONSES = {
+    "load": "changes only the loads: solved exactly on the base model's factorisation",
+    "spring": "changes a few spring stiffnesses: solved exactly on the factorisation (Woodbury identity)",
+    "clearance": "opens a gap in a bearing: nonlinear, an active-set iteration on the factorisation",
+    "rebuild": "changes the model itself (its elements or geometry): solved by real sweeps of the changed rig",
+}
+
+
+@dataclass(frozen=True)
+class EffectKind:
+    """One kind of effect of the vocabulary, declared once: what it is, how it changes the model's response,
+    what a fitted value means, and where it can act on a rig.
+
+    Attributes
+    ----------
+    kind : str
+        The stable name (the part of an effect's name before ``@``).
+    response : str
+        How it changes the model (a key of :data:`RESPONSES`): ``load``, ``spring``, ``clearance`` or ``rebuild``.
+    build : callable
+        ``build(rig)`` → every effect of this kind on ``rig``, in the rig's order.
+    says : callable
+        ``says(location, value)`` → what the fitted value means, in one engineering sentence.
+    per : str or None
+        ``"bearing"`` or ``"coupling"``: the kind is listed with the other kinds at each bearing (coupling), in the
+        rig's order of them; None: on its own.
+    """
+
+    kind: str
+    response: str
+    build: Callable[[Rig], list[Effect]] = field(repr=False)
+    says: Callable[[str | None, float], str] = field(repr=False)
+    per: str | None = None
+
+
+def _bearings(rig: Rig, ball: bool | None) -> list[str]:
+    return [b.name for b in rig.bearings if ball is None or (b.model == "ball") == ball]
+
+
+EFFECT_KINDS: tuple[EffectKind, ...] = (
+    EffectKind("self_weight", "load", lambda rig: [_self_weight(rig)],
+               lambda where, v: f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)"),
+    EffectKind("force_pairs", "load",
+               lambda rig: [_force_pairs(rig)] if rig.force_table.pairs or rig.force_table.singles else [],
+               lambda where, v: f"paper 000's force table acts with {v:+.3g}× its published forces"),
+    EffectKind("bearing_stiffness", "spring",  # a ball bearing's stiffness follows from geometry, clearance, preload
+               lambda rig: [_bearing_stiffness(rig, b) for b in _bearings(rig, ball=False)],
+               lambda where, v: f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, clearance "
+                                "or seat fit)", per="bearing"),
+    EffectKind("bearing_clearance", "clearance",
+               lambda rig: [(_ball_clearance if b.model == "ball" else _bearing_clearance)(rig, b.name)
+                            for b in rig.bearings],
+               lambda where, v: f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)",
+               per="bearing"),
+    EffectKind("bearing_preload", "rebuild", lambda rig: [_ball_preload(rig, b) for b in _bearings(rig, ball=True)],
+               lambda where, v: f"ball bearing {where} is preloaded axially with {v:+.3g} N more than modelled",
+               per="bearing"),
+    EffectKind("mount_compliance", "spring", lambda rig: [_mount_compliance(rig, p) for p in _mounted(rig)],
+               lambda where, v: f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled"),
+    EffectKind("coupling_offset", "load", lambda rig: [_coupling_offset(rig, c.name) for c in rig.couplings],
+               lambda where, v: f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled",
+               per="coupling"),
+    EffectKind("coupling_angle", "load", lambda rig: [_coupling_angle(rig, c.name) for c in rig.couplings],
+               lambda where, v: f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) "
+                                "more than modelled", per="coupling"),
+    EffectKind("mesh_force", "load", lambda rig: [e for e in (_mesh_force(rig),) if e is not None],
+               lambda where, v: f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input"),
+    EffectKind("mesh_position_error", "load",
+               lambda rig: [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
+                            if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
+               + [_gear_mesh_position_error(rig, g.name) for g in rig.gear_meshes],
+               lambda where, v: f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral "
+                                "force while torque flows)"),
+    EffectKind("torque_reaction", "load",
+               lambda rig: [_torque_reaction(rig, p) for p in _torque_reaction_parts(rig, _mounted(rig))],
+               lambda where, v: f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque "
+                                "arm or an asymmetric pedestal)"),
+    EffectKind("shear_deformation", "rebuild", lambda rig: [] if rig.beam.shear_deformation else [_shear(rig)],
+               lambda where, v: f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear "
+                                "flexibility"),
+    EffectKind("thermal_growth", "load", lambda rig: [_thermal_growth(rig, p) for p in _mounted(rig)],
+               lambda where, v: f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled "
+                                "(thermal growth or a shim)"),
+    EffectKind("temperature_rise", "rebuild", _thermal_candidates,
+               lambda where, v: f"the {where} runs {v:+.3g} °C warmer than modelled (it grows, and its supports lift "
+                                "it)"),
+    EffectKind("housing_stiffness", "rebuild", lambda rig: [_housing_stiffness(rig, h.name) for h in rig.housings],
+               lambda where, v: f"housing {where} is {2.0 ** v:.3g}× as stiff as its condensed model (bolted joints, "
+                                "bed, details not drawn)"),
+)
+"""Every kind of the vocabulary, in the order :func:`candidate_effects` lists them: adding a kind is one entry here
+(with its builder above) plus its test and its line in docs/discrepancy.md."""
+
+KINDS: dict[str, EffectKind] = {k.kind: k for k in EFFECT_KINDS}
+_PLACES = {"bearing": lambda rig: [b.name for b in rig.bearings], "coupling": lambda rig: [c.name for c in rig.couplings]}
+
+
+def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
+    """Every candidate effect at every location of ``rig``: each kind of :data:`EFFECT_KINDS` where it can act.
+
+    Couplings: offset and angle; bearings: stiffness and clearance (a ball bearing: clearance and preload); parts
+    with mounts: mount compliance and thermal growth; mounted housings between T1 and T2: torque reaction; the
+    reducer input (the first ``gear_mesh_load_sharing`` on T1): mesh force; load-sharing meshes: position error;
+    global: self-weight, force pairs (when the rig has a force table), shear deformation (when it is off); with
+    ``[thermal]``, temperature rise; condensed housings: their stiffness.
 
     Parameters
     ----------
@@ -495,32 +611,19 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     -------
     tuple of Effect
         Each with its name (``kind@location``), parameters with units and bounds, and how it changes the rig.
+        The kinds at one bearing (coupling) are listed together, the bearings (couplings) in the rig's order.
     """
     linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
-    mounted = list(dict.fromkeys(m.part for m in rig.mounts))
-    effects: list[Effect | None] = [_self_weight(rig)]
-    if rig.force_table.pairs or rig.force_table.singles:
-        effects.append(_force_pairs(rig))
-    for b in rig.bearings:
-        if b.model == "ball":  # its stiffness follows from geometry, clearance and preload
-            effects += [_ball_clearance(rig, b.name), _ball_preload(rig, b.name)]
-        else:
-            effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
-    for part in mounted:
-        effects.append(_mount_compliance(rig, part))
-    for c in rig.couplings:
-        effects += [_coupling_offset(rig, c.name), _coupling_angle(rig, c.name)]
-    effects.append(_mesh_force(rig))
-    effects += [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
-                if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
-    effects += [_gear_mesh_position_error(rig, g.name) for g in rig.gear_meshes]
-    effects += [_torque_reaction(rig, part) for part in _torque_reaction_parts(rig, mounted)]
-    if not rig.beam.shear_deformation:
-        effects.append(_shear(rig))
-    effects += [_thermal_growth(rig, part) for part in mounted]
-    effects += _thermal_candidates(rig)
-    effects += [_housing_stiffness(rig, h.name) for h in rig.housings]
-    return tuple(_with_linearity(e, linear_rig) for e in effects if e is not None)
+    first = {}
+    for rank, k in enumerate(EFFECT_KINDS):
+        first.setdefault(k.per or k.kind, rank)
+    keyed = []
+    for rank, k in enumerate(EFFECT_KINDS):
+        places = _PLACES[k.per](rig) if k.per else None
+        for i, effect in enumerate(k.build(rig)):
+            key = (first[k.per], places.index(effect.location), rank) if k.per else (rank, i, 0)
+            keyed.append((key, _with_linearity(effect, linear_rig)))
+    return tuple(effect for _, effect in sorted(keyed, key=lambda item: item[0]))
 
 
 def effect_by_name(rig: Rig, name: str) -> Effect:
@@ -540,30 +643,4 @@ def effect_by_name(rig: Rig, name: str) -> Effect:
 
 def meaning(effect: Effect, values: Sequence[float]) -> str:
     """What the fitted ``values`` of ``effect`` mean physically, in one engineering sentence."""
-    (v, *_) = [float(x) for x in values]
-    where = effect.location
-    if effect.kind == "thermal_growth":
-        return f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled (thermal growth or a shim)"
-    if effect.kind == "bearing_stiffness":
-        return f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, clearance or seat fit)"
-    if effect.kind == "bearing_clearance":
-        return f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)"
-    if effect.kind == "mount_compliance":
-        return f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled"
-    if effect.kind == "coupling_offset":
-        return f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled"
-    if effect.kind == "coupling_angle":
-        return f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) more than modelled"
-    if effect.kind == "torque_reaction":
-        return f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque arm or an asymmetric pedestal)"
-    if effect.kind == "mesh_force":
-        return f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input"
-    if effect.kind == "mesh_position_error":
-        return f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral force while torque flows)"
-    if effect.kind == "self_weight":
-        return f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)"
-    if effect.kind == "force_pairs":
-        return f"paper 000's force table acts with {v:+.3g}× its published forces"
-    if effect.kind == "shear_deformation":
-        return f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear flexibility"
-    return f"{effect.name} = {v:.4g}"
+    return effect.meaning(values)

@@ -36,11 +36,8 @@ from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, ge
 from rvcoax.results.studies.discrepancy.responses import PathLayout
 from rvcoax.results.sweep import ModelError, SweepSettings, check_solution, prepare_model, run_sweep
 
-__all__ = ["LOAD_KINDS", "SPRING_KINDS", "Engine", "case_matrix", "prepare_engine"]
+__all__ = ["Engine", "case_matrix", "prepare_engine"]
 
-LOAD_KINDS = frozenset({"self_weight", "force_pairs", "coupling_offset", "coupling_angle", "thermal_growth",
-                        "mesh_force", "torque_reaction", "mesh_position_error"})
-SPRING_KINDS = frozenset({"bearing_stiffness", "mount_compliance"})
 N_PER_UM = 1e6
 RESIDUAL_LIMIT = 1e-6
 
@@ -92,7 +89,7 @@ class Engine:
     # -- candidates ---------------------------------------------------------------------------------------
     def supports(self, effect) -> bool:
         """Whether :meth:`unit_change` solves ``effect`` exactly on this factorisation."""
-        return self.linear and (effect.kind in LOAD_KINDS or (effect.kind in SPRING_KINDS and self.system.kind == "beam"))
+        return self.linear and (effect.response == "load" or (effect.response == "spring" and self.system.kind == "beam"))
 
     def unit_change(self, applied: list) -> np.ndarray:
         """Change of the unit paths (n_unit_loads, n_path) when the effects ``applied`` [(effect, values)] act together."""
@@ -101,7 +98,7 @@ class Engine:
             rig = effect.apply(rig, list(values))
         system = self.system
         base_loads = system.unit_loads
-        springs_only = all(effect.kind in SPRING_KINDS for effect, _ in applied)
+        springs_only = all(effect.response == "spring" for effect, _ in applied)
         try:
             loads = base_loads if springs_only else system.with_loads_of(rig).unit_loads
         except KeyError:  # a load where the base mesh has no node: the rig's own mesh, by a real sweep

@@ -325,7 +325,7 @@ def _true_paths(rig, effects_by_name, fits, cases, settings: SweepSettings, engi
     """Full paths of ``rig`` with the effects ``fits`` applied: exact on the factorisation when the engine
     solves every one of them, else a real sweep."""
     if engine is not None and engine.rig is rig and engine.linear and len(fits) == 1 \
-            and effects_by_name[fits[0][0]].kind == "bearing_clearance":
+            and effects_by_name[fits[0][0]].response == "clearance":
         (name, values), = fits
         return (engine.clearance_paths(effects_by_name[name].location, float(np.atleast_1d(values)[0]), cases),
                 engine.layout(len(cases)))
