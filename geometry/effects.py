@@ -305,7 +305,7 @@ def _mount_compliance(rig: Rig, part: str) -> Effect:
                   "bracket or bolted joint.", change)
 
 
-def _coupling(rig: Rig, name: str, key: str, kind: str, parameter: EffectParameter, what: str) -> Effect:
+def _coupling(rig: Rig, name: str, key: str, kind: str, *, parameter: EffectParameter, what: str) -> Effect:
     address = f"couplings.{name}.{key}"
 
     def change(r: Rig, v: tuple[float, ...]) -> RigChange:
@@ -323,14 +323,14 @@ def _coupling_offset(rig: Rig, name: str) -> Effect:
     # ±100 µm: allowed parallel offset of the C1/C3 bellows couplings 0.1 mm [S] (rig_reference.md);
     # 20 µm is a good dial-indicator alignment.
     return _coupling(rig, name, "parallel_offset_um", "coupling_offset",
-                     EffectParameter("offset_um", "µm", -100.0, 100.0, 20.0), "Parallel misalignment")
+                     parameter=EffectParameter("offset_um", "µm", -100.0, 100.0, 20.0), what="Parallel misalignment")
 
 
 def _coupling_angle(rig: Rig, name: str) -> Effect:
     # ±17.45 mrad: allowed angular misalignment 1° [S] (rig_reference.md); 0.5 mrad (0.05 mm per
     # 100 mm) is a good alignment.
     return _coupling(rig, name, "angular_misalignment_mrad", "coupling_angle",
-                     EffectParameter("angle_mrad", "mrad", -17.45, 17.45, 0.5), "Angular misalignment")
+                     parameter=EffectParameter("angle_mrad", "mrad", -17.45, 17.45, 0.5), what="Angular misalignment")
 
 
 def _proportional(rig: Rig, item: str, torque: str, on: dict, reacted_on: dict | None) -> Callable:

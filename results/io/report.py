@@ -191,6 +191,28 @@ def _parameter_text(name: str, value) -> str:
     return f"{name} = {value:.4g}" if isinstance(value, float) else f"{name} = {value}"
 
 
+def _discrepancy_gaps_html(gaps) -> list[str]:
+    """The RMS gap table of a discrepancy document (its ``rms``), or nothing when it has none."""
+    if not isinstance(gaps, dict) or not gaps:
+        return []
+    gap_rows = []
+    for subset, table in gaps.items():
+        if not isinstance(table, dict):
+            continue
+        for shaft in (table.get("rms_before_um") or {}):
+            def cell(key, shaft=shaft, table=table):
+                value = (table.get(key) or {}).get(shaft)
+                return f"{value:.4g}" if isinstance(value, int | float) else "–"
+            gap_rows.append((subset.replace("_", " "), shaft, cell("rms_before_um"), cell("rms_after_um"),
+                             cell("rms_tilt_before_urad"), cell("rms_tilt_after_urad")))
+    if not gap_rows:
+        return []
+    return [_table_html(tables.Table(
+        "Gap between measurement and model, before and after the named effects",
+        ("cases", "shaft", "RMS Y gap before [µm]", "after [µm]", "RMS tilt gap before [µrad]", "after [µrad]"),
+        tuple(gap_rows), note="fit: the cases the effects were fitted on; held out: cases not used to fit."))]
+
+
 def _discrepancy_html(document: dict, source: str) -> str:
     rows = []
     verdict = document.get("verdict")
@@ -242,23 +264,7 @@ def _discrepancy_html(document: dict, source: str) -> str:
             rows.append(("what they cannot reveal", f"{len(invisible)} effects, {revealable} of them with one "
                          "more measurement (listed in discrepancy.json under observability)"))
     parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
-    gaps = document.get("rms")
-    if isinstance(gaps, dict) and gaps:
-        gap_rows = []
-        for subset, table in gaps.items():
-            if not isinstance(table, dict):
-                continue
-            for shaft in (table.get("rms_before_um") or {}):
-                def cell(key, shaft=shaft, table=table):
-                    value = (table.get(key) or {}).get(shaft)
-                    return f"{value:.4g}" if isinstance(value, int | float) else "–"
-                gap_rows.append((subset.replace("_", " "), shaft, cell("rms_before_um"), cell("rms_after_um"),
-                                 cell("rms_tilt_before_urad"), cell("rms_tilt_after_urad")))
-        if gap_rows:
-            parts.append(_table_html(tables.Table(
-                "Gap between measurement and model, before and after the named effects",
-                ("cases", "shaft", "RMS Y gap before [µm]", "after [µm]", "RMS tilt gap before [µrad]", "after [µrad]"),
-                tuple(gap_rows), note="fit: the cases the effects were fitted on; held out: cases not used to fit.")))
+    parts += _discrepancy_gaps_html(document.get("rms"))
     meanings = {n.get("effect"): n.get("meaning") for n in document.get("named") or [] if isinstance(n, dict)}
     selected = document.get("selected") or []
     if selected:

@@ -30,13 +30,17 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE, bushing
+from rvcoax.fem.solvers import SolverError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, stress_free_motions
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, gear_contact_torques
 from rvcoax.results.studies.discrepancy.responses import PathLayout
 from rvcoax.results.sweep import ModelError, SweepSettings, check_solution, prepare_model, run_sweep
 
-__all__ = ["Engine", "case_matrix", "prepare_engine"]
+__all__ = ["CANDIDATE_FAILURES", "Engine", "case_matrix", "prepare_engine"]
+
+# what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
+CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
 
 N_PER_UM = 1e6
 RESIDUAL_LIMIT = 1e-6

@@ -60,7 +60,7 @@ class Problem:
     """The least-squares problem: measured values, σ, base paths, observation operator, responses."""
 
     def __init__(self, measured: np.ndarray, sigma: np.ndarray, base_paths: np.ndarray, observe,
-                 responses: dict[str, EffectResponse], rows: np.ndarray | None = None):
+                 responses: dict[str, EffectResponse], *, rows: np.ndarray | None = None):
         self.measured = measured
         self.sigma = sigma
         self.base_paths = base_paths
@@ -194,7 +194,7 @@ def _cosine(a: np.ndarray, b: np.ndarray) -> float:
     return 0.0 if na == 0 or nb == 0 else float(abs(a @ b) / (na * nb))
 
 
-def forward_backward(problem: Problem, candidates: list[str], margin: float = 10.0, ambiguity_margin: float = 6.0,
+def forward_backward(problem: Problem, candidates: list[str], *, margin: float = 10.0, ambiguity_margin: float = 6.0,
                      parallel_cosine: float = 0.999, max_effects: int = 4, stop=None) -> tuple[Fit, list[Step]]:
     """Forward selection by BIC with backward pruning.
 

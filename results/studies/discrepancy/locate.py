@@ -192,13 +192,14 @@ def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np
                                                  f"lower half vs the line of the upper half: χ² = {chi2:.3g} "
                                                  f"on {int(lower.sum())} points (p = {p:.2g})"))
         if data.schema == "paths" and np.ptp(data.x_mm[mask]) > 0:
-            finding = curvature_beyond_allowance(data, residual_mm, sigma_mm, shaft, model_form_fraction, threshold)
+            finding = curvature_beyond_allowance(data, residual_mm, sigma_mm, shaft,
+                                                 model_form_fraction=model_form_fraction, threshold=threshold)
             if finding is not None:
                 findings.append(finding)
     return findings
 
 
-def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray, shaft: str,
+def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray, shaft: str, *,
                                model_form_fraction: float, threshold: float) -> StructureFinding | None:
     """Curvature of the residual along one shaft, as a fraction of the signal, against the model-form allowance.
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.studies.discrepancy.observed import Observed
 
 __all__ = ["PARALLEL_COSINE", "REVEAL_SIGMA", "Scenario", "Suggestion", "VISIBLE_NORM", "Visibility", "direction",
            "discriminate", "observability", "parallel_groups", "scenarios", "signature"]
@@ -78,18 +79,19 @@ class Visibility:
     reason: str
 
 
-def signature(response, values, base_paths, observe, sigma, rows=None) -> np.ndarray:
-    """Scaled change of the observations by the effect at ``values``."""
-    base = observe(base_paths)
-    change = (observe(base_paths + response.delta(values)) - base) / sigma
+def signature(response, values, view, rows=None) -> np.ndarray:
+    """Scaled change of the observations by the effect at ``values``; ``view`` has ``base_paths``, ``observe`` and
+    ``sigma`` (an :class:`Observed`, a fitting problem)."""
+    base = view.observe(view.base_paths)
+    change = (view.observe(view.base_paths + response.delta(values)) - base) / view.sigma
     return change if rows is None else change[rows]
 
 
-def _strongest(response, base_paths, observe, sigma, rows) -> tuple[np.ndarray, np.ndarray]:
+def _strongest(response, view, rows) -> tuple[np.ndarray, np.ndarray]:
     """(values, signature) at the end of the physical range with the largest signature."""
     best, best_key = None, None
     for values in response.extremes():
-        s = signature(response, values, base_paths, observe, sigma, rows)
+        s = signature(response, values, view, rows)
         unit = response.unit_at(values)
         key = (float(s @ s), 0.0 if unit is None else float(np.abs(unit).sum()))  # invisible here: the larger change
         if best is None or key > best_key:
@@ -97,13 +99,13 @@ def _strongest(response, base_paths, observe, sigma, rows) -> tuple[np.ndarray, 
     return best
 
 
-def direction(response, base_paths, observe, sigma, rows=None) -> np.ndarray:
+def direction(response, view, rows=None) -> np.ndarray:
     """Unit vector of the effect's dominant signature direction (grid effects: over the whole grid)."""
     if response.kind == "linear":
-        stack = [signature(response, np.eye(response.n_params)[i] * p.typical, base_paths, observe, sigma, rows)
+        stack = [signature(response, np.eye(response.n_params)[i] * p.typical, view, rows)
                  for i, p in enumerate(response.effect.parameters)]
     else:
-        stack = [signature(response, [g], base_paths, observe, sigma, rows) for g in response.grid if g != 0.0]
+        stack = [signature(response, [g], view, rows) for g in response.grid if g != 0.0]
     matrix = np.array(stack)
     if not np.any(matrix):
         return np.zeros(matrix.shape[1])
@@ -150,13 +152,13 @@ def shaft_sigmas(data, sigma) -> dict:
     return out
 
 
-def observability(responses: dict, data, base_paths, observe, sigma, engine, from_rest: bool) -> dict[str, Visibility]:
+def observability(responses: dict, observed: Observed) -> dict[str, Visibility]:
     """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it."""
-    shaft_sigma = shaft_sigmas(data, sigma)
-    options = scenarios(data, from_rest)
+    shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
+    options = scenarios(observed.data, observed.from_rest)
     out = {}
     for name, response in responses.items():
-        values, s = _strongest(response, base_paths, observe, sigma, None)
+        values, s = _strongest(response, observed, None)
         norm, largest = float(np.linalg.norm(s)), float(np.max(np.abs(s))) if s.size else 0.0
         visible = norm >= VISIBLE_NORM
         suggestion = None
@@ -164,7 +166,7 @@ def observability(responses: dict, data, base_paths, observe, sigma, engine, fro
             unit = response.unit_at(values)
             candidates = []
             if unit is not None:
-                candidates = [_best_station(engine, unit, scenario, shaft_sigma) for scenario in options]
+                candidates = [_best_station(observed.engine, unit, scenario, shaft_sigma) for scenario in options]
             candidates = [c for c in candidates if c is not None]
             if candidates:
                 suggestion = max(candidates, key=lambda c: c.in_sigma)
@@ -211,15 +213,16 @@ def cosine_between(a: np.ndarray, b: np.ndarray) -> float:
     return 0.0 if na == 0 or nb == 0 else float(abs(a @ b) / (na * nb))
 
 
-def discriminate(first, second, data, base_paths, observe, sigma, engine, from_rest: bool) -> Suggestion | None:
+def discriminate(first, second, observed: Observed) -> Suggestion | None:
     """Where the predictions of two effects, each scaled to explain the data equally, differ most (in σ)."""
-    va, sa = _strongest(first, base_paths, observe, sigma, None)
-    vb, sb = _strongest(second, base_paths, observe, sigma, None)
+    va, sa = _strongest(first, observed, None)
+    vb, sb = _strongest(second, observed, None)
     ua, ub = first.unit_at(va), second.unit_at(vb)
     if ua is None or ub is None or not sb @ sb:
         return None
     scale = float(sa @ sb) / float(sb @ sb)
-    shaft_sigma = shaft_sigmas(data, sigma)
-    found = [_best_station(engine, ua - scale * ub, scenario, shaft_sigma) for scenario in scenarios(data, from_rest)]
+    shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
+    found = [_best_station(observed.engine, ua - scale * ub, scenario, shaft_sigma)
+             for scenario in scenarios(observed.data, observed.from_rest)]
     found = [f for f in found if f is not None]
     return max(found, key=lambda f: f.in_sigma) if found else None

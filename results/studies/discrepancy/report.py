@@ -243,6 +243,68 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
     return rows
 
 
+def _plot_table_shaft(ax, result: DiscrepancyResult, shaft: str) -> None:
+    """|Y_max| of one shaft against its torque: measured (fit and held out), the model before and after."""
+    data = result.data
+    mask = data.shaft == shaft
+    torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
+    x = torque[data.case_index[mask]]
+    order = np.argsort(x)
+    ax.plot(x[order], 1e3 * result.before[mask][order], "--", color="tab:red", label="model before")
+    ax.plot(x[order], 1e3 * result.after[mask][order], "-", color="tab:green", label="model after")
+    held = ~result.fit_mask[mask]
+    ax.plot(x[~held], 1e3 * data.value_mm[mask][~held], "o", color="k", label="measured (fit)")
+    ax.plot(x[held], 1e3 * data.value_mm[mask][held], "o", mfc="none", color="k", label="measured (held out)")
+    ax.set_xlabel(("T1" if shaft == "input" else "T2") + " [N·m]")
+    ax.set_ylabel(f"|Y_max| {shaft} shaft [µm]")
+
+
+def _plot_paths_shaft(ax, result: DiscrepancyResult, shaft: str) -> None:
+    """u_y along one shaft in the lightest, a middle and the heaviest case: measured, the model before and after."""
+    data = result.data
+    mask = data.shaft == shaft
+    torque = np.array([abs(c.output_torque_Nm) + abs(c.input_torque_Nm) for c in data.cases])
+    cases = [int(c) for c in np.unique(data.case_index[mask])]
+    shown = sorted(cases, key=lambda c: torque[c])
+    shown = sorted({shown[0], shown[len(shown) // 2], shown[-1]})
+    for k, case in enumerate(shown):
+        m = mask & (data.case_index == case)
+        order = np.argsort(data.x_mm[m])
+        label = f"T1 = {data.cases[case].input_torque_Nm:g}, T2 = {data.cases[case].output_torque_Nm:g} N·m"
+        colour = f"C{k}"
+        ax.plot(data.x_mm[m][order], 1e3 * data.value_mm[m][order], ".", color=colour, label=label)
+        ax.plot(data.x_mm[m][order], 1e3 * result.before[m][order], "--", color=colour)
+        ax.plot(data.x_mm[m][order], 1e3 * result.after[m][order], "-", color=colour)
+    ax.set_xlabel(f"x along the {shaft} shaft [mm] (dots measured, dashed before, solid after)")
+    ax.set_ylabel("u_y [µm]")
+
+
+def _plot_rms_bars(axes, table: dict) -> None:
+    """The RMS gaps before and after, per shaft and subset (fit, held out): in µm on one axis, in µrad on the other."""
+    from matplotlib.ticker import FuncFormatter
+
+    for ax, (key_before, key_after, unit) in zip(axes, (("rms_before_um", "rms_after_um", "µm"),
+                                                        ("rms_tilt_before_urad", "rms_tilt_after_urad", "µrad"))):
+        labels, before, after = [], [], []
+        for subset in ("fit", "held_out"):
+            if subset not in table:
+                continue
+            for shaft in MEASURED_SHAFTS:
+                if shaft in table[subset][key_before]:
+                    labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
+                    before.append(table[subset][key_before][shaft])
+                    after.append(table[subset][key_after].get(shaft, np.nan))
+        position = np.arange(len(labels))
+        ax.bar(position - 0.2, before, 0.4, color="tab:red", label="before")
+        ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
+        ax.set_xticks(position, labels)
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # plain numbers, no mathtext
+        ax.set_ylabel(f"RMS gap [{unit}]")
+        ax.legend()
+        ax.grid(alpha=0.3, axis="y")
+
+
 def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
     """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars.
 
@@ -265,63 +327,15 @@ def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], pa
     import textwrap
 
     from matplotlib.figure import Figure
-    from matplotlib.ticker import FuncFormatter
 
-    data = result.data
     figure = Figure(figsize=(13, 8), dpi=120, layout="constrained")
     axes = figure.subplots(2, 2)
     for ax, shaft in zip(axes[0], MEASURED_SHAFTS):
-        mask = data.shaft == shaft
-        if data.schema == "table":
-            torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
-            x = torque[data.case_index[mask]]
-            order = np.argsort(x)
-            ax.plot(x[order], 1e3 * result.before[mask][order], "--", color="tab:red", label="model before")
-            ax.plot(x[order], 1e3 * result.after[mask][order], "-", color="tab:green", label="model after")
-            held = ~result.fit_mask[mask]
-            ax.plot(x[~held], 1e3 * data.value_mm[mask][~held], "o", color="k", label="measured (fit)")
-            ax.plot(x[held], 1e3 * data.value_mm[mask][held], "o", mfc="none", color="k", label="measured (held out)")
-            ax.set_xlabel(("T1" if shaft == "input" else "T2") + " [N·m]")
-            ax.set_ylabel(f"|Y_max| {shaft} shaft [µm]")
-        else:
-            torque = np.array([abs(c.output_torque_Nm) + abs(c.input_torque_Nm) for c in data.cases])
-            cases = [int(c) for c in np.unique(data.case_index[mask])]
-            shown = sorted(cases, key=lambda c: torque[c])
-            shown = sorted({shown[0], shown[len(shown) // 2], shown[-1]})
-            for k, case in enumerate(shown):
-                m = mask & (data.case_index == case)
-                order = np.argsort(data.x_mm[m])
-                label = f"T1 = {data.cases[case].input_torque_Nm:g}, T2 = {data.cases[case].output_torque_Nm:g} N·m"
-                colour = f"C{k}"
-                ax.plot(data.x_mm[m][order], 1e3 * data.value_mm[m][order], ".", color=colour, label=label)
-                ax.plot(data.x_mm[m][order], 1e3 * result.before[m][order], "--", color=colour)
-                ax.plot(data.x_mm[m][order], 1e3 * result.after[m][order], "-", color=colour)
-            ax.set_xlabel(f"x along the {shaft} shaft [mm] (dots measured, dashed before, solid after)")
-            ax.set_ylabel("u_y [µm]")
+        (_plot_table_shaft if result.data.schema == "table" else _plot_paths_shaft)(ax, result, shaft)
         ax.set_title(f"{shaft} shaft")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    table = rms_table(result, lengths_mm)
-    for ax, (key_before, key_after, unit) in zip(axes[1], (("rms_before_um", "rms_after_um", "µm"),
-                                                           ("rms_tilt_before_urad", "rms_tilt_after_urad", "µrad"))):
-        labels, before, after = [], [], []
-        for subset in ("fit", "held_out"):
-            if subset not in table:
-                continue
-            for shaft in MEASURED_SHAFTS:
-                if shaft in table[subset][key_before]:
-                    labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
-                    before.append(table[subset][key_before][shaft])
-                    after.append(table[subset][key_after].get(shaft, np.nan))
-        position = np.arange(len(labels))
-        ax.bar(position - 0.2, before, 0.4, color="tab:red", label="before")
-        ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
-        ax.set_xticks(position, labels)
-        ax.set_yscale("log")
-        ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # plain numbers, no mathtext
-        ax.set_ylabel(f"RMS gap [{unit}]")
-        ax.legend()
-        ax.grid(alpha=0.3, axis="y")
+    _plot_rms_bars(axes[1], rms_table(result, lengths_mm))
     names = ", ".join(s.name + (f" (or {len(s.group) - 1} look-alike{'s' if len(s.group) > 2 else ''})"
                                 if len(s.group) > 1 else "") for s in result.selected)
     line = f"verdict: {result.verdict}" + (f"; added: {names}" if names else "")

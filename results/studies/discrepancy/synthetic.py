@@ -45,7 +45,7 @@ def _relative_change(delta_obs: np.ndarray, signal_obs: np.ndarray, shaft: np.nd
     return float(max(ratios)) if ratios else 0.0
 
 
-def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float,
+def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float, *,
                     settings: SweepSettings = BEAM) -> float:
     """Parameter value (within the effect's bounds, sign of its typical value) at which the effect changes
     the observations of ``template`` by ``fraction`` of the signal (RMS, on the shaft it changes most)."""
@@ -69,7 +69,7 @@ def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float,
 
 
 def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int,
-                   settings: SweepSettings = BEAM, with_sigma: bool = False) -> MeasuredData:
+                   settings: SweepSettings = BEAM, *, with_sigma: bool = False) -> MeasuredData:
     """Data of ``rig`` at the observations of ``template`` plus Gaussian noise (σ = ``noise_fraction`` × RMS
     of each shaft's values)."""
     paths, layout = solve_full_paths(rig, template.cases, settings)
