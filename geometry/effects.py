@@ -66,7 +66,7 @@ from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["EFFECT_KINDS", "Effect", "EffectKind", "EffectParameter", "KINDS", "RESPONSES", "RigChange", "STANDARD_GRAVITY",
-           "candidate_effects", "effect_by_name", "meaning"]
+           "candidate_effects", "effect_by_name", "effect_x_mm", "meaning"]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
 
@@ -170,6 +170,11 @@ class Effect:
     def response(self) -> str:
         """How the effect changes the model (:data:`RESPONSES`): ``load``, ``spring``, ``clearance`` or ``rebuild``."""
         return KINDS[self.kind].response
+
+    @property
+    def acts(self) -> str:
+        """What the effect does to the rig, in engineering words, without its place or size."""
+        return KINDS[self.kind].acts
 
     def meaning(self, values: Sequence[float]) -> str:
         """What the fitted ``values`` mean physically, in one engineering sentence."""
@@ -519,6 +524,9 @@ class EffectKind:
         ``build(rig)`` → every effect of this kind on ``rig``, in the rig's order.
     says : callable
         ``says(location, value)`` → what the fitted value means, in one engineering sentence.
+    acts : str
+        What the effect does to the rig, in engineering words, without its place or size (``a vertical force
+        proportional to T2``): what a group of look-alikes shares.
     per : str or None
         ``"bearing"`` or ``"coupling"``: the kind is listed with the other kinds at each bearing (coupling), in the
         rig's order of them; None: on its own.
@@ -528,6 +536,7 @@ class EffectKind:
     response: str
     build: Callable[[Rig], list[Effect]] = field(repr=False)
     says: Callable[[str | None, float], str] = field(repr=False)
+    acts: str = ""
     per: str | None = None
 
 
@@ -537,54 +546,69 @@ def _bearings(rig: Rig, ball: bool | None) -> list[str]:
 
 EFFECT_KINDS: tuple[EffectKind, ...] = (
     EffectKind("self_weight", "load", lambda rig: [_self_weight(rig)],
-               lambda where, v: f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)"),
+               lambda where, v: f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)",
+               acts="heavier parts (a vertical dead load, independent of torque)"),
     EffectKind("force_pairs", "load",
                lambda rig: [_force_pairs(rig)] if rig.force_table.pairs or rig.force_table.singles else [],
-               lambda where, v: f"paper 000's force table acts with {v:+.3g}× its published forces"),
+               lambda where, v: f"paper 000's force table acts with {v:+.3g}× its published forces",
+               acts="the force table's lateral loads scaled"),
     EffectKind("bearing_stiffness", "spring",  # a ball bearing's stiffness follows from geometry, clearance, preload
                lambda rig: [_bearing_stiffness(rig, b) for b in _bearings(rig, ball=False)],
                lambda where, v: f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, clearance "
-                                "or seat fit)", per="bearing"),
+                                "or seat fit)", acts="a bearing stiffer or softer radially",
+               per="bearing"),
     EffectKind("bearing_clearance", "clearance",
                lambda rig: [(_ball_clearance if b.model == "ball" else _bearing_clearance)(rig, b.name)
                             for b in rig.bearings],
                lambda where, v: f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)",
+               acts="radial play in a bearing (a dead band)",
                per="bearing"),
     EffectKind("bearing_preload", "rebuild", lambda rig: [_ball_preload(rig, b) for b in _bearings(rig, ball=True)],
                lambda where, v: f"ball bearing {where} is preloaded axially with {v:+.3g} N more than modelled",
+               acts="a change of a ball bearing's axial preload",
                per="bearing"),
     EffectKind("mount_compliance", "spring", lambda rig: [_mount_compliance(rig, p) for p in _mounted(rig)],
-               lambda where, v: f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled"),
+               lambda where, v: f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled",
+               acts="a housing's mounts softer vertically"),
     EffectKind("coupling_offset", "load", lambda rig: [_coupling_offset(rig, c.name) for c in rig.couplings],
                lambda where, v: f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled",
+               acts="a parallel offset of a coupling's hubs (a prestrain present at rest)",
                per="coupling"),
     EffectKind("coupling_angle", "load", lambda rig: [_coupling_angle(rig, c.name) for c in rig.couplings],
                lambda where, v: f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) "
-                                "more than modelled", per="coupling"),
+                                "more than modelled", acts="an angular misalignment of a coupling's hubs (a prestrain present at rest)",
+               per="coupling"),
     EffectKind("mesh_force", "load", lambda rig: [e for e in (_mesh_force(rig),) if e is not None],
-               lambda where, v: f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input"),
+               lambda where, v: f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input",
+               acts="a vertical force proportional to T1"),
     EffectKind("mesh_position_error", "load",
                lambda rig: [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
                             if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
                + [_gear_mesh_position_error(rig, g.name) for g in rig.gear_meshes],
                lambda where, v: f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral "
-                                "force while torque flows)"),
+                                "force while torque flows)",
+               acts="a lateral force that appears as soon as torque flows"),
     EffectKind("torque_reaction", "load",
                lambda rig: [_torque_reaction(rig, p) for p in _torque_reaction_parts(rig, _mounted(rig))],
                lambda where, v: f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque "
-                                "arm or an asymmetric pedestal)"),
+                                "arm or an asymmetric pedestal)",
+               acts="a vertical force proportional to T2"),
     EffectKind("shear_deformation", "rebuild", lambda rig: [] if rig.beam.shear_deformation else [_shear(rig)],
                lambda where, v: f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear "
-                                "flexibility"),
+                                "flexibility",
+               acts="shear flexibility of the shafts"),
     EffectKind("thermal_growth", "load", lambda rig: [_thermal_growth(rig, p) for p in _mounted(rig)],
                lambda where, v: f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled "
-                                "(thermal growth or a shim)"),
+                                "(thermal growth or a shim)",
+               acts="a housing standing higher or lower (thermal growth or a shim)"),
     EffectKind("temperature_rise", "rebuild", _thermal_candidates,
                lambda where, v: f"the {where} runs {v:+.3g} °C warmer than modelled (it grows, and its supports lift "
-                                "it)"),
+                                "it)",
+               acts="a part running warmer"),
     EffectKind("housing_stiffness", "rebuild", lambda rig: [_housing_stiffness(rig, h.name) for h in rig.housings],
                lambda where, v: f"housing {where} is {2.0 ** v:.3g}× as stiff as its condensed model (bolted joints, "
-                                "bed, details not drawn)"),
+                                "bed, details not drawn)",
+               acts="a condensed housing stiffer or softer"),
 )
 """Every kind of the vocabulary, in the order :func:`candidate_effects` lists them: adding a kind is one entry here
 (with its builder above) plus its test and its line in docs/discrepancy.md."""
@@ -624,6 +648,28 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
             key = (first[k.per], places.index(effect.location), rank) if k.per else (rank, i, 0)
             keyed.append((key, _with_linearity(effect, linear_rig)))
     return tuple(effect for _, effect in sorted(keyed, key=lambda item: item[0]))
+
+
+def effect_x_mm(effect: Effect, rig: Rig) -> float | None:
+    """Where along the rig's axis (x, mm) an effect acts: its bearing, its coupling's centre, the middle of its part,
+    its load-sharing mesh; None for a global effect (self-weight, shear) or a place without one x."""
+    where = effect.location
+    if where is None:
+        return None
+    for b in rig.bearings:
+        if b.name == where:
+            return float(b.x_mm)
+    for c in rig.couplings:
+        if c.name == where:
+            return float(c.centre_x_mm)
+    for t in rig.torque_lateral_loads:
+        if t.name == where:
+            return float(t.on.x_mm)
+    if where == "reducer_input":
+        mesh = next((t for t in rig.torque_lateral_loads if t.kind == "gear_mesh_load_sharing"), None)
+        return None if mesh is None else float(mesh.on.x_mm)
+    part = next((p for p in rig.parts if p.name == where), None)
+    return None if part is None else 0.5 * float(sum(part.x_range_mm))
 
 
 def effect_by_name(rig: Rig, name: str) -> Effect:

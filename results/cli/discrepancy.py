@@ -29,6 +29,8 @@ _VERDICT_LINES = {
     "no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
     "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and held-out load "
                  "cases improve)",
+    "ambiguous": "[bold yellow]VERDICT: ambiguous[/] (the vocabulary closes the gap, but several explanations fit "
+                 "equally well: what they share and the measurement that would split them are below)",
     "unexplained": "[bold red]VERDICT: unexplained[/] (what is named below reduces the gap but does not explain it)"}
 
 
@@ -57,9 +59,14 @@ def _print_reach(result) -> None:
     visible = sorted(n for n, v in result.observability.items() if v.visible)
     hidden = {n: v for n, v in result.observability.items() if not v.visible}
     if result.observability:
-        console.print(f"what these data can reveal: {len(visible)} of {len(result.observability)} effects: "
-                      + escape(", ".join(visible)))
-        revealable = {n: v for n, v in hidden.items() if v.suggestion is not None and v.suggestion.in_sigma >= 3}
+        detectable = sorted(n for n, v in result.observability.items() if v.detectable)
+        hidden = {n: v for n, v in result.observability.items() if not v.detectable}
+        console.print(f"what these data can reveal (the gap test would find it alone): {len(detectable)} of "
+                      f"{len(result.observability)} effects: " + escape(", ".join(detectable)))
+        faint = sorted(set(visible) - set(detectable))
+        if faint:
+            console.print("  screened, but below what the gap test detects alone: " + escape(", ".join(faint)))
+        revealable = {n: v for n, v in hidden.items() if v.suggestion is not None and v.suggestion.reveals}
         console.print(f"cannot reveal {len(hidden)} effects; {len(revealable)} of them with one more measurement:")
         for name, v in sorted(revealable.items()):
             console.print(f"  {escape(name)}: {escape(v.suggestion.sentence())}")
@@ -170,7 +177,8 @@ def _rig_file_text(result, original: str, source: str) -> str:
     names = ", ".join(s.name for s in result.selected)
     candidate = result.verdict != "explained"
     warning = ([f"NOT A FIX: the verdict is '{result.verdict}'. These effects reduce the gap but do not "
-                "explain it;", "this file is a candidate for the next measurement, not an updated rig."]
+                + ("say which of several look-alikes is the cause;" if result.verdict == "ambiguous" else
+                   "explain it;"), "this file is a candidate for the next measurement, not an updated rig."]
                if candidate else [])
     text, _ = updated_rig_text(
         original, result.rig_after,
@@ -232,8 +240,8 @@ def discrepancy(
     vocabulary, and checks every verdict on held-out load cases. Writes (with --out):
     discrepancy.json, discrepancy_observations.csv, discrepancy.png and rig_updated.toml (explained:
     the rig with the effects added, each with a provenance comment) or rig_candidate.toml
-    (unexplained: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when a
-    discrepancy remains.
+    (unexplained or ambiguous: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when
+    a discrepancy remains unexplained or ambiguous.
     """
     from rvcoax import DiscrepancySettings, load_rig, read_measured, run_discrepancy
     from rvcoax.results.studies.discrepancy import MeasuredDataError
@@ -258,7 +266,7 @@ def discrepancy(
     _print_result(result, lengths)
     if out is not None:
         _write_outputs(result, rig, rig_file, out, lengths)
-    raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)
+    raise typer.Exit(code=1 if result.verdict in ("unexplained", "ambiguous") else 0)
 
 
 def register(app: typer.Typer) -> None:

@@ -255,7 +255,7 @@ def _discrepancy_html(document: dict, source: str) -> str:
                              f"held-out values); improves: {'yes' if figures.get('improves') else 'no'}"))
     observability = document.get("observability")
     if isinstance(observability, dict):
-        visible = observability.get("visible") or []
+        visible = observability.get("detectable", observability.get("visible")) or []
         invisible = observability.get("invisible") or {}
         if isinstance(visible, list) and isinstance(invisible, dict):
             revealable = sum(1 for v in invisible.values() if isinstance(v, dict) and v.get("revealed_by"))

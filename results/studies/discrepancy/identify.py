@@ -54,6 +54,7 @@ class Step:
     pruned: tuple[str, ...] = ()
     ranking: tuple[tuple[str, float], ...] = ()
     group_fits: dict[str, Fit] = field(default_factory=dict)
+    rejected_fits: dict[str, Fit] = field(default_factory=dict)
 
 
 class Problem:
@@ -239,5 +240,6 @@ def forward_backward(problem: Problem, candidates: list[str], *, margin: float =
             pruned.append(name)
         steps.append(Step(winner, float(gain), tuple(group), current, rejected, tuple(pruned),
                           tuple((name, float(before - t.bic)) for name, t in ranking[:8]),
-                          {name: valid[name] for name in group}))
+                          {name: valid[name] for name in group},
+                          {name: t for name, t in trials.items() if t.rejected}))
     return current, steps

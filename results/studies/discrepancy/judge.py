@@ -17,7 +17,7 @@ from rvcoax.results.studies.discrepancy.locate import residual_structure
 from rvcoax.results.studies.discrepancy.observability import signature
 from rvcoax.results.studies.discrepancy.sentinel import scan_spacing_mm
 
-__all__ = ["FIGHT_RATIO", "STRUCTURE_T", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
+__all__ = ["AMBIGUOUS_GROUP", "FIGHT_RATIO", "STRUCTURE_T", "qualify", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
 
 FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
 STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
@@ -137,7 +137,7 @@ def load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tu
 
 
 def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.ndarray, *, data, tests, sentinel,
-            mimic, cv, settings, effects: dict, places: dict | None) -> tuple[str, list[str]]:
+            mimic, cv, settings, effects: dict, places: dict | None, groups=(), beyond=()) -> tuple[str, list[str]]:
     """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
 
     ``problem`` holds σ and the rows used to fit, ``data`` the measurements; ``fitted`` the effects added with their values, ``after`` the model with them
@@ -145,7 +145,8 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
     must beat by the BIC margin; ``mimic`` (default ``sentinel``) the best generic load anywhere, which tells
     whether effects that cancel each other mimic a load's shape and whether the vocabulary needs more parameters
     than one load for a fit as good; ``places`` where the vocabulary's torque-proportional loads act
-    (:func:`opposite_loads`)."""
+    (:func:`opposite_loads`). A fit that passes them all is then qualified (:func:`qualify`) with ``groups`` (the
+    named effects' look-alike groups) and ``beyond`` (fits better than the vocabulary's only beyond a bound)."""
     test_before, test_after = tests
     sigma = problem.sigma
     if not test_before.gap:
@@ -184,4 +185,32 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
                                           model_form_fraction=settings.model_form_fraction):
             if finding.test == "curvature along the shaft" and finding.significant:
                 reasons.append(f"structure left along the {finding.shaft} shaft (curvature, {finding.detail})")
-    return ("unexplained" if reasons else "explained"), reasons
+    if reasons:
+        return "unexplained", reasons
+    return qualify(bic, sentinel=sentinel, groups=groups, beyond=beyond, settings=settings)
+
+
+AMBIGUOUS_GROUP = 3  # a group of more than three look-alikes is "one of many", not an explanation
+
+
+def qualify(bic: float, *, sentinel, groups, beyond, settings) -> tuple[str, list[str]]:
+    """What a fit that leaves no gap and passes every rule may claim (the vocabulary's BIC is ``bic``):
+
+    - ``unexplained`` when a candidate fitted beyond its physical bound fits better by more than the ambiguity
+      margin (``beyond``: (reason, BIC) pairs): only a value outside the bounds closes the gap as well;
+    - ``ambiguous`` when a generic load (the sentinel the verdict compares with) fits within the noise as well as the
+      named effects (its BIC within the ambiguity margin): the data cannot tell a named effect from a load outside
+      the vocabulary; or when a named effect's group has more than :data:`AMBIGUOUS_GROUP` look-alikes;
+    - ``explained`` otherwise."""
+    better = [(reason, b) for reason, b in beyond if b < bic - settings.ambiguity_margin]
+    if better:
+        return "unexplained", [f"only a value beyond a physical bound closes the gap as well: {reason} (BIC {b:.4g} "
+                               f"against {bic:.4g} within the bounds)" for reason, b in better]
+    reasons = []
+    if sentinel is not None and sentinel.bic < bic + settings.ambiguity_margin \
+            and stats.chi2.sf(sentinel.chi2, sentinel.n) >= settings.alpha:
+        reasons.append(f"a single generic load fits within the noise as well as the named effects ({sentinel.describe()}; "
+                       f"BIC {sentinel.bic:.4g} against {bic:.4g}): the data cannot tell them apart")
+    reasons += [f"{len(g)} look-alikes explain the gap equally well ({', '.join(g)})" for g in groups
+                if len(g) > AMBIGUOUS_GROUP]
+    return ("ambiguous", reasons) if reasons else ("explained", [])

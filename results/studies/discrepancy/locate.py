@@ -124,6 +124,14 @@ class GapTest:
                 f"p = {self.p_value:.3g}: " + ("a gap beyond the noise" if self.gap else "consistent with the noise"))
 
 
+def detection_norm(n: int, alpha: float) -> float:
+    """The signature norm (in σ) an effect needs for the gap test on ``n`` observations to find it: the χ² it adds,
+    ‖s‖², must lift the expected χ² (n) to the test's critical value, χ²₁₋α(n) − n. The same σ (noise, the rounding
+    of printed digits, the model-form allowance) scales the signature and the test, so "detectable" means the
+    workflow's own test would see the gap."""
+    return float(np.sqrt(max(stats.chi2.isf(alpha, max(n, 1)) - max(n, 1), 0.0)))
+
+
 def gap_test(scaled_residual: np.ndarray, alpha: float) -> GapTest:
     chi2 = float(np.sum(scaled_residual ** 2))
     n = int(scaled_residual.size)

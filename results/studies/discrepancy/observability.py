@@ -17,12 +17,13 @@ the measurement where their (data-matched) predictions differ most separates the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.studies.discrepancy.locate import detection_norm
 from rvcoax.results.studies.discrepancy.observed import Observed
 
 __all__ = ["PARALLEL_COSINE", "REVEAL_SIGMA", "Scenario", "Suggestion", "VISIBLE_NORM", "Visibility", "direction",
@@ -31,6 +32,7 @@ __all__ = ["PARALLEL_COSINE", "REVEAL_SIGMA", "Scenario", "Suggestion", "VISIBLE
 VISIBLE_NORM = 3.0  # ‖s‖ at the end of the physical range: Δχ² = 9 (a 3 σ detection)
 PARALLEL_COSINE = 0.98  # sin θ = 0.2: scaled to fit, one effect mimics the other within 20 % of its size
 REVEAL_SIGMA = 3.0  # one new observation must change by 3 σ to reveal an effect
+DETECTION_ALPHA = 0.01  # the gap test's significance level (the workflow's default)
 
 
 @dataclass(frozen=True)
@@ -56,6 +58,14 @@ class Suggestion:
     in_sigma: float
     new_case: bool
     other_datum: bool
+    series_in_sigma: float = 0.0
+    cases_in_series: int = 1
+
+    @property
+    def reveals(self) -> bool:
+        """Whether measuring u_y at this station in every case of the suggestion (``cases_in_series``) would make
+        the gap test fire on those measurements alone (:func:`detection_norm`)."""
+        return self.series_in_sigma >= max(detection_norm(self.cases_in_series, DETECTION_ALPHA), REVEAL_SIGMA)
 
     def sentence(self) -> str:
         datum = "Y from the unloaded geometry" if self.other_datum else "Y as now"
@@ -77,6 +87,7 @@ class Visibility:
     visible: bool
     suggestion: Suggestion | None
     reason: str
+    detectable: bool = True
 
 
 def signature(response, values, view, rows=None) -> np.ndarray:
@@ -131,7 +142,7 @@ def scenarios(data, from_rest: bool) -> list[Scenario]:
 def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) -> Suggestion | None:
     paths = engine.full_paths(unit_change, scenario.cases, scenario.from_rest)
     layout = engine.layout(len(scenario.cases))
-    best = None
+    best, where = None, None
     for i, case in enumerate(scenario.cases):
         for shaft in MEASURED_SHAFTS:
             block = paths[layout.block(i, shaft)]
@@ -140,7 +151,12 @@ def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) ->
             if best is None or scaled[j] > best.in_sigma:
                 best = Suggestion(scenario.label, case, shaft, float(layout.stations_mm[shaft][j]),
                                   float(1e3 * block[j]), float(scaled[j]), scenario.new_cases, scenario.other_datum)
-    return best
+                where = (shaft, j)
+    if best is None:
+        return None
+    shaft, j = where  # the same station measured in every case of the scenario: what a gap test would see
+    series = np.array([paths[layout.block(i, shaft)][j] for i in range(len(scenario.cases))]) / shaft_sigma[shaft]
+    return replace(best, series_in_sigma=float(np.linalg.norm(series)), cases_in_series=len(scenario.cases))
 
 
 def shaft_sigmas(data, sigma) -> dict:
@@ -152,8 +168,13 @@ def shaft_sigmas(data, sigma) -> dict:
     return out
 
 
-def observability(responses: dict, observed: Observed) -> dict[str, Visibility]:
-    """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it."""
+def observability(responses: dict, observed: Observed, alpha: float = DETECTION_ALPHA) -> dict[str, Visibility]:
+    """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it.
+
+    ``visible`` (‖s‖ ≥ :data:`VISIBLE_NORM`) decides which candidates are screened; ``detectable`` whether the gap
+    test at ``alpha`` would find the effect alone on these data (:func:`detection_norm` of the rows used to fit):
+    what the report calls "can reveal"."""
+    threshold = detection_norm(int(np.count_nonzero(observed.rows)), alpha)
     shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
     options = scenarios(observed.data, observed.from_rest)
     out = {}
@@ -161,8 +182,9 @@ def observability(responses: dict, observed: Observed) -> dict[str, Visibility]:
         values, s = _strongest(response, observed, None)
         norm, largest = float(np.linalg.norm(s)), float(np.max(np.abs(s))) if s.size else 0.0
         visible = norm >= VISIBLE_NORM
+        detectable = float(np.linalg.norm(s[observed.rows])) >= threshold
         suggestion = None
-        if not visible:
+        if not detectable:
             unit = response.unit_at(values)
             candidates = []
             if unit is not None:
@@ -170,17 +192,22 @@ def observability(responses: dict, observed: Observed) -> dict[str, Visibility]:
             candidates = [c for c in candidates if c is not None]
             if candidates:
                 suggestion = max(candidates, key=lambda c: c.in_sigma)
-        if visible:
+        if detectable:
             reason = f"visible: up to {norm:.3g} σ over the data (Δχ² {norm ** 2:.3g}) within its physical range"
-        elif suggestion is not None and suggestion.in_sigma >= REVEAL_SIGMA:
-            reason = (f"invisible on these data ({norm:.2g} σ at most within its physical range); revealed by "
-                      + suggestion.sentence())
+        elif suggestion is not None and suggestion.reveals:
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ "
+                      f"at most within its physical range, the test needs {threshold:.2g} σ); revealed by "
+                      + suggestion.sentence() + f", measured in each of its {suggestion.cases_in_series} case(s) "
+                      f"({suggestion.series_in_sigma:.2g} σ together)")
         elif suggestion is not None:
-            reason = (f"invisible on these data ({norm:.2g} σ) and on any single measurement considered "
-                      f"(best {suggestion.in_sigma:.2g} σ: {suggestion.scenario}): too small on this rig")
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ, "
+                      f"the test needs {threshold:.2g} σ) and on any single station considered (best "
+                      f"{suggestion.series_in_sigma:.2g} σ over {suggestion.cases_in_series} case(s): "
+                      f"{suggestion.scenario}): too small on this rig")
         else:
-            reason = f"invisible on these data ({norm:.2g} σ at most within its physical range)"
-        out[name] = Visibility(name, norm, largest, visible, suggestion, reason)
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ at "
+                      f"most within its physical range, the test needs {threshold:.2g} σ)")
+        out[name] = Visibility(name, norm, largest, visible, suggestion, reason, detectable)
     return out
 
 

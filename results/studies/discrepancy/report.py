@@ -84,7 +84,7 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
         return lines
     for s in result.selected:
         effect = result.effects[s.name]
-        text = meaning(effect, s.values)
+        text = meaning(effect, s.values) + _bound_note(effect, s.values)
         if len(s.group) > 1:
             text += (f" — or, equally well on these data, one of {len(s.group) - 1} look-alike(s): "
                      + ", ".join(g for g in s.group if g != s.name))
@@ -94,6 +94,16 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
                      "already puts its load: taken as that load, spread or reacted a little differently than modelled"
                      + ("" if result.sentinel_elsewhere is None else
                         f"; away from there the best is {result.sentinel_elsewhere.describe()}"))
+    lines += [a.sentence() for a in result.ambiguities if len(a.members) > 1]
+    if result.pair_search is not None:
+        p = result.pair_search
+        lines.append(f"pairs searched before accepting {p.why}: " + (
+            f"{p.pair[0]} and {p.pair[1]} fit better together (BIC {p.pair_bic:.4g} against {p.single_bic:.4g}; the "
+            f"correlation of their fitted sizes is {p.correlation:+.2f})" if p.pair is not None else
+            "no pair fits better"))
+    lines += [f"beyond a bound: {reason}" for reason in result.beyond_bounds[:3] if result.verdict != "no_gap"]
+    if result.verdict == "ambiguous":
+        lines.append("ambiguous: " + "; ".join(result.reasons))
     shown = result.verdict_sentinel
     if result.verdict == "unexplained":
         if shown is not None:
@@ -104,25 +114,55 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
     return lines
 
 
+def _bound_note(effect, values) -> str:
+    """`` (at its upper bound …)`` when a fitted value sits on a physical bound, else nothing."""
+    from rvcoax.results.studies.discrepancy.workflow import at_bound
+
+    notes = []
+    for p, v in zip(effect.parameters, values):
+        side = at_bound(p, float(v))
+        if side is not None:
+            notes.append(f"at its {side} bound {p.upper if side == 'upper' else p.lower:g} {p.unit}: the data may "
+                         "want more than the bounds allow")
+    return f" ({'; '.join(notes)})" if notes else ""
+
+
 def _suggestion(s) -> dict | None:
     if s is None:
         return None
     return {"T1_input_Nm": s.case.input_torque_Nm, "T2_output_Nm": s.case.output_torque_Nm, "shaft": s.shaft,
             "x_mm": s.x_mm, "change_um": float(f"{s.change_um:.4g}"), "change_in_sigma": float(f"{s.in_sigma:.4g}"),
             "new_load_case": s.new_case, "datum": "unloaded" if s.other_datum else "as measured",
-            "text": s.sentence()}
+            "series_in_sigma": float(f"{s.series_in_sigma:.4g}"), "cases_in_series": s.cases_in_series,
+            "reveals": s.reveals, "text": s.sentence()}
 
 
 def observability_document(result: DiscrepancyResult) -> dict:
     """Which effects these data can see, and for the others what would reveal them."""
     return {
         "visible": sorted(n for n, v in result.observability.items() if v.visible),
+        "detectable": sorted(n for n, v in result.observability.items() if v.detectable),
         "invisible": {n: {"signature_norm_sigma": float(f"{v.norm_sigma:.4g}"), "reason": v.reason,
                           "revealed_by": _suggestion(v.suggestion)}
                       for n, v in sorted(result.observability.items()) if not v.visible},
         "visible_signature_norm_sigma": {n: float(f"{v.norm_sigma:.4g}") for n, v in sorted(result.observability.items())
                                          if v.visible},
     }
+
+
+def ambiguity_document(a) -> dict:
+    """One named effect's group of look-alikes: what they share, their fitted sizes, the measurement that splits them."""
+    split = a.split
+    return {"effect": a.effect, "members": list(a.members), "shared": a.shared, "size_range": a.size_range(),
+            "fitted_sizes": [{"effect": m.effect, "value": float(f"{m.value:.4g}"), "unit": m.unit,
+                              "within_bounds": m.within_bounds} for m in a.sizes],
+            "split_by": None if split is None else {
+                "T1_input_Nm": split.case.input_torque_Nm, "T2_output_Nm": split.case.output_torque_Nm,
+                "shaft": split.shaft, "x_mm": split.x_mm, "new_load_case": split.new_case,
+                "datum": "unloaded" if split.other_datum else "as measured",
+                "spread_um": float(f"{split.spread_um:.4g}"), "spread_in_sigma": float(f"{split.spread_in_sigma:.4g}"),
+                "low": list(split.low), "high": list(split.high), "text": split.sentence()},
+            "text": a.sentence()}
 
 
 def sentinel_document(result: DiscrepancyResult, s=None) -> dict | None:
@@ -195,6 +235,16 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
                       "confident": s.confident}
                      for s in result.selected],
         "ambiguous_groups": ambiguous_groups(result),
+        "ambiguity": [ambiguity_document(a) for a in result.ambiguities],
+        "pair_search": None if result.pair_search is None else {
+            "single": result.pair_search.single, "single_value": float(f"{result.pair_search.single_value:.6g}"),
+            "why": result.pair_search.why,
+            "pair": None if result.pair_search.pair is None else list(result.pair_search.pair),
+            "pair_values": None if result.pair_search.pair_values is None else
+            [float(f"{v:.6g}") for v in result.pair_search.pair_values],
+            "correlation": None if result.pair_search.correlation is None else
+            float(f"{result.pair_search.correlation:.4g}")},
+        "beyond_bounds": list(result.beyond_bounds),
         "discriminating_measurements": [
             {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
              "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),

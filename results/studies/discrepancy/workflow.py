@@ -27,9 +27,10 @@ from scipy.optimize import least_squares
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguity
 from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
-from rvcoax.results.studies.discrepancy.judge import load_regions, load_x, verdict
+from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, verdict
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
     NoiseEstimate,
@@ -154,8 +155,39 @@ class SelectedEffect:
     confident: bool = False
 
     def parameters(self, effect) -> dict:
-        return {p.name: {"value": float(v), "unit": p.unit, "bounds": [p.lower, p.upper]}
+        """Per parameter: its value, unit, bounds, and ``at_bound`` (``lower`` or ``upper`` when the fit sits on a
+        bound, pushed against it; else None)."""
+        return {p.name: {"value": float(v), "unit": p.unit, "bounds": [p.lower, p.upper], "at_bound": at_bound(p, v)}
                 for p, v in zip(effect.parameters, self.values)}
+
+
+def at_bound(parameter, value: float) -> str | None:
+    """``lower`` or ``upper`` when ``value`` sits on that physical bound of ``parameter`` (within 0.1 % of its range,
+    where a bounded fit that is pushed against it stops), else None."""
+    tolerance = 1e-3 * (parameter.upper - parameter.lower)
+    if value <= parameter.lower + tolerance:
+        return "lower" if parameter.lower != 0.0 else None  # a zero bound is "nothing": no push
+    if value >= parameter.upper - tolerance:
+        return "upper"
+    return None
+
+
+@dataclass(frozen=True)
+class PairSearch:
+    """A pair searched before a single effect at an implausible size, or with structure left, was accepted.
+
+    ``single`` and ``single_value`` are the effect the screen named alone and its size; ``pair`` the two effects
+    fitted together instead (None when no pair fitted better), ``correlation`` the correlation of their two fitted
+    sizes (−cos of their signatures: near ±1 the data trade one for the other), ``why`` what prompted the search."""
+
+    single: str
+    single_value: float
+    single_bic: float
+    why: str
+    pair: tuple[str, str] | None = None
+    pair_values: tuple[float, float] | None = None
+    pair_bic: float | None = None
+    correlation: float | None = None
 
 
 @dataclass(frozen=True)
@@ -235,6 +267,9 @@ class DiscrepancyResult:
     vocabulary_chi2: float | None = None
     sentinel_elsewhere: SentinelFit | None = None
     sentinel_at: tuple[str, ...] = ()
+    ambiguities: tuple[Ambiguity, ...] = ()
+    pair_search: PairSearch | None = None
+    beyond_bounds: tuple[str, ...] = ()
 
     @property
     def verdict_sentinel(self) -> SentinelFit | None:
@@ -379,6 +414,7 @@ class Named:
     fitted: tuple[tuple[str, np.ndarray], ...]
     after: np.ndarray
     set_aside: dict[str, str]
+    pair_search: PairSearch | None = None
 
 
 def _observe(rig, data: MeasuredData, settings: DiscrepancySettings, library: CandidateLibrary | None,
@@ -495,7 +531,7 @@ def _name(seen: Seen, located: Located, settings: DiscrepancySettings) -> Named:
     problem = Problem(observed.data.value_mm, observed.sigma, observed.base_paths, observed.observe, seen.responses,
                       rows=observed.rows)
     set_aside = dict(located.set_aside)
-    fitted, after, steps = [], observed.before, []
+    fitted, after, steps, searched = [], observed.before, [], None
     while located.test_before.gap:
         try:
             screening, steps = _screen(problem, [n for n in seen.responses if n not in set_aside], observed, settings)
@@ -504,6 +540,9 @@ def _name(seen: Seen, located: Located, settings: DiscrepancySettings) -> Named:
             screening, steps = Fit((), (), 0.0, 0), []
         if not screening.names:
             break
+        searched = _pair_search(problem, screening, steps, seen, settings) if len(screening.names) == 1 else None
+        if searched is not None and searched.pair is not None:
+            screening, steps = _with_pair(problem, searched, steps)
         try:
             fitted, after = _refine(seen, list(zip(screening.names, screening.values)), settings.sweep)
         except CANDIDATE_FAILURES as error:
@@ -511,7 +550,63 @@ def _name(seen: Seen, located: Located, settings: DiscrepancySettings) -> Named:
                 set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
             continue
         break
-    return Named(problem=problem, steps=tuple(steps), fitted=tuple(fitted), after=after, set_aside=set_aside)
+    return Named(problem=problem, steps=tuple(steps), fitted=tuple(fitted), after=after, set_aside=set_aside,
+                 pair_search=searched if fitted else None)
+
+
+IMPLAUSIBLE_FRACTION = 0.5  # a single effect at half its physical bound or more is an implausible size
+PAIR_POOL = 8  # the best single candidates of the first step, paired with each other
+
+
+def _pair_search(problem: Problem, single: Fit, steps, seen: Seen, settings: DiscrepancySettings) -> PairSearch | None:
+    """Before a single effect at an implausible size (half its physical bound or more) is accepted, every pair of the
+    best single candidates is fitted; the best pair replaces it when it fits better: by any BIC gain when the single's
+    residual keeps structure (along the sweep or the shaft), else by the ambiguity margin."""
+    name, value = single.names[0], float(np.atleast_1d(single.values[0])[0])
+    p = seen.effects[name].parameters[0]
+    bound = p.upper if value > 0 else p.lower
+    implausible = bound != 0.0 and value / bound >= IMPLAUSIBLE_FRACTION
+    observed = seen.observed
+    residual = observed.data.value_mm - observed.observe(problem.paths(single.names, single.values))
+    structure = [f for f in residual_structure(observed.data, residual, observed.sigma, threshold=STRUCTURE_T,
+                                               model_form_fraction=settings.model_form_fraction) if f.significant]
+    if not implausible:
+        return None
+    why = (f"{name} alone at {value:.4g} {p.unit}, {100 * value / bound:.0f} % of its bound {bound:g} {p.unit}"
+           + (f", leaving structure ({structure[0].shaft} shaft: {structure[0].test})" if structure else ""))
+    found = PairSearch(name, value, float(single.bic), why)
+    pool = list(dict.fromkeys([name] + [n for n, _ in steps[0].ranking[:PAIR_POOL]])) if steps else [name]
+    need = 0.0 if structure else settings.ambiguity_margin
+    best = None
+    for i, a in enumerate(pool):
+        for b in pool[i + 1:]:
+            try:
+                fit = problem.fit((a, b))
+            except CANDIDATE_FAILURES:
+                continue
+            if fit.rejected is None and fit.bic < single.bic - need and (best is None or fit.bic < best.bic):
+                best = fit
+    if best is None:
+        return found
+    a, b = best.names
+    sa = problem.signature(a, np.atleast_1d(best.values[0]))
+    sb = problem.signature(b, np.atleast_1d(best.values[1]))
+    cosine = float(sa @ sb / (np.linalg.norm(sa) * np.linalg.norm(sb))) if np.any(sa) and np.any(sb) else 0.0
+    signs = np.sign(float(np.atleast_1d(best.values[0])[0]) * float(np.atleast_1d(best.values[1])[0])) or 1.0
+    return replace(found, pair=(a, b), pair_values=tuple(float(np.atleast_1d(v)[0]) for v in best.values),
+                   pair_bic=float(best.bic), correlation=float(-cosine * signs))
+
+
+def _with_pair(problem: Problem, searched: PairSearch, steps) -> tuple[Fit, list[Step]]:
+    """The screening fit and steps with the pair found by :func:`_pair_search` in place of the single effect."""
+    pair = problem.fit(searched.pair)
+    first = steps[0] if steps else None
+    kept = [s for s in steps if s.added in searched.pair]
+    for name in searched.pair:
+        if not any(s.added == name for s in kept):
+            kept.append(Step(name, float(searched.single_bic - pair.bic), (name,), pair,
+                             ranking=first.ranking if first is not None else ()))
+    return pair, kept
 
 
 def _discriminations(pairs, seen: Seen) -> list[Discrimination]:
@@ -530,9 +625,24 @@ def _as_discrimination(pair, found: Suggestion) -> Discrimination:
                           found.new_case, found.other_datum)
 
 
-def _groups(seen: Seen, named: Named) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
-    """Each effect added with its group (the step's look-alikes and its signature group), and the measurements that
-    tell the members apart, the closest look-alikes first, each pair once."""
+def _fits_as_well(named: Named, name: str, member: str, margin: float) -> bool:
+    """Whether ``member`` in place of ``name`` (with the other effects added) fits within ``margin`` of the BIC of the
+    selection, within its physical bounds: a signature look-alike that the data, at their noise, still tell apart is
+    not in the group."""
+    problem, names = named.problem, tuple(n for n, _ in named.fitted)
+    start = dict(named.fitted)
+    try:
+        current = problem.fit(names, start)
+        trial = problem.fit(tuple(n for n in names if n != name) + (member,), start)
+    except CANDIDATE_FAILURES:
+        return True  # cannot tell: keep it in the group
+    return trial.rejected is None and trial.bic - current.bic < margin
+
+
+def _groups(seen: Seen, named: Named, margin: float) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
+    """Each effect added with its group (the step's look-alikes, and the members of its signature group that fit
+    within ``margin`` of it), and the measurements that tell the members apart, the closest look-alikes first, each
+    pair once."""
     fitted = dict(named.fitted)
     pairs = [(next(iter(step.group_fits)), other) for step in named.steps if step.added in fitted
              for other in list(step.group_fits)[1:]]
@@ -541,15 +651,16 @@ def _groups(seen: Seen, named: Named) -> tuple[list[SelectedEffect], tuple[Discr
     for name, values in named.fitted:
         step = gains.get(name)
         group = list(step.group) if step is not None else [name]
-        for members in seen.groups:  # nearly parallel signatures on these data: the group, not one name
+        for members in seen.groups:  # nearly parallel signatures on these data, fitting as well: the group
             if name in members:
-                group += [m for m in members if m not in group]
+                group += [m for m in members if m not in group and m in seen.responses
+                          and _fits_as_well(named, name, m, margin)]
         selected.append(SelectedEffect(name, tuple(float(v) for v in values),
                                        step.delta_bic if step is not None else 0.0, tuple(group), 1))
     for name, _ in named.fitted:  # a parallel look-alike that is not in the step's group still needs telling apart
         step = gains.get(name)
-        pairs += [(name, m) for m in next((g for g in seen.groups if name in g), ()) if m != name
-                  and (step is None or m not in step.group_fits)]
+        kept = next(s.group for s in selected if s.name == name)
+        pairs += [(name, m) for m in kept if m != name and (step is None or m not in step.group_fits)]
     unique, seen_pairs = [], set()
     for d in sorted(_discriminations(pairs, seen), key=lambda d: d.in_sigma):
         if frozenset(d.effects) not in seen_pairs:
@@ -576,6 +687,18 @@ def _sentinel_away(seen: Seen, located: Located, named: Named, set_aside: dict):
         return None, at
 
 
+def _beyond_bounds(named: Named) -> list[tuple[str, float]]:
+    """Fits the screen rejected because a value lies beyond its physical bound, with their BIC: (reason, BIC), the best
+    of each candidate, best first."""
+    best: dict[str, tuple[str, float]] = {}
+    for step in named.steps:
+        for name, fit in step.rejected_fits.items():
+            if fit.rejected and "outside its physical range" in fit.rejected \
+                    and (name not in best or fit.bic < best[name][1]):
+                best[name] = (fit.rejected, float(fit.bic))
+    return sorted(best.values(), key=lambda item: item[1])
+
+
 def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySettings) -> DiscrepancyResult:
     """The tests after, the cross-validation, the verdict and its reasons, and the result."""
     observed, problem, fitted, after = seen.observed, named.problem, named.fitted, named.after
@@ -583,7 +706,7 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
     rejected = {}
     for step in named.steps:
         rejected.update(step.rejected)
-    selected, discriminations = _groups(seen, named)
+    selected, discriminations = _groups(seen, named, settings.ambiguity_margin)
     scaled_after = (data.value_mm - after) / sigma
     test_after = gap_test(scaled_after, settings.alpha)
     held = ~observed.rows
@@ -594,10 +717,14 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
     elsewhere, at = _sentinel_away(seen, located, named, set_aside)
     kinds = [seen.effects[n].kind for n, _ in fitted]
     places = load_x(seen.effects, seen.rig) if len(kinds) > len(set(kinds)) else None  # one load at two places
+    beyond = _beyond_bounds(named)
     outcome, reasons = verdict(problem, list(fitted), after, data=data, tests=(located.test_before, test_after),
                                sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
-                               settings=settings, effects=seen.effects, places=places)
+                               settings=settings, effects=seen.effects, places=places,
+                               groups=[s.group for s in selected], beyond=beyond)
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
+    ambiguities = tuple(ambiguity(s, seen, after) for s in final if len(s.group) > 1) \
+        if outcome in ("explained", "ambiguous") else ()
     return DiscrepancyResult(
         verdict=outcome, data=data, noise=seen.noise, fit_mask=observed.rows, before=observed.before, after=after,
         test_before=located.test_before, test_after=test_after, test_after_held_out=test_held,
@@ -607,7 +734,8 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
         parallel_groups=seen.groups, sentinel=located.sentinel, cross_validation=cv,
         sentinel_cross_validation=located.sentinel_cv, reasons=tuple(reasons),
         vocabulary_chi2=float(np.sum(scaled_after[observed.rows] ** 2)) if fitted else None,
-        sentinel_elsewhere=elsewhere, sentinel_at=at)
+        sentinel_elsewhere=elsewhere, sentinel_at=at, ambiguities=ambiguities, pair_search=named.pair_search,
+        beyond_bounds=tuple(reason for reason, _ in beyond))
 
 
 def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled: np.ndarray, folds) -> CrossValidation | None:
