@@ -151,7 +151,7 @@ def test_look_alikes_are_a_group_whatever_the_noise(rig, library):
     groups = []
     for noise, seed in ((0.01, 3), (0.05, 4)):
         result = run_discrepancy(rig, unseen_data(truth, noise, seed), DiscrepancySettings(), library=library)
-        assert result.verdict == "explained"
+        assert result.verdict in ("explained", "ambiguous"), result.reasons
         (named,) = result.selected
         assert "coupling_offset@C3" in named.group and "thermal_growth@output_sensor_housing" in named.group
         assert not named.confident

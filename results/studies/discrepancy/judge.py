@@ -17,7 +17,7 @@ from rvcoax.results.studies.discrepancy.locate import residual_structure
 from rvcoax.results.studies.discrepancy.observability import signature
 from rvcoax.results.studies.discrepancy.sentinel import scan_spacing_mm
 
-__all__ = ["AMBIGUOUS_GROUP", "FIGHT_RATIO", "STRUCTURE_T", "qualify", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
+__all__ = ["AMBIGUOUS_GROUP", "FIGHT_RATIO", "STRUCTURE_T", "look_alike_places", "qualify", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
 
 FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
 STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
@@ -136,8 +136,34 @@ def load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tu
     return out
 
 
+def look_alike_places(effects: dict, rig, names, sites) -> dict[str, tuple[tuple[str, float, float], ...]]:
+    """Where each of ``names`` acts on the rig, for telling a generic load from a look-alike in the vocabulary: the
+    places of :func:`load_regions`, and more that are no lateral load of the rig file: a housing whose mounts an
+    effect lifts or softens (or whose temperature or stiffness it changes) is that body, whole, with the shafts its
+    flanges carry; a coupling's offset or angle acts at its two hubs."""
+    out = dict(load_regions(effects, rig, names, sites))
+    bodies = {p.name for p in rig.parts if p.role == "body"}
+    couplings = {c.name: c for c in rig.couplings}
+    lateral_joints = [pair for j in rig.joints if j.translational_stiffness_N_per_um[1] > 0
+                      for pair in ((j.from_, j.to), (j.to, j.from_))]
+    for name in names:
+        effect, extra = effects[name], []
+        if effect.location in bodies:
+            extra.append((effect.location, -np.inf, np.inf))
+            extra += [(b.part, b.x_mm - scan_spacing_mm(sites, b.part), b.x_mm + scan_spacing_mm(sites, b.part))
+                      for a, b in lateral_joints if a.part == effect.location]
+        elif effect.location in couplings:
+            c = couplings[effect.location]
+            extra += [(end.part, end.x_mm - scan_spacing_mm(sites, end.part), end.x_mm + scan_spacing_mm(sites, end.part))
+                      for end in (c.from_, c.to)]
+        if extra:
+            out[name] = tuple(out.get(name, ())) + tuple(extra)
+    return out
+
+
 def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.ndarray, *, data, tests, sentinel,
-            mimic, cv, settings, effects: dict, places: dict | None, groups=(), beyond=()) -> tuple[str, list[str]]:
+            mimic, cv, settings, effects: dict, places: dict | None, groups=(), beyond=(),
+            generic="same") -> tuple[str, list[str]]:
     """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
 
     ``problem`` holds σ and the rows used to fit, ``data`` the measurements; ``fitted`` the effects added with their values, ``after`` the model with them
@@ -146,7 +172,9 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
     whether effects that cancel each other mimic a load's shape and whether the vocabulary needs more parameters
     than one load for a fit as good; ``places`` where the vocabulary's torque-proportional loads act
     (:func:`opposite_loads`). A fit that passes them all is then qualified (:func:`qualify`) with ``groups`` (the
-    named effects' look-alike groups) and ``beyond`` (fits better than the vocabulary's only beyond a bound)."""
+    named effects' look-alike groups), ``beyond`` (fits better than the vocabulary's only beyond a bound) and
+    ``generic`` (the generic load that may tie with the vocabulary; default ``sentinel``; None: none away from the
+    places of the named effects and their look-alikes)."""
     test_before, test_after = tests
     sigma = problem.sigma
     if not test_before.gap:
@@ -187,7 +215,8 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
                 reasons.append(f"structure left along the {finding.shaft} shaft (curvature, {finding.detail})")
     if reasons:
         return "unexplained", reasons
-    return qualify(bic, sentinel=sentinel, groups=groups, beyond=beyond, settings=settings)
+    return qualify(bic, sentinel=sentinel if generic == "same" else generic, groups=groups, beyond=beyond,
+                   settings=settings)
 
 
 AMBIGUOUS_GROUP = 3  # a group of more than three look-alikes is "one of many", not an explanation

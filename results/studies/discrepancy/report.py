@@ -147,6 +147,9 @@ def observability_document(result: DiscrepancyResult) -> dict:
                       for n, v in sorted(result.observability.items()) if not v.visible},
         "visible_signature_norm_sigma": {n: float(f"{v.norm_sigma:.4g}") for n, v in sorted(result.observability.items())
                                          if v.visible},
+        "below_detection": {n: {"signature_norm_sigma": float(f"{v.norm_sigma:.4g}"), "reason": v.reason,
+                                "revealed_by": _suggestion(v.suggestion)}
+                            for n, v in sorted(result.observability.items()) if v.visible and not v.detectable},
     }
 
 

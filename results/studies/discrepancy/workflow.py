@@ -30,7 +30,7 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguity
 from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
-from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, verdict
+from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, look_alike_places, verdict
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
     NoiseEstimate,
@@ -687,6 +687,24 @@ def _sentinel_away(seen: Seen, located: Located, named: Named, set_aside: dict):
         return None, at
 
 
+def _generic_elsewhere(seen: Seen, sentinel: SentinelFit | None, selected) -> SentinelFit | None:
+    """``sentinel``, unless it acts where a named effect or one of its look-alikes acts (:func:`look_alike_places`):
+    there it is that look-alike, which the group already holds, not a load outside the vocabulary."""
+    engine = seen.library.engine
+    if sentinel is None or engine is None:
+        return sentinel
+    names = list(dict.fromkeys(m for s in selected for m in s.group if m in seen.effects))
+    places = look_alike_places(seen.effects, seen.rig, names, engine.sentinel_sites())
+    return None if any(site_in((sentinel.part, sentinel.x_mm), r) for r in places.values()) else sentinel
+
+
+def _bic(problem: Problem, fitted, after: np.ndarray) -> float:
+    """The vocabulary's BIC on the rows used to fit, with the true model's ``after``."""
+    scaled = ((problem.measured - after) / problem.sigma)[problem.rows]
+    k = int(sum(np.atleast_1d(v).size for _, v in fitted))
+    return float(scaled @ scaled + k * np.log(max(problem.rows.size, 2)))
+
+
 def _beyond_bounds(named: Named) -> list[tuple[str, float]]:
     """Fits the screen rejected because a value lies beyond its physical bound, with their BIC: (reason, BIC), the best
     of each candidate, best first."""
@@ -721,7 +739,8 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
     outcome, reasons = verdict(problem, list(fitted), after, data=data, tests=(located.test_before, test_after),
                                sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
                                settings=settings, effects=seen.effects, places=places,
-                               groups=[s.group for s in selected], beyond=beyond)
+                               groups=[s.group for s in selected], beyond=beyond,
+                               generic=_generic_elsewhere(seen, elsewhere if at else located.sentinel, selected))
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
     ambiguities = tuple(ambiguity(s, seen, after) for s in final if len(s.group) > 1) \
         if outcome in ("explained", "ambiguous") else ()
@@ -735,7 +754,8 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
         sentinel_cross_validation=located.sentinel_cv, reasons=tuple(reasons),
         vocabulary_chi2=float(np.sum(scaled_after[observed.rows] ** 2)) if fitted else None,
         sentinel_elsewhere=elsewhere, sentinel_at=at, ambiguities=ambiguities, pair_search=named.pair_search,
-        beyond_bounds=tuple(reason for reason, _ in beyond))
+        beyond_bounds=tuple(reason for reason, b in beyond if fitted and b < _bic(problem, fitted, after)
+                            + settings.ambiguity_margin))
 
 
 def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled: np.ndarray, folds) -> CrossValidation | None:
