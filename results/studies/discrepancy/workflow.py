@@ -554,14 +554,17 @@ def _name(seen: Seen, located: Located, settings: DiscrepancySettings) -> Named:
                  pair_search=searched if fitted else None)
 
 
-IMPLAUSIBLE_FRACTION = 0.5  # a single effect at half its physical bound or more is an implausible size
+# a single effect at three quarters of its physical bound or more is an implausible size (at half the bound the pair
+# search also replaced true single effects, a bearing at a quarter of its stiffness in CalculiX data, by a pair that
+# absorbed the model form)
+IMPLAUSIBLE_FRACTION = 0.75
 PAIR_POOL = 8  # the best single candidates of the first step, paired with each other
 
 
 def _pair_search(problem: Problem, single: Fit, steps, seen: Seen, settings: DiscrepancySettings) -> PairSearch | None:
-    """Before a single effect at an implausible size (half its physical bound or more) is accepted, every pair of the
-    best single candidates is fitted; the best pair replaces it when it fits better: by any BIC gain when the single's
-    residual keeps structure (along the sweep or the shaft), else by the ambiguity margin."""
+    """Before a single effect at an implausible size (three quarters of its physical bound or more) is accepted, every
+    pair of the best single candidates is fitted; the best pair replaces it when it fits better by the ambiguity
+    margin (the structure the single leaves, along the sweep or the shaft, is reported with it)."""
     name, value = single.names[0], float(np.atleast_1d(single.values[0])[0])
     p = seen.effects[name].parameters[0]
     bound = p.upper if value > 0 else p.lower
@@ -576,7 +579,7 @@ def _pair_search(problem: Problem, single: Fit, steps, seen: Seen, settings: Dis
            + (f", leaving structure ({structure[0].shaft} shaft: {structure[0].test})" if structure else ""))
     found = PairSearch(name, value, float(single.bic), why)
     pool = list(dict.fromkeys([name] + [n for n, _ in steps[0].ranking[:PAIR_POOL]])) if steps else [name]
-    need = 0.0 if structure else settings.ambiguity_margin
+    need = settings.ambiguity_margin
     best = None
     for i, a in enumerate(pool):
         for b in pool[i + 1:]:
