@@ -153,6 +153,23 @@ def observability_document(result: DiscrepancyResult) -> dict:
     }
 
 
+def _discrimination_document(d) -> dict:
+    return {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
+            "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
+            "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case,
+            "datum": "unloaded" if d.other_datum else "as measured"}
+
+
+def pair_search_document(p) -> dict | None:
+    """The pair search that a single effect at an implausible size prompted (None when there was none)."""
+    if p is None:
+        return None
+    return {"single": p.single, "single_value": float(f"{p.single_value:.6g}"), "why": p.why,
+            "pair": None if p.pair is None else list(p.pair),
+            "pair_values": None if p.pair_values is None else [float(f"{v:.6g}") for v in p.pair_values],
+            "correlation": None if p.correlation is None else float(f"{p.correlation:.4g}")}
+
+
 def ambiguity_document(a) -> dict:
     """One named effect's group of look-alikes: what they share, their fitted sizes, the measurement that splits them."""
     split = a.split
@@ -239,21 +256,9 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
                      for s in result.selected],
         "ambiguous_groups": ambiguous_groups(result),
         "ambiguity": [ambiguity_document(a) for a in result.ambiguities],
-        "pair_search": None if result.pair_search is None else {
-            "single": result.pair_search.single, "single_value": float(f"{result.pair_search.single_value:.6g}"),
-            "why": result.pair_search.why,
-            "pair": None if result.pair_search.pair is None else list(result.pair_search.pair),
-            "pair_values": None if result.pair_search.pair_values is None else
-            [float(f"{v:.6g}") for v in result.pair_search.pair_values],
-            "correlation": None if result.pair_search.correlation is None else
-            float(f"{result.pair_search.correlation:.4g}")},
+        "pair_search": pair_search_document(result.pair_search),
         "beyond_bounds": list(result.beyond_bounds),
-        "discriminating_measurements": [
-            {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
-             "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
-             "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case,
-             "datum": "unloaded" if d.other_datum else "as measured"}
-            for d in result.discriminations],
+        "discriminating_measurements": [_discrimination_document(d) for d in result.discriminations],
         "rms_before_mm": _rounded(result.rms_mm("before")),
         "rms_after_mm": _rounded(result.rms_mm("after")),
         "rms": rms_table(result, lengths_mm),
