@@ -45,7 +45,11 @@ bearing from geometry nothing is (the model is nonlinear), and every effect is t
 On a ball bearing (``model = "ball"``) ``bearing_clearance@B`` is its operating radial internal
 clearance (diametral, ``clearance_um``, 0 … the top of ISO 5753-1's C4 range) and ``bearing_preload@B``
 its axial preload (``preload_N``, 0 … 2 % of C0); ``bearing_stiffness@B`` is not offered there (the
-stiffness follows from geometry). On a linear bearing ``bearing_clearance@B`` is the radial gap
+stiffness follows from geometry). On a cylindrical roller bearing from geometry ``bearing_clearance@B`` is
+its clearance the same way (ISO 5753-1's table for cylindrical roller bearings). On an angular-contact or
+tapered roller bearing ``bearing_preload@B`` is its setting: ``preload_N`` when the entry gives a preload force
+(0 … the heavy class), else ``axial_offset_um`` (an axial play of 30 µm … the heavy class's offset); an entry
+set by ``preload_class`` has no bearing effect. On a linear bearing ``bearing_clearance@B`` is the radial gap
 ``radial_clearance_um`` (from the centred position) and ``bearing_preload@B`` does not exist.
 
 With ``paths.measured_from = "aligned_at_rest"`` (the reference rig) Y is u − u_rest, so an effect
@@ -179,7 +183,7 @@ class Effect:
     def meaning(self, values: Sequence[float]) -> str:
         """What the fitted ``values`` mean physically, in one engineering sentence."""
         (v, *_) = [float(x) for x in values]
-        return KINDS[self.kind].says(self.location, v)
+        return KINDS[self.kind].says(self.location, v, self.parameters[0].unit)
 
     def out_of_bounds(self, values: Sequence[float]) -> list[str]:
         """One reason per value outside its physical bounds (empty when all are inside)."""
@@ -262,11 +266,14 @@ def _bearing_clearance(rig: Rig, name: str) -> Effect:
 # ---- ball bearings from geometry (model = "ball"): operating clearance and preload, in physical units ----
 
 def _ball_clearance(rig: Rig, name: str) -> Effect:
-    from rvcoax.geometry.ball_model import clearance_um_of, clearance_upper_um
+    from rvcoax.geometry import ball_model, rolling_model
 
     address = f"bearings.{name}.clearance_um"
     bearing = next(b for b in rig.bearings if b.name == name)
+    model = ball_model if bearing.model == "ball" else rolling_model  # ball or cylindrical_roller
+    clearance_um_of, clearance_upper_um = model.clearance_um_of, model.clearance_upper_um
     current = clearance_um_of(bearing)
+    what = "ball bearing" if bearing.model == "ball" else "cylindrical roller bearing"
 
     def change(r: Rig, v: tuple[float, ...]) -> RigChange:
         return RigChange({address: clearance_um_of(next(b for b in r.bearings if b.name == name)) + v[0]})
@@ -275,7 +282,7 @@ def _ball_clearance(rig: Rig, name: str) -> Effect:
     # temperatures lies between zero (a tight fit) and an unmounted C4 bearing.
     return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
                   (EffectParameter("clearance_um", "µm", -current, clearance_upper_um(bearing) - current, 5.0),),
-                  False, f"Operating radial internal clearance of ball bearing {name} (diametral, µm) changed by this "
+                  False, f"Operating radial internal clearance of {what} {name} (diametral, µm) changed by this "
                   "much: a dead band and a softer, load-dependent stiffness (nonlinear).", change)
 
 
@@ -294,6 +301,38 @@ def _ball_preload(rig: Rig, name: str) -> Effect:
                                    20.0),),
                   False, f"Axial preload of ball bearing {name} (N) changed by this much: it takes up the clearance "
                   "and stiffens the bearing.", change)
+
+
+def _rolling_preload(rig: Rig, name: str) -> Effect | None:
+    """An angular-contact or tapered roller bearing's setting: its preload force (``preload_N`` given) or its
+    axial offset (``axial_offset_um`` or nothing given); None for one set by a preload class."""
+    from rvcoax.geometry.rolling_model import heavy_setting
+
+    bearing = next(b for b in rig.bearings if b.name == name)
+    if bearing.preload_class is not None:
+        return None
+    heavy_n, heavy_um = heavy_setting(bearing)  # up to the heavy class's preload, as a force and as an offset
+    if bearing.preload_N:
+        address = f"bearings.{name}.preload_N"
+
+        def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+            return RigChange({address: get_parameter(r, address) + v[0]})
+
+        return Effect(f"bearing_preload@{name}", "bearing_preload", name,
+                      (EffectParameter("preload_N", "N", -bearing.preload_N, heavy_n - bearing.preload_N, 20.0),),
+                      False, f"Axial preload of bearing {name} (N) changed by this much: it stiffens the bearing.",
+                      change)
+    address = f"bearings.{name}.axial_offset_um"
+    current = bearing.axial_offset_um or 0.0
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: (next(b for b in r.bearings if b.name == name).axial_offset_um or 0.0) + v[0]})
+
+    # from an axial play of 30 µm (a loose adjustment) to the heavy class's preload (an over-tight one)
+    return Effect(f"bearing_preload@{name}", "bearing_preload", name,
+                  (EffectParameter("axial_offset_um", "µm", -30.0 - current, max(heavy_um - current, 0.0), 2.0),),
+                  False, f"Axial setting of bearing {name} (µm from first contact; > 0 a preload, < 0 a play) changed "
+                  "by this much: play is a dead band, preload stiffens the bearing.", change)
 
 
 def _mount_compliance(rig: Rig, part: str) -> Effect:
@@ -523,7 +562,8 @@ class EffectKind:
     build : callable
         ``build(rig)`` → every effect of this kind on ``rig``, in the rig's order.
     says : callable
-        ``says(location, value)`` → what the fitted value means, in one engineering sentence.
+        ``says(location, value, unit)`` → what the fitted value (in the parameter's unit) means, in one engineering
+        sentence.
     acts : str
         What the effect does to the rig, in engineering words, without its place or size (``a vertical force
         proportional to T2``): what a group of look-alikes shares.
@@ -535,78 +575,79 @@ class EffectKind:
     kind: str
     response: str
     build: Callable[[Rig], list[Effect]] = field(repr=False)
-    says: Callable[[str | None, float], str] = field(repr=False)
+    says: Callable[[str | None, float, str], str] = field(repr=False)
     acts: str = ""
     per: str | None = None
 
 
-def _bearings(rig: Rig, ball: bool | None) -> list[str]:
-    return [b.name for b in rig.bearings if ball is None or (b.model == "ball") == ball]
-
-
 EFFECT_KINDS: tuple[EffectKind, ...] = (
     EffectKind("self_weight", "load", lambda rig: [_self_weight(rig)],
-               lambda where, v: f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)",
+               lambda where, v, unit: f"the parts weigh {1.0 + v:.3g}× what is modelled (housings, fixtures)",
                acts="heavier parts (a vertical dead load, independent of torque)"),
     EffectKind("force_pairs", "load",
                lambda rig: [_force_pairs(rig)] if rig.force_table.pairs or rig.force_table.singles else [],
-               lambda where, v: f"paper 000's force table acts with {v:+.3g}× its published forces",
+               lambda where, v, unit: f"paper 000's force table acts with {v:+.3g}× its published forces",
                acts="the force table's lateral loads scaled"),
-    EffectKind("bearing_stiffness", "spring",  # a ball bearing's stiffness follows from geometry, clearance, preload
-               lambda rig: [_bearing_stiffness(rig, b) for b in _bearings(rig, ball=False)],
-               lambda where, v: f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, clearance "
-                                "or seat fit)", acts="a bearing stiffer or softer radially",
+    EffectKind("bearing_stiffness", "spring",  # a bearing from geometry: its stiffness follows from its data
+               lambda rig: [_bearing_stiffness(rig, b.name) for b in rig.bearings if b.model == "linear"],
+               lambda where, v, unit: f"bearing {where} is {2.0 ** v:.3g}× as stiff radially as modelled (preload, "
+                                      "clearance or seat fit)", acts="a bearing stiffer or softer radially",
                per="bearing"),
-    EffectKind("bearing_clearance", "clearance",
-               lambda rig: [(_ball_clearance if b.model == "ball" else _bearing_clearance)(rig, b.name)
-                            for b in rig.bearings],
-               lambda where, v: f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)",
-               acts="radial play in a bearing (a dead band)",
-               per="bearing"),
-    EffectKind("bearing_preload", "rebuild", lambda rig: [_ball_preload(rig, b) for b in _bearings(rig, ball=True)],
-               lambda where, v: f"ball bearing {where} is preloaded axially with {v:+.3g} N more than modelled",
-               acts="a change of a ball bearing's axial preload",
-               per="bearing"),
+    EffectKind("bearing_clearance", "clearance",  # ball and cylindrical roller bearings: their operating clearance
+               lambda rig: [(_bearing_clearance if b.model == "linear" else _ball_clearance)(rig, b.name)
+                            for b in rig.bearings if b.model in ("linear", "ball", "cylindrical_roller")],
+               lambda where, v, unit: f"bearing {where} has {v:.3g} µm more radial play than modelled (a dead band)",
+               acts="radial play in a bearing (a dead band)", per="bearing"),
+    EffectKind("bearing_preload", "rebuild",  # ball: preload; angular-contact and tapered: their setting
+               lambda rig: [e for b in rig.bearings for e in (
+                   [_ball_preload(rig, b.name)] if b.model == "ball" else
+                   [_rolling_preload(rig, b.name)] if b.model not in ("linear", "cylindrical_roller") else [])
+                   if e is not None],
+               lambda where, v, unit: f"bearing {where} is set {v:+.3g} {unit} "
+                                      + ("tighter (more axial preload)" if unit == "N" else
+                                         "further from first contact (> 0 a preload, < 0 a play)")
+                                      + " than modelled",
+               acts="a bearing's axial preload or setting changed", per="bearing"),
     EffectKind("mount_compliance", "spring", lambda rig: [_mount_compliance(rig, p) for p in _mounted(rig)],
-               lambda where, v: f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled",
+               lambda where, v, unit: f"the mounts of the {where} are {1.0 + v:.3g}× as soft vertically as modelled",
                acts="a housing's mounts softer vertically"),
     EffectKind("coupling_offset", "load", lambda rig: [_coupling_offset(rig, c.name) for c in rig.couplings],
-               lambda where, v: f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled",
+               lambda where, v, unit: f"the hubs of coupling {where} are offset {v:+.3g} µm vertically more than modelled",
                acts="a parallel offset of a coupling's hubs (a prestrain present at rest)",
                per="coupling"),
     EffectKind("coupling_angle", "load", lambda rig: [_coupling_angle(rig, c.name) for c in rig.couplings],
-               lambda where, v: f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) "
+               lambda where, v, unit: f"the hubs of coupling {where} are tilted {v:+.3g} mrad ({v / 10:+.3g} mm per 100 mm) "
                                 "more than modelled", acts="an angular misalignment of a coupling's hubs (a prestrain present at rest)",
                per="coupling"),
     EffectKind("mesh_force", "load", lambda rig: [e for e in (_mesh_force(rig),) if e is not None],
-               lambda where, v: f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input",
+               lambda where, v, unit: f"a vertical gear-mesh force of {v:+.3g} N per N·m of T1 acts at the reducer input",
                acts="a vertical force proportional to T1"),
     EffectKind("mesh_position_error", "load",
                lambda rig: [_mesh_position_error(rig, t.name) for t in rig.torque_lateral_loads
                             if t.kind in ("gear_mesh_load_sharing", "crank_load_sharing")]
                + [_gear_mesh_position_error(rig, g.name) for g in rig.gear_meshes],
-               lambda where, v: f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral "
+               lambda where, v, unit: f"the load-sharing meshes {where} have a position error of {v:+.3g} µm (a lateral "
                                 "force while torque flows)",
                acts="a lateral force that appears as soon as torque flows"),
     EffectKind("torque_reaction", "load",
                lambda rig: [_torque_reaction(rig, p) for p in _torque_reaction_parts(rig, _mounted(rig))],
-               lambda where, v: f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque "
+               lambda where, v, unit: f"a vertical force of {v:+.3g} N per N·m of T2 acts on the housing {where} (a torque "
                                 "arm or an asymmetric pedestal)",
                acts="a vertical force proportional to T2"),
     EffectKind("shear_deformation", "rebuild", lambda rig: [] if rig.beam.shear_deformation else [_shear(rig)],
-               lambda where, v: f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear "
+               lambda where, v, unit: f"the shafts shear as a Timoshenko beam to {100 * v:.3g} % of the full shear "
                                 "flexibility",
                acts="shear flexibility of the shafts"),
     EffectKind("thermal_growth", "load", lambda rig: [_thermal_growth(rig, p) for p in _mounted(rig)],
-               lambda where, v: f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled "
+               lambda where, v, unit: f"the {where} stands {abs(v):.3g} µm {'higher' if v > 0 else 'lower'} than modelled "
                                 "(thermal growth or a shim)",
                acts="a housing standing higher or lower (thermal growth or a shim)"),
     EffectKind("temperature_rise", "rebuild", _thermal_candidates,
-               lambda where, v: f"the {where} runs {v:+.3g} °C warmer than modelled (it grows, and its supports lift "
+               lambda where, v, unit: f"the {where} runs {v:+.3g} °C warmer than modelled (it grows, and its supports lift "
                                 "it)",
                acts="a part running warmer"),
     EffectKind("housing_stiffness", "rebuild", lambda rig: [_housing_stiffness(rig, h.name) for h in rig.housings],
-               lambda where, v: f"housing {where} is {2.0 ** v:.3g}× as stiff as its condensed model (bolted joints, "
+               lambda where, v, unit: f"housing {where} is {2.0 ** v:.3g}× as stiff as its condensed model (bolted joints, "
                                 "bed, details not drawn)",
                acts="a condensed housing stiffer or softer"),
 )
@@ -637,7 +678,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
         Each with its name (``kind@location``), parameters with units and bounds, and how it changes the rig.
         The kinds at one bearing (coupling) are listed together, the bearings (couplings) in the rig's order.
     """
-    linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
+    linear_rig = not any(b.radial_clearance_um > 0 or b.model != "linear" for b in rig.bearings)
     first = {}
     for rank, k in enumerate(EFFECT_KINDS):
         first.setdefault(k.per or k.kind, rank)
