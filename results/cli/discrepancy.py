@@ -15,14 +15,13 @@ from rvcoax.results.cli.support import (
     RigOption,
     UserError,
     console,
-    guard,
     number_option,
     progress_bar,
     rig_text,
     sweep_settings,
 )
 
-__all__ = ["register"]
+__all__ = ["COMMANDS", "discrepancy"]
 
 
 _VERDICT_LINES = {
@@ -269,6 +268,5 @@ def discrepancy(
     raise typer.Exit(code=1 if result.verdict in ("unexplained", "ambiguous") else 0)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``rvcoax discrepancy`` to ``app``."""
-    app.command()(guard(discrepancy))
+COMMANDS = {"discrepancy": discrepancy}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""
