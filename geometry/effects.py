@@ -206,10 +206,10 @@ def _self_weight(rig: Rig) -> Effect:
     # brake of 46 kg [A] that weighs 4× more, or fixtures forgotten in the model. With gravity off,
     # 1 is the full self-weight.
     off = "" if rig.gravity.enabled else " (gravity is off in this rig: 1 is the full self-weight)"
-    return Effect("self_weight", "self_weight", None,
-                  (EffectParameter("extra_weight_factor", "-", 0.0, 3.0, 0.5),), True,
-                  "Every part weighs (1 + factor) times its modelled weight: masses of housings and fixtures "
-                  f"underestimated{off}.", change)
+    return Effect(name="self_weight", kind="self_weight", location=None,
+                  parameters=(EffectParameter("extra_weight_factor", "-", 0.0, 3.0, 0.5),), linear=True,
+                  description="Every part weighs (1 + factor) times its modelled weight: masses of housings and fixtures "
+                  f"underestimated{off}.", change=change)
 
 
 def _force_pairs(rig: Rig) -> Effect:
@@ -223,9 +223,9 @@ def _force_pairs(rig: Rig) -> Effect:
 
     # ±2: paper 000 gives the pairs without saying where or in which direction they act
     # (rig_reference.md), so the sign is open; 1 is the table as published.
-    return Effect("force_pairs", "force_pairs", None,
-                  (EffectParameter("force_table_scale_added", "-", -2.0, 2.0, 1.0),), True,
-                  "Paper 000's force table (F1 … F9, as interpreted in the rig file) added with this scale.", change)
+    return Effect(name="force_pairs", kind="force_pairs", location=None,
+                  parameters=(EffectParameter("force_table_scale_added", "-", -2.0, 2.0, 1.0),), linear=True,
+                  description="Paper 000's force table (F1 … F9, as interpreted in the rig file) added with this scale.", change=change)
 
 
 def _doubles(address: str) -> Callable:
@@ -243,9 +243,9 @@ def _bearing_stiffness(rig: Rig, name: str) -> Effect:
     # 1/16 … 2: a ball bearing's radial stiffness depends on preload and clearance; the reference
     # 40–65 N/µm [S] holds for a preloaded 6204/6206 and drops by an order of magnitude near zero
     # load with internal clearance.
-    return Effect(f"bearing_stiffness@{name}", "bearing_stiffness", name,
-                  (EffectParameter("log2_stiffness_factor", "-", -4.0, 1.0, -1.0),), False,
-                  f"The radial stiffness of bearing {name} times 2^factor (preload, clearance, seat fit).", change)
+    return Effect(name=f"bearing_stiffness@{name}", kind="bearing_stiffness", location=name,
+                  parameters=(EffectParameter("log2_stiffness_factor", "-", -4.0, 1.0, -1.0),), linear=False,
+                  description=f"The radial stiffness of bearing {name} times 2^factor (preload, clearance, seat fit).", change=change)
 
 
 def _bearing_clearance(rig: Rig, name: str) -> Effect:
@@ -257,10 +257,10 @@ def _bearing_clearance(rig: Rig, name: str) -> Effect:
 
     # the gap c is measured from the centred position, half the radial internal clearance: CN group
     # 5–20 µm for 6204/6206 [S] (rig_reference.md) → c = 2.5–10 µm; C3 up to 28 µm → 14 µm. Total ≥ 0.
-    return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
-                  (EffectParameter("clearance_um", "µm", -current, 15.0 - current, 5.0),), False,
-                  f"Radial play of bearing {name}: no radial force until the shaft has moved the gap "
-                  "(a dead band, nonlinear).", change)
+    return Effect(name=f"bearing_clearance@{name}", kind="bearing_clearance", location=name,
+                  parameters=(EffectParameter("clearance_um", "µm", -current, 15.0 - current, 5.0),), linear=False,
+                  description=f"Radial play of bearing {name}: no radial force until the shaft has moved the gap "
+                  "(a dead band, nonlinear).", change=change)
 
 
 # ---- ball bearings from geometry (model = "ball"): operating clearance and preload, in physical units ----
@@ -280,10 +280,10 @@ def _ball_clearance(rig: Rig, name: str) -> Effect:
 
     # 0 … the top of ISO 5753-1's C4 range for the bore: the operating clearance after fits and
     # temperatures lies between zero (a tight fit) and an unmounted C4 bearing.
-    return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
-                  (EffectParameter("clearance_um", "µm", -current, clearance_upper_um(bearing) - current, 5.0),),
-                  False, f"Operating radial internal clearance of {what} {name} (diametral, µm) changed by this "
-                  "much: a dead band and a softer, load-dependent stiffness (nonlinear).", change)
+    return Effect(name=f"bearing_clearance@{name}", kind="bearing_clearance", location=name,
+                  parameters=(EffectParameter("clearance_um", "µm", -current, clearance_upper_um(bearing) - current, 5.0),),
+                  linear=False, description=f"Operating radial internal clearance of {what} {name} (diametral, µm) changed by this "
+                  "much: a dead band and a softer, load-dependent stiffness (nonlinear).", change=change)
 
 
 def _ball_preload(rig: Rig, name: str) -> Effect:
@@ -296,11 +296,11 @@ def _ball_preload(rig: Rig, name: str) -> Effect:
         return RigChange({address: get_parameter(r, address) + v[0]})
 
     # 0 … 2 % of the static load rating C0 (ball_model.preload_upper_N): a wave-spring or nut preload
-    return Effect(f"bearing_preload@{name}", "bearing_preload", name,
-                  (EffectParameter("preload_N", "N", 0.0 - bearing.preload_N + 0.0, preload_upper_N(bearing) - bearing.preload_N,
+    return Effect(name=f"bearing_preload@{name}", kind="bearing_preload", location=name,
+                  parameters=(EffectParameter("preload_N", "N", 0.0 - bearing.preload_N + 0.0, preload_upper_N(bearing) - bearing.preload_N,
                                    20.0),),
-                  False, f"Axial preload of ball bearing {name} (N) changed by this much: it takes up the clearance "
-                  "and stiffens the bearing.", change)
+                  linear=False, description=f"Axial preload of ball bearing {name} (N) changed by this much: it takes up the clearance "
+                  "and stiffens the bearing.", change=change)
 
 
 def _rolling_preload(rig: Rig, name: str) -> Effect | None:
@@ -318,10 +318,10 @@ def _rolling_preload(rig: Rig, name: str) -> Effect | None:
         def change(r: Rig, v: tuple[float, ...]) -> RigChange:
             return RigChange({address: get_parameter(r, address) + v[0]})
 
-        return Effect(f"bearing_preload@{name}", "bearing_preload", name,
-                      (EffectParameter("preload_N", "N", -bearing.preload_N, heavy_n - bearing.preload_N, 20.0),),
-                      False, f"Axial preload of bearing {name} (N) changed by this much: it stiffens the bearing.",
-                      change)
+        return Effect(name=f"bearing_preload@{name}", kind="bearing_preload", location=name,
+                      parameters=(EffectParameter("preload_N", "N", -bearing.preload_N, heavy_n - bearing.preload_N, 20.0),),
+                      linear=False, description=f"Axial preload of bearing {name} (N) changed by this much: it stiffens the bearing.",
+                      change=change)
     address = f"bearings.{name}.axial_offset_um"
     current = bearing.axial_offset_um or 0.0
 
@@ -329,10 +329,10 @@ def _rolling_preload(rig: Rig, name: str) -> Effect | None:
         return RigChange({address: (next(b for b in r.bearings if b.name == name).axial_offset_um or 0.0) + v[0]})
 
     # from an axial play of 30 µm (a loose adjustment) to the heavy class's preload (an over-tight one)
-    return Effect(f"bearing_preload@{name}", "bearing_preload", name,
-                  (EffectParameter("axial_offset_um", "µm", -30.0 - current, max(heavy_um - current, 0.0), 2.0),),
-                  False, f"Axial setting of bearing {name} (µm from first contact; > 0 a preload, < 0 a play) changed "
-                  "by this much: play is a dead band, preload stiffens the bearing.", change)
+    return Effect(name=f"bearing_preload@{name}", kind="bearing_preload", location=name,
+                  parameters=(EffectParameter("axial_offset_um", "µm", -30.0 - current, max(heavy_um - current, 0.0), 2.0),),
+                  linear=False, description=f"Axial setting of bearing {name} (µm from first contact; > 0 a preload, < 0 a play) changed "
+                  "by this much: play is a dead band, preload stiffens the bearing.", change=change)
 
 
 def _mount_compliance(rig: Rig, part: str) -> Effect:
@@ -343,10 +343,10 @@ def _mount_compliance(rig: Rig, part: str) -> Effect:
 
     # -0.5 … 20: the mounts are [A] 100–500 N/µm; a bolted pedestal or bracket on a bed can be an
     # order of magnitude softer (joint compliance), seldom much stiffer (×2 at most).
-    return Effect(f"mount_compliance@{part}", "mount_compliance", part,
-                  (EffectParameter("compliance_factor", "-", -0.5, 20.0, 1.0),), False,
-                  f"The vertical stiffness of the mounts of {part} divided by (1 + factor): a softer pedestal, "
-                  "bracket or bolted joint.", change)
+    return Effect(name=f"mount_compliance@{part}", kind="mount_compliance", location=part,
+                  parameters=(EffectParameter("compliance_factor", "-", -0.5, 20.0, 1.0),), linear=False,
+                  description=f"The vertical stiffness of the mounts of {part} divided by (1 + factor): a softer pedestal, "
+                  "bracket or bolted joint.", change=change)
 
 
 def _coupling(rig: Rig, name: str, key: str, kind: str, *, parameter: EffectParameter, what: str) -> Effect:
@@ -358,9 +358,9 @@ def _coupling(rig: Rig, name: str, key: str, kind: str, *, parameter: EffectPara
     coupling = next(c for c in rig.couplings if c.name == name)
     plane = ("vertical" if math.isclose(math.cos(math.radians(coupling.misalignment_direction_deg)), 1.0)
              else f"at {coupling.misalignment_direction_deg:g}° from +Y")
-    return Effect(f"{kind}@{name}", kind, name, (parameter,), True,
-                  f"{what} of coupling {name} ({plane}, its misalignment_direction_deg), a prestrain present at "
-                  "rest and in every case.", change)
+    return Effect(name=f"{kind}@{name}", kind=kind, location=name, parameters=(parameter,), linear=True,
+                  description=f"{what} of coupling {name} ({plane}, its misalignment_direction_deg), a prestrain present at "
+                  "rest and in every case.", change=change)
 
 
 def _coupling_offset(rig: Rig, name: str) -> Effect:
@@ -405,10 +405,10 @@ def _mesh_force(rig: Rig) -> Effect | None:
     change = _proportional(rig, "mesh_force_reducer_input", "T1", _location(mesh.on), reacted)
     # ±100 N per N·m: the input gear's tangential force per N·m is 1/r = 100 N at r = 10 mm [A]; a
     # lateral mesh force cannot exceed it. 2 N per N·m is the reference imbalance 0.02 / r / cos 20°.
-    return Effect("mesh_force@reducer_input", "mesh_force", "reducer_input",
-                  (EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -100.0, 100.0, 2.0),), True,
-                  f"A vertical gear-mesh force proportional to T1 on {mesh.on.part} at x = {mesh.on.x_mm:g} mm "
-                  "(where the input gear meshes), reacted on the reducer.", change)
+    return Effect(name="mesh_force@reducer_input", kind="mesh_force", location="reducer_input",
+                  parameters=(EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -100.0, 100.0, 2.0),), linear=True,
+                  description=f"A vertical gear-mesh force proportional to T1 on {mesh.on.part} at x = {mesh.on.x_mm:g} mm "
+                  "(where the input gear meshes), reacted on the reducer.", change=change)
 
 
 def _torque_reaction(rig: Rig, part: str) -> Effect:
@@ -417,10 +417,10 @@ def _torque_reaction(rig: Rig, part: str) -> Effect:
     change = _proportional(rig, f"torque_reaction_{part}", "T2", {"part": part, "x_mm": 0.5 * (lo + hi)}, None)
     # ±20 N per N·m: a torque arm of ≥ 50 mm; 2 N per N·m is an arm of 0.5 m, or an asymmetric
     # pedestal turning a tenth of the torque into a vertical force at 50 mm.
-    return Effect(f"torque_reaction@{part}", "torque_reaction", part,
-                  (EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -20.0, 20.0, 2.0),), True,
-                  f"A vertical reaction proportional to T2 on the housing {part} (torque arm, asymmetric pedestal), "
-                  "carried to the ground by its mounts.", change)
+    return Effect(name=f"torque_reaction@{part}", kind="torque_reaction", location=part,
+                  parameters=(EffectParameter("force_per_torque_N_per_Nm", "N/(N·m)", -20.0, 20.0, 2.0),), linear=True,
+                  description=f"A vertical reaction proportional to T2 on the housing {part} (torque arm, asymmetric pedestal), "
+                  "carried to the ground by its mounts.", change=change)
 
 
 def _shear(rig: Rig) -> Effect:
@@ -431,9 +431,9 @@ def _shear(rig: Rig) -> Effect:
 
     # 0…1: the shear flexibility Φ of the Timoshenko beam blended in, 1 = full Timoshenko (a
     # continuous parameter instead of a switch, so it can be fitted).
-    return Effect("shear_deformation", "shear_deformation", None,
-                  (EffectParameter("shear_fraction", "-", 0.0, 1.0, 1.0),), False,
-                  "The beams' shear deformation (Timoshenko), blended in from the Euler–Bernoulli model.", change)
+    return Effect(name="shear_deformation", kind="shear_deformation", location=None,
+                  parameters=(EffectParameter("shear_fraction", "-", 0.0, 1.0, 1.0),), linear=False,
+                  description="The beams' shear deformation (Timoshenko), blended in from the Euler–Bernoulli model.", change=change)
 
 
 def _thermal_growth(rig: Rig, part: str) -> Effect:
@@ -444,10 +444,10 @@ def _thermal_growth(rig: Rig, part: str) -> Effect:
 
     # ±50 µm: a cast-iron housing (α ≈ 11e-6/K) with its axis ≈ 200 mm above the bed [A]
     # (rig_reference.md) grows 44 µm for 20 K; 10 µm is ≈ 5 K, or a shim.
-    return Effect(f"thermal_growth@{part}", "thermal_growth", part,
-                  (EffectParameter("lift_um", "µm", -50.0, 50.0, 10.0),), True,
-                  f"Every mount of {part} raised by the same height: thermal growth of the housing, or a shim.",
-                  change)
+    return Effect(name=f"thermal_growth@{part}", kind="thermal_growth", location=part,
+                  parameters=(EffectParameter("lift_um", "µm", -50.0, 50.0, 10.0),), linear=True,
+                  description=f"Every mount of {part} raised by the same height: thermal growth of the housing, or a shim.",
+                  change=change)
 
 
 def _adds_to(address: str) -> Callable:
@@ -464,10 +464,10 @@ def _mesh_position_error(rig: Rig, name: str) -> Effect:
 
     # ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; pitch and
     # runout errors of ISO grade 5–6 gears reach 5–10 µm. The force k_eff·Δε acts while torque flows.
-    return Effect(f"mesh_position_error@{name}", "mesh_position_error", name,
-                  (EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), True,
-                  f"A position error of the two load-sharing meshes of {name}: a lateral force k_eff·Δε that "
-                  "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change)
+    return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
+                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  description=f"A position error of the two load-sharing meshes of {name}: a lateral force k_eff·Δε that "
+                  "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change=change)
 
 
 def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
@@ -475,11 +475,11 @@ def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
 
     # ±10 µm, as for the typed-in load sharing: ISO grade 5–6 pitch and runout errors (base pitch
     # deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
-    return Effect(f"mesh_position_error@{name}", "mesh_position_error", name,
-                  (EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), True,
-                  f"The first planet mesh of gear mesh {name} engages this much later along its line of action "
+    return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
+                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  description=f"The first planet mesh of gear mesh {name} engages this much later along its line of action "
                   "(a position error): the load sharing of its planets, and so the net force on the driving gear, "
-                  "follow from the gear data.", change)
+                  "follow from the gear data.", change=change)
 
 
 def _housing_stiffness(rig: Rig, name: str) -> Effect:
@@ -487,10 +487,10 @@ def _housing_stiffness(rig: Rig, name: str) -> Effect:
 
     # 1/8 … 2: the condensed block is the solid as drawn, bolted perfectly to a rigid bed; bolted
     # joints, a softer bed and fillets left out make real housings 2–8× softer, seldom stiffer.
-    return Effect(f"housing_stiffness@{name}", "housing_stiffness", name,
-                  (EffectParameter("log2_stiffness_factor", "-", -3.0, 1.0, -1.0),), False,
-                  f"The condensed stiffness of housing {name} times 2^factor (bolted joints, bed, details not drawn).",
-                  change)
+    return Effect(name=f"housing_stiffness@{name}", kind="housing_stiffness", location=name,
+                  parameters=(EffectParameter("log2_stiffness_factor", "-", -3.0, 1.0, -1.0),), linear=False,
+                  description=f"The condensed stiffness of housing {name} times 2^factor (bolted joints, bed, details not drawn).",
+                  change=change)
 
 
 def _temperature_rise(rig: Rig, part: str) -> Effect:
@@ -498,10 +498,10 @@ def _temperature_rise(rig: Rig, part: str) -> Effect:
 
     # −10 … 40 °C: a running servo motor, brake or reducer runs 20–40 K above the room; a rig
     # aligned warm and measured cooler, −10 K.
-    return Effect(f"temperature_rise@{part}", "temperature_rise", part,
-                  (EffectParameter("temperature_rise_K", "°C", -10.0, 40.0, 10.0),), True,
-                  f"{part} (and its supports, unless given their own) this much warmer: it grows by α ΔT axially and "
-                  "radially, and its supports lift it by α ΔT times their height above the bed.", change)
+    return Effect(name=f"temperature_rise@{part}", kind="temperature_rise", location=part,
+                  parameters=(EffectParameter("temperature_rise_K", "°C", -10.0, 40.0, 10.0),), linear=True,
+                  description=f"{part} (and its supports, unless given their own) this much warmer: it grows by α ΔT axially and "
+                  "radially, and its supports lift it by α ΔT times their height above the bed.", change=change)
 
 
 def _thermal_candidates(rig: Rig) -> list[Effect]:

@@ -136,9 +136,9 @@ def _split(changes: dict[str, np.ndarray], observed) -> GroupSplit | None:
     spread, scenario, case, shaft, j, predicted = best
     order = np.argsort(predicted)
     cut = int(np.argmax(np.diff(predicted[order]))) + 1  # the widest gap between neighbouring predictions
-    return GroupSplit(scenario.label, case, shaft, float(engine.layout(1).stations_mm[shaft][j]), scenario.new_cases,
-                      scenario.other_datum, float(1e3 * np.ptp(predicted)), spread,
-                      tuple(names[k] for k in order[:cut]), tuple(names[k] for k in order[cut:]))
+    return GroupSplit(scenario=scenario.label, case=case, shaft=shaft, x_mm=float(engine.layout(1).stations_mm[shaft][j]), new_case=scenario.new_cases,
+                      other_datum=scenario.other_datum, spread_um=float(1e3 * np.ptp(predicted)), spread_in_sigma=spread,
+                      low=tuple(names[k] for k in order[:cut]), high=tuple(names[k] for k in order[cut:]))
 
 
 def ambiguity(selected, seen, after: np.ndarray) -> Ambiguity:

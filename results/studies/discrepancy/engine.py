@@ -330,4 +330,4 @@ def prepare_engine(rig, settings: SweepSettings) -> Engine:
         check_solution(f"unit load {k}", unit[:, i], 0.0, float(np.linalg.norm(reduced) / scale) if scale > 0 else 0.0)
     stations = {s: np.asarray(system.probes[s].stations_mm, float) for s in MEASURED_SHAFTS}
     lengths = {s: float(system.probes[s].length_mm) for s in MEASURED_SHAFTS}
-    return Engine(rig, settings, prepared, unit, operator, stations, lengths, linear)
+    return Engine(rig=rig, settings=settings, prepared=prepared, unit=unit, path_operator=operator, stations_mm=stations, length_mm=lengths, linear=linear)

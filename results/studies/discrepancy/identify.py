@@ -238,8 +238,8 @@ def forward_backward(problem: Problem, candidates: list[str], *, margin: float =
                 break
             selected, current = fit.names, fit
             pruned.append(name)
-        steps.append(Step(winner, float(gain), tuple(group), current, rejected, tuple(pruned),
-                          tuple((name, float(before - t.bic)) for name, t in ranking[:8]),
-                          {name: valid[name] for name in group},
-                          {name: t for name, t in trials.items() if t.rejected}))
+        steps.append(Step(added=winner, delta_bic=float(gain), group=tuple(group), fit=current, rejected=rejected, pruned=tuple(pruned),
+                          ranking=tuple((name, float(before - t.bic)) for name, t in ranking[:8]),
+                          group_fits={name: valid[name] for name in group},
+                          rejected_fits={name: t for name, t in trials.items() if t.rejected}))
     return current, steps

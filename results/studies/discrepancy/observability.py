@@ -149,8 +149,8 @@ def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) ->
             scaled = np.abs(block) / shaft_sigma[shaft]
             j = int(np.argmax(scaled))
             if best is None or scaled[j] > best.in_sigma:
-                best = Suggestion(scenario.label, case, shaft, float(layout.stations_mm[shaft][j]),
-                                  float(1e3 * block[j]), float(scaled[j]), scenario.new_cases, scenario.other_datum)
+                best = Suggestion(scenario=scenario.label, case=case, shaft=shaft, x_mm=float(layout.stations_mm[shaft][j]),
+                                  change_um=float(1e3 * block[j]), in_sigma=float(scaled[j]), new_case=scenario.new_cases, other_datum=scenario.other_datum)
                 where = (shaft, j)
     if best is None:
         return None
@@ -207,7 +207,7 @@ def observability(responses: dict, observed: Observed, alpha: float = DETECTION_
         else:
             reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ at "
                       f"most within its physical range, the test needs {threshold:.2g} σ)")
-        out[name] = Visibility(name, norm, largest, visible, suggestion, reason, detectable)
+        out[name] = Visibility(effect=name, norm_sigma=norm, largest_sigma=largest, visible=visible, suggestion=suggestion, reason=reason, detectable=detectable)
     return out
 
 

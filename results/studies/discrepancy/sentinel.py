@@ -159,8 +159,8 @@ def fit_sentinel(observed, exclude: tuple[tuple[str, float, float], ...] = ()) -
     part, x_mm, _ = sites[j]
     change = sum(c * columns[p][:, j] for p, c in zip(subset, coefficients))
     role = next(p.role for p in engine.rig.parts if p.name == part)
-    return SentinelFit(family, part, role, float(x_mm), tuple(subset), tuple(float(c) for c in coefficients), chi2, n,
-                       np.asarray(change))
+    return SentinelFit(family=family, part=part, role=role, x_mm=float(x_mm), parts_fitted=tuple(subset), coefficients=tuple(float(c) for c in coefficients), chi2=chi2, n=n,
+                       change=np.asarray(change))
 
 
 def sentinel_columns(fit: SentinelFit, observed) -> np.ndarray:

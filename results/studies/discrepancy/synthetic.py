@@ -30,8 +30,8 @@ def observation_layout(cases, stations_per_shaft: int, lengths_mm: dict[str, flo
                 for station in np.linspace(0.0, lengths_mm[s], stations_per_shaft):
                     case_index.append(i), shaft.append(s), x.append(float(station))
     n = len(case_index)
-    return MeasuredData(schema, tuple(cases), np.array(case_index), np.array(shaft), np.array(x), np.zeros(n), None,
-                        "synthetic")
+    return MeasuredData(schema=schema, cases=tuple(cases), case_index=np.array(case_index), shaft=np.array(shaft), x_mm=np.array(x), value_mm=np.zeros(n), sigma_mm=None,
+                        source="synthetic")
 
 
 def _relative_change(delta_obs: np.ndarray, signal_obs: np.ndarray, shaft: np.ndarray) -> float:
@@ -82,6 +82,6 @@ def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int
     noisy = values + rng.normal(size=values.size) * sigma
     if template.schema == "table":
         noisy = np.abs(noisy)
-    return MeasuredData(template.schema, template.cases, template.case_index, template.shaft, template.x_mm, noisy,
-                        sigma if with_sigma else None, f"synthetic (noise {100 * noise_fraction:g} %, seed {seed})")
+    return MeasuredData(schema=template.schema, cases=template.cases, case_index=template.case_index, shaft=template.shaft, x_mm=template.x_mm, value_mm=noisy,
+                        sigma_mm=sigma if with_sigma else None, source=f"synthetic (noise {100 * noise_fraction:g} %, seed {seed})")
 

@@ -140,7 +140,7 @@ def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | 
             failed[effect.name] = f"cannot be solved over its physical range: {error}"
     if progress is not None:
         progress(len(effects), len(effects))
-    return CandidateLibrary(rig, cases, base_paths, layout, responses, failed, engine)
+    return CandidateLibrary(rig=rig, cases=cases, base_paths=base_paths, layout=layout, responses=responses, failed=failed, engine=engine)
 
 
 @dataclass(frozen=True)
@@ -442,8 +442,8 @@ def _observe(rig, data: MeasuredData, settings: DiscrepancySettings, library: Ca
         check_stations(data, library.layout.length_mm)
         observe = observe_of(library.layout)
         library_base = library.base_paths
-    observed = Observed(data, sigma, library.base_paths, observe, held_out_mask(data, settings.hold_out_every),
-                        from_rest, library.engine)
+    observed = Observed(data=data, sigma=sigma, base_paths=library.base_paths, observe=observe, rows=held_out_mask(data, settings.hold_out_every),
+                        from_rest=from_rest, engine=library.engine)
     set_aside: dict[str, str] = dict(library.failed)
     seen = {}
     for name, response in library.responses.items():
@@ -624,8 +624,8 @@ def _discriminations(pairs, seen: Seen) -> list[Discrimination]:
 
 
 def _as_discrimination(pair, found: Suggestion) -> Discrimination:
-    return Discrimination(pair, found.case, found.shaft, found.x_mm, 1e-3 * found.change_um, found.in_sigma,
-                          found.new_case, found.other_datum)
+    return Discrimination(effects=pair, case=found.case, shaft=found.shaft, x_mm=found.x_mm, difference_mm=1e-3 * found.change_um, in_sigma=found.in_sigma,
+                          new_case=found.new_case, other_datum=found.other_datum)
 
 
 def _fits_as_well(named: Named, name: str, member: str, margin: float) -> bool:
