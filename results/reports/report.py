@@ -250,7 +250,7 @@ def _figure_rows(document: dict) -> list[tuple[str, str]]:
                              f"held-out values); improves: {'yes' if figures.get('improves') else 'no'}"))
     observability = document.get("observability")
     if isinstance(observability, dict):
-        visible = observability.get("visible") or []
+        visible = observability.get("detectable", observability.get("visible")) or []
         invisible = observability.get("invisible") or {}
         if isinstance(visible, list) and isinstance(invisible, dict):
             revealable = sum(1 for v in invisible.values() if isinstance(v, dict) and v.get("revealed_by"))
@@ -295,8 +295,9 @@ def _effects_html(document: dict) -> str:
                              "; ".join(_parameter_text(k, v) for k, v in (s.get("parameters") or {}).items()),
                              ", ".join(str(g) for g in (s.get("group") or []) if g != s.get("effect")))
                             for s in selected if isinstance(s, dict))
-        title = "Effects added to the model" if verdict == "explained" else \
-            "Candidate effects (they reduce the gap but do not explain it; not a fix)"
+        title = {"explained": "Effects added to the model",
+                 "ambiguous": "Candidate effects (each one of several look-alikes that close the gap; not a fix)"}.get(
+            verdict, "Candidate effects (they reduce the gap but do not explain it; not a fix)")
         return _table_html(tables.Table(title, ("effect", "what it means", "parameters",
                                                "equally well on these data"), effect_rows))
     return "<p>No effect was added to the model.</p>"
