@@ -32,10 +32,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.fem import bearing_life
+from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
+from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 from rvcoax.results.connections import ConnectionStates, SpringMotion
 
-__all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
-           "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+__all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
+           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "case_name", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
            "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
@@ -155,6 +158,51 @@ class BearingQuantities:
 
 
 @dataclass(frozen=True)
+class BearingLifeQuantities:
+    """Life, static safety and minimum-load status of a bearing in one load case (:mod:`rvcoax.fem.bearing_life`).
+
+    ``case``: the load case's name in the rig file, else its torques. ``L10_*``: ISO 281 basic rating life from
+    the equivalent load ``equivalent_load_N``; ``L10r_*``: ISO/TS 16281 reference life from the element loads
+    (bearings from internal geometry only); ``a_iso`` and ``Lnm_h``: with the rig keys viscosity_ratio and
+    contamination_factor. Lives in million revolutions (``_Mrev``) and hours (``_h``, at ``speed_rpm``; None
+    without a speed). ``static_safety``: s0; ``minimum_load_N``: the maker's rule (0.01 C ball, 0.02 C roller).
+    """
+
+    name: str
+    case: str
+    speed_rpm: float | None
+    rating_source: str
+    dynamic_load_rating_N: float
+    equivalent_load_N: float
+    L10_Mrev: float
+    L10_h: float | None
+    L10r_Mrev: float | None
+    L10r_h: float | None
+    a_iso: float | None
+    Lnm_h: float | None
+    static_safety: float
+    minimum_load_N: float
+    below_minimum_load: bool
+
+    @property
+    def minimum_load_status(self) -> str:
+        return "BELOW minimum load (skidding risk)" if self.below_minimum_load else "above minimum load"
+
+
+@dataclass(frozen=True)
+class DutyCycleLife:
+    """A bearing's life over the rig file's duty cycle (Palmgren–Miner over its cases)."""
+
+    name: str
+    shares: str  # "time" or "revolution"
+    L10_h: float | None
+    L10_Mrev: float | None
+    Lnm_h: float | None
+    min_static_safety: float
+    cases_below_minimum_load: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class Reaction:
     """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
     the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
@@ -182,6 +230,8 @@ class CaseEngineering:
     reactions: tuple[Reaction, ...]
     residual_force_N: float
     residual_moment_Nm: float
+    lives: tuple[BearingLifeQuantities, ...] = ()
+    reducers: tuple[ReducerCheck, ...] = ()
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -203,6 +253,23 @@ class CaseEngineering:
             row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
+        for life in self.lives:
+            row[f"bearing_{life.name}_equivalent_load_N"] = life.equivalent_load_N
+            row[f"bearing_{life.name}_L10_Mrev"] = life.L10_Mrev
+            if life.L10_h is not None:
+                row[f"bearing_{life.name}_L10_h"] = life.L10_h
+            if life.L10r_Mrev is not None:
+                row[f"bearing_{life.name}_L10r_Mrev"] = life.L10r_Mrev
+            if life.Lnm_h is not None:
+                row[f"bearing_{life.name}_Lnm_h"] = life.Lnm_h
+            row[f"bearing_{life.name}_static_safety"] = life.static_safety
+            row[f"bearing_{life.name}_below_minimum_load"] = life.below_minimum_load
+        for r in self.reducers:
+            row[f"reducer_{r.name}_torque_rated_percent"] = r.torque_rated_percent
+            row[f"reducer_{r.name}_moment_Nm"] = r.moment_Nm
+            row[f"reducer_{r.name}_moment_use_percent"] = r.moment_use_percent
+            row[f"reducer_{r.name}_axial_use_percent"] = r.axial_use_percent
+            row[f"reducer_{r.name}_verdict"] = r.verdict
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
@@ -222,6 +289,10 @@ class CaseEngineering:
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
+            "bearing_lives": [{**{k: getattr(b, k) for k in BearingLifeQuantities.__dataclass_fields__},
+                               "minimum_load_status": b.minimum_load_status} for b in self.lives],
+            "reducers": [{**{k: getattr(r, k) for k in ReducerCheck.__dataclass_fields__}, "verdict": r.verdict}
+                         for r in self.reducers],
         }
 
 
@@ -261,8 +332,100 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
     return tuple(out)
 
 
+def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
+    """A load case as the tables name it: its ``name`` in the rig file, else its torques."""
+    entry = rig_case_of(rig, input_torque_Nm, output_torque_Nm)
+    if entry is not None and entry.name is not None:
+        return entry.name
+    return f"T1 = {input_torque_Nm:g}, T2 = {output_torque_Nm:g} N·m"
+
+
+def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
+    speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
+    name = case_name(rig, input_torque_Nm, output_torque_Nm)
+    out = []
+    for b in rig.bearings:
+        ratings = load_ratings(b)
+        if ratings is None or b.model != "linear":
+            continue  # bearings from geometry: their life comes with their element loads (nonlinear sweep)
+        f = total.force_on_b[0, total.index("bearing", b.name)]
+        life = bearing_life.life_from_forces(math.hypot(f[1], f[2]), float(f[0]), ratings.dynamic_N, ratings.static_N,
+                                             ratings.f0, ratings.elements, speeds[b.name], b.viscosity_ratio,
+                                             b.contamination_factor)
+        out.append(life_quantities(b.name, name, ratings, life))
+    return tuple(out)
+
+
+def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQuantities:
+    """A :class:`BearingLifeQuantities` row from a :class:`rvcoax.fem.bearing_life.LifeResult`."""
+    return BearingLifeQuantities(
+        bearing_name, case, life.speed_rpm, ratings.source, ratings.dynamic_N, life.equivalent_load_N,
+        life.basic_life_Mrev, life.basic_life_h, life.reference_life_Mrev, life.reference_life_h, life.a_iso,
+        life.modified_life_h, life.static_safety, life.minimum_load_N, life.below_minimum_load)
+
+
+def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
+    out = []
+    for r in rig.reducers:
+        f = total.force_on_b[0, total.index("joint", r.name)]
+        torque = output_torque_Nm if r.torque == "T2" else input_torque_Nm
+        out.append(reducer_check(r, torque, f[:3], f[3:]))
+    return tuple(out)
+
+
+def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
+    """:func:`duty_cycle_lives` from ``sweep.json`` case records (their ``bearing_lives`` entries)."""
+    fields = BearingLifeQuantities.__dataclass_fields__
+    cases = []
+    for record in records:
+        lives = record["entry"].get("engineering", {}).get("bearing_lives", [])
+        cases.append(tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields}) for life in lives))
+    return _duty_cycle(rig, cases)
+
+
+def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:
+    """Per bearing with a life, its life over the rig file's duty cycle (``time_share`` or ``revolution_share``
+    of its ``[[load_cases]]``): Palmgren–Miner over the cases (:func:`rvcoax.fem.bearing_life.miner_life`).
+    Empty without a duty cycle or when the sweep's cases are not the rig file's."""
+    return _duty_cycle(rig, [case.lives for case in cases])
+
+
+def _duty_cycle(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]) -> list[DutyCycleLife]:
+    kind = ("time" if any(c.time_share is not None for c in rig.load_cases)
+            else "revolution" if any(c.revolution_share is not None for c in rig.load_cases) else None)
+    if kind is None or not case_lives:
+        return []
+    names = [case_name(rig, c.T1_input_Nm, c.T2_output_Nm) for c in rig.load_cases]
+    shares = {n: getattr(c, f"{kind}_share") for n, c in zip(names, rig.load_cases)}
+    by_bearing: dict[str, list[BearingLifeQuantities]] = {}
+    for lives in case_lives:
+        for life in lives:
+            by_bearing.setdefault(life.name, []).append(life)
+    out = []
+    for name, lives in by_bearing.items():
+        if sorted(life.case for life in lives) != sorted(names):
+            continue  # the sweep did not solve every case of the duty cycle
+        weights = [shares[life.case] for life in lives]
+        hours, revs, modified = None, None, None
+        if kind == "time":
+            # a case at standstill (no speed) turns no revolutions: it adds no damage
+            moving = [(w, life) for w, life in zip(weights, lives) if life.L10_h is not None]
+            if moving:
+                total_share = sum(w for w, _ in moving)
+                hours = bearing_life.miner_life([life.L10_h for _, life in moving],
+                                                [w / total_share for w, _ in moving]) / total_share
+                if all(life.Lnm_h is not None for _, life in moving):
+                    modified = bearing_life.miner_life([life.Lnm_h for _, life in moving],
+                                                       [w / total_share for w, _ in moving]) / total_share
+        else:
+            revs = bearing_life.miner_life([life.L10_Mrev for life in lives], weights)
+        out.append(DutyCycleLife(name, kind, hours, revs, modified, min(life.static_safety for life in lives),
+                                 tuple(life.case for life in lives if life.below_minimum_load)))
+    return out
+
+
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+                     applied: np.ndarray, reactions: np.ndarray, springs=None, case=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters
@@ -279,6 +442,8 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
         :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+    case : LoadCase, optional
+        The case's torques: with them, the bearing lives and the reducer checks.
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
@@ -293,7 +458,9 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
         tuple(_bearing(b, total, change) for b in rig.bearings),
         _reactions(rig, total, change),
-        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])))
+        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])),
+        () if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        () if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm))
 
 
 def shaft_quantities(path) -> dict:

@@ -362,7 +362,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             check.relative_error,
             residual,
-            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs)
+            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs,
+                             case)
             if engineering else None,
         ))
         if on_case is not None:
