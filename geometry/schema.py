@@ -201,6 +201,30 @@ class Bearing(Strict):
     outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = Field(
         None, description="model = \"ball\": outer groove radius over ball diameter, f_o = r_o / D_w.")
 
+    shaft_fit: str | None = Field(None, description=(
+        "model = \"ball\": ISO 286 tolerance class of the shaft seat (g5 … p6, js5, js6; e.g. k5, j6, m6): with "
+        "housing_fit, the mounted clearance is the class's unmounted clearance less the rings' expansion and "
+        "contraction by the interference (thick rings; docs/model.md)."))
+    housing_fit: str | None = Field(None, description=(
+        "model = \"ball\": ISO 286 tolerance class of the housing bore (G6 … P7, JS6, JS7; e.g. H7, J7, K7)."))
+    fit_clearance: Literal["mean", "min", "max"] = Field("mean", description=(
+        "model = \"ball\" with fits: solve with the mean mounted clearance (middle of the class, mean "
+        "interference), or the tightest (min) or loosest (max) combination; the range is reported."))
+
+    @field_validator("shaft_fit", "housing_fit")
+    @classmethod
+    def _known_fit(cls, value, info):
+        if value is None:
+            return value
+        from rvcoax.geometry.fits import tolerance_zone_um
+
+        shaft = info.field_name == "shaft_fit"
+        if value[0].islower() != shaft:
+            raise ValueError(f"{value!r}: a {'shaft' if shaft else 'housing'} class is written in "
+                             f"{'lower' if shaft else 'upper'} case (ISO 286: k5 for a shaft, K7 for a housing bore)")
+        tolerance_zone_um(value, 30.0)  # ValueError naming the known classes
+        return value
+
     # ---- life, static safety, minimum load (issue 25 item 3; rvcoax.fem.bearing_life) ---------------
     dynamic_load_rating_kN: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
         None, description="Basic dynamic load rating C (catalogue); model = \"ball\": from the geometry (ISO 281) "
@@ -236,6 +260,11 @@ class Bearing(Strict):
         if self.radial_clearance_um > 0:
             raise ValueError("radial_clearance_um is the gap of the linear model; a ball bearing takes clearance_um "
                              "(the radial internal clearance) or clearance_class")
+        if (self.shaft_fit or self.housing_fit) and self.clearance_um is not None:
+            raise ValueError("clearance_um is the clearance as mounted; with shaft_fit/housing_fit give the unmounted "
+                             "clearance_class instead (the fits take the clearance from it)")
+        if (self.shaft_fit or self.housing_fit) and self.designation is None:
+            raise ValueError("shaft_fit/housing_fit need a designation (the ring's bore and outside diameter)")
         ball_model.geometry_of(self)  # raises ValueError naming the key
         # the linear reference of the condensed Newton solve, where not given; the catalogue's width
         for key, value in ball_model.reference_stiffness(self).items():
