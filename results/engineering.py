@@ -27,6 +27,7 @@ Everything is in the units its name says: µm, µrad, mm/100 mm, N, N·m, arcmin
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -38,7 +39,7 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 from rvcoax.results.connections import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "case_name", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "lives_of_records", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
            "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
@@ -364,6 +365,29 @@ def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQ
         life.modified_life_h, life.static_safety, life.minimum_load_N, life.below_minimum_load)
 
 
+def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
+                       output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
+    """The lives of the ball bearings from internal geometry at a nonlinear solution's condensed motion
+    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): L10 from the forces they carry, L10r
+    from their ball loads (ISO/TS 16281), s0 from the largest ball-raceway pressure (ISO 76: 4200 MPa)."""
+    speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
+    name = case_name(rig, input_torque_Nm, output_torque_Nm)
+    entries = {b.name: b for b in rig.bearings}
+    out = []
+    for ball, (force, state) in zip(nonlinear.balls, nonlinear.ball_states(motion)):
+        bearing = entries[ball.name]
+        ratings = load_ratings(bearing)
+        inner, outer = bearing_life.ball_contact_pressures_mpa(ball.geometry, state.load_n)
+        pressure = float(max(inner.max(initial=0.0), outer.max(initial=0.0)))
+        life = bearing_life.life_from_forces(
+            math.hypot(force[1], force[2]), float(force[0]), ratings.dynamic_N, ratings.static_N, ratings.f0, "ball",
+            speeds[ball.name], bearing.viscosity_ratio, bearing.contamination_factor,
+            reference_life_Mrev=bearing_life.ball_reference_life(ball.geometry, state),
+            static_safety_value=bearing_life.static_safety_from_pressure(pressure))
+        out.append(life_quantities(ball.name, name, ratings, life))
+    return tuple(out)
+
+
 def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
     out = []
     for r in rig.reducers:
@@ -373,14 +397,40 @@ def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torqu
     return tuple(out)
 
 
-def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
-    """:func:`duty_cycle_lives` from ``sweep.json`` case records (their ``bearing_lives`` entries)."""
+def lives_of_records(records: list[dict], model: dict | None = None) -> list[tuple[BearingLifeQuantities, ...]]:
+    """Per case of ``sweep.json``'s records, every bearing's :class:`BearingLifeQuantities`: the typed-in bearings'
+    from the case's ``bearing_lives``, the ball bearings' from the ``model`` section's operating points (a nonlinear
+    sweep), matched by the case's torques."""
     fields = BearingLifeQuantities.__dataclass_fields__
-    cases = []
+    points = (model or {}).get("ball_bearing_operating_points", {})
+    out = []
     for record in records:
-        lives = record["entry"].get("engineering", {}).get("bearing_lives", [])
-        cases.append(tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields}) for life in lives))
-    return _duty_cycle(rig, cases)
+        entry = record["entry"]
+        lives = [BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
+                 for life in entry.get("engineering", {}).get("bearing_lives", [])]
+        label = f"T1={entry['T1_input_Nm']:g}Nm_T2={entry['T2_output_Nm']:g}Nm"
+        for name, cases in points.items():
+            point = next((p for p in cases if p.get("case") == label and "L10_Mrev" in p), None)
+            if point is not None:
+                lives.append(BearingLifeQuantities(**{**{k: v for k, v in point.items() if k in fields},
+                                                      "name": name, "case": point["case_name"]}))
+        out.append(tuple(lives))
+    return out
+
+
+def duty_cycle_of_records(rig, records: list[dict], model: dict | None = None) -> list[DutyCycleLife]:
+    """:func:`duty_cycle_lives` from ``sweep.json`` case records (:func:`lives_of_records`)."""
+    return _duty_cycle(rig, lives_of_records(records, model))
+
+
+def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
+    """Per case of a solved sweep, every bearing's life: the typed-in bearings' from the engineering tables, the
+    ball bearings' from the nonlinear solve's operating points."""
+    records = [{"entry": {"T1_input_Nm": c.case.input_torque_Nm, "T2_output_Nm": c.case.output_torque_Nm,
+                          "engineering": {"bearing_lives": [dataclasses.asdict(life) for life in
+                                                            (c.engineering.lives if c.engineering else ())]}}}
+               for c in sweep.cases]
+    return lives_of_records(records, sweep.solver_report)
 
 
 def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:

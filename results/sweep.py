@@ -16,6 +16,7 @@ are then solved on their own by Newton's method on the condensed bearing motions
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from dataclasses import dataclass, field
 
@@ -39,7 +40,7 @@ from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.connections import SpringMotion
-from rvcoax.results.engineering import CaseEngineering, case_engineering
+from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
@@ -438,8 +439,11 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                                contact_torques_Nm=contact)
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
+        lives = {life.name: life for life in ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm,
+                                                                 case.output_torque_Nm)}
         for name, point in bearings.operating_points(solution.motion).items():
-            operating[name].append({"case": case.label, **point})
+            life = {k: v for k, v in dataclasses.asdict(lives[name]).items() if k not in ("name", "case")}
+            operating[name].append({"case": case.label, "case_name": lives[name].case, **point, **life})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not

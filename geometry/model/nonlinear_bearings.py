@@ -113,6 +113,19 @@ class NonlinearBearings:
             out[block, block] = dead_band_regularisation(self.ball_reference[i])
         return out
 
+    def ball_states(self, w: np.ndarray) -> list[tuple[np.ndarray, object]]:
+        """Per ball bearing at the condensed motion ``w``: the force (6,) it carries and its ball loads
+        (:class:`rvcoax.fem.ball_bearing.BallLoads`, preload included)."""
+        out = []
+        w = np.asarray(w, dtype=float).ravel()
+        for i, ball in enumerate(self.balls):
+            motion = w[self._ball_slice(i)]
+            force, _ = bearing_force(ball.geometry, motion, ball.preload_offset_m, constant=ball.constant)
+            q = motion[[0, 1, 2, 4, 5]].copy()
+            q[0] += ball.preload_offset_m
+            out.append((force, ball_loads(ball.geometry, q, constant=ball.constant)))
+        return out
+
     def operating_points(self, w: np.ndarray) -> dict[str, dict]:
         """Per ball bearing, at the condensed motion ``w``: force, tangent stiffness, ball loads (user units).
 
@@ -139,6 +152,7 @@ class NonlinearBearings:
                 "tilt_stiffness_y_Nm_per_rad": float(stiffness[4, 4]),
                 "loaded_balls": state.loaded_balls,
                 "max_ball_load_N": float(state.load_n.max()),
+                "operating_clearance_um": float(ball.geometry.clearance_m * 1e6),
             }
         return out
 

@@ -12,7 +12,7 @@ from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
-from rvcoax.results.engineering import case_name, duty_cycle_of_records
+from rvcoax.results.engineering import case_name, duty_cycle_of_records, lives_of_records
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
 
@@ -92,11 +92,12 @@ def _life(value) -> str:
     return "> 1e9" if value > 1e9 else f"{value:.3g}"
 
 
-def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
+def lives_and_reducer_tables(rig, records: list[dict], duty: list, model: dict | None = None) -> tuple[list[Table], list[str]]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
     the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
     tables, warnings = [], []
-    lives = [life for r in records for life in r["entry"].get("engineering", {}).get("bearing_lives", [])]
+    lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
+             for case in lives_of_records(records, model) for life in case]
     if lives:
         table = Table(title="Bearing life (ISO 281 L10; L10r ISO/TS 16281 where the elements are modelled), static "
                             "safety s0 and minimum load, per case", title_justify="left")
@@ -148,8 +149,8 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
     return tables, warnings
 
 
-def _print_lives(rig, records: list[dict], duty: list) -> None:
-    tables, warnings = lives_and_reducer_tables(rig, records, duty)
+def _print_lives(rig, records: list[dict], duty: list, model: dict) -> None:
+    tables, warnings = lives_and_reducer_tables(rig, records, duty, model)
     for table in tables:
         support.console.print(table)
     for line in warnings:
@@ -249,8 +250,8 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
-    duty = duty_cycle_of_records(rig, records)
-    _print_lives(rig, records, duty)
+    duty = duty_cycle_of_records(rig, records, model_section)
+    _print_lives(rig, records, duty, model_section)
     if model_section.get("nonlinear"):
         nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"
