@@ -15,7 +15,8 @@ __all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "REFERENCE_VARIANTS", "RigFileError
            "reference_rig_text"]
 
 REFERENCE_RIG = "reference_rig.toml"
-REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml"}
+REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml",
+                      "catalogue_reducer": "reference_rig_catalogue_reducer.toml"}
 """Variants of the reference rig: the input and output shaft bearings as ball bearings from geometry."""
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 

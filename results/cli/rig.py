@@ -109,7 +109,9 @@ def rig_show(rig_file: RigOption = None) -> None:
 def rig_reference(
     variant: Annotated[str | None, typer.Option(
         help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
-             "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly)")] = None,
+             "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly); "
+             "catalogue_reducer (the RV-20E's main bearings and output from the reducer catalogue instead of the "
+             "assumed joint)")] = None,
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text

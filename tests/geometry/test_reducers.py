@@ -124,3 +124,21 @@ def test_duty_cycle_shares_must_sum_to_one():
     text = example_rig_text().replace("time_share = 0.05                   # [A]", "")
     with pytest.raises(RigFileError, match=r"load_cases\[4\]\.time_share: missing"):
         parse_rig_text(text)
+
+
+def test_reference_variant_with_the_catalogue_rv20e():
+    """docs/model.md's table: the RV-20E from the catalogue instead of the typed-in joint; the rest unchanged."""
+    from rvcoax.geometry.rigfile import load_rig, reference_rig_text
+    from rvcoax.loadcases.cases import paper_cases
+
+    reference, variant = load_rig(), parse_rig_text(reference_rig_text("catalogue_reducer"))
+    assert variant.model_dump(exclude={"rig", "joints", "reducers"}) == reference.model_dump(
+        exclude={"rig", "joints", "reducers"})
+    joint = next(j for j in variant.joints if j.name == "reducer_output_flange")
+    assert joint.rotational_stiffness_Nm_per_rad[1] == pytest.approx(372 * ARCMIN_PER_RAD)  # 1.28e6 N·m/rad
+    assert joint.translational_stiffness_N_per_um[1] == pytest.approx(2046, rel=1e-3)
+    cases = tuple(c for c in paper_cases() if c.output_torque_Nm == 200.0)
+    y_reference = run_sweep(reference, cases).cases[0].paths["output"].y_max_mm * 1e3
+    y_variant = run_sweep(variant, cases).cases[0].paths["output"].y_max_mm * 1e3
+    assert y_reference == pytest.approx(0.177, abs=0.002)
+    assert y_variant == pytest.approx(0.043, abs=0.002)  # the stiffer main bearings hold the flange
