@@ -30,7 +30,8 @@ Life modification factor a_ISO (ISO 281:2007, 9.3, radial ball bearings)
     a_ISO ≤ 50; fatigue load limit C_u ≈ C0/22 for ball bearings of D_pw ≤ 100 mm (ISO 281 annex B).
 Minimum load (maker's rule)
     A rolling bearing needs a minimum load to roll rather than skid: 0.01 C for ball bearings, 0.02 C for
-    roller bearings (SKF rolling bearings catalogue, "Requisite minimum load", rule of thumb).
+    roller bearings (SKF rolling bearings catalogue, "Requisite minimum load", rule of thumb); checked on P, or,
+    with element loads, on the larger of P and C L10r^(−1/p) (a preload loads the elements).
 Duty cycle (Palmgren–Miner)
     With time shares t_k of the load cases at speeds n_k: L_h = 1 / Σ (t_k / L_h,k); with revolution shares
     r_k: L = 1 / Σ (r_k / L_k) (revolutions).
@@ -315,7 +316,8 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
 
     ``reference_life_Mrev`` (L10r from the element loads) and ``static_safety_value`` (s0 from the largest
     contact pressure) replace nothing: they are reported beside L10 and, where given, s0 is taken from the
-    pressure rather than from C0/P0. a_ISO (ball bearings) needs κ, e_C and C0 (C_u = C0/22).
+    pressure rather than from C0/P0. a_ISO (ball bearings) needs κ, e_C and C0 (C_u = C0/22). The minimum load is
+    checked on the larger of P and the load that gives L10r by ISO 281 (so a preload the elements carry counts).
     """
     if axial_N != 0.0 and (static_rating_N is None or f0 is None) and elements == "ball":
         load = abs(radial_N) + float(XY_TABLE[2][0]) * abs(axial_N)  # no C0: X = 1, Y = 2.30 bound both branches
@@ -336,6 +338,12 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
     else:
         safety = math.nan
     minimum = minimum_load(dynamic_rating_N, elements)
+    # the rolling elements' own load: with a reference life, the load that gives it by ISO 281 (C L10r^(−1/p));
+    # a preload loads the elements though the bearing passes little force on
+    carried = load
+    if reference_life_Mrev is not None and reference_life_Mrev > 0.0:
+        carried = max(load, 0.0 if math.isinf(reference_life_Mrev)
+                      else dynamic_rating_N * reference_life_Mrev ** (-1.0 / life_exponent(elements)))
     return LifeResult(load, basic, reference_life_Mrev, factor, modified, speed_rpm, hours(basic, speed_rpm),
                       None if reference_life_Mrev is None else hours(reference_life_Mrev, speed_rpm),
-                      None if modified is None else hours(modified, speed_rpm), safety, minimum, load < minimum)
+                      None if modified is None else hours(modified, speed_rpm), safety, minimum, carried < minimum)

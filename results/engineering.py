@@ -27,7 +27,6 @@ Everything is in the units its name says: µm, µrad, mm/100 mm, N, N·m, arcmin
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -39,7 +38,7 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 from rvcoax.results.connections import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "lives_of_records", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "life_columns", "life_entries", "lives_of_records", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
            "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
@@ -190,6 +189,31 @@ class BearingLifeQuantities:
         return "BELOW minimum load (skidding risk)" if self.below_minimum_load else "above minimum load"
 
 
+def life_columns(lives) -> dict:
+    """The ``sweep.csv`` columns of a case's bearing lives."""
+    row = {}
+    for life in lives:
+        row[f"bearing_{life.name}_equivalent_load_N"] = life.equivalent_load_N
+        row[f"bearing_{life.name}_L10_Mrev"] = life.L10_Mrev
+        if life.L10_h is not None:
+            row[f"bearing_{life.name}_L10_h"] = life.L10_h
+        if life.L10r_Mrev is not None:
+            row[f"bearing_{life.name}_L10r_Mrev"] = life.L10r_Mrev
+        if life.L10r_h is not None:
+            row[f"bearing_{life.name}_L10r_h"] = life.L10r_h
+        if life.Lnm_h is not None:
+            row[f"bearing_{life.name}_Lnm_h"] = life.Lnm_h
+        row[f"bearing_{life.name}_static_safety"] = life.static_safety
+        row[f"bearing_{life.name}_below_minimum_load"] = life.below_minimum_load
+    return row
+
+
+def life_entries(lives) -> list[dict]:
+    """The ``sweep.json`` entries of a case's bearing lives."""
+    return [{**{k: getattr(b, k) for k in BearingLifeQuantities.__dataclass_fields__},
+             "minimum_load_status": b.minimum_load_status} for b in lives]
+
+
 @dataclass(frozen=True)
 class DutyCycleLife:
     """A bearing's life over the rig file's duty cycle (Palmgren–Miner over its cases)."""
@@ -254,17 +278,7 @@ class CaseEngineering:
             row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
-        for life in self.lives:
-            row[f"bearing_{life.name}_equivalent_load_N"] = life.equivalent_load_N
-            row[f"bearing_{life.name}_L10_Mrev"] = life.L10_Mrev
-            if life.L10_h is not None:
-                row[f"bearing_{life.name}_L10_h"] = life.L10_h
-            if life.L10r_Mrev is not None:
-                row[f"bearing_{life.name}_L10r_Mrev"] = life.L10r_Mrev
-            if life.Lnm_h is not None:
-                row[f"bearing_{life.name}_Lnm_h"] = life.Lnm_h
-            row[f"bearing_{life.name}_static_safety"] = life.static_safety
-            row[f"bearing_{life.name}_below_minimum_load"] = life.below_minimum_load
+        row.update(life_columns(self.lives))
         for r in self.reducers:
             row[f"reducer_{r.name}_torque_rated_percent"] = r.torque_rated_percent
             row[f"reducer_{r.name}_moment_Nm"] = r.moment_Nm
@@ -290,8 +304,7 @@ class CaseEngineering:
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
-            "bearing_lives": [{**{k: getattr(b, k) for k in BearingLifeQuantities.__dataclass_fields__},
-                               "minimum_load_status": b.minimum_load_status} for b in self.lives],
+            "bearing_lives": life_entries(self.lives),
             "reducers": [{**{k: getattr(r, k) for k in ReducerCheck.__dataclass_fields__}, "verdict": r.verdict}
                          for r in self.reducers],
         }
@@ -397,40 +410,24 @@ def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torqu
     return tuple(out)
 
 
-def lives_of_records(records: list[dict], model: dict | None = None) -> list[tuple[BearingLifeQuantities, ...]]:
-    """Per case of ``sweep.json``'s records, every bearing's :class:`BearingLifeQuantities`: the typed-in bearings'
-    from the case's ``bearing_lives``, the ball bearings' from the ``model`` section's operating points (a nonlinear
-    sweep), matched by the case's torques."""
+def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, ...]]:
+    """Per case of ``sweep.json``'s records, every bearing's :class:`BearingLifeQuantities` (its entry's
+    ``engineering.bearing_lives``: typed-in bearings from their forces, ball bearings from their ball loads)."""
     fields = BearingLifeQuantities.__dataclass_fields__
-    points = (model or {}).get("ball_bearing_operating_points", {})
-    out = []
-    for record in records:
-        entry = record["entry"]
-        lives = [BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
-                 for life in entry.get("engineering", {}).get("bearing_lives", [])]
-        label = f"T1={entry['T1_input_Nm']:g}Nm_T2={entry['T2_output_Nm']:g}Nm"
-        for name, cases in points.items():
-            point = next((p for p in cases if p.get("case") == label and "L10_Mrev" in p), None)
-            if point is not None:
-                lives.append(BearingLifeQuantities(**{**{k: v for k, v in point.items() if k in fields},
-                                                      "name": name, "case": point["case_name"]}))
-        out.append(tuple(lives))
-    return out
+    return [tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
+                  for life in record["entry"].get("engineering", {}).get("bearing_lives", [])) for record in records]
 
 
-def duty_cycle_of_records(rig, records: list[dict], model: dict | None = None) -> list[DutyCycleLife]:
+def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
     """:func:`duty_cycle_lives` from ``sweep.json`` case records (:func:`lives_of_records`)."""
-    return _duty_cycle(rig, lives_of_records(records, model))
+    return _duty_cycle(rig, lives_of_records(records))
 
 
 def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
     """Per case of a solved sweep, every bearing's life: the typed-in bearings' from the engineering tables, the
-    ball bearings' from the nonlinear solve's operating points."""
-    records = [{"entry": {"T1_input_Nm": c.case.input_torque_Nm, "T2_output_Nm": c.case.output_torque_Nm,
-                          "engineering": {"bearing_lives": [dataclasses.asdict(life) for life in
-                                                            (c.engineering.lives if c.engineering else ())]}}}
-               for c in sweep.cases]
-    return lives_of_records(records, sweep.solver_report)
+    ball bearings' from their ball loads (nonlinear sweeps)."""
+    return [(case.engineering.lives if case.engineering is not None else ()) + tuple(case.ball_lives)
+            for case in sweep.cases]
 
 
 def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:

@@ -16,7 +16,6 @@ are then solved on their own by Newton's method on the condensed bearing motions
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 from dataclasses import dataclass, field
 
@@ -92,6 +91,7 @@ class CaseResult:
     equilibrium_error: float
     residual: float
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
+    ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
 
 
 @dataclass(frozen=True, eq=False)
@@ -439,17 +439,15 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                                contact_torques_Nm=contact)
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
-        lives = {life.name: life for life in ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm,
-                                                                 case.output_torque_Nm)}
+        lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
         for name, point in bearings.operating_points(solution.motion).items():
-            life = {k: v for k, v in dataclasses.asdict(lives[name]).items() if k not in ("name", "case")}
-            operating[name].append({"case": case.label, "case_name": lives[name].case, **point, **life})
+            operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not
         results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
-                                  residual))
+                                  residual, ball_lives=lives))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

@@ -89,24 +89,27 @@ def _engineering_tables(entry: dict) -> list[Table]:
 def _life(value) -> str:
     if value is None:
         return "–"
-    return "> 1e9" if value > 1e9 else f"{value:.3g}"
+    return "> 1e9" if not value <= 1e9 else f"{value:.3g}"
 
 
-def lives_and_reducer_tables(rig, records: list[dict], duty: list, model: dict | None = None) -> tuple[list[Table], list[str]]:
+def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
     the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
     tables, warnings = [], []
     lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
-             for case in lives_of_records(records, model) for life in case]
+             for case in lives_of_records(records) for life in case]
     if lives:
         table = Table(title="Bearing life (ISO 281 L10; L10r ISO/TS 16281 where the elements are modelled), static "
                             "safety s0 and minimum load, per case", title_justify="left")
-        for column in ("case", "bearing", "rpm", "P N", "L10 h", "L10r h", "Lnm h", "s0", "min load N", "status"):
+        for column in ("case", "bearing", "rpm", "P N", "L10 Mrev", "L10 h", "L10r h|Mrev", "Lnm h", "s0", "min load N",
+                       "status"):
             table.add_column(column, justify="left" if column in ("case", "bearing", "status") else "right")
         for life in lives[:TABLE_ROWS]:
             table.add_row(escape(life["case"]), escape(life["name"]), "" if life["speed_rpm"] is None
-                          else f"{life['speed_rpm']:g}", f"{life['equivalent_load_N']:.3g}", _life(life["L10_h"]),
-                          _life(life["L10r_h"]), _life(life["Lnm_h"]), _life(life["static_safety"]),
+                          else f"{life['speed_rpm']:g}", f"{life['equivalent_load_N']:.3g}", _life(life["L10_Mrev"]),
+                          _life(life["L10_h"]),
+                          _life(life["L10r_h"] if life["speed_rpm"] else life["L10r_Mrev"]), _life(life["Lnm_h"]),
+                          _life(life["static_safety"]),
                           f"{life['minimum_load_N']:.3g}", life["minimum_load_status"])
         tables.append(table)
         below: dict[str, list[str]] = {}
@@ -149,8 +152,8 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list, model: dict |
     return tables, warnings
 
 
-def _print_lives(rig, records: list[dict], duty: list, model: dict) -> None:
-    tables, warnings = lives_and_reducer_tables(rig, records, duty, model)
+def _print_lives(rig, records: list[dict], duty: list) -> None:
+    tables, warnings = lives_and_reducer_tables(rig, records, duty)
     for table in tables:
         support.console.print(table)
     for line in warnings:
@@ -250,8 +253,8 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
-    duty = duty_cycle_of_records(rig, records, model_section)
-    _print_lives(rig, records, duty, model_section)
+    duty = duty_cycle_of_records(rig, records)
+    _print_lives(rig, records, duty)
     if model_section.get("nonlinear"):
         nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"

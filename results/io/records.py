@@ -8,7 +8,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
-from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
+from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, life_columns, life_entries, shaft_quantities
 from rvcoax.results.studies.calibration import Calibration
 from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
@@ -86,6 +86,7 @@ def case_row(case: CaseResult) -> dict:
         row.update({f"{key}_{shaft}{unit}": value for key, unit, value in _shaft_columns(case.paths[shaft])})
     if case.engineering is not None:
         row.update(case.engineering.row())
+    row.update(life_columns(getattr(case, "ball_lives", ())))
     return row
 
 
@@ -121,6 +122,9 @@ def case_entry(case: CaseResult) -> dict:
     entry["solve_relative_residual"] = case.residual
     entry["engineering"] = {"shafts": {s: shaft_quantities(case.paths[s]) for s in MEASURED_SHAFTS},
                             **(case.engineering.entry() if case.engineering is not None else {})}
+    if getattr(case, "ball_lives", ()):
+        entry["engineering"]["bearing_lives"] = (entry["engineering"].get("bearing_lives", [])
+                                                 + life_entries(case.ball_lives))
     return entry
 
 

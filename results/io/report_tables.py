@@ -275,7 +275,8 @@ def life_tables(sweep) -> list[Table]:
                               "reference life from the ball loads (tilt, clearance and preload count); only for "
                               "bearings from internal geometry. L_nm: with viscosity_ratio and contamination_factor. "
                               "s0: C0/P0 (ISO 76), or (4200 MPa / p_max)³ from the ball loads. Minimum load: 0.01 C "
-                              "(ball), 0.02 C (roller), the makers' rule."))
+                              "(ball), 0.02 C (roller), the makers' rule, on P or, from the ball loads, on the load "
+                              "that gives L10r (a preload counts)."))
     duty = _duty_cycle(sweep.rig, per_case)
     if duty:
         out.append(Table(f"Bearings: life over the duty cycle ({duty[0].shares} shares of the rig file's load cases)",
