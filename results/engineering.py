@@ -347,7 +347,20 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
 
 
 def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
-    """A load case as the tables name it: its ``name`` in the rig file, else its torques."""
+    """A load case as the tables name it: its ``name`` in the rig file, else its torques.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its ``[[load_cases]]`` entries).
+    input_torque_Nm, output_torque_Nm : float
+        The case's torques.
+
+    Returns
+    -------
+    str
+        The name, or ``"T1 = …, T2 = … N·m"``.
+    """
     entry = rig_case_of(rig, input_torque_Nm, output_torque_Nm)
     if entry is not None and entry.name is not None:
         return entry.name
@@ -412,20 +425,55 @@ def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torqu
 
 def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, ...]]:
     """Per case of ``sweep.json``'s records, every bearing's :class:`BearingLifeQuantities` (its entry's
-    ``engineering.bearing_lives``: typed-in bearings from their forces, ball bearings from their ball loads)."""
+    ``engineering.bearing_lives``: typed-in bearings from their forces, ball bearings from their ball loads).
+
+    Parameters
+    ----------
+    records : list of dict
+        Case records as written to the journal (``{"row": …, "entry": …}``).
+
+    Returns
+    -------
+    list of tuple of BearingLifeQuantities
+        One tuple per record, in order.
+    """
     fields = BearingLifeQuantities.__dataclass_fields__
     return [tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
                   for life in record["entry"].get("engineering", {}).get("bearing_lives", [])) for record in records]
 
 
 def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
-    """:func:`duty_cycle_lives` from ``sweep.json`` case records (:func:`lives_of_records`)."""
+    """:func:`duty_cycle_lives` from ``sweep.json`` case records (:func:`lives_of_records`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose ``[[load_cases]]`` carry the duty cycle's shares.
+    records : list of dict
+        Case records (``{"row": …, "entry": …}``).
+
+    Returns
+    -------
+    list of DutyCycleLife
+        One per bearing with a life; empty without a duty cycle.
+    """
     return _duty_cycle(rig, lives_of_records(records))
 
 
 def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
     """Per case of a solved sweep, every bearing's life: the typed-in bearings' from the engineering tables, the
-    ball bearings' from their ball loads (nonlinear sweeps)."""
+    ball bearings' from their ball loads (nonlinear sweeps).
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep.
+
+    Returns
+    -------
+    list of tuple of BearingLifeQuantities
+        One tuple per case, in the sweep's order.
+    """
     return [(case.engineering.lives if case.engineering is not None else ()) + tuple(case.ball_lives)
             for case in sweep.cases]
 
@@ -433,7 +481,19 @@ def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
 def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:
     """Per bearing with a life, its life over the rig file's duty cycle (``time_share`` or ``revolution_share``
     of its ``[[load_cases]]``): Palmgren–Miner over the cases (:func:`rvcoax.fem.bearing_life.miner_life`).
-    Empty without a duty cycle or when the sweep's cases are not the rig file's."""
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose ``[[load_cases]]`` carry the shares.
+    cases : list of CaseEngineering
+        The engineering tables of the sweep's cases.
+
+    Returns
+    -------
+    list of DutyCycleLife
+        One per bearing; empty without a duty cycle or when the sweep did not solve every case of it.
+    """
     return _duty_cycle(rig, [case.lives for case in cases])
 
 

@@ -12,7 +12,6 @@ from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
-from rvcoax.results.engineering import case_name, duty_cycle_of_records, lives_of_records
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
 
@@ -95,6 +94,8 @@ def _life(value) -> str:
 def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
     the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
+    from rvcoax.results import case_name, lives_of_records
+
     tables, warnings = [], []
     lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
              for case in lives_of_records(records) for life in case]
@@ -233,7 +234,6 @@ def sweep(
     from rvcoax import load_rig
     from rvcoax.geometry.model import REPORT_AFTER_S, sweep_workload
     from rvcoax.results.io import CaseStore, sweep_header, write_sweep_files
-    from rvcoax.results.io.records import canonical
 
     if resume and fields:
         raise support.UserError("--fields needs every case's displacement field, which --resume does not keep: "
@@ -253,6 +253,8 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
+    from rvcoax.results import duty_cycle_of_records
+
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
     if model_section.get("nonlinear"):
@@ -266,7 +268,8 @@ def sweep(
     support.console.print(f"Y measured from: {rig.paths.measured_from}; {how}")
     header = sweep_header(rig, model_section, source, text)
     if duty:
-        header = {**header, "bearing_duty_cycle": canonical([dataclasses.asdict(d) for d in duty])}
+        header = {**header, "bearing_duty_cycle": [{k: list(v) if isinstance(v, tuple) else v
+                                                    for k, v in dataclasses.asdict(d).items()} for d in duty]}
     support.report_written(write_sweep_files(out, "sweep", header, records))
 
 
