@@ -400,7 +400,7 @@ def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: floa
     name = case_name(rig, input_torque_Nm, output_torque_Nm)
     entries = {b.name: b for b in rig.bearings}
     out = []
-    for ball, (force, state) in zip(nonlinear.balls, nonlinear.ball_states(motion)):
+    for ball, (_, force, _, state) in zip(nonlinear.balls, nonlinear.ball_states(motion)):
         bearing = entries[ball.name]
         ratings = load_ratings(bearing)
         inner, outer = bearing_life.ball_contact_pressures_mpa(ball.geometry, state.load_n)

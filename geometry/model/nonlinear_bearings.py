@@ -113,17 +113,17 @@ class NonlinearBearings:
             out[block, block] = dead_band_regularisation(self.ball_reference[i])
         return out
 
-    def ball_states(self, w: np.ndarray) -> list[tuple[np.ndarray, object]]:
-        """Per ball bearing at the condensed motion ``w``: the force (6,) it carries and its ball loads
-        (:class:`rvcoax.fem.ball_bearing.BallLoads`, preload included)."""
+    def ball_states(self, w: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, object]]:
+        """Per ball bearing at the condensed motion ``w``: its motion Δ (6,), the force (6,) it carries, its tangent
+        stiffness (6, 6) and its ball loads (:class:`rvcoax.fem.ball_bearing.BallLoads`, preload included)."""
         out = []
         w = np.asarray(w, dtype=float).ravel()
         for i, ball in enumerate(self.balls):
             motion = w[self._ball_slice(i)]
-            force, _ = bearing_force(ball.geometry, motion, ball.preload_offset_m, constant=ball.constant)
+            force, stiffness = bearing_force(ball.geometry, motion, ball.preload_offset_m, constant=ball.constant)
             q = motion[[0, 1, 2, 4, 5]].copy()
             q[0] += ball.preload_offset_m
-            out.append((force, ball_loads(ball.geometry, q, constant=ball.constant)))
+            out.append((motion, force, stiffness, ball_loads(ball.geometry, q, constant=ball.constant)))
         return out
 
     def operating_points(self, w: np.ndarray) -> dict[str, dict]:
@@ -133,13 +133,7 @@ class NonlinearBearings:
         ∂F/∂Δ in global axes (y vertical, z lateral, x the axis; tilt about z is the one in the XY plane).
         """
         out = {}
-        w = np.asarray(w, dtype=float).ravel()
-        for i, ball in enumerate(self.balls):
-            motion = w[self._ball_slice(i)]
-            force, stiffness = bearing_force(ball.geometry, motion, ball.preload_offset_m, constant=ball.constant)
-            q = motion[[0, 1, 2, 4, 5]].copy()
-            q[0] += ball.preload_offset_m
-            state = ball_loads(ball.geometry, q, constant=ball.constant)
+        for ball, (motion, force, stiffness, state) in zip(self.balls, self.ball_states(w)):
             out[ball.name] = {
                 "radial_displacement_um": float(np.hypot(motion[1], motion[2]) * 1e6),
                 "radial_force_N": float(np.hypot(force[1], force[2])),
