@@ -25,7 +25,7 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "BallBearingModel", "GEOMETRY_KEYS",
-           "OperatingClearanceError", "REFERENCE_DEFLECTION_UM", "ball_bearing_model", "clearance_um_of", "fit_clearance_of",
+           "OperatingClearanceError", "REFERENCE_DEFLECTION_UM", "ball_bearing_model", "clearance_range_um_of", "clearance_um_of", "fit_clearance_of",
            "clearance_upper_um", "geometry_of", "operating_geometry", "preload_upper_N", "reference_stiffness",
            "thermal_clearance_change_um"]
 
@@ -233,14 +233,29 @@ class BallBearingModel:
     geometry: BallBearingGeometry
     preload_offset_m: float
     constant: float  # K_n (N/m^1.5)
+    clearance_range_um: tuple[float, float] | None = None  # operating range (fits, class, [thermal]); None: no rig
 
 
 def ball_bearing_model(bearing, rig=None) -> BallBearingModel:
-    """The solver's view of a ``model = "ball"`` bearing entry; with ``rig``, at the clearance its
+    """The solver's view of a ``model = "ball"`` bearing entry; with ``rig``, at the clearance its fits and
     ``[thermal]`` rises leave (:func:`operating_geometry`)."""
     geometry = geometry_of(bearing) if rig is None else operating_geometry(rig, bearing)
     return BallBearingModel(bearing.name, geometry, axial_offset_for_preload(geometry, bearing.preload_N),
-                            geometry.load_deflection_constant)
+                            geometry.load_deflection_constant, None if rig is None else clearance_range_um_of(rig, bearing))
+
+
+def clearance_range_um_of(rig, bearing) -> tuple[float, float]:
+    """The operating clearance range (µm) of a ball bearing: its fits' mounted range (:func:`fit_clearance_of`), or
+    its class's range (a typed-in ``clearance_um``: that value), shifted by the ``[thermal]`` change."""
+    fits = fit_clearance_of(rig, bearing)
+    if fits is not None:
+        low, high = fits.mounted_um
+    elif bearing.clearance_um is not None or bearing.designation is None:
+        low = high = clearance_um_of(bearing)
+    else:
+        low, high = clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, bearing.clearance_class or "CN")
+    change = thermal_clearance_change_um(rig, bearing)
+    return low + change, high + change
 
 
 def clearance_upper_um(bearing) -> float:

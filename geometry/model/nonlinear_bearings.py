@@ -147,6 +147,8 @@ class NonlinearBearings:
                 "loaded_balls": state.loaded_balls,
                 "max_ball_load_N": float(state.load_n.max()),
                 "operating_clearance_um": float(ball.geometry.clearance_m * 1e6),
+                "operating_clearance_range_um": (None if ball.clearance_range_um is None
+                                                 else [float(v) for v in ball.clearance_range_um]),
             }
         return out
 

@@ -259,6 +259,22 @@ def life_tables(sweep) -> list[Table]:
     from rvcoax.results.engineering import _duty_cycle, case_name, sweep_lives
 
     out = []
+    balls = [b for b in sweep.rig.bearings if b.model == "ball"]
+    if balls:
+        from rvcoax.geometry.ball_model import clearance_range_um_of, operating_geometry
+
+        rows = []
+        for b in balls:
+            low, high = clearance_range_um_of(sweep.rig, b)
+            rows.append((b.name, b.designation or "explicit geometry", b.clearance_class or ("–" if b.clearance_um is not None else "CN"),
+                         f"{b.shaft_fit or '–'} / {b.housing_fit or '–'}", f"{_g(low, 3)} … {_g(high, 3)}",
+                         _g(operating_geometry(sweep.rig, b).clearance_m * 1e6, 3)))
+        out.append(Table("Ball bearings: operating radial clearance (diametral)",
+                         ("bearing", "designation", "class", "fits shaft / housing", "operating range [µm]",
+                          "solved with [µm]"), tuple(rows),
+                         note="The class's unmounted range (ISO 5753-1) less the rings' expansion by the fits' "
+                              "interference (ISO 286, ISO 492, thick rings), tightest to loosest, plus the [thermal] "
+                              "change; solved with the middle (fit_clearance = mean) unless chosen otherwise."))
     per_case = sweep_lives(sweep)
     rows = tuple((life.case, life.name, "–" if life.speed_rpm is None else f"{life.speed_rpm:g}",
                   _g(life.equivalent_load_N, 3), _life_text(life.L10_Mrev), _life_text(life.L10_h),
