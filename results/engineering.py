@@ -38,7 +38,7 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 from rvcoax.results.connections import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "life_columns", "life_entries", "lives_of_records", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "life_columns", "life_entries", "lives_of_records", "play_crossings", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
            "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
@@ -440,6 +440,34 @@ def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, .
     fields = BearingLifeQuantities.__dataclass_fields__
     return [tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
                   for life in record["entry"].get("engineering", {}).get("bearing_lives", [])) for record in records]
+
+
+def play_crossings(operating_points: dict) -> list[str]:
+    """Ball bearings whose shaft crosses its play between neighbouring cases of a nonlinear sweep: the radial
+    motion (y, z) changes by at least half the diametral operating clearance from one case to the next (the
+    shaft leaves the balls on one side for those on the other: the sweep's Y steps there).
+
+    Parameters
+    ----------
+    operating_points : dict
+        ``sweep.json``'s ``model.ball_bearing_operating_points`` (per bearing, the rest state then every case).
+
+    Returns
+    -------
+    list of str
+        One sentence per bearing and jump.
+    """
+    found = []
+    for name, points in operating_points.items():
+        cases = [p for p in points if p.get("case") != "at rest" and "displacement_yz_um" in p]
+        for before, after in zip(cases, cases[1:]):
+            jump = math.dist(before["displacement_yz_um"], after["displacement_yz_um"])
+            clearance = after.get("operating_clearance_um", 0.0)
+            if clearance > 0.0 and jump >= 0.5 * clearance:
+                found.append(f"ball bearing {name}: the shaft crosses its play between {before['case']} and "
+                             f"{after['case']} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
+                             f"{clearance:.3g} µm): Y steps there; a preload or a smaller clearance keeps it seated")
+    return found
 
 
 def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:

@@ -136,6 +136,7 @@ class NonlinearBearings:
         for ball, (motion, force, stiffness, state) in zip(self.balls, self.ball_states(w)):
             out[ball.name] = {
                 "radial_displacement_um": float(np.hypot(motion[1], motion[2]) * 1e6),
+                "displacement_yz_um": [float(motion[1] * 1e6), float(motion[2] * 1e6)],
                 "radial_force_N": float(np.hypot(force[1], force[2])),
                 "axial_force_N": float(force[0]),
                 "tilt_moment_Nm": float(np.hypot(force[4], force[5])),

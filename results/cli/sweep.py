@@ -253,10 +253,12 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
-    from rvcoax.results import duty_cycle_of_records
+    from rvcoax.results import duty_cycle_of_records, play_crossings
 
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
+    for line in play_crossings(model_section.get("ball_bearing_operating_points", {})):
+        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
     if model_section.get("nonlinear"):
         nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"

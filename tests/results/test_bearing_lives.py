@@ -91,3 +91,17 @@ def test_ball_bearing_lives_from_their_ball_loads():
     assert lives["output_B2"].below_minimum_load  # the unpreloaded neighbour floats in its clearance
     row = __import__("rvcoax.results.io.records", fromlist=["case_row"]).case_row(sweep.cases[0])
     assert "bearing_output_B1_L10r_Mrev" in row
+
+
+def test_a_shaft_crossing_its_play_between_neighbouring_cases_is_named():
+    """docs/model.md: with CN clearance the input shaft is lifted across input_B2's play between T1 = 0.64 and
+    0.79 N·m (the lateral mesh load outgrows its weight): the sweep names the bearing and the two cases."""
+    from rvcoax.results import play_crossings
+
+    rig = parse_rig_text(reference_rig_text("ball_bearings"))
+    sweep = run_sweep(rig, (LoadCase(0.5, 70.0), LoadCase(0.64, 90.0), LoadCase(0.79, 110.0)))
+    found = play_crossings(sweep.solver_report["ball_bearing_operating_points"])
+    assert len(found) == 1
+    assert "input_B2" in found[0] and "T1=0.64Nm_T2=90Nm and T1=0.79Nm_T2=110Nm" in found[0]
+    steady = run_sweep(rig, (LoadCase(0.5, 70.0), LoadCase(0.64, 90.0)))
+    assert play_crossings(steady.solver_report["ball_bearing_operating_points"]) == []
