@@ -105,3 +105,30 @@ def test_a_shaft_crossing_its_play_between_neighbouring_cases_is_named():
     assert "input_B2" in found[0] and "T1=0.64Nm_T2=90Nm and T1=0.79Nm_T2=110Nm" in found[0]
     steady = run_sweep(rig, (LoadCase(0.5, 70.0), LoadCase(0.64, 90.0)))
     assert play_crossings(steady.solver_report["ball_bearing_operating_points"]) == []
+
+
+def test_revolution_shares_and_a_case_at_standstill():
+    """Revolution shares: Miner in revolutions, no speed needed. Time shares with a case at standstill: that case
+    adds no damage, and the cycle's hours count its standstill time (L_h = 1 / Σ_moving t_k / L_h,k)."""
+    text = example_rig_text()
+    for old, new in (("time_share = 0.30                   # [A] duty cycle of this bench", "revolution_share = 0.30"),
+                     ("time_share = 0.30                   # [A]", "revolution_share = 0.30"),
+                     ("time_share = 0.20", "revolution_share = 0.20"), ("time_share = 0.15", "revolution_share = 0.15"),
+                     ("time_share = 0.05", "revolution_share = 0.05")):
+        text = text.replace(old, new)
+    rig = parse_rig_text(text)
+    sweep = run_sweep(rig, default_cases(rig))
+    duty = {d.name: d for d in duty_cycle_lives(rig, [c.engineering for c in sweep.cases])}
+    revs = [next(b for b in c.engineering.lives if b.name == "output_B2").L10_Mrev for c in sweep.cases]
+    shares = [c.revolution_share for c in rig.load_cases]
+    assert duty["output_B2"].shares == "revolution" and duty["output_B2"].L10_h is None
+    assert duty["output_B2"].L10_Mrev == pytest.approx(1.0 / sum(s / r for s, r in zip(shares, revs)))
+
+    standstill = parse_rig_text(example_rig_text().replace(
+        "output_speed_rpm = 15               # [S] rated output speed of the RV-40E", "output_speed_rpm = 0"))
+    sweep = run_sweep(standstill, default_cases(standstill))
+    duty = {d.name: d for d in duty_cycle_lives(standstill, [c.engineering for c in sweep.cases])}
+    hours = [next(b for b in c.engineering.lives if b.name == "output_B2").L10_h for c in sweep.cases]
+    assert hours[0] is None  # no revolutions in the first case
+    shares = [c.time_share for c in standstill.load_cases]
+    assert duty["output_B2"].L10_h == pytest.approx(1.0 / sum(s / h for s, h in zip(shares[1:], hours[1:])))
