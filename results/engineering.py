@@ -34,12 +34,14 @@ import numpy as np
 
 from rvcoax.fem import bearing_life
 from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
+from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
-from rvcoax.results.connections import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "DutyCycleLife", "ball_bearing_lives", "case_name", "life_columns", "life_entries", "lives_of_records", "play_crossings", "sweep_lives", "duty_cycle_lives", "duty_cycle_of_records", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
-           "case_engineering", "engineering_tables", "shaft_quantities"]
+           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "Reaction", "alignment_grade",
+           "alignment_tolerance", "ball_bearing_lives", "case_engineering", "case_name", "duty_cycle_lives",
+           "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries",
+           "lives_of_records", "play_crossings", "shaft_quantities", "sweep_lives"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -485,7 +487,7 @@ def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
     list of DutyCycleLife
         One per bearing with a life; empty without a duty cycle.
     """
-    return _duty_cycle(rig, lives_of_records(records))
+    return duty_cycle_of_lives(rig, lives_of_records(records))
 
 
 def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
@@ -522,10 +524,10 @@ def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:
     list of DutyCycleLife
         One per bearing; empty without a duty cycle or when the sweep did not solve every case of it.
     """
-    return _duty_cycle(rig, [case.lives for case in cases])
+    return duty_cycle_of_lives(rig, [case.lives for case in cases])
 
 
-def _duty_cycle(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]) -> list[DutyCycleLife]:
+def duty_cycle_of_lives(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]) -> list[DutyCycleLife]:
     kind = ("time" if any(c.time_share is not None for c in rig.load_cases)
             else "revolution" if any(c.revolution_share is not None for c in rig.load_cases) else None)
     if kind is None or not case_lives:
@@ -576,7 +578,7 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         Resultants of the applied loads and of the ground reactions of the total state
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
-        :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+        :meth:`rvcoax.geometry.model.springs.SpringMotion.of` ``(model, rig)``, built once for many cases.
     case : LoadCase, optional
         The case's torques: with them, the bearing lives and the reducer checks.
     """

@@ -16,7 +16,7 @@ from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text
 from rvcoax.loadcases.cases import LoadCase, default_cases
 from rvcoax.results.cli.app import app
 from rvcoax.results.engineering import duty_cycle_lives, sweep_lives
-from rvcoax.results.io.report_tables import life_tables
+from rvcoax.results.reports.report_tables import life_tables
 from rvcoax.results.sweep import run_sweep
 
 

@@ -1,4 +1,4 @@
-"""The tables of the study report (:mod:`rvcoax.results.io.report`), as plain rows.
+"""The tables of the study report (:mod:`rvcoax.results.reports.report`), as plain rows.
 
 Each function returns a :class:`Table`: a caption, column headings with their units, and rows of
 already formatted cells, so that the HTML writer only lays them out. Numbers follow one policy:
@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.connections import ConnectionStates, connection_states
+from rvcoax.geometry.model.springs import ConnectionStates
+from rvcoax.results.connections import connection_states
 
 __all__ = ["PROVENANCE_TAGS", "Table", "check_table", "load_case_table", "misalignment_tables", "provenance_tags",
            "reaction_table", "rig_tables", "shaft_table", "verdict_of"]
@@ -256,7 +257,7 @@ def _life_text(value) -> str:
 def life_tables(sweep) -> list[Table]:
     """Bearing life, static safety and minimum load per case (every row names its case), the lives over the rig
     file's duty cycle, and each reducer against its rating table per case."""
-    from rvcoax.results.engineering import _duty_cycle, case_name, sweep_lives
+    from rvcoax.results.engineering import case_name, duty_cycle_of_lives, sweep_lives
 
     out = []
     balls = [b for b in sweep.rig.bearings if b.model == "ball"]
@@ -293,7 +294,7 @@ def life_tables(sweep) -> list[Table]:
                               "s0: C0/P0 (ISO 76), or (4200 MPa / p_max)³ from the ball loads. Minimum load: 0.01 C "
                               "(ball), 0.02 C (roller), the makers' rule, on P or, from the ball loads, on the load "
                               "that gives L10r (a preload counts)."))
-    duty = _duty_cycle(sweep.rig, per_case)
+    duty = duty_cycle_of_lives(sweep.rig, per_case)
     if duty:
         out.append(Table(f"Bearings: life over the duty cycle ({duty[0].shares} shares of the rig file's load cases)",
                          ("bearing", "L10 [h]", "L10 [10⁶ rev]", "L_nm [h]", "smallest s0", "cases below minimum load"),
