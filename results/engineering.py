@@ -40,8 +40,8 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "Reaction", "alignment_grade",
            "alignment_tolerance", "ball_bearing_lives", "case_engineering", "case_name", "duty_cycle_lives",
-           "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries",
-           "lives_of_records", "play_crossings", "shaft_quantities", "sweep_lives"]
+           "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries", "reducer_columns", "reducer_entries",
+           "lives_of_records", "play_crossings", "reducer_checks", "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -210,6 +210,23 @@ def life_columns(lives) -> dict:
     return row
 
 
+def reducer_columns(checks) -> dict:
+    """The ``sweep.csv`` columns of a case's reducer checks."""
+    row = {}
+    for r in checks:
+        row[f"reducer_{r.name}_torque_rated_percent"] = r.torque_rated_percent
+        row[f"reducer_{r.name}_moment_Nm"] = r.moment_Nm
+        row[f"reducer_{r.name}_moment_use_percent"] = r.moment_use_percent
+        row[f"reducer_{r.name}_axial_use_percent"] = r.axial_use_percent
+        row[f"reducer_{r.name}_verdict"] = r.verdict
+    return row
+
+
+def reducer_entries(checks) -> list[dict]:
+    """The ``sweep.json`` entries of a case's reducer checks."""
+    return [{**{k: getattr(r, k) for k in ReducerCheck.__dataclass_fields__}, "verdict": r.verdict} for r in checks]
+
+
 def life_entries(lives) -> list[dict]:
     """The ``sweep.json`` entries of a case's bearing lives."""
     return [{**{k: getattr(b, k) for k in BearingLifeQuantities.__dataclass_fields__},
@@ -281,12 +298,7 @@ class CaseEngineering:
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
         row.update(life_columns(self.lives))
-        for r in self.reducers:
-            row[f"reducer_{r.name}_torque_rated_percent"] = r.torque_rated_percent
-            row[f"reducer_{r.name}_moment_Nm"] = r.moment_Nm
-            row[f"reducer_{r.name}_moment_use_percent"] = r.moment_use_percent
-            row[f"reducer_{r.name}_axial_use_percent"] = r.axial_use_percent
-            row[f"reducer_{r.name}_verdict"] = r.verdict
+        row.update(reducer_columns(self.reducers))
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
@@ -307,8 +319,7 @@ class CaseEngineering:
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
             "bearing_lives": life_entries(self.lives),
-            "reducers": [{**{k: getattr(r, k) for k in ReducerCheck.__dataclass_fields__}, "verdict": r.verdict}
-                         for r in self.reducers],
+            "reducers": reducer_entries(self.reducers),
         }
 
 
@@ -416,6 +427,13 @@ def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: floa
     return tuple(out)
 
 
+def reducer_checks(rig, total: ConnectionStates, input_torque_Nm: float,
+                   output_torque_Nm: float) -> tuple[ReducerCheck, ...]:
+    """Each ``[[reducers]]`` entry against its rating table in one case, from the force and moment its joint
+    carries (``total``: the spring states from the unloaded geometry, one case)."""
+    return _reducers(rig, total, input_torque_Nm, output_torque_Nm)
+
+
 def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
     out = []
     for r in rig.reducers:
@@ -505,6 +523,13 @@ def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
         One tuple per case, in the sweep's order.
     """
     return [(case.engineering.lives if case.engineering is not None else ()) + tuple(case.ball_lives)
+            for case in sweep.cases]
+
+
+def sweep_reducer_checks(sweep) -> list[tuple[ReducerCheck, ...]]:
+    """Per case of a solved sweep, each reducer's check (from the engineering tables, or from a nonlinear
+    sweep's own spring states)."""
+    return [(case.engineering.reducers if case.engineering is not None else ()) + tuple(case.reducer_checks)
             for case in sweep.cases]
 
 

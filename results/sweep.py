@@ -39,7 +39,7 @@ from rvcoax.geometry.model.springs import SpringMotion
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering
+from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering, reducer_checks
 from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
@@ -92,6 +92,7 @@ class CaseResult:
     residual: float
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
     ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
+    reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
 
 
 @dataclass(frozen=True, eq=False)
@@ -429,6 +430,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         return u, solution, check, residual
 
     contact = gear_contact_torques(rig)
+    springs = SpringMotion.of(system.frame, rig) if rig.reducers else None  # the reducers' joints are linear springs
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     operating = {name: [{"case": "at rest", **point}]
                  for name, point in bearings.operating_points(rest_solution.motion).items()}
@@ -440,6 +442,8 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
         lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
+        checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
+                  if springs is not None else ())
         for name, point in bearings.operating_points(solution.motion).items():
             operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
@@ -447,7 +451,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not
         results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
-                                  residual, ball_lives=lives))
+                                  residual, ball_lives=lives, reducer_checks=checks))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

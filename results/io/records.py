@@ -14,7 +14,14 @@ from typing import Protocol
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
-from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, life_columns, life_entries, shaft_quantities
+from rvcoax.results.engineering import (
+    ALIGNMENT_TOLERANCE_SOURCE,
+    life_columns,
+    life_entries,
+    reducer_columns,
+    reducer_entries,
+    shaft_quantities,
+)
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["ENGINEERING_DEFINITIONS", "StudyRecord", "UNITS", "canonical", "case_entry", "case_record", "case_row",
@@ -99,6 +106,7 @@ def case_row(case: CaseResult) -> dict:
     if case.engineering is not None:
         row.update(case.engineering.row())
     row.update(life_columns(getattr(case, "ball_lives", ())))
+    row.update(reducer_columns(getattr(case, "reducer_checks", ())))
     return row
 
 
@@ -137,6 +145,8 @@ def case_entry(case: CaseResult) -> dict:
     if getattr(case, "ball_lives", ()):
         entry["engineering"]["bearing_lives"] = (entry["engineering"].get("bearing_lives", [])
                                                  + life_entries(case.ball_lives))
+    if getattr(case, "reducer_checks", ()):
+        entry["engineering"]["reducers"] = reducer_entries(case.reducer_checks)
     return entry
 
 

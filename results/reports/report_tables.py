@@ -257,7 +257,7 @@ def _life_text(value) -> str:
 def life_tables(sweep) -> list[Table]:
     """Bearing life, static safety and minimum load per case (every row names its case), the lives over the rig
     file's duty cycle, and each reducer against its rating table per case."""
-    from rvcoax.results.engineering import case_name, duty_cycle_of_lives, sweep_lives
+    from rvcoax.results.engineering import case_name, duty_cycle_of_lives, sweep_lives, sweep_reducer_checks
 
     out = []
     balls = [b for b in sweep.rig.bearings if b.model == "ball"]
@@ -303,7 +303,7 @@ def life_tables(sweep) -> list[Table]:
                                for d in duty),
                          note="Palmgren–Miner: L = 1 / Σ (share_k / L_k) over the cases; a case at standstill adds no "
                               "damage."))
-    checks = [(c.case, r) for c in sweep.cases if c.engineering is not None for r in c.engineering.reducers]
+    checks = [(c.case, r) for c, case_checks in zip(sweep.cases, sweep_reducer_checks(sweep)) for r in case_checks]
     if checks:
         out.append(Table("Reducers against the maker's rating table, per case",
                          ("case", "reducer", "torque [N·m]", "of rated", "of peak", "of momentary", "moment on the "

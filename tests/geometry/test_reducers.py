@@ -142,3 +142,25 @@ def test_reference_variant_with_the_catalogue_rv20e():
     y_variant = run_sweep(variant, cases).cases[0].paths["output"].y_max_mm * 1e3
     assert y_reference == pytest.approx(0.177, abs=0.002)
     assert y_variant == pytest.approx(0.043, abs=0.002)  # the stiffer main bearings hold the flange
+
+
+def test_the_reducer_is_checked_in_a_nonlinear_sweep_too():
+    """With ball bearings from geometry the sweep is solved case by case without engineering tables; the reducer
+    check still comes with each case (its joint is a linear spring)."""
+    from rvcoax.results.engineering import sweep_reducer_checks
+    from rvcoax.results.io.records import case_record
+
+    data = tomllib.loads(example_rig_text())
+    for bearing in data["bearings"]:
+        if bearing["name"] in ("output_B1", "output_B2"):
+            for key in ("radial_stiffness_N_per_um", "width_mm", "dynamic_load_rating_kN", "static_load_rating_kN"):
+                bearing.pop(key, None)
+            bearing.update(model="ball", designation="6208")
+    rig = parse_rig(data, "ball example")
+    sweep = run_sweep(rig, (LoadCase(4000.0 / (121 * 0.85), 4000.0),))
+    assert sweep.cases[0].engineering is None
+    check = sweep_reducer_checks(sweep)[0][0]
+    assert "EXCEEDS momentary maximum torque" in check.verdict
+    record = case_record(sweep.cases[0])
+    assert record["entry"]["engineering"]["reducers"][0]["verdict"] == check.verdict
+    assert record["row"]["reducer_RV40E_main_bearings_verdict"] == check.verdict
