@@ -32,16 +32,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem import bearing_life
+from rvcoax.fem import DOFS_PER_NODE, bearing_life
 from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "Reaction", "alignment_grade",
+           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment", "Reaction", "alignment_grade",
            "alignment_tolerance", "ball_bearing_lives", "case_engineering", "case_name", "duty_cycle_lives",
            "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries", "reducer_columns", "reducer_entries",
-           "lives_of_records", "play_crossings", "reducer_checks", "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
+           "lives_of_records", "mesh_misalignment", "play_crossings", "reducer_checks", "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -247,6 +247,46 @@ class DutyCycleLife:
 
 
 @dataclass(frozen=True)
+class GearMeshMisalignment:
+    """The misalignment of one planet mesh of a ``[[gear_meshes]]`` stage in gear terms (ISO 6336-1).
+
+    ``relative_tilt_urad``: the tilt of the driving gear's axis (``on``) against its mate's carrier
+    (``reacted_on``) from the section rotations of both members; ``f_sigma_beta_um``: its inclination in the plane
+    of action over the face width b (what K_Hβ takes as the mesh misalignment from deformation);
+    ``f_sigma_delta_um``: the part normal to the plane of action. Read like Y, from the state ``[paths]
+    measured_from`` names (the aligned rig at rest by default).
+    """
+
+    name: str
+    planet: int
+    planet_angle_deg: float
+    face_width_mm: float
+    relative_tilt_urad: float
+    f_sigma_beta_um: float
+    f_sigma_delta_um: float
+
+
+def mesh_misalignment(rotation_on, rotation_mate, planet_angle_deg: float, pressure_angle_rad: float,
+                      face_width_mm: float) -> tuple[float, float]:
+    """(f_Σβ, f_Σδ) in µm of a mesh from the section rotations (θ_y, θ_z, rad) of both members.
+
+    The relative rotation ω tilts the gear's axis by d = ω × x = (ω_z, −ω_y) in (y, z); the planet at angle φ
+    (from +y towards +z, e = (cos φ, sin φ), t = x × e) has its line of action l = −cos α t − sin α e
+    (:func:`rvcoax.geometry.gears.mesh_forces`) and m = x × l normal to the plane of action:
+    f_Σβ = b |d · l|, f_Σδ = b |d · m|.
+    """
+    wy = float(rotation_on[0]) - float(rotation_mate[0])
+    wz = float(rotation_on[1]) - float(rotation_mate[1])
+    phi = math.radians(planet_angle_deg)
+    e = np.array([math.cos(phi), math.sin(phi)])
+    t = np.array([-math.sin(phi), math.cos(phi)])
+    line = -math.cos(pressure_angle_rad) * t - math.sin(pressure_angle_rad) * e
+    normal = np.array([-line[1], line[0]])
+    d = np.array([wz, -wy])
+    return (face_width_mm * abs(float(d @ line)) * 1e3, face_width_mm * abs(float(d @ normal)) * 1e3)
+
+
+@dataclass(frozen=True)
 class Reaction:
     """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
     the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
@@ -276,6 +316,7 @@ class CaseEngineering:
     residual_moment_Nm: float
     lives: tuple[BearingLifeQuantities, ...] = ()
     reducers: tuple[ReducerCheck, ...] = ()
+    gear_meshes: tuple[GearMeshMisalignment, ...] = ()
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -299,6 +340,9 @@ class CaseEngineering:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
         row.update(life_columns(self.lives))
         row.update(reducer_columns(self.reducers))
+        for g in self.gear_meshes:
+            row[f"gear_{g.name}_planet{g.planet}_f_sigma_beta_um"] = g.f_sigma_beta_um
+            row[f"gear_{g.name}_planet{g.planet}_f_sigma_delta_um"] = g.f_sigma_delta_um
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
@@ -320,6 +364,8 @@ class CaseEngineering:
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
             "bearing_lives": life_entries(self.lives),
             "reducers": reducer_entries(self.reducers),
+            "gear_meshes": [{k: getattr(g, k) for k in GearMeshMisalignment.__dataclass_fields__}
+                            for g in self.gear_meshes],
         }
 
 
@@ -432,6 +478,25 @@ def reducer_checks(rig, total: ConnectionStates, input_torque_Nm: float,
     """Each ``[[reducers]]`` entry against its rating table in one case, from the force and moment its joint
     carries (``total``: the spring states from the unloaded geometry, one case)."""
     return _reducers(rig, total, input_torque_Nm, output_torque_Nm)
+
+
+def _gear_meshes(rig, model, u: np.ndarray) -> tuple[GearMeshMisalignment, ...]:
+    """Each planet mesh's misalignment from the section rotations of the gear and its mate's carrier (frame nodes;
+    a member modelled as a solid has none: that stage is left out)."""
+    out = []
+    for mesh in rig.gear_meshes:
+        try:
+            on, mate = model.node(mesh.on.part, mesh.on.x_mm), model.node(mesh.reacted_on.part, mesh.reacted_on.x_mm)
+        except KeyError:
+            continue
+        rotation_on = (u[DOFS_PER_NODE * on + 4], u[DOFS_PER_NODE * on + 5])
+        rotation_mate = (u[DOFS_PER_NODE * mate + 4], u[DOFS_PER_NODE * mate + 5])
+        tilt = math.hypot(rotation_on[0] - rotation_mate[0], rotation_on[1] - rotation_mate[1])
+        alpha = mesh.stage.working_pressure_angle
+        for i, angle in enumerate(mesh.planet_angles_deg):
+            beta, delta = mesh_misalignment(rotation_on, rotation_mate, angle, alpha, mesh.face_width_mm)
+            out.append(GearMeshMisalignment(mesh.name, i, float(angle), mesh.face_width_mm, tilt * URAD, beta, delta))
+    return tuple(out)
 
 
 def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
@@ -622,7 +687,8 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         _reactions(rig, total, change),
         float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])),
         () if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
-        () if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm))
+        () if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        _gear_meshes(rig, model, u_change if measured_from_rest else u_total))
 
 
 def shaft_quantities(path) -> dict:

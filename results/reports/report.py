@@ -352,7 +352,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
                          + _table_html(tables.shaft_table(sweep))))
-    misalignment = tables.misalignment_tables(sweep) + tables.life_tables(sweep)
+    misalignment = tables.misalignment_tables(sweep) + tables.life_tables(sweep) + tables.gear_mesh_tables(sweep)
     body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
                          or _missing("The rig has no couplings or bearings.")))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))

@@ -321,6 +321,26 @@ def life_tables(sweep) -> list[Table]:
     return out
 
 
+def gear_mesh_tables(sweep) -> list[Table]:
+    """Each planet mesh's misalignment in gear terms (f_Σβ, f_Σδ over the face width), per case."""
+    rows = []
+    for c in sweep.cases:
+        if c.engineering is None:
+            continue
+        for g in c.engineering.gear_meshes:
+            rows.append((f"T1 = {c.case.input_torque_Nm:g}, T2 = {c.case.output_torque_Nm:g}", g.name,
+                         f"{g.planet} ({g.planet_angle_deg:g}°)", _g(g.face_width_mm, 3), _g(g.relative_tilt_urad, 3),
+                         _g(g.f_sigma_beta_um, 3), _g(g.f_sigma_delta_um, 3)))
+    if not rows:
+        return []
+    return [Table("Gear meshes: misalignment over the face width, per case",
+                  ("case [N·m]", "gear mesh", "planet", "face width b [mm]", "relative tilt [µrad]",
+                   "f_Σβ in the plane of action [µm]", "f_Σδ normal to it [µm]"), tuple(rows),
+                  note="From the section rotations of the gear and its mate's carrier at the mesh (read like Y: "
+                       "since the aligned rest state by default); f_Σβ is the deformation part of the mesh "
+                       "misalignment ISO 6336-1's K_Hβ takes. A member modelled as a solid is left out.")]
+
+
 def misalignment_tables(sweep) -> list[Table]:
     """The coupling and bearing tables with verdicts (one function, so that the source can be swapped)."""
     measured, unloaded = connection_states(sweep, "measured"), connection_states(sweep, "unloaded")
