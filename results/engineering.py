@@ -362,11 +362,10 @@ class CaseEngineering:
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
-            "bearing_lives": life_entries(self.lives),
-            "reducers": reducer_entries(self.reducers),
-            "gear_meshes": [{k: getattr(g, k) for k in GearMeshMisalignment.__dataclass_fields__}
-                            for g in self.gear_meshes],
-        }
+        } | {key: value for key, value in (
+            ("bearing_lives", life_entries(self.lives)), ("reducers", reducer_entries(self.reducers)),
+            ("gear_meshes", [{k: getattr(g, k) for k in GearMeshMisalignment.__dataclass_fields__}
+                             for g in self.gear_meshes])) if value}  # only what the rig has
 
 
 def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities:
