@@ -54,3 +54,21 @@ def test_every_planet_mesh_of_the_reference_stage_per_case():
         mesh.face_width_mm * np.hypot(*rotation) * 1e3, rel=1e-6)
     row = case.engineering.row()
     assert row["gear_input_gear_mesh_planet0_f_sigma_beta_um"] == meshes[0].f_sigma_beta_um
+
+
+def test_section_rotations_in_the_path_rows():
+    """sweep_paths.csv carries the section rotation about z at every station: the slope of the bending line."""
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.results.io.records import case_entry, entry_path_rows
+
+    sweep = run_sweep(load_rig(), (LoadCase(1.43, 200.0),))
+    rows = [r for r in entry_path_rows(case_entry(sweep.cases[0])) if r["shaft"] == "output"]
+    path = sweep.cases[0].paths["output"]
+    assert [r["rotation_z_urad"] for r in rows] == pytest.approx(list(path.rotation_z_rad * 1e6))
+    # a beam's rotation about z is its slope du_y/dx less the shear angle (Timoshenko): equal where no shear force
+    # acts (the overhang beyond the last bearing), within the shear angle (≤ 15 % here, next to the flange) elsewhere
+    station, uy = np.array([r["station_mm"] for r in rows]), np.array([r["uy_mm"] for r in rows])
+    slope = np.gradient(uy, station) * 1e6  # mm/mm → µrad
+    rotation = path.rotation_z_rad * 1e6
+    assert slope[-3:] == pytest.approx(rotation[-3:], rel=1e-6)
+    assert np.max(np.abs(slope[1:-1] - rotation[1:-1])) < 0.15 * np.max(np.abs(slope))
