@@ -451,24 +451,31 @@ def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQ
 
 def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
                        output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
-    """The lives of the ball bearings from internal geometry at a nonlinear solution's condensed motion
+    """The lives of the deep-groove ball bearings from internal geometry at a nonlinear solution's condensed motion
     (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): L10 from the forces they carry, L10r
     from their ball loads (ISO/TS 16281), s0 from the largest ball-raceway pressure (ISO 76: 4200 MPa)."""
+    from rvcoax.fem.rolling_bearing import bearing_force, rolling_element_loads
+
     speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
     name = case_name(rig, input_torque_Nm, output_torque_Nm)
     entries = {b.name: b for b in rig.bearings}
+    motions = nonlinear.motions(motion)
     out = []
-    for ball, (_, force, _, state) in zip(nonlinear.balls, nonlinear.ball_states(motion)):
-        bearing = entries[ball.name]
+    for model in nonlinear.balls:
+        bearing = entries[model.name]
         ratings = load_ratings(bearing)
-        inner, outer = bearing_life.ball_contact_pressures_mpa(ball.geometry, state.load_n)
-        pressure = float(max(inner.max(initial=0.0), outer.max(initial=0.0)))
+        force, _ = bearing_force(model.bearing, motions[model.name])
+        elements = rolling_element_loads(model.bearing, motions[model.name])
+        pressure = float(elements.max_contact_pressure_Pa.max(initial=0.0)) * 1e-6
+        reference = bearing_life.element_rating_life(
+            elements.load_n, *bearing_life.ring_contact_ratings(
+                model.geometry.ball_count, model.geometry.ball_diameter_m * 1e3, model.geometry.pitch_diameter_m * 1e3,
+                model.geometry.inner_conformity, model.geometry.outer_conformity, elements.contact_angle_rad))
         life = bearing_life.life_from_forces(
             math.hypot(force[1], force[2]), float(force[0]), ratings.dynamic_N, ratings.static_N, ratings.f0, "ball",
-            speeds[ball.name], bearing.viscosity_ratio, bearing.contamination_factor,
-            reference_life_Mrev=bearing_life.ball_reference_life(ball.geometry, state),
+            speeds[model.name], bearing.viscosity_ratio, bearing.contamination_factor, reference_life_Mrev=reference,
             static_safety_value=bearing_life.static_safety_from_pressure(pressure))
-        out.append(life_quantities(ball.name, name, ratings, life))
+        out.append(life_quantities(model.name, name, ratings, life))
     return tuple(out)
 
 
