@@ -302,6 +302,7 @@ def _rolling_preload_warnings(rig: Rig) -> list[str]:
                          f"{100 * carried / rating:.0f} % of its C = {rating:.4g} N (a heavy preload class is 4 %; "
                          f"warned above {100 * PRELOAD_SHARE_LIMIT:.0f} %): a unit slip, or an offset meant in another "
                          "unit?")
+    return found
 
 
 def _fit_warnings(rig: Rig) -> list[str]:
