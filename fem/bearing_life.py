@@ -213,8 +213,8 @@ def miner_life(lives, shares) -> float:
 # From the loads of the rolling elements (ISO/TS 16281)
 
 
-def ring_contact_ratings(balls: int, ball_diameter_mm: float, pitch_diameter_mm: float, inner_conformity: float,
-                         outer_conformity: float, contact_angle_rad) -> tuple[np.ndarray, np.ndarray]:
+def ring_contact_ratings(balls: int, ball_diameter_mm: float, pitch_diameter_mm: float, inner_conformity: float,  # noqa: PLR0913
+                         outer_conformity: float, *, contact_angle_rad) -> tuple[np.ndarray, np.ndarray]:
     """Q_ci and Q_ce (N): the Lundberg–Palmgren basic dynamic ratings of the inner and outer ball-raceway
     contacts (ISO/TS 16281, with ISO 281's b_m), at each element's contact angle (array)."""
     alpha = np.asarray(contact_angle_rad, dtype=float)
@@ -226,7 +226,7 @@ def ring_contact_ratings(balls: int, ball_diameter_mm: float, pitch_diameter_mm:
     return inner, outer
 
 
-def element_rating_life(loads_N, inner_rating_N, outer_rating_N, rotating: str = "inner", exponent: float = 3.0,
+def element_rating_life(loads_N, inner_rating_N, outer_rating_N, *, rotating: str = "inner", exponent: float = 3.0,  # noqa: PLR0913
                         ring_exponent: float = 10.0 / 9.0) -> float:
     """L10r (million revolutions) from element loads Q_j and the contact ratings of both rings.
 
@@ -260,8 +260,8 @@ def ball_reference_life(geometry, loads, rotating: str = "inner") -> float:
     """
     inner, outer = ring_contact_ratings(geometry.ball_count, geometry.ball_diameter_m * 1e3,
                                         geometry.pitch_diameter_m * 1e3, geometry.inner_conformity,
-                                        geometry.outer_conformity, loads.contact_angle_rad)
-    return element_rating_life(loads.load_n, inner, outer, rotating)
+                                        geometry.outer_conformity, contact_angle_rad=loads.contact_angle_rad)
+    return element_rating_life(loads.load_n, inner, outer, rotating=rotating)
 
 
 def ball_contact_pressures_mpa(geometry, loads_N) -> tuple[np.ndarray, np.ndarray]:
@@ -308,8 +308,8 @@ class LifeResult:
     below_minimum_load: bool
 
 
-def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, static_rating_N: float | None,
-                     f0: float | None, elements: str = "ball", speed_rpm: float | None = None,
+def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, static_rating_N: float | None,  # noqa: PLR0913
+                     f0: float | None, *, elements: str = "ball", speed_rpm: float | None = None,
                      kappa: float | None = None, contamination: float | None = None,
                      reference_life_Mrev: float | None = None, static_safety_value: float | None = None) -> LifeResult:
     """Life, static safety and minimum-load status of a bearing from the forces it carries.

@@ -136,31 +136,33 @@ def housing_interference_um(housing_class: str, outside_mm: float) -> tuple[floa
     return ring_lower - upper, 0.0 - lower
 
 
-def inner_raceway_growth_um(interference_um: float, bore_mm: float, raceway_mm: float, shaft_bore_mm: float,
-                            ring_modulus_MPa: float, ring_poisson: float, shaft_modulus_MPa: float,
-                            shaft_poisson: float) -> float:
-    """Δd_1 (µm): growth of the inner raceway diameter d_1 from an interference on a (hollow) shaft (Lamé)."""
+def inner_raceway_growth_um(interference_um: float, bore_mm: float, raceway_mm: float, shaft_bore_mm: float,  # noqa: PLR0913
+                            *, ring: tuple[float, float], shaft: tuple[float, float]) -> float:
+    """Δd_1 (µm): growth of the inner raceway diameter d_1 from an interference on a (hollow) shaft (Lamé); ``ring``
+    and ``shaft`` are (E in MPa, ν)."""
     if interference_um <= 0.0:
         return 0.0
+    (ring_modulus_MPa, ring_poisson), (shaft_modulus_MPa, shaft_poisson) = ring, shaft
     a, b, c = bore_mm / 2.0, raceway_mm / 2.0, shaft_bore_mm / 2.0
-    ring = a / ring_modulus_MPa * ((b**2 + a**2) / (b**2 - a**2) + ring_poisson)
-    shaft = a / shaft_modulus_MPa * ((a**2 + c**2) / (a**2 - c**2) - shaft_poisson)
-    pressure = interference_um / 2.0 / (ring + shaft)  # in 1e-3 MPa (µm over mm/MPa); linear, so µm come out
+    ring_term = a / ring_modulus_MPa * ((b**2 + a**2) / (b**2 - a**2) + ring_poisson)
+    shaft_term = a / shaft_modulus_MPa * ((a**2 + c**2) / (a**2 - c**2) - shaft_poisson)
+    pressure = interference_um / 2.0 / (ring_term + shaft_term)  # in 1e-3 MPa (µm over mm/MPa); linear, so µm come out
     return 4.0 * pressure * a**2 * b / (ring_modulus_MPa * (b**2 - a**2))
 
 
-def outer_raceway_shrinkage_um(interference_um: float, outside_mm: float, raceway_mm: float,
-                               housing_outside_mm: float | None, ring_modulus_MPa: float, ring_poisson: float,
-                               housing_modulus_MPa: float, housing_poisson: float) -> float:
+def outer_raceway_shrinkage_um(interference_um: float, outside_mm: float, raceway_mm: float,  # noqa: PLR0913
+                               housing_outside_mm: float | None, *, ring: tuple[float, float],
+                               housing: tuple[float, float]) -> float:
     """ΔD_1 (µm): shrinkage of the outer raceway diameter D_1 from an interference in a housing of outer diameter
     ``housing_outside_mm`` (None: a housing much larger than the ring, (g² + f²)/(g² − f²) → 1) (Lamé)."""
     if interference_um <= 0.0:
         return 0.0
+    (ring_modulus_MPa, ring_poisson), (housing_modulus_MPa, housing_poisson) = ring, housing
     e, f = raceway_mm / 2.0, outside_mm / 2.0
-    ring = f / ring_modulus_MPa * ((f**2 + e**2) / (f**2 - e**2) - ring_poisson)
+    ring_term = f / ring_modulus_MPa * ((f**2 + e**2) / (f**2 - e**2) - ring_poisson)
     wall = 1.0 if housing_outside_mm is None else ((housing_outside_mm / 2.0) ** 2 + f**2) / ((housing_outside_mm / 2.0) ** 2 - f**2)
-    housing = f / housing_modulus_MPa * (wall + housing_poisson)
-    pressure = interference_um / 2.0 / (ring + housing)
+    housing_term = f / housing_modulus_MPa * (wall + housing_poisson)
+    pressure = interference_um / 2.0 / (ring_term + housing_term)
     return 4.0 * pressure * f**2 * e / (ring_modulus_MPa * (f**2 - e**2))
 
 
@@ -178,7 +180,7 @@ class FitClearance:
     which: str
 
 
-def fit_clearance(unmounted_um: tuple[float, float], shaft_fit: str | None, housing_fit: str | None, *, bore_mm: float,
+def fit_clearance(unmounted_um: tuple[float, float], shaft_fit: str | None, housing_fit: str | None, *, bore_mm: float,  # noqa: PLR0913
                   outside_mm: float, pitch_diameter_mm: float, ball_diameter_mm: float, shaft_bore_mm: float,
                   housing_outside_mm: float | None, shaft_material: tuple[float, float],
                   housing_material: tuple[float, float], ring_material: tuple[float, float],
@@ -189,9 +191,10 @@ def fit_clearance(unmounted_um: tuple[float, float], shaft_fit: str | None, hous
     housing = housing_interference_um(housing_fit, outside_mm) if housing_fit else (0.0, 0.0)
 
     def reduction(i_shaft: float, i_housing: float) -> float:
-        return (inner_raceway_growth_um(i_shaft, bore_mm, inner_race, shaft_bore_mm, *ring_material, *shaft_material)
-                + outer_raceway_shrinkage_um(i_housing, outside_mm, outer_race, housing_outside_mm, *ring_material,
-                                             *housing_material))
+        return (inner_raceway_growth_um(i_shaft, bore_mm, inner_race, shaft_bore_mm, ring=ring_material,
+                                        shaft=shaft_material)
+                + outer_raceway_shrinkage_um(i_housing, outside_mm, outer_race, housing_outside_mm, ring=ring_material,
+                                             housing=housing_material))
 
     smallest, largest = reduction(shaft[0], housing[0]), reduction(shaft[1], housing[1])
     mean = reduction(0.5 * sum(shaft), 0.5 * sum(housing))

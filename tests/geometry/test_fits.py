@@ -43,16 +43,16 @@ def test_thick_ring_expansion_against_the_hand_computation():
     materials: p [a/E ((b²+a²)/(b²−a²) + ν) + a/E (1 − ν)] = p a/E · 2b²/(b²−a²) = I/2, so
     p = E I (b²−a²)/(4 a b²) and Δd_1 = 4 p a² b / (E (b²−a²)) = I a/b = I d/d_1: the textbook rule. For the 6204
     (d = 20, d_1 = D_pw − D_w = 33.5 − 7.938 = 25.562 mm) and I = 21 µm: 21 · 20/25.562 = 16.43 µm."""
-    growth = fits.inner_raceway_growth_um(21.0, 20.0, 25.562, 0.0, *STEEL, *STEEL)
+    growth = fits.inner_raceway_growth_um(21.0, 20.0, 25.562, 0.0, ring=STEEL, shaft=STEEL)
     assert growth == pytest.approx(21.0 * 20.0 / 25.562, rel=1e-12)
     assert growth == pytest.approx(16.43, abs=0.01)
     # the outer ring in a much larger housing of the same steel: ΔD_1 = I D_1/D
-    assert fits.outer_raceway_shrinkage_um(10.0, 47.0, 41.438, None, *STEEL, *STEEL) == pytest.approx(
+    assert fits.outer_raceway_shrinkage_um(10.0, 47.0, 41.438, None, ring=STEEL, housing=STEEL) == pytest.approx(
         10.0 * 41.438 / 47.0, rel=1e-12)
     # a hollow shaft and a thin housing wall give way: less of the interference reaches the raceway
-    assert fits.inner_raceway_growth_um(21.0, 20.0, 25.562, 8.0, *STEEL, *STEEL) < growth
-    assert fits.outer_raceway_shrinkage_um(10.0, 47.0, 41.438, 60.0, *STEEL, 157000.0, 0.27) < 10.0 * 41.438 / 47.0
-    assert fits.inner_raceway_growth_um(-5.0, 20.0, 25.562, 0.0, *STEEL, *STEEL) == 0.0  # a clearance fit
+    assert fits.inner_raceway_growth_um(21.0, 20.0, 25.562, 8.0, ring=STEEL, shaft=STEEL) < growth
+    assert fits.outer_raceway_shrinkage_um(10.0, 47.0, 41.438, 60.0, ring=STEEL, housing=(157000.0, 0.27)) < 10.0 * 41.438 / 47.0
+    assert fits.inner_raceway_growth_um(-5.0, 20.0, 25.562, 0.0, ring=STEEL, shaft=STEEL) == 0.0  # a clearance fit
 
 
 def _ball_rig(shaft_fit: str, housing_fit: str, clearance_class: str = "CN", which: str = "mean"):
