@@ -344,6 +344,9 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
     if reference_life_Mrev is not None and reference_life_Mrev > 0.0:
         carried = max(load, 0.0 if math.isinf(reference_life_Mrev)
                       else dynamic_rating_N * reference_life_Mrev ** (-1.0 / life_exponent(elements)))
-    return LifeResult(load, basic, reference_life_Mrev, factor, modified, speed_rpm, hours(basic, speed_rpm),
-                      None if reference_life_Mrev is None else hours(reference_life_Mrev, speed_rpm),
-                      None if modified is None else hours(modified, speed_rpm), safety, minimum, carried < minimum)
+    return LifeResult(equivalent_load_N=load, basic_life_Mrev=basic, reference_life_Mrev=reference_life_Mrev,
+                      a_iso=factor, modified_life_Mrev=modified, speed_rpm=speed_rpm,
+                      basic_life_h=hours(basic, speed_rpm),
+                      reference_life_h=None if reference_life_Mrev is None else hours(reference_life_Mrev, speed_rpm),
+                      modified_life_h=None if modified is None else hours(modified, speed_rpm), static_safety=safety,
+                      minimum_load_N=minimum, below_minimum_load=carried < minimum)

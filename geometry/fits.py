@@ -202,4 +202,5 @@ def fit_clearance(unmounted_um: tuple[float, float], shaft_fit: str | None, hous
     chosen = {"mean": 0.5 * sum(unmounted_um) - mean, "min": mounted[0], "max": mounted[1]}
     if which not in chosen:
         raise ValueError(f"fit_clearance must be mean, min or max, got {which!r}")
-    return FitClearance(tuple(unmounted_um), shaft, housing, (smallest, largest), mounted, chosen[which], which)
+    return FitClearance(unmounted_um=tuple(unmounted_um), shaft_interference_um=shaft, housing_interference_um=housing,
+                        reduction_um=(smallest, largest), mounted_um=mounted, chosen_um=chosen[which], which=which)

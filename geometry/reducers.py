@@ -176,7 +176,11 @@ def reducer_check(reducer, torque_Nm: float, force_N, moment_Nm) -> ReducerCheck
     moment = math.hypot(float(moment_Nm[1]), float(moment_Nm[2]))
     axial = abs(float(force_N[0]))
     radial = math.hypot(float(force_N[1]), float(force_N[2]))
-    return ReducerCheck(reducer.name, entry.designation, torque, moment, axial, radial,
-                        100.0 * torque / entry.rated_torque_Nm, 100.0 * torque / entry.acceleration_torque_Nm,
-                        100.0 * torque / entry.momentary_max_torque_Nm, 100.0 * moment / entry.allowable_moment_Nm,
-                        100.0 * moment / entry.momentary_max_moment_Nm, 100.0 * axial / entry.max_axial_load_N)
+    return ReducerCheck(name=reducer.name, designation=entry.designation, torque_Nm=torque, moment_Nm=moment,
+                        axial_force_N=axial, radial_force_N=radial,
+                        torque_rated_percent=100.0 * torque / entry.rated_torque_Nm,
+                        torque_peak_percent=100.0 * torque / entry.acceleration_torque_Nm,
+                        torque_momentary_percent=100.0 * torque / entry.momentary_max_torque_Nm,
+                        moment_use_percent=100.0 * moment / entry.allowable_moment_Nm,
+                        moment_momentary_percent=100.0 * moment / entry.momentary_max_moment_Nm,
+                        axial_use_percent=100.0 * axial / entry.max_axial_load_N)

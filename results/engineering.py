@@ -452,9 +452,11 @@ def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_N
 def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQuantities:
     """A :class:`BearingLifeQuantities` row from a :class:`rvcoax.fem.bearing_life.LifeResult`."""
     return BearingLifeQuantities(
-        bearing_name, case, life.speed_rpm, ratings.source, ratings.dynamic_N, life.equivalent_load_N,
-        life.basic_life_Mrev, life.basic_life_h, life.reference_life_Mrev, life.reference_life_h, life.a_iso,
-        life.modified_life_h, life.static_safety, life.minimum_load_N, life.below_minimum_load)
+        name=bearing_name, case=case, speed_rpm=life.speed_rpm, rating_source=ratings.source,
+        dynamic_load_rating_N=ratings.dynamic_N, equivalent_load_N=life.equivalent_load_N, L10_Mrev=life.basic_life_Mrev,
+        L10_h=life.basic_life_h, L10r_Mrev=life.reference_life_Mrev, L10r_h=life.reference_life_h, a_iso=life.a_iso,
+        Lnm_h=life.modified_life_h, static_safety=life.static_safety, minimum_load_N=life.minimum_load_N,
+        below_minimum_load=life.below_minimum_load)
 
 
 def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
@@ -511,7 +513,9 @@ def _gear_meshes(rig, model, u: np.ndarray) -> tuple[GearMeshMisalignment, ...]:
         alpha = mesh.stage.working_pressure_angle
         for i, angle in enumerate(mesh.planet_angles_deg):
             beta, delta = mesh_misalignment(rotation_on, rotation_mate, angle, alpha, mesh.face_width_mm)
-            out.append(GearMeshMisalignment(mesh.name, i, float(angle), mesh.face_width_mm, tilt * URAD, beta, delta))
+            out.append(GearMeshMisalignment(name=mesh.name, planet=i, planet_angle_deg=float(angle),
+                                            face_width_mm=mesh.face_width_mm, relative_tilt_urad=tilt * URAD,
+                                            f_sigma_beta_um=beta, f_sigma_delta_um=delta))
     return tuple(out)
 
 
@@ -662,8 +666,9 @@ def duty_cycle_of_lives(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]
                                                        [w / total_share for w, _ in moving]) / total_share
         else:
             revs = bearing_life.miner_life([life.L10_Mrev for life in lives], weights)
-        out.append(DutyCycleLife(name, kind, hours, revs, modified, min(life.static_safety for life in lives),
-                                 tuple(life.case for life in lives if life.below_minimum_load)))
+        out.append(DutyCycleLife(name=name, shares=kind, L10_h=hours, L10_Mrev=revs, Lnm_h=modified,
+                                 min_static_safety=min(life.static_safety for life in lives),
+                                 cases_below_minimum_load=tuple(life.case for life in lives if life.below_minimum_load)))
     return out
 
 
@@ -698,13 +703,13 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
                 "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
     return CaseEngineering(
-        tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
-        tuple(_bearing(b, total, change) for b in rig.bearings),
-        _reactions(rig, total, change),
-        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])),
-        () if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
-        () if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm),
-        _gear_meshes(rig, model, u_change if measured_from_rest else u_total))
+        couplings=tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
+        bearings=tuple(_bearing(b, total, change) for b in rig.bearings),
+        reactions=_reactions(rig, total, change),
+        residual_force_N=float(np.linalg.norm(residual[:3])), residual_moment_Nm=float(np.linalg.norm(residual[3:])),
+        lives=() if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        reducers=() if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        gear_meshes=_gear_meshes(rig, model, u_change if measured_from_rest else u_total))
 
 
 def shaft_quantities(path) -> dict:
