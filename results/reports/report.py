@@ -104,8 +104,7 @@ def _table_html(table: tables.Table) -> str:
         for k, cell in enumerate(row):
             classes = []
             if k == table.verdict_column:
-                classes.append({"fine": "fine", "within": "within", "EXCEEDS": "exceeds"}.get(cell.split(" ")[0],
-                                                                                             "none"))
+                classes.append(_verdict_class(cell))
             elif _numeric(cell):
                 classes.append("num")
             attr = f' class="{" ".join(classes)}"' if classes else ""
@@ -114,6 +113,17 @@ def _table_html(table: tables.Table) -> str:
     note = f'<p class="note">{html.escape(table.note)}</p>' if table.note else ""
     return (f"<table><caption>{html.escape(table.caption)}</caption><thead><tr>{head}</tr></thead>"
             f"<tbody>{''.join(body)}</tbody></table>{note}")
+
+
+def _verdict_class(cell: str) -> str:
+    """The colour class of a verdict cell: fine, within (near a limit) or exceeds."""
+    if cell.startswith(("EXCEEDS", "BELOW")):
+        return "exceeds"
+    if cell in ("within rating", "above minimum load"):
+        return "fine"
+    if cell.startswith("above rated"):
+        return "within"
+    return {"fine": "fine", "within": "within"}.get(cell.split(" ")[0], "none")
 
 
 def _numeric(text: str) -> bool:
@@ -368,7 +378,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
                          + _table_html(tables.shaft_table(sweep))))
-    misalignment = tables.misalignment_tables(sweep)
+    misalignment = tables.misalignment_tables(sweep) + tables.life_tables(sweep) + tables.gear_mesh_tables(sweep)
     body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
                          or _missing("The rig has no couplings or bearings.")))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))
