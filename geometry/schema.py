@@ -541,8 +541,10 @@ class GearMesh(StrictModel):
         """The :class:`rvcoax.geometry.gears.GearStage` of the sun and one planet."""
         from rvcoax.geometry.gears import GearStage
 
-        return GearStage(self.normal_module_mm, (self.sun_teeth, self.planet_teeth), self.normal_pressure_angle_deg,
-                         self.face_width_mm, self.helix_angle_deg, tuple(self.profile_shift), self.dedendum_factor)
+        return GearStage(normal_module_mm=self.normal_module_mm, teeth=(self.sun_teeth, self.planet_teeth),
+                         normal_pressure_angle_deg=self.normal_pressure_angle_deg, face_width_mm=self.face_width_mm,
+                         helix_angle_deg=self.helix_angle_deg, profile_shift=tuple(self.profile_shift),
+                         dedendum_factor=self.dedendum_factor)
 
 
 
@@ -688,9 +690,10 @@ class Housing(StrictModel):
 
         splits = tuple(x for band in self.bands_mm() for x in band)
         if self.shape == "block":
-            return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
-                                 self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm,
-                                 self.foot_width_mm, splits, self.mesh_size_mm)
+            return BlockGeometry(name=self.name, x_mm=tuple(self.x_mm), width_mm=self.width_mm,
+                                 bottom_mm=-self.height_above_bed_mm, top_mm=self.top_above_axis_mm,
+                                 bore_diameter_mm=self.bore_diameter_mm, foot_thickness_mm=self.foot_thickness_mm,
+                                 foot_width_mm=self.foot_width_mm, split_x_mm=splits, mesh_size_mm=self.mesh_size_mm)
         seat = {"name": self.name, "x_mm": tuple(self.x_mm), "width_mm": self.width_mm, "top_mm": self.top_above_axis_mm,
                 "seat_bottom_mm": -self.seat_below_axis_mm, "bore_diameter_mm": self.bore_diameter_mm,
                 "split_x_mm": splits, "mesh_size_mm": self.mesh_size_mm, "foot_pad_mm": self.foot_pad_mm}
@@ -949,69 +952,100 @@ class Rig(StrictModel):
             if p.material not in self.materials:
                 yield (f"parts[{i}] ('{p.name}').material: unknown material '{p.material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
+        yield from self._connection_problems(parts)
+        yield from self._load_problems(parts)
+        yield from self._thermal_problems()
+        yield from self._housing_problems(parts)
+        yield from self._force_table_problems(parts)
+        yield from self._path_problems(parts)
+        yield from self._overlapping_supports()
+        yield from self._overlapping_shafts()
+        yield from self._metre_scale()
+        yield from self._mesh_sizes()
+        for name in self.solid.hybrid_parts or []:
+            if name not in parts:
+                yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
+        yield from self._repeated_names()
 
-        def at(where: str, part: str, x: float, role: str | None = None):
-            if part not in parts:
-                yield f"{where}: unknown part '{part}' (parts: {', '.join(parts)})"
-                return
-            lo, hi = parts[part].x_range_mm
-            if not lo - 1e-9 <= x <= hi + 1e-9:
-                yield f"{where}: x_mm = {x} lies outside part '{part}' ({lo} .. {hi} mm)"
-            if role and parts[part].role != role:
-                yield f"{where}: part '{part}' is a {parts[part].role}, expected a {role}"
+    @staticmethod
+    def _at(parts: dict, where: str, part: str, x: float, role: str | None = None):
+        """A position ``x`` on ``part``: the part exists, ``x`` lies on it (and the part has ``role``)."""
+        if part not in parts:
+            yield f"{where}: unknown part '{part}' (parts: {', '.join(parts)})"
+            return
+        lo, hi = parts[part].x_range_mm
+        if not lo - 1e-9 <= x <= hi + 1e-9:
+            yield f"{where}: x_mm = {x} lies outside part '{part}' ({lo} .. {hi} mm)"
+        if role and parts[part].role != role:
+            yield f"{where}: part '{part}' is a {parts[part].role}, expected a {role}"
 
+    def _connection_problems(self, parts: dict):
+        """Bearings, mounts, couplings and joints: their parts and positions."""
         for i, b in enumerate(self.bearings):
-            yield from at(f"bearings[{i}] ('{b.name}').shaft", b.shaft, b.x_mm)
+            yield from self._at(parts, f"bearings[{i}] ('{b.name}').shaft", b.shaft, b.x_mm)
             if b.housing != "ground":
-                yield from at(f"bearings[{i}] ('{b.name}').housing", b.housing, b.x_mm)
+                yield from self._at(parts, f"bearings[{i}] ('{b.name}').housing", b.housing, b.x_mm)
                 if b.housing == b.shaft:
                     yield f"bearings[{i}] ('{b.name}'): shaft and housing are the same part"
         for i, m in enumerate(self.mounts):
-            yield from at(f"mounts[{i}] ('{m.name}')", m.part, m.x_mm)
+            yield from self._at(parts, f"mounts[{i}] ('{m.name}')", m.part, m.x_mm)
         for group, items in (("couplings", self.couplings), ("joints", self.joints)):
             for i, c in enumerate(items):
-                yield from at(f"{group}[{i}] ('{c.name}').from", c.from_.part, c.from_.x_mm)
-                yield from at(f"{group}[{i}] ('{c.name}').to", c.to.part, c.to.x_mm)
+                yield from self._at(parts, f"{group}[{i}] ('{c.name}').from", c.from_.part, c.from_.x_mm)
+                yield from self._at(parts, f"{group}[{i}] ('{c.name}').to", c.to.part, c.to.x_mm)
                 if c.from_.part == c.to.part:
                     yield f"{group}[{i}] ('{c.name}'): from and to are the same part '{c.to.part}'"
+
+    def _load_problems(self, parts: dict):
+        """The torques, the torque-proportional lateral loads and the gear meshes: where they act."""
         for key in ("T1", "T2"):
             t = getattr(self.torques, key)
-            yield from at(f"torques.{key}", t.part, t.x_mm)
+            yield from self._at(parts, f"torques.{key}", t.part, t.x_mm)
         for i, t in enumerate(self.torque_lateral_loads):
-            yield from at(f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
+            yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
             if t.reacted_on is not None:
-                yield from at(f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
+                yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
         for i, g in enumerate(self.gear_meshes):
-            yield from at(f"gear_meshes[{i}] ('{g.name}').on", g.on.part, g.on.x_mm)
-            yield from at(f"gear_meshes[{i}] ('{g.name}').reacted_on", g.reacted_on.part, g.reacted_on.x_mm)
+            yield from self._at(parts, f"gear_meshes[{i}] ('{g.name}').on", g.on.part, g.on.x_mm)
+            yield from self._at(parts, f"gear_meshes[{i}] ('{g.name}').reacted_on", g.reacted_on.part, g.reacted_on.x_mm)
             if g.planet_material is not None and g.planet_material not in self.materials:
                 yield (f"gear_meshes[{i}] ('{g.name}').planet_material: unknown material '{g.planet_material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
             if g.on.part == g.reacted_on.part:
                 yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
-        yield from self._thermal_problems()
+
+    def _housing_problems(self, parts: dict):
+        """``[[housings]]``: their part, attachments and material."""
         for i, h in enumerate(self.housings):
-            yield from at(f"housings[{i}] ('{h.name}').part", h.part, h.attachments_x_mm[0])
+            yield from self._at(parts, f"housings[{i}] ('{h.name}').part", h.part, h.attachments_x_mm[0])
             for x in h.attachments_x_mm[1:]:
-                yield from at(f"housings[{i}] ('{h.name}').attachments_x_mm", h.part, x)
+                yield from self._at(parts, f"housings[{i}] ('{h.name}').attachments_x_mm", h.part, x)
             if h.material not in self.materials:
                 yield (f"housings[{i}] ('{h.name}').material: unknown material '{h.material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
+
+    def _force_table_problems(self, parts: dict):
+        """The force table's pairs and single forces: where they act."""
         for i, f in enumerate(self.force_table.pairs):
-            yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
-            yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
+            yield from self._at(parts, f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
+            yield from self._at(parts, f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
         for i, f in enumerate(self.force_table.singles):
-            yield from at(f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
+            yield from self._at(parts, f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
+
+    def _path_problems(self, parts: dict):
+        """The measured paths: on their part, not running past its end."""
         for key in MEASURED_SHAFTS:
             path = getattr(self.paths, key)
-            yield from at(f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
+            yield from self._at(parts, f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
             if path.part in parts:
                 lo, hi = parts[path.part].x_range_mm
                 end = path.x_start_mm + path.length_mm
                 if end > hi + 1e-9:
                     yield (f"paths.{key}.length_mm: the path x_start_mm + length_mm = {path.x_start_mm:g} + "
                            f"{path.length_mm:g} = {end:g} mm runs past the end of part '{path.part}' ({lo:g} .. {hi:g} mm)")
-        # overlapping supports: two supports of one part at the same place
+
+    def _overlapping_supports(self):
+        """Two supports of one part at the same place."""
         seen: dict[tuple[str, float], str] = {}
         supports = [(f"bearings '{b.name}'", b.shaft, b.x_mm) for b in self.bearings]
         supports += [(f"mounts '{m.name}'", m.part, m.x_mm) for m in self.mounts]
@@ -1022,12 +1056,9 @@ class Rig(StrictModel):
                        "(overlapping supports; merge them into one with the summed stiffness)")
             else:
                 seen[key] = label
-        yield from self._overlapping_shafts()
-        yield from self._metre_scale()
-        yield from self._mesh_sizes()
-        for name in self.solid.hybrid_parts or []:
-            if name not in parts:
-                yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
+
+    def _repeated_names(self):
+        """Names of connections, loads and housings are unique."""
         names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
                                          self.torque_lateral_loads, self.gear_meshes, self.housings)
                  for item in group]

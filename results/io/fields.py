@@ -354,12 +354,11 @@ def _mesh_from_meshio(points, cells, cell_data, part_names) -> FieldMesh:
 
     lines = data(LINE)
     tets = data(TETRA10)
-    return FieldMesh(
-        np.asarray(points, float) * scale,
-        np.zeros((0, 2), np.int64) if lines is None else lines,
-        radius, per_cell("part_id", LINE).astype(np.int32), tuple(part_names),
-        np.zeros((0, 10), np.int64) if tets is None else tets, per_cell("part_id", TETRA10).astype(np.int32),
-    )
+    return FieldMesh(points=np.asarray(points, float) * scale,
+                     lines=np.zeros((0, 2), np.int64) if lines is None else lines, line_radius_m=radius,
+                     line_part_id=per_cell("part_id", LINE).astype(np.int32), part_names=tuple(part_names),
+                     tetra10=np.zeros((0, 10), np.int64) if tets is None else tets,
+                     tetra_part_id=per_cell("part_id", TETRA10).astype(np.int32))
 
 
 def read_vtu(path: str | Path) -> tuple[FieldMesh, FieldCase]:
@@ -617,9 +616,10 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
             count += stations.size
         else:
             paths[which] = system.frame.path_nodes(which)[0]
-    mesh = FieldMesh(np.vstack(points), frame.lines, frame.line_radius_m, frame.line_part_id, names,
-                     np.vstack(tets) if tets else np.zeros((0, 10), dtype=np.int64),
-                     np.concatenate(tet_ids) if tet_ids else np.zeros(0, dtype=np.int32))
+    mesh = FieldMesh(points=np.vstack(points), lines=frame.lines, line_radius_m=frame.line_radius_m,
+                     line_part_id=frame.line_part_id, part_names=names,
+                     tetra10=np.vstack(tets) if tets else np.zeros((0, 10), dtype=np.int64),
+                     tetra_part_id=np.concatenate(tet_ids) if tet_ids else np.zeros(0, dtype=np.int32))
     return mesh, paths
 
 

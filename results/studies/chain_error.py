@@ -295,10 +295,10 @@ def contribution(component: Component, forces_N, coaxiality: Coaxiality = NO_TIL
         coaxiality = NO_TILT
     twists = stage_twists_deg(component, forces_N, coaxiality)
     baseline = stage_twists_deg(component, forces_N, NO_TILT)
-    return Contribution(component, coaxiality, np.asarray(forces_N, dtype=float),
-                        moment_arms_mm(component.stages, coaxiality), twists,
-                        component.transmission_factor * float(twists.sum()),
-                        component.transmission_factor * float(baseline.sum()))
+    return Contribution(component=component, coaxiality=coaxiality, forces_N=np.asarray(forces_N, dtype=float),
+                        arms_mm=moment_arms_mm(component.stages, coaxiality), stage_twists_deg=twists,
+                        value_deg=component.transmission_factor * float(twists.sum()),
+                        baseline_deg=component.transmission_factor * float(baseline.sum()))
 
 
 def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> float:
@@ -349,8 +349,8 @@ def rig_stages(part: Part) -> tuple[Stage, ...]:
     return tuple(stages)
 
 
-def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,
-               reducer: Reducer) -> Component:
+def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,  # noqa: PLR0913
+               *, reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
         return ChainDataError(f"stage data {source}: components.{name}: {text}")
 
@@ -379,10 +379,11 @@ def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, so
     else:
         known = sorted(set(data.materials) | set(rig.materials))
         raise problem(f"material '{material}' is neither in the stage data nor in the rig (known: {', '.join(known)})")
-    return Component(name, entry.symbol, entry.description, stages,
-                     shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio), material,
-                     entry.transmission, reducer.transmission_factor(entry.transmission), entry.sign,
-                     entry.coaxiality)
+    return Component(name=name, symbol=entry.symbol, description=entry.description, stages=stages,
+                     shear_modulus_Pa=shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio),
+                     material=material, transmission=entry.transmission,
+                     transmission_factor=reducer.transmission_factor(entry.transmission), sign=entry.sign,
+                     coaxiality=entry.coaxiality)
 
 
 def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
@@ -409,7 +410,7 @@ def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
     data = read_toml_model(_StageFile, text, lambda problems: ChainDataError(problems_text("stage data", source, problems)))
     r = data.reducer
     reducer = Reducer(r.name, r.ratio_i16, r.cycloid_teeth_Z4, r.pin_teeth_Z5, r.pin_count)
-    components = tuple(_component(name, entry, data, rig, source, reducer)
+    components = tuple(_component(name, entry, data, rig, source, reducer=reducer)
                        for name, entry in data.components.items())
     return ChainModel(reducer, components, source)
 

@@ -328,8 +328,9 @@ def parse_tolerances(text: str, source: str, rig: Rig) -> Tolerances:
         for p in parsed.parameters
     )
     study = parsed.study
-    return Tolerances(source, text, study.name, study.description, study.measured_from, study.confidence_level,
-                      cases, parameters, tuple(_limit(x, rig) for x in parsed.limits))
+    return Tolerances(source=source, text=text, name=study.name, description=study.description,
+                      measured_from=study.measured_from, confidence_level=study.confidence_level, cases=cases,
+                      parameters=parameters, limits=tuple(_limit(x, rig) for x in parsed.limits))
 
 
 def load_tolerances(path: str | Path, rig: Rig) -> Tolerances:

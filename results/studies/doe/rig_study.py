@@ -107,8 +107,8 @@ class StudyResult:
             key = next((k for k, c in self.columns.items() if c == j), f"e{j}")
             codes[key] = self.array.table[:, j - 1]
         runs = tuple(str(i + 1) for i in range(self.array.runs))
-        return Design(runs, codes, self.factors, build_sources(self.factors, list(codes)),
-                      self.responses[response], response)
+        return Design(runs=runs, codes=codes, factors=self.factors, sources=build_sources(self.factors, list(codes)),
+                      response=self.responses[response], response_name=response)
 
 
 def load_study(path: str | Path | None = None) -> Study:
@@ -210,9 +210,9 @@ def check_addresses(rig: Rig, study: Study, source: str = "study file") -> None:
                 raise StudyError(f"{source}: factor {factor.key}: {error.args[0]}") from None
 
 
-def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
+def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,  # noqa: PLR0913
               progress: Callable[[int, int], None] | None = None, runs: range | None = None,
-              source: str = "study file") -> StudyResult:
+              *, source: str = "study file") -> StudyResult:
     """Solve the rig once per run of the study's array and collect β and Y_max of both shafts.
 
     ``runs`` limits the solves to some runs (the others stay NaN), e.g. to try a slow model;
@@ -255,7 +255,8 @@ def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
             beta[shaft][run], y_max[shaft][run] = path.beta_deg, path.y_max_mm
         if progress is not None:
             progress(count, len(selected))
-    return StudyResult(study, array, columns, settings, {f"beta_{s}_deg": beta[s] for s in MEASURED_SHAFTS}, y_max)
+    return StudyResult(study=study, array=array, columns=columns, settings=settings,
+                       responses={f"beta_{s}_deg": beta[s] for s in MEASURED_SHAFTS}, y_max_mm=y_max)
 
 
 __all__ = ["ARRAYS", "RESPONSES", "Study", "StudyError", "StudyResult", "assign_columns", "load_study",
