@@ -6,7 +6,7 @@
    (K_c[1, 1], N/µm: mesh convergence).
 2. Mesh convergence of the other shapes (issue 16 item 2): the reference rig's input bearing block as a web
    pedestal (``BEARING_PEDESTALS[0]``, bolt feet clamped) and a wall bracket (the test bracket of
-   tests/geometry/test_housing_shapes.py on a Winkler bed) at 16 … 5 mm: the vertical and lateral stiffness at the
+   tests/geometry/model/test_housing_shapes.py on a Winkler bed) at 16 … 5 mm: the vertical and lateral stiffness at the
    first seat, the observed order p from the three finest meshes (K_h ≈ K_∞ + C h^p, non-uniform ratios solved
    for p) and the Richardson-extrapolated K_∞ with each mesh's distance from it.
 3. Blind Y/β of the beam model on paper 000's 20 load cases for the typed-in reference rig and for the
@@ -83,7 +83,7 @@ def shape_convergence(rows: list) -> None:
     from rvcoax.geometry.housings import BracketGeometry, Reference
     from rvcoax.geometry.model.condensed_housing import condense_housing
 
-    def bracket(size: float) -> BracketGeometry:  # as in tests/geometry/test_housing_shapes.py
+    def bracket(size: float) -> BracketGeometry:  # as in tests/geometry/model/test_housing_shapes.py
         return BracketGeometry(name="bracket", x_mm=(0.0, 60.0), width_mm=70.0, top_mm=35.0, seat_bottom_mm=-35.0,
                                bore_diameter_mm=35.0, split_x_mm=(12.0, 48.0), mesh_size_mm=size, wall_z_mm=-110.0,
                                arm_length_mm=60.0, arm_height_mm=40.0, plate_length_mm=100.0, plate_height_mm=110.0,

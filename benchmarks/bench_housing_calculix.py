@@ -1,6 +1,6 @@
 """CalculiX (ccx) against rvcoax on the pedestal and the bracket of issue 16: the same mesh, feet and load.
 
-Each shape (the web pedestal and the wall bracket of tests/geometry/test_housing_shapes.py, Ø35 bore,
+Each shape (the web pedestal and the wall bracket of tests/geometry/model/test_housing_shapes.py, Ø35 bore,
 four 25 mm bolt feet) is meshed once by rvcoax (gmsh, curved P2 tetrahedra). Both codes then solve the
 full solid model on that mesh:
 

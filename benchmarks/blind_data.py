@@ -450,7 +450,7 @@ def write_sets(responses: Responses, out: Path, log=print) -> list[dict]:
     return manifest
 
 
-# the committed fixtures (tests/results/data/blind): a few small files, 7 of the paper's cases, 6 stations per shaft
+# the committed fixtures (tests/results/studies/data/blind): a few small files, 7 of the paper's cases, 6 stations per shaft
 FIXTURE_CASES = (0, 3, 6, 9, 12, 15, 19)
 FIXTURE_STATIONS = 6
 FIXTURES = (  # name, truth, load, datum, schema, noise, notation

@@ -38,7 +38,7 @@ table) by ``blind_data.noisy_observations`` / ``csv_text`` — the files the ``d
 Usage::
 
     python benchmarks/calculix_rig.py --compare          # the unmodified reference rig: ccx against rvcoax
-    python benchmarks/calculix_rig.py --out tests/results/data/calculix   # the 13 committed files + manifest
+    python benchmarks/calculix_rig.py --out tests/results/studies/data/calculix   # the 13 committed files + manifest
     python benchmarks/calculix_rig.py --full .blindcache/calculix         # 264 files for the benchmark
     python benchmarks/bench_discrepancy_blind.py --sets .blindcache/calculix   # score the workflow on them
 
@@ -97,7 +97,7 @@ def require_ccx() -> str:
     path = shutil.which(CCX)
     if path is None:
         print("calculix_rig.py needs CalculiX's 'ccx' on the PATH (Debian: apt-get install calculix-ccx); "
-              "the committed data in tests/results/data/calculix do not.", file=sys.stderr)
+              "the committed data in tests/results/studies/data/calculix do not.", file=sys.stderr)
         raise CalculixMissing(2)
     return path
 

@@ -11,7 +11,7 @@ before it silently costs speed.
   :mod:`rvcoax.fem.hugepages`. Tested with numpy 2.0 … 2.4.
 
 meshio's XDMF internals (time-series writer and reader classes, the ``meshio.xdmf.common`` tables) are
-used in one module, :mod:`rvcoax.results.io.fields`, which says why; ``tests/results/test_fields.py``
+used in one module, :mod:`rvcoax.results.io.fields`, which says why; ``tests/results/io/test_fields.py``
 pins them the same way (tested with meshio 5.3).
 """
 

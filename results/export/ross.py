@@ -200,7 +200,7 @@ def ross_gravity_sag(rotor) -> np.ndarray:
         return np.asarray(rotor.run_static().deformation, dtype=float)
 
 
-def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS_GRAVITY_M_PER_S2) -> np.ndarray:
+def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, acceleration_m_per_s2: float = ROSS_GRAVITY_M_PER_S2) -> np.ndarray:
     """The same shaft in rvcoax: its beam elements and hubs under gravity, supports rigid in y and z (m).
 
     The elements, hubs and material are those of the rig's beam model; the shaft is cut free from
@@ -229,7 +229,7 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     no_springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
     model = StructuralModel(structure.coordinates[nodes], local, no_springs, point_masses=hubs,
                             fixed_dofs=np.array(sorted(fixed)))
-    system = assemble_frame(model, [0.0, -gravity_m_per_s2, 0.0])
+    system = assemble_frame(model, [0.0, -acceleration_m_per_s2, 0.0])
     u = factorize(system.stiffness, system.elimination).solve(system.loads["gravity"])
     return u[1::DOFS_PER_NODE]
 

@@ -9,6 +9,9 @@ import sys
 
 import pytest
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.subprocess]
+
 CHILD = """
 import json, os, sys
 import numpy, scipy.linalg  # both OpenBLAS copies loaded

@@ -4,7 +4,7 @@ Each new load type is solved through the rig pipeline (rig data → schema → b
 loads → solve) on a small rig and compared with a hand calculation written out in the test:
 misaligned couplings (parallel offset, angular), raised mounts, a bearing with radial clearance
 (dead band and contact), the ``proportional`` torque-to-lateral load, Euler–Bernoulli against
-Timoshenko beams, and the force-table scale. Steel as in tests/frames.py; gravity off.
+Timoshenko beams, and the force-table scale. Steel as in tests/support/frames.py; gravity off.
 """
 
 from __future__ import annotations

@@ -488,6 +488,7 @@ def _bytes_file(folder: Path, data: bytes) -> Path:
 
 
 @pytest.mark.parametrize("make, expected", list(CLI_CASES.values()), ids=list(CLI_CASES))
+@pytest.mark.subprocess
 def test_cli_bad_rig_exits_2_without_traceback(tmp_path, make, expected):
     rig = make(tmp_path)
     out = tmp_path / "out"
@@ -501,6 +502,7 @@ def test_cli_bad_rig_exits_2_without_traceback(tmp_path, make, expected):
     assert not (out / "sweep.csv").exists()
 
 
+@pytest.mark.subprocess
 def test_cli_rig_show_reports_bad_rig(tmp_path):
     rig = _dict_file(SCHEMA_CASES["unknown part in a coupling"][0])(tmp_path)
     result = rvcoax("rig", "show", "--rig", str(rig), cwd=tmp_path)
@@ -515,6 +517,7 @@ def test_cli_rig_show_reports_bad_rig(tmp_path):
     (_set(("bearings", 0, "shaft"), "[/]"), "bearings[0] ('motor_front').shaft: unknown part '[/]'"),
     (_set(("parts", 5, "material"), "[bold]Steel[/bold]"), "unknown material '[bold]Steel[/bold]'"),
 ], ids=["brackets in the reason", "closing tag as a name", "markup as a name"])
+@pytest.mark.subprocess
 def test_cli_prints_messages_verbatim(tmp_path, edit, expected):
     """Square brackets in a message (or in a user's names) are text, not terminal markup."""
     rig = _dict_file(edit)(tmp_path)

@@ -3,7 +3,7 @@
 Data flows one way (DEVELOPERS.md): rig file → geometry → model → solve → results → files, studies,
 documents, exports → the command line. Every import counts, wherever it is: at module level, inside a
 function, under ``if TYPE_CHECKING:``, and a package's lazy name table (a name loaded on use is imported
-then). The import graph itself: tests/import_graph.py; its cycles: tests/package/test_package.py.
+then). The import graph itself: tests/support/import_graph.py; its cycles: tests/package/test_package.py.
 
 One exception, declared where it is made: a name that moved up a floor can stay importable from where it
 was (``lazy_names(…, moved={module: names})``, e.g. ``rvcoax.results.io.write_report``, now in

@@ -5,6 +5,7 @@ The public API and the rule that the command line imports only it: tests/package
 
 import ast
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -16,6 +17,9 @@ from import_graph import ROOT, edges, module_files
 
 import rvcoax
 from rvcoax.results.cli import app as cli_app
+
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.subprocess]
 
 PACKAGES = ("fem", "geometry", "loadcases", "results")
 
@@ -148,8 +152,8 @@ def test_the_installed_wheel_runs_and_the_old_names_are_gone(wheel, tmp_path):
 
 
 def test_tests_import_helpers_not_other_test_modules():
-    """Shared test helpers live in plain modules (tests/frames.py, tests/rigdata.py, …), found because the
-    tests folder holds the root conftest.py; a test module is never imported by another."""
+    """Shared test helpers live in plain modules of tests/support/ (frames.py, rigdata.py, …), found through pytest's
+    ``pythonpath`` (pyproject.toml); a test module is never imported by another."""
     problems = []
     for path in (ROOT / "tests").rglob("*.py"):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
@@ -184,3 +188,23 @@ def test_one_name_one_meaning():
                     not_errors.append(f"{name}.{node.name}")
     assert defined == ["rvcoax.geometry.units"]
     assert not not_errors
+
+
+# What a test needs that makes it cost more than its assertions: the mark that says so, declared in its module
+# (``pytestmark``, or on the tests that need it), so that `make test-fast` and `-m` select by cost.
+_COSTS = {
+    "subprocess": re.compile(r"\bsubprocess\.(run|Popen|check_output|check_call|call)\("),
+    "dask": re.compile(r"\bLocal" + r"Cluster\("),
+    "render": re.compile(r"\b(render_" + r"deformed|draw_sweep_" + r"pictures)\("),
+}
+
+
+def test_every_test_module_declares_what_it_costs():
+    missing = []
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        text = path.read_text(encoding="utf-8")
+        missing += [f"{path.relative_to(ROOT)}: pytest.mark.{kind}" for kind, use in _COSTS.items()
+                    if use.search(text) and f"pytest.mark.{kind}" not in text]
+    assert not missing, "\n".join(missing)
+    conftest = (ROOT / "tests" / "conftest.py").read_text(encoding="utf-8")
+    assert "add_marker" not in conftest, "marks are declared in the test modules, not added by conftest.py"

@@ -75,6 +75,7 @@ def test_the_table_of_what_matters_is_what_the_rig_gives(solved):
 
 
 @pytest.mark.slow
+@pytest.mark.subprocess
 def test_the_python_block_runs(tmp_path):
     (tmp_path / "rv40e.toml").write_text(rig_text(), encoding="utf-8")
     (code,) = re.findall(r"```python\n(.*?)```", page(), re.S)

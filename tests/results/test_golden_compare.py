@@ -1,4 +1,4 @@
-"""The golden comparison (tests/golden_files.py) stays strict on every golden column and key, and allows
+"""The golden comparison (tests/support/golden_files.py) stays strict on every golden column and key, and allows
 columns and keys added later (issue 15's engineering quantities)."""
 
 import json

@@ -25,6 +25,9 @@ from pathlib import Path
 import pytest
 from golden_files import GOLDEN, compare_result_file
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.slow, pytest.mark.subprocess]
+
 
 def _rvcoax() -> str:
     return str(Path(sys.executable).with_name("rvcoax"))

@@ -354,6 +354,7 @@ def _case_lines(out: Path) -> list[bytes]:
     return [line for line in lines if b'"kind":"case"' in line]
 
 
+@pytest.mark.subprocess
 def test_a_sweep_killed_mid_way_resumes_to_the_same_files(tmp_path):
     cases = _case_file(tmp_path)
     killed = tmp_path / "killed"

@@ -64,12 +64,14 @@ def flat(text: str) -> str:
 # version, help, rig
 
 
+@pytest.mark.subprocess
 def test_version(tmp_path):
     result = rvcoax("--version", cwd=tmp_path)
     assert result.returncode == 0
     assert result.stdout.strip() == f"rvcoax {version('rvcoax')}"
 
 
+@pytest.mark.subprocess
 def test_help_states_units_and_commands(tmp_path):
     result = rvcoax("--help", cwd=tmp_path)
     assert result.returncode == 0
@@ -242,17 +244,20 @@ def _user_error(tmp_path: Path, *args: str) -> str:
     return flat(result.stderr)
 
 
+@pytest.mark.subprocess
 def test_unknown_model_is_rejected(tmp_path):
     message = _user_error(tmp_path, "sweep", "--model", "shell", "--out", str(tmp_path / "out"))
     assert "'shell'" in message and "beam, hybrid, solid" in message
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.subprocess
 def test_bad_method(tmp_path):
     message = _user_error(tmp_path, "sweep", "--method", "fast", "--out", str(tmp_path / "out"))
     assert "'superposition' or 'direct'" in message and "'fast'" in message
 
 
+@pytest.mark.subprocess
 def test_non_numeric_torque(tmp_path):
     message = _user_error(tmp_path, "sweep", "--t1", "abc", "--t2", "1", "--out", str(tmp_path / "out"))
     assert "--t1" in message and "'abc'" in message and "N·m" in message
@@ -266,16 +271,19 @@ def test_non_numeric_torque(tmp_path):
     (("--t1", "nan", "--t2", "1"), "--t1 'nan', item 1 of 1: 'nan' is not a finite number"),
     (("--cases", "missing.csv"), "load cases missing.csv: file not found"),
 ], ids=["unequal lists", "t1 alone", "cases and t1", "nan", "missing cases file"])
+@pytest.mark.subprocess
 def test_bad_load_cases(tmp_path, args, expected):
     assert expected in _user_error(tmp_path, "sweep", *args, "--out", str(tmp_path / "out"))
 
 
+@pytest.mark.subprocess
 def test_cases_file_with_a_short_row(tmp_path):
     (tmp_path / "short.csv").write_text("T1_input_Nm,T2_output_Nm\n1.0,100\n0.5\n", encoding="utf-8")
     message = _user_error(tmp_path, "sweep", "--cases", "short.csv", "--out", str(tmp_path / "out"))
     assert "load cases short.csv: line 3, T2_output_Nm: value is missing" in message
 
 
+@pytest.mark.subprocess
 def test_out_is_a_file(tmp_path):
     (tmp_path / "taken").write_text("not a folder", encoding="utf-8")
     message = _user_error(tmp_path, "sweep", "--t1", "1", "--t2", "100", "--out", "taken")
@@ -283,6 +291,7 @@ def test_out_is_a_file(tmp_path):
     assert (tmp_path / "taken").read_text(encoding="utf-8") == "not a folder"
 
 
+@pytest.mark.subprocess
 def test_check_on_a_rig_without_the_calibrated_parameters(tmp_path):
     rig = tmp_path / "renamed.toml"
     rig.write_text(reference_rig_text().replace('name = "sun_gear_load_sharing"', 'name = "sun_mesh"'), encoding="utf-8")

@@ -11,7 +11,7 @@ import math
 import re
 from pathlib import Path
 
-GOLDEN = Path(__file__).resolve().parent / "golden"
+GOLDEN = Path(__file__).resolve().parents[1] / "golden"
 NUMBER = re.compile(r"-?\d+\.?\d*(?:[eE][-+]?\d+)?")
 # Rounding noise of the solve itself: compared only as "still tiny", not digit for digit.
 NOISE_KEYS = ("equilibrium_relative_error", "solve_relative_residual", "relative_residual")

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 TOLERANCES = ROOT / "loadcases" / "data" / "example_tolerances.toml"
 DATA = ROOT / "results" / "data"
 LEVELS = DATA / "paper001_l27_levels.csv"

@@ -67,6 +67,7 @@ def _decoded_images(text: str) -> list[Image.Image]:
 
 
 @pytest.mark.slow
+@pytest.mark.subprocess
 def test_report_opens_in_headless_chromium(sweep, tmp_path):
     browser = find_browser()
     if browser is None:

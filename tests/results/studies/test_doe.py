@@ -31,7 +31,7 @@ from rvcoax.results.studies.doe.regression import (
 )
 from rvcoax.results.studies.doe.report import analyse, combination_label
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 DATA = REPO / "results" / "data"
 DESIGN, LEVELS, TERMS = (DATA / f"paper001_l27_{n}.csv" for n in ("transmission_error", "levels", "regression_terms"))
 SHARED = [REPO.parent / "shared" / "reference", REPO / "shared" / "reference"]

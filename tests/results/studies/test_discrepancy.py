@@ -36,6 +36,9 @@ from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observ
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy
 from rvcoax.results.sweep import SweepSettings
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.slow]
+
 # One location per kind: where the kind reaches the measured shafts most (see the benchmark for all).
 HIDDEN = ("self_weight", "bearing_stiffness@input_B1", "bearing_stiffness@output_B2", "bearing_clearance@input_B2",
           "mount_compliance@reducer", "coupling_offset@C2", "coupling_angle@C3", "mesh_force@reducer_input",

@@ -1,6 +1,6 @@
 """The committed blind fixtures: hidden-effect data from the hybrid model, identified with the beam model.
 
-The files in ``tests/results/data/blind`` were written by ``benchmarks/blind_data.py`` from the hybrid
+The files in ``tests/results/studies/data/blind`` were written by ``benchmarks/blind_data.py`` from the hybrid
 model of the reference rig (solid measured shafts tied into the beam line), 7 of paper 000's cases,
 6 stations per shaft; ``manifest.json`` holds each file's truth. These tests check that they are
 what they claim to be (readable in every notation, independent of the beam model by a model-form

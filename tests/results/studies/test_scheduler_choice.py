@@ -19,7 +19,7 @@ from rvcoax.results.studies.montecarlo import evaluate_sample, plan_study
 from rvcoax.results.studies.sampling import sample_values
 from rvcoax.results.studies.tolerances import load_tolerances
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "loadcases" / "data" / "example_tolerances.toml"
+EXAMPLE = Path(__file__).resolve().parents[3] / "loadcases" / "data" / "example_tolerances.toml"
 
 
 def test_two_cores_always_run_serially():

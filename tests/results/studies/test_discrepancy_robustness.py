@@ -28,6 +28,9 @@ from rvcoax.results.studies.discrepancy.measured import parse_measured, printed_
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, run_discrepancy
 from rvcoax.results.sweep import EQUILIBRIUM_LIMIT, ModelError, SweepSettings, run_sweep
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.slow]
+
 HEADER = "T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n"
 
 

@@ -277,7 +277,7 @@ def test_a_nonlinear_rig_sweeps_a_load_at_a_new_place_on_its_own_mesh():
     from rvcoax.results.studies.discrepancy.workflow import discrepancy_workload
     from rvcoax.results.sweep import run_sweep
 
-    rig = load_rig(Path(__file__).parents[2] / "geometry" / "data" / "reference_rig_ball_bearings.toml")
+    rig = load_rig(Path(__file__).parents[3] / "geometry" / "data" / "reference_rig_ball_bearings.toml")
     engine = prepare_engine(rig, SweepSettings())
     assert not engine.linear and not rig_is_linear(rig) and rig_is_linear(load_rig())
     effect = {e.name: e for e in candidate_effects(rig)}["torque_reaction@input_bearing_block"]
@@ -286,7 +286,7 @@ def test_a_nonlinear_rig_sweeps_a_load_at_a_new_place_on_its_own_mesh():
     cases = paper_cases()[-2:]
     fresh = full_paths(run_sweep(changed, tuple(cases), SweepSettings()))[0]
     assert np.allclose(engine.swept_paths(changed, cases), fresh, rtol=0, atol=1e-12 * np.abs(fresh).max())
-    data = read_measured(Path(__file__).parents[2] / "loadcases" / "data" / "paper000_coaxiality_table.csv")
+    data = read_measured(Path(__file__).parents[3] / "loadcases" / "data" / "paper000_coaxiality_table.csv")
     assert discrepancy_workload(data, 57, rig).seconds > 10 * discrepancy_workload(data, 57, load_rig()).seconds
 
 

@@ -9,7 +9,7 @@ from rvcoax.loadcases.cases import paired_cases
 
 __all__ = ["CASES", "PAGE", "page", "rig_text"]
 
-PAGE = Path(__file__).resolve().parents[1] / "docs" / "tutorial.md"
+PAGE = Path(__file__).resolve().parents[2] / "docs" / "tutorial.md"
 CASES = paired_cases([0.801, 4.006], [82.4, 412.0])
 
 

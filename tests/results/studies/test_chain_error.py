@@ -32,7 +32,7 @@ from rvcoax.results.studies.chain_error import (
     torsion_constant_deg_per_m,
 )
 
-DATA = __import__("pathlib").Path(__file__).resolve().parents[2] / "results" / "data"
+DATA = __import__("pathlib").Path(__file__).resolve().parents[3] / "results" / "data"
 EXAMPLE_FORCES = DATA / "paper000_chain_forces.csv"
 # paper 000: θ_total = θ22 − θ11 − θ44 − θ55 = 0.1020° − 0.000138° − 0.0147° − 0.0815° = 0.005662°
 PAPER_CONTRIBUTIONS_DEG = {"crankshaft": 0.1020, "input_shaft": 0.000138, "output_disk": 0.0147, "pin_shaft": 0.0815}

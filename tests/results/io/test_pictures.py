@@ -26,6 +26,9 @@ from rvcoax.results.io.pictures import (
 )
 from rvcoax.results.sweep import run_sweep
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.render]
+
 SIZE = (800, 300)
 
 

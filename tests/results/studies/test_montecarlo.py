@@ -34,7 +34,10 @@ from rvcoax.results.studies.sampling import Distribution, sample_values, to_valu
 from rvcoax.results.studies.sensitivity import morris_design, morris_indices, morris_values, sobol_design, sobol_indices
 from rvcoax.results.studies.tolerances import ToleranceFileError, load_tolerances, parse_tolerances
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "loadcases" / "data" / "example_tolerances.toml"
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.dask, pytest.mark.slow]
+
+EXAMPLE = Path(__file__).resolve().parents[3] / "loadcases" / "data" / "example_tolerances.toml"
 RIG = load_rig()
 
 CRANK_ERROR = "torque_lateral_loads.crankshaft_load_sharing.position_error_um"

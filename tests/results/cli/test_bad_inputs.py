@@ -1,6 +1,6 @@
 """Hostile inputs through the real command line, and valid inputs that must never be refused.
 
-Each case of the generated corpus (``tests/bad_inputs.py``: rig TOML files, load-case CSV/TOML,
+Each case of the generated corpus (``tests/support/bad_inputs.py``: rig TOML files, load-case CSV/TOML,
 measured-data CSV) is run through ``rvcoax`` in process (typer's CliRunner on ``rvcoax.results.cli.app.app``):
 rig files through ``rig show`` and ``sweep``, unsolvable rigs through ``sweep``, load cases through
 ``sweep --cases``, measured data through ``discrepancy --measured`` (validated before any solve).
@@ -91,6 +91,7 @@ def test_huge_files_are_refused_before_reading(name, tmp_path):
 
 @pytest.mark.parametrize("name", ["rig: a CSV", "cases: CSV semicolons", "measured: paths x in metres",
                                   "model: zero-stiffness brake feet"])
+@pytest.mark.subprocess
 def test_a_real_process_prints_the_message_and_no_traceback(name, tmp_path):
     case = BY_NAME[name]
     path = case.make(tmp_path)

@@ -1,4 +1,4 @@
-"""Issue 12's hostile corpus through the real command line (``tests/hostile/``).
+"""Issue 12's hostile corpus through the real command line (``tests/support/hostile/``).
 
 Each case runs in process (typer's CliRunner on ``rvcoax.results.cli.app.app``) with its own environment
 variables. It must end with its documented exit status, print the expected words (file or option,

@@ -58,6 +58,7 @@ def test_a_second_lock_on_the_same_folder_is_refused_and_released_after(tmp_path
     assert not (tmp_path / "out").exists()  # created for a command that wrote nothing: removed again
 
 
+@pytest.mark.subprocess
 def test_two_sweeps_into_one_folder_the_second_is_refused_and_the_first_keeps_its_cases(tmp_path):
     cases = tmp_path / "cases.csv"
     cases.write_text("T1_input_Nm,T2_output_Nm\n" + "".join(f"{0.1 * i:.1f},{10 * i}\n" for i in range(1, 9)),

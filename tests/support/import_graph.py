@@ -14,7 +14,7 @@ from pathlib import Path
 
 __all__ = ["Edge", "ROOT", "edges", "module_files", "resolve"]
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = ("fem", "geometry", "loadcases", "results")
 
 

@@ -20,6 +20,9 @@ from rvcoax.geometry.rigfile import load_rig
 from rvcoax.loadcases.cases import LoadCase, paper_cases
 from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
 
+# cost, for `make test-fast` (-m "not slow and not dask and not render")
+pytestmark = [pytest.mark.slow]
+
 COARSE = 8.0
 HYBRID = SweepSettings(model="hybrid", mesh_size_mm=COARSE)
 
@@ -119,6 +122,7 @@ def test_torque_reaches_the_solid_shafts_as_torsion(hybrid):
     assert np.abs(block).max() > 0
 
 
+@pytest.mark.render
 def test_hybrid_fields_and_picture(tmp_path, hybrid):
     from rvcoax.results.io.fields import sweep_field_cases, sweep_field_mesh, write_vtu, write_xdmf_series
     from rvcoax.results.io.pictures import render_deformed
@@ -146,6 +150,7 @@ def test_hybrid_fields_and_picture(tmp_path, hybrid):
     assert image.shape[:2] == (300, 800) and image.std() > 5
 
 
+@pytest.mark.subprocess
 def test_cli_check_hybrid_and_solid_models(tmp_path):
     """rvcoax check runs at hybrid and solid fidelity (coarse mesh) and passes on held-out rows."""
     for model in ("hybrid", "solid"):

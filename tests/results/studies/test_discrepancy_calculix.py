@@ -1,6 +1,6 @@
 """The discrepancy workflow on data this code did not make: hidden-effect data from CalculiX.
 
-The files in ``tests/results/data/calculix`` were written by ``benchmarks/calculix_rig.py`` (which needs
+The files in ``tests/results/studies/data/calculix`` were written by ``benchmarks/calculix_rig.py`` (which needs
 ``ccx``; these tests do not): the reference rig's shaft line built from its geometry as a CalculiX model
 (B32R beams expanded to 20-node bricks, SPRING1/SPRING2 springs), self-weight off, Y from the rig aligned
 at rest, 7 of paper 000's cases, 6 stations per shaft; ``manifest.json`` holds each file's truth. On the
