@@ -118,6 +118,7 @@ def rig_reference(
 
 
 @rig_app.command("example")
+@guard
 def rig_example() -> None:
     """Print the built-in example rig of another layout (RV-40E bench, one torque sensor, 260 mm output shaft, hysteresis brake, its own load cases)."""
     from rvcoax import example_rig_text

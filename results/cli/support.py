@@ -26,7 +26,7 @@ __all__ = ["CasesOption", "GridOption", "MeshOption", "ModelOption", "OutOption"
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
            "add_text_row", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
            "guard", "number_option", "prepare_with_status", "progress_bar", "report_written", "rig_text",
-           "run_with_progress", "scheduler_address", "sweep_settings", "torque_list", "warn", "write_error_text"]
+           "run_with_progress", "scheduler_address", "standard_output_failed", "sweep_settings", "torque_list", "warn", "write_error_text"]
 
 console = Console()
 if not console.is_terminal:  # logs and pipes: wide enough for the check tables
@@ -155,7 +155,25 @@ def scheduler_address(text: str) -> str:
     if not colon or not host or not (port.isascii() and port.isdigit()) or not 1 <= int(port) <= 65535:
         raise UserError(f"--scheduler: '{text}': needs HOST:PORT after {protocol}:// with a port 1 … 65535 "
                         "(e.g. tcp://127.0.0.1:8786)")
+    if protocol in TLS_PROTOCOLS:
+        missing = _missing_tls_settings()
+        if missing:
+            raise UserError(f"--scheduler: '{text}': a {protocol}:// scheduler needs the client's TLS certificates, "
+                            f"and Dask's configuration has no {' and no '.join(missing)} (set them in a Dask config "
+                            "file or as DASK_DISTRIBUTED__COMM__TLS__CA_FILE, …__CLIENT__CERT, …__CLIENT__KEY), or "
+                            "use tcp:// over a trusted network or an SSH tunnel")
     return text
+
+
+TLS_PROTOCOLS = ("tls", "wss")
+
+
+def _missing_tls_settings() -> list[str]:
+    """The Dask settings that a TLS client needs and that are not set (ca-file, client.cert)."""
+    import dask.config
+
+    return [f"distributed.comm.tls.{key}" for key in ("ca-file", "client.cert")
+            if not dask.config.get(f"distributed.comm.tls.{key}", None)]
 
 
 RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
@@ -217,12 +235,43 @@ def sweep_settings(model: str, method: str = "superposition", solver: str = "aut
         raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
 
 
-def write_error_text(error: OSError) -> str:
-    """``cannot write FILE: reason`` for an OSError raised while writing results (``no space left on device``)."""
+def write_error_text(error: OSError, out: Path | None = None) -> str:
+    """``cannot write FILE: reason`` for an OSError raised while writing results (``no space left on device``).
+
+    An error that names no file (``write()`` on a full disk) names the ``--out`` folder ``out`` when it
+    is known, or standard output when that is what failed (``rvcoax rig example > /dev/full``)."""
     reason = error.strerror or (os.strerror(error.errno) if error.errno else str(error)) or type(error).__name__
     reason = reason[:1].lower() + reason[1:]
-    where = error.filename if error.filename is not None else "the result files (--out)"
+    if error.filename is not None:
+        where = error.filename
+    elif standard_output_failed():
+        where = "to standard output"
+    elif out is not None:
+        where = f"into the --out folder {out}"
+    else:
+        where = "the result files (--out)"
     return f"cannot write {where}: {reason}"
+
+
+def standard_output_failed() -> bool:
+    """True when standard output cannot take what was printed (a full device, a closed pipe). Output still
+    held for it is then dropped (standard output is pointed at the null device), so that Python's flush
+    at exit does not fail a second time with a traceback of its own."""
+    import sys
+
+    if not getattr(sys.stdout, "failed", False):  # (rvcoax.results.cli.app.WatchedOutput)
+        try:
+            sys.stdout.flush()
+            return False
+        except OSError:
+            pass
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError, AttributeError):  # (a stream without a descriptor: a test runner's)
+        pass
+    return True
 
 
 def check_environment() -> None:
@@ -257,7 +306,8 @@ def guard(function):
             text = error.describe(f"rig file {kwargs.get('rig_file') or 'built-in reference_rig.toml'}")
             fail(f"{text} (try another --solver)" if isinstance(error, SolverError) else text)
         except OSError as error:  # reading is handled above, so this is writing the results (--out)
-            fail(write_error_text(error))
+            out = kwargs.get("out")
+            fail(write_error_text(error, out if isinstance(out, Path) else None))
 
     return wrapper
 

@@ -50,7 +50,7 @@ import numpy as np
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.fields import FieldCase, FieldMesh
-from rvcoax.results.io.writers import write_png_atomic
+from rvcoax.results.io.writers import naming_errors, write_png_atomic
 
 RENDER_PACKAGES = ("libegl1", "libegl-mesa0", "libgl1-mesa-dri")
 BACKGROUND = (255, 255, 255)
@@ -491,8 +491,9 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
             view.apply(plotter)
             temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
             try:
-                plotter.screenshot(str(temporary), return_img=False)
-                os.replace(temporary, target)
+                with naming_errors(target):  # (a full disk's ENOSPC names no file)
+                    plotter.screenshot(str(temporary), return_img=False)
+                    os.replace(temporary, target)
             finally:
                 temporary.unlink(missing_ok=True)
         finally:

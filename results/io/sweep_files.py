@@ -33,7 +33,7 @@ from pathlib import Path
 
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import canonical, entry_path_rows, rvcoax_version
-from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
+from rvcoax.results.io.writers import naming_errors, write_csv_atomic, write_json_atomic, write_text_atomic
 
 __all__ = ["CaseStore", "CASE_DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "RECORD_FORMAT", "REJECTIONS",
            "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal",
@@ -217,27 +217,35 @@ class CaseStore:
         write_text_atomic(self.path, "")
 
     def __enter__(self) -> CaseStore:
-        self.folder.mkdir(parents=True, exist_ok=True)
-        self._stream = open(self.path, "ab")  # noqa: SIM115 (closed in __exit__)
+        with naming_errors(self.path):
+            self.folder.mkdir(parents=True, exist_ok=True)
+            self._stream = open(self.path, "ab")  # noqa: SIM115 (closed in __exit__)
         self._last_sync = time.monotonic()
         return self
 
     def __exit__(self, *exc) -> None:
         if self._stream is not None:
-            self.sync()
-            self._stream.close()
-            self._stream = None
+            try:
+                self.sync()
+            finally:
+                stream, self._stream = self._stream, None
+                try:
+                    stream.close()
+                except OSError:  # (what could not be written was reported by sync)
+                    pass
 
     def sync(self) -> None:
         """Make every line written so far durable (fsync)."""
-        self._stream.flush()
-        os.fsync(self._stream.fileno())
+        with naming_errors(self.path):  # a full disk's ENOSPC names no file
+            self._stream.flush()
+            os.fsync(self._stream.fileno())
         self._unsynced = 0
         self._last_sync = time.monotonic()
 
     def _append(self, line: bytes) -> None:
-        self._stream.write(line)
-        self._stream.flush()  # to the operating system: a killed process loses nothing written
+        with naming_errors(self.path):
+            self._stream.write(line)
+            self._stream.flush()  # to the operating system: a killed process loses nothing written
         self._unsynced += 1
         if self._unsynced >= self.sync_every_cases or time.monotonic() - self._last_sync >= self.sync_every_s:
             self.sync()
