@@ -24,6 +24,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.geometry.inputfiles": ("InputFileError", "csv_rows", "plain_number", "read_input_text"),
     "rvcoax.geometry.limits": ("MESH_SIZE_RANGE_MM",),
     "rvcoax.geometry.ball_model": ("clearance_um_of", "geometry_of"),
-    "rvcoax.geometry.builtin": ("example_rig_text", "is_reference_rig", "load_example_rig"),
+    "rvcoax.geometry.builtin": ("example_rig_text", "is_reference_rig", "load_example_rig", "reference_differences"),
     "rvcoax.geometry.thermal": ("free_axial_growth_um", "mount_lift_um"),
 }, eager=("MEASURED_SHAFTS",))

@@ -542,6 +542,12 @@ class Housing(Strict):
         for x in self.attachments_x_mm:
             if not x0 <= x <= x1:
                 raise ValueError(f"attachments_x_mm: {x:g} lies outside the housing's x_mm [{x0:g}, {x1:g}]")
+        ordered = sorted(self.attachments_x_mm)
+        for a, b in zip(ordered, ordered[1:]):
+            if not b - a >= self.attachment_width_mm:
+                raise ValueError(f"attachment_width_mm = {self.attachment_width_mm:g}: the bore bands of the attachments "
+                                 f"at x = {a:g} and {b:g} mm (attachments_x_mm) overlap; each band ties its own stretch "
+                                 f"of the bore, so the width must be at most their distance, {b - a:g} mm")
         keys = HOUSING_SHAPE_KEYS[self.shape]
         missing = [key for key in keys["required"] if getattr(self, key) is None]
         if missing:

@@ -159,7 +159,7 @@ def register(app: typer.Typer) -> None:
                 raise support.UserError(str(error)) from None
         settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
         rig = load_rig(rig_file)
-        load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+        load_cases = support.cases_from_options(cases, t1, t2, grid, rig, rig_file)
         if output_format == "adams":
             _check_adams_cases(load_cases)
         result = support.run_with_progress(rig, load_cases, settings, "solving load cases",

@@ -32,7 +32,7 @@ def picture(
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, False, rig)
+    load_cases = support.cases_from_options(cases, t1, t2, False, rig, rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     folder = out / "pictures"

@@ -41,7 +41,7 @@ def report(
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+    load_cases = support.cases_from_options(cases, t1, t2, grid, rig, rig_file)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
     source, text = support.rig_text(rig_file)

@@ -11,6 +11,7 @@ from rich.table import Table
 
 from rvcoax.results.cli.support import (
     RigOption,
+    UserError,
     add_text_row,
     console,
     guard,
@@ -113,7 +114,11 @@ def rig_reference(
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text
+    from rvcoax.geometry.rigfile import REFERENCE_VARIANTS
 
+    if variant is not None and variant not in REFERENCE_VARIANTS:
+        raise UserError(f"--variant '{variant}': not a variant of the reference rig (known: "
+                        f"{', '.join(REFERENCE_VARIANTS)}; leave --variant out for the reference rig itself)")
     sys.stdout.write(reference_rig_text(variant))
 
 

@@ -361,7 +361,8 @@ def _case_rows_upper_bound(path: Path) -> int | None:
     return data.count(b"[[cases]]") if path.suffix.lower() == ".toml" else max(data.count(b"\n"), 1)
 
 
-def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig):
+def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig,
+                       rig_file: Path | None = None):
     """Load cases from --cases, or --t1/--t2 (paired or --grid), or the rig file's own
     (:func:`rvcoax.loadcases.cases.default_cases`: paper 000's 20 pairs for the reference rig only)."""
     from rvcoax import default_cases, grid_cases, paired_cases, read_cases
@@ -382,7 +383,7 @@ def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, 
         try:
             cases = default_cases(rig)
         except NoLoadCasesError as error:
-            raise UserError(str(error)) from None
+            raise UserError(f"rig file {rig_file}: {error}" if rig_file is not None else str(error)) from None
         check_cases(len(cases), "the rig file's load cases")
         return cases
     if t1 is None or t2 is None:

@@ -163,7 +163,7 @@ def sweep(
                         "run without --resume")
     settings = support.sweep_settings(model, method, solver, mesh_size_mm)
     rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+    load_cases = support.cases_from_options(cases, t1, t2, grid, rig, rig_file)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
