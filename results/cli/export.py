@@ -52,14 +52,20 @@ def _check_adams_cases(cases) -> None:
 
 
 def _write_adams(export, out: Path) -> list[Path]:
-    from rvcoax.results.export import AdamsExportError, adams_fragment, parse_adm
+    from rvcoax.results.export import AdamsExportError, AdamsSyntaxError, adams_fragment, adams_text_notes, parse_adm
     from rvcoax.results.io import write_text_atomic
 
     try:
         text = adams_fragment(export)
+        parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    except AdamsSyntaxError as error:
+        line = text.splitlines()[error.line - 1] if 0 < error.line <= len(text.splitlines()) else ""
+        raise support.UserError(f"--format adams: the dataset would break the ADAMS/Solver rules at its {error} "
+                                f"('{line[:60]}'); nothing was written") from None
     except AdamsExportError as error:
         raise support.UserError(f"--format adams: {error}") from None
-    parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    for note in adams_text_notes(export):
+        support.warn(note)
     return [write_text_atomic(out / "dynamics.adm", text)]
 
 
