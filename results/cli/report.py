@@ -10,7 +10,9 @@ from rich.markup import escape
 
 from rvcoax.results.cli import support
 
-__all__ = ["register", "report"]
+__all__ = ["PDF_TIMEOUT_RANGE_S", "register", "report"]
+
+PDF_TIMEOUT_RANGE_S = (1.0, 3600.0)  # headless Chromium prints the reference report in a few seconds
 
 
 def report(
@@ -24,6 +26,10 @@ def report(
     measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to check the model against: a table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or a paths file (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm).")] = None,
     discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
     pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
+    pdf_timeout_s: Annotated[float, support.number_option(
+        "--pdf-timeout-s", *PDF_TIMEOUT_RANGE_S, "s", help=f"How long headless Chromium may take to print the PDF, "
+        f"{PDF_TIMEOUT_RANGE_S[0]:g} … {PDF_TIMEOUT_RANGE_S[1]:g} s; then it and its child processes are "
+        "ended.")] = 120.0,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
@@ -52,7 +58,7 @@ def report(
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
-            written.append(print_pdf(written[0], out / "report.pdf"))
+            written.append(print_pdf(written[0], out / "report.pdf", timeout_s=pdf_timeout_s))
     support.console.print(f"report of {len(load_cases)} load cases on {escape(rig.rig.name)}")
     support.report_written(written)
 
