@@ -21,6 +21,7 @@ from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "BallBearingModel", "GEOMETRY_KEYS",
            "OperatingClearanceError", "REFERENCE_DEFLECTION_UM", "ball_bearing_model", "clearance_um_of",
            "clearance_upper_um", "geometry_of", "operating_geometry", "preload_upper_N", "reference_stiffness",
+           "PRELOAD_REFUSED_C0", "PRELOAD_WARNED_C0", "STATIC_RATING_F0", "static_load_rating_N",
            "thermal_clearance_change_um"]
 
 BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
@@ -197,6 +198,34 @@ def clearance_upper_um(bearing) -> float:
 
 def preload_upper_N(bearing) -> float:
     """The largest axial preload a deep-groove ball bearing plausibly carries (N): 2 % of its static
-    load rating C0 ≈ f0 Z D_w² (ISO 76, f0 ≈ 12.3 for deep-groove ball bearings, D_w in mm)."""
+    load rating (:func:`static_load_rating_N`)."""
+    return 0.02 * static_load_rating_N(bearing)
+
+
+STATIC_RATING_F0 = 12.3
+"""f0 of ISO 76's C0 = f0 Z D_w² (N, D_w in mm) taken for every deep-groove ball bearing (12.3 … 14.7 over the
+62 and 63 series: the lower end, so that the rating is not overstated)."""
+PRELOAD_WARNED_C0 = 0.25
+"""An axial preload above this fraction of C0 is warned about: the largest pure axial load a single-row deep
+groove ball bearing should carry (SKF, deep groove ball bearings, loads: F_a ≤ 0.25 C0)."""
+PRELOAD_REFUSED_C0 = 2.0
+"""An axial preload above this many C0 is refused: with P0 = 0.5 F_a (ISO 76, radial ball bearings) the static
+safety C0 / P0 is below 1, the raceways deform permanently."""
+
+
+def static_load_rating_N(bearing) -> float:
+    """The basic static radial load rating C0 (N) of a ball bearing entry: C0 = f0 Z D_w² (ISO 76, cos α = 1,
+    f0 = :data:`STATIC_RATING_F0`), from its ball set (the catalogue's 62xx/63xx geometry or the keys given).
+
+    Parameters
+    ----------
+    bearing : Bearing
+        A ``model = "ball"`` entry of the rig file.
+
+    Returns
+    -------
+    float
+        C0 in N.
+    """
     geometry = geometry_of(bearing)
-    return 0.02 * 12.3 * geometry.ball_count * (geometry.ball_diameter_m * 1e3) ** 2
+    return STATIC_RATING_F0 * geometry.ball_count * (geometry.ball_diameter_m * 1e3) ** 2
