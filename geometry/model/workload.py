@@ -211,7 +211,7 @@ class BeamSize:
 
     nodes: int
     springs: int
-    element_segment_pairs: float  # Σ over parts of (elements × segments)
+    element_segment_pairs: float  # Σ over parts of elements × (1 + log₂ segments): the segment look-ups
 
     def workload(self, element_length_mm: float) -> Workload:
         seconds = (BEAM_NODE_S * self.nodes + BEAM_NODE_SPRING_S * self.nodes * self.springs
@@ -245,7 +245,7 @@ def beam_size(rig) -> BeamSize:
     for part in rig.parts:
         elements = sum(max(1.0, math.ceil((s.x_mm[1] - s.x_mm[0]) / length - 1e-9)) for s in part.segments)
         nodes += elements + 1.0
-        pairs += elements * len(part.segments)
+        pairs += elements * (1.0 + math.log2(len(part.segments)))  # each element's segment: found by bisection
     return BeamSize(int(min(nodes, 1e30)), springs, pairs)
 
 
