@@ -202,9 +202,9 @@ def support_problem(rig: Rig) -> str | None:
     number decides: above :data:`CONDITION_LIMIT` the message says so (stiffnesses many orders of
     magnitude apart, often a unit mistake) instead of "no support path"; below, the rig is solvable.
     """
-    from rvcoax.geometry.model.workload import rig_problem
+    from rvcoax.geometry.model.workload import housing_problem, rig_problem
 
-    too_big = rig_problem(rig)
+    too_big = rig_problem(rig) or housing_problem(rig)
     if too_big:
         return too_big
     frame = _frame(rig)
@@ -265,9 +265,9 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     list of str
         One sentence per part.
     """
-    from rvcoax.geometry.model.workload import rig_problem
+    from rvcoax.geometry.model.workload import housing_problem, rig_problem
 
-    if rig_problem(rig):
+    if rig_problem(rig) or housing_problem(rig):
         return []  # too large to build: support_problem says so
     frame = _frame(rig)
     structure = frame.structure

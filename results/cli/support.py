@@ -316,12 +316,25 @@ def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
     from rvcoax import prepare_model
     from rvcoax.geometry import plausibility_warnings
-    from rvcoax.geometry.model import REPORT_AFTER_S, beam_size, rig_problem, sag_warnings
+    from rvcoax.geometry.model import (
+        REPORT_AFTER_S,
+        beam_size,
+        housing_problem,
+        housing_workload,
+        rig_problem,
+        sag_warnings,
+    )
 
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
         if size.seconds > REPORT_AFTER_S:
             console.print(f"{size.what}: {size.describe()} to assemble and factorise (estimated)")
+    if housing_problem(rig) is None:  # (a housing too large is refused below, before it is meshed)
+        for housing in rig.housings:
+            size = housing_workload(housing)
+            if size.seconds > REPORT_AFTER_S:
+                console.print(f"{escape(size.what)}: {size.describe()} to mesh and condense (estimated; read from the "
+                              "cache when these dimensions were condensed before)", highlight=False)
     for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
