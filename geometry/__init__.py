@@ -17,7 +17,7 @@ MEASURED_SHAFTS = ("input", "output")
 # the module that defines each public name
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.geometry.schema": ("Rig",),
-    "rvcoax.geometry.rigfile": ("load_rig", "parse_rig_text", "reference_rig_text"),
+    "rvcoax.geometry.rigfile": ("REFERENCE_VARIANTS", "load_rig", "parse_rig_text", "reference_rig_text"),
     "rvcoax.geometry.rigwrite": ("updated_rig_text",),
     "rvcoax.geometry.effects": ("candidate_effects",),
     "rvcoax.geometry.catalogue": ("plausibility_warnings",),

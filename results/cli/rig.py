@@ -114,7 +114,7 @@ def rig_reference(
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text
-    from rvcoax.geometry.rigfile import REFERENCE_VARIANTS
+    from rvcoax.geometry import REFERENCE_VARIANTS
 
     if variant is not None and variant not in REFERENCE_VARIANTS:
         raise UserError(f"--variant '{variant}': not a variant of the reference rig (known: "
