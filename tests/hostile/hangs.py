@@ -89,7 +89,8 @@ def without_input_block_mount(text: str) -> str:
     return "\n[[mounts]]".join(kept)
 
 
-def _housing(housing: str, *edits: tuple[str, str]):
+def housing_rig(housing: str, *edits: tuple[str, str]):
+    """argv of a sweep of the reference rig whose input block is the ``[[housings]]`` entry ``housing``, edited."""
     def argv(folder: Path) -> list[str]:
         text = housing
         for old, new in edits:
@@ -119,21 +120,21 @@ def _segments(n: int, length_mm: float):
 
 
 CASES: list[Hostile] = [
-    _refused("block housing 1e5 mm wide", _housing(BLOCK, ("width_mm = 90", "width_mm = 1e5"),
+    _refused("block housing 1e5 mm wide", housing_rig(BLOCK, ("width_mm = 90", "width_mm = 1e5"),
                                                   ("foot_width_mm = 150", "foot_width_mm = 2e5")),
              "housings[0] ('input_block')", "the solid model of housing 'input_block'", "mesh_size_mm = 8 mm",
              "the largest is 100000 mm: a length in µm?", "raise its mesh_size_mm to"),
-    _refused("block housing 1e6 mm long", _housing(BLOCK, ("x_mm = [248, 320]", "x_mm = [248, 1e6]")),
+    _refused("block housing 1e6 mm long", housing_rig(BLOCK, ("x_mm = [248, 320]", "x_mm = [248, 1e6]")),
              "housings[0] ('input_block')", "the largest is 999752 mm"),
-    _refused("block housing 1e5 mm high", _housing(BLOCK, ("height_above_bed_mm = 100", "height_above_bed_mm = 1e5")),
+    _refused("block housing 1e5 mm high", housing_rig(BLOCK, ("height_above_bed_mm = 100", "height_above_bed_mm = 1e5")),
              "housings[0] ('input_block')", "the largest is 100000 mm"),
-    _refused("pedestal with a base plate of 1e5 mm", _housing(
+    _refused("pedestal with a base plate of 1e5 mm", housing_rig(
         PEDESTAL, ("base_length_mm = 120", "base_length_mm = 1e5"), ("base_width_mm = 150", "base_width_mm = 1e5")),
         "housings[0] ('input_block')", "pedestal meshed at mesh_size_mm = 8 mm"),
-    _refused("bracket with a wall plate of 1e5 mm", _housing(
+    _refused("bracket with a wall plate of 1e5 mm", housing_rig(
         BRACKET, ("plate_length_mm = 120", "plate_length_mm = 1e5"), ("plate_height_mm = 140", "plate_height_mm = 1e5")),
         "housings[0] ('input_bracket')", "bracket meshed at mesh_size_mm = 8 mm"),
-    _refused("block housing at a 0.5 mm mesh", _housing(BLOCK, ("mesh_size_mm = 8", "mesh_size_mm = 0.5")),
+    _refused("block housing at a 0.5 mm mesh", housing_rig(BLOCK, ("mesh_size_mm = 8", "mesh_size_mm = 0.5")),
              "housings[0] ('input_block')", "mesh_size_mm = 0.5 mm"),
     Hostile(f"{K}: 30 000 segments of 1.5 µm: refused naming the short segments", K, _segments(30_000, 0.0015),
             ("rig.toml", "ill-conditioned", "The likely cause here: parts[5] ('input_shaft'): 30000 segment(s) shorter "

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from hostile import Hostile
 from hostile._files import FORCES, reference_rig, run, write
-from hostile.hangs import BLOCK, BRACKET, PEDESTAL, without_input_block_mount
+from hostile.hangs import BLOCK, BRACKET, PEDESTAL, housing_rig
 
 K = "messages"
 FULL = "no space left on device"
@@ -62,19 +62,8 @@ COPY = ("copy.toml", "names no load cases. It is a copy of the built-in referenc
         "itself", "paper 000's load cases belong to the reference rig only", "--t1/--t2")
 
 
-def _housing(housing: str, *edits: tuple[str, str]):
-    def argv(folder: Path) -> list[str]:
-        text = housing
-        for old, new in edits:
-            assert old in text, old
-            text = text.replace(old, new, 1)
-        rig = write(folder, "rig.toml", without_input_block_mount(reference_rig()) + text)
-        return ["sweep", "--rig", rig, "--t1", "1", "--t2", "10", "--out", str(folder / "out")]
-    return argv
-
-
 def _collide(label: str, housing: str, edits, *expected: str) -> Hostile:
-    return Hostile(f"{K}: housing dimensions collide, {label}", K, _housing(housing, *edits), ("rig.toml", *expected))
+    return Hostile(f"{K}: housing dimensions collide, {label}", K, housing_rig(housing, *edits), ("rig.toml", *expected))
 
 
 CASES: list[Hostile] = [
