@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from hostile import Hostile
-from hostile._files import reference_rig, write
+from hostile._files import applied, reference_rig, sweep_of, write
 
 K = "hangs"
 MESHED = ("would take about", "estimated from measured per-unit costs", "Nothing was meshed")
@@ -91,14 +91,7 @@ def without_input_block_mount(text: str) -> str:
 
 def housing_rig(housing: str, *edits: tuple[str, str]):
     """argv of a sweep of the reference rig whose input block is the ``[[housings]]`` entry ``housing``, edited."""
-    def argv(folder: Path) -> list[str]:
-        text = housing
-        for old, new in edits:
-            assert old in text, old
-            text = text.replace(old, new, 1)
-        rig = write(folder, "rig.toml", without_input_block_mount(reference_rig()) + text)
-        return ["sweep", "--rig", rig, "--t1", "1", "--t2", "10", "--out", str(folder / "out")]
-    return argv
+    return lambda folder: sweep_of(folder, without_input_block_mount(reference_rig()) + applied(housing, edits))
 
 
 def _refused(label: str, argv, *expected: str) -> Hostile:

@@ -18,7 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from hostile import Hostile
-from hostile._files import reference_rig, write
+from hostile._files import applied, reference_rig, sweep_of, write
 from rvcoax.geometry.rigfile import reference_rig_text
 
 K = "silent"
@@ -62,14 +62,7 @@ def _without_sun_load_sharing(text: str) -> str:
 
 
 def _gear(*edits: tuple[str, str]):
-    def argv(folder: Path) -> list[str]:
-        gear = GEAR
-        for old, new in edits:
-            assert old in gear, old
-            gear = gear.replace(old, new, 1)
-        rig = write(folder, "rig.toml", _without_sun_load_sharing(reference_rig()) + gear)
-        return ["sweep", "--rig", rig, "--t1", "1", "--t2", "10", "--out", str(folder / "out")]
-    return argv
+    return lambda folder: sweep_of(folder, _without_sun_load_sharing(reference_rig()) + applied(GEAR, edits))
 
 
 def _warned(label: str, argv, *expected: str) -> Hostile:
