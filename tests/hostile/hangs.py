@@ -133,3 +133,13 @@ CASES: list[Hostile] = [
             ("rig.toml", "ill-conditioned", "The likely cause here: parts[5] ('input_shaft'): 30000 segment(s) shorter "
              "than 0.05 mm", "merge them into longer ones")),
 ]
+
+# issue 12's classes on the housing surface: not-finite, unit text and out-of-range values are refused by key, before
+# anything is estimated or meshed
+for old, new, words in (("width_mm = 90", "width_mm = nan", "housings[0] ('input_block').width_mm: Input should be a "
+                         "finite number"),
+                        ("mesh_size_mm = 8", "mesh_size_mm = inf", "housings[0] ('input_block').mesh_size_mm"),
+                        ("mesh_size_mm = 8", "mesh_size_mm = 1e-300", "mesh_size_mm = 1e-300 mm is outside 0.05 … 1000 mm"),
+                        ("top_above_axis_mm = 45", 'top_above_axis_mm = "45 mm"',
+                         "housings[0] ('input_block').top_above_axis_mm")):
+    CASES.append(Hostile(f"{K}: housing {new}", K, housing_rig(BLOCK, (old, new)), ("rig.toml", words)))
