@@ -131,12 +131,12 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
 
             to_solve = sorted(set(missing) | set(checked))
             result = solve(to_solve, progress)
-            if disagreed and not linear:  # a spot check failed: trust none of the journal's other cases
-                rest = [i for i in reused if i not in checked]
-                if rest:
-                    solve(rest)
-                    checked = reused
-                    to_solve = sorted(set(missing) | set(reused))
+            if disagreed and not linear and set(reused) - set(checked):
+                # a spot check failed: trust none of the journal's cases, and solve them all in one sweep (whose
+                # model section then holds every case, as an uninterrupted run's does)
+                checked = reused
+                to_solve = sorted(set(missing) | set(reused))
+                result = solve(to_solve)
             model = records.model_section(result)
             store.save_model(model_hash, model)
     else:

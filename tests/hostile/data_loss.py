@@ -180,3 +180,33 @@ def _y_everywhere(record: dict, y: float) -> dict:
     record["entry"]["output"]["Y_max_mm"] = y
     return record
 
+
+
+# a nonlinear sweep (ball bearings): three reused cases are solved again (first, middle, last); one that differs
+# makes every reused case be solved again
+BALL = ("sweep", "--rig", "BALL", "--t1", "0.5,1,1.2,1.43,2", "--t2", "10,50,100,150,200")
+
+
+def _ball_sweep(folder: Path, out: str) -> list[str]:
+    from rvcoax.geometry.rigfile import reference_rig_text
+
+    rig = folder / "ball.toml"
+    if not rig.exists():
+        rig.write_text(reference_rig_text("ball_bearings"), encoding="utf-8")
+    return [a if a != "BALL" else str(rig) for a in BALL] + ["--out", str(folder / out)]
+
+
+def _ball_resumed(folder: Path) -> list[str]:
+    for out in ("out", "fresh"):
+        result = CliRunner().invoke(app, _ball_sweep(folder, out))
+        assert result.exit_code == 0, result.output
+    for name in ("sweep.csv", "sweep.json"):
+        (folder / f"straight.{name.split('.')[1]}").write_bytes((folder / "fresh" / name).read_bytes())
+    _resigned(2, _scaled_y)(_journal(folder))
+    return [*_ball_sweep(folder, "out"), "--resume"]
+
+
+CASES.append(Hostile(f"{K}: resume, nonlinear sweep, a forged middle case fails the spot check", K, _ball_resumed,
+                     ("resuming: 5 of 5", "3 reused case(s) as a spot check (nonlinear: a Newton solve each)",
+                      "1 of 5 reused case(s) differ from a new solve (cases 3)"), exit_code=0, stream="output",
+                     check=_same_files))
