@@ -115,3 +115,25 @@ CASES: list[Hostile] = [
     _collide("bracket bore through the seat", BRACKET, [("seat_below_axis_mm = 45", "seat_below_axis_mm = 20")],
              "does not fit inside the bearing seat", "seat_below_axis_mm = 20 mm"),
 ]
+
+# issue 12's markup class on these surfaces: paths and names with rich markup come out literally
+def _markup_lock(folder: Path) -> list[str]:
+    out = folder / "o[/][bold]"  # (a folder "o[" holding "][bold]")
+    out.mkdir(parents=True)
+    (out / ".rvcoax.lock").symlink_to("/dev/null")
+    return ["sweep", "--t1", "1", "--t2", "10", "--out", str(out)]
+
+
+def _markup_discrepancy(folder: Path) -> list[str]:
+    path = Path(write(folder / "d[/]", "x[bold].json", '{"verdict": 1}'))
+    return ["report", "--discrepancy", str(path), "--out", str(folder / "out")]
+
+
+CASES += [
+    Hostile(f"{K}: markup in the --out path of a refused lock file", K, _markup_lock,
+            ("--out", "o[/][bold]: the lock file", "o[/][bold]/.rvcoax.lock is a symbolic link to /dev/null")),
+    Hostile(f"{K}: markup in the path of a --discrepancy of the wrong type", K, _markup_discrepancy,
+            ("d[/]/x[bold].json: 'verdict' is a number, expected a string",)),
+    Hostile(f"{K}: markup in a copy of the reference rig's name", K,
+            _copy((NAME[0], 'name = "[/] [bold]x"')), ("rig.name = '[/] [bold]x'",)),
+]
