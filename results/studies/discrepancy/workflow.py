@@ -78,7 +78,7 @@ OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature
 # per observation 20 µs to parse and 5.3 µs per observation-operator build, built about 100 times per run
 # (each true-model evaluation of the refit): a 20,000-row paths file, results/studies/discrepancy/responses.py
 # Re-measured (issue 24) with synthetic paths and table files of 250 and 500 cases, 57 candidates, load 9–11 on 2
-# cores, CPU time: a case costs 0.087 ms and 23 kB per candidate (its paths on the response grid), a paths-file
+# cores, CPU time: a case costs 0.087 ms and 23 kB per candidate (9 kB once grid candidates keep unit paths), a paths-file
 # row 0.21 ms and 5.6 kB once the observation operator is built once per layout and the sentinel scan keeps its
 # normal equations, not rows × sites × parts (benchmarks/RESULTS.md, 2026-11-26). The end-to-end figure below
 # (fixed costs included) is kept for the case term: it overstates large files, never understates small ones.
@@ -89,8 +89,8 @@ CASE_CANDIDATE_S = 0.006
 NONLINEAR_CASE_CANDIDATE_S = 0.11
 OBSERVATION_S = 0.21e-3
 # memory: a candidate keeps its change of every case's paths on a grid (12 × 82 stations × 8 bytes per case, and
-# the observed values and copies the fits make: 23 kB measured); a row keeps its observed responses and fits
-CASE_CANDIDATE_BYTES = 23e3
+# the observed values and copies the fits make: 9 kB measured); a row keeps its observed responses and fits
+CASE_CANDIDATE_BYTES = 9e3
 OBSERVATION_BYTES = 5.6e3
 
 
