@@ -4,7 +4,7 @@ key and the reason.
 - a ball bearing (``model = "ball"``) that also carries a typed-in stiffness key, which the ball model does not use
   (warned);
 - an axial preload above 0.25 C0 (warned: SKF's limit for pure axial load on a single-row deep groove ball bearing)
-  or beyond the static rating (P0 = 0.5 Fa > C0: refused); C0 = f0 Z D_w² (ISO 76) from the 62xx/63xx ball set;
+  or beyond the static rating (P0 = 0.5 Fa > C0: refused); C0 by ISO 76's definition from the 62xx/63xx ball set (rolling_model.load_ratings_N);
 - gear data: pointed teeth (tip thickness ≤ 0: refused; < 0.2 m_n: warned), a face width of a kilometre or of
   more than 100 modules (refused), a driving gear whose tip circle lies inside its shaft (refused) or whose pitch
   circle does (warned).
@@ -81,11 +81,11 @@ CASES: list[Hostile] = [
             _ball("axial_stiffness_N_per_um = 20\ntilt_stiffness_Nm_per_rad = 3000"),
             "bearings[4] ('input_B1'): axial_stiffness_N_per_um = 20, tilt_stiffness_Nm_per_rad = 3000", IGNORED),
     _warned("preload above 0.25 C0", _ball("preload_N = 2000"),
-            "bearings[4] ('input_B1').preload_N = 2000 N is 0.32 × its static load rating C0 ≈ 6.2 kN",
+            "bearings[4] ('input_B1').preload_N = 2000 N is 0.31 × its static load rating C0 = 6.43 kN",
             "should carry at most 0.25 C0 axially"),
     _refused("preload far beyond the static rating", _ball("preload_N = 50000"),
-             "bearings[4] ('input_B1'): preload_N = 50000 N is beyond the bearing's static load rating: C0 ≈ 6.2 kN",
-             "P0 = 0.5 Fa", "deform permanently above 1.24e+04 N"),
+             "bearings[4] ('input_B1'): preload_N = 50000 N is beyond the bearing's static load rating: C0 = 6.43 kN",
+             "P0 = 0.5 Fa", "deform permanently above 1.286e+04 N"),
     _refused("pointed sun teeth", _gear(("face_width_mm", "profile_shift = [1.5, 0.0]\nface_width_mm")),
              "gear_meshes[0] ('input_gear_mesh'): profile_shift = [1.5, 0.0]: the sun gear's teeth are pointed",
              "tip thickness -0.23 × normal_module_mm"),
