@@ -26,17 +26,20 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
+from rvcoax.results.io.writers import write_text_atomic
 
-__all__ = ["AdamsExportError", "AdamsSyntaxError", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
+__all__ = ["AdamsExportError", "AdamsSyntaxError", "AdamsTextWarning", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
            "adams_angle_deg", "adams_comment", "adams_fragment", "adams_real", "adams_text_notes", "marker_euler_deg",
-           "marker_z_axis", "parse_adm", "spline_curves", "spline_data", "spline_layout"]
+           "marker_z_axis", "parse_adm", "spline_curves", "spline_data", "spline_layout", "write_adams"]
 
 LINE_LIMIT = 80
 MARKER_BASE_ID = {"input": 1000, "output": 2000}
@@ -407,3 +410,27 @@ def marker_z_axis(s: Statement) -> np.ndarray:
 
     rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(b), -math.sin(b)], [0.0, math.sin(b), math.cos(b)]])
     return (rz(a) @ rx @ rz(c))[:, 2]
+
+
+def write_adams(export: DynamicsExport, folder: str | Path) -> list[Path]:
+    """``dynamics.adm`` in ``folder``: :func:`adams_fragment`, read back by :func:`parse_adm` before it is written.
+
+    Raises
+    ------
+    AdamsExportError
+        The cases cannot make the splines (:func:`spline_layout`).
+    """
+    text = adams_fragment(export)
+    try:
+        parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    except AdamsSyntaxError as error:
+        line = text.splitlines()[error.line - 1] if 0 < error.line <= len(text.splitlines()) else ""
+        raise AdamsExportError(f"the dataset would break the ADAMS/Solver rules at its {error} ('{line[:60]}'); "
+                               "nothing was written") from None
+    for note in adams_text_notes(export):
+        warnings.warn(note, AdamsTextWarning, stacklevel=2)
+    return [write_text_atomic(Path(folder) / "dynamics.adm", text)]
+
+
+class AdamsTextWarning(UserWarning):
+    """User text (``rig.name``, a part name) that had to be escaped to fit an ADAMS dataset."""

@@ -63,8 +63,8 @@ class DurableSweep:
     disagreed: tuple[int, ...] = field(default=())
 
 
-def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,
-                      store: CaseStore, resume: bool = False,
+def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,  # noqa: PLR0913
+                      store: CaseStore, *, resume: bool = False,
                       prepare: Callable[[Rig, SweepSettings], PreparedModel] = prepare_model,
                       progress: Callable[[int, int], None] | None = None,
                       on_plan: Callable[[JournalReading, int], None] | None = None) -> DurableSweep:
@@ -141,8 +141,8 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
             store.save_model(model_hash, model)
     else:
         to_solve = []
-    return DurableSweep([done[i] for i in range(len(cases))], model, result, reading, tuple(to_solve),
-                        tuple(checked), tuple(sorted(disagreed)))
+    return DurableSweep(records=[done[i] for i in range(len(cases))], model=model, sweep=result, reading=reading,
+                        solved=tuple(to_solve), checked=tuple(checked), disagreed=tuple(sorted(disagreed)))
 
 
 def _spread(indices: list[int], count: int) -> list[int]:

@@ -22,7 +22,7 @@ import stat
 from collections.abc import Iterator
 from pathlib import Path
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 
 __all__ = ["FolderLockedError", "LOCK_NAME", "output_folder_lock"]
 
