@@ -82,8 +82,7 @@ def export(
     """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
     000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
     from rvcoax.results import ConnectionsUnavailableError
-    from rvcoax.results.export import ExportFormatError, dynamics_export, export_format, write_export
-    from rvcoax.results.export.adams import AdamsTextWarning
+    from rvcoax.results.export import AdamsTextWarning, ExportFormatError, dynamics_export, export_format, write_export
 
     try:
         chosen = export_format(output_format)

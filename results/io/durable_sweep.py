@@ -67,7 +67,7 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
                       store: CaseStore, *, resume: bool = False,
                       prepare: Callable[[Rig, SweepSettings], PreparedModel] = prepare_model,
                       progress: Callable[[int, int], None] | None = None,
-                      on_plan: Callable[[JournalReading, int], None] | None = None) -> DurableSweep:
+                      on_plan: Callable[[JournalReading, int, int], None] | None = None) -> DurableSweep:
     """Solve ``cases`` on ``rig``, journalling each case in ``store`` as it is solved.
 
     Parameters
