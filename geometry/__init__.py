@@ -17,13 +17,13 @@ MEASURED_SHAFTS = ("input", "output")
 # the module that defines each public name
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.geometry.schema": ("Rig",),
-    "rvcoax.geometry.rigfile": ("load_rig", "parse_rig_text", "reference_rig_text"),
+    "rvcoax.geometry.rigfile": ("REFERENCE_VARIANTS", "load_rig", "parse_rig_text", "reference_rig_text"),
     "rvcoax.geometry.rigwrite": ("updated_rig_text",),
     "rvcoax.geometry.effects": ("candidate_effects",),
     "rvcoax.geometry.catalogue": ("plausibility_warnings",),
     "rvcoax.geometry.inputfiles": ("InputFileError", "csv_rows", "plain_number", "read_input_text"),
     "rvcoax.geometry.limits": ("MESH_SIZE_RANGE_MM",),
     "rvcoax.geometry.ball_model": ("clearance_um_of", "geometry_of"),
-    "rvcoax.geometry.builtin": ("example_rig_text", "is_reference_rig", "load_example_rig"),
+    "rvcoax.geometry.builtin": ("example_rig_text", "is_reference_rig", "load_example_rig", "reference_differences"),
     "rvcoax.geometry.thermal": ("free_axial_growth_um", "mount_lift_um"),
 }, eager=("MEASURED_SHAFTS",))

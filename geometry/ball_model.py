@@ -23,7 +23,8 @@ from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "GEOMETRY_KEYS", "OperatingClearanceError",
            "REFERENCE_DEFLECTION_UM", "clearance_from_keys", "clearance_um_of", "clearance_upper_um", "geometry_of",
-           "clearance_range_um_of", "fit_clearance_of", "operating_clearance_m", "operating_geometry", "preload_upper_N", "reference_stiffness",
+           "clearance_range_um_of", "fit_clearance_of", "operating_clearance_m", "operating_geometry", "PRELOAD_REFUSED_C0",
+           "PRELOAD_WARNED_C0", "preload_upper_N", "reference_stiffness",
            "thermal_clearance_change_um"]
 
 BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
@@ -263,6 +264,14 @@ def clearance_upper_um(bearing) -> float:
     if bearing.designation is None:
         return 50.0
     return clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, "C4")[1]
+
+
+PRELOAD_WARNED_C0 = 0.25
+"""An axial preload above this fraction of C0 is warned about: the largest pure axial load a single-row deep
+groove ball bearing should carry (SKF, deep groove ball bearings, loads: F_a ≤ 0.25 C0)."""
+PRELOAD_REFUSED_C0 = 2.0
+"""An axial preload above this many C0 is refused: with P0 = 0.5 F_a (ISO 76, radial ball bearings) the static
+safety C0 / P0 is below 1, the raceways deform permanently."""
 
 
 def preload_upper_N(bearing) -> float:

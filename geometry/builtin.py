@@ -18,7 +18,7 @@ from importlib import resources
 from rvcoax.geometry.rigfile import REFERENCE_RIG, parse_rig_text
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["EXAMPLE_RIG", "example_rig_text", "is_reference_rig", "load_example_rig"]
+__all__ = ["EXAMPLE_RIG", "example_rig_text", "is_reference_rig", "load_example_rig", "reference_differences"]
 
 EXAMPLE_RIG = "rv40e_example_rig.toml"
 
@@ -65,3 +65,49 @@ def is_reference_rig(rig: Rig) -> bool:
         Whether every value equals the reference rig's.
     """
     return rig == _reference()
+
+
+def reference_differences(rig: Rig, limit: int = 3) -> list[str]:
+    """Where ``rig`` differs from the built-in reference rig: up to ``limit`` items such as
+    ``parts[0].mass_kg = 2.6 (the reference has 2.5)``, in the order of the rig file's keys.
+
+    Used to tell the user of a copy of the reference rig why it is no longer treated as the
+    reference (paper 000's load cases and table belong to the reference only).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig to compare.
+    limit : int
+        At most this many differences are listed.
+
+    Returns
+    -------
+    list of str
+        Empty when ``rig`` is the reference rig.
+    """
+    found: list[str] = []
+
+    def walk(where: str, mine, theirs) -> None:
+        if len(found) >= limit or mine == theirs:
+            return
+        if isinstance(mine, dict) and isinstance(theirs, dict):
+            for key in list(mine) + [k for k in theirs if k not in mine]:
+                walk(f"{where}.{key}" if where else str(key), mine.get(key), theirs.get(key))
+        elif isinstance(mine, list) and isinstance(theirs, list) and len(mine) == len(theirs):
+            for i, (a, b) in enumerate(zip(mine, theirs)):
+                walk(f"{where}[{i}]", a, b)
+        elif isinstance(mine, list) and isinstance(theirs, list):
+            found.append(f"{where} has {len(mine)} entries (the reference has {len(theirs)})")
+        else:
+            found.append(f"{where} = {_shown(mine)} (the reference has {_shown(theirs)})")
+
+    walk("", rig.model_dump(by_alias=True), _reference().model_dump(by_alias=True))
+    return found
+
+
+def _shown(value) -> str:
+    if value is None:
+        return "no such key"
+    text = repr(value) if isinstance(value, str) else f"{value:g}" if isinstance(value, float) else str(value)
+    return text if len(text) <= 60 else text[:57] + "…"

@@ -278,8 +278,67 @@ def plausibility_warnings(rig: Rig) -> list[str]:
         The warnings, in rig-file order.
     """
     components = _component_warnings(rig)
-    return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _rolling_preload_warnings(rig)
-            + _mass_warnings(rig) + _topology_warnings(rig) + _gear_contact_warnings(rig) + _fit_warnings(rig))
+    return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _ball_input_warnings(rig)
+            + _rolling_preload_warnings(rig) + _mass_warnings(rig) + _topology_warnings(rig)
+            + _gear_contact_warnings(rig) + _gear_shape_warnings(rig) + _fit_warnings(rig))
+
+
+BALL_IGNORED_KEYS = ("radial_stiffness_N_per_um", "axial_stiffness_N_per_um", "tilt_stiffness_Nm_per_rad")
+"""Stiffness keys that a ``model = "ball"`` bearing takes only as the linear reference its Newton solve is
+condensed on: its answer comes from the ball set, whatever they say."""
+NEARLY_POINTED_MODULES = 0.2
+"""A tooth tip thinner than this many normal modules is warned about (a common lower limit for the tip
+thickness s_a of case-hardened teeth; the tip chips or is cut away)."""
+
+
+def _ball_input_warnings(rig: Rig) -> list[str]:
+    """A ball bearing with typed-in stiffness keys (which the ball model does not use), or an axial preload
+    above what a deep-groove ball bearing should carry axially (:data:`rvcoax.geometry.ball_model.PRELOAD_WARNED_C0`)."""
+    from rvcoax.geometry import ball_model
+    from rvcoax.geometry.rolling_model import load_ratings_N
+
+    found = []
+    for i, bearing in enumerate(rig.bearings):
+        if bearing.model != "ball":
+            continue
+        typed = [key for key in BALL_IGNORED_KEYS if key in bearing.model_fields_set]
+        if typed:
+            found.append(f"bearings[{i}] ('{bearing.name}'): {', '.join(f'{k} = {getattr(bearing, k):g}' for k in typed)} "
+                         "is not used by model = \"ball\": its stiffness comes from the ball set, clearance and "
+                         "preload (the typed value only sets the linear reference the solve starts from, not the "
+                         "answer); remove it, or set model = \"linear\" to use it")
+        rating = load_ratings_N(bearing)[1]
+        if ball_model.PRELOAD_WARNED_C0 * rating < bearing.preload_N:
+            found.append(f"bearings[{i}] ('{bearing.name}').preload_N = {bearing.preload_N:g} N is "
+                         f"{bearing.preload_N / rating:.2g} × its static load rating C0 = {rating / 1e3:.3g} kN (ISO 76 "
+                         f"from its ball set): a single-row deep groove ball bearing should carry at most "
+                         f"{ball_model.PRELOAD_WARNED_C0:g} C0 axially; preloads are a few % of C0")
+    return found
+
+
+def _gear_shape_warnings(rig: Rig) -> list[str]:
+    """Gear data that a stage accepts but that are implausible: nearly pointed teeth, a driving gear whose pitch
+    circle lies inside the shaft it sits on (its tips still stand out of it; a tip inside is refused)."""
+    found = []
+    for i, mesh in enumerate(rig.gear_meshes):
+        stage = mesh.stage
+        for gear, key in ((0, "sun"), (1, "planet")):
+            thickness = stage.tip_thickness_mm(gear) / mesh.normal_module_mm
+            if 0.0 < thickness < NEARLY_POINTED_MODULES:
+                found.append(f"gear_meshes[{i}] ('{mesh.name}').profile_shift = {list(mesh.profile_shift)}: the {key} "
+                             f"gear's tips are nearly pointed (tip thickness {thickness:.2f} × normal_module_mm, "
+                             f"commonly at least {NEARLY_POINTED_MODULES:g}); a smaller profile shift for it")
+        try:
+            part = rig.part(mesh.on.part)
+        except KeyError:
+            continue
+        here = [s.outer_diameter_mm for s in part.segments if s.x_mm[0] - 1e-9 <= mesh.on.x_mm <= s.x_mm[1] + 1e-9]
+        pitch = 2.0 * stage.pitch_radius_mm(0)
+        if here and pitch < max(here) - 1e-9:
+            found.append(f"gear_meshes[{i}] ('{mesh.name}'): the driving gear's pitch circle (Ø{pitch:.4g} mm = "
+                         f"normal_module_mm × sun_teeth / cos β) lies inside the shaft '{mesh.on.part}' (Ø{max(here):g} mm "
+                         f"at on.x_mm = {mesh.on.x_mm:g}): check normal_module_mm and sun_teeth, or the shaft's segment")
+    return found
 
 
 PRELOAD_SHARE_LIMIT = 0.1

@@ -164,6 +164,23 @@ class GearStage:
         length -= self.centre_distance_mm * math.sin(self.working_pressure_angle)
         return length / (math.pi * self.transverse_module_mm * math.cos(self.transverse_pressure_angle))
 
+    def tip_thickness_mm(self, gear: int) -> float:
+        """The normal tooth thickness at the tip circle, s_an (≤ 0: a pointed tooth).
+
+        Transverse: s_at = d_a (s_t / d + inv α_t − inv α_at) with s_t = m_t (π/2 + 2 x tan α_n) and
+        cos α_at = d_b / d_a; normal: s_an = s_at cos β_a, tan β_a = tan β d_a / d (Niemann & Winter,
+        *Maschinenelemente* II, §21; the same relations as ISO 21771's tooth thickness).
+        """
+        r, r_a, r_b = self.pitch_radius_mm(gear), self.tip_radius_mm(gear), self.base_radius_mm(gear)
+        if r_a <= r_b:
+            return 0.0
+        alpha_t = self.transverse_pressure_angle
+        s_t = self.transverse_module_mm * (0.5 * math.pi + 2.0 * self.profile_shift[gear]
+                                           * math.tan(math.radians(self.normal_pressure_angle_deg)))
+        s_at = 2.0 * r_a * (s_t / (2.0 * r) + involute(alpha_t) - involute(math.acos(r_b / r_a)))
+        beta_a = math.atan(math.tan(self.beta) * r_a / r)
+        return s_at * math.cos(beta_a)
+
     def virtual_teeth(self, gear: int) -> float:
         """z_n = z / (cos² β_b cos β)."""
         return self.teeth[gear] / (math.cos(self.base_helix_angle) ** 2 * math.cos(self.beta))

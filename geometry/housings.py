@@ -91,8 +91,19 @@ def _corner_feet(axis: int, at_mm: float, span_mm, pad: float) -> tuple[FootPatc
 
 def _check_feet_fit(where: str, pad: float, length: float, across: float, plate: str) -> None:
     if not 2 * pad < min(length, across):
+        keys = "base_length_mm × base_width_mm" if plate == "base" else "plate_length_mm × plate_height_mm"
         raise ValueError(f"{where}: two bolt feet of {pad:g} mm do not fit side by side on the {plate} plate "
-                         f"({length:g} × {across:g} mm)")
+                         f"({length:g} × {across:g} mm): 2 × foot_pad_mm must be less than each side of {keys}")
+
+
+def _check_bore(where: str, body: str, diameter_mm: float, limits) -> None:
+    """Refuse a bore whose radius reaches a face: ``limits`` are (distance from the axis in mm, the rig-file
+    keys that set it); the message names bore_diameter_mm and every key it collides with."""
+    radius = 0.5 * diameter_mm
+    hit = [f"{text} mm" for distance, text in limits if not radius < distance]
+    if hit:
+        raise ValueError(f"{where}: the bore (Ø{diameter_mm:g} mm) does not fit inside the {body}: its radius, "
+                         f"bore_diameter_mm / 2 = {radius:g} mm, must be less than {' and '.join(hit)}")
 
 
 def _fragment(occ, volumes: list) -> None:
@@ -142,12 +153,19 @@ class BlockGeometry:
         if not self.top_mm > self.bottom_mm:
             raise ValueError(f"{where}: the top (y = {self.top_mm} mm) must lie above the bed face (y = {self.bottom_mm} mm)")
         radius = 0.5 * self.bore_diameter_mm
-        if radius > 0 and not (radius < self.top_mm and radius < -self.bottom_mm - self.foot_thickness_mm
-                               and radius < 0.5 * self.width_mm):
-            raise ValueError(f"{where}: the bore (Ø{self.bore_diameter_mm:g} mm) does not fit inside the block")
-        if self.foot_thickness_mm > 0 and not (self.foot_width_mm >= self.width_mm
-                                               and self.foot_thickness_mm < self.top_mm - self.bottom_mm):
-            raise ValueError(f"{where}: the foot plate must be at least as wide as the block and thinner than it is tall")
+        if radius > 0:
+            _check_bore(where, "block", self.bore_diameter_mm, (
+                (self.top_mm, f"top_above_axis_mm = {self.top_mm:g}"),
+                (-self.bottom_mm - self.foot_thickness_mm, f"height_above_bed_mm − foot_thickness_mm = "
+                                                           f"{-self.bottom_mm:g} − {self.foot_thickness_mm:g}"),
+                (0.5 * self.width_mm, f"width_mm / 2 = {0.5 * self.width_mm:g}")))
+        if self.foot_thickness_mm > 0 and not self.foot_width_mm >= self.width_mm:
+            raise ValueError(f"{where}: the foot plate must be at least as wide as the block: foot_width_mm = "
+                             f"{self.foot_width_mm:g} is less than width_mm = {self.width_mm:g}")
+        if self.foot_thickness_mm > 0 and not self.foot_thickness_mm < self.top_mm - self.bottom_mm:
+            raise ValueError(f"{where}: the foot plate must be thinner than the block is tall: foot_thickness_mm = "
+                             f"{self.foot_thickness_mm:g} is not less than height_above_bed_mm + top_above_axis_mm = "
+                             f"{self.top_mm - self.bottom_mm:g}")
         object.__setattr__(self, "split_x_mm", tuple(sorted(float(x) for x in self.split_x_mm if x0 < x < x1)))
 
     @property
@@ -222,9 +240,11 @@ class _SeatGeometry:
         if not self.top_mm > self.seat_bottom_mm:
             raise ValueError(f"{where}: the seat's top (y = {self.top_mm} mm) must lie above its underside "
                              f"(y = {self.seat_bottom_mm} mm)")
-        radius = 0.5 * self.bore_diameter_mm
-        if radius > 0 and not (radius < self.top_mm and radius < -self.seat_bottom_mm and radius < 0.5 * self.width_mm):
-            raise ValueError(f"{where}: the bore (Ø{self.bore_diameter_mm:g} mm) does not fit inside the bearing seat")
+        if self.bore_diameter_mm > 0:
+            _check_bore(where, "bearing seat", self.bore_diameter_mm, (
+                (self.top_mm, f"top_above_axis_mm = {self.top_mm:g}"),
+                (-self.seat_bottom_mm, f"seat_below_axis_mm = {-self.seat_bottom_mm:g}"),
+                (0.5 * self.width_mm, f"width_mm / 2 = {0.5 * self.width_mm:g}")))
         object.__setattr__(self, "split_x_mm", tuple(sorted(float(x) for x in self.split_x_mm if x0 < x < x1)))
         return where
 
@@ -300,13 +320,17 @@ class PedestalGeometry(_SeatGeometry):
         where = self._check_seat()
         if not self.bottom_mm + self.base_thickness_mm < self.seat_bottom_mm:
             raise ValueError(f"{where}: the base plate (top at y = {self.bottom_mm + self.base_thickness_mm:g} mm) must "
-                             f"lie below the seat's underside (y = {self.seat_bottom_mm:g} mm): no room for the web")
+                             f"lie below the seat's underside (y = {self.seat_bottom_mm:g} mm): no room for the web "
+                             f"(height_above_bed_mm − base_thickness_mm = {-self.bottom_mm:g} − "
+                             f"{self.base_thickness_mm:g} must exceed seat_below_axis_mm = {-self.seat_bottom_mm:g})")
         if not (self.web_length_mm <= self.base_length_mm and self.web_width_mm <= self.base_width_mm):
             raise ValueError(f"{where}: the web ({self.web_length_mm:g} × {self.web_width_mm:g} mm) must stand on the "
-                             f"base plate ({self.base_length_mm:g} × {self.base_width_mm:g} mm)")
+                             f"base plate ({self.base_length_mm:g} × {self.base_width_mm:g} mm): web_length_mm ≤ "
+                             "base_length_mm and web_width_mm ≤ base_width_mm")
         if not (self.web_length_mm <= self.x_mm[1] - self.x_mm[0] and self.web_width_mm <= self.width_mm):
             raise ValueError(f"{where}: the web ({self.web_length_mm:g} × {self.web_width_mm:g} mm) must fit under the "
-                             f"seat ({self.x_mm[1] - self.x_mm[0]:g} × {self.width_mm:g} mm)")
+                             f"seat ({self.x_mm[1] - self.x_mm[0]:g} × {self.width_mm:g} mm): web_length_mm ≤ the "
+                             "length of x_mm and web_width_mm ≤ width_mm")
         _check_feet_fit(where, self.foot_pad_mm, self.base_length_mm, self.base_width_mm, "base")
 
     def _own_payload(self) -> dict:
@@ -364,14 +388,19 @@ class BracketGeometry(_SeatGeometry):
         where = self._check_seat()
         if not self.wall_z_mm + self.plate_thickness_mm < -0.5 * self.width_mm:
             raise ValueError(f"{where}: the wall plate (front at z = {self.wall_z_mm + self.plate_thickness_mm:g} mm) "
-                             f"must lie beside the seat (its side at z = {-0.5 * self.width_mm:g} mm): no room for the arm")
+                             f"must lie beside the seat (its side at z = {-0.5 * self.width_mm:g} mm): no room for the arm "
+                             f"(wall_distance_mm − plate_thickness_mm = {-self.wall_z_mm:g} − {self.plate_thickness_mm:g} "
+                             f"must exceed width_mm / 2 = {0.5 * self.width_mm:g})")
         if not (self.arm_length_mm <= self.x_mm[1] - self.x_mm[0]
                 and 0.5 * self.arm_height_mm <= min(self.top_mm, -self.seat_bottom_mm)):
             raise ValueError(f"{where}: the arm ({self.arm_length_mm:g} × {self.arm_height_mm:g} mm) must meet the "
-                             "seat's side face (no longer than the seat, no higher than its top or lower than its underside)")
+                             "seat's side face (no longer than the seat, no higher than its top or lower than its "
+                             "underside): arm_length_mm ≤ the length of x_mm and arm_height_mm / 2 ≤ top_above_axis_mm "
+                             "and seat_below_axis_mm")
         if not (self.arm_length_mm <= self.plate_length_mm and self.arm_height_mm <= self.plate_height_mm):
             raise ValueError(f"{where}: the arm ({self.arm_length_mm:g} × {self.arm_height_mm:g} mm) must meet the wall "
-                             f"plate ({self.plate_length_mm:g} × {self.plate_height_mm:g} mm)")
+                             f"plate ({self.plate_length_mm:g} × {self.plate_height_mm:g} mm): arm_length_mm ≤ "
+                             "plate_length_mm and arm_height_mm ≤ plate_height_mm")
         _check_feet_fit(where, self.foot_pad_mm, self.plate_length_mm, self.plate_height_mm, "wall")
 
     def _own_payload(self) -> dict:

@@ -325,6 +325,12 @@ class Bearing(StrictModel):
         if (self.shaft_fit or self.housing_fit) and self.designation is None:
             raise ValueError("shaft_fit/housing_fit need a designation (the ring's bore and outside diameter)")
         ball_model.geometry_of(self)  # raises ValueError naming the key
+        rating = rolling_model.load_ratings_N(self)[1]
+        if self.preload_N > ball_model.PRELOAD_REFUSED_C0 * rating:
+            raise ValueError(f"preload_N = {self.preload_N:g} N is beyond the bearing's static load rating: C0 = "
+                             f"{rating / 1e3:.3g} kN (ISO 76 from its ball set) and an axial load Fa gives P0 = 0.5 Fa, "
+                             f"so the raceways deform permanently above {ball_model.PRELOAD_REFUSED_C0 * rating:.4g} N "
+                             "and the Hertz model no longer holds; a preload is a few % of C0 (N, not kN or mN?)")
         # the linear reference of the condensed Newton solve, where not given; the catalogue's width
         for key, value in ball_model.reference_stiffness(self).items():
             if not getattr(self, key):
@@ -607,6 +613,18 @@ class GearMesh(StrictModel):
             if len(values) != n:
                 raise ValueError(f"{key} has {len(values)} values, planet_angles_deg {n}: one per planet")
         stage = self.stage
+        if self.face_width_mm > MAX_FACE_WIDTH_MODULES * self.normal_module_mm:
+            raise ValueError(f"face_width_mm = {self.face_width_mm:g} mm is {self.face_width_mm / self.normal_module_mm:.3g} "
+                             f"normal modules wide (normal_module_mm = {self.normal_module_mm:g}): gear faces are about "
+                             f"6 … 40 modules wide, more than {MAX_FACE_WIDTH_MODULES:g} is refused (a length in m or "
+                             "µm, or the module?)")
+        for gear, key in ((0, "sun"), (1, "planet")):
+            thickness = stage.tip_thickness_mm(gear)
+            if thickness <= 0.0:
+                raise ValueError(f"profile_shift = {list(self.profile_shift)}: the {key} gear's teeth are pointed (tip "
+                                 f"thickness {thickness / self.normal_module_mm:.2f} × normal_module_mm ≤ 0 with "
+                                 f"{key}_teeth = {getattr(self, key + '_teeth')}): its tip circle lies beyond the point "
+                                 "where the flanks meet; use a smaller profile shift for it")
         ratio = stage.contact_ratio
         if not ratio >= 1.0:
             raise ValueError(f"the gear data give a transverse contact ratio of {ratio:.3f} < 1: the teeth lose "
@@ -629,6 +647,10 @@ class GearMesh(StrictModel):
                          helix_angle_deg=self.helix_angle_deg, profile_shift=tuple(self.profile_shift),
                          dedendum_factor=self.dedendum_factor)
 
+
+
+MAX_FACE_WIDTH_MODULES = 100.0
+"""A gear face wider than this many normal modules is refused (ISO 6336 gears: b / m_n ≈ 6 … 40)."""
 
 
 # ---- housings condensed from a solid model (issue 16 item 2) ------------------------------------------------
@@ -714,6 +736,12 @@ class Housing(StrictModel):
         for x in self.attachments_x_mm:
             if not x0 <= x <= x1:
                 raise ValueError(f"attachments_x_mm: {x:g} lies outside the housing's x_mm [{x0:g}, {x1:g}]")
+        ordered = sorted(self.attachments_x_mm)
+        for a, b in zip(ordered, ordered[1:]):
+            if not b - a >= self.attachment_width_mm:
+                raise ValueError(f"attachment_width_mm = {self.attachment_width_mm:g}: the bore bands of the attachments "
+                                 f"at x = {a:g} and {b:g} mm (attachments_x_mm) overlap; each band ties its own stretch "
+                                 f"of the bore, so the width must be at most their distance, {b - a:g} mm")
         keys = HOUSING_SHAPE_KEYS[self.shape]
         missing = [key for key in keys["required"] if getattr(self, key) is None]
         if missing:
@@ -1010,6 +1038,21 @@ class Rig(StrictModel):
                                f"Ø{clash.outer_diameter_mm:g} mm); check their segments' x_mm")
                         break
 
+    def _gear_inside_shaft(self, i: int, g: GearMesh):
+        """A driving gear whose teeth lie inside the shaft it sits on (tip circle within the shaft's Ø at
+        ``on.x_mm``): module or tooth count far too small, or ``on`` names the wrong part."""
+        part = next((p for p in self.parts if p.name == g.on.part), None)
+        if part is None:
+            return
+        here = [s.outer_diameter_mm for s in part.segments if s.x_mm[0] - 1e-9 <= g.on.x_mm <= s.x_mm[1] + 1e-9]
+        stage = g.stage
+        tip = 2.0 * stage.tip_radius_mm(0)
+        if here and tip <= max(here):
+            yield (f"gear_meshes[{i}] ('{g.name}'): the driving gear's tip circle (Ø{tip:.4g} mm; pitch circle "
+                   f"Ø{2 * stage.pitch_radius_mm(0):.4g} mm = normal_module_mm × sun_teeth / cos β) lies inside the "
+                   f"shaft '{g.on.part}' (Ø{max(here):g} mm at on.x_mm = {g.on.x_mm:g}): its teeth cannot mesh; "
+                   "check normal_module_mm and sun_teeth, or on.part")
+
     def _thermal_problems(self):
         """Unknown names, and a temperature rise on a material without ``thermal_expansion_per_K``."""
         for i, m in enumerate(self.mounts):
@@ -1161,6 +1204,7 @@ class Rig(StrictModel):
                        f"(known: {', '.join(sorted(self.materials))})")
             if g.on.part == g.reacted_on.part:
                 yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
+            yield from self._gear_inside_shaft(i, g)
 
     def _housing_problems(self, parts: dict):
         """``[[housings]]``: their part, attachments and material."""

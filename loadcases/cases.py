@@ -131,15 +131,25 @@ def default_cases(rig) -> tuple[LoadCase, ...]:
     NoLoadCasesError
         Another rig that names no load cases: the message says where to give them.
     """
-    from rvcoax.geometry.builtin import is_reference_rig
+    from rvcoax.geometry.builtin import is_reference_rig, reference_differences
 
     own = rig_cases(rig)
     if own is not None:
         return own
     if is_reference_rig(rig):
         return paper_cases()
+    changes = reference_differences(rig, limit=COPY_CHANGES + 1)
+    if len(changes) <= COPY_CHANGES:  # a copy of the reference rig with a value or two changed
+        raise NoLoadCasesError(
+            f"rig '{rig.rig.name}' names no load cases. It is a copy of the built-in reference rig but no longer "
+            f"the reference rig itself ({'; '.join(changes)}), and paper 000's load cases belong to the reference "
+            f"rig only: {NO_CASES_HELP}")
     raise NoLoadCasesError(f"rig '{rig.rig.name}' names no load cases (paper 000's table belongs to the built-in "
                            f"reference rig only): {NO_CASES_HELP}")
+
+
+COPY_CHANGES = 3
+"""A rig that differs from the built-in reference rig in at most this many values is told it is a copy of it."""
 
 
 def default_is_paper(rig) -> bool:

@@ -230,13 +230,15 @@ GAP_BACKWARD_LIMIT = 1e-12
 EQUILIBRIUM_LIMIT = 1e-6  # relative error of the ground reactions' resultant, and of the reduced residual
 
 
-def check_condition(kappa: float | None) -> None:
-    """Raise :class:`ModelError` when the estimated condition number says the solution has no digits left."""
+def check_condition(kappa: float | None, rig: Rig | None = None) -> None:
+    """Raise :class:`ModelError` when the estimated condition number says the solution has no digits left
+    (naming ``rig``'s very short segments when it has them: :func:`rvcoax.geometry.model.preflight.short_segment_note`)."""
     if kappa is not None and not kappa <= CONDITION_LIMIT:
         raise ModelError(f"the stiffness matrix is ill-conditioned: estimated condition number {kappa:.2g} "
                          f"(Jacobi-scaled, 1-norm; limit {CONDITION_LIMIT:.0e}), so a solve would keep fewer than 5 "
                          "correct digits. Stiffness values many orders of magnitude apart (a unit mistake in a "
-                         "stiffness key?) or an almost free part cause this")
+                         "stiffness key?), very short beam segments or an almost free part cause this."
+                         + (preflight.short_segment_note(rig) if rig is not None else ""))
 
 
 def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual: float) -> None:
@@ -265,7 +267,7 @@ def _prepare(system: RigSystem, settings: SweepSettings):
             symmetrize=beam_superlu, n_rhs=len(UNIT_LOADS))
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
-    check_condition(reduced.condition_estimate())
+    check_condition(reduced.condition_estimate(), system.frame.rig)
     return reduced.solve, reduced.solver_name, reduced.summary()
 
 

@@ -8,6 +8,8 @@ by the springs the rig file declares.
 
 from __future__ import annotations
 
+import bisect
+import itertools
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -154,11 +156,23 @@ def _part_positions(part, referenced: list[float], max_length: float) -> np.ndar
     return np.array(positions)
 
 
-def _segment_at(part, x_mid: float):
-    for s in part.segments:
-        if s.x_mm[0] <= x_mid <= s.x_mm[1]:
-            return s
-    raise ValueError(f"no segment of part '{part.name}' at x = {x_mid} mm")
+def _segment_finder(part):
+    """``find(x)``: the first of ``part``'s segments (in file order) that holds x, found by bisection over
+    the segments sorted by start (a part of thousands of segments: a scan per element made building
+    quadratic in the segments)."""
+    order = sorted(range(len(part.segments)), key=lambda k: (part.segments[k].x_mm[0], k))
+    starts = [part.segments[k].x_mm[0] for k in order]
+    reach = list(itertools.accumulate((part.segments[k].x_mm[1] for k in order), max))  # furthest end so far
+
+    def find(x_mid: float):
+        last = bisect.bisect_right(starts, x_mid)  # segments order[:last] start at or before x
+        first = bisect.bisect_left(reach, x_mid, hi=last)  # … and before that none reaches x
+        holding = [order[j] for j in range(first, last) if part.segments[order[j]].x_mm[1] >= x_mid]
+        if not holding:
+            raise ValueError(f"no segment of part '{part.name}' at x = {x_mid} mm")
+        return part.segments[min(holding)]
+
+    return find
 
 
 @dataclass(frozen=True, eq=False)
@@ -250,8 +264,9 @@ def frame_beams(rig: Rig, nodes: FrameNodes) -> BeamElements:
         material = rig.materials[part.material]
         density = nodes.equivalent_density.get(name, material.density_kg_per_m3)
         shear_factor = shaft_shear if part.role == "shaft" else 1.0
+        segment_at = _segment_finder(part)
         for i in range(positions.size - 1):
-            segment = _segment_at(part, 0.5 * (positions[i] + positions[i + 1]))
+            segment = segment_at(0.5 * (positions[i] + positions[i + 1]))
             section = CircularSection(segment.outer_diameter_mm * MM, segment.inner_diameter_mm * MM)
             element_rows.append((
                 first + i, first + i + 1, section.area_m2, section.second_moment_m4,

@@ -31,8 +31,8 @@ from rvcoax.geometry.model.system import beam_contributions
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["BASE_BYTES", "BYTES_PER_DOF", "COMPONENT_NAMES", "CONDITION_LIMIT", "MemoryEstimate", "SAG_WARNING_MM",
-           "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
-           "memory_problem", "sag_warnings", "support_problem"]
+           "SHORT_ELEMENT_FRACTION", "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
+           "memory_problem", "sag_warnings", "short_segment_note", "support_problem"]
 
 # A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
 # as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
@@ -124,6 +124,43 @@ def _stiffness_range_note(frame) -> str:
             f"({softest[2]}); {note}")
 
 
+SHORT_ELEMENT_FRACTION = 0.01
+"""A beam segment shorter than this fraction of ``[mesh] max_element_length_mm`` is named when the stiffness
+matrix is ill-conditioned: a beam element's bending stiffness grows as 1/L³, so thousands of µm-long
+segments (a CAD export's facets) spread the matrix over many orders of magnitude."""
+
+
+def short_segment_note(rig: Rig) -> str:
+    """`` Parts 'a' (120 segments shorter than 0.05 mm, the shortest 0.004 mm at x = 262 mm) …: merge …``,
+    or '' when no segment is shorter than :data:`SHORT_ELEMENT_FRACTION` of the element length.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose segments are looked at.
+
+    Returns
+    -------
+    str
+        A sentence for an ill-conditioning message (starting with a space), or ''.
+    """
+    limit = SHORT_ELEMENT_FRACTION * rig.mesh.max_element_length_mm
+    found = []
+    for i, part in enumerate(rig.parts):
+        short = [s for s in part.segments if s.x_mm[1] - s.x_mm[0] < limit]
+        if short:
+            shortest = min(short, key=lambda s: s.x_mm[1] - s.x_mm[0])
+            found.append(f"parts[{i}] ('{part.name}'): {len(short)} segment(s) shorter than {limit:.3g} mm, the "
+                         f"shortest {shortest.x_mm[1] - shortest.x_mm[0]:.3g} mm at x = {shortest.x_mm[0]:g} mm")
+    if not found:
+        return ""
+    return (" The likely cause here: " + "; ".join(found[:3]) + (f" (and {len(found) - 3} more parts)" if len(found) > 3
+                                                                  else "")
+            + f", against max_element_length_mm = {rig.mesh.max_element_length_mm:g} mm; a beam element's bending "
+              "stiffness grows as 1/L³, so very short segments spread the matrix over many orders of magnitude: merge "
+              "them into longer ones (a shoulder shorter than a few tenths of a mm does not change a shaft's bending)")
+
+
 def _beam_condition(system: AssembledSystem) -> float:
     """Estimated condition number of the beam model's reduced stiffness (inf when SuperLU finds it singular)."""
     from rvcoax.fem.solvers import SingularMatrixError, prepare
@@ -145,9 +182,9 @@ def support_problem(rig: Rig) -> str | None:
     number decides: above :data:`CONDITION_LIMIT` the message says so (stiffnesses many orders of
     magnitude apart, often a unit mistake) instead of "no support path"; below, the rig is solvable.
     """
-    from rvcoax.geometry.model.workload import rig_problem
+    from rvcoax.geometry.model.workload import housing_problem, rig_problem
 
-    too_big = rig_problem(rig)
+    too_big = rig_problem(rig) or housing_problem(rig)
     if too_big:
         return too_big
     frame = build_rig_model(rig)
@@ -185,7 +222,7 @@ def support_problem(rig: Rig) -> str | None:
     return (f"the stiffness matrix is numerically singular although every part is held ({how}): the supports of "
             f"{who} are far softer than the stiffest elements "
             f"next to them, so a solve would lose every digit ({_stiffness_range_note(frame)}). Check the units of "
-            "the stiffness keys (N/µm, N/mm, N·m/rad) and of youngs_modulus_MPa.")
+            "the stiffness keys (N/µm, N/mm, N·m/rad) and of youngs_modulus_MPa." + short_segment_note(rig))
 
 
 def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
@@ -209,9 +246,9 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
     list of str
         One sentence per part.
     """
-    from rvcoax.geometry.model.workload import rig_problem
+    from rvcoax.geometry.model.workload import housing_problem, rig_problem
 
-    if rig_problem(rig):
+    if rig_problem(rig) or housing_problem(rig):
         return []  # too large to build: support_problem says so
     frame = build_rig_model(rig)
     system = _assembled(frame)

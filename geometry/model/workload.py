@@ -23,7 +23,8 @@ from rvcoax.fem.memory import available_memory_bytes
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
            "BeamSize", "MAX_WORK_S", "REPORT_AFTER_S", "SAMPLE_BYTES", "SAMPLE_CASE_S", "SAMPLE_CASE_S_SOLID",
            "SWEEP_CASE_BYTES", "SWEEP_CASE_S", "WORKER_BYTES", "Workload", "WorkloadError", "beam_size", "check_workload",
-           "check_cases", "check_study", "check_workers", "count_text", "duration_text", "rig_problem", "size_text",
+           "check_cases", "check_study", "check_workers", "count_text", "duration_text", "housing_problem",
+           "housing_workload", "rig_problem", "size_text",
            "study_workload", "sweep_workload"]
 
 MAX_WORK_S = 6 * 3600.0  # one command estimated to run longer than this is refused (split it)
@@ -211,7 +212,7 @@ class BeamSize:
 
     nodes: int
     springs: int
-    element_segment_pairs: float  # Σ over parts of (elements × segments)
+    element_segment_pairs: float  # Σ over parts of elements × (1 + log₂ segments): the segment look-ups
 
     def workload(self, element_length_mm: float) -> Workload:
         seconds = (BEAM_NODE_S * self.nodes + BEAM_NODE_SPRING_S * self.nodes * self.springs
@@ -245,7 +246,7 @@ def beam_size(rig) -> BeamSize:
     for part in rig.parts:
         elements = sum(max(1.0, math.ceil((s.x_mm[1] - s.x_mm[0]) / length - 1e-9)) for s in part.segments)
         nodes += elements + 1.0
-        pairs += elements * len(part.segments)
+        pairs += elements * (1.0 + math.log2(len(part.segments)))  # each element's segment: found by bisection
     return BeamSize(int(min(nodes, 1e30)), springs, pairs)
 
 
@@ -273,6 +274,85 @@ def rig_problem(rig) -> str | None:
         check_workload(workload, "the rig's parts, segments and [mesh] max_element_length_mm", suggestion)
     except WorkloadError as error:
         return str(error)
+    return None
+
+
+# ------------------------------------------------------------------------------------------ housings
+
+# A [[housings]] entry's solid model, condensed to its attachments (geometry/housings.py), measured on the
+# reference input bearing block (V = 0.88 L) at mesh sizes 16, 12, 8 and 6 mm (13 k, 21 k, 51 k, 103 k DOF;
+# 1.2, 1.8, 4.3 and 11.3 s of CPU, load 10): P2 nodes ≈ a V / h³ + b A / h² with the surface A taken as
+# 6 V^(2/3) (a compact solid; 1.1 × the block's own), within 10 % of all four.
+HOUSING_NODES_PER_VOLUME = 1.2
+HOUSING_NODES_PER_AREA = 17.75
+HOUSING_REFERENCE_DOFS = 51e3  # … and the time grows as DOFs^1.4 from 4.3 s at 51 k DOF
+HOUSING_REFERENCE_S = 4.3
+HOUSING_DOF_BYTES = 15e3  # peak memory per DOF of meshing, assembly and condensation (2.6 GB at 176 k DOF)
+
+
+def _housing_dofs(volume_mm3: float, mesh_size_mm: float) -> float:
+    nodes = (HOUSING_NODES_PER_VOLUME * volume_mm3 / mesh_size_mm**3
+             + HOUSING_NODES_PER_AREA * 6.0 * volume_mm3 ** (2.0 / 3.0) / mesh_size_mm**2)
+    return 3.0 * nodes
+
+
+def _housing_cost(dofs: float, what: str = "") -> Workload:
+    return Workload(what, HOUSING_REFERENCE_S * (dofs / HOUSING_REFERENCE_DOFS) ** 1.4, BASE_BYTES + HOUSING_DOF_BYTES * dofs)
+
+
+def housing_workload(housing) -> Workload:
+    """The estimated cost of meshing and condensing a ``[[housings]]`` entry, from its volume and mesh size.
+
+    Parameters
+    ----------
+    housing : Housing
+        A validated ``[[housings]]`` entry.
+
+    Returns
+    -------
+    Workload
+        DOFs, time and memory of its solid model.
+    """
+    geometry = housing.geometry
+    volume, h = geometry.volume_mm3, geometry.mesh_size_mm
+    dofs = _housing_dofs(volume, h)
+    return _housing_cost(dofs, f"the solid model of housing '{housing.name}' (about {count_text(dofs)} DOF: "
+                               f"{volume / 1e6:.3g} L of {housing.shape} meshed at mesh_size_mm = {h:g} mm)")
+
+
+def housing_problem(rig) -> str | None:
+    """Why a ``[[housings]]`` entry of ``rig`` is too large to mesh here (its estimate and a suggestion), or None.
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig, before any housing is meshed.
+
+    Returns
+    -------
+    str or None
+        The reason, naming the housing, its dimensions and mesh size; None when every housing fits.
+    """
+    room = available_memory_bytes()
+    for i, housing in enumerate(rig.housings):
+        workload = housing_workload(housing)
+        if _fits(workload, room):
+            continue
+        x0, x1 = housing.x_mm
+        extent = max(x1 - x0, housing.width_mm, *(v for v in (housing.height_above_bed_mm, housing.wall_distance_mm,
+                                                              housing.base_width_mm, housing.plate_height_mm)
+                                                 if v is not None))
+        volume, coarser = housing.geometry.volume_mm3, housing.mesh_size_mm
+        for _ in range(400):  # the mesh size at which it would fit (×1.1 steps)
+            if _fits(_housing_cost(_housing_dofs(volume, coarser)), room):
+                break
+            coarser *= 1.1
+        suggestion = (f"check its dimensions (the largest is {extent:g} mm: a length in µm?) or raise its mesh_size_mm "
+                      f"to {coarser:.2g} mm or more")
+        try:
+            check_workload(workload, f"housings[{i}] ('{housing.name}')", suggestion)
+        except WorkloadError as error:
+            return str(error).replace("Nothing was solved.", "Nothing was meshed.")
     return None
 
 

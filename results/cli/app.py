@@ -13,6 +13,7 @@ A user mistake ends with one paragraph and exit status 2, never a traceback.
 from __future__ import annotations
 
 import importlib
+import sys
 from typing import Annotated
 
 import typer
@@ -131,7 +132,42 @@ def run() -> None:
 
     avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
     single_threaded_openblas()  # process-wide too: see fem/blas_threads.py
-    app()
+    sys.stdout = WatchedOutput(sys.stdout)
+    try:
+        app()
+    except OSError as error:  # outside a command's guard: help or version text to a full device or closed pipe
+        from rvcoax.results.cli.support import standard_output_failed, write_error_text
+
+        if error.filename is not None or not standard_output_failed():
+            raise
+        sys.stderr.write(f"error: {write_error_text(error)}\n")
+        sys.exit(2)
+
+
+class WatchedOutput:
+    """Standard output that remembers when a write to it failed (``failed``), so that an OSError without a
+    file name can be told apart: the terminal's output (``rvcoax rig example > /dev/full``) or a result file."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        self.failed = False
+
+    def write(self, text):
+        try:
+            return self._stream.write(text)
+        except OSError:
+            self.failed = True
+            raise
+
+    def flush(self):
+        try:
+            return self._stream.flush()
+        except OSError:
+            self.failed = True
+            raise
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ for the two dynamics packages.
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import Annotated
 
@@ -81,7 +82,7 @@ def export(
     """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
     000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
     from rvcoax.results import ConnectionsUnavailableError
-    from rvcoax.results.export import ExportFormatError, dynamics_export, export_format, write_export
+    from rvcoax.results.export import AdamsTextWarning, ExportFormatError, dynamics_export, export_format, write_export
 
     try:
         chosen = export_format(output_format)
@@ -91,7 +92,7 @@ def export(
     radial = {"input": input_radial_mm, "output": output_radial_mm}
     settings = model_choice.settings()
     rig = model_choice.load_rig()
-    load_cases = case_choice.load(rig)
+    load_cases = case_choice.load(rig, model_choice.rig_file)
     _refusal(chosen.name, chosen.check_cases, load_cases)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
@@ -101,8 +102,12 @@ def export(
         raise support.UserError(f"rig file {model_choice.rig_text()[0]}: cannot export: {error}") from None
     support.console.print(_summary(exported))
     source, text = model_choice.rig_text()
-    with support.console.status(f"writing the {chosen.name} export"):
+    with support.console.status(f"writing the {chosen.name} export"), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AdamsTextWarning)
         written = write_export(exported, out, chosen.name, rig_source=source, rig_text=text)
+    for warning in caught:  # user text escaped for a foreign format: said, by its key
+        if issubclass(warning.category, AdamsTextWarning):
+            support.warn(str(warning.message))
     for table in written.tables:
         _print_table(table)
     support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "

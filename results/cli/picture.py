@@ -29,7 +29,7 @@ def picture(
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
-    load_cases = case_choice.load(rig)
+    load_cases = case_choice.load(rig, model_choice.rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     folder = out / "pictures"

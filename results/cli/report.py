@@ -10,7 +10,9 @@ from rich.markup import escape
 
 from rvcoax.results.cli import support
 
-__all__ = ["COMMANDS", "report"]
+__all__ = ["COMMANDS", "PDF_TIMEOUT_RANGE_S", "report"]
+
+PDF_TIMEOUT_RANGE_S = (1.0, 3600.0)  # headless Chromium prints the reference report in a few seconds
 
 
 @support.model_options
@@ -23,6 +25,10 @@ def report(
     measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to check the model against: a table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or a paths file (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm).")] = None,
     discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
     pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
+    pdf_timeout_s: Annotated[float, support.number_option(
+        "--pdf-timeout-s", *PDF_TIMEOUT_RANGE_S, "s", help=f"How long headless Chromium may take to print the PDF, "
+        f"{PDF_TIMEOUT_RANGE_S[0]:g} … {PDF_TIMEOUT_RANGE_S[1]:g} s; then it and its child processes are "
+        "ended.")] = 120.0,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
@@ -38,7 +44,7 @@ def report(
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
-    load_cases = case_choice.load(rig)
+    load_cases = case_choice.load(rig, model_choice.rig_file)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
     source, text = model_choice.rig_text()
@@ -49,7 +55,7 @@ def report(
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
-            written.append(print_pdf(written[0], out / "report.pdf"))
+            written.append(print_pdf(written[0], out / "report.pdf", timeout_s=pdf_timeout_s))
     support.console.print(f"report of {len(load_cases)} load cases on {escape(rig.rig.name)}")
     support.report_written(written)
 

@@ -12,6 +12,7 @@ from rich.table import Table
 from rvcoax.results.cli.support import (
     CommandGroup,
     RigOption,
+    UserError,
     add_text_row,
     console,
 )
@@ -120,7 +121,11 @@ def rig_reference(
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text
+    from rvcoax.geometry import REFERENCE_VARIANTS
 
+    if variant is not None and variant not in REFERENCE_VARIANTS:
+        raise UserError(f"--variant '{variant}': not a variant of the reference rig (known: "
+                        f"{', '.join(REFERENCE_VARIANTS)}; leave --variant out for the reference rig itself)")
     sys.stdout.write(reference_rig_text(variant))
 
 

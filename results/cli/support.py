@@ -28,7 +28,7 @@ __all__ = ["CaseChoice", "CasesOption", "CommandGroup", "GridOption", "MeshOptio
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
            "add_text_row", "case_options", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
            "guard", "model_options", "number_option", "option_block", "prepare_with_status", "register_commands", "progress_bar", "report_written", "rig_text",
-           "run_with_progress", "scheduler_address", "sweep_settings", "torque_list", "warn", "write_error_text"]
+           "run_with_progress", "scheduler_address", "standard_output_failed", "sweep_settings", "torque_list", "warn", "write_error_text"]
 
 console = Console()
 if not console.is_terminal:  # logs and pipes: wide enough for the check tables
@@ -157,7 +157,25 @@ def scheduler_address(text: str) -> str:
     if not colon or not host or not (port.isascii() and port.isdigit()) or not 1 <= int(port) <= 65535:
         raise UserError(f"--scheduler: '{text}': needs HOST:PORT after {protocol}:// with a port 1 … 65535 "
                         "(e.g. tcp://127.0.0.1:8786)")
+    if protocol in TLS_PROTOCOLS:
+        missing = _missing_tls_settings()
+        if missing:
+            raise UserError(f"--scheduler: '{text}': a {protocol}:// scheduler needs the client's TLS certificates, "
+                            f"and Dask's configuration has no {' and no '.join(missing)} (set them in a Dask config "
+                            "file or as DASK_DISTRIBUTED__COMM__TLS__CA_FILE, …__CLIENT__CERT, …__CLIENT__KEY), or "
+                            "use tcp:// over a trusted network or an SSH tunnel")
     return text
+
+
+TLS_PROTOCOLS = ("tls", "wss")
+
+
+def _missing_tls_settings() -> list[str]:
+    """The Dask settings that a TLS client needs and that are not set (ca-file, client.cert)."""
+    import dask.config
+
+    return [f"distributed.comm.tls.{key}" for key in ("ca-file", "client.cert")
+            if not dask.config.get(f"distributed.comm.tls.{key}", None)]
 
 
 RigOption = Annotated[Path | None, typer.Option("--rig", help="Rig file (TOML). Default: the built-in reference rig.")]
@@ -211,9 +229,9 @@ class CaseChoice:
         """Whether the command line names the load cases (else the rig file's, or paper 000's, are solved)."""
         return self.cases is not None or self.t1 is not None or self.t2 is not None
 
-    def load(self, rig) -> list:
-        """The load cases (:func:`cases_from_options`)."""
-        return cases_from_options(self.cases, self.t1, self.t2, self.grid, rig)
+    def load(self, rig, rig_file: Path | None = None) -> list:
+        """The load cases (:func:`cases_from_options`); ``rig_file`` names the rig in a message."""
+        return cases_from_options(self.cases, self.t1, self.t2, self.grid, rig, rig_file=rig_file)
 
 
 _MODEL_BLOCK = (("rig_file", RigOption, None), ("model", ModelOption, "beam"), ("solver", SolverOption, "auto"),
@@ -317,12 +335,43 @@ def sweep_settings(model: str, method: str = "superposition", solver: str = "aut
         raise UserError(f"--model/--method/--solver/--mesh-size-mm: {error}") from None
 
 
-def write_error_text(error: OSError) -> str:
-    """``cannot write FILE: reason`` for an OSError raised while writing results (``no space left on device``)."""
+def write_error_text(error: OSError, out: Path | None = None) -> str:
+    """``cannot write FILE: reason`` for an OSError raised while writing results (``no space left on device``).
+
+    An error that names no file (``write()`` on a full disk) names the ``--out`` folder ``out`` when it
+    is known, or standard output when that is what failed (``rvcoax rig example > /dev/full``)."""
     reason = error.strerror or (os.strerror(error.errno) if error.errno else str(error)) or type(error).__name__
     reason = reason[:1].lower() + reason[1:]
-    where = error.filename if error.filename is not None else "the result files (--out)"
+    if error.filename is not None:
+        where = error.filename
+    elif standard_output_failed():
+        where = "to standard output"
+    elif out is not None:
+        where = f"into the --out folder {out}"
+    else:
+        where = "the result files (--out)"
     return f"cannot write {where}: {reason}"
+
+
+def standard_output_failed() -> bool:
+    """True when standard output cannot take what was printed (a full device, a closed pipe). Output still
+    held for it is then dropped (standard output is pointed at the null device), so that Python's flush
+    at exit does not fail a second time with a traceback of its own."""
+    import sys
+
+    if not getattr(sys.stdout, "failed", False):  # (rvcoax.results.cli.app.WatchedOutput)
+        try:
+            sys.stdout.flush()
+            return False
+        except OSError:
+            pass
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError, AttributeError):  # (a stream without a descriptor: a test runner's)
+        pass
+    return True
 
 
 def check_environment() -> None:
@@ -357,7 +406,8 @@ def guard(function):
             text = error.describe(f"rig file {kwargs.get('rig_file') or 'built-in reference_rig.toml'}")
             fail(f"{text} (try another --solver)" if isinstance(error, SolverError) else text)
         except OSError as error:  # reading is handled above, so this is writing the results (--out)
-            fail(write_error_text(error))
+            out = kwargs.get("out")
+            fail(write_error_text(error, out if isinstance(out, Path) else None))
 
     return wrapper
 
@@ -366,12 +416,25 @@ def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
     from rvcoax import prepare_model
     from rvcoax.geometry import plausibility_warnings
-    from rvcoax.geometry.model import REPORT_AFTER_S, beam_size, rig_problem, sag_warnings
+    from rvcoax.geometry.model import (
+        REPORT_AFTER_S,
+        beam_size,
+        housing_problem,
+        housing_workload,
+        rig_problem,
+        sag_warnings,
+    )
 
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
         if size.seconds > REPORT_AFTER_S:
             console.print(f"{size.what}: {size.describe()} to assemble and factorise (estimated)")
+    if housing_problem(rig) is None:  # (a housing too large is refused below, before it is meshed)
+        for housing in rig.housings:
+            size = housing_workload(housing)
+            if size.seconds > REPORT_AFTER_S:
+                console.print(f"{escape(size.what)}: {size.describe()} to mesh and condense (estimated; read from the "
+                              "cache when these dimensions were condensed before)", highlight=False)
     for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
@@ -412,7 +475,8 @@ def _case_rows_upper_bound(path: Path) -> int | None:
     return data.count(b"[[cases]]") if path.suffix.lower() == ".toml" else max(data.count(b"\n"), 1)
 
 
-def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig):
+def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, grid: bool, rig, *,  # noqa: PLR0913
+                       rig_file: Path | None = None):
     """Load cases from --cases, or --t1/--t2 (paired or --grid), or the rig file's own
     (:func:`rvcoax.loadcases.cases.default_cases`: paper 000's 20 pairs for the reference rig only)."""
     from rvcoax import default_cases, grid_cases, paired_cases, read_cases
@@ -433,7 +497,7 @@ def cases_from_options(cases_file: Path | None, t1: str | None, t2: str | None, 
         try:
             cases = default_cases(rig)
         except NoLoadCasesError as error:
-            raise UserError(str(error)) from None
+            raise UserError(f"rig file {rig_file}: {error}" if rig_file is not None else str(error)) from None
         check_cases(len(cases), "the rig file's load cases")
         return cases
     if t1 is None or t2 is None:

@@ -182,13 +182,20 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
     """
     from rvcoax import run_durable_sweep
 
-    def plan(reading, n_missing: int) -> None:
+    def plan(reading, n_missing: int, n_checked: int) -> None:
         if resume:
             support.console.print(f"resuming: {len(reading.cases)} of {len(load_cases)} case(s) already solved in "
                                   f"{escape(str(store.folder))}, {n_missing} to solve")
+            if reading.journal_problem:
+                support.warn(f"{store.path}: {reading.journal_problem} (a FIFO, device or link is not read as a "
+                             "journal); every case is solved again and the journal written anew")
             if reading.rejected:
                 support.console.print(f"not reused from {escape(str(store.path))} (solved again): "
                                       f"{reading.describe_rejections()}")
+            if n_checked:
+                how = ("every reused case (a linear sweep: one back-substitution each)" if n_checked == len(reading.cases)
+                       else f"{n_checked} reused case(s) as a spot check (nonlinear: a Newton solve each)")
+                support.console.print(f"checking the journal: {how} solved again and compared")
 
     live = {}  # the progress bar starts with the first solved case, after the model's own status line
 
@@ -205,6 +212,13 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
     finally:
         if "bar" in live:
             live["bar"].stop()
+    if done.disagreed:
+        support.warn(f"{store.path}: {len(done.disagreed)} of {len(done.checked)} reused case(s) differ from a new "
+                     f"solve (cases {', '.join(str(i + 1) for i in done.disagreed[:10])}"
+                     f"{', …' if len(done.disagreed) > 10 else ''}): the journal was edited or written by something "
+                     "else; the values solved now are written")
+    elif done.checked:
+        support.console.print(f"checked: {len(done.checked)} reused case(s) agree with a new solve")
     return done.records, done.model, done.sweep
 
 
@@ -236,7 +250,7 @@ def sweep(
                         "run without --resume")
     settings = model_choice.settings(method)
     rig = model_choice.load_rig()
-    load_cases = case_choice.load(rig)
+    load_cases = case_choice.load(rig, model_choice.rig_file)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")

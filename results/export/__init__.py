@@ -9,7 +9,8 @@ from rvcoax._lazy import lazy_names
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.export.dynamics": ("bearing_rows", "coupling_rows", "dynamics_export", "write_dynamics_csv",
                                        "write_dynamics_json"),
-    "rvcoax.results.export.adams": ("AdamsExportError", "adams_fragment", "parse_adm", "spline_layout"),
+    "rvcoax.results.export.adams": ("AdamsExportError", "AdamsSyntaxError", "AdamsTextWarning", "adams_comment", "adams_fragment",
+                                    "adams_text_notes", "parse_adm", "spline_layout"),
     "rvcoax.results.export.ross": ("RossUnavailableError", "compare_static", "import_ross", "misalignment_fault",
                                    "misalignment_parameters"),
     "rvcoax.results.export.formats": ("EXPORT_FORMATS", "ExportFiles", "ExportFormat", "ExportFormatError",

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,9 +37,9 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
 from rvcoax.results.io.writers import write_text_atomic
 
-__all__ = ["AdamsExportError", "AdamsSyntaxError", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
-           "adams_angle_deg", "adams_fragment", "adams_real", "marker_euler_deg", "marker_z_axis", "parse_adm",
-           "spline_curves", "spline_data", "spline_layout", "write_adams"]
+__all__ = ["AdamsExportError", "AdamsSyntaxError", "AdamsTextWarning", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
+           "adams_angle_deg", "adams_comment", "adams_fragment", "adams_real", "adams_text_notes", "marker_euler_deg",
+           "marker_z_axis", "parse_adm", "spline_curves", "spline_data", "spline_layout", "write_adams"]
 
 LINE_LIMIT = 80
 MARKER_BASE_ID = {"input": 1000, "output": 2000}
@@ -81,6 +82,73 @@ def _wrap(head: str, arguments: list[tuple[str, list[str]]]) -> list[str]:
                 line += piece
         lines.append(line)
     return lines
+
+
+def _printable_ascii(text: str) -> str:
+    """``text`` with every character a dataset line cannot hold escaped as Python writes it (a line break
+    as ``\\n``, ``ü`` as ``\\xfc``): a user's name can then never end the comment and start a statement."""
+    return "".join(c if " " <= c <= "~" else c.encode("unicode_escape").decode("ascii") for c in text)
+
+
+def adams_comment(text: str, first: str = "! ", then: str = "!   ") -> list[str]:
+    """Comment lines of at most :data:`LINE_LIMIT` characters holding ``text`` (user text included): escaped
+    to printable ASCII and wrapped, so that no text breaks the dataset's rules or injects a statement.
+
+    Parameters
+    ----------
+    text : str
+        The comment's text.
+    first, then : str
+        The start of the first line and of each continuation line.
+
+    Returns
+    -------
+    list of str
+        The lines, each starting with ``!``.
+    """
+    words = _printable_ascii(text).split(" ")
+    lines, line = [], first
+    for word in words:
+        while len(word) > LINE_LIMIT - len(then):  # a word longer than a line: cut it
+            room = LINE_LIMIT - len(line) - (1 if line.strip("! ") else 0)
+            if room < 8:
+                lines.append(line.rstrip())
+                line, room = then, LINE_LIMIT - len(then)
+            line += (" " if line.strip("! ") else "") + word[:room]
+            word = word[room:]
+        candidate = line + (" " if line.strip("! ") else "") + word
+        if len(candidate) > LINE_LIMIT:
+            lines.append(line.rstrip())
+            candidate = then + word
+        line = candidate
+    lines.append(line.rstrip())
+    return lines
+
+
+def adams_text_notes(export: DynamicsExport) -> list[str]:
+    """What of the user's text had to be changed to fit an ADAMS dataset (for a warning), e.g.
+    ``rig.name holds a line break or non-ASCII characters: written escaped, as '…'``.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        From :func:`rvcoax.results.export.dynamics_export`.
+
+    Returns
+    -------
+    list of str
+        One note per changed text; empty when every text was written as typed.
+    """
+    texts = {"rig.name": export.sweep.rig.rig.name}
+    texts.update({f"paths.{s}.part": getattr(export.sweep.rig.paths, s).part for s in MEASURED_SHAFTS})
+    notes = []
+    for key, text in texts.items():
+        escaped = _printable_ascii(text)
+        if escaped != text:
+            shown = escaped if len(escaped) <= 60 else escaped[:57] + "..."
+            notes.append(f"{key} holds line breaks, control or non-ASCII characters, which an ADAMS dataset cannot "
+                         f"hold: written escaped in the comments of dynamics.adm, as '{shown}'")
+    return notes
 
 
 def _torque(case, shaft: str) -> float:
@@ -157,7 +225,7 @@ def adams_fragment(export: DynamicsExport, part_id: int = 1) -> str:
     if len(sweep.cases) >= 1000:
         raise AdamsExportError(f"{len(sweep.cases)} cases: the marker numbering allows at most 999")
     lines = [
-        f"! rvcoax dynamics export: {sweep.rig.rig.name}",
+        *adams_comment(f"rvcoax dynamics export: {sweep.rig.rig.name}"),
         f"! model {sweep.settings.model}; beta = arcsin(Y_max / L) from the {export.measured_from} state",
         "! lengths mm (UNITS/LENGTH = MILLIMETER), angles in degrees (D), torques N*m",
         f"! PART={part_id}: the part that carries the markers (normally the ground)",
@@ -166,7 +234,7 @@ def adams_fragment(export: DynamicsExport, part_id: int = 1) -> str:
         path = getattr(sweep.rig.paths, shaft)
         base = MARKER_BASE_ID[shaft]
         lines.append("!")
-        lines.append(f"! {shaft} shaft ({path.part}), L = {path.length_mm:g} mm: marker z = tilted shaft axis")
+        lines += adams_comment(f"{shaft} shaft ({path.part}), L = {path.length_mm:g} mm: marker z = tilted shaft axis")
         for i, case in enumerate(sweep.cases):
             result = case.paths[shaft]
             tilt = tilt_direction(result) * result.beta_deg
@@ -353,5 +421,16 @@ def write_adams(export: DynamicsExport, folder: str | Path) -> list[Path]:
         The cases cannot make the splines (:func:`spline_layout`).
     """
     text = adams_fragment(export)
-    parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    try:
+        parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    except AdamsSyntaxError as error:
+        line = text.splitlines()[error.line - 1] if 0 < error.line <= len(text.splitlines()) else ""
+        raise AdamsExportError(f"the dataset would break the ADAMS/Solver rules at its {error} ('{line[:60]}'); "
+                               "nothing was written") from None
+    for note in adams_text_notes(export):
+        warnings.warn(note, AdamsTextWarning, stacklevel=2)
     return [write_text_atomic(Path(folder) / "dynamics.adm", text)]
+
+
+class AdamsTextWarning(UserWarning):
+    """User text (``rig.name``, a part name) that had to be escaped to fit an ADAMS dataset."""

@@ -31,6 +31,7 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -176,19 +177,38 @@ def shaft_line(rig: Rig, which: str) -> ShaftLine:
                      hubs=tuple(hubs))
 
 
+def ross_identifier(text: str) -> str:
+    """``text`` as a ROSS tag or material name: letters, digits and ``_`` only (anything else becomes ``_``).
+
+    Parameters
+    ----------
+    text : str
+        A name from the rig file.
+
+    Returns
+    -------
+    str
+        The identifier.
+    """
+    return re.sub(r"[^A-Za-z0-9_]", "_", text)
+
+
 def build_rotor(line: ShaftLine, ross=None):
     """A ``ross.Rotor`` of ``line``: Timoshenko shaft elements, bearings at the supports, hubs as disks."""
     rs = ross if ross is not None else import_ross()
-    material = rs.Material(name=f"rvcoax_{line.material}".replace(" ", "_"), rho=line.density_kg_per_m3,
+    # ROSS keeps a material by its name (an identifier in its files): a rig's material key may hold any text
+    material = rs.Material(name=ross_identifier(f"rvcoax_{line.material}"), rho=line.density_kg_per_m3,
                            E=line.youngs_modulus_Pa, Poisson=line.poisson_ratio)
     lengths = np.diff(line.node_x_mm) * MM
     shaft = [rs.ShaftElement(L=float(length), idl=float(inner * MM), odl=float(outer * MM), material=material, n=i,
                              shear_method_calc="cowper")
              for i, (length, outer, inner) in enumerate(zip(lengths, line.outer_diameter_mm, line.inner_diameter_mm))]
-    disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=0.0, Ip=0.0, tag=f"hub_{h.coupling}")
+    disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=0.0, Ip=0.0,
+                            tag=ross_identifier(f"hub_{h.coupling}"))
              for h in line.hubs]
     bearings = [rs.BearingElement(n=line.node_at(s.x_mm), kxx=s.radial_stiffness_N_per_m,
-                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0, tag=f"{s.spring.kind}_{s.spring.name}")
+                                  kyy=s.radial_stiffness_N_per_m, cxx=0.0,
+                                  tag=ross_identifier(f"{s.spring.kind}_{s.spring.name}"))
                 for s in line.supports]
     return rs.Rotor(shaft, disks, bearings, tag=f"rvcoax_{line.which}_shaft")
 

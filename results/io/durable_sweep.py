@@ -1,14 +1,22 @@
 """A sweep that survives interruption: each case is journalled as soon as it is solved, and a resumed
 sweep solves only the cases its journal does not already hold (checksums and input hashes verified).
 
+Nothing read back is trusted as it is: a journal line's checksum is no signature (anyone can write a
+line and its SHA-256), so every reused record is also checked for values a solve cannot give
+(:func:`rvcoax.results.io.sweep_files.record_problem`), and then solved again where that is cheap:
+every reused case of a linear sweep (one factorisation, a back-substitution per case), and
+:data:`SPOT_CHECKS` of a nonlinear one (a Newton solve per case) — and every reused case when one of those
+disagrees. A recomputed value that differs from the journal's replaces it, and the sweep says how many.
+
 A pure function of (rig, load cases, settings, rig text, journal folder): the command ``rvcoax sweep``
 calls it, and so can a notebook or a Dask worker that writes into its own folder.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
@@ -16,7 +24,12 @@ from rvcoax.results.io import records
 from rvcoax.results.io.sweep_files import CaseStore, JournalReading, case_inputs, inputs_sha256, sweep_inputs
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
-__all__ = ["DurableSweep", "run_durable_sweep"]
+__all__ = ["DurableSweep", "SPOT_CHECKS", "records_agree", "run_durable_sweep"]
+
+SPOT_CHECKS = 3
+"""Reused cases of a nonlinear sweep solved again to check the journal (first, middle and last)."""
+RELATIVE_AGREEMENT = 1e-6
+"""A recomputed value agrees with the journal's within this fraction of the largest value of its kind."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,7 +47,11 @@ class DurableSweep:
     reading : JournalReading
         What the journal held (empty without ``resume``), with the entries it refused and why.
     solved : tuple of int
-        The indices of the cases solved now.
+        The indices of the cases solved now (missing from the journal, or solved again to check it).
+    checked : tuple of int
+        The reused cases solved again to check the journal.
+    disagreed : tuple of int
+        Those of them whose journalled record differed from the recomputation (the recomputed one is used).
     """
 
     records: list[dict]
@@ -42,13 +59,15 @@ class DurableSweep:
     sweep: Sweep | None
     reading: JournalReading
     solved: tuple[int, ...]
+    checked: tuple[int, ...] = field(default=())
+    disagreed: tuple[int, ...] = field(default=())
 
 
 def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,  # noqa: PLR0913
                       store: CaseStore, *, resume: bool = False,
                       prepare: Callable[[Rig, SweepSettings], PreparedModel] = prepare_model,
                       progress: Callable[[int, int], None] | None = None,
-                      on_plan: Callable[[JournalReading, int], None] | None = None) -> DurableSweep:
+                      on_plan: Callable[[JournalReading, int, int], None] | None = None) -> DurableSweep:
     """Solve ``cases`` on ``rig``, journalling each case in ``store`` as it is solved.
 
     Parameters
@@ -66,7 +85,8 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
     progress : callable, optional
         ``progress(done, total)`` over the cases solved now.
     on_plan : callable, optional
-        ``on_plan(reading, n_to_solve)`` once the journal is read, before anything is solved.
+        ``on_plan(reading, n_missing, n_checked)`` once the journal is read, before anything is solved:
+        the cases to solve and the reused cases that are solved again to check them.
 
     Returns
     -------
@@ -74,28 +94,112 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
         The record of every case (reused from the journal or solved now), the sweep of the cases solved now,
         and what the journal held.
     """
+    from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
+
     sha = records.text_sha256(rig_text)
     common = sweep_inputs(sha, settings)
     case_hashes = [inputs_sha256(case_inputs(sha, case, settings, common)) for case in cases]
     model_hash = inputs_sha256(common)
     if resume:
-        reading = store.load(case_hashes, model_hash)
+        torques = [(case.input_torque_Nm, case.output_torque_Nm) for case in cases]
+        reading = store.load(case_hashes, model_hash, torques)
     else:
         store.clear()
         reading = JournalReading()
     done, model = reading.cases, reading.model
     missing = [i for i in range(len(cases)) if i not in done]
+    reused = sorted(done)
+    linear = not nonlinear_bearing_names(rig)
+    checked = reused if linear else _spread(reused, SPOT_CHECKS)
     if on_plan is not None:
-        on_plan(reading, len(missing))
-    result = None
-    if missing or model is None:
+        on_plan(reading, len(missing), len(checked))
+    result, disagreed = None, []
+    if missing or checked or model is None:
+        prepared = prepare(rig, settings)
         with store:
-            def save(k: int, case_result) -> None:
-                done[missing[k]] = records.case_record(case_result)
-                store.save(missing[k], case_hashes[missing[k]], done[missing[k]])
+            def solve(indices: list[int], report=None):
+                def save(k: int, case_result) -> None:
+                    i, record = indices[k], records.case_record(case_result)
+                    if i in done and not records_agree(done[i], record):
+                        disagreed.append(i)
+                    if i not in done or i in disagreed:
+                        store.save(i, case_hashes[i], record)
+                    done[i] = record
 
-            result = run_sweep(rig, tuple(cases[i] for i in missing), settings, progress=progress,
-                               prepared=prepare(rig, settings), on_case=save)
+                return run_sweep(rig, tuple(cases[i] for i in indices), settings, progress=report, prepared=prepared,
+                                 on_case=save)
+
+            to_solve = sorted(set(missing) | set(checked))
+            result = solve(to_solve, progress)
+            if disagreed and not linear and set(reused) - set(checked):
+                # a spot check failed: trust none of the journal's cases, and solve them all in one sweep (whose
+                # model section then holds every case, as an uninterrupted run's does)
+                checked = reused
+                to_solve = sorted(set(missing) | set(reused))
+                result = solve(to_solve)
             model = records.model_section(result)
             store.save_model(model_hash, model)
-    return DurableSweep([done[i] for i in range(len(cases))], model, result, reading, tuple(missing))
+    else:
+        to_solve = []
+    return DurableSweep(records=[done[i] for i in range(len(cases))], model=model, sweep=result, reading=reading,
+                        solved=tuple(to_solve), checked=tuple(checked), disagreed=tuple(sorted(disagreed)))
+
+
+def _spread(indices: list[int], count: int) -> list[int]:
+    """Up to ``count`` of ``indices``, evenly spread (first, …, last)."""
+    if len(indices) <= count:
+        return list(indices)
+    return sorted({indices[round(k * (len(indices) - 1) / (count - 1))] for k in range(count)})
+
+
+def records_agree(journalled: dict, recomputed: dict, relative: float = RELATIVE_AGREEMENT) -> bool:
+    """Whether a journalled case record holds the values a new solve gives (same fields, same texts; numbers
+    within ``relative`` of the largest magnitude of their field, so that rounding noise of another BLAS
+    does not count and an edited value does).
+
+    Parameters
+    ----------
+    journalled, recomputed : dict
+        Case records (:func:`rvcoax.results.io.records.case_record`).
+    relative : float
+        The tolerance, as a fraction of the field's scale.
+
+    Returns
+    -------
+    bool
+        True when every field agrees.
+    """
+    mine, theirs = _flatten(journalled), _flatten(recomputed)
+    if mine.keys() != theirs.keys():
+        return False
+    scale: dict[str, float] = {}
+    for key, value in theirs.items():
+        if isinstance(value, float | int) and not isinstance(value, bool):
+            field_name = key[1]
+            scale[field_name] = max(scale.get(field_name, 0.0), abs(value), abs(mine[key]) if
+                                    isinstance(mine[key], float | int) and not isinstance(mine[key], bool) else 0.0)
+    for key, value in theirs.items():
+        other = mine[key]
+        if isinstance(value, float | int) and not isinstance(value, bool):
+            if not (isinstance(other, float | int) and not isinstance(other, bool) and math.isfinite(other)):
+                return False
+            if abs(other - value) > relative * scale[key[1]]:
+                return False
+        elif other != value:
+            return False
+    return True
+
+
+def _flatten(value, path: tuple = ()) -> dict:
+    """{(full path, field name without list indices): scalar} of a JSON value."""
+    flat: dict = {}
+    stack = [(value, path, "")]
+    while stack:
+        item, where, name = stack.pop()
+        if isinstance(item, dict):
+            stack.extend((v, (*where, k), f"{name}.{k}") for k, v in item.items())
+        elif isinstance(item, list):
+            stack.extend((v, (*where, i), f"{name}[]") for i, v in enumerate(item))
+        else:
+            flat[(where, name)] = item
+    return flat

@@ -50,7 +50,8 @@ import numpy as np
 from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.fields import FieldCase, FieldMesh
-from rvcoax.results.io.writers import write_png_atomic
+from rvcoax.results.io.processes import run_group
+from rvcoax.results.io.writers import naming_errors, write_png_atomic
 
 RENDER_PACKAGES = ("libegl1", "libegl-mesa0", "libgl1-mesa-dri")
 BACKGROUND = (255, 255, 255)
@@ -116,7 +117,7 @@ def _try_window(window_class: str | None) -> tuple[bool, str]:
     if window_class is not None:
         env["VTK_DEFAULT_OPENGL_WINDOW"] = window_class
     try:
-        done = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, timeout=120)
+        done = run_group([sys.executable, "-c", _PROBE], 120, env=env)  # (a hung probe's children end with it)
     except subprocess.TimeoutExpired:
         return False, "the test render did not finish in 120 s"
     for line in done.stdout.splitlines():
@@ -580,8 +581,9 @@ def _write_screenshot(plotter, target: Path, translucent: bool, view: _RigView) 
     view.apply(plotter)
     temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
     try:
-        plotter.screenshot(str(temporary), return_img=False)
-        os.replace(temporary, target)
+        with naming_errors(target):  # (a full disk's ENOSPC names no file)
+            plotter.screenshot(str(temporary), return_img=False)
+            os.replace(temporary, target)
     finally:
         temporary.unlink(missing_ok=True)
 

@@ -27,16 +27,17 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import stat
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import canonical, entry_path_rows, rvcoax_version
-from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic, write_text_atomic
+from rvcoax.results.io.writers import naming_errors, write_csv_atomic, write_json_atomic, write_text_atomic
 
 __all__ = ["CaseStore", "CASE_DELAY_VARIABLE", "JOURNAL_FORMAT", "JOURNAL_NAME", "JournalReading", "RECORD_FORMAT", "REJECTIONS",
-           "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal",
+           "SYNC_EVERY_CASES", "SYNC_EVERY_S", "case_inputs", "inputs_sha256", "journal_line", "read_journal", "record_problem",
            "sweep_inputs", "write_sweep_files"]
 
 JOURNAL_FORMAT = 2
@@ -48,8 +49,10 @@ SYNC_EVERY_S = 1.0  # … or this many seconds since the last fsync, whichever c
 REJECTIONS = {
     "checksum": "checksum does not match (edited or cut short)",
     "shape": "not a case record (wrong type or fields)",
+    "values": "values not finite, out of range or not those of its load case",
     "inputs": "solved from other inputs (rig file, torques, settings or rvcoax version)",
 }
+MAX_Y_MM = 1000.0  # a journalled |Y| beyond a metre is no rig's deflection: the line is not trusted
 
 
 def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -> list[Path]:
@@ -117,6 +120,78 @@ def _is_case_record(record) -> bool:
             and all(isinstance(k, str) for k in record["row"]))
 
 
+def _leaves(value):
+    """Every scalar of a JSON value (depth first)."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, dict):
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+        else:
+            yield item
+
+
+def _number(value) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def record_problem(record: dict, torques: tuple[float, float] | None = None) -> str | None:
+    """Why a case record read back from a journal cannot be what rvcoax wrote for these torques, or None.
+
+    Checked: the fields the result files are written from exist with the right types (``entry`` per
+    measured shaft with its path, ``row`` with the torques and Y); every number is finite (None
+    stands for "not applicable"); |Y| ≤ :data:`MAX_Y_MM`, |β| ≤ 90°, residuals in 0 … 1; the torques
+    of ``row`` and ``entry`` are ``torques``; ``row`` and ``entry`` hold the same Y and β (``sweep.csv``
+    and ``sweep.json`` are written from one record each).
+
+    Parameters
+    ----------
+    record : dict
+        ``{"row": …, "entry": …}`` (:func:`rvcoax.results.io.records.case_record`).
+    torques : (T1, T2) in N·m, optional
+        The load case the record must belong to.
+
+    Returns
+    -------
+    str or None
+        The first problem found.
+    """
+    from rvcoax.geometry import MEASURED_SHAFTS
+
+    row, entry = record["row"], record["entry"]
+    for leaf in _leaves(record):
+        if leaf is not None and not isinstance(leaf, str | bool | int | float):
+            return "a value of an unknown type"
+        if isinstance(leaf, float) and leaf != leaf or leaf in (float("inf"), float("-inf")):
+            return "a value that is not finite"
+    for key in ("T1_input_Nm", "T2_output_Nm"):
+        if not (_number(row.get(key)) and _number(entry.get(key)) and row[key] == entry[key]):
+            return f"{key} missing or different in its row and entry"
+    if torques is not None and (row["T1_input_Nm"], row["T2_output_Nm"]) != tuple(torques):
+        return "the torques of another load case"
+    for shaft in MEASURED_SHAFTS:
+        part = entry.get(shaft)
+        path = part.get("path") if isinstance(part, dict) else None
+        if not isinstance(path, dict) or not isinstance(path.get("station_mm"), list) \
+                or not isinstance(path.get("uy_mm"), list) or len(path["station_mm"]) != len(path["uy_mm"]) \
+                or not all(_number(v) for v in path["station_mm"] + path["uy_mm"]):
+            return f"no {shaft} shaft path"
+        y, beta = part.get("Y_max_mm"), part.get("beta_deg")
+        if not (_number(y) and 0 <= y <= MAX_Y_MM and _number(beta) and abs(beta) <= 90):
+            return f"{shaft} shaft Y or β missing or out of range"
+        if row.get(f"Y_{shaft}_mm") != y or row.get(f"beta_{shaft}_deg") != beta:
+            return f"{shaft} shaft Y or β different in its row and entry"
+    for key in ("equilibrium_relative_error", "solve_relative_residual"):
+        value = entry.get(key)
+        if not (_number(value) and 0 <= value <= 1) or row.get(key) != value:
+            return f"{key} missing or out of range"
+    if not isinstance(entry.get("engineering", {}), dict):
+        return "engineering is not a table"
+    return None
+
+
 @dataclass
 class JournalReading:
     """What a journal held for one sweep: the records that verify, and how many lines did not, by reason."""
@@ -124,6 +199,7 @@ class JournalReading:
     cases: dict[int, dict] = field(default_factory=dict)
     model: dict | None = None
     rejected: dict[str, int] = field(default_factory=dict)
+    journal_problem: str | None = None  # the journal file itself was not read (a FIFO, a device, a link)
 
     def reject(self, reason: str) -> None:
         self.rejected[reason] = self.rejected.get(reason, 0) + 1
@@ -133,18 +209,41 @@ class JournalReading:
         return ", ".join(f"{self.rejected[key]} ({text})" for key, text in REJECTIONS.items() if key in self.rejected)
 
 
-def read_journal(path: Path, case_hashes: list[str], model_hash: str) -> JournalReading:
+def _journal_bytes(path: Path) -> tuple[bytes, str | None]:
+    """The bytes of the journal file, read without following a link and only from a regular file (a FIFO
+    would hang the read, a link to /dev/zero fill memory); else (b"", why it was not read)."""
+    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+    try:
+        handle = os.open(path, flags)
+    except FileNotFoundError:
+        return b"", None
+    except OSError:
+        return b"", "a symbolic link" if os.path.islink(path) else "not readable"
+    try:
+        if not stat.S_ISREG(os.fstat(handle).st_mode):
+            return b"", "not a regular file"
+        with os.fdopen(handle, "rb", closefd=False) as stream:
+            return stream.read(), None
+    except OSError:
+        return b"", "not readable"
+    finally:
+        os.close(handle)
+
+
+def read_journal(path: Path, case_hashes: list[str], model_hash: str,
+                 torques: list[tuple[float, float]] | None = None) -> JournalReading:
     """The verified records of ``path`` for a sweep whose cases have ``case_hashes`` (index order).
 
     A line is kept when it parses, its ``sha256`` matches its fields, it has the shape of a case
-    (or model) record and its ``inputs_sha256`` is this sweep's. A later line for the same case
-    replaces an earlier one. Nothing in the file can raise: every other line is counted in
-    :attr:`JournalReading.rejected`.
+    (or model) record, its values pass :func:`record_problem` (with ``torques``, the (T1, T2) of each
+    case in index order, when given) and its ``inputs_sha256`` is this sweep's. A later line for the
+    same case replaces an earlier one. Nothing in the file can raise: every other line is counted in
+    :attr:`JournalReading.rejected`; a journal that is not a regular file is not read at all.
     """
     reading = JournalReading()
-    try:
-        raw = path.read_bytes()
-    except OSError:
+    raw, problem = _journal_bytes(path)
+    if problem is not None:
+        reading.journal_problem = problem
         return reading
     for line in raw.split(b"\n"):
         if not line.strip():
@@ -172,6 +271,9 @@ def read_journal(path: Path, case_hashes: list[str], model_hash: str) -> Journal
             reading.reject("shape")
         elif body.get("inputs_sha256") != case_hashes[index]:
             reading.reject("inputs")
+        elif record_problem(record, None if torques is None else torques[index]) is not None:
+            reading.reject("values")
+            reading.cases.pop(index, None)  # (an earlier line of this case is not trusted either)
         else:
             reading.cases[index] = record
     return reading
@@ -197,14 +299,16 @@ class CaseStore:
     def path(self) -> Path:
         return self.folder / JOURNAL_NAME
 
-    def load(self, case_hashes: list[str], model_hash: str) -> JournalReading:
-        """The verified records for these inputs; then the journal is rewritten with only those
-        (atomically), so that lines appended from now on follow complete, verified lines."""
-        reading = read_journal(self.path, case_hashes, model_hash)
+    def load(self, case_hashes: list[str], model_hash: str,
+             torques: list[tuple[float, float]] | None = None) -> JournalReading:
+        """The verified records for these inputs (:func:`read_journal`); then the journal is rewritten with
+        only those (atomically, replacing a FIFO or link at its place), so that lines appended from now on
+        follow complete, verified lines."""
+        reading = read_journal(self.path, case_hashes, model_hash, torques)
         kept = [journal_line("case", i, case_hashes[i], reading.cases[i]) for i in sorted(reading.cases)]
         if reading.model is not None:
             kept.append(journal_line("model", -1, model_hash, reading.model))
-        if self.path.exists() or kept:
+        if os.path.lexists(self.path) or kept:
             write_text_atomic(self.path, b"".join(kept).decode("ascii"))  # the lines are ASCII JSON
         return reading
 
@@ -218,27 +322,37 @@ class CaseStore:
         write_text_atomic(self.path, "")
 
     def __enter__(self) -> CaseStore:
-        self.folder.mkdir(parents=True, exist_ok=True)
-        self._stream = open(self.path, "ab")  # noqa: SIM115 (closed in __exit__)
+        with naming_errors(self.path):
+            self.folder.mkdir(parents=True, exist_ok=True)
+            if os.path.islink(self.path) or (self.path.exists() and not self.path.is_file()):
+                write_text_atomic(self.path, "")  # (never append through a link or into a FIFO or device)
+            self._stream = open(self.path, "ab")  # noqa: SIM115 (closed in __exit__)
         self._last_sync = time.monotonic()
         return self
 
     def __exit__(self, *exc) -> None:
         if self._stream is not None:
-            self.sync()
-            self._stream.close()
-            self._stream = None
+            try:
+                self.sync()
+            finally:
+                stream, self._stream = self._stream, None
+                try:
+                    stream.close()
+                except OSError:  # (what could not be written was reported by sync)
+                    pass
 
     def sync(self) -> None:
         """Make every line written so far durable (fsync)."""
-        self._stream.flush()
-        os.fsync(self._stream.fileno())
+        with naming_errors(self.path):  # a full disk's ENOSPC names no file
+            self._stream.flush()
+            os.fsync(self._stream.fileno())
         self._unsynced = 0
         self._last_sync = time.monotonic()
 
     def _append(self, line: bytes) -> None:
-        self._stream.write(line)
-        self._stream.flush()  # to the operating system: a killed process loses nothing written
+        with naming_errors(self.path):
+            self._stream.write(line)
+            self._stream.flush()  # to the operating system: a killed process loses nothing written
         self._unsynced += 1
         if self._unsynced >= self.sync_every_cases or time.monotonic() - self._last_sync >= self.sync_every_s:
             self.sync()

@@ -326,17 +326,97 @@ def read_discrepancy(path: str | Path) -> dict:
     dict
         Its document.
     """
+    from rvcoax.geometry.inputfiles import InputFileError, read_input_text
+
     path = Path(path)
+    try:  # (a device such as /dev/zero, a pipe or a huge file is refused before it is read)
+        text = read_input_text(path, MAX_DISCREPANCY_BYTES, "a discrepancy result")
+    except InputFileError as error:
+        raise ReportError(f"discrepancy result {path}: {error}") from None
     try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise ReportError(f"discrepancy result {path}: cannot be read ({error.strerror or error})") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as error:
+        document = json.loads(text)
+    except json.JSONDecodeError as error:
         raise ReportError(f"discrepancy result {path}: not a JSON file ({error})") from None
+    except RecursionError:
+        raise ReportError(f"discrepancy result {path}: arrays or objects are nested too deeply (not a "
+                          "discrepancy.json of rvcoax discrepancy)") from None
     if not isinstance(document, dict) or "verdict" not in document:
         raise ReportError(f"discrepancy result {path}: has no 'verdict' key; give the discrepancy.json written by "
                           "rvcoax discrepancy --out")
+    problem = _discrepancy_type_problem(document)
+    if problem is not None:
+        raise ReportError(f"discrepancy result {path}: {problem}; give the discrepancy.json written by rvcoax "
+                          "discrepancy --out")
     return document
+
+
+MAX_DISCREPANCY_BYTES = 64_000_000  # a discrepancy.json is kilobytes; anything near this is not one
+
+_NUMBER = (int, float)
+_TEXT = (str,)
+_NAMES = {dict: "an object", list: "an array", str: "a string", bool: "true or false", int: "a number",
+          float: "a number", type(None): "null"}
+
+
+def _kind(value) -> str:
+    return "a number" if isinstance(value, _NUMBER) and not isinstance(value, bool) else _NAMES.get(type(value), "?")
+
+
+def _is(value, types) -> bool:
+    return isinstance(value, types) and not (isinstance(value, bool) and bool not in types)
+
+
+# key → the JSON types the report reads there (any other key is not read, and not checked)
+_DISCREPANCY_TYPES = {
+    "verdict": _TEXT, "confident": (bool,), "summary": (str, list), "headline": _TEXT, "reasons": (list,),
+    "measured": (dict,), "rms_before_mm": (int, float, dict), "rms_after_mm": (int, float, dict),
+    "sentinel": (dict,), "cross_validation": (dict,), "observability": (dict,), "rms": (dict,), "named": (list,),
+    "selected": (list,), "rvcoax_version": (str, int, float),
+}
+
+
+def _discrepancy_type_problem(document: dict) -> str | None:
+    """What in ``document`` has a JSON type the report cannot read (key path, what it is, what it should be)."""
+    def wrong(where: str, value, types) -> str | None:
+        if value is None or _is(value, types):
+            return None
+        expected = " or ".join(dict.fromkeys(_NAMES[t] for t in types))
+        return f"'{where}' is {_kind(value)}, expected {expected}"
+
+    checks = [(key, document.get(key), types) for key, types in _DISCREPANCY_TYPES.items()]
+    for key in ("rms_before_mm", "rms_after_mm"):
+        if isinstance(document.get(key), dict):
+            checks += [(f"{key}.{k}", v, _NUMBER) for k, v in document[key].items()]
+    observability = document.get("observability")
+    if isinstance(observability, dict):
+        checks += [("observability.visible", observability.get("visible"), (list,)),
+                   ("observability.invisible", observability.get("invisible"), (dict,))]
+    for subset, table in (document.get("rms") or {}).items() if isinstance(document.get("rms"), dict) else ():
+        checks.append((f"rms.{subset}", table, (dict,)))
+        for key, values in (table.items() if isinstance(table, dict) else ()):
+            checks.append((f"rms.{subset}.{key}", values, (dict,)))
+            checks += [(f"rms.{subset}.{key}.{k}", v, _NUMBER) for k, v in
+                       (values.items() if isinstance(values, dict) else ())]
+    for key in ("named", "selected"):
+        for i, item in enumerate(document.get(key) or []) if isinstance(document.get(key), list) else ():
+            checks.append((f"{key}[{i}]", item, (dict,)))
+            if isinstance(item, dict):
+                checks += [(f"{key}[{i}].effect", item.get("effect"), _TEXT)]
+                if key == "named":
+                    checks.append((f"{key}[{i}].meaning", item.get("meaning"), _TEXT))
+                else:
+                    checks += [(f"{key}[{i}].parameters", item.get("parameters"), (dict,)),
+                               (f"{key}[{i}].group", item.get("group"), (list,))]
+                    for name, value in (item.get("parameters") or {}).items() \
+                            if isinstance(item.get("parameters"), dict) else ():
+                        checks.append((f"{key}[{i}].parameters.{name}", value, (int, float, dict, str)))
+                        if isinstance(value, dict):
+                            checks.append((f"{key}[{i}].parameters.{name}.value", value.get("value"), _NUMBER))
+    for where, value, types in checks:
+        problem = wrong(where, value, types)
+        if problem is not None:
+            return problem
+    return None
 
 
 def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:

@@ -14,6 +14,7 @@ import tempfile
 from pathlib import Path
 
 from rvcoax.errors import RvcoaxError
+from rvcoax.results.io.processes import run_group
 
 __all__ = ["BROWSERS", "BrowserUnavailableError", "find_browser", "headless_command", "print_pdf"]
 
@@ -77,11 +78,12 @@ def print_pdf(html_path: str | Path, pdf_path: str | Path, timeout_s: float = 12
     with tempfile.TemporaryDirectory(prefix="rvcoax-chromium-") as profile:
         command = headless_command(browser, Path(profile), "--no-pdf-header-footer",
                                    f"--print-to-pdf={temporary}", source.as_uri())
-        try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=timeout_s)
+        try:  # (its renderer and zygote children are ended with it: rvcoax.results.io.processes)
+            done = run_group(command, timeout_s)
         except subprocess.TimeoutExpired:
             temporary.unlink(missing_ok=True)
-            raise BrowserUnavailableError(f"{browser} did not print {source} to PDF within {timeout_s:g} s") from None
+            raise BrowserUnavailableError(f"{browser} did not print {source} to PDF within {timeout_s:g} s; it and "
+                                          "its child processes were ended") from None
     if done.returncode != 0 or not temporary.is_file() or temporary.stat().st_size == 0:
         temporary.unlink(missing_ok=True)
         tail = " | ".join((done.stderr or "").strip().splitlines()[-3:])

@@ -184,7 +184,7 @@ def _connect(stack: ExitStack, scheduler: str, workers: int | None):
                 host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR))
             return stack.enter_context(Client(cluster))
         client = stack.enter_context(Client(scheduler, timeout="20s"))
-    except (OSError, TimeoutError) as error:
+    except (OSError, TimeoutError, TypeError, ValueError) as error:  # (TypeError: a tls:// address without TLS settings)
         raise ClusterError(f"cannot connect to the Dask scheduler at {scheduler}: {error}") from None
     if not client.scheduler_info().get("workers"):
         try:

@@ -87,8 +87,12 @@ class Engine:
 
     def full_paths(self, unit_paths: np.ndarray, cases, from_rest: bool | None = None) -> np.ndarray:
         """Flattened (case, shaft, station) paths of unit paths ``(n_unit_loads, n_path)`` for ``cases``."""
+        return (self.case_weights(cases, from_rest) @ unit_paths).ravel()
+
+    def case_weights(self, cases, from_rest: bool | None = None) -> np.ndarray:
+        """W (n_cases, n_unit_loads) of :func:`case_matrix` for this rig (Y from rest as its file says, by default)."""
         from_rest = self.rig.paths.measured_from == "aligned_at_rest" if from_rest is None else from_rest
-        return (case_matrix(cases, from_rest, gear_contact_torques(self.rig)) @ unit_paths).ravel()
+        return case_matrix(cases, from_rest, gear_contact_torques(self.rig))
 
     # -- candidates ---------------------------------------------------------------------------------------
     def supports(self, effect) -> bool:

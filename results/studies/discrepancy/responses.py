@@ -135,11 +135,16 @@ class EffectResponse:
     grid_paths: np.ndarray | None = None  # grid: (n_grid, n_full) change at each grid value
     bounds: tuple[np.ndarray, np.ndarray] | None = None  # where the response is known
     unit: np.ndarray | None = None  # (n_params or n_grid, 7, n_path): the change of the unit paths, when known
+    # grid with ``unit``: W (n_cases, 7), the cases' unit-load weights; the full paths are then made from the unit
+    # paths when asked for (a case costs 56 bytes, not n_grid × n_path values and their spline per candidate)
+    weights: np.ndarray | None = None
 
     def delta(self, values) -> np.ndarray:
         values = np.atleast_1d(np.asarray(values, dtype=float))
         if self.kind == "linear":
             return values @ self.columns
+        if self.grid_paths is None:
+            return (self.weights @ self.unit_at(values)).ravel()
         return self._spline(np.clip(values[0], self.grid[0], self.grid[-1]))
 
     def unit_at(self, values) -> np.ndarray | None:
@@ -173,11 +178,18 @@ class EffectResponse:
             return self.columns
         derivative = self.__dict__.get("_cached_derivative")
         if derivative is None:
-            derivative = self._spline.derivative()
+            if self.grid_paths is None:
+                self.unit_at(self.grid[:1])  # (builds the unit spline)
+                derivative = self.__dict__["_cached_unit_spline"].derivative()
+            else:
+                derivative = self._spline.derivative()
             object.__setattr__(self, "_cached_derivative", derivative)
         value = np.atleast_1d(np.asarray(values, dtype=float))[0]
         inside = self.grid[0] <= value <= self.grid[-1]
-        return derivative(np.clip(value, self.grid[0], self.grid[-1]))[None, :] * (1.0 if inside else 0.0)
+        slope = derivative(np.clip(value, self.grid[0], self.grid[-1]))
+        if self.grid_paths is None:
+            slope = (self.weights @ slope.reshape(self.unit.shape[1:])).ravel()
+        return slope[None, :] * (1.0 if inside else 0.0)
 
     @property
     def _spline(self):
@@ -277,9 +289,7 @@ def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
                 unit.append(engine.unit_change([(effect, [value])]))
             else:
                 unit.append(engine.swept_unit_paths(effect.apply(engine.rig, [value])) - base_unit)
-        unit = np.array(unit)
-        return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array([engine.full_paths(u, cases) for u in unit]),
-                              unit=unit)
+        return EffectResponse(effect, "grid", grid=grid, unit=np.array(unit), weights=engine.case_weights(cases))
     if engine.linear and effect.response == "clearance":  # exact and cheap: the law condensed to the bearing
         base = engine.full_paths(base_unit, cases)
         grid = parameter_grid(parameter)

@@ -84,25 +84,57 @@ def linear_observation(observe, base_paths) -> sp.csr_matrix:
     return sp.csr_matrix((vals, (rows, cols)), shape=(len(observe.blocks), base_paths.size))
 
 
-def _columns(engine, sites, component, cases, *, from_rest: bool, operator) -> dict[str, np.ndarray]:  # noqa: PLR0913
-    """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site."""
+ROW_CHUNK = 4096
+"""Observations whose site responses are formed at once in the scan (memory: this × sites × 8 bytes), so that a
+large measured file costs what its rows cost, not rows × sites × parts of copies."""
+
+
+def _observed_blocks(engine, sites, component, cases, *, from_rest: bool, operator):  # noqa: PLR0913
+    """(shapes_of(rows) → (len(rows), n_sites) observed change per unit load at each site, {part: weight of each
+    observation's case}): each observation reads one case's block, so the operator within a block times
+    that case's weight gives every part's column (no (cases × path) × sites matrix is ever formed)."""
     g = engine.sentinel_paths(sites, component)  # (n_sites, n_path)
     weights = case_matrix(cases, from_rest, gear_contact_torques(engine.rig))
-    # each observation reads one case's block: the operator within a block, times that case's weight (no
-    # (cases × path) × sites matrix is ever formed)
     n_path = g.shape[1]
     coo = operator.tocoo()
     local = sp.csr_matrix((coo.data, (coo.row, coo.col % n_path)), shape=(operator.shape[0], n_path))
     case_of_row = np.zeros(operator.shape[0], dtype=int)
     case_of_row[coo.row] = coo.col // n_path
-    shapes = np.asarray(local @ g.T)  # (n_obs, n_sites)
-    out = {}
+    factors = {}
     for part, slot in SLOTS.items():
         column = weights[:, UNIT_LOADS.index(slot)]
-        if not np.any(column):
-            continue  # e.g. a constant load when Y is read from the rig at rest
-        out[part] = column[case_of_row][:, None] * shapes
-    return out
+        if np.any(column):  # (not e.g. a constant load when Y is read from the rig at rest)
+            factors[part] = column[case_of_row]
+
+    def shapes_of(rows: np.ndarray) -> np.ndarray:
+        return np.asarray(local[rows] @ g.T)
+
+    return shapes_of, factors
+
+
+def _columns(engine, sites, component, cases, *, from_rest: bool, operator) -> dict[str, np.ndarray]:  # noqa: PLR0913
+    """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site (for a few sites)."""
+    shapes_of, factors = _observed_blocks(engine, sites, component, cases, from_rest=from_rest, operator=operator)
+    shapes = shapes_of(np.arange(operator.shape[0]))
+    return {part: factor[:, None] * shapes for part, factor in factors.items()}
+
+
+def _normal_equations(shapes_of, factors: dict, rows: np.ndarray, sigma: np.ndarray, target: np.ndarray):
+    """Per site, the least-squares normal equations of every part together: gram (sites, k, k) and
+    right-hand side (sites, k) over the observations ``rows``, accumulated :data:`ROW_CHUNK` rows at a time."""
+    parts = list(factors)
+    picked = np.flatnonzero(rows)
+    gram = rhs = None
+    for start in range(0, picked.size, ROW_CHUNK):
+        chunk = picked[start:start + ROW_CHUNK]
+        shapes = shapes_of(chunk)  # (chunk, sites)
+        scaled = np.stack([factors[p][chunk] / sigma[chunk] for p in parts], axis=1)  # (chunk, k)
+        squared = shapes * shapes
+        block_gram = np.einsum("ns,ni,nj->sij", squared, scaled, scaled)
+        block_rhs = shapes.T @ (scaled * (target[start:start + ROW_CHUNK])[:, None])
+        gram = block_gram if gram is None else gram + block_gram
+        rhs = block_rhs if rhs is None else rhs + block_rhs
+    return parts, gram, rhs
 
 
 def scan_spacing_mm(sites, part: str) -> float:
@@ -131,14 +163,16 @@ def fit_sentinel(observed, exclude: tuple[tuple[str, float, float], ...] = ()) -
     best = None
     total = float(target @ target)
     for family, (component, _) in FAMILIES.items():
-        columns = _columns(engine, sites, component, data.cases, from_rest=observed.from_rest, operator=operator)
-        parts = list(columns)
-        scaled = {p: columns[p][rows] / sigma[rows][:, None] for p in parts}
+        blocks = _observed_blocks(engine, sites, component, data.cases, from_rest=observed.from_rest,
+                                  operator=operator)
+        parts, full_gram, full_rhs = _normal_equations(*blocks, rows, sigma, target)
+        if full_gram is None:
+            continue
         for size in range(1, len(parts) + 1):
             for subset in itertools.combinations(parts, size):
-                a = np.stack([scaled[p] for p in subset], axis=2)  # (n, sites, k): every site at once
-                gram = np.einsum("nsi,nsj->sij", a, a)
-                rhs = np.einsum("nsi,n->si", a, target)
+                index = [parts.index(p) for p in subset]
+                gram = full_gram[:, index][:, :, index]  # every site at once
+                rhs = full_rhs[:, index]
                 usable = np.linalg.det(gram) > 1e-12 * np.prod(np.diagonal(gram, axis1=1, axis2=2), axis=1)
                 if not usable.any():
                     continue
@@ -152,12 +186,14 @@ def fit_sentinel(observed, exclude: tuple[tuple[str, float, float], ...] = ()) -
                 bic = np.where(usable, chi2 + (size + 1) * np.log(max(n, 2)), np.inf)
                 j = int(np.argmin(bic))
                 if best is None or bic[j] < best[0]:
-                    best = (float(bic[j]), family, j, subset, coefficients[j], float(max(chi2[j], 0.0)), columns)
+                    best = (float(bic[j]), family, j, subset, coefficients[j], float(max(chi2[j], 0.0)))
     if best is None:
         return None
-    _, family, j, subset, coefficients, chi2, columns = best
+    _, family, j, subset, coefficients, chi2 = best
     part, x_mm, _ = sites[j]
-    change = sum(c * columns[p][:, j] for p, c in zip(subset, coefficients))
+    columns = _columns(engine, [sites[j]], FAMILIES[family][0], data.cases, from_rest=observed.from_rest,
+                       operator=operator)  # the best site only
+    change = sum(c * columns[p][:, 0] for p, c in zip(subset, coefficients))
     role = next(p.role for p in engine.rig.parts if p.name == part)
     return SentinelFit(family=family, part=part, role=role, x_mm=float(x_mm), parts_fitted=tuple(subset), coefficients=tuple(float(c) for c in coefficients), chi2=chi2, n=n,
                        change=np.asarray(change))

@@ -76,16 +76,21 @@ OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature
 # end to end on one factorisation, ≈ 6 ms per case and candidate (it took 65 s with one sweep per candidate);
 # per observation 20 µs to parse and 5.3 µs per observation-operator build, built about 100 times per run
 # (each true-model evaluation of the refit): a 20,000-row paths file, results/studies/discrepancy/responses.py
+# Re-measured (issue 24) with synthetic paths and table files of 250 and 500 cases, 57 candidates, load 9–11 on 2
+# cores, CPU time: a case costs 0.087 ms and 23 kB per candidate (9 kB once grid candidates keep unit paths), a paths-file
+# row 0.21 ms and 5.6 kB once the observation operator is built once per layout and the sentinel scan keeps its
+# normal equations, not rows × sites × parts (benchmarks/RESULTS.md, 2026-11-26). The end-to-end figure below
+# (fixed costs included) is kept for the case term: it overstates large files, never understates small ones.
 CASE_CANDIDATE_S = 0.006
 # on a nonlinear rig (ball bearings, clearances) every candidate is solved by real Newton sweeps, at its bound and on
 # a coarse grid: the reference rig with ball bearings and the paper's table (20 cases, 57 candidates) took 121 s on
 # the same machine (load average 3–5), ≈ 0.11 s per case and candidate
 NONLINEAR_CASE_CANDIDATE_S = 0.11
-OBSERVATION_S = 20e-6 + 100 * 5.3e-6
-# memory: a candidate keeps its change of every case's paths on a grid (12 × 82 stations × 8 bytes per case); the
-# sentinel holds each observation's response to a load at ≈ 375 sites, for 3 torque parts and their fit
-CASE_CANDIDATE_BYTES = 8.5e3
-OBSERVATION_BYTES = 20e3
+OBSERVATION_S = 0.21e-3
+# memory: a candidate keeps its change of every case's paths on a grid (12 × 82 stations × 8 bytes per case, and
+# the observed values and copies the fits make: 9 kB measured); a row keeps its observed responses and fits
+CASE_CANDIDATE_BYTES = 9e3
+OBSERVATION_BYTES = 5.6e3
 
 
 @dataclass(frozen=True)
@@ -820,7 +825,16 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
 
 
 def _observation_factory(data):
+    """``observe_of(layout)``: the observation operator of ``data`` on a path layout, built once per layout (the
+    refit evaluates the true model about 100 times on the same layout; rebuilding the operator each time made a
+    large measured file cost 100 operator builds per row)."""
+    built: dict[tuple, Observation] = {}
+
     def observe_of(layout: PathLayout) -> Observation:
-        return Observation(data, layout)
+        key = (layout.n_cases,
+               tuple((s, np.asarray(layout.stations_mm[s]).tobytes()) for s in sorted(layout.stations_mm)))
+        if key not in built:
+            built[key] = Observation(data, layout)
+        return built[key]
 
     return observe_of

@@ -48,10 +48,20 @@ def test_torque_list_names_the_empty_item():
         torque_list("2e6", "--t1")
 
 
-@pytest.mark.parametrize("address", ["local", "serial", "tcp://127.0.0.1:8786", "tls://scheduler.lan:8786",
-                                     "tcp://[::1]:8786"])
+@pytest.mark.parametrize("address", ["local", "serial", "tcp://127.0.0.1:8786", "tcp://[::1]:8786"])
 def test_scheduler_address_accepts(address):
     assert scheduler_address(address) == address
+
+
+def test_a_tls_scheduler_needs_the_tls_settings_of_dask():
+    """tls:// without certificates ended in distributed's TypeError about ssl_context; with them it is accepted."""
+    import dask.config
+
+    with dask.config.set({"distributed.comm.tls.ca-file": None, "distributed.comm.tls.client.cert": None}), \
+            pytest.raises(UserError, match=r"--scheduler: 'tls://scheduler.lan:8786': a tls:// scheduler needs"):
+        scheduler_address("tls://scheduler.lan:8786")
+    with dask.config.set({"distributed.comm.tls.ca-file": "ca.pem", "distributed.comm.tls.client.cert": "me.pem"}):
+        assert scheduler_address("tls://scheduler.lan:8786") == "tls://scheduler.lan:8786"
 
 
 @pytest.mark.parametrize(("address", "words"), [("garbage://x", "protocol 'garbage'"), ("tcp://x", "HOST:PORT"),

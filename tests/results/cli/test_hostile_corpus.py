@@ -28,12 +28,30 @@ def test_the_corpus_covers_every_class():
     assert len(CORPUS) >= 150
 
 
+def _real_process(case, args: list[str]):
+    """``rvcoax ARGS`` as a real process (the installed console script) with stdout sent to ``case.stdout_to``."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+    from types import SimpleNamespace
+
+    script = Path(sys.executable).with_name("rvcoax")
+    with open(case.stdout_to, "w") as stdout:
+        done = subprocess.run([str(script), *args], stdout=stdout, stderr=subprocess.PIPE, text=True, timeout=300,
+                              env={**os.environ, **case.env})
+    return SimpleNamespace(exit_code=done.returncode, stdout="", stderr=done.stderr, output=done.stderr,
+                           exception=None)
+
+
 @pytest.mark.parametrize("case", CORPUS, ids=[c.name for c in CORPUS])
 def test_hostile_input(case, tmp_path, monkeypatch):
     for key, value in case.env.items():
         monkeypatch.setenv(key, value)
+    if case.patch is not None:
+        case.patch(tmp_path, monkeypatch)
     args = case.argv(tmp_path)
-    result = CliRunner().invoke(app, args)
+    result = _real_process(case, args) if case.stdout_to else CliRunner().invoke(app, args)
     context = (f"rvcoax {' '.join(args)}\nexit {result.exit_code}\nstdout: {result.stdout}\n"
                f"stderr: {result.stderr}\nexception: {result.exception!r}")
     assert result.exit_code == case.exit_code, context

@@ -14,9 +14,10 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-# the classes of issue 12 (the module that holds each class's cases has the same name)
+# the classes of issue 12 (the module that holds each class's cases has the same name), then those of issue 24,
+# part 5 (data loss and trust, exports, tracebacks, hangs, silent accepts, unclear messages, processes)
 CLASSES = ("markup", "parsers", "options", "numbers", "studies", "consistency", "sizes", "trust", "physics",
-           "measured")
+           "measured", "data_loss", "exports", "tracebacks", "hangs", "silent", "messages", "processes")
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,12 @@ class Hostile:
         Where ``expected`` is looked for: ``stderr`` (errors, warnings) or ``output`` (both).
     check : callable or None
         ``check(folder, stdout, stderr)``: further assertions (files written or not), or None.
+    patch : callable or None
+        ``patch(folder, monkeypatch)`` before the run: what an argv cannot set up (an environment variable that
+        names a file of the case, a failing ``os.fsync`` standing in for a full disk), or None.
+    stdout_to : str or None
+        Run the installed ``rvcoax`` as a real process with its standard output sent to this file (``/dev/full``)
+        instead of in-process; None for the in-process run.
     """
 
     name: str
@@ -53,6 +60,8 @@ class Hostile:
     env: Mapping[str, str] = field(default_factory=dict)
     stream: str = "stderr"
     check: Callable[[Path, str, str], None] | None = None
+    patch: Callable[[Path, object], None] | None = None
+    stdout_to: str | None = None
 
 
 def all_cases() -> list[Hostile]:

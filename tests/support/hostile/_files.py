@@ -48,3 +48,17 @@ def run(*args: str) -> Callable[[Path], list[str]]:
 def tolerance_file(parameters: str, extra: str = "") -> str:
     """A tolerance file with one study name, the given ``[[parameters]]`` text and anything ``extra``."""
     return f'schema_version = 1\n[study]\nname = "hostile"\n{extra}\n[[parameters]]\n{parameters}\n'
+
+
+def applied(text: str, edits) -> str:
+    """``text`` with each (old, new) of ``edits`` replaced once (each ``old`` must occur)."""
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return text
+
+
+def sweep_of(folder: Path, rig_text: str) -> list[str]:
+    """argv of a one-case sweep (T1 = 1, T2 = 10 N·m) of ``rig_text``, written to ``folder/rig.toml``."""
+    return ["sweep", "--rig", write(folder, "rig.toml", rig_text), "--t1", "1", "--t2", "10", "--out",
+            str(folder / "out")]
