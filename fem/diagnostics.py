@@ -215,6 +215,41 @@ def _starting_block(n: int, t: int) -> np.ndarray:
     return np.column_stack([start / n, alternating])
 
 
+def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations: int) -> float:
+    """Steps 2-5 of Higham & Tisseur's Algorithm 2.4 from the first block ``y`` = (scaled A)⁻¹ X and its estimate:
+    the largest column 1-norm of (scaled A)⁻¹ found (inf where a solve overflows)."""
+    n, t = y.shape
+    visited = np.zeros(n, dtype=bool)
+    best = -1
+    old_signs = None
+    x = y  # replaced by unit vectors at the end of the first iteration
+    for iteration in range(max_iterations):
+        if iteration > 0:
+            y = inverse(x)
+            sums = np.abs(y).sum(axis=0)
+            if not np.all(np.isfinite(sums)):
+                return float("inf")
+            if sums.max() <= estimate:  # no gain: stop (step 3 of Algorithm 2.4)
+                break
+            estimate = float(sums.max())
+        signs = np.where(y >= 0, 1.0, -1.0)
+        if old_signs is not None and all(np.any(np.all(signs[:, [j]] == old_signs, axis=0)) for j in range(t)):
+            break  # every sign vector seen before: converged (step 4)
+        old_signs = signs
+        z = np.abs(inverse(signs)).max(axis=1)
+        if iteration > 0 and z.max() == z[best]:  # step 5
+            break
+        order = np.argsort(-z, kind="stable")
+        fresh = order[~visited[order]][:t]
+        if fresh.size == 0:
+            break
+        best = int(order[0])
+        visited[fresh] = True
+        x = np.zeros((n, fresh.size))
+        x[fresh, np.arange(fresh.size)] = 1.0
+    return estimate
+
+
 def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 5, columns: int = 1,
                               riding: _InverseIteration | None = None) -> float:
     """Estimated 1-norm condition number of the Jacobi-scaled matrix D^-½ A D^-½ (D = diag A).
@@ -271,32 +306,5 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
     estimate = float(np.abs(y).sum(axis=0).max())
     if not np.isfinite(estimate) or not np.isfinite(extra):
         return float("inf")
-    visited = np.zeros(n, dtype=bool)
-    best = -1
-    old_signs = None
-    x = first[:, :t]  # replaced by unit vectors at the end of the first iteration
-    for iteration in range(max_iterations):
-        if iteration > 0:
-            y = inverse(x)
-            sums = np.abs(y).sum(axis=0)
-            if not np.all(np.isfinite(sums)):
-                return float("inf")
-            if sums.max() <= estimate:  # no gain: stop (step 3 of Algorithm 2.4)
-                break
-            estimate = float(sums.max())
-        signs = np.where(y >= 0, 1.0, -1.0)
-        if old_signs is not None and all(np.any(np.all(signs[:, [j]] == old_signs, axis=0)) for j in range(t)):
-            break  # every sign vector seen before: converged (step 4)
-        old_signs = signs
-        z = np.abs(inverse(signs)).max(axis=1)
-        if iteration > 0 and z.max() == z[best]:  # step 5
-            break
-        order = np.argsort(-z, kind="stable")
-        fresh = order[~visited[order]][:t]
-        if fresh.size == 0:
-            break
-        best = int(order[0])
-        visited[fresh] = True
-        x = np.zeros((n, fresh.size))
-        x[fresh, np.arange(fresh.size)] = 1.0
+    estimate = _block_iterations(inverse, y, estimate, max_iterations=max_iterations)
     return max(estimate, extra) * norm
