@@ -36,8 +36,8 @@ import scipy.sparse as sp
 import skfem
 
 from rvcoax.fem import DOFS_PER_NODE, solid
-from rvcoax.fem.assembly import assemble_matrix
-from rvcoax.fem.condensation import condensed_stiffness_and_loads
+from rvcoax.fem.assembly import assemble_matrix, block_diagonal
+from rvcoax.fem.condensation import guyan_reduction
 from rvcoax.fem.constraints import elimination_matrix
 from rvcoax.fem.solvers import pardiso_available
 from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
@@ -47,7 +47,7 @@ __all__ = ["BlockGeometry", "BracketGeometry", "CondensedHousing", "FootPatch", 
            "HousingModel", "PedestalGeometry", "Reference", "build_housing_model", "condense_housing", "foot_facets",
            "housing_faces", "solid_method"]
 
-HOUSING_VERSION = 2
+HOUSING_VERSION = 3
 """Bump whenever a change here changes a condensed matrix (invalidates its cache entries)."""
 _TOL_MM = 1e-6
 
@@ -564,6 +564,12 @@ class CondensedHousing:
     weight_load: np.ndarray | None = None
     volume_m3: float = 0.0
     centroid_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mass_per_density: np.ndarray | None = None  # Guyan's M_c (6k × 6k) for 1 kg/m³ (fem.condensation.guyan_reduction)
+    lowest_eigenvalue_per_density: float = 0.0  # ω² of the housing on its bed (references free) × ρ, in (rad/s)² kg/m³
+
+    def lowest_frequency_hz(self, density_kg_per_m3: float) -> float:
+        """The housing's lowest natural frequency on its bed (Hz): Guyan's mass leaves out what happens above it."""
+        return float(np.sqrt(self.lowest_eigenvalue_per_density / density_kg_per_m3) / (2 * np.pi))
 
 
 def _cache_file(key: dict, cache_dir: Path | None) -> Path:
@@ -578,7 +584,9 @@ def _save(path: Path, result: CondensedHousing) -> None:
     try:
         with handle:
             np.savez(handle, matrix=result.matrix, solid_dofs=np.array(result.solid_dofs), weight_load=result.weight_load,
-                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m))
+                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m),
+                     mass_per_density=result.mass_per_density,
+                     lowest_eigenvalue_per_density=np.array(result.lowest_eigenvalue_per_density))
         os.replace(handle.name, path)
     except BaseException:
         Path(handle.name).unlink(missing_ok=True)
@@ -590,11 +598,12 @@ def _load(path: Path) -> CondensedHousing | None:
         with np.load(path, allow_pickle=False) as data:
             matrix, dofs = np.array(data["matrix"]), int(data["solid_dofs"])
             weight, volume, centroid = np.array(data["weight_load"]), float(data["volume_m3"]), np.array(data["centroid_m"])
+            mass, lowest = np.array(data["mass_per_density"]), float(data["lowest_eigenvalue_per_density"])
         if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or not np.all(np.isfinite(matrix)):
             raise ValueError("bad matrix")
-        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,):
-            raise ValueError("bad weight")
-        return CondensedHousing(matrix, dofs, 0.0, True, weight, volume, tuple(float(c) for c in centroid))
+        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,) or mass.shape != matrix.shape:
+            raise ValueError("bad weight or mass")
+        return CondensedHousing(matrix, dofs, 0.0, True, weight, volume, tuple(float(c) for c in centroid), mass, lowest)
     except FileNotFoundError:
         return None
     except Exception:  # damaged entry: computed again and rewritten
@@ -619,12 +628,15 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
                                 cache_dir)
     weight = np.zeros(model.n_dofs)
     weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
-    matrix, equivalent = condensed_stiffness_and_loads(model.stiffness, model.elimination, model.master_dofs, weight,
-                                                       solid_method())
+    mass = sp.csr_matrix((model.n_dofs, model.n_dofs))
+    offset = model.master_dofs.size
+    mass = mass + block_diagonal(model.n_dofs, [(offset, solid.mass_matrix(model.basis, 1.0))])
+    reduction = guyan_reduction(model.stiffness, model.elimination, model.master_dofs, weight, mass, solid_method())
+    matrix, equivalent = reduction.stiffness, reduction.loads
     volume = float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(model.basis))
     centroid = tuple(float(skfem.Functional(lambda w, i=i: w.x[i]).assemble(model.basis)) / volume for i in range(3))
     result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False, equivalent[:, 0], volume,
-                              centroid)
+                              centroid, reduction.mass, reduction.lowest_eigenvalue)
     if use_cache:
         try:
             _save(path, result)

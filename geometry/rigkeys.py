@@ -111,6 +111,11 @@ MEANINGS = {
     "couplings[].allowable_angular_misalignment_deg": "Angular misalignment the coupling maker allows "
                                                       "(datasheet).",
     "couplings[].speed_rpm": "Running speed, which grades the misalignment against alignment tolerances.",
+    "couplings[].polar_inertia_kg_m2": "Polar mass moment of the coupling about its axis, half on each hub "
+                                       "(natural frequencies); without it the hubs are point masses.",
+    "speeds.motor_rpm": "The motor's speed range [lowest, highest] for the interference diagram of rvcoax modes.",
+    "speeds.reduction_ratio": "The reducer's ratio: output speed = motor speed / ratio (the output order).",
+    "speeds.input_gear_teeth": "Teeth of the input gear: its mesh frequency = teeth × motor speed.",
     "joints[].name": "Unique name of the joint.",
     "joints[].from.part": "First part joined.",
     "joints[].from.x_mm": "Where the joint sits on the first part.",

@@ -265,13 +265,15 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
         point_m=points, stiffness=np.array([r[3] for r in rows], dtype=float).reshape(len(rows), 6),
     )
 
-    hub_nodes, hub_masses = [], []
+    hub_nodes, hub_masses, hub_inertia = [], [], []
     for c in rig.couplings:
+        polar = (c.polar_inertia_kg_m2 or 0.0) / 2.0  # per hub; a disc's diametral moment is half its polar one
         for end in (c.from_, c.to):
             hub_nodes.append(node(end.part, end.x_mm))
             hub_masses.append(c.mass_kg / 2.0)
+            hub_inertia.append((polar, polar / 2.0, polar / 2.0))
     masses = PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
-                         np.zeros((len(hub_nodes), 3)))
+                         np.array(hub_inertia, dtype=float).reshape(-1, 3))
 
     fixed = (6 * np.asarray(bed_nodes, dtype=int)[:, None] + np.arange(6)).ravel()
     structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr,
