@@ -44,10 +44,11 @@ from rvcoax.geometry.model.mass import housing_frequencies, part_masses, rig_mas
 from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
+from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
 
-__all__ = ["CLASS_SHARE", "DIRECTIONS", "GYROSCOPIC_LIMIT", "CaseModes", "Crossing", "ModalStudy", "Mode",
-           "ModeSettings", "ModesError", "crossings", "excitation_orders", "run_modes"]
+__all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "CaseModes", "Crossing", "ModalStudy",
+           "Mode", "ModeSettings", "ModesError", "crossing_rows", "crossings", "excitation_orders", "mode_field",
+           "mode_rows", "modes", "run_modes"]
 
 DIRECTIONS = ("axial", "lateral vertical", "lateral horizontal", "torsional")
 CLASS_SHARE = 0.6
@@ -114,7 +115,7 @@ class Mode:
 
 @dataclass(frozen=True, eq=False)
 class CaseModes:
-    """The modes about one operating point: ``label`` names the load case (or ``every case`` for a linear rig)."""
+    """The modes about one operating point: ``label`` names the load case (``every load case`` for a linear rig)."""
 
     label: str
     case: LoadCase | None
@@ -225,7 +226,7 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
     notes = []
     operating: list[tuple[str, LoadCase | None, LowRankUpdate | None]]
     if not nonlinear:
-        operating = [("every case", None, None)]
+        operating = [("every load case", None, None)]
         notes.append("every bearing is linear: the stiffness, and so the modes, are the same in every load case")
     else:
         chosen = tuple(cases) if cases else default_cases(rig)
@@ -537,3 +538,130 @@ def _classify(shares: dict) -> str:
     if value >= CLASS_SHARE:
         return name
     return f"mixed ({ranked[0][0]} {100 * ranked[0][1]:.0f} %, {ranked[1][0]} {100 * ranked[1][1]:.0f} %)"
+
+
+def mode_rows(study: ModalStudy) -> list[dict]:
+    """The mode table: one row per operating point and mode, every value with its unit in its key.
+
+    Parameters
+    ----------
+    study : ModalStudy
+
+    Returns
+    -------
+    list of dict
+        ``load_case``, ``mode``, ``frequency_Hz``, ``class``, the kinetic energy shares ``axial_percent`` …
+        ``torsional_percent``, the owner of most strain energy (``owner``, ``owner_energy_percent``) and the next
+        two, the effective masses ``effective_mass_{x,y,z}_kg`` and ``effective_inertia_x_kg_m2``, and
+        ``gyroscopic_ratio``.
+    """
+    rows = []
+    for case in study.cases:
+        for mode in case.modes:
+            ranked = list(mode.energy_share.items())
+            row = {"load_case": case.label, "mode": mode.number, "frequency_Hz": mode.frequency_hz, "class": mode.kind}
+            for name, share in mode.direction_share.items():
+                row[f"{name.replace(' ', '_')}_percent"] = 100.0 * share
+            for k in range(3):
+                name, share = ranked[k] if k < len(ranked) else ("", 0.0)
+                suffix = "" if k == 0 else f"_{k + 1}"
+                row[f"owner{suffix}"] = name
+                row[f"owner{suffix}_energy_percent"] = 100.0 * share
+            row.update({"effective_mass_x_kg": mode.effective_mass["x_kg"],
+                        "effective_mass_y_kg": mode.effective_mass["y_kg"],
+                        "effective_mass_z_kg": mode.effective_mass["z_kg"],
+                        "effective_inertia_x_kg_m2": mode.effective_mass["torsion_kg_m2"],
+                        "gyroscopic_ratio": mode.gyroscopic_ratio})
+            rows.append(row)
+    return rows
+
+
+def crossing_rows(study: ModalStudy) -> list[dict]:
+    """The interference table: one row per (operating point, mode, order) crossing in or near the speed range.
+
+    Parameters
+    ----------
+    study : ModalStudy
+
+    Returns
+    -------
+    list of dict
+        ``load_case``, ``mode``, ``frequency_Hz``, ``order``, ``crossing_motor_rpm``, ``in_speed_range`` and
+        ``margin_percent`` (0 inside the range; else the distance to its nearest end over that end).
+    """
+    return [{"load_case": c.case, "mode": c.mode, "frequency_Hz": c.frequency_hz, "order": c.order,
+             "crossing_motor_rpm": c.crossing_rpm, "in_speed_range": c.inside, "margin_percent": c.margin_percent}
+            for c in study.crossings]
+
+
+def mode_field(study: ModalStudy, case_index: int, mode_index: int):
+    """One mode on the rig's field mesh, for a picture.
+
+    Parameters
+    ----------
+    study : ModalStudy
+    case_index, mode_index : int
+        Which operating point and mode (0-based).
+
+    Returns
+    -------
+    (FieldMesh, (n, 3) array, (n,) array)
+        The mesh (:func:`rvcoax.results.io.fields.sweep_field_mesh`), the mode's translation at each point and the
+        section twist about the axis (rad per unit of the mass-normalised shape).
+    """
+    from types import SimpleNamespace
+
+    from rvcoax.results.io.fields import sweep_field_mesh
+
+    system = study.system
+    mesh, _ = sweep_field_mesh(SimpleNamespace(system=system))
+    phi = study.cases[case_index].shapes[:, mode_index]
+    n_frame = system.frame.structure.n_nodes
+    nodes = phi[:DOFS_PER_NODE * n_frame].reshape(-1, DOFS_PER_NODE)
+    u = np.zeros((mesh.n_points, 3))
+    twist = np.zeros(mesh.n_points)
+    u[:n_frame] = nodes[:, :3]
+    twist[:n_frame] = nodes[:, 3]
+    start = n_frame
+    for part in system.solids:
+        basis = part.basis
+        dofs = np.vstack([basis.nodal_dofs.T, basis.edge_dofs.T]) + part.offset
+        count = dofs.shape[0]
+        u[start:start + count] = phi[dofs]
+        points = mesh.points[start:start + count]
+        r2 = points[:, 1] ** 2 + points[:, 2] ** 2
+        tangential = -points[:, 2] * u[start:start + count, 1] + points[:, 1] * u[start:start + count, 2]
+        twist[start:start + count] = np.where(r2 > 0, tangential / np.maximum(r2, 1e-30), 0.0)
+        start += count
+    return mesh, u, twist
+
+
+def modes(rig=None, cases=None, n_modes: int = 20, model: str = "beam", solver: str = "auto",
+          mesh_size_mm: float | None = None) -> ModalStudy:
+    """The rig's natural frequencies and modes about each load case's operating point (the API of ``rvcoax modes``).
+
+    Parameters
+    ----------
+    rig : Rig, path or None
+        A validated rig, a rig file, or None for the built-in reference rig.
+    cases : tuple of LoadCase, optional
+        Operating points (they matter with nonlinear bearings); default the rig's own.
+    n_modes : int
+        How many of the lowest modes.
+    model : {"beam", "hybrid", "solid"}
+    solver : {"auto", "superlu", "pardiso"}
+        A direct solver (AMG cannot serve an eigensolver; ``auto`` picks PARDISO where installed for solids).
+    mesh_size_mm : float, optional
+        Solid mesh size.
+
+    Returns
+    -------
+    ModalStudy
+        Per operating point the modes (frequency, class, energy shares, effective masses), the crossings with
+        the excitation orders of ``[speeds]``, and notes on what was assumed and checked.
+    """
+    from rvcoax.geometry.rigfile import load_rig
+
+    if rig is None or not isinstance(rig, Rig):
+        rig = load_rig(rig)
+    return run_modes(rig, cases, ModeSettings(n_modes, model, solver, mesh_size_mm))
