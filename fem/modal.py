@@ -10,11 +10,8 @@ applied to that operator by the Woodbury identity
 
 which needs no inverse of D (D may be singular: a bearing whose tangent equals its reference spring).
 Small problems (fewer than :data:`DENSE_LIMIT` independent DOFs, or more modes than ARPACK can give) are
-solved densely. Large ones (more than :data:`BLOCK_LIMIT`: solid and hybrid models) use a block Krylov method
-on the same operator instead of ARPACK's one-vector-at-a-time Lanczos: a direct solver's cost per right-hand
-side falls several-fold when it solves many at once (PARDISO at 108 k DOFs: 0.6 s for one, 4.9 s for 30), and
-block shift-invert Krylov subspaces with Rayleigh–Ritz and thick restarts (:func:`_block_krylov`) need about
-as many solves as Lanczos does, in a few blocks. Modes are mass-normalised: φᵀ M φ = 1, φᵀ K φ = ω².
+solved densely. For large ones (more than :data:`LARGE_LIMIT`: solid and hybrid models) Tᵀ K T and Tᵀ M T are applied as
+operators, never formed (forming them costs as much as the solves of the whole eigensolution). Modes are mass-normalised: φᵀ M φ = 1, φᵀ K φ = ω².
 
 Linear algebra only: what the DOFs are is unknown here.
 """
@@ -31,17 +28,14 @@ import scipy.sparse.linalg as spla
 
 from rvcoax.fem.errors import RvcoaxError
 
-__all__ = ["BLOCK_LIMIT", "DENSE_LIMIT", "LowRankUpdate", "ModalError", "Modes", "natural_modes"]
+__all__ = ["DENSE_LIMIT", "LARGE_LIMIT", "LowRankUpdate", "ModalError", "Modes", "natural_modes"]
 
 DENSE_LIMIT = 600
 """Below this many independent DOFs the eigenproblem is solved densely (exact, and faster than ARPACK)."""
 
 
-BLOCK_LIMIT = 20000
-"""Above this many independent DOFs the block Krylov method replaces ARPACK (when a factorisation is given)."""
-RESIDUAL_LIMIT = 1e-8
-"""The block method stops when every wanted mode has ‖φ − ω² K⁻¹ M φ‖_M ≤ this (φ M-normalised; ω² then holds
-about 1e-16 relative: its error goes with the residual's square)."""
+LARGE_LIMIT = 20000
+"""Above this many independent DOFs (and with a given factorisation) Tᵀ K T and Tᵀ M T are not formed."""
 
 
 class ModalError(RvcoaxError, ValueError):
@@ -84,7 +78,7 @@ class Modes:
 
 def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix, n_modes: int,
                   reduced_solve: Callable[[np.ndarray], np.ndarray] | None = None,
-                  update: LowRankUpdate | None = None, tolerance: float = 1e-10) -> Modes:
+                  update: LowRankUpdate | None = None, tolerance: float = 1e-10, shift: float = 0.0) -> Modes:
     """The ``n_modes`` lowest undamped modes of (K + Vᵀ D V, M) on u = T q.
 
     Parameters
@@ -101,6 +95,9 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
         The operating point's change of stiffness (nonlinear bearings' tangent minus their reference springs).
     tolerance : float
         ARPACK's relative accuracy of the eigenvalues.
+    shift : float
+        σ (rad²/s²) of the shift-invert without ``reduced_solve``: K − σ M is factorised. A negative σ finds the
+        zero-frequency modes of a structure that is not supported (K singular).
 
     Raises
     ------
@@ -115,8 +112,7 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
     if update is not None and update.operator.shape[0]:
         v_r = (sp.csr_matrix(update.operator) @ t).toarray()
         d = np.asarray(update.matrix, dtype=float)
-    if m > BLOCK_LIMIT and reduced_solve is not None and n_modes < m // 4:
-        # Tᵀ K T and Tᵀ M T are applied, never formed (forming them costs more than the whole eigensolve's products)
+    if m > LARGE_LIMIT and reduced_solve is not None and n_modes < m // 4:
         t_t = t.T.tocsr()
         k_full, m_full = sp.csr_matrix(stiffness), sp.csr_matrix(mass)
 
@@ -124,10 +120,15 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
             out = t_t @ (k_full @ (t @ x))
             return out if v_r is None else out + v_r.T @ (d @ (v_r @ x))
 
-        values, vectors = _block_krylov(_woodbury(reduced_solve, v_r, d), _Operator(k_op),
-                                        _Operator(lambda x: t_t @ (m_full @ (t @ x))), m, n_modes)
-        m_r = _Operator(lambda x: t_t @ (m_full @ (t @ x)))
-        method = "block shift-invert Krylov"
+        inverse = _woodbury(reduced_solve, v_r, d)
+        k_r = spla.LinearOperator((m, m), matvec=k_op, dtype=float)
+        m_r = spla.LinearOperator((m, m), matvec=lambda x: t_t @ (m_full @ (t @ x)), matmat=lambda x: t_t @ (m_full @ (t @ x)),
+                                  dtype=float)
+        operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
+        values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance)
+        order = np.argsort(values)
+        values, vectors = values[order], vectors[:, order]
+        method = "shift-invert Lanczos"
     else:
         k_r = (t.T @ sp.csr_matrix(stiffness) @ t).tocsr()
         m_r = (t.T @ sp.csr_matrix(mass) @ t).tocsr()
@@ -139,17 +140,19 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
                              f"mass ({m} independent DOFs): ask for at most {with_mass}")
         if v_r is not None:
             k_r = k_r + sp.csr_matrix(v_r.T @ d @ v_r)
-        if m < DENSE_LIMIT or n_modes >= m - 1:
+        if m < DENSE_LIMIT or n_modes >= m // 3:  # ARPACK is slow for a large share of the spectrum
             values, vectors = _dense_modes(k_r.toarray(), m_r.toarray(), n_modes)
             method = "dense"
         else:
-            if reduced_solve is None:
-                base, v_used, d_used = spla.splu(k_r.tocsc()).solve, None, None  # k_r already holds the update
+            sigma = 0.0
+            if reduced_solve is None:  # k_r already holds the update
+                sigma = float(shift)
+                base, v_used, d_used = spla.splu((k_r - sigma * m_r).tocsc()).solve, None, None
             else:
                 base, v_used, d_used = reduced_solve, v_r, d
             inverse = _woodbury(base, v_used, d_used)
             operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
-            values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator,
+            values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=sigma, which="LM", OPinv=operator,
                                          tol=tolerance)
             order = np.argsort(values)
             values, vectors = values[order], vectors[:, order]
@@ -196,60 +199,3 @@ def _woodbury(solve: Callable, v: np.ndarray | None, d: np.ndarray | None) -> Ca
         return y - influence @ (d @ scipy.linalg.lu_solve(factor, v @ y))
 
     return apply
-
-
-def _m_orthonormal(block: np.ndarray, mass, against: list[np.ndarray]) -> np.ndarray:
-    """``block`` M-orthogonalised against the M-orthonormal ``against`` (twice) and M-orthonormalised itself;
-    directions it no longer holds (relative size below 1e-10) are dropped."""
-    for _ in range(2):
-        for q in against:
-            block = block - q @ (q.T @ (mass @ block))
-    gram = block.T @ (mass @ block)
-    values, vectors = np.linalg.eigh(0.5 * (gram + gram.T))
-    keep = values > 1e-20 * max(values.max(), 1e-300)
-    return block @ (vectors[:, keep] / np.sqrt(values[keep]))
-
-
-class _Operator:
-    """A matrix known by its product with a block of vectors only (``op @ x``)."""
-
-    def __init__(self, apply: Callable[[np.ndarray], np.ndarray]):
-        self.apply = apply
-
-    def __matmul__(self, x: np.ndarray) -> np.ndarray:
-        return self.apply(x)
-
-
-def _block_krylov(inverse: Callable, stiffness, mass, m: int, n_modes: int,
-                  max_restarts: int = 20, steps: int = 4, extra: int = 20) -> tuple[np.ndarray, np.ndarray]:
-    """The lowest ``n_modes`` of (K, M) by block shift-invert Krylov subspaces (σ = 0) with Rayleigh–Ritz.
-
-    A block of b = n + max(20, n / 2) vectors is extended by four block steps Y = K⁻¹ M X (one multi-column
-    solve each), M-orthonormalised against the basis; the Rayleigh–Ritz problem of (K, M) on the basis gives the
-    Ritz pairs; the b lowest Ritz vectors restart the next cycle until every wanted pair's residual is below
-    :data:`RESIDUAL_LIMIT` (checked on the next cycle's first step, which computes K⁻¹ M φ anyway).
-    """
-    width = min(m - 1, n_modes + max(extra, n_modes // 2))
-    start = np.random.default_rng(12345).standard_normal((m, width))
-    basis = _m_orthonormal(np.asarray(inverse(mass @ start)), mass, [])
-    values = None
-    relative = np.array([np.inf])
-    for _ in range(max_restarts):
-        step = np.asarray(inverse(mass @ basis))  # K⁻¹ M X
-        if values is not None:
-            # the shift-invert residual of each wanted Ritz pair, ‖φ − ω² K⁻¹ M φ‖_M (φ M-normalised): well scaled
-            # whatever K's units, and free (the Krylov step computes K⁻¹ M φ anyway)
-            residual = basis[:, :n_modes] - step[:, :n_modes] * values[:n_modes]
-            relative = np.sqrt(np.abs(np.einsum("ik,ik->k", residual, mass @ residual)))
-            if np.all(relative <= RESIDUAL_LIMIT):
-                return values[:n_modes], basis[:, :n_modes]
-        blocks = [basis, _m_orthonormal(step, mass, [basis])]
-        for _step in range(steps - 1):
-            blocks.append(_m_orthonormal(np.asarray(inverse(mass @ blocks[-1])), mass, blocks))
-        q = np.hstack(blocks)
-        small_k = q.T @ (stiffness @ q)
-        small_m = q.T @ (mass @ q)
-        values, vectors = scipy.linalg.eigh(0.5 * (small_k + small_k.T), 0.5 * (small_m + small_m.T))
-        basis = q @ vectors[:, :width]
-    raise ModalError(f"the block eigensolver did not converge in {max_restarts} cycles (largest relative residual "
-                     f"{relative.max():.1e})")

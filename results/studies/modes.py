@@ -44,7 +44,7 @@ from rvcoax.geometry.model.mass import housing_frequencies, part_masses, rig_mas
 from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
+from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 
 __all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "CaseModes", "Crossing", "ModalStudy",
            "Mode", "ModeSettings", "ModesError", "crossing_rows", "crossings", "excitation_orders", "mode_field",
@@ -216,7 +216,12 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
 
     started = time.perf_counter()
     seconds = {}
-    prepared = prepare_model(rig, settings.sweep_settings())
+    try:
+        prepared = prepare_model(rig, settings.sweep_settings())
+    except ModelError as error:
+        if "singular" not in str(error):
+            raise
+        raise ModesError(_free_body_text(rig, settings, cache_dir)) from None
     system = prepared.system
     seconds["assemble_and_factorise"] = time.perf_counter() - started
     lap = time.perf_counter()
@@ -274,6 +279,22 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
                       excitation_orders(rig), limits, tuple(notes), seconds)
 
 
+def _free_body_text(rig: Rig, settings: ModeSettings, cache_dir) -> str:
+    """Why a singular rig cannot vibrate: its zero-frequency modes (found with K + M factorised, σ = −1 rad²/s²) and
+    the parts that carry them."""
+    from rvcoax.geometry.model.assemble import assemble_rig
+
+    options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
+    system = assemble_rig(rig, settings.model, **options)
+    mass = rig_mass_matrix(system, cache_dir)
+    modes = natural_modes(system.stiffness, mass, system.elimination, 6, shift=-1.0)
+    try:
+        _check_free_bodies(system, mass, modes, "the rig")
+    except ModesError as error:
+        return str(error)
+    return "the stiffness matrix is singular, but no mode at zero frequency was found: check the springs' units"
+
+
 def _check_free_bodies(system, mass, modes: Modes, label: str) -> None:
     """Refuse a zero-frequency mode, naming the parts that carry its motion."""
     low = np.flatnonzero(modes.frequencies_hz < FREE_BODY_HZ)
@@ -287,8 +308,9 @@ def _check_free_bodies(system, mass, modes: Modes, label: str) -> None:
         if name:
             shares[name] = float(kinetic[owner == name].sum())
     moving = [n for n, v in sorted(shares.items(), key=lambda kv: -kv[1]) if v > 0.05]
-    raise ModesError(f"{label}: mode {low[0] + 1} has frequency {modes.frequencies_hz[low[0]]:.3g} Hz: part(s) "
-                     f"{', '.join(moving)} move as a free body (a support or a stiffness component is missing)")
+    kind = _classify(_ModeAnalysis(system, mass)._directions(phi))
+    raise ModesError(f"{label}: {low.size} mode(s) at zero frequency ({kind} motion of mode {low[0] + 1}): part(s) "
+                     f"{', '.join(moving)} move as a free body — a support or a stiffness component is missing")
 
 
 def _dof_owners(system) -> np.ndarray:
