@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.results.connections import ConnectionStates, SpringMotion
+from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
@@ -278,7 +278,7 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         Resultants of the applied loads and of the ground reactions of the total state
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
-        :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+        :meth:`rvcoax.geometry.model.springs.SpringMotion.of` ``(model, rig)``, built once for many cases.
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)

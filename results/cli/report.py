@@ -37,7 +37,7 @@ def report(
     rig file SHA-256, model, solver, mesh, date).
     """
     from rvcoax import load_rig, read_measured, write_report
-    from rvcoax.results.io import print_pdf, read_discrepancy
+    from rvcoax.results.reports import print_pdf, read_discrepancy
 
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)

@@ -1,4 +1,4 @@
-"""The tables of the study report (:mod:`rvcoax.results.io.report`), as plain rows.
+"""The tables of the study report (:mod:`rvcoax.results.reports.report`), as plain rows.
 
 Each function returns a :class:`Table`: a caption, column headings with their units, and rows of
 already formatted cells, so that the HTML writer only lays them out. Numbers follow one policy:
@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.connections import ConnectionStates, connection_states
+from rvcoax.geometry.model.springs import ConnectionStates
+from rvcoax.results.connections import connection_states
 
 __all__ = ["PROVENANCE_TAGS", "Table", "check_table", "load_case_table", "misalignment_tables", "provenance_tags",
            "reaction_table", "rig_tables", "shaft_table", "verdict_of"]

@@ -30,8 +30,8 @@ import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.io import report_tables as tables
 from rvcoax.results.io.writers import write_text_atomic
+from rvcoax.results.reports import report_tables as tables
 
 __all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
