@@ -78,10 +78,13 @@ def _save_rotor(rotor, path: Path) -> Path:
 def _write_ross(export, out: Path) -> list[Path]:
     from rvcoax.results.export import (
         RossUnavailableError,
+        compare_modal,
         compare_static,
         import_ross,
         misalignment_fault,
         misalignment_parameters,
+        operating_supports,
+        shaft_line,
     )
     from rvcoax.results.io import write_csv_atomic
 
@@ -89,27 +92,44 @@ def _write_ross(export, out: Path) -> list[Path]:
         ross = import_ross()
     except RossUnavailableError as error:
         raise support.UserError(str(error)) from None
-    written, faults, static = [], [], []
-    table = Table(title="ROSS static analysis (gravity, rigid supports) vs rvcoax on the same shaft",
-                  title_justify="left")
-    for column in ("shaft", "nodes", "supports", "largest sag rvcoax nm", "largest sag ROSS nm", "largest difference"):
+    sweep = export.sweep
+    rig = sweep.rig
+    written, faults, static, modal = [], [], [], []
+    table = Table(title="ROSS against rvcoax on the same shaft: gravity sag on rigid supports, and the lowest natural "
+                        "frequencies at zero speed on the exported bearings", title_justify="left")
+    for column in ("shaft", "bearing stiffness of", "largest sag rvcoax nm", "sag difference", "f1…f4 rvcoax Hz",
+                   "largest f difference"):
         table.add_column(column, justify="right")
+    if sweep.nonlinear_bearings is None:  # linear bearings: the typed-in stiffness is the operating one in every case
+        points = [(None, "every load case (linear bearings)", "")]
+    else:
+        points = [(i, c.case.label, f"_case{i + 1:02d}") for i, c in enumerate(sweep.cases)]
     for shaft in MEASURED_SHAFTS:
-        with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
-            rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
-        line = comparison.line
-        parameters = misalignment_parameters(export, line)
-        for row in parameters:
-            misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
-        faults += parameters
-        static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
-                   for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
-        written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor.toml"))
-        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.spring.name for s in line.supports),
-                      f"{comparison.largest_sag_m * 1e9:.4g}", f"{abs(comparison.ross_uy_m).max() * 1e9:.4g}",
-                      f"{comparison.relative_difference:.1e}")
+        for index, label, suffix in points:
+            operating = {} if index is None else operating_supports(sweep, index)
+            line = shaft_line(rig, shaft, operating, label)
+            with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft ({label})"):
+                rotor, comparison = compare_static(rig, shaft, ross, line)
+                _, frequencies = compare_modal(rig, shaft, ross, 4, line)
+            if not index:  # once per shaft: the faults and the static check do not depend on the bearings' stiffness
+                parameters = misalignment_parameters(export, line)
+                for row in parameters:
+                    misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
+                faults += parameters
+                static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6),
+                            "uy_rvcoax_um": float(b * 1e6)}
+                           for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
+            modal += [{"shaft": shaft, "load_case": label, "mode": k + 1, "frequency_ross_Hz": float(a),
+                       "frequency_rvcoax_Hz": float(b)}
+                      for k, (a, b) in enumerate(zip(frequencies.ross_hz, frequencies.rvcoax_hz))]
+            written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor{suffix}.toml"))
+            table.add_row(shaft, label, f"{comparison.largest_sag_m * 1e9:.4g}",
+                          f"{comparison.relative_difference:.1e}",
+                          ", ".join(f"{f:.1f}" for f in frequencies.rvcoax_hz),
+                          f"{frequencies.relative_difference.max():.1e}")
     written.append(write_csv_atomic(out / "ross_misalignment.csv", faults))
     written.append(write_csv_atomic(out / "ross_static.csv", static))
+    written.append(write_csv_atomic(out / "ross_modal.csv", modal))
     support.console.print(table)
     return written
 

@@ -10,6 +10,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.export.dynamics": ("bearing_rows", "coupling_rows", "dynamics_export", "write_dynamics_csv",
                                        "write_dynamics_json"),
     "rvcoax.results.export.adams": ("AdamsExportError", "adams_fragment", "parse_adm", "spline_layout"),
-    "rvcoax.results.export.ross": ("RossUnavailableError", "compare_static", "import_ross", "misalignment_fault",
+    "rvcoax.results.export.ross": ("RossUnavailableError", "compare_modal", "operating_supports", "shaft_line",
+                                   "compare_static", "import_ross", "misalignment_fault",
                                    "misalignment_parameters"),
 })
