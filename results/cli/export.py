@@ -63,12 +63,16 @@ def _write_adams(export, out: Path) -> list[Path]:
     return [write_text_atomic(out / "dynamics.adm", text)]
 
 
-def _save_rotor(rotor, path: Path) -> Path:
-    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix)."""
+def _save_rotor(rotor, path: Path, header: str = "") -> Path:
+    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix), with ``header``
+    as TOML comment lines on top (ROSS's loader skips comments)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
     try:
         rotor.save(temporary)
+        if header:
+            lines = "".join(f"# {line}\n" for line in header.splitlines())
+            temporary.write_text(lines + temporary.read_text(encoding="utf-8"), encoding="utf-8")
         os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
@@ -122,7 +126,11 @@ def _write_ross(export, out: Path) -> list[Path]:
             modal += [{"shaft": shaft, "load_case": label, "mode": k + 1, "frequency_ross_Hz": float(a),
                        "frequency_rvcoax_Hz": float(b)}
                       for k, (a, b) in enumerate(zip(frequencies.ross_hz, frequencies.rvcoax_hz))]
-            written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor{suffix}.toml"))
+            stiffness = ", ".join(f"{s.spring}: k_y {s.radial_stiffness_N_per_m * 1e-6:.6g} N/µm, k_z "
+                                  f"{s.stiffness_z_N_per_m * 1e-6:.6g} N/µm" for s in line.supports)
+            header = (f"rvcoax {shaft} shaft ({line.part}) of {rig.rig.name}\nbearing stiffness of load case: {label}"
+                      f"\n{stiffness}\nrotor tag: {rotor.tag}")
+            written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor{suffix}.toml", header))
             table.add_row(shaft, label, f"{comparison.largest_sag_m * 1e9:.4g}",
                           f"{comparison.relative_difference:.1e}",
                           ", ".join(f"{f:.1f}" for f in frequencies.rvcoax_hz),

@@ -171,8 +171,20 @@ def _section_at(part, x_mm: float) -> tuple[float, float]:
 def shaft_line(rig: Rig, which: str, operating: dict | None = None, operating_point: str | None = None) -> ShaftLine:
     """The measured shaft ``which`` with its beam-model nodes, supports and coupling hubs.
 
-    ``operating`` (bearing name → (k_y, k_z) in N/m, :func:`operating_supports`) replaces those bearings'
-    typed-in radial stiffness by their operating tangent stiffness; ``operating_point`` names the load case.
+    Parameters
+    ----------
+    rig : Rig
+    which : str
+        ``"input"`` or ``"output"``.
+    operating : dict, optional
+        Bearing name → (k_y, k_z) in N/m (:func:`operating_supports`): those bearings' operating tangent stiffness
+        replaces their typed-in radial stiffness.
+    operating_point : str, optional
+        The load case the stiffness belongs to (in the rotor's tag and file).
+
+    Returns
+    -------
+    ShaftLine
     """
     name = getattr(rig.paths, which).part
     part = rig.part(name)
