@@ -25,6 +25,7 @@ def report(
     discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
     pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
+    modes: Annotated[int, support.number_option("--modes", 0, 500, help="Natural modes in the report (mode table, interference diagram, mode shapes); 0 leaves the section out.", integer=True)] = 12,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
 ) -> None:
@@ -33,8 +34,9 @@ def report(
 
     Sections: the rig with masses and the rig file's provenance tags, the load cases, the bending lines,
     Y and tilt against torque, the coupling and bearing misalignment with verdicts, the support
-    reactions, the check against --measured, the --discrepancy result, and the provenance (version,
-    rig file SHA-256, model, solver, mesh, date).
+    reactions, the check against --measured, the --discrepancy result, the natural frequencies (mode table,
+    interference diagram, mode shapes; --modes), and the provenance (version, rig file SHA-256, model, solver,
+    mesh, date).
     """
     from rvcoax import load_rig, read_measured, write_report
     from rvcoax.results.reports import print_pdf, read_discrepancy
@@ -47,9 +49,16 @@ def report(
     source, text = support.rig_text(rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
+    study = None
+    if modes:
+        from rvcoax import modes as natural_modes
+
+        with support.console.status(f"computing {modes} natural modes"):
+            study = natural_modes(rig, load_cases, modes, model, "auto" if solver == "amg" else solver, mesh_size_mm)
     with support.console.status("drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
-                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
+                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
+                                modes=study)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf"))
