@@ -5,8 +5,9 @@
 - coupling hubs: half the coupling's mass on each hub node, with half its ``polar_inertia_kg_m2`` about the axis
   and a quarter about each diameter (:func:`rvcoax.fem.loads.point_mass_triplets`);
 - solid parts: the consistent P2 mass (:func:`rvcoax.fem.solid.mass_matrix`);
-- ``[[housings]]``: Guyan's condensed mass on the nodes the housing holds (its bed side is fixed: no inertia),
-  :func:`rvcoax.fem.condensation.guyan_reduction`. Guyan and not Craig–Bampton: a housing's own lowest mode on its
+- ``[[housings]]`` with ``self_weight``: Guyan's condensed mass on the nodes the housing holds (its bed side is
+  fixed: no inertia), :func:`rvcoax.fem.condensation.guyan_reduction`. Without ``self_weight`` the housing's mass is
+  its part's (the body whose weight the rig already carries), exactly as its weight is: not counted twice. Guyan and not Craig–Bampton: a housing's own lowest mode on its
   bed is returned with it (:func:`housing_frequencies`) and the modal study warns when a rig mode comes within half of
   it — the range where the static shapes stop describing the housing's motion.
 
@@ -33,6 +34,8 @@ def mass_contributions(system: RigSystem, cache_dir=None) -> list[Contribution]:
     rig, frame = system.rig, system.frame
     pieces = frame_mass_contributions(frame.structure)
     for housing in rig.housings:
+        if not housing.self_weight:  # its mass is its part's (the body held), as its weight is: not counted twice
+            continue
         condensed = condensed_housing(rig, housing, cache_dir)
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
         dofs = (DOFS_PER_NODE * np.asarray(nodes)[:, None] + np.arange(DOFS_PER_NODE)).ravel()
