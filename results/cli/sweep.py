@@ -172,12 +172,14 @@ def sweep(
                                                   resume)
     if fields:
         support.report_written(_write_fields(out / "fields", result))
-    support.console.print(_sweep_table(rig.rig.name, method, [r["row"] for r in records]))
+    shown = "nonlinear: each case by Newton" if model_section.get("nonlinear") else method  # not superposed
+    support.console.print(_sweep_table(rig.rig.name, shown, [r["row"] for r in records]))
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
     if model_section.get("nonlinear"):
-        nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+        nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+                     + model_section.get("rolling_bearings", []))
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"
     elif method == "superposition":
         how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "

@@ -180,7 +180,7 @@ def model_section(sweep: Sweep) -> dict:
                         "elements": int(part.mesh.t.shape[1]), "dofs": part.n_dofs}
             for part in solids}
     for key in ("nonlinear", "gapped_bearings", "newton_iterations_max", "ball_bearings",
-                "ball_bearing_operating_points"):
+                "ball_bearing_operating_points", "rolling_bearings", "rolling_bearing_operating_points"):
         if key in sweep.solver_report:
             section[key] = sweep.solver_report[key]
     return canonical(section)

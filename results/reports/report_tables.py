@@ -116,6 +116,18 @@ def _tags_text(tags: dict[str, str], keys: tuple[str, ...] | None = None) -> str
 # The rig
 
 
+def _bearing_stiffness_cells(bearing) -> tuple[str, str]:
+    """The radial and tilt stiffness cells of the rig's bearing table: the typed-in values of a linear bearing; for
+    a bearing from internal geometry its kind (its stiffness follows from its state: see the solver's operating
+    points), not the linear reference the solve is condensed on."""
+    if bearing.model == "linear":
+        return _g(bearing.radial_stiffness_N_per_um, 3), _g(bearing.tilt_stiffness_Nm_per_rad, 3)
+    kind = {"ball": "deep-groove ball", "angular_contact": "angular-contact ball",
+            "cylindrical_roller": "cylindrical roller", "tapered_roller": "tapered roller"}[bearing.model]
+    pair = "" if bearing.model == "ball" or bearing.arrangement == "single" else f" {bearing.arrangement} pair"
+    return f"from geometry: {kind} {bearing.designation or ''}{pair}".rstrip(), "from geometry"
+
+
 def rig_tables(sweep, rig_text: str) -> list[Table]:
     """Parts (with modelled masses), bearings and couplings, each with its provenance tags."""
     rig, frame = sweep.rig, sweep.frame
@@ -132,8 +144,8 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
     tables = [Table("Parts along the rig axis", ("part", "role", "material", "x [mm]", "largest Ø [mm]",
                                                  "mass in the file [kg]", "mass as modelled [kg]", "provenance"),
                     tuple(parts), note=f"Mass of the whole rig as modelled (parts and coupling hubs): {total:.3g} kg.")]
-    bearings = tuple((b.name, b.shaft, b.housing, f"{b.x_mm:g}", _g(b.radial_stiffness_N_per_um, 3),
-                      _g(b.tilt_stiffness_Nm_per_rad, 3), _tags_text(tags.get(("bearings", b.name), {})))
+    bearings = tuple((b.name, b.shaft, b.housing, f"{b.x_mm:g}", *_bearing_stiffness_cells(b),
+                      _tags_text(tags.get(("bearings", b.name), {})))
                      for b in rig.bearings)
     if bearings:
         tables.append(Table("Bearings", ("bearing", "shaft", "housing", "x [mm]", "radial stiffness [N/µm]",
