@@ -39,7 +39,6 @@ import scipy.sparse as sp
 from rvcoax.fem import DOFS_PER_NODE, beam, bushing
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.modal import LowRankUpdate, ModalError, Modes, natural_modes
-from rvcoax.geometry.model.beam import SpringId
 from rvcoax.geometry.model.mass import housing_frequencies, part_masses, rig_mass_matrix
 from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
 from rvcoax.geometry.schema import Rig
@@ -247,11 +246,12 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
             _, tangent = bearings.laws(w)
             update = LowRankUpdate(bearings.operator, tangent - np.diag(bearings.reference_stiffness))
             operating.append((result.case.label, result.case, update))
+        analysis_rows = [(str(spring), rows) for spring, _, rows in bearings.spring_rows()]
         notes.append(f"nonlinear bearings ({', '.join(nonlinear)}): each case's modes use their tangent stiffness "
                      "at that case's static solution")
     lap = time.perf_counter()
     results = []
-    analysis = _ModeAnalysis(system, mass)
+    analysis = _ModeAnalysis(system, mass, analysis_rows if nonlinear else [])
     for label, case, update in operating:
         try:
             modes = natural_modes(system.stiffness, mass, system.elimination, settings.n_modes,
@@ -325,8 +325,9 @@ def _dof_owners(system) -> np.ndarray:
 class _ModeAnalysis:
     """What each mode of one system is: directions, energies, effective masses, gyroscopic ratio."""
 
-    def __init__(self, system, mass):
+    def __init__(self, system, mass, update_rows=()):
         self.system = system
+        self.update_rows = list(update_rows)  # (spring name, rows of w) of each nonlinear bearing
         self.mass = mass
         rig, frame = system.rig, system.frame
         structure = frame.structure
@@ -416,8 +417,7 @@ class _ModeAnalysis:
         if update is not None and update.operator.shape[0]:
             w = update.operator @ phi
             extra = 0.5 * w * (update.matrix @ w)  # per condensed row: a nonlinear bearing's tangent minus reference
-            rows = _update_rows(self.system.rig, w.size)
-            for name, where in rows:
+            for name, where in self.update_rows:
                 energy[name] = energy.get(name, 0.0) + float(extra[where].sum())
         for name, dofs, matrix in self.housings:
             energy[name] = float(0.5 * phi[dofs] @ matrix @ phi[dofs])
@@ -435,21 +435,6 @@ class _ModeAnalysis:
         for slices in self.slices:
             gyro += self.part_speed.get(slices.name, 0.0) * slices.gyroscopic(phi)
         return gyro / math.sqrt(omega2)
-
-
-def _update_rows(rig: Rig, size: int) -> list[tuple[str, slice]]:
-    """Which rows of the condensed nonlinear bearing motion belong to which bearing (gapped first, 2 rows each;
-    then ball bearings, 6 rows each), as in :mod:`rvcoax.geometry.model.nonlinear_bearings`."""
-    gapped = [b.name for b in rig.bearings if b.radial_clearance_um > 0]
-    balls = [b.name for b in rig.bearings if b.model == "ball"]
-    rows, start = [], 0
-    for name in gapped:
-        rows.append((str(SpringId("bearing", name)), slice(start, start + 2)))
-        start += 2
-    for name in balls:
-        rows.append((str(SpringId("bearing", name)), slice(start, start + 6)))
-        start += 6
-    return rows
 
 
 def _part_speeds(rig: Rig) -> list[float]:
