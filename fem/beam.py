@@ -177,30 +177,27 @@ def element_dofs(connectivity: np.ndarray) -> np.ndarray:
     return np.concatenate([base[:, :1] + offsets, base[:, 1:2] + offsets], axis=1)
 
 
-def stiffness_triplets(coordinates: np.ndarray, elements: BeamElements):
-    """Global stiffness of all beam elements as COO triplets ``(rows, cols, values)``."""
+def _global_triplets(coordinates: np.ndarray, elements: BeamElements, local) -> tuple:
+    """The local matrices ``local(length, elements)`` (n, 12, 12) rotated to global axes, as COO triplets."""
     if elements.connectivity.size == 0:
         return _empty_triplets()
     cosines, length = _rotations(coordinates, elements)
     t = _transformation(cosines)
-    k_global = np.einsum("eji,ejk,ekl->eil", t, local_stiffness(length, elements), t)
+    matrices = np.einsum("eji,ejk,ekl->eil", t, local(length, elements), t)
     dofs = element_dofs(elements.connectivity)
     rows = np.repeat(dofs, 12, axis=1).ravel()
     cols = np.tile(dofs, (1, 12)).ravel()
-    return rows, cols, k_global.ravel()
+    return rows, cols, matrices.ravel()
+
+
+def stiffness_triplets(coordinates: np.ndarray, elements: BeamElements):
+    """Global stiffness of all beam elements as COO triplets ``(rows, cols, values)``."""
+    return _global_triplets(coordinates, elements, local_stiffness)
 
 
 def mass_triplets(coordinates: np.ndarray, elements: BeamElements):
     """Global consistent mass of all beam elements (:func:`local_mass`) as COO triplets ``(rows, cols, values)``."""
-    if elements.connectivity.size == 0:
-        return _empty_triplets()
-    cosines, length = _rotations(coordinates, elements)
-    t = _transformation(cosines)
-    m_global = np.einsum("eji,ejk,ekl->eil", t, local_mass(length, elements), t)
-    dofs = element_dofs(elements.connectivity)
-    rows = np.repeat(dofs, 12, axis=1).ravel()
-    cols = np.tile(dofs, (1, 12)).ravel()
-    return rows, cols, m_global.ravel()
+    return _global_triplets(coordinates, elements, local_mass)
 
 
 def gravity_load(

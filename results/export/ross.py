@@ -37,6 +37,7 @@ Tested with ROSS 2.3.0 (the last release for Python 3.11; ROSS 3 needs Python â‰
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import os
 import warnings
@@ -278,27 +279,10 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     The elements, hubs and material are those of the rig's beam model; the shaft is cut free from
     every other part, and u_x and the twist are held at the first support (they carry no load).
     """
-    frame = build_rig_model(rig)
-    structure = frame.structure
-    nodes = np.flatnonzero(frame.node_part == line.part)
-    nodes = nodes[np.argsort(frame.node_x_mm[nodes])]
-    renumber = -np.ones(structure.n_nodes, dtype=int)
-    renumber[nodes] = np.arange(nodes.size)
-    beams = structure.beams
-    keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
-    local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
-                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
-    masses = structure.point_masses
-    on_shaft = renumber[masses.node] >= 0
-    hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],
-                       masses.rotary_inertia_kg_m2[on_shaft])
     support_nodes = [line.node_at(s.x_mm) for s in line.supports]
     fixed = [DOFS_PER_NODE * n + c for n in support_nodes for c in (1, 2)]
     fixed += [DOFS_PER_NODE * support_nodes[0] + c for c in (0, 3)]
-    no_springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
-    model = StructuralModel(structure.coordinates[nodes], local, no_springs, point_masses=hubs,
-                            fixed_dofs=np.array(sorted(fixed)))
+    model = dataclasses.replace(_line_model(rig, line, "none"), fixed_dofs=np.array(sorted(fixed)))
     elimination, _ = fem_model.constraint_elimination(model)
     load = fem_model.gravity_load_vector(model, [0.0, -gravity_m_per_s2, 0.0])
     u = factorize(fem_model.stiffness_matrix(model), elimination).solve(load)
@@ -357,7 +341,8 @@ def compare_static(rig: Rig, which: str, ross=None, line: ShaftLine | None = Non
 
 
 def _line_model(rig: Rig, line: ShaftLine, supports: str):
-    """The shaft line cut out of the rig's beam model: (StructuralModel, its node indices in the rig's model)."""
+    """The shaft line cut out of the rig's beam model, its beams and hubs; ``supports`` ``"springs"``: its supports as
+    radial springs to the ground, ``"none"``: no springs (the caller holds DOFs)."""
     frame = build_rig_model(rig)
     structure = frame.structure
     nodes = np.flatnonzero(frame.node_part == line.part)

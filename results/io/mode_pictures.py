@@ -14,7 +14,6 @@ as rays from the origin, the speed range shaded and the crossings inside it mark
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -30,6 +29,7 @@ from rvcoax.results.io.pictures import (
     _part_surfaces,
     _quiet_vtk,
     _RigView,
+    _screenshot,
     _title_lines,
     check_offscreen_rendering,
     enclosing_parts,
@@ -149,14 +149,7 @@ def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, 
             plotter.add_text(note, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
             plotter.add_text("\n".join(lines), position="upper_edge", font_size=view.title_font, color="black")
             plotter.enable_depth_peeling(number_of_peels=6)
-            plotter.enable_anti_aliasing("ssaa")
-            view.apply(plotter)
-            temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
-            try:
-                plotter.screenshot(str(temporary), return_img=False)
-                os.replace(temporary, target)
-            finally:
-                temporary.unlink(missing_ok=True)
+            _screenshot(plotter, view, target)
         finally:
             plotter.close()
     return {"path": target, "view": view_kind, "warp_factor": factor, "seconds": time.perf_counter() - started}

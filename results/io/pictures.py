@@ -487,14 +487,7 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
                                  color="black")
             if translucent:
                 plotter.enable_depth_peeling(number_of_peels=6)
-            plotter.enable_anti_aliasing("ssaa")
-            view.apply(plotter)
-            temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
-            try:
-                plotter.screenshot(str(temporary), return_img=False)
-                os.replace(temporary, target)
-            finally:
-                temporary.unlink(missing_ok=True)
+            _screenshot(plotter, view, target)
         finally:
             plotter.close()
     return {
@@ -506,6 +499,18 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
         "window_class": window_class,
         "seconds": time.perf_counter() - started,
     }
+
+
+def _screenshot(plotter, view, target: Path) -> None:
+    """Anti-alias, set the camera of ``view`` and write the PNG ``target`` atomically (a temporary file beside it)."""
+    plotter.enable_anti_aliasing("ssaa")
+    view.apply(plotter)
+    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+    try:
+        plotter.screenshot(str(temporary), return_img=False)
+        os.replace(temporary, target)
+    finally:
+        temporary.unlink(missing_ok=True)
 
 
 def _bounds(points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
