@@ -56,8 +56,17 @@ def test_effective_masses_add_up_to_the_rig_mass(study):
     r[np.asarray(t.sum(axis=1)).ravel() == 0] = 0.0  # held DOFs (the housings' bed side) do not move
     gamma = every.shapes.T @ (mass @ r)
     assert np.sum(gamma**2) == pytest.approx(float(r @ (mass @ r)), rel=1e-6)
-    mine = [m.effective_mass["y_kg"] for m in study.cases[0].modes]
-    assert np.allclose(mine, gamma[:20] ** 2, rtol=1e-5, atol=1e-9 * float(r @ (mass @ r)))
+    # the study's Γ² per group of equal frequencies (a y/z pair may turn within its plane: only the sum is fixed)
+    modes = study.cases[0].modes
+    f = np.array([m.frequency_hz for m in modes])
+    groups = np.cumsum(np.r_[True, np.diff(f) > 1e-6 * f[1:]]) - 1
+    last = groups[-1]
+    every_f = every.frequencies_hz[:40]
+    for g in range(last):  # the last group may be cut by the 20th mode
+        members = groups == g
+        mine = sum(m.effective_mass["y_kg"] for m, keep in zip(modes, members) if keep)
+        same = np.abs(every_f - f[members][0]) <= 1e-6 * f[members][0]
+        assert mine == pytest.approx(np.sum(gamma[:40][same] ** 2), rel=1e-5, abs=1e-9 * float(r @ (mass @ r)))
 
 
 def test_ball_bearings_use_their_operating_tangent_stiffness():
