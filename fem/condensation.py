@@ -72,7 +72,7 @@ def condensed_stiffness_and_loads(stiffness: sp.csr_matrix, elimination: sp.csr_
     displacements under those loads (and any load on the masters added to them). Parameters and errors as
     :func:`condensed_stiffness`.
     """
-    reduction = guyan_reduction(stiffness, elimination, master_dofs, loads, None, method)
+    reduction = guyan_reduction(stiffness, elimination, master_dofs, loads, method=method)
     return reduction.stiffness, reduction.loads
 
 
@@ -88,7 +88,7 @@ class GuyanReduction:
     lowest_eigenvalue: float | None = None
 
 
-def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, mass=None,
+def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, *, mass=None,  # noqa: PLR0913
                     method: str = "auto") -> GuyanReduction:
     """K_c and f_c as :func:`condensed_stiffness_and_loads`, and with ``mass`` (M, n × n) Guyan's M_c = Ψᵀ M Ψ,
     Ψ = U K_c the static modes (U: the displacements under unit master loads), from the same one solve."""

@@ -76,7 +76,7 @@ class Modes:
         return np.sign(self.eigenvalues) * np.sqrt(np.abs(self.eigenvalues)) / (2.0 * np.pi)
 
 
-def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix, n_modes: int,
+def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix, n_modes: int, *,  # noqa: PLR0913
                   reduced_solve: Callable[[np.ndarray], np.ndarray] | None = None,
                   update: LowRankUpdate | None = None, tolerance: float = 1e-10, shift: float = 0.0) -> Modes:
     """The ``n_modes`` lowest undamped modes of (K + Vᵀ D V, M) on u = T q.
@@ -113,21 +113,9 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
         v_r = (sp.csr_matrix(update.operator) @ t).toarray()
         d = np.asarray(update.matrix, dtype=float)
     if m > LARGE_LIMIT and reduced_solve is not None and n_modes < m // 4:
-        t_t = t.T.tocsr()
-        k_full, m_full = sp.csr_matrix(stiffness), sp.csr_matrix(mass)
-
-        def k_op(x):
-            out = t_t @ (k_full @ (t @ x))
-            return out if v_r is None else out + v_r.T @ (d @ (v_r @ x))
-
-        inverse = _woodbury(reduced_solve, v_r, d)
-        k_r = spla.LinearOperator((m, m), matvec=k_op, dtype=float)
-        m_r = spla.LinearOperator((m, m), matvec=lambda x: t_t @ (m_full @ (t @ x)), matmat=lambda x: t_t @ (m_full @ (t @ x)),
-                                  dtype=float)
-        operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
-        values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance)
-        order = np.argsort(values)
-        values, vectors = values[order], vectors[:, order]
+        m_r = _reduced_operator(t, mass)
+        values, vectors = _lanczos_on_operators(t, stiffness, m_r, n_modes, reduced_solve=reduced_solve,
+                                                update=(v_r, d), tolerance=tolerance)
         method = "shift-invert Lanczos"
     else:
         k_r = (t.T @ sp.csr_matrix(stiffness) @ t).tocsr()
@@ -163,6 +151,34 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
     signs = np.sign(vectors[np.argmax(np.abs(vectors), axis=0), np.arange(vectors.shape[1])])
     vectors = vectors * np.where(signs == 0, 1.0, signs)
     return Modes(np.asarray(values, dtype=float), np.asarray(t @ vectors), method)
+
+
+def _reduced_operator(t: sp.csr_matrix, matrix) -> spla.LinearOperator:
+    """Tᵀ A T as an operator (never formed)."""
+    t_t, full = t.T.tocsr(), sp.csr_matrix(matrix)
+
+    def apply(x):
+        return t_t @ (full @ (t @ x))
+
+    return spla.LinearOperator((t.shape[1], t.shape[1]), matvec=apply, matmat=apply, dtype=float)
+
+
+def _lanczos_on_operators(t, stiffness, m_r, n_modes, *, reduced_solve, update, tolerance):  # noqa: PLR0913
+    """Shift-invert Lanczos with Tᵀ K T (+ Vᵀ D V) and Tᵀ M T applied as operators, for large models."""
+    v_r, d = update
+    k_plain = _reduced_operator(t, stiffness)
+
+    def k_op(x):
+        out = k_plain @ x
+        return out if v_r is None else out + v_r.T @ (d @ (v_r @ x))
+
+    m = t.shape[1]
+    inverse = _woodbury(reduced_solve, v_r, d)
+    k_r = spla.LinearOperator((m, m), matvec=k_op, dtype=float)
+    operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
+    values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance)
+    order = np.argsort(values)
+    return values[order], vectors[:, order]
 
 
 def _dense_modes(k: np.ndarray, m: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarray]:

@@ -231,11 +231,15 @@ def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities
     angle = math.hypot(d[4], d[5])
     angularity = 100.0 * math.tan(angle)  # gap difference over 100 mm of diameter, mm
     offset_mm = offset_m * 1e3
-    return CouplingQuantities(
-        c.name, reference, float(d[1] * UM), float(d[2] * UM), offset_m * UM, angle * URAD, math.degrees(angle),
-        angularity, c.allowable_parallel_offset_mm, c.allowable_angular_misalignment_deg,
-        _percent(offset_mm, c.allowable_parallel_offset_mm), _percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
-        c.speed_rpm, None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
+    return CouplingQuantities(name=c.name, reference=reference, offset_y_um=float(d[1] * UM),
+                              offset_z_um=float(d[2] * UM), offset_um=offset_m * UM, angle_urad=angle * URAD,
+                              angle_deg=math.degrees(angle), angularity_mm_per_100mm=angularity,
+                              allowable_offset_mm=c.allowable_parallel_offset_mm,
+                              allowable_angle_deg=c.allowable_angular_misalignment_deg,
+                              offset_use_percent=_percent(offset_mm, c.allowable_parallel_offset_mm),
+                              angle_use_percent=_percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
+                              speed_rpm=c.speed_rpm,
+                              grade=None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
 
 
 def _bearing(b, total: ConnectionStates, change: ConnectionStates) -> BearingQuantities:
@@ -243,10 +247,12 @@ def _bearing(b, total: ConnectionStates, change: ConnectionStates) -> BearingQua
     f, d = total.force_on_b[0, row], total.deformation[0, row]
     df, dd = change.force_on_b[0, row], change.deformation[0, row]
     tilt = math.hypot(d[4], d[5])
-    return BearingQuantities(
-        b.name, b.shaft, b.housing, b.x_mm, float(f[1]) + 0.0, float(f[2]) + 0.0, float(f[0]) + 0.0,
-        math.hypot(f[1], f[2]), math.hypot(df[1], df[2]), tilt * URAD, math.hypot(dd[4], dd[5]) * URAD,
-        tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin))
+    return BearingQuantities(name=b.name, shaft=b.shaft, housing=b.housing, x_mm=b.x_mm, force_y_N=float(f[1]) + 0.0,
+                             force_z_N=float(f[2]) + 0.0, force_axial_N=float(f[0]) + 0.0,
+                             force_radial_N=math.hypot(f[1], f[2]), force_radial_change_N=math.hypot(df[1], df[2]),
+                             tilt_urad=tilt * URAD, tilt_change_urad=math.hypot(dd[4], dd[5]) * URAD,
+                             tilt_arcmin=tilt * ARCMIN, allowable_tilt_arcmin=b.allowable_misalignment_arcmin,
+                             tilt_use_percent=_percent(tilt * ARCMIN, b.allowable_misalignment_arcmin))
 
 
 def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[Reaction, ...]:
@@ -256,13 +262,15 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
     for kind, name, part, x in supports:
         row = total.index(kind, name)
         f, df = total.force_on_b[0, row], change.force_on_b[0, row]
-        out.append(Reaction(name, kind, part, x, tuple(float(v) + 0.0 for v in f[:3]), tuple(float(v) + 0.0 for v in f[3:]),
-                            tuple(float(v) + 0.0 for v in df[:3]), tuple(float(v) + 0.0 for v in df[3:])))
+        out.append(Reaction(name=name, kind=kind, part=part, x_mm=x, force_N=tuple(float(v) + 0.0 for v in f[:3]),
+                            moment_Nm=tuple(float(v) + 0.0 for v in f[3:]),
+                            force_change_N=tuple(float(v) + 0.0 for v in df[:3]),
+                            moment_change_Nm=tuple(float(v) + 0.0 for v in df[3:])))
     return tuple(out)
 
 
-def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,  # noqa: PLR0913
+                     *, applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters

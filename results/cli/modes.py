@@ -15,7 +15,7 @@ from rich.table import Table
 
 from rvcoax.results.cli import support
 
-__all__ = ["register"]
+__all__ = ["COMMANDS", "modes", "write_mode_files"]
 
 MODES_RANGE = (1, 100_000)  # the model refuses more than its DOFs with mass, naming how many it has
 PICTURES_RANGE = (0, 100)
@@ -60,7 +60,7 @@ def write_mode_files(study, out: Path, pictures: int, rig_source: str) -> list[P
         written.append(write_csv_atomic(out / "modes_crossings.csv", crossing_rows(study)))
         frequencies = {c.label: [m.frequency_hz for m in c.modes] for c in study.cases}
         written.append(plot_interference(frequencies, study.orders, speeds.motor_rpm, study.crossings,
-                                         out / "modes_interference.png",
+                                         path_png=out / "modes_interference.png",
                                          title=f"{rig.rig.name}: natural frequencies ({study.settings.model} model) "
                                                "and excitation orders"))
     bearings = [b.x_mm for b in rig.bearings]
@@ -69,64 +69,59 @@ def write_mode_files(study, out: Path, pictures: int, rig_source: str) -> list[P
         mesh, u, twist = mode_field(study, 0, i)
         title = (f"mode {mode.number}: {mode.frequency_hz:.1f} Hz, {mode.kind} — {rig.rig.name} "
                  f"({study.settings.model} model): {case.label}")
-        info = render_mode(mesh, u, twist, mode.kind, title, out / "modes" / f"mode_{mode.number:02d}.png",
-                           bearings_x_mm=bearings)
+        info = render_mode(mesh, u, twist, mode.kind, title=title,
+                           path_png=out / "modes" / f"mode_{mode.number:02d}.png", bearings_x_mm=bearings)
         written.append(info["path"])
     return written
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``rvcoax modes`` to ``app``."""
-    from rvcoax import load_rig
+@support.model_options
+@support.case_options
+def modes(
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
+    count: Annotated[int, support.number_option("--modes", *MODES_RANGE, help="How many of the lowest modes.",
+                                                integer=True)] = 20,
+    out: support.OutOption = Path("rvcoax_out"),
+    pictures: Annotated[int, support.number_option("--pictures", *PICTURES_RANGE,
+                                                   help="Mode-shape pictures to draw (the lowest modes).",
+                                                   integer=True)] = 6,
+    interference: Annotated[bool, typer.Option(
+        "--interference/--no-interference",
+        help="Require the interference diagram: fails when the rig file has no [speeds].")] = False,
+) -> None:
+    """Natural frequencies and mode shapes of the rig about each load case's operating point, each mode's class
+    and the part or spring that owns it, and the interference (Campbell) diagram against the [speeds] of the
+    rig file."""
+    from rvcoax import modes as run
 
-    @app.command()
-    @support.guard
-    def modes(
-        rig_file: support.RigOption = None,
-        model: support.ModelOption = "beam",
-        count: Annotated[int, support.number_option("--modes", *MODES_RANGE, help="How many of the lowest modes.",
-                                                    integer=True)] = 20,
-        out: support.OutOption = Path("rvcoax_out"),
-        cases: support.CasesOption = None,
-        t1: support.T1Option = None,
-        t2: support.T2Option = None,
-        grid: support.GridOption = False,
-        pictures: Annotated[int, support.number_option("--pictures", *PICTURES_RANGE,
-                                                       help="Mode-shape pictures to draw (the lowest modes).",
-                                                       integer=True)] = 6,
-        interference: Annotated[bool, typer.Option(
-            "--interference/--no-interference",
-            help="Require the interference diagram: fails when the rig file has no [speeds].")] = False,
-        solver: support.SolverOption = "auto",
-        mesh_size_mm: support.MeshOption = None,
-    ) -> None:
-        """Natural frequencies and mode shapes of the rig about each load case's operating point, each mode's class
-        and the part or spring that owns it, and the interference (Campbell) diagram against the [speeds] of the
-        rig file."""
-        from rvcoax import modes as run
+    settings = model_choice.settings()  # checks the options
+    if settings.solver == "amg":
+        raise support.UserError("--solver amg: an eigensolver needs an exact factorisation; use auto, superlu "
+                                "or pardiso")
+    rig = model_choice.load_rig()
+    if interference and rig.speeds is None:
+        raise support.UserError("--interference: the rig file has no [speeds] (motor_rpm = [lowest, highest], "
+                                "reduction_ratio, input_gear_teeth): the diagram needs the rig's speeds")
+    load_cases = case_choice.load(rig) if case_choice.given else None
+    with support.console.status(f"assembling the {settings.model} model and computing {count} modes"):
+        study = run(rig, load_cases, n_modes=count, model=settings.model, solver=settings.solver,
+                    mesh_size_mm=settings.mesh_size_mm)
+    support.console.print(_table(study))
+    for note in study.notes:
+        support.console.print(f"note: {note}")
+    if rig.speeds is None:
+        support.console.print("no [speeds] in the rig file: no interference diagram (see docs/rig-keys.md)")
+    else:
+        inside = [c for c in study.crossings if c.inside]
+        support.console.print(f"{len(inside)} crossing(s) of a mode with an excitation order inside "
+                              f"{rig.speeds.motor_rpm[0]:g}–{rig.speeds.motor_rpm[1]:g} rpm (modes_crossings.csv)")
+    source, _ = model_choice.rig_text()
+    with support.console.status("writing the mode table and pictures"):
+        written = write_mode_files(study, out, pictures, source)
+    support.report_written(written)
 
-        support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)  # checks the options
-        if solver == "amg":
-            raise support.UserError("--solver amg: an eigensolver needs an exact factorisation; use auto, superlu "
-                                    "or pardiso")
-        rig = load_rig(rig_file)
-        if interference and rig.speeds is None:
-            raise support.UserError("--interference: the rig file has no [speeds] (motor_rpm = [lowest, highest], "
-                                    "reduction_ratio, input_gear_teeth): the diagram needs the rig's speeds")
-        load_cases = support.cases_from_options(cases, t1, t2, grid, rig) if (cases or t1 or t2) else None
-        with support.console.status(f"assembling the {model} model and computing {count} modes"):
-            study = run(rig, load_cases, count, model, solver, mesh_size_mm)
-        support.console.print(_table(study))
-        for note in study.notes:
-            support.console.print(f"note: {note}")
-        if rig.speeds is None:
-            support.console.print("no [speeds] in the rig file: no interference diagram (see docs/rig-keys.md)")
-        else:
-            inside = [c for c in study.crossings if c.inside]
-            support.console.print(f"{len(inside)} crossing(s) of a mode with an excitation order inside "
-                                  f"{rig.speeds.motor_rpm[0]:g}–{rig.speeds.motor_rpm[1]:g} rpm "
-                                  "(modes_crossings.csv)")
-        source, _ = support.rig_text(rig_file)
-        with support.console.status("writing the mode table and pictures"):
-            written = write_mode_files(study, out, pictures, source)
-        support.report_written(written)
+
+COMMANDS = {"modes": modes}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

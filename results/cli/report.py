@@ -10,24 +10,21 @@ from rich.markup import escape
 
 from rvcoax.results.cli import support
 
-__all__ = ["register", "report"]
+__all__ = ["COMMANDS", "report"]
 
 
+@support.model_options
+@support.case_options
 def report(
-    rig_file: support.RigOption = None,
-    model: support.ModelOption = "beam",
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
     out: support.OutOption = Path("rvcoax_out"),
-    cases: support.CasesOption = None,
-    t1: support.T1Option = None,
-    t2: support.T2Option = None,
-    grid: support.GridOption = False,
     measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to check the model against: a table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or a paths file (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm).")] = None,
     discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
     pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     modes: Annotated[int, support.number_option("--modes", 0, 500, help="Natural modes in the report (mode table, interference diagram, mode shapes); 0 leaves the section out.", integer=True)] = 12,
-    solver: support.SolverOption = "auto",
-    mesh_size_mm: support.MeshOption = None,
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
     network needed to open it).
@@ -38,15 +35,15 @@ def report(
     interference diagram, mode shapes; --modes), and the provenance (version, rig file SHA-256, model, solver,
     mesh, date).
     """
-    from rvcoax import load_rig, read_measured, write_report
+    from rvcoax import read_measured, write_report
     from rvcoax.results.reports import print_pdf, read_discrepancy
 
-    settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
+    load_cases = case_choice.load(rig)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
-    source, text = support.rig_text(rig_file)
+    source, text = model_choice.rig_text()
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     study = None
@@ -54,7 +51,9 @@ def report(
         from rvcoax import modes as natural_modes
 
         with support.console.status(f"computing {modes} natural modes"):
-            study = natural_modes(rig, load_cases, modes, model, "auto" if solver == "amg" else solver, mesh_size_mm)
+            study = natural_modes(rig, load_cases, n_modes=modes, model=settings.model,
+                                  solver="auto" if settings.solver == "amg" else settings.solver,
+                                  mesh_size_mm=settings.mesh_size_mm)
     with support.console.status("drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
@@ -66,6 +65,5 @@ def report(
     support.report_written(written)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``report`` to ``app``."""
-    app.command()(support.guard(report))
+COMMANDS = {"report": report}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

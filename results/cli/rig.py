@@ -10,19 +10,14 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.results.cli.support import (
+    CommandGroup,
     RigOption,
     add_text_row,
     console,
-    guard,
 )
 
-__all__ = ["register", "rig_app", "rig_reference", "rig_show"]
+__all__ = ["COMMANDS", "rig_example", "rig_reference", "rig_show"]
 
-rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
-
-
-@rig_app.command("show")
-@guard
 def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     import numpy as np
@@ -114,8 +109,6 @@ def rig_show(rig_file: RigOption = None) -> None:
                   f"{rig.paths.output.length_mm:g} mm")
 
 
-@rig_app.command("reference")
-@guard
 def rig_reference(
     variant: Annotated[str | None, typer.Option(
         help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
@@ -129,17 +122,11 @@ def rig_reference(
     sys.stdout.write(reference_rig_text(variant))
 
 
-@rig_app.command("example")
 def rig_example() -> None:
     """Print the built-in example rig of another layout (RV-40E bench, one torque sensor, 260 mm output shaft, hysteresis brake, its own load cases)."""
     from rvcoax import example_rig_text
 
     sys.stdout.write(example_rig_text())
-
-
-def register(app: typer.Typer) -> None:
-    """Add the ``rig`` command group to ``app``."""
-    app.add_typer(rig_app, name="rig")
 
 
 def _housing_reach(housing) -> str:
@@ -158,3 +145,8 @@ def _housing_feet(housing) -> str:
     else:
         feet = "feet clamped"
     return feet + (", its own weight included" if housing.self_weight else "")
+
+
+COMMANDS = {"rig": CommandGroup("Inspect rig files.", {"show": rig_show, "reference": rig_reference,
+                                                       "example": rig_example})}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -13,4 +13,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.export.ross": ("RossUnavailableError", "compare_modal", "operating_supports", "shaft_line",
                                    "compare_static", "import_ross", "misalignment_fault",
                                    "misalignment_parameters"),
+    "rvcoax.results.export.formats": ("EXPORT_FORMATS", "ExportFiles", "ExportFormat", "ExportFormatError",
+                                      "ExportTable", "export_format", "write_export"),
 })

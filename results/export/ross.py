@@ -42,30 +42,33 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import DOFS_PER_NODE
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.system import factorize
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.units import MM
 from rvcoax.results.export.dynamics import DynamicsExport
+from rvcoax.results.io.writers import write_csv_atomic
 
-__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ModalComparison", "ROSS_GRAVITY_M_PER_S2",
-           "RossUnavailableError", "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_modal",
-           "compare_static", "fault_arguments", "fault_element", "import_ross", "misalignment_fault",
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ModalComparison", "ROSS_GRAVITY_M_PER_S2",
+           "RossFiles", "RossUnavailableError", "ShaftLine", "StaticComparison", "Support", "build_rotor",
+           "compare_modal", "compare_static", "fault_arguments", "fault_element", "import_ross", "misalignment_fault",
            "misalignment_parameters", "operating_supports", "ross_gravity_sag", "ross_modal_frequencies",
-           "rvcoax_gravity_sag", "rvcoax_line_modes", "shaft_line"]
+           "rvcoax_gravity_sag", "rvcoax_line_modes", "save_rotor", "shaft_line", "write_ross"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
-MM = 1e-3
 RIGID_BODY_HZ = 1.0  # modes below this in compare_modal are a free line's rigid-body motions
 INSTALL_HINT = 'pip install "rvcoax[ross]"  (the package ross-rotordynamics)'
 
@@ -211,9 +214,11 @@ def shaft_line(rig: Rig, which: str, operating: dict | None = None, operating_po
             for c in rig.couplings for end in (c.from_, c.to) if end.part == name]
     material = rig.materials[part.material]
     point = operating_point or ("typed-in bearing stiffness" if not operating else "operating point")
-    return ShaftLine(which, name, x, sections[:, 0], sections[:, 1], part.material, material.density_kg_per_m3,
-                     material.youngs_modulus_MPa * 1e6, material.poisson_ratio,
-                     tuple(sorted(supports, key=lambda s: s.x_mm)), tuple(hubs), point)
+    return ShaftLine(which=which, part=name, node_x_mm=x, outer_diameter_mm=sections[:, 0],
+                     inner_diameter_mm=sections[:, 1], material=part.material,
+                     density_kg_per_m3=material.density_kg_per_m3, youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6,
+                     poisson_ratio=material.poisson_ratio, supports=tuple(sorted(supports, key=lambda s: s.x_mm)),
+                     hubs=tuple(hubs), operating_point=point)
 
 
 def operating_supports(sweep, index: int) -> dict:
@@ -283,9 +288,8 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     fixed = [DOFS_PER_NODE * n + c for n in support_nodes for c in (1, 2)]
     fixed += [DOFS_PER_NODE * support_nodes[0] + c for c in (0, 3)]
     model = dataclasses.replace(_line_model(rig, line, "none"), fixed_dofs=np.array(sorted(fixed)))
-    elimination, _ = fem_model.constraint_elimination(model)
-    load = fem_model.gravity_load_vector(model, [0.0, -gravity_m_per_s2, 0.0])
-    u = factorize(fem_model.stiffness_matrix(model), elimination).solve(load)
+    system = assemble_frame(model, [0.0, -gravity_m_per_s2, 0.0])
+    u = factorize(system.stiffness, system.elimination).solve(system.loads["gravity"])
     return u[1::DOFS_PER_NODE]
 
 
@@ -388,9 +392,8 @@ def rvcoax_line_modes(rig: Rig, line: ShaftLine, count: int):
 
     model = _line_model(rig, line, "springs")
     system = assemble(model.n_dofs, frame_contributions(model, [0.0, -1.0, 0.0]) + frame_mass_contributions(model))
-    elimination, _ = fem_model.constraint_elimination(model)
     # free axially and in torsion: K is singular, the shift-invert factorises K + M (σ = −1 rad²/s²)
-    return natural_modes(system.stiffness, system.mass, elimination, count, shift=-1.0)
+    return natural_modes(system.stiffness, system.mass, system.elimination, count, shift=-1.0)
 
 
 def ross_modal_frequencies(rotor, count: int) -> np.ndarray:
@@ -526,3 +529,80 @@ def misalignment_fault(rotor, parameters: dict, ross=None):
     """
     rs = ross if ross is not None else import_ross()
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))
+
+
+def save_rotor(rotor, path: str | Path, header: str = "") -> Path:
+    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix), with ``header``
+    as TOML comment lines on top (ROSS's loader skips comments)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
+    try:
+        rotor.save(temporary)
+        if header:
+            lines = "".join(f"# {line}\n" for line in header.splitlines())
+            temporary.write_text(lines + temporary.read_text(encoding="utf-8"), encoding="utf-8")
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return path
+
+
+@dataclass(frozen=True)
+class RossFiles:
+    """What :func:`write_ross` wrote, the static comparison of each measured shaft (in file order) and the modal one
+    of each shaft and operating point."""
+
+    paths: tuple[Path, ...]
+    comparisons: tuple[StaticComparison, ...]
+    modal: tuple[ModalComparison, ...] = ()
+
+
+def write_ross(export: DynamicsExport, folder: str | Path, ross=None) -> RossFiles:
+    """The ROSS files of ``export`` in ``folder``: ``ross_<shaft>_rotor.toml`` per measured shaft (the rotor with
+    its misalignment faults checked by ROSS; with nonlinear bearings one rotor per load case,
+    ``ross_<shaft>_rotor_caseNN.toml``, at that case's operating bearing stiffness, named on the file's first lines),
+    ``ross_misalignment.csv`` (the fault parameters per case), ``ross_static.csv`` (ROSS's and rvcoax's gravity sag
+    of each shaft on rigid supports) and ``ross_modal.csv`` (ROSS's and rvcoax's lowest natural frequencies).
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed.
+    """
+    ross = import_ross() if ross is None else ross
+    folder = Path(folder)
+    sweep = export.sweep
+    rig = sweep.rig
+    if sweep.nonlinear_bearings is None:  # linear bearings: the typed-in stiffness is the operating one in every case
+        points = [(None, "every load case (linear bearings)", "")]
+    else:
+        points = [(i, c.case.label, f"_case{i + 1:02d}") for i, c in enumerate(sweep.cases)]
+    written, faults, static, comparisons, modal, modal_rows = [], [], [], [], [], []
+    for shaft in MEASURED_SHAFTS:
+        for index, label, suffix in points:
+            line = shaft_line(rig, shaft, {} if index is None else operating_supports(sweep, index), label)
+            rotor, comparison = compare_static(rig, shaft, ross, line)
+            _, frequencies = compare_modal(rig, shaft, ross, 4, line)
+            if not index:  # once per shaft: the faults and the static check do not depend on the bearings' stiffness
+                parameters = misalignment_parameters(export, line)
+                for row in parameters:
+                    misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
+                faults += parameters
+                static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6),
+                            "uy_rvcoax_um": float(b * 1e6)}
+                           for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
+                comparisons.append(comparison)
+            modal.append(frequencies)
+            modal_rows += [{"shaft": shaft, "load_case": label, "mode": k + 1, "frequency_ross_Hz": float(a),
+                            "frequency_rvcoax_Hz": float(b)}
+                           for k, (a, b) in enumerate(zip(frequencies.ross_hz, frequencies.rvcoax_hz))]
+            stiffness = ", ".join(f"{s.spring}: k_y {s.radial_stiffness_N_per_m * 1e-6:.6g} N/µm, k_z "
+                                  f"{s.stiffness_z_N_per_m * 1e-6:.6g} N/µm" for s in line.supports)
+            header = (f"rvcoax {shaft} shaft ({line.part}) of {rig.rig.name}\nbearing stiffness of load case: {label}"
+                      f"\n{stiffness}\nrotor tag: {rotor.tag}")
+            written.append(save_rotor(rotor, folder / f"ross_{shaft}_rotor{suffix}.toml", header))
+    written.append(write_csv_atomic(folder / "ross_misalignment.csv", faults))
+    written.append(write_csv_atomic(folder / "ross_static.csv", static))
+    written.append(write_csv_atomic(folder / "ross_modal.csv", modal_rows))
+    return RossFiles(tuple(written), tuple(comparisons), tuple(modal))

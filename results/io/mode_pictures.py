@@ -51,8 +51,8 @@ def _view_of(kind: str) -> str:
     return "side"
 
 
-def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, kind: str, title: str,
-                path_png: str | Path, *, bearings_x_mm: Sequence[float] = (), window_size: tuple[int, int] = (1600, 600),
+def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, kind: str, *, title: str,  # noqa: PLR0913
+                path_png: str | Path, bearings_x_mm: Sequence[float] = (), window_size: tuple[int, int] = (1600, 600),
                 min_radius_fraction: float = 0.002) -> dict:
     """Draw one mode shape over the undeformed rig and write a PNG.
 
@@ -130,24 +130,8 @@ def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, 
                                  opacity=ENCLOSING_OPACITY if part in translucent else 1.0,
                                  show_scalar_bar=first, scalar_bar_args=bar if first else None)
                 first = False
-            bounds = (np.minimum(points.min(axis=0), deformed.min(axis=0)) - radius.max(),
-                      np.maximum(points.max(axis=0), deformed.max(axis=0)) + radius.max())
-            lines = _title_lines(title, window_size)
-            view = _RigView.fit(bounds, window_size, label_rows=2, title_lines=len(lines))
-            labels = _part_labels(mesh, points, view)
-            view = _RigView.fit(bounds, window_size, label_rows=1 + max((r for *_, r in labels), default=0),
-                                title_lines=len(lines))
-            labels = _part_labels(mesh, points, view)
-            front = float(max(points[:, 2].max(), deformed[:, 2].max()) + 1.5 * radius.max())
-            _draw_ruler(plotter, view, front + 0.02 * length, bearings_x_mm)
-            for name, x_mm, row in labels:
-                column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
-                plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
-            note = {"side": "seen from the side (y up); grey: undeformed",
-                    "above": "seen from above (z up in the picture); grey: undeformed",
-                    "twist": "drawn undeformed, coloured by the twist of each section"}[view_kind]
-            plotter.add_text(note, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
-            plotter.add_text("\n".join(lines), position="upper_edge", font_size=view.title_font, color="black")
+            view = _annotate(plotter, mesh, (points, deformed, radius), title, view_kind, bearings_x_mm=bearings_x_mm,
+                             window_size=window_size)
             plotter.enable_depth_peeling(number_of_peels=6)
             _screenshot(plotter, view, target)
         finally:
@@ -155,8 +139,36 @@ def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, 
     return {"path": target, "view": view_kind, "warp_factor": factor, "seconds": time.perf_counter() - started}
 
 
-def plot_interference(frequencies_hz: dict, orders: Sequence[tuple[str, float]], speed_range_rpm: tuple[float, float],
-                      crossings: Sequence, path_png: str | Path, title: str = "") -> Path:
+def _annotate(plotter, mesh: FieldMesh, geometry, title: str, view_kind: str, *, bearings_x_mm,  # noqa: PLR0913
+              window_size) -> _RigView:
+    """Part names, the ruler, the view's note and the title; returns the fitted view. ``geometry`` is (undeformed
+    points, deformed points, tube radii)."""
+    points, deformed, radius = geometry
+    length = mesh_length_m(mesh)
+    bounds = (np.minimum(points.min(axis=0), deformed.min(axis=0)) - radius.max(),
+              np.maximum(points.max(axis=0), deformed.max(axis=0)) + radius.max())
+    lines = _title_lines(title, window_size)
+    view = _RigView.fit(bounds, window_size, label_rows=2, title_lines=len(lines))
+    labels = _part_labels(mesh, points, view)
+    view = _RigView.fit(bounds, window_size, label_rows=1 + max((r for *_, r in labels), default=0),
+                        title_lines=len(lines))
+    labels = _part_labels(mesh, points, view)
+    front = float(max(points[:, 2].max(), deformed[:, 2].max()) + 1.5 * radius.max())
+    _draw_ruler(plotter, view, front + 0.02 * length, bearings_x_mm)
+    for name, x_mm, row in labels:
+        column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
+        plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
+    note = {"side": "seen from the side (y up); grey: undeformed",
+            "above": "seen from above (z up in the picture); grey: undeformed",
+            "twist": "drawn undeformed, coloured by the twist of each section"}[view_kind]
+    plotter.add_text(note, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
+    plotter.add_text("\n".join(lines), position="upper_edge", font_size=view.title_font, color="black")
+    return view
+
+
+def plot_interference(frequencies_hz: dict, orders: Sequence[tuple[str, float]],  # noqa: PLR0913
+                      speed_range_rpm: tuple[float, float], crossings: Sequence, *, path_png: str | Path,
+                      title: str = "") -> Path:
     """Write the interference (Campbell-style) diagram as a PNG.
 
     Parameters

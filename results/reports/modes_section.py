@@ -70,7 +70,7 @@ def modes_section_html(study, folder: Path, table_html, png_uri) -> str:
     if rig.speeds is not None:
         frequencies = {c.label: [m.frequency_hz for m in c.modes] for c in study.cases}
         png = plot_interference(frequencies, study.orders, rig.speeds.motor_rpm, study.crossings,
-                                folder / "interference.png",
+                                path_png=folder / "interference.png",
                                 title=f"{rig.rig.name}: natural frequencies and excitation orders")
         parts.append(f'<h3>Interference diagram</h3><img alt="interference diagram" src="{png_uri(png)}">')
         parts.append(table_html(_crossing_table(study)))
@@ -83,7 +83,7 @@ def modes_section_html(study, folder: Path, table_html, png_uri) -> str:
         for i, mode in enumerate(case.modes[:MODE_PICTURES]):
             mesh, u, twist = mode_field(study, 0, i)
             title = f"mode {mode.number}: {mode.frequency_hz:.1f} Hz, {mode.kind} ({case.label})"
-            info = render_mode(mesh, u, twist, mode.kind, title, folder / f"mode_{mode.number:02d}.png",
+            info = render_mode(mesh, u, twist, mode.kind, title=title, path_png=folder / f"mode_{mode.number:02d}.png",
                                bearings_x_mm=[b.x_mm for b in rig.bearings])
             pictures.append(f'<img alt="mode {mode.number}" src="{png_uri(info["path"])}">')
     except RenderingUnavailableError as error:

@@ -211,7 +211,6 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
     ModesError
         More modes than the model has DOFs with mass; a mode at zero frequency (the part that moves is named).
     """
-    from rvcoax.loadcases.cases import default_cases
 
     started = time.perf_counter()
     seconds = {}
@@ -228,30 +227,15 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
     seconds["mass"] = time.perf_counter() - lap
     nonlinear = nonlinear_bearing_names(rig)
     notes = []
-    operating: list[tuple[str, LoadCase | None, LowRankUpdate | None]]
+    operating, analysis_rows = _operating_points(rig, cases, settings, prepared, seconds)
     if not nonlinear:
-        operating = [("every load case", None, None)]
         notes.append("every bearing is linear: the stiffness, and so the modes, are the same in every load case")
     else:
-        chosen = tuple(cases) if cases else default_cases(rig)
-        lap = time.perf_counter()
-        sweep = run_sweep(rig, chosen, settings.sweep_settings(), prepared=prepared, engineering=False)
-        seconds["operating_points"] = time.perf_counter() - lap
-        bearings = sweep.nonlinear_bearings
-        from_rest = rig.paths.measured_from == "aligned_at_rest"
-        operating = []
-        for i, result in enumerate(sweep.cases):
-            u = sweep.case_displacements[:, i] + (sweep.rest_displacement if from_rest else 0.0)
-            w = bearings.operator @ u
-            _, tangent = bearings.laws(w)
-            update = LowRankUpdate(bearings.operator, tangent - np.diag(bearings.reference_stiffness))
-            operating.append((result.case.label, result.case, update))
-        analysis_rows = [(str(spring), rows) for spring, _, rows in bearings.spring_rows()]
         notes.append(f"nonlinear bearings ({', '.join(nonlinear)}): each case's modes use their tangent stiffness "
                      "at that case's static solution")
     lap = time.perf_counter()
     results = []
-    analysis = _ModeAnalysis(system, mass, analysis_rows if nonlinear else [])
+    analysis = _ModeAnalysis(system, mass, analysis_rows)
     for label, case, update in operating:
         try:
             modes = natural_modes(system.stiffness, mass, system.elimination, settings.n_modes,
@@ -277,6 +261,28 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
     results = tuple(results)
     return ModalStudy(rig, settings, system, mass, results, part_masses(system, mass), crossings(rig, results),
                       excitation_orders(rig), limits, tuple(notes), seconds)
+
+
+def _operating_points(rig: Rig, cases, settings: ModeSettings, prepared, seconds: dict):
+    """[(label, case, LowRankUpdate or None)] per operating point, and each nonlinear bearing's rows of w: one point
+    for a linear rig; else each case's Newton solution (a sweep on ``prepared``) and its bearings' tangent."""
+    from rvcoax.loadcases.cases import default_cases
+
+    if not nonlinear_bearing_names(rig):
+        return [("every load case", None, None)], []
+    chosen = tuple(cases) if cases else default_cases(rig)
+    lap = time.perf_counter()
+    sweep = run_sweep(rig, chosen, settings.sweep_settings(), prepared=prepared, engineering=False)
+    seconds["operating_points"] = time.perf_counter() - lap
+    bearings = sweep.nonlinear_bearings
+    from_rest = rig.paths.measured_from == "aligned_at_rest"
+    operating = []
+    for i, result in enumerate(sweep.cases):
+        u = sweep.case_displacements[:, i] + (sweep.rest_displacement if from_rest else 0.0)
+        _, tangent = bearings.laws(bearings.operator @ u)
+        update = LowRankUpdate(bearings.operator, tangent - np.diag(bearings.reference_stiffness))
+        operating.append((result.case.label, result.case, update))
+    return operating, [(str(spring), rows) for spring, _, rows in bearings.spring_rows()]
 
 
 def _free_body_text(rig: Rig, settings: ModeSettings, cache_dir) -> str:
@@ -643,7 +649,7 @@ def mode_field(study: ModalStudy, case_index: int, mode_index: int):
     return mesh, u, twist
 
 
-def modes(rig=None, cases=None, n_modes: int = 20, model: str = "beam", solver: str = "auto",
+def modes(rig=None, cases=None, *, n_modes: int = 20, model: str = "beam", solver: str = "auto",  # noqa: PLR0913
           mesh_size_mm: float | None = None) -> ModalStudy:
     """The rig's natural frequencies and modes about each load case's operating point (the API of ``rvcoax modes``).
 
@@ -671,4 +677,4 @@ def modes(rig=None, cases=None, n_modes: int = 20, model: str = "beam", solver: 
 
     if rig is None or not isinstance(rig, Rig):
         rig = load_rig(rig)
-    return run_modes(rig, cases, ModeSettings(n_modes, model, solver, mesh_size_mm))
+    return run_modes(rig, cases, ModeSettings(n_modes=n_modes, model=model, solver=solver, mesh_size_mm=mesh_size_mm))
