@@ -121,7 +121,8 @@ def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSys
     for c in contributions:
         equations.update(c.equations)
     fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
-    return AssembledSystem(int(n_dofs), stiffness, load_vectors(n_dofs, contributions), equations, fixed, mass)
+    return AssembledSystem(n_dofs=int(n_dofs), stiffness=stiffness, loads=load_vectors(n_dofs, contributions),
+                           equations=equations, fixed_dofs=fixed, mass=mass)
 
 
 def load_vectors(n_dofs: int, contributions: Iterable[Contribution]) -> dict[str, np.ndarray]:

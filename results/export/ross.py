@@ -355,9 +355,11 @@ def _line_model(rig: Rig, line: ShaftLine, supports: str):
     renumber[nodes] = np.arange(nodes.size)
     beams = structure.beams
     keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
-    local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
-                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
+    local = BeamElements(connectivity=renumber[beams.connectivity[keep]], area_m2=beams.area_m2[keep],
+                         second_moment_m4=beams.second_moment_m4[keep], polar_moment_m4=beams.polar_moment_m4[keep],
+                         shear_coefficient=beams.shear_coefficient[keep],
+                         youngs_modulus_Pa=beams.youngs_modulus_Pa[keep], shear_modulus_Pa=beams.shear_modulus_Pa[keep],
+                         density_kg_per_m3=beams.density_kg_per_m3[keep], reference_vector=beams.reference_vector[keep])
     masses = structure.point_masses
     on_shaft = renumber[masses.node] >= 0
     hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft], masses.rotary_inertia_kg_m2[on_shaft])

@@ -444,5 +444,6 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     if isinstance(discrepancy, str | Path):
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
-    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given", modes)
+    inputs = ReportInputs(rig_source=rig_source, rig_text=rig_text, measured=data, discrepancy=discrepancy,
+                          discrepancy_source=source or "the discrepancy document given", modes=modes)
     return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view))

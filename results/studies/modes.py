@@ -181,7 +181,8 @@ def crossings(rig: Rig, cases: tuple[CaseModes, ...], reach: float = 1.25) -> tu
                 inside = low <= speed <= high
                 margin = 0.0 if inside else (100.0 * (speed - high) / high if speed > high else
                                              100.0 * (low - speed) / low)
-                out.append(Crossing(case.label, mode.number, mode.frequency_hz, name, speed, inside, margin))
+                out.append(Crossing(case=case.label, mode=mode.number, frequency_hz=mode.frequency_hz, order=name,
+                                    crossing_rpm=speed, inside=inside, margin_percent=margin))
     return tuple(out)
 
 
@@ -259,8 +260,9 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
                      f"rpm (limit {GYROSCOPIC_LIMIT:g})")
     seconds["total"] = time.perf_counter() - started
     results = tuple(results)
-    return ModalStudy(rig, settings, system, mass, results, part_masses(system, mass), crossings(rig, results),
-                      excitation_orders(rig), limits, tuple(notes), seconds)
+    return ModalStudy(rig=rig, settings=settings, system=system, mass=mass, cases=results,
+                      part_mass_kg=part_masses(system, mass), crossings=crossings(rig, results),
+                      orders=excitation_orders(rig), housing_limits_hz=limits, notes=tuple(notes), seconds=seconds)
 
 
 def _operating_points(rig: Rig, cases, settings: ModeSettings, prepared, seconds: dict):
@@ -395,7 +397,8 @@ class _ModeAnalysis:
         participation = self.rigid.T @ (self.mass @ phi)
         effective = {"x_kg": float(participation[0] ** 2), "y_kg": float(participation[1] ** 2),
                      "z_kg": float(participation[2] ** 2), "torsion_kg_m2": float(participation[3] ** 2)}
-        return Mode(number, frequency, kind, directions, shares, effective, gamma)
+        return Mode(number=number, frequency_hz=frequency, kind=kind, direction_share=directions, energy_share=shares,
+                    effective_mass=effective, gyroscopic_ratio=gamma)
 
     def _directions(self, phi: np.ndarray) -> dict:
         kinetic = phi * (self.mass @ phi)
