@@ -130,6 +130,45 @@ def score(document: dict, dataset: dict) -> tuple[str, str]:
     return ("correct" if ok else "wrong"), reported
 
 
+def criteria(document: dict, dataset: dict) -> dict[str, bool]:
+    """The issue-28 reading of one run:
+
+    - ``explained_wrong``: the verdict is ``explained`` and its effects (with their groups) exclude the truth (a load
+      outside the vocabulary or none hidden: any ``explained``);
+    - ``honest``: the right verdict with the truth covered: a vocabulary truth (or both of a pair) in what is named,
+      under ``explained`` or ``ambiguous``; ``no_gap`` when nothing is hidden; ``unexplained`` or ``ambiguous`` for a
+      load outside the vocabulary; a truth outside its bounds never ``explained``. A hidden change below the noise
+      and model form (``detectable`` false) may also get nothing added;
+    - ``informative``: honest, and the truth named alone, in a named pair, or in an ``explained`` group of at most
+      three (``unexplained`` for a load outside the vocabulary, ``no_gap`` when nothing is hidden).
+    """
+    verdict = str(document.get("verdict", ""))
+    selected = document.get("selected") or []
+    truth, group = set(dataset["truth"]), dataset["group"]
+    groups = [set(e.get("group") or []) | {e["effect"]} for e in selected]
+    named = set().union(*groups) if groups else set()
+    nothing = not selected and verdict != "unexplained"
+    covered = bool(truth) and truth <= named
+    if group == "out_of_bounds":
+        honest = verdict != "explained"
+        informative = honest and verdict == "unexplained"
+        wrong = verdict == "explained"
+    elif group == "out_of_vocabulary":
+        honest, informative, wrong = verdict in ("unexplained", "ambiguous"), verdict == "unexplained", \
+            verdict == "explained"
+    elif group == "none":
+        honest = informative = nothing
+        wrong = verdict == "explained"
+    else:
+        honest = covered and verdict in ("explained", "ambiguous")
+        small = all(len(g) <= 3 for g in groups if g & truth)
+        informative = honest and verdict == "explained" and small
+        wrong = verdict == "explained" and not covered
+    if not dataset.get("detectable", True) and nothing:
+        honest = informative = True
+    return {"honest": honest, "informative": informative, "explained_wrong": wrong}
+
+
 def _document(result, rig) -> dict:
     """The run's ``discrepancy.json`` content, as the installed workflow writes it."""
     from rvcoax.results.studies.discrepancy import report
@@ -190,6 +229,7 @@ def main() -> None:
     rigs = {datum: blind_data.identification_rig(datum) for datum in blind_data.DATUMS}
     libraries, library_seconds = {}, {}
     outcomes: dict = collections.defaultdict(collections.Counter)
+    readings: dict = collections.defaultdict(collections.Counter)
     confusion: dict = collections.defaultdict(collections.Counter)
     seconds, runs, misnames, aborts, truth_among_unexplained = [], [], [], [], []
     start = time.perf_counter()
@@ -235,6 +275,11 @@ def main() -> None:
             outcome, reported = score(document, dataset)
         seconds.append(elapsed)
         group = dataset["group"]
+        if "error" not in document:
+            reading = criteria(document, dataset)
+            for key in (group, f"{group} {dataset['schema']}", f"all {dataset['schema']}", "all"):
+                readings[key]["runs"] += 1
+                readings[key].update(k for k, v in reading.items() if v)
         outcomes[group][outcome] += 1
         outcomes["all"][outcome] += 1
         confusion[kind_of(dataset)][reported if outcome != "aborted" else "aborted"] += 1
@@ -251,6 +296,7 @@ def main() -> None:
               f"{document.get('verdict', 'ABORT')}: {chosen_names} [{outcome}] {elapsed:.1f} s", flush=True)
     lines = summary(runs, outcomes, confusion, seconds, misnames, aborts, library_seconds, superposition, len(sets),
                     label, bool(args.rescore))
+    lines += readings_lines(readings)
     if args.note:
         lines.insert(1, ("note", args.note))
     lines.insert(8 if args.note else 7, ("vocabulary/pair runs scored wrong for an 'unexplained' verdict although the truth is among "
@@ -295,6 +341,18 @@ def summary(runs, outcomes, confusion, seconds, misnames, aborts, library_second
     for pair, error in superposition.items():
         lines.append((f"superposition vs direct hybrid solve, {pair}", f"{100 * error:.2g} % of the change"))
     return lines
+
+
+def readings_lines(readings) -> list[tuple[str, str]]:
+    """Per class and schema: honest, informative and explained-but-wrong runs (:func:`criteria`)."""
+    out = []
+    for key in sorted(readings, key=lambda k: (k.split()[0] != "all", k)):
+        c = readings[key]
+        n = c["runs"]
+        out.append((f"issue-28 reading, {key}", f"honest {c['honest']}/{n} ({100 * c['honest'] / n:.0f} %), "
+                    f"informative {c['informative']}/{n} ({100 * c['informative'] / n:.0f} %), "
+                    f"explained excluding the truth {c['explained_wrong']}"))
+    return out
 
 
 def confusion_text(confusion) -> str:

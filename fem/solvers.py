@@ -37,7 +37,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rvcoax.fem import pardiso
-from rvcoax.fem.diagnostics import scaled_inverse_norm_bound
+from rvcoax.fem.diagnostics import singularity_and_condition
 from rvcoax.fem.errors import SingularMatrixError, SolverError
 from rvcoax.fem.memory import available_memory_bytes
 from rvcoax.fem.solver_cost import COST_MODEL, NONZEROS_PER_ROW, SolverCostModel
@@ -74,7 +74,8 @@ class SolverReport:
         Method and library, e.g. ``"pardiso (MKL PARDISO, SPD, mtype=2)"``.
     n_dofs : int
     setup_seconds : float
-        Factorisation (direct) or AMG hierarchy (iterative), wall time.
+        Factorisation (direct; PARDISO: with its singularity test and condition estimate) or AMG hierarchy
+        (iterative), wall time.
     solve_seconds : float
         Wall time of the latest :meth:`PreparedSolver.solve` call (all its right-hand sides).
     peak_memory_MB : float
@@ -163,12 +164,13 @@ class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
     def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,  # noqa: PLR0913
-                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
+                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None,
+                 condition: float | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
         self._rss_before = rss_before
         self._direct = not name.startswith("amg")
-        self._condition: float | None = None
+        self._condition = condition  # PARDISO: estimated at set-up, in the singularity test's solves
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
         peak = _peak_rss_mb()
@@ -201,15 +203,16 @@ class PreparedSolver:
     def condition_estimate(self) -> float | None:
         """Estimated condition number of the Jacobi-scaled matrix (:func:`rvcoax.fem.diagnostics.scaled_condition_estimate`).
 
-        About ten solves with the factorisation, computed once. None for AMG, where every solve is a
-        full CG run (a preconditioned solve that converges is its own evidence of conditioning).
+        SuperLU: four solves with the factorisation, computed on the first call. PARDISO: computed at set-up
+        in the singularity test's solves (:func:`rvcoax.fem.diagnostics.singularity_and_condition`). None for AMG, where every solve is a full CG run (a preconditioned solve that converges is its own
+        evidence of conditioning).
         """
         if not self._direct:
             return None
         if self._condition is None:
             from rvcoax.fem.diagnostics import scaled_condition_estimate
 
-            self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b.reshape(-1, 1))[0])
+            self._condition = scaled_condition_estimate(self.matrix, lambda b: self._solve_block(b)[0])
         return self._condition
 
     def _refine(self, block, x, residual, residuals, scale):
@@ -336,18 +339,20 @@ def _setup_pardiso(a: sp.csr_matrix):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
-    _refuse_singular(a, solve, factor)
+    condition = _refuse_singular(a, solve, factor)
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
-            (factor.factor_nonzeros, factor.memory_MB))
+            (factor.factor_nonzeros, factor.memory_MB), condition)
 
 
-def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> None:
+def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
     """Release ``factor`` and raise :class:`SingularMatrixError` when inverse iteration finds 1/λ_min of the
-    Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`scaled_inverse_norm_bound`)."""
+    Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`rvcoax.fem.diagnostics.scaled_inverse_norm_bound`);
+    else return the condition estimate, whose solves carry the iteration's steps as one more column
+    (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: two solve calls fewer than apart)."""
     try:
-        bound, equation = scaled_inverse_norm_bound(matrix, lambda b: solve(b.reshape(-1, 1))[0])
+        bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
     except SolverError:
         factor.release()
         raise
@@ -357,6 +362,7 @@ def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> None:
             f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
             f"{equation}): the matrix is numerically singular"
         )
+    return condition
 
 
 def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
@@ -430,11 +436,11 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
         factor.release()
         raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
                                   f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
-    _refuse_singular(operator, solve, factor)
+    condition = _refuse_singular(operator, solve, factor)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
                           release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
-                          matrix_nonzeros=pardiso.stored_nonzeros(upper))
+                          matrix_nonzeros=pardiso.stored_nonzeros(upper), condition=condition)
 
 
 def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,  # noqa: PLR0913
@@ -581,13 +587,14 @@ def prepare(  # noqa: PLR0913
     chosen = (choose_method(a.shape[0], a.nnz, n_rhs, available_bytes, superlu_max_dofs=superlu_max_dofs)
               if method == "auto" else method)
     start = time.perf_counter()
+    condition = None  # SuperLU: estimated on request (PreparedSolver.condition_estimate); AMG: none
     if chosen == "superlu":
         name, solve, release, factor = _setup_superlu(a)
     elif chosen == "pardiso":
-        name, solve, release, factor = _setup_pardiso(a)
+        name, solve, release, factor, condition = _setup_pardiso(a)
     elif chosen == "amg":
         name, solve, release, factor = _setup_amg(a, near_null_space, accuracy, maxiter)
     else:
         raise SolverError(f"unknown solver method '{method}': choose one of auto, {', '.join(METHODS)}")
     return PreparedSolver(a, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
-                          release=release, factor=factor)
+                          release=release, factor=factor, condition=condition)

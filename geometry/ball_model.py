@@ -13,12 +13,17 @@ from __future__ import annotations
 import numpy as np
 
 from rvcoax.errors import RvcoaxError
-from rvcoax.fem.ball_bearing import BallBearingGeometry, ball_loads
+from rvcoax.fem.ball_bearing import (
+    BEARING_STEEL_POISSON,
+    BEARING_STEEL_YOUNGS_MODULUS_PA,
+    BallBearingGeometry,
+    ball_loads,
+)
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "GEOMETRY_KEYS", "OperatingClearanceError",
            "REFERENCE_DEFLECTION_UM", "clearance_from_keys", "clearance_um_of", "clearance_upper_um", "geometry_of",
-           "operating_clearance_m", "operating_geometry", "preload_upper_N", "reference_stiffness",
+           "clearance_range_um_of", "fit_clearance_of", "operating_clearance_m", "operating_geometry", "preload_upper_N", "reference_stiffness",
            "thermal_clearance_change_um"]
 
 BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
@@ -26,7 +31,7 @@ BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
 rolling bearings* (12 · 10⁻⁶ /K); rings and balls."""
 
 GEOMETRY_KEYS = ("ball_count", "ball_diameter_mm", "pitch_diameter_mm", "inner_conformity", "outer_conformity")
-BALL_KEYS = ("designation", "clearance_class", "clearance_um", "preload_N") + GEOMETRY_KEYS
+BALL_KEYS = ("designation", "clearance_class", "clearance_um", "preload_N", "shaft_fit", "housing_fit") + GEOMETRY_KEYS
 REFERENCE_DEFLECTION_UM = 5.0
 """The radial deflection (µm, zero clearance) at which the linear reference stiffness is taken."""
 
@@ -154,15 +159,79 @@ def thermal_clearance_change_um(rig, bearing, pitch_diameter_m: float | None = N
     return -BEARING_STEEL_EXPANSION_PER_K * pitch * (inner - outer) * 1e6
 
 
+def _material(rig, part_name: str) -> tuple[float, float]:
+    material = rig.materials[rig.part(part_name).material]
+    return material.youngs_modulus_MPa, material.poisson_ratio
+
+
+def _diameter_at(rig, part_name: str, x_mm: float, which: str) -> float | None:
+    part = rig.part(part_name)
+    here = [getattr(s, which) for s in part.segments if s.x_mm[0] - 1e-9 <= x_mm <= s.x_mm[1] + 1e-9]
+    return max(here) if here else None
+
+
+def fit_clearance_of(rig, bearing):
+    """The mounted clearance range of a ball bearing with ``shaft_fit``/``housing_fit`` (:func:`rvcoax.geometry.fits.
+    fit_clearance`), None without fits. The shaft's bore and the housing's outer diameter at the bearing are the rig
+    parts' (a housing on ``ground``: a wall much larger than the ring); the rings are bearing steel."""
+    from rvcoax.geometry.fits import fit_clearance
+
+    if bearing.model != "ball" or not (bearing.shaft_fit or bearing.housing_fit):
+        return None
+    entry = BALL_BEARINGS[bearing.designation]
+    geometry = geometry_of(bearing)
+    unmounted = clearance_range_um(entry.bore_mm, bearing.clearance_class or "CN")
+    shaft_bore = _diameter_at(rig, bearing.shaft, bearing.x_mm, "inner_diameter_mm") or 0.0
+    if bearing.housing == "ground":
+        housing_outside, housing_material = None, (BEARING_STEEL_YOUNGS_MODULUS_PA * 1e-6, BEARING_STEEL_POISSON)
+    else:
+        housing_outside = _diameter_at(rig, bearing.housing, bearing.x_mm, "outer_diameter_mm")
+        housing_material = _material(rig, bearing.housing)
+        if housing_outside is not None and housing_outside <= entry.outside_diameter_mm:
+            housing_outside = None  # a housing drawn thinner than the ring: no wall to go by, taken as large
+    return fit_clearance(unmounted, bearing.shaft_fit, bearing.housing_fit, bore_mm=entry.bore_mm,
+                         outside_mm=entry.outside_diameter_mm, pitch_diameter_mm=geometry.pitch_diameter_m * 1e3,
+                         ball_diameter_mm=geometry.ball_diameter_m * 1e3, shaft_bore_mm=shaft_bore,
+                         housing_outside_mm=housing_outside, shaft_material=_material(rig, bearing.shaft),
+                         housing_material=housing_material,
+                         ring_material=(BEARING_STEEL_YOUNGS_MODULUS_PA * 1e-6, BEARING_STEEL_POISSON),
+                         which=bearing.fit_clearance)
+
+
+def clearance_range_um_of(rig, bearing) -> tuple[float, float]:
+    """The operating clearance range (µm) of a ball bearing: its fits' mounted range (:func:`fit_clearance_of`), or
+    its class's range (a typed-in ``clearance_um``: that value), shifted by the ``[thermal]`` change."""
+    fits = fit_clearance_of(rig, bearing)
+    if fits is not None:
+        low, high = fits.mounted_um
+    elif bearing.clearance_um is not None or bearing.designation is None:
+        low = high = clearance_um_of(bearing)
+    else:
+        low, high = clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, bearing.clearance_class or "CN")
+    change = thermal_clearance_change_um(rig, bearing)
+    return low + change, high + change
+
+
 def operating_geometry(rig, bearing) -> BallBearingGeometry:
-    """:func:`geometry_of` with the clearance the ``[thermal]`` rises leave (:func:`thermal_clearance_change_um`).
+    """:func:`geometry_of` with the clearance its fits (:func:`fit_clearance_of`) and the ``[thermal]`` rises
+    (:func:`thermal_clearance_change_um`) leave.
 
     Raises
     ------
     OperatingClearanceError
-        The rises take up more than the whole clearance (an interference the model does not take).
+        The fits or the rises take up more than the whole clearance (an interference the model does not take).
     """
     geometry = geometry_of(bearing)
+    fits = fit_clearance_of(rig, bearing)
+    if fits is not None:
+        if fits.chosen_um < 0.0:
+            raise OperatingClearanceError(
+                f"bearings '{bearing.name}': shaft_fit = {bearing.shaft_fit}, housing_fit = {bearing.housing_fit} take "
+                f"{fits.reduction_um[0]:.3g} … {fits.reduction_um[1]:.3g} µm of the {bearing.clearance_class or 'CN'} "
+                f"clearance ({fits.unmounted_um[0]:g} … {fits.unmounted_um[1]:g} µm) and leave {fits.chosen_um:.3g} µm "
+                f"({fits.which}): the rings would be forced together (an interference this model does not take); "
+                "choose looser fits or a larger clearance_class")
+        geometry = geometry.with_clearance(fits.chosen_um * 1e-6)
     return geometry.with_clearance(operating_clearance_m(rig, bearing, geometry))
 
 

@@ -279,7 +279,7 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     """
     components = _component_warnings(rig)
     return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _rolling_preload_warnings(rig)
-            + _mass_warnings(rig) + _topology_warnings(rig) + _gear_contact_warnings(rig))
+            + _mass_warnings(rig) + _topology_warnings(rig) + _gear_contact_warnings(rig) + _fit_warnings(rig))
 
 
 PRELOAD_SHARE_LIMIT = 0.1
@@ -307,6 +307,28 @@ def _rolling_preload_warnings(rig: Rig) -> list[str]:
                          f"{100 * carried / rating:.0f} % of its C = {rating:.4g} N (a heavy preload class is 4 %; "
                          f"warned above {100 * PRELOAD_SHARE_LIMIT:.0f} %): a unit slip, or an offset meant in another "
                          "unit?")
+    return found
+
+
+def _fit_warnings(rig: Rig) -> list[str]:
+    """A ball bearing whose fits can, at the tight end of their tolerances, take up all its clearance (solved with
+    the value ``fit_clearance`` chooses; the tight end would preload the bearing)."""
+    from rvcoax.geometry.ball_model import OperatingClearanceError, fit_clearance_of
+
+    found = []
+    for i, bearing in enumerate(rig.bearings):
+        if bearing.model != "ball" or not (bearing.shaft_fit or bearing.housing_fit):
+            continue
+        try:
+            result = fit_clearance_of(rig, bearing)
+        except (OperatingClearanceError, ValueError):
+            continue  # refused where the model is built, with its reason
+        if result.mounted_um[0] < 0.0:
+            found.append(f"bearings[{i}] ('{bearing.name}'): shaft_fit = {bearing.shaft_fit}, housing_fit = "
+                         f"{bearing.housing_fit} leave {result.mounted_um[0]:.3g} … {result.mounted_um[1]:.3g} µm of "
+                         f"clearance: at the tight end of the tolerances the rings are preloaded (solved with "
+                         f"{result.chosen_um:.3g} µm, fit_clearance = {result.which}); a larger clearance_class or "
+                         "looser fits avoid it")
     return found
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict, Field, field_serializer, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from rvcoax.geometry import MEASURED_SHAFTS
@@ -19,7 +19,7 @@ from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
-           "Part", "Path", "Paths", "Positive", "Rig", "RigInfo", "RigLoadCase", "Segment", "SingleForce", "SolidSettings",
+           "Part", "Path", "Paths", "Positive", "Reducer", "Rig", "RigInfo", "RigLoadCase", "Segment", "SingleForce", "SolidSettings",
            "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "TorqueRange", "Torques", "Triple"]
 
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
@@ -245,6 +245,45 @@ class Bearing(StrictModel):
     slices_per_roller: Annotated[int, Field(ge=1, le=500, strict=True)] = Field(
         20, description="cylindrical_roller, tapered_roller: laminae per roller of the line-contact slicing.")
 
+    shaft_fit: str | None = Field(None, description=(
+        "model = \"ball\": ISO 286 tolerance class of the shaft seat (g5 … p6, js5, js6; e.g. k5, j6, m6): with "
+        "housing_fit, the mounted clearance is the class's unmounted clearance less the rings' expansion and "
+        "contraction by the interference (thick rings; docs/model.md)."))
+    housing_fit: str | None = Field(None, description=(
+        "model = \"ball\": ISO 286 tolerance class of the housing bore (G6 … P7, JS6, JS7; e.g. H7, J7, K7)."))
+    fit_clearance: Literal["mean", "min", "max"] = Field("mean", description=(
+        "model = \"ball\" with fits: solve with the mean mounted clearance (middle of the class, mean "
+        "interference), or the tightest (min) or loosest (max) combination; the range is reported."))
+
+    @field_validator("shaft_fit", "housing_fit")
+    @classmethod
+    def _known_fit(cls, value, info):
+        if value is None:
+            return value
+        from rvcoax.geometry.fits import tolerance_zone_um
+
+        shaft = info.field_name == "shaft_fit"
+        if value[0].islower() != shaft:
+            raise ValueError(f"{value!r}: a {'shaft' if shaft else 'housing'} class is written in "
+                             f"{'lower' if shaft else 'upper'} case (ISO 286: k5 for a shaft, K7 for a housing bore)")
+        tolerance_zone_um(value, 30.0)  # ValueError naming the known classes
+        return value
+
+    # ---- life, static safety, minimum load (issue 25 item 3; rvcoax.fem.bearing_life) ---------------
+    dynamic_load_rating_kN: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="Basic dynamic load rating C (catalogue); model = \"ball\": from the geometry (ISO 281) "
+                          "when not given. Without it (model = \"linear\") no life is computed.")
+    static_load_rating_kN: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="Basic static load rating C0 (catalogue); model = \"ball\": from the geometry (ISO 76).")
+    rolling_elements: Literal["ball", "roller"] = Field(
+        "ball", description="model = \"linear\": what rolls (life exponent 3 or 10/3, minimum load 0.01 C or "
+                            "0.02 C, s0 limit).")
+    viscosity_ratio: Annotated[float, Field(ge=0.1, le=100.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="κ = ν/ν1 of the lubricant at operating temperature; with contamination_factor gives "
+                          "ISO 281's a_ISO.")
+    contamination_factor: Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="e_C of ISO 281 (1: extreme cleanliness … 0: severe contamination).")
+
     @field_validator("radial_stiffness_N_per_um")
     @classmethod
     def _linear_needs_stiffness(cls, value, info):
@@ -280,6 +319,11 @@ class Bearing(StrictModel):
             raise ValueError(f"radial_clearance_um is the gap of the linear model; {takes}")
         if self.model != "ball":
             return self._check_rolling(rolling_model)
+        if (self.shaft_fit or self.housing_fit) and self.clearance_um is not None:
+            raise ValueError("clearance_um is the clearance as mounted; with shaft_fit/housing_fit give the unmounted "
+                             "clearance_class instead (the fits take the clearance from it)")
+        if (self.shaft_fit or self.housing_fit) and self.designation is None:
+            raise ValueError("shaft_fit/housing_fit need a designation (the ring's bore and outside diameter)")
         ball_model.geometry_of(self)  # raises ValueError naming the key
         # the linear reference of the condensed Newton solve, where not given; the catalogue's width
         for key, value in ball_model.reference_stiffness(self).items():
@@ -375,6 +419,45 @@ class Coupling(Connection):
 class Joint(Connection):
     translational_stiffness_N_per_um: Triple
     rotational_stiffness_Nm_per_rad: Triple
+
+
+class Reducer(StrictModel):
+    """``[[reducers]]``: an RV reducer from the catalogue (:mod:`rvcoax.geometry.reducers`).
+
+    Its main bearings and output become a joint named like the reducer, between ``case`` (the reducer's
+    housing part) and ``output`` (the part bolted to the output flange), at the main bearings' centre:
+    torsional and moment rigidity from the rating table, the bearings' radial stiffness from the moment
+    rigidity (k_r = 4 K_M / ℓ², ℓ the spread of their pressure centres). Each load case is checked against
+    the table: the torque ``torque`` (T2 by default) against rated, peak and momentary torque, the moment
+    and axial force on the main bearings against the allowable values.
+    """
+
+    name: Name
+    designation: str = Field(description="RV-6E, RV-20E, RV-40E, RV-80E, RV-110E, RV-160E, RV-320E or RV-450E "
+                                         "(geometry/data/rv_reducers.csv).")
+    case: Location = Field(description="The reducer's housing part at the main bearings' centre.")
+    output: Location = Field(description="The part bolted to the output flange, at the same x (tie = \"rigid\" "
+                                         "for a bolted flange).")
+    torque: Literal["T1", "T2"] = Field("T2", description="The rig torque the reducer's output carries.")
+    ratio: Positive | None = Field(None, description="Reduction ratio i: the input shaft runs i times the output "
+                                                     "speed (bearing lives).")
+    moment_rigidity_Nm_per_arcmin: Positive | None = Field(None, description="Overrides the catalogue.")
+    torsional_rigidity_Nm_per_arcmin: Positive | None = Field(None, description="Overrides the catalogue.")
+    main_bearing_spread_mm: Positive | None = Field(None, description=(
+        "Distance of the main bearings' pressure centres ℓ (catalogue: an estimate, tagged [E]); sets their "
+        "radial stiffness 4 K_M / ℓ²."))
+    radial_stiffness_N_per_um: Positive | None = Field(None, description="Main bearings' radial stiffness; "
+                                                                         "overrides 4 K_M / ℓ².")
+    axial_stiffness_N_per_um: Positive | None = Field(None, description="Main bearings' axial stiffness (default: "
+                                                                        "the radial one).")
+
+    @field_validator("designation")
+    @classmethod
+    def _known(cls, value: str) -> str:
+        from rvcoax.geometry.reducers import reducer_entry
+
+        reducer_entry(value)  # ValueError naming the nearest designations
+        return value
 
 
 class TorqueInput(StrictModel):
@@ -753,10 +836,17 @@ class ForceTable(StrictModel):
 # --- load cases in the rig file (issue 15, outputs) ---------------------------------------------
 
 class RigLoadCase(StrictModel):
-    """One ``[[load_cases]]`` entry: a torque pair (N·m)."""
+    """One ``[[load_cases]]`` entry: a torque pair (N·m); optionally a name, speeds and its share of a duty
+    cycle (bearing lives: :mod:`rvcoax.fem.bearing_life`)."""
 
     T1_input_Nm: Finite
     T2_output_Nm: Finite
+    name: Name | None = None
+    output_speed_rpm: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = None
+    input_speed_rpm: Annotated[float, Field(ge=0.0, le=1e6, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="Default: output_speed_rpm × the reducer's ratio.")
+    time_share: Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)] | None = None
+    revolution_share: Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)] | None = None
 
 
 class TorqueRange(StrictModel):
@@ -830,6 +920,7 @@ class Rig(StrictModel):
     mounts: list[Mount] = []
     couplings: list[Coupling] = []
     joints: list[Joint] = []
+    reducers: list[Reducer] = []
     torques: Torques
     torque_lateral_loads: list[TorqueLateralLoad] = []
     gear_meshes: list[GearMesh] = []
@@ -856,10 +947,53 @@ class Rig(StrictModel):
         return parts
 
     @model_validator(mode="after")
+    def _reducer_joints(self) -> Rig:
+        """Each ``[[reducers]]`` entry stands in the model as a joint of its name (not written back to files)."""
+        if self.reducers:
+            from rvcoax.geometry.reducers import reducer_joint_data
+
+            object.__setattr__(self, "joints", list(self.joints) + [Joint.model_validate(reducer_joint_data(r))
+                                                                     for r in self.reducers])
+        return self
+
+    @property
+    def generated_joint_names(self) -> tuple[str, ...]:
+        """Joints that stand for a ``[[reducers]]`` entry (:mod:`rvcoax.geometry.reducers`)."""
+        return tuple(r.name for r in self.reducers)
+
+    @field_serializer("joints", mode="wrap")
+    def _typed_joints(self, joints, handler):
+        generated = set(self.generated_joint_names)
+        return handler([j for j in joints if j.name not in generated])
+
+    @model_validator(mode="after")
     def _cross_references(self) -> Rig:
         problems = list(self.reference_problems())
         if problems:
             raise ValueError("\n".join(problems))  # one problem a line (messages may hold "; ")
+        return self
+
+    @model_validator(mode="after")
+    def _duty_cycle(self) -> Rig:
+        """Shares of a duty cycle: one kind for all cases, each case with one, summing to 1."""
+        for kind in ("time_share", "revolution_share"):
+            shares = [getattr(c, kind) for c in self.load_cases]
+            given = [s for s in shares if s is not None]
+            if not given:
+                continue
+            other = "revolution_share" if kind == "time_share" else "time_share"
+            if any(getattr(c, other) is not None for c in self.load_cases):
+                raise ValueError(f"load_cases: give a duty cycle as {kind} or as {other}, not both")
+            missing = [i for i, s in enumerate(shares) if s is None]
+            if missing:
+                raise ValueError(f"load_cases[{missing[0]}].{kind}: missing (a duty cycle gives every case its share)")
+            if abs(sum(given) - 1.0) > 1e-3:
+                raise ValueError(f"load_cases.{kind}: the shares sum to {sum(given):.6g}, not 1 (Palmgren–Miner needs "
+                                 "the whole cycle)")
+        names = [c.name for c in self.load_cases if c.name is not None]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise ValueError(f"load_cases.name: repeated: {', '.join(repeated)}")
         return self
 
     @model_validator(mode="after")
@@ -950,6 +1084,19 @@ class Rig(StrictModel):
             else:
                 yield from expands("thermal.bed_material", thermal.bed_material)
 
+    def _reducer_problems(self):
+        """A typed-in joint that doubles a reducer's (same parts, same place), and a case that is no housing."""
+        generated = set(self.generated_joint_names)
+        for i, r in enumerate(self.reducers):
+            for j, joint in enumerate(self.joints):
+                if joint.name in generated:
+                    continue
+                if ({joint.from_.part, joint.to.part} == {r.case.part, r.output.part}
+                        and abs(joint.from_.x_mm - r.case.x_mm) < 1e-6):
+                    yield (f"joints[{j}] ('{joint.name}') joins '{r.case.part}' and '{r.output.part}' at x = "
+                           f"{r.case.x_mm:g} mm, where reducers[{i}] ('{r.name}') already stands for the main "
+                           "bearings: remove the joint (its stiffness would count twice)")
+
     def _metre_scale(self):
         """A rig whose every length is tiny was written in metres, not in the keys' millimetres."""
         lo = min(p.x_range_mm[0] for p in self.parts)
@@ -1026,6 +1173,7 @@ class Rig(StrictModel):
         for key in ("T1", "T2"):
             t = getattr(self.torques, key)
             yield from self._at(parts, f"torques.{key}", t.part, t.x_mm)
+        yield from self._reducer_problems()
         for i, t in enumerate(self.torque_lateral_loads):
             yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
             if t.reacted_on is not None:

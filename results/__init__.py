@@ -1,7 +1,8 @@
 """Solving and sweeps, shaft-path results, and the rooms that use them: files and pictures (:mod:`.io`),
 dynamics exports (:mod:`.export`), studies (:mod:`.studies`) and the command line (:mod:`.cli`).
 
-Public names (loaded on first use): a sweep, its settings and the prepared model it solves.
+Public names (loaded on first use): a sweep, its settings and the prepared model it solves; bearing lives per
+case and over a duty cycle.
 """
 
 if __name__ != "rvcoax.results":  # run from the repository root, the folder itself is on sys.path: not a package of its own
@@ -14,4 +15,6 @@ from rvcoax._lazy import lazy_names
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.sweep": ("PreparedModel", "Sweep", "SweepSettings", "prepare_model", "run_sweep"),
     "rvcoax.results.connections": ("ConnectionsUnavailableError",),
+    "rvcoax.results.engineering": ("case_name", "duty_cycle_lives", "duty_cycle_of_records", "lives_of_records",
+                                   "play_crossings", "sweep_lives"),
 })

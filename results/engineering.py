@@ -32,11 +32,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.fem import DOFS_PER_NODE, bearing_life
+from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion
+from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
-__all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
-           "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
-           "case_engineering", "engineering_tables", "shaft_quantities"]
+__all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
+           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment", "Reaction", "alignment_grade",
+           "alignment_tolerance", "ball_bearing_lives", "case_engineering", "case_name", "duty_cycle_lives",
+           "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries", "reducer_columns", "reducer_entries",
+           "lives_of_records", "mesh_misalignment", "play_crossings", "reducer_checks", "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -155,6 +160,133 @@ class BearingQuantities:
 
 
 @dataclass(frozen=True)
+class BearingLifeQuantities:
+    """Life, static safety and minimum-load status of a bearing in one load case (:mod:`rvcoax.fem.bearing_life`).
+
+    ``case``: the load case's name in the rig file, else its torques. ``L10_*``: ISO 281 basic rating life from
+    the equivalent load ``equivalent_load_N``; ``L10r_*``: ISO/TS 16281 reference life from the element loads
+    (bearings from internal geometry only); ``a_iso`` and ``Lnm_h``: with the rig keys viscosity_ratio and
+    contamination_factor. Lives in million revolutions (``_Mrev``) and hours (``_h``, at ``speed_rpm``; None
+    without a speed). ``static_safety``: s0; ``minimum_load_N``: the maker's rule (0.01 C ball, 0.02 C roller).
+    """
+
+    name: str
+    case: str
+    speed_rpm: float | None
+    rating_source: str
+    dynamic_load_rating_N: float
+    equivalent_load_N: float
+    L10_Mrev: float
+    L10_h: float | None
+    L10r_Mrev: float | None
+    L10r_h: float | None
+    a_iso: float | None
+    Lnm_h: float | None
+    static_safety: float
+    minimum_load_N: float
+    below_minimum_load: bool
+
+    @property
+    def minimum_load_status(self) -> str:
+        return "BELOW minimum load (skidding risk)" if self.below_minimum_load else "above minimum load"
+
+
+def life_columns(lives) -> dict:
+    """The ``sweep.csv`` columns of a case's bearing lives."""
+    row = {}
+    for life in lives:
+        row[f"bearing_{life.name}_equivalent_load_N"] = life.equivalent_load_N
+        row[f"bearing_{life.name}_L10_Mrev"] = life.L10_Mrev
+        if life.L10_h is not None:
+            row[f"bearing_{life.name}_L10_h"] = life.L10_h
+        if life.L10r_Mrev is not None:
+            row[f"bearing_{life.name}_L10r_Mrev"] = life.L10r_Mrev
+        if life.L10r_h is not None:
+            row[f"bearing_{life.name}_L10r_h"] = life.L10r_h
+        if life.Lnm_h is not None:
+            row[f"bearing_{life.name}_Lnm_h"] = life.Lnm_h
+        row[f"bearing_{life.name}_static_safety"] = life.static_safety
+        row[f"bearing_{life.name}_below_minimum_load"] = life.below_minimum_load
+    return row
+
+
+def reducer_columns(checks) -> dict:
+    """The ``sweep.csv`` columns of a case's reducer checks."""
+    row = {}
+    for r in checks:
+        row[f"reducer_{r.name}_torque_rated_percent"] = r.torque_rated_percent
+        row[f"reducer_{r.name}_moment_Nm"] = r.moment_Nm
+        row[f"reducer_{r.name}_moment_use_percent"] = r.moment_use_percent
+        row[f"reducer_{r.name}_axial_use_percent"] = r.axial_use_percent
+        row[f"reducer_{r.name}_verdict"] = r.verdict
+    return row
+
+
+def reducer_entries(checks) -> list[dict]:
+    """The ``sweep.json`` entries of a case's reducer checks."""
+    return [{**{k: getattr(r, k) for k in ReducerCheck.__dataclass_fields__}, "verdict": r.verdict} for r in checks]
+
+
+def life_entries(lives) -> list[dict]:
+    """The ``sweep.json`` entries of a case's bearing lives."""
+    return [{**{k: getattr(b, k) for k in BearingLifeQuantities.__dataclass_fields__},
+             "minimum_load_status": b.minimum_load_status} for b in lives]
+
+
+@dataclass(frozen=True)
+class DutyCycleLife:
+    """A bearing's life over the rig file's duty cycle (Palmgren–Miner over its cases)."""
+
+    name: str
+    shares: str  # "time" or "revolution"
+    L10_h: float | None
+    L10_Mrev: float | None
+    Lnm_h: float | None
+    min_static_safety: float
+    cases_below_minimum_load: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class GearMeshMisalignment:
+    """The misalignment of one planet mesh of a ``[[gear_meshes]]`` stage in gear terms (ISO 6336-1).
+
+    ``relative_tilt_urad``: the tilt of the driving gear's axis (``on``) against its mate's carrier
+    (``reacted_on``) from the section rotations of both members; ``f_sigma_beta_um``: its inclination in the plane
+    of action over the face width b (what K_Hβ takes as the mesh misalignment from deformation);
+    ``f_sigma_delta_um``: the part normal to the plane of action. Read like Y, from the state ``[paths]
+    measured_from`` names (the aligned rig at rest by default).
+    """
+
+    name: str
+    planet: int
+    planet_angle_deg: float
+    face_width_mm: float
+    relative_tilt_urad: float
+    f_sigma_beta_um: float
+    f_sigma_delta_um: float
+
+
+def mesh_misalignment(rotation_on, rotation_mate, planet_angle_deg: float, pressure_angle_rad: float,
+                      face_width_mm: float) -> tuple[float, float]:
+    """(f_Σβ, f_Σδ) in µm of a mesh from the section rotations (θ_y, θ_z, rad) of both members.
+
+    The relative rotation ω tilts the gear's axis by d = ω × x = (ω_z, −ω_y) in (y, z); the planet at angle φ
+    (from +y towards +z, e = (cos φ, sin φ), t = x × e) has its line of action l = −cos α t − sin α e
+    (:func:`rvcoax.geometry.gears.mesh_forces`) and m = x × l normal to the plane of action:
+    f_Σβ = b |d · l|, f_Σδ = b |d · m|.
+    """
+    wy = float(rotation_on[0]) - float(rotation_mate[0])
+    wz = float(rotation_on[1]) - float(rotation_mate[1])
+    phi = math.radians(planet_angle_deg)
+    e = np.array([math.cos(phi), math.sin(phi)])
+    t = np.array([-math.sin(phi), math.cos(phi)])
+    line = -math.cos(pressure_angle_rad) * t - math.sin(pressure_angle_rad) * e
+    normal = np.array([-line[1], line[0]])
+    d = np.array([wz, -wy])
+    return (face_width_mm * abs(float(d @ line)) * 1e3, face_width_mm * abs(float(d @ normal)) * 1e3)
+
+
+@dataclass(frozen=True)
 class Reaction:
     """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
     the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
@@ -182,6 +314,9 @@ class CaseEngineering:
     reactions: tuple[Reaction, ...]
     residual_force_N: float
     residual_moment_Nm: float
+    lives: tuple[BearingLifeQuantities, ...] = ()
+    reducers: tuple[ReducerCheck, ...] = ()
+    gear_meshes: tuple[GearMeshMisalignment, ...] = ()
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -203,6 +338,11 @@ class CaseEngineering:
             row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
+        row.update(life_columns(self.lives))
+        row.update(reducer_columns(self.reducers))
+        for g in self.gear_meshes:
+            row[f"gear_{g.name}_planet{g.planet}_f_sigma_beta_um"] = g.f_sigma_beta_um
+            row[f"gear_{g.name}_planet{g.planet}_f_sigma_delta_um"] = g.f_sigma_delta_um
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
@@ -222,7 +362,10 @@ class CaseEngineering:
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
-        }
+        } | {key: value for key, value in (
+            ("bearing_lives", life_entries(self.lives)), ("reducers", reducer_entries(self.reducers)),
+            ("gear_meshes", [{k: getattr(g, k) for k in GearMeshMisalignment.__dataclass_fields__}
+                             for g in self.gear_meshes])) if value}  # only what the rig has
 
 
 def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities:
@@ -269,8 +412,268 @@ def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[
     return tuple(out)
 
 
+def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
+    """A load case as the tables name it: its ``name`` in the rig file, else its torques.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its ``[[load_cases]]`` entries).
+    input_torque_Nm, output_torque_Nm : float
+        The case's torques.
+
+    Returns
+    -------
+    str
+        The name, or ``"T1 = …, T2 = … N·m"``.
+    """
+    entry = rig_case_of(rig, input_torque_Nm, output_torque_Nm)
+    if entry is not None and entry.name is not None:
+        return entry.name
+    return f"T1 = {input_torque_Nm:g}, T2 = {output_torque_Nm:g} N·m"
+
+
+def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
+    speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
+    name = case_name(rig, input_torque_Nm, output_torque_Nm)
+    out = []
+    for b in rig.bearings:
+        ratings = load_ratings(b)
+        if ratings is None or b.model != "linear":
+            continue  # bearings from geometry: their life comes with their element loads (nonlinear sweep)
+        f = total.force_on_b[0, total.index("bearing", b.name)]
+        life = bearing_life.life_from_forces(math.hypot(f[1], f[2]), float(f[0]), ratings.dynamic_N, ratings.static_N,
+                                             ratings.f0, elements=ratings.elements, speed_rpm=speeds[b.name],
+                                             kappa=b.viscosity_ratio, contamination=b.contamination_factor)
+        out.append(life_quantities(b.name, name, ratings, life))
+    return tuple(out)
+
+
+def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQuantities:
+    """A :class:`BearingLifeQuantities` row from a :class:`rvcoax.fem.bearing_life.LifeResult`."""
+    return BearingLifeQuantities(
+        name=bearing_name, case=case, speed_rpm=life.speed_rpm, rating_source=ratings.source,
+        dynamic_load_rating_N=ratings.dynamic_N, equivalent_load_N=life.equivalent_load_N, L10_Mrev=life.basic_life_Mrev,
+        L10_h=life.basic_life_h, L10r_Mrev=life.reference_life_Mrev, L10r_h=life.reference_life_h, a_iso=life.a_iso,
+        Lnm_h=life.modified_life_h, static_safety=life.static_safety, minimum_load_N=life.minimum_load_N,
+        below_minimum_load=life.below_minimum_load)
+
+
+def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
+                       output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
+    """The lives of the deep-groove ball bearings from internal geometry at a nonlinear solution's condensed motion
+    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): L10 from the forces they carry, L10r
+    from their ball loads (ISO/TS 16281), s0 from the largest ball-raceway pressure (ISO 76: 4200 MPa)."""
+    from rvcoax.fem.rolling_bearing import bearing_force, rolling_element_loads
+
+    speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
+    name = case_name(rig, input_torque_Nm, output_torque_Nm)
+    entries = {b.name: b for b in rig.bearings}
+    motions = nonlinear.motions(motion)
+    out = []
+    for model in nonlinear.balls:
+        bearing = entries[model.name]
+        ratings = load_ratings(bearing)
+        force, _ = bearing_force(model.bearing, motions[model.name])
+        elements = rolling_element_loads(model.bearing, motions[model.name])
+        pressure = float(elements.max_contact_pressure_Pa.max(initial=0.0)) * 1e-6
+        reference = bearing_life.element_rating_life(
+            elements.load_n, *bearing_life.ring_contact_ratings(
+                model.geometry.ball_count, model.geometry.ball_diameter_m * 1e3, model.geometry.pitch_diameter_m * 1e3,
+                model.geometry.inner_conformity, model.geometry.outer_conformity,
+                contact_angle_rad=elements.contact_angle_rad))
+        life = bearing_life.life_from_forces(
+            math.hypot(force[1], force[2]), float(force[0]), ratings.dynamic_N, ratings.static_N, ratings.f0,
+            elements="ball", speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio,
+            contamination=bearing.contamination_factor, reference_life_Mrev=reference,
+            static_safety_value=bearing_life.static_safety_from_pressure(pressure))
+        out.append(life_quantities(model.name, name, ratings, life))
+    return tuple(out)
+
+
+def reducer_checks(rig, total: ConnectionStates, input_torque_Nm: float,
+                   output_torque_Nm: float) -> tuple[ReducerCheck, ...]:
+    """Each ``[[reducers]]`` entry against its rating table in one case, from the force and moment its joint
+    carries (``total``: the spring states from the unloaded geometry, one case)."""
+    return _reducers(rig, total, input_torque_Nm, output_torque_Nm)
+
+
+def _gear_meshes(rig, model, u: np.ndarray) -> tuple[GearMeshMisalignment, ...]:
+    """Each planet mesh's misalignment from the section rotations of the gear and its mate's carrier (frame nodes;
+    a member modelled as a solid has none: that stage is left out)."""
+    out = []
+    for mesh in rig.gear_meshes:
+        try:
+            on, mate = model.node(mesh.on.part, mesh.on.x_mm), model.node(mesh.reacted_on.part, mesh.reacted_on.x_mm)
+        except KeyError:
+            continue
+        rotation_on = (u[DOFS_PER_NODE * on + 4], u[DOFS_PER_NODE * on + 5])
+        rotation_mate = (u[DOFS_PER_NODE * mate + 4], u[DOFS_PER_NODE * mate + 5])
+        tilt = math.hypot(rotation_on[0] - rotation_mate[0], rotation_on[1] - rotation_mate[1])
+        alpha = mesh.stage.working_pressure_angle
+        for i, angle in enumerate(mesh.planet_angles_deg):
+            beta, delta = mesh_misalignment(rotation_on, rotation_mate, angle, alpha, mesh.face_width_mm)
+            out.append(GearMeshMisalignment(name=mesh.name, planet=i, planet_angle_deg=float(angle),
+                                            face_width_mm=mesh.face_width_mm, relative_tilt_urad=tilt * URAD,
+                                            f_sigma_beta_um=beta, f_sigma_delta_um=delta))
+    return tuple(out)
+
+
+def _reducers(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
+    out = []
+    for r in rig.reducers:
+        f = total.force_on_b[0, total.index("joint", r.name)]
+        torque = output_torque_Nm if r.torque == "T2" else input_torque_Nm
+        out.append(reducer_check(r, torque, f[:3], f[3:]))
+    return tuple(out)
+
+
+def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, ...]]:
+    """Per case of ``sweep.json``'s records, every bearing's :class:`BearingLifeQuantities` (its entry's
+    ``engineering.bearing_lives``: typed-in bearings from their forces, ball bearings from their ball loads).
+
+    Parameters
+    ----------
+    records : list of dict
+        Case records as written to the journal (``{"row": …, "entry": …}``).
+
+    Returns
+    -------
+    list of tuple of BearingLifeQuantities
+        One tuple per record, in order.
+    """
+    fields = BearingLifeQuantities.__dataclass_fields__
+    return [tuple(BearingLifeQuantities(**{k: v for k, v in life.items() if k in fields})
+                  for life in record["entry"].get("engineering", {}).get("bearing_lives", [])) for record in records]
+
+
+def play_crossings(operating_points: dict) -> list[str]:
+    """Ball bearings whose shaft crosses its play between neighbouring cases of a nonlinear sweep: the radial
+    motion (y, z) changes by at least half the diametral operating clearance from one case to the next (the
+    shaft leaves the balls on one side for those on the other: the sweep's Y steps there).
+
+    Parameters
+    ----------
+    operating_points : dict
+        ``sweep.json``'s ``model.ball_bearing_operating_points`` (per bearing, the rest state then every case).
+
+    Returns
+    -------
+    list of str
+        One sentence per bearing and jump.
+    """
+    found = []
+    for name, points in operating_points.items():
+        cases = [p for p in points if p.get("case") != "at rest" and "displacement_yz_um" in p]
+        for before, after in zip(cases, cases[1:]):
+            jump = math.dist(before["displacement_yz_um"], after["displacement_yz_um"])
+            clearance = after.get("operating_clearance_um", 0.0)
+            if clearance > 0.0 and jump >= 0.5 * clearance:
+                found.append(f"ball bearing {name}: the shaft crosses its play between {before['case']} and "
+                             f"{after['case']} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
+                             f"{clearance:.3g} µm): Y steps there; a preload or a smaller clearance keeps it seated")
+    return found
+
+
+def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
+    """:func:`duty_cycle_lives` from ``sweep.json`` case records (:func:`lives_of_records`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose ``[[load_cases]]`` carry the duty cycle's shares.
+    records : list of dict
+        Case records (``{"row": …, "entry": …}``).
+
+    Returns
+    -------
+    list of DutyCycleLife
+        One per bearing with a life; empty without a duty cycle.
+    """
+    return duty_cycle_of_lives(rig, lives_of_records(records))
+
+
+def sweep_lives(sweep) -> list[tuple[BearingLifeQuantities, ...]]:
+    """Per case of a solved sweep, every bearing's life: the typed-in bearings' from the engineering tables, the
+    ball bearings' from their ball loads (nonlinear sweeps).
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep.
+
+    Returns
+    -------
+    list of tuple of BearingLifeQuantities
+        One tuple per case, in the sweep's order.
+    """
+    return [(case.engineering.lives if case.engineering is not None else ()) + tuple(case.ball_lives)
+            for case in sweep.cases]
+
+
+def sweep_reducer_checks(sweep) -> list[tuple[ReducerCheck, ...]]:
+    """Per case of a solved sweep, each reducer's check (from the engineering tables, or from a nonlinear
+    sweep's own spring states)."""
+    return [(case.engineering.reducers if case.engineering is not None else ()) + tuple(case.reducer_checks)
+            for case in sweep.cases]
+
+
+def duty_cycle_lives(rig, cases: list[CaseEngineering]) -> list[DutyCycleLife]:
+    """Per bearing with a life, its life over the rig file's duty cycle (``time_share`` or ``revolution_share``
+    of its ``[[load_cases]]``): Palmgren–Miner over the cases (:func:`rvcoax.fem.bearing_life.miner_life`).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig whose ``[[load_cases]]`` carry the shares.
+    cases : list of CaseEngineering
+        The engineering tables of the sweep's cases.
+
+    Returns
+    -------
+    list of DutyCycleLife
+        One per bearing; empty without a duty cycle or when the sweep did not solve every case of it.
+    """
+    return duty_cycle_of_lives(rig, [case.lives for case in cases])
+
+
+def duty_cycle_of_lives(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]) -> list[DutyCycleLife]:
+    kind = ("time" if any(c.time_share is not None for c in rig.load_cases)
+            else "revolution" if any(c.revolution_share is not None for c in rig.load_cases) else None)
+    if kind is None or not case_lives:
+        return []
+    names = [case_name(rig, c.T1_input_Nm, c.T2_output_Nm) for c in rig.load_cases]
+    shares = {n: getattr(c, f"{kind}_share") for n, c in zip(names, rig.load_cases)}
+    by_bearing: dict[str, list[BearingLifeQuantities]] = {}
+    for lives in case_lives:
+        for life in lives:
+            by_bearing.setdefault(life.name, []).append(life)
+    out = []
+    for name, lives in by_bearing.items():
+        if sorted(life.case for life in lives) != sorted(names):
+            continue  # the sweep did not solve every case of the duty cycle
+        weights = [shares[life.case] for life in lives]
+        hours, revs, modified = None, None, None
+        if kind == "time":
+            # a case at standstill (no speed) turns no revolutions: it adds no damage
+            moving = [(w, life) for w, life in zip(weights, lives) if life.L10_h is not None]
+            if moving:
+                total_share = sum(w for w, _ in moving)
+                hours = bearing_life.miner_life([life.L10_h for _, life in moving],
+                                                [w / total_share for w, _ in moving]) / total_share
+                if all(life.Lnm_h is not None for _, life in moving):
+                    modified = bearing_life.miner_life([life.Lnm_h for _, life in moving],
+                                                       [w / total_share for w, _ in moving]) / total_share
+        else:
+            revs = bearing_life.miner_life([life.L10_Mrev for life in lives], weights)
+        out.append(DutyCycleLife(name=name, shares=kind, L10_h=hours, L10_Mrev=revs, Lnm_h=modified,
+                                 min_static_safety=min(life.static_safety for life in lives),
+                                 cases_below_minimum_load=tuple(life.case for life in lives if life.below_minimum_load)))
+    return out
+
+
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,  # noqa: PLR0913
-                     *, applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+                     *, applied: np.ndarray, reactions: np.ndarray, springs=None, case=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters
@@ -287,6 +690,8 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
         :meth:`rvcoax.geometry.model.springs.SpringMotion.of` ``(model, rig)``, built once for many cases.
+    case : LoadCase, optional
+        The case's torques: with them, the bearing lives and the reducer checks.
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
@@ -298,10 +703,13 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
                 "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
     return CaseEngineering(
-        tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
-        tuple(_bearing(b, total, change) for b in rig.bearings),
-        _reactions(rig, total, change),
-        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])))
+        couplings=tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
+        bearings=tuple(_bearing(b, total, change) for b in rig.bearings),
+        reactions=_reactions(rig, total, change),
+        residual_force_N=float(np.linalg.norm(residual[:3])), residual_moment_Nm=float(np.linalg.norm(residual[3:])),
+        lives=() if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        reducers=() if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm),
+        gear_meshes=_gear_meshes(rig, model, u_change if measured_from_rest else u_total))
 
 
 def shaft_quantities(path) -> dict:

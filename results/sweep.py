@@ -43,7 +43,7 @@ from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.rolling_model import GEOMETRIC_MODELS
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.engineering import CaseEngineering, case_engineering
+from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering, reducer_checks
 from rvcoax.results.paths import ShaftPathResult
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
@@ -95,6 +95,8 @@ class CaseResult:
     equilibrium_error: float
     residual: float
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
+    ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
+    reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
 
 
 @dataclass(frozen=True, eq=False)
@@ -426,8 +428,9 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             equilibrium_error=check.relative_error,
             residual=residual,
-            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied, reactions=check.reactions,
-                                         springs=springs) if engineering else None,
+            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
+                                         reactions=check.reactions, springs=springs, case=case)
+            if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
@@ -525,6 +528,7 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         return _solve_nonlinear_case(problem, weights, label)
 
     contact = gear_contact_torques(rig)
+    springs = SpringMotion.of(system.frame, rig) if rig.reducers else None  # the reducers' joints are linear springs
     rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     every = ("ball",) + GEOMETRIC_MODELS
     operating = {name: [{"case": "at rest", **point}]
@@ -536,6 +540,9 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                                contact_torques_Nm=contact)
         u, solution, check, residual = solve_case(weights, case.label)
         iterations.append(solution.iterations)
+        lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
+        checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
+                  if springs is not None else ())
         for name, point in bearings.operating_points(solution.motion, every).items():
             operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
@@ -543,7 +550,8 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         # no engineering tables: their spring forces are linear, a gapped bearing's law is not
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-                                  equilibrium_error=check.relative_error, residual=residual))
+                                  equilibrium_error=check.relative_error, residual=residual, ball_lives=lives,
+                                  reducer_checks=checks))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

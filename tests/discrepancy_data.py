@@ -12,7 +12,8 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data
 
-__all__ = ["LENGTHS", "STATIONS", "discrepancy_rig", "finer", "hidden_data", "write_cli_inputs"]
+__all__ = ["LENGTHS", "STATIONS", "claims_what_the_data_carry", "discrepancy_rig", "finer", "hidden_data",
+           "write_cli_inputs"]
 
 LENGTHS = {"input": 120.0, "output": 160.0}
 STATIONS = 11
@@ -56,3 +57,17 @@ def write_cli_inputs(tmp_path, rig: Rig, data):
     measured = tmp_path / "measured.csv"
     measured.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return rig_file, measured
+
+
+def claims_what_the_data_carry(result) -> bool:
+    """An answer with a named explanation: ``explained`` with groups of at most three look-alikes, or ``ambiguous``
+    with its reasons and a description of each larger group (issue 28)."""
+    from rvcoax.results.studies.discrepancy.judge import AMBIGUOUS_GROUP
+
+    if result.verdict == "explained":
+        return all(len(s.group) <= AMBIGUOUS_GROUP for s in result.selected)
+    if result.verdict == "ambiguous":
+        described = {a.effect for a in result.ambiguities}
+        return bool(result.reasons) and all(s.name in described for s in result.selected
+                                            if len(s.group) > AMBIGUOUS_GROUP)
+    return False

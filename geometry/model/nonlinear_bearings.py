@@ -154,8 +154,10 @@ class NonlinearBearings:
                 "tilt_stiffness_z_Nm_per_rad": float(stiffness[5, 5]),
                 "tilt_stiffness_y_Nm_per_rad": float(stiffness[4, 4]),
             }
+            point["displacement_yz_um"] = [float(motion[1] * 1e6), float(motion[2] * 1e6)]
             if model.model == "ball":
-                point.update(loaded_balls=elements.loaded_elements, max_ball_load_N=elements.max_load_n)
+                point.update(loaded_balls=elements.loaded_elements, max_ball_load_N=elements.max_load_n,
+                             operating_clearance_um=float(model.geometry.clearance_m * 1e6))
             else:
                 loaded = elements.load_n > 0
                 angles = np.degrees(elements.contact_angle_rad[loaded]) if loaded.any() else np.zeros(1)

@@ -24,19 +24,25 @@ from rvcoax.results.cli.support import (
 __all__ = ["COMMANDS", "discrepancy"]
 
 
-def _print_result(result, lengths_mm) -> None:
-    from rvcoax.results.studies.discrepancy import engineering_summary, rms_table
+_VERDICT_LINES = {
+    "no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
+    "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and held-out load "
+                 "cases improve)",
+    "ambiguous": "[bold yellow]VERDICT: ambiguous[/] (the vocabulary closes the gap, but several explanations fit "
+                 "equally well: what they share and the measurement that would split them are below)",
+    "unexplained": "[bold red]VERDICT: unexplained[/] (what is named below reduces the gap but does not explain it)"}
 
-    message = {"no_gap": "[bold green]VERDICT: no gap beyond the noise; nothing added[/]",
-               "explained": "[bold green]VERDICT: explained[/] (the remaining gap is consistent with the noise, and "
-                            "held-out load cases improve)",
-               "unexplained": "[bold red]VERDICT: unexplained[/] (what is named below reduces the gap but does not "
-                              "explain it)"}[result.verdict]
-    console.print(message)
+
+def _print_lead(result, lengths_mm) -> None:
+    """The verdict, the gap and the effects in engineering words, and the measurements that would tell look-alikes
+    apart (the three closest of each named effect; all are in the JSON)."""
+    from rvcoax.results.studies.discrepancy import engineering_summary
+
+    console.print(_VERDICT_LINES[result.verdict])
     for line in engineering_summary(result, lengths_mm):
         console.print(f"  {escape(line)}")
     shown: dict[str, int] = {}
-    for d in result.discriminations:  # the three closest look-alikes of each named effect (all are in the JSON)
+    for d in result.discriminations:
         shown[d.effects[0]] = shown.get(d.effects[0], 0) + 1
         if shown[d.effects[0]] > 3:
             continue
@@ -45,12 +51,21 @@ def _print_result(result, lengths_mm) -> None:
                       + (" (a new load case)" if d.new_case else "")
                       + (" (Y from the unloaded geometry)" if d.other_datum else "")
                       + f": they differ by {1e3 * abs(d.difference_mm):.3g} µm ({d.in_sigma:.2g} σ)")
+
+
+def _print_reach(result) -> None:
+    """What the data can reveal (and how to reveal the rest), the look-alikes, the sentinel, the cross-validation."""
     visible = sorted(n for n, v in result.observability.items() if v.visible)
     hidden = {n: v for n, v in result.observability.items() if not v.visible}
     if result.observability:
-        console.print(f"what these data can reveal: {len(visible)} of {len(result.observability)} effects: "
-                      + escape(", ".join(visible)))
-        revealable = {n: v for n, v in hidden.items() if v.suggestion is not None and v.suggestion.in_sigma >= 3}
+        detectable = sorted(n for n, v in result.observability.items() if v.detectable)
+        hidden = {n: v for n, v in result.observability.items() if not v.detectable}
+        console.print(f"what these data can reveal (the gap test would find it alone): {len(detectable)} of "
+                      f"{len(result.observability)} effects: " + escape(", ".join(detectable)))
+        faint = sorted(set(visible) - set(detectable))
+        if faint:
+            console.print("  screened, but below what the gap test detects alone: " + escape(", ".join(faint)))
+        revealable = {n: v for n, v in hidden.items() if v.suggestion is not None and v.suggestion.reveals}
         console.print(f"cannot reveal {len(hidden)} effects; {len(revealable)} of them with one more measurement:")
         for name, v in sorted(revealable.items()):
             console.print(f"  {escape(name)}: {escape(v.suggestion.sentence())}")
@@ -70,6 +85,12 @@ def _print_result(result, lengths_mm) -> None:
             console.print(f"cross-validation over load cases ({label}): held-out χ² {cv.chi2_before:.4g} → "
                           f"{cv.chi2_after:.4g} on {cv.n} observations in {cv.folds} folds"
                           + ("" if cv.improves else " [bold red](does not improve)[/]"))
+
+
+def _print_statistics(result, lengths_mm) -> None:
+    """Noise, χ² tests, the ΔBIC rankings of each step, the effects added, the RMS table."""
+    from rvcoax.results.studies.discrepancy import rms_table
+
     console.print("[bold]statistics[/]")
     console.print(f"  measured data: {escape(str(result.data.source))} ({result.data.schema}, {result.data.n} "
                   f"observations in {len(result.data.cases)} load cases, {int((~result.fit_mask).sum())} held out)")
@@ -107,7 +128,92 @@ def _print_result(result, lengths_mm) -> None:
     console.print(f"  after: {result.test_after.describe()}")
 
 
+def _print_result(result, lengths_mm) -> None:
+    """The console: the verdict and the gap in engineering words first, what the data can reveal, then statistics."""
+    _print_lead(result, lengths_mm)
+    _print_reach(result)
+    _print_statistics(result, lengths_mm)
+
+
+def _candidates(effects: str | None, rig) -> tuple[str, ...] | None:
+    """The ``--effects`` list, checked against the rig's vocabulary (names and kinds)."""
+    if not effects:
+        return None
+    from rvcoax.geometry import candidate_effects
+
+    candidates = tuple(e.strip() for e in effects.split(",") if e.strip())
+    library = candidate_effects(rig)
+    known = {e.name for e in library} | {e.kind for e in library}
+    unknown = [e for e in candidates if e not in known]
+    if unknown:
+        raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
+                        + ", ".join(sorted({e.kind for e in library})))
+    return candidates
+
+
+def _check_workload(data, rig, candidates, measured: Path) -> None:
+    """Refuse (or announce) the run from its estimated time and memory, before any solve."""
+    from rvcoax.geometry import candidate_effects
+    from rvcoax.geometry.model import REPORT_AFTER_S, check_workload
+    from rvcoax.results.studies.discrepancy import discrepancy_workload
+
+    n_candidates = sum(1 for e in candidate_effects(rig)
+                       if candidates is None or e.name in candidates or e.kind in candidates)
+    workload = check_workload(discrepancy_workload(data, n_candidates, rig),
+                              f"measured data {measured}",
+                              "thin the stations or load cases (the workflow's time grows with cases × candidates), "
+                              "or name fewer candidates with --effects")
+    if workload.seconds > REPORT_AFTER_S:
+        console.print(f"{workload.what}: {workload.describe()} (estimated)")
+
+
+def _rig_file_text(result, original: str, source: str) -> str:
+    """The user's rig file with the effects added (``rig_updated.toml``), or headed NOT A FIX (``rig_candidate.toml``)."""
+    from rvcoax.geometry import updated_rig_text
+    from rvcoax.results.io import rvcoax_version
+
+    data = result.data
+    names = ", ".join(s.name for s in result.selected)
+    candidate = result.verdict != "explained"
+    warning = ([f"NOT A FIX: the verdict is '{result.verdict}'. These effects reduce the gap but do not "
+                + ("say which of several look-alikes is the cause;" if result.verdict == "ambiguous" else
+                   "explain it;"), "this file is a candidate for the next measurement, not an updated rig."]
+               if candidate else [])
+    text, _ = updated_rig_text(
+        original, result.rig_after,
+        note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
+        header=warning + [
+            f"{'Candidate' if candidate else 'Updated'} by rvcoax {rvcoax_version()} "
+            f"discrepancy workflow from {source}",
+            f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
+        + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in
+                                         zip(result.effects[s.name].parameters, s.values))
+           + f" (ΔBIC {s.delta_bic:.1f})" for s in result.selected])
+    return text
+
+
+def _write_outputs(result, rig, rig_file, out: Path, lengths) -> None:
+    """discrepancy.json, the observations CSV, the PNG, and the rig file (updated, or a candidate), atomically."""
+    from rvcoax.results.io import rvcoax_version, write_csv_atomic, write_json_atomic, write_text_atomic
+    from rvcoax.results.studies.discrepancy import discrepancy_document, observation_rows, plot_discrepancy
+
+    source, original = rig_text(rig_file)
+    written = []
+    rig_path = None
+    if result.selected:
+        name = "rig_candidate.toml" if result.verdict != "explained" else "rig_updated.toml"
+        rig_path = write_text_atomic(out / name, _rig_file_text(result, original, source))
+        written.append(rig_path)
+    written.append(write_json_atomic(out / "discrepancy.json", discrepancy_document(
+        result, lengths, None if rig_path is None else str(rig_path), rvcoax_version())))
+    written.append(write_csv_atomic(out / "discrepancy_observations.csv", observation_rows(result)))
+    written.append(plot_discrepancy(result, lengths, out / "discrepancy.png", title=rig.rig.name))
+    for path in written:
+        console.print(f"wrote {escape(str(path))}")
+
+
 def discrepancy(
+    *,
     measured: Annotated[Path, typer.Option("--measured", help="Measured data CSV: table (T1_input_Nm, T2_output_Nm, "
                                                               "Y_input_mm, Y_output_mm) or paths (T1_input_Nm, "
                                                               "T2_output_Nm, shaft, x_mm, uy_mm[, sigma_mm]).")],
@@ -133,46 +239,19 @@ def discrepancy(
     vocabulary, and checks every verdict on held-out load cases. Writes (with --out):
     discrepancy.json, discrepancy_observations.csv, discrepancy.png and rig_updated.toml (explained:
     the rig with the effects added, each with a provenance comment) or rig_candidate.toml
-    (unexplained: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when a
-    discrepancy remains.
+    (unexplained or ambiguous: not a fix). Exit status 0 when there is no gap or the gap is explained, 1 when
+    a discrepancy remains unexplained or ambiguous.
     """
     from rvcoax import DiscrepancySettings, load_rig, read_measured, run_discrepancy
-    from rvcoax.geometry import updated_rig_text
-    from rvcoax.results.io import rvcoax_version, write_csv_atomic, write_json_atomic, write_text_atomic
-    from rvcoax.results.studies.discrepancy import (
-        MeasuredDataError,
-        discrepancy_document,
-        observation_rows,
-        plot_discrepancy,
-    )
+    from rvcoax.results.studies.discrepancy import MeasuredDataError
 
     try:
         data = read_measured(measured)
     except MeasuredDataError as error:
         raise UserError(str(error)) from None
     rig = load_rig(rig_file)
-    candidates = None
-    if effects:
-        from rvcoax.geometry import candidate_effects
-
-        candidates = tuple(e.strip() for e in effects.split(",") if e.strip())
-        known = {e.name for e in candidate_effects(rig)} | {e.kind for e in candidate_effects(rig)}
-        unknown = [e for e in candidates if e not in known]
-        if unknown:
-            raise UserError(f"--effects: unknown effect(s) {', '.join(unknown)}; kinds: "
-                            + ", ".join(sorted({e.kind for e in candidate_effects(rig)})))
-    from rvcoax.geometry import candidate_effects as library_of
-    from rvcoax.geometry.model import REPORT_AFTER_S, check_workload
-    from rvcoax.results.studies.discrepancy import discrepancy_workload
-
-    n_candidates = sum(1 for e in library_of(rig)
-                       if candidates is None or e.name in candidates or e.kind in candidates)
-    workload = check_workload(discrepancy_workload(data, n_candidates, rig),
-                              f"measured data {measured}",
-                              "thin the stations or load cases (the workflow's time grows with cases × candidates), "
-                              "or name fewer candidates with --effects")
-    if workload.seconds > REPORT_AFTER_S:
-        console.print(f"{workload.what}: {workload.describe()} (estimated)")
+    candidates = _candidates(effects, rig)
+    _check_workload(data, rig, candidates, measured)
     settings = DiscrepancySettings(candidates=candidates, sweep=sweep_settings(model), alpha=alpha, bic_margin=margin,
                                    model_form_fraction=model_form_percent / 100.0, hold_out_every=hold_out_every)
     with progress_bar() as bar:
@@ -185,34 +264,8 @@ def discrepancy(
     lengths = {"input": rig.paths.input.length_mm, "output": rig.paths.output.length_mm}
     _print_result(result, lengths)
     if out is not None:
-        source, original = rig_text(rig_file)
-        written = []
-        rig_path = None
-        if result.selected:
-            names = ", ".join(s.name for s in result.selected)
-            candidate = result.verdict != "explained"
-            warning = ([f"NOT A FIX: the verdict is '{result.verdict}'. These effects reduce the gap but do not "
-                        "explain it;", "this file is a candidate for the next measurement, not an updated rig."]
-                       if candidate else [])
-            text, _ = updated_rig_text(
-                original, result.rig_after,
-                note=f"rvcoax discrepancy ({result.verdict}) from {Path(data.source).name}",
-                header=warning + [
-                    f"{'Candidate' if candidate else 'Updated'} by rvcoax {rvcoax_version()} "
-                    f"discrepancy workflow from {source}",
-                    f"measured data: {data.source}; verdict: {result.verdict}; effects added: {names}"]
-                + [f"  {s.name}: " + ", ".join(f"{p.name} = {v:.6g} {p.unit}" for p, v in
-                                                 zip(result.effects[s.name].parameters, s.values))
-                   + f" (ΔBIC {s.delta_bic:.1f})" for s in result.selected])
-            rig_path = write_text_atomic(out / ("rig_candidate.toml" if candidate else "rig_updated.toml"), text)
-            written.append(rig_path)
-        written.append(write_json_atomic(out / "discrepancy.json", discrepancy_document(
-            result, lengths, None if rig_path is None else str(rig_path), rvcoax_version())))
-        written.append(write_csv_atomic(out / "discrepancy_observations.csv", observation_rows(result)))
-        written.append(plot_discrepancy(result, lengths, out / "discrepancy.png", title=rig.rig.name))
-        for path in written:
-            console.print(f"wrote {escape(str(path))}")
-    raise typer.Exit(code=1 if result.verdict == "unexplained" else 0)
+        _write_outputs(result, rig, rig_file, out, lengths)
+    raise typer.Exit(code=1 if result.verdict in ("unexplained", "ambiguous") else 0)
 
 
 COMMANDS = {"discrepancy": discrepancy}

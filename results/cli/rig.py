@@ -114,7 +114,9 @@ def rig_reference(
         help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
              "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly); "
              "rolling_bearings (the input shaft on a 7204 B DB pair and an NU 204, the output shaft on two 30206 "
-             "tapered roller bearings with end play, from internal geometry)")] = None,
+             "tapered roller bearings with end play, from internal geometry); "
+             "catalogue_reducer (the RV-20E's main bearings and output from the reducer catalogue instead of the "
+             "assumed joint)")] = None,
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Annotated
 
@@ -82,6 +83,82 @@ def _engineering_tables(entry: dict) -> list[Table]:
                           *[f"{v:.4g}" for v in r["force_N"]], *[f"{v:.4g}" for v in r["moment_Nm"]])
         tables.append(table)
     return tables
+
+
+def _life(value) -> str:
+    if value is None:
+        return "–"
+    return "> 1e9" if not value <= 1e9 else f"{value:.3g}"
+
+
+def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
+    """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
+    the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
+    from rvcoax.results import case_name, lives_of_records
+
+    tables, warnings = [], []
+    lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
+             for case in lives_of_records(records) for life in case]
+    if lives:
+        table = Table(title="Bearing life (ISO 281 L10; L10r ISO/TS 16281 where the elements are modelled), static "
+                            "safety s0 and minimum load, per case", title_justify="left")
+        for column in ("case", "bearing", "rpm", "P N", "L10 Mrev", "L10 h", "L10r h|Mrev", "Lnm h", "s0", "min load N",
+                       "status"):
+            table.add_column(column, justify="left" if column in ("case", "bearing", "status") else "right")
+        for life in lives[:TABLE_ROWS]:
+            table.add_row(escape(life["case"]), escape(life["name"]), "" if life["speed_rpm"] is None
+                          else f"{life['speed_rpm']:g}", f"{life['equivalent_load_N']:.3g}", _life(life["L10_Mrev"]),
+                          _life(life["L10_h"]),
+                          _life(life["L10r_h"] if life["speed_rpm"] else life["L10r_Mrev"]), _life(life["Lnm_h"]),
+                          _life(life["static_safety"]),
+                          f"{life['minimum_load_N']:.3g}", life["minimum_load_status"])
+        tables.append(table)
+        below: dict[str, list[str]] = {}
+        for life in lives:
+            if life["below_minimum_load"]:
+                below.setdefault(life["name"], []).append(life["case"])
+        for name, cases in below.items():
+            minimum = next(life["minimum_load_N"] for life in lives if life["name"] == name)
+            warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N: 0.01 C ball, "
+                            f"0.02 C roller) in {len(cases)} case(s) ({', '.join(cases)}): the rolling elements may "
+                            "skid (smearing); preload it or load it radially")
+    if duty:
+        table = Table(title="Bearing life over the duty cycle (Palmgren–Miner over the rig file's load cases)",
+                      title_justify="left")
+        for column in ("bearing", "shares", "L10 h", "L10 Mrev", "Lnm h", "smallest s0", "cases below minimum load"):
+            table.add_column(column, justify="left" if column in ("bearing", "shares", "cases below minimum load")
+                             else "right")
+        for d in duty:
+            table.add_row(escape(d.name), d.shares, _life(d.L10_h), _life(d.L10_Mrev), _life(d.Lnm_h),
+                          _life(d.min_static_safety), escape(", ".join(d.cases_below_minimum_load)) or "none")
+        tables.append(table)
+    reducers = [(r["entry"], red) for r in records for red in r["entry"].get("engineering", {}).get("reducers", [])]
+    if reducers:
+        table = Table(title="Reducers against the maker's rating table, per case", title_justify="left")
+        for column in ("case", "reducer", "torque N·m", "of rated", "of peak", "of momentary",
+                       "moment N·m", "of allowable", "axial N", "of max axial", "verdict"):
+            table.add_column(column, justify="left" if column in ("case", "reducer", "verdict") else "right")
+        for entry, red in reducers[:TABLE_ROWS]:
+            case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
+            table.add_row(escape(case), escape(red["name"]),
+                          f"{red['torque_Nm']:.4g}", _percent(red["torque_rated_percent"]),
+                          _percent(red["torque_peak_percent"]), _percent(red["torque_momentary_percent"]),
+                          f"{red['moment_Nm']:.3g}", _percent(red["moment_use_percent"]), f"{red['axial_force_N']:.3g}",
+                          _percent(red["axial_use_percent"]), red["verdict"])
+            if red["verdict"] != "within rating":
+                warnings.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque {red['torque_Nm']:.4g} "
+                                f"N·m = {red['torque_rated_percent']:.3g} % of rated; moment {red['moment_Nm']:.3g} "
+                                f"N·m = {red['moment_use_percent']:.3g} % of allowable)")
+        tables.append(table)
+    return tables, warnings
+
+
+def _print_lives(rig, records: list[dict], duty: list) -> None:
+    tables, warnings = lives_and_reducer_tables(rig, records, duty)
+    for table in tables:
+        support.console.print(table)
+    for line in warnings:
+        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
 
 
 def _print_engineering(records: list[dict]) -> None:
@@ -173,6 +250,12 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
+    from rvcoax.results import duty_cycle_of_records, play_crossings
+
+    duty = duty_cycle_of_records(rig, records)
+    _print_lives(rig, records, duty)
+    for line in play_crossings(model_section.get("ball_bearing_operating_points", {})):
+        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
     if model_section.get("nonlinear"):
         nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
                      + model_section.get("rolling_bearings", []))
@@ -184,6 +267,9 @@ def sweep(
         how = "each case solved directly"
     support.console.print(f"Y measured from: {rig.paths.measured_from}; {how}")
     header = sweep_header(rig, model_section, source, text)
+    if duty:
+        header = {**header, "bearing_duty_cycle": [{k: list(v) if isinstance(v, tuple) else v
+                                                    for k, v in dataclasses.asdict(d).items()} for d in duty]}
     support.report_written(write_sweep_files(out, "sweep", header, records))
 
 

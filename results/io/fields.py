@@ -19,7 +19,8 @@ the path nodes equals the sweep's path values.
 Files
 -----
 :func:`write_vtu` writes one ``.vtu`` per case (points in mm; point data ``displacement_mm``,
-``displacement_y_um`` and, when the case has it, ``von_mises_MPa``; cell data ``part_id`` and
+``displacement_y_um``, ``rotation_urad`` (the section rotation of beam nodes, NaN at solid nodes) and, when
+the case has it, ``von_mises_MPa``; cell data ``part_id`` and
 ``radius_mm`` (0 on tetrahedra, which have no tube radius); field data ``T1_input_Nm``, ``T2_output_Nm`` and one ``part_id:<name>`` entry per
 part). It is written to a temporary file in the same folder and renamed: atomic.
 
@@ -171,6 +172,9 @@ class FieldCase:
     von_mises_Pa : (n,) float array or None
         Von Mises stress (Pa) at every point, or None where the model gives none (beams): the
         files then hold no stress field.
+    rotation_rad : (n, 3) float array or None
+        Section rotation about x, y, z (rad) at every beam node, NaN at points that have none (a solid's
+        nodes); None: the files hold no rotation field.
     """
 
     label: str
@@ -178,6 +182,7 @@ class FieldCase:
     T2_output_Nm: float
     displacement_m: np.ndarray
     von_mises_Pa: np.ndarray | None = None
+    rotation_rad: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         u = np.asarray(self.displacement_m, dtype=float)
@@ -188,6 +193,11 @@ class FieldCase:
             if vm.shape != (u.shape[0],) or not np.all(np.isfinite(vm)):
                 raise ValueError(f"von_mises_Pa must be ({u.shape[0]},) finite values (or None), got {vm.shape}")
             object.__setattr__(self, "von_mises_Pa", _readonly(vm))
+        if self.rotation_rad is not None:
+            rotation = np.asarray(self.rotation_rad, float)
+            if rotation.shape != u.shape:
+                raise ValueError(f"rotation_rad must be {u.shape} (NaN where a point has none), got {rotation.shape}")
+            object.__setattr__(self, "rotation_rad", _readonly(rotation))
         object.__setattr__(self, "displacement_m", _readonly(u))
         object.__setattr__(self, "T1_input_Nm", float(self.T1_input_Nm))
         object.__setattr__(self, "T2_output_Nm", float(self.T2_output_Nm))
@@ -201,6 +211,8 @@ class FieldCase:
         data = {"displacement_mm": np.array(self.displacement_m) * M_TO_MM, "displacement_y_um": self.displacement_y_um}
         if self.von_mises_Pa is not None:
             data["von_mises_MPa"] = np.array(self.von_mises_Pa) * 1e-6
+        if self.rotation_rad is not None:
+            data["rotation_urad"] = np.array(self.rotation_rad) * 1e6
         return data
 
 
@@ -255,8 +267,9 @@ def beam_field_cases(frame: RigModel, cases: Iterable, unit_responses=None) -> l
     for item in cases:
         case = _load_case(item)
         measured = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, from_rest, contact)
-        out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm,
-                             measured.reshape(-1, 6)[:, :3]))
+        nodal = measured.reshape(-1, 6)
+        out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm, nodal[:, :3],
+                             rotation_rad=nodal[:, 3:]))
     return out
 
 
@@ -523,6 +536,7 @@ def write_xdmf_series(path: str | Path, mesh: FieldMesh, cases: Sequence[FieldCa
         info = {
             "time": XDMF_TIME,
             "units": {"points": "mm", "displacement_mm": "mm", "displacement_y_um": "um", "von_mises_MPa": "MPa",
+                      "rotation_urad": "urad",
                       "radius_mm": "mm", "T1_input_Nm": "N m", "T2_output_Nm": "N m"},
             "part_names": list(mesh.part_names),
             "data_format": fmt,
@@ -645,10 +659,15 @@ def sweep_field_cases(sweep) -> list[FieldCase]:
     for i, result in enumerate(sweep.cases):
         case = result.case
         measured = sweep.measured_displacement(i)  # also for a nonlinear (bearing clearance) sweep
-        blocks = [measured[: 6 * n_frame].reshape(-1, 6)[:, :3]]
+        frame = measured[: 6 * n_frame].reshape(-1, 6)
+        blocks, rotations = [frame[:, :3]], [frame[:, 3:]]
         blocks += [measured[dofs] for dofs in solid_dofs]
+        rotations += [np.full((len(dofs), 3), np.nan) for dofs in solid_dofs]  # a solid's nodes have no section
         for which in solid_paths:
             uy = system.probes[which].uy @ measured
             blocks.append(np.column_stack([np.zeros_like(uy), uy, np.zeros_like(uy)]))
-        out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm, np.vstack(blocks)))
+            rz = system.probes[which].rotation_z @ measured
+            rotations.append(np.column_stack([np.full_like(rz, np.nan), np.full_like(rz, np.nan), rz]))
+        out.append(FieldCase(case.label, case.input_torque_Nm, case.output_torque_Nm, np.vstack(blocks),
+                             rotation_rad=np.vstack(rotations)))
     return out

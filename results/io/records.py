@@ -12,9 +12,18 @@ import json
 from importlib.metadata import PackageNotFoundError, version
 from typing import Protocol
 
+import numpy as np
+
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
-from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
+from rvcoax.results.engineering import (
+    ALIGNMENT_TOLERANCE_SOURCE,
+    life_columns,
+    life_entries,
+    reducer_columns,
+    reducer_entries,
+    shaft_quantities,
+)
 from rvcoax.results.sweep import CaseResult, Sweep
 
 __all__ = ["ENGINEERING_DEFINITIONS", "StudyRecord", "UNITS", "canonical", "case_entry", "case_record", "case_row",
@@ -98,6 +107,8 @@ def case_row(case: CaseResult) -> dict:
         row.update({f"{key}_{shaft}{unit}": value for key, unit, value in _shaft_columns(case.paths[shaft])})
     if case.engineering is not None:
         row.update(case.engineering.row())
+    row.update(life_columns(getattr(case, "ball_lives", ())))
+    row.update(reducer_columns(getattr(case, "reducer_checks", ())))
     return row
 
 
@@ -111,10 +122,20 @@ def _shaft_columns(path) -> list[tuple[str, str, float]]:
 
 
 def entry_path_rows(entry: dict) -> list[dict]:
-    """The rows of ``sweep_paths.csv`` of one case (one per shaft and station), from its :func:`case_entry`."""
-    return [{"T1_input_Nm": entry["T1_input_Nm"], "T2_output_Nm": entry["T2_output_Nm"], "shaft": shaft,
-             "station_mm": float(station), "uy_mm": float(uy)}
-            for shaft in MEASURED_SHAFTS for station, uy in zip(entry[shaft]["path"]["station_mm"], entry[shaft]["path"]["uy_mm"])]
+    """The rows of ``sweep_paths.csv`` of one case (one per shaft and station), from its :func:`case_entry`: the
+    signed Y and the section rotation about z (the slope of the bending line, µrad; a record written before it
+    was kept has none)."""
+    rows = []
+    for shaft in MEASURED_SHAFTS:
+        path = entry[shaft]["path"]
+        rotations = path.get("rotation_z_urad")
+        for k, (station, uy) in enumerate(zip(path["station_mm"], path["uy_mm"])):
+            row = {"T1_input_Nm": entry["T1_input_Nm"], "T2_output_Nm": entry["T2_output_Nm"], "shaft": shaft,
+                   "station_mm": float(station), "uy_mm": float(uy)}
+            if rotations is not None:
+                row["rotation_z_urad"] = float(rotations[k])
+            rows.append(row)
+    return rows
 
 
 def case_entry(case: CaseResult) -> dict:
@@ -127,12 +148,18 @@ def case_entry(case: CaseResult) -> dict:
             "station_of_max_mm": path.station_of_max_mm, "beta_deg": path.beta_deg,
             "fitted_tilt_deg": path.fitted_tilt_deg, "end_rotations_deg": list(path.end_rotations_deg),
             "Y_max_from_unloaded_geometry_mm": case.absolute_paths[shaft].y_max_mm,
-            "path": {"station_mm": path.station_mm.tolist(), "uy_mm": path.uy_mm.tolist()},
+            "path": {"station_mm": path.station_mm.tolist(), "uy_mm": path.uy_mm.tolist(),
+                     "rotation_z_urad": (np.asarray(path.rotation_z_rad) * 1e6).tolist()},
         }
     entry["equilibrium_relative_error"] = case.equilibrium_error
     entry["solve_relative_residual"] = case.residual
     entry["engineering"] = {"shafts": {s: shaft_quantities(case.paths[s]) for s in MEASURED_SHAFTS},
                             **(case.engineering.entry() if case.engineering is not None else {})}
+    if getattr(case, "ball_lives", ()):
+        entry["engineering"]["bearing_lives"] = (entry["engineering"].get("bearing_lives", [])
+                                                 + life_entries(case.ball_lives))
+    if getattr(case, "reducer_checks", ()):
+        entry["engineering"]["reducers"] = reducer_entries(case.reducer_checks)
     return entry
 
 

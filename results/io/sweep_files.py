@@ -78,8 +78,9 @@ def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -
     ]
 
 
-RECORD_FORMAT = 2
-"""What a case record holds: 2 adds the engineering quantities (issue 15). A journal line of another
+RECORD_FORMAT = 3
+"""What a case record holds: 2 adds the engineering quantities (issue 15), 3 the bearing lives and reducer checks
+(issue 25). A journal line of another
 format is not reused, even from the same rvcoax version (a development build)."""
 
 

@@ -107,8 +107,7 @@ def _table_html(table: tables.Table) -> str:
         for k, cell in enumerate(row):
             classes = []
             if k == table.verdict_column:
-                classes.append({"fine": "fine", "within": "within", "EXCEEDS": "exceeds"}.get(cell.split(" ")[0],
-                                                                                             "none"))
+                classes.append(_verdict_class(cell))
             elif _numeric(cell):
                 classes.append("num")
             attr = f' class="{" ".join(classes)}"' if classes else ""
@@ -117,6 +116,17 @@ def _table_html(table: tables.Table) -> str:
     note = f'<p class="note">{html.escape(table.note)}</p>' if table.note else ""
     return (f"<table><caption>{html.escape(table.caption)}</caption><thead><tr>{head}</tr></thead>"
             f"<tbody>{''.join(body)}</tbody></table>{note}")
+
+
+def _verdict_class(cell: str) -> str:
+    """The colour class of a verdict cell: fine, within (near a limit) or exceeds."""
+    if cell.startswith(("EXCEEDS", "BELOW")):
+        return "exceeds"
+    if cell in ("within rating", "above minimum load"):
+        return "fine"
+    if cell.startswith("above rated"):
+        return "within"
+    return {"fine": "fine", "within": "within"}.get(cell.split(" ")[0], "none")
 
 
 def _numeric(text: str) -> bool:
@@ -253,7 +263,7 @@ def _figure_rows(document: dict) -> list[tuple[str, str]]:
                              f"held-out values); improves: {'yes' if figures.get('improves') else 'no'}"))
     observability = document.get("observability")
     if isinstance(observability, dict):
-        visible = observability.get("visible") or []
+        visible = observability.get("detectable", observability.get("visible")) or []
         invisible = observability.get("invisible") or {}
         if isinstance(visible, list) and isinstance(invisible, dict):
             revealable = sum(1 for v in invisible.values() if isinstance(v, dict) and v.get("revealed_by"))
@@ -298,8 +308,9 @@ def _effects_html(document: dict) -> str:
                              "; ".join(_parameter_text(k, v) for k, v in (s.get("parameters") or {}).items()),
                              ", ".join(str(g) for g in (s.get("group") or []) if g != s.get("effect")))
                             for s in selected if isinstance(s, dict))
-        title = "Effects added to the model" if verdict == "explained" else \
-            "Candidate effects (they reduce the gap but do not explain it; not a fix)"
+        title = {"explained": "Effects added to the model",
+                 "ambiguous": "Candidate effects (each one of several look-alikes that close the gap; not a fix)"}.get(
+            verdict, "Candidate effects (they reduce the gap but do not explain it; not a fix)")
         return _table_html(tables.Table(title, ("effect", "what it means", "parameters",
                                                "equally well on these data"), effect_rows))
     return "<p>No effect was added to the model.</p>"
@@ -379,7 +390,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
                          + _table_html(tables.shaft_table(sweep))))
-    misalignment = tables.misalignment_tables(sweep)
+    misalignment = tables.misalignment_tables(sweep) + tables.life_tables(sweep) + tables.gear_mesh_tables(sweep)
     body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
                          or _missing("The rig has no couplings or bearings.")))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))

@@ -258,6 +258,101 @@ def _bearing_table(sweep, measured: ConnectionStates, unloaded: ConnectionStates
                       "2′ … 10′ in catalogues).")
 
 
+def _life_text(value) -> str:
+    if value is None:
+        return "–"
+    if not math.isfinite(value) or value > 1e9:
+        return "> 1e9"
+    return _g(value, 3)
+
+
+def life_tables(sweep) -> list[Table]:
+    """Bearing life, static safety and minimum load per case (every row names its case), the lives over the rig
+    file's duty cycle, and each reducer against its rating table per case."""
+    from rvcoax.results.engineering import case_name, duty_cycle_of_lives, sweep_lives, sweep_reducer_checks
+
+    out = []
+    balls = [b for b in sweep.rig.bearings if b.model == "ball"]
+    if balls:
+        from rvcoax.geometry.ball_model import clearance_range_um_of, operating_geometry
+
+        rows = []
+        for b in balls:
+            low, high = clearance_range_um_of(sweep.rig, b)
+            rows.append((b.name, b.designation or "explicit geometry", b.clearance_class or ("–" if b.clearance_um is not None else "CN"),
+                         f"{b.shaft_fit or '–'} / {b.housing_fit or '–'}", f"{_g(low, 3)} … {_g(high, 3)}",
+                         _g(operating_geometry(sweep.rig, b).clearance_m * 1e6, 3)))
+        out.append(Table("Ball bearings: operating radial clearance (diametral)",
+                         ("bearing", "designation", "class", "fits shaft / housing", "operating range [µm]",
+                          "solved with [µm]"), tuple(rows),
+                         note="The class's unmounted range (ISO 5753-1) less the rings' expansion by the fits' "
+                              "interference (ISO 286, ISO 492, thick rings), tightest to loosest, plus the [thermal] "
+                              "change; solved with the middle (fit_clearance = mean) unless chosen otherwise."))
+    per_case = sweep_lives(sweep)
+    rows = tuple((life.case, life.name, "–" if life.speed_rpm is None else f"{life.speed_rpm:g}",
+                  _g(life.equivalent_load_N, 3), _life_text(life.L10_Mrev), _life_text(life.L10_h),
+                  _life_text(life.L10r_h if life.speed_rpm else life.L10r_Mrev), _life_text(life.Lnm_h),
+                  _life_text(life.static_safety), _g(life.minimum_load_N, 3), life.minimum_load_status)
+                 for lives in per_case for life in lives)
+    if rows:
+        out.append(Table("Bearings: life, static safety and minimum load, per case",
+                         ("case", "bearing", "speed [1/min]", "equivalent load P [N]", "L10 [10⁶ rev]", "L10 [h]",
+                          "L10r [h, or 10⁶ rev without a speed]", "L_nm = a_ISO L [h]", "static safety s0",
+                          "minimum load [N]", "minimum load"), rows, verdict_column=10,
+                         note="L10: ISO 281 basic rating life from P = X F_r + Y F_a and the load rating C (rig key "
+                              "dynamic_load_rating_kN, or ISO 281 from the internal geometry). L10r: ISO/TS 16281 "
+                              "reference life from the ball loads (tilt, clearance and preload count); only for "
+                              "bearings from internal geometry. L_nm: with viscosity_ratio and contamination_factor. "
+                              "s0: C0/P0 (ISO 76), or (4200 MPa / p_max)³ from the ball loads. Minimum load: 0.01 C "
+                              "(ball), 0.02 C (roller), the makers' rule, on P or, from the ball loads, on the load "
+                              "that gives L10r (a preload counts)."))
+    duty = duty_cycle_of_lives(sweep.rig, per_case)
+    if duty:
+        out.append(Table(f"Bearings: life over the duty cycle ({duty[0].shares} shares of the rig file's load cases)",
+                         ("bearing", "L10 [h]", "L10 [10⁶ rev]", "L_nm [h]", "smallest s0", "cases below minimum load"),
+                         tuple((d.name, _life_text(d.L10_h), _life_text(d.L10_Mrev), _life_text(d.Lnm_h),
+                                _life_text(d.min_static_safety), ", ".join(d.cases_below_minimum_load) or "none")
+                               for d in duty),
+                         note="Palmgren–Miner: L = 1 / Σ (share_k / L_k) over the cases; a case at standstill adds no "
+                              "damage."))
+    checks = [(c.case, r) for c, case_checks in zip(sweep.cases, sweep_reducer_checks(sweep)) for r in case_checks]
+    if checks:
+        out.append(Table("Reducers against the maker's rating table, per case",
+                         ("case", "reducer", "torque [N·m]", "of rated", "of peak", "of momentary", "moment on the "
+                          "main bearings [N·m]", "of allowable moment", "axial force [N]", "of max. axial", "verdict"),
+                         tuple((case_name(sweep.rig, case.input_torque_Nm, case.output_torque_Nm),
+                                f"{r.name} ({r.designation})", _g(r.torque_Nm), f"{r.torque_rated_percent:.3g} %",
+                                f"{r.torque_peak_percent:.3g} %", f"{r.torque_momentary_percent:.3g} %",
+                                _g(r.moment_Nm, 3), f"{r.moment_use_percent:.3g} %", _g(r.axial_force_N, 3),
+                                f"{r.axial_use_percent:.3g} %", r.verdict) for case, r in checks),
+                         verdict_column=10,
+                         note="Rated, peak (allowable acceleration/deceleration) and momentary maximum torque, "
+                              "allowable moment and maximum axial load from the reducer's rating table "
+                              "(geometry/data/rv_reducers.csv, tagged values); the moment is the one the model's "
+                              "reducer joint carries at the main bearings' centre."))
+    return out
+
+
+def gear_mesh_tables(sweep) -> list[Table]:
+    """Each planet mesh's misalignment in gear terms (f_Σβ, f_Σδ over the face width), per case."""
+    rows = []
+    for c in sweep.cases:
+        if c.engineering is None:
+            continue
+        for g in c.engineering.gear_meshes:
+            rows.append((f"T1 = {c.case.input_torque_Nm:g}, T2 = {c.case.output_torque_Nm:g}", g.name,
+                         f"{g.planet} ({g.planet_angle_deg:g}°)", _g(g.face_width_mm, 3), _g(g.relative_tilt_urad, 3),
+                         _g(g.f_sigma_beta_um, 3), _g(g.f_sigma_delta_um, 3)))
+    if not rows:
+        return []
+    return [Table("Gear meshes: misalignment over the face width, per case",
+                  ("case [N·m]", "gear mesh", "planet", "face width b [mm]", "relative tilt [µrad]",
+                   "f_Σβ in the plane of action [µm]", "f_Σδ normal to it [µm]"), tuple(rows),
+                  note="From the section rotations of the gear and its mate's carrier at the mesh (read like Y: "
+                       "since the aligned rest state by default); f_Σβ is the deformation part of the mesh "
+                       "misalignment ISO 6336-1's K_Hβ takes. A member modelled as a solid is left out.")]
+
+
 def misalignment_tables(sweep) -> list[Table]:
     """The coupling and bearing tables with verdicts (one function, so that the source can be swapped)."""
     measured, unloaded = connection_states(sweep, "measured"), connection_states(sweep, "unloaded")

@@ -169,16 +169,18 @@ def test_sweep_json(default_sweep):
 
 def test_sweep_paths_csv_matches_json(default_sweep):
     columns, rows = read_csv(default_sweep / "sweep_paths.csv")
-    assert columns == ["T1_input_Nm", "T2_output_Nm", "shaft", "station_mm", "uy_mm"]
+    assert columns == ["T1_input_Nm", "T2_output_Nm", "shaft", "station_mm", "uy_mm", "rotation_z_urad"]
     document = json.loads((default_sweep / "sweep.json").read_text(encoding="utf-8"))
-    expected = [(c["T1_input_Nm"], c["T2_output_Nm"], shaft, s, u)
+    expected = [(c["T1_input_Nm"], c["T2_output_Nm"], shaft, s, u, r)
                 for c in document["cases"] for shaft in MEASURED_SHAFTS
-                for s, u in zip(c[shaft]["path"]["station_mm"], c[shaft]["path"]["uy_mm"])]
+                for s, u, r in zip(c[shaft]["path"]["station_mm"], c[shaft]["path"]["uy_mm"],
+                                   c[shaft]["path"]["rotation_z_urad"])]
     assert len(rows) == len(expected) >= 20 * 2 * 25
-    for row, (t1, t2, shaft, station, uy) in zip(rows, expected):
+    for row, (t1, t2, shaft, station, uy, rotation) in zip(rows, expected):
         assert (float(row["T1_input_Nm"]), float(row["T2_output_Nm"]), row["shaft"]) == (t1, t2, shaft)
         assert float(row["station_mm"]) == pytest.approx(station, abs=1e-9)
         assert float(row["uy_mm"]) == pytest.approx(uy, rel=1e-9, abs=1e-18)
+        assert float(row["rotation_z_urad"]) == pytest.approx(rotation, rel=1e-9, abs=1e-15)
 
 
 def test_direct_method_equals_superposition(default_sweep, direct_sweep):

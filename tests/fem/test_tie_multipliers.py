@@ -61,6 +61,9 @@ def test_constrained_stiffness_is_the_reduced_stiffness_without_forming_it(tied_
     root = np.sqrt(formed.diagonal())
     exact = abs(sp.diags(1 / root) @ formed @ sp.diags(1 / root)).sum(axis=0).max()
     assert operator.scaled_one_norm(root, columns_per_chunk=97) == pytest.approx(exact, rel=1e-12)
+    # the same with K' read from PARDISO's upper triangle (|K'| applied from it for the column bounds)
+    served = operator.served_from(operator.saddle_point_upper())
+    assert served.scaled_one_norm(root, columns_per_chunk=97) == pytest.approx(exact, rel=1e-12)
     # the multiplier form adds the tie rows (twice) to K and no dense face block
     tie_entries = t[long_rows(t)].nnz
     assert operator.saddle_point_matrix().nnz <= k.nnz + 2 * tie_entries + 2 * 12

@@ -227,3 +227,30 @@ def test_parameter_addresses_of_the_new_keys(rig):
         get_parameter(rig, "force_table.nothing")
     with pytest.raises(KeyError, match="not set"):
         get_parameter(rig, "torque_lateral_loads.sun_gear_load_sharing.force_per_torque_N_per_Nm")
+
+
+def test_each_kind_is_declared_once_and_describes_itself(rig):
+    """The vocabulary is one tuple: every candidate's kind is declared there once, with how it changes the model and
+    what a fitted value means in words that name its place and its size."""
+    from rvcoax.geometry.effects import EFFECT_KINDS, RESPONSES
+
+    kinds = [k.kind for k in EFFECT_KINDS]
+    assert len(kinds) == len(set(kinds)) and all(k.response in RESPONSES for k in EFFECT_KINDS)
+    for effect in candidate_effects(rig):
+        assert effect.kind in kinds
+        sentence = effect.meaning([0.37])
+        assert "0.37" in sentence or "1.37" in sentence or "1.29" in sentence, (effect.name, sentence)  # 2^0.37
+        if effect.location is not None and effect.kind != "mesh_force":
+            assert effect.location in sentence, (effect.name, sentence)
+
+
+def test_effects_declared_as_loads_change_only_the_loads(rig):
+    """An effect whose response is ``load`` leaves the stiffness as it is: the factorised base model gives the changed
+    rig's Y exactly (the discrepancy engine relies on it). Effects adding a lateral load at a new point are left out:
+    the new point changes the mesh, not the stiffness."""
+    prepared = prepare_model(rig)
+    for effect in candidate_effects(rig):
+        if effect.response != "load" or effect.new_items(rig, [effect.parameters[0].typical]):
+            continue
+        changed = effect.apply(rig, [effect.parameters[0].typical])
+        assert np.abs(y_paths(changed, prepared=prepared) - y_paths(changed)).max() < 1e-12, effect.name

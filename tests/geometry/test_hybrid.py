@@ -135,6 +135,10 @@ def test_hybrid_fields_and_picture(tmp_path, hybrid):
     # the path points carry the probed u_y of the sweep
     uy = cases[0].displacement_m[paths["input"], 1] * 1e3
     np.testing.assert_allclose(uy, hybrid.cases[0].paths["input"].uy_mm, rtol=1e-12)
+    # and the probed section rotation about z; a solid's own nodes have no section rotation (NaN, not 0)
+    np.testing.assert_allclose(cases[0].rotation_rad[paths["input"], 2], hybrid.cases[0].paths["input"].rotation_z_rad,
+                               rtol=1e-12)
+    assert np.isnan(back.point_data["rotation_urad"]).any() and np.isfinite(back.point_data["rotation_urad"]).any()
     info = render_deformed(mesh, cases[0], tmp_path / "h.png", paths=paths, window_size=(800, 300))
     from PIL import Image
 

@@ -48,17 +48,17 @@ def test_a_curvature_within_the_model_form_allowance_is_not_structure():
     data = _paths()
     sigma = ALLOWANCE * np.array([np.sqrt(np.mean(data.value_mm[data.case_index == c] ** 2)) for c in data.case_index])
     residual = _curvature_residual(data, 0.015)
-    finding = curvature_beyond_allowance(data, residual, sigma, "input", ALLOWANCE, 4.0)
+    finding = curvature_beyond_allowance(data, residual, sigma, "input", model_form_fraction=ALLOWANCE, threshold=4.0)
     assert abs(_amplitude(finding) - 0.015) < 1e-6
     assert not finding.significant and finding.statistic < 0 and "within the 2 % model-form allowance" in finding.detail
-    bare = curvature_beyond_allowance(data, residual, sigma, "input", 0.0, 4.0)  # the old rule: |t| alone
+    bare = curvature_beyond_allowance(data, residual, sigma, "input", model_form_fraction=0.0, threshold=4.0)  # the old rule: |t| alone
     assert bare.significant and bare.statistic > 4
 
 
 def test_a_curvature_beyond_the_allowance_is_structure():
     data = _paths()
     sigma = ALLOWANCE * np.array([np.sqrt(np.mean(data.value_mm[data.case_index == c] ** 2)) for c in data.case_index])
-    finding = curvature_beyond_allowance(data, _curvature_residual(data, 0.05), sigma, "input", ALLOWANCE, 4.0)
+    finding = curvature_beyond_allowance(data, _curvature_residual(data, 0.05), sigma, "input", model_form_fraction=ALLOWANCE, threshold=4.0)
     assert abs(_amplitude(finding) - 0.05) < 1e-6
     assert finding.significant and "beyond the 2 % model-form allowance" in finding.detail
 
@@ -84,7 +84,7 @@ def test_the_same_torque_proportional_load_at_two_places_with_opposite_signs_is_
     from discrepancy_data import discrepancy_rig
 
     from rvcoax.geometry.effects import candidate_effects
-    from rvcoax.results.studies.discrepancy.workflow import _opposite_loads
+    from rvcoax.results.studies.discrepancy.judge import opposite_loads as _opposite_loads
 
     effects = {e.name: e for e in candidate_effects(discrepancy_rig())}
     a, b = "torque_reaction@output_bearing_block", "torque_reaction@output_sensor_housing"

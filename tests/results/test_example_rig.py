@@ -21,7 +21,7 @@ from rvcoax.results.studies.check_run import MissingTableError, run_check
 from rvcoax.results.studies.discrepancy.measured import parse_measured
 from rvcoax.results.sweep import run_sweep
 
-CASES_BLOCK = re.compile(r"\[\[load_cases\]\]\nT1_input_Nm = [^\n]*\nT2_output_Nm = [^\n]*\n")
+CASES_BLOCK = re.compile(r"\[\[load_cases\]\]\n(?:[A-Za-z0-9_]+ += [^\n]*\n)+")
 
 
 @pytest.fixture(scope="module")

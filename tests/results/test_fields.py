@@ -66,6 +66,9 @@ def test_beam_field_equals_sweep_paths(sweep, beam):
         for shaft, nodes in path_point_indices(sweep.frame).items():
             uy_mm = field.displacement_m[nodes, 1] * 1e3
             np.testing.assert_allclose(uy_mm, result.paths[shaft].uy_mm, rtol=0, atol=1e-12)
+            # the section rotations (issue 25): about z, the paths' own rotation
+            np.testing.assert_allclose(field.rotation_rad[nodes, 2], result.paths[shaft].rotation_z_rad, rtol=0,
+                                       atol=1e-15)
         assert field.von_mises_Pa is None  # a beam model gives no stress field (rather than a field of NaN)
 
 
@@ -104,6 +107,7 @@ def test_vtu_roundtrip_beam(tmp_path, beam):
     np.testing.assert_array_equal(data.point_data["displacement_mm"], cases[0].displacement_m * 1e3)
     np.testing.assert_array_equal(data.point_data["displacement_y_um"], cases[0].displacement_m[:, 1] * 1e6)
     assert "von_mises_MPa" not in data.point_data  # no NaN field
+    np.testing.assert_array_equal(data.point_data["rotation_urad"], cases[0].rotation_rad * 1e6)
     for values in [*data.point_data.values(), *(v for blocks in data.cell_data.values() for v in blocks)]:
         assert np.all(np.isfinite(values))
     np.testing.assert_array_equal(data.cell_data["radius_mm"][0], mesh.line_radius_m * 1e3)

@@ -30,17 +30,18 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE, bushing
+from rvcoax.fem.solvers import SolverError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, stress_free_motions
 from rvcoax.geometry.model.loads import REST_LOADS, UNIT_LOADS, case_weights, gear_contact_torques
 from rvcoax.results.studies.discrepancy.responses import PathLayout
 from rvcoax.results.sweep import ModelError, SweepSettings, check_solution, prepare_model, run_sweep
 
-__all__ = ["LOAD_KINDS", "SPRING_KINDS", "Engine", "case_matrix", "prepare_engine"]
+__all__ = ["CANDIDATE_FAILURES", "Engine", "case_matrix", "prepare_engine"]
 
-LOAD_KINDS = frozenset({"self_weight", "force_pairs", "coupling_offset", "coupling_angle", "thermal_growth",
-                        "mesh_force", "torque_reaction", "mesh_position_error"})
-SPRING_KINDS = frozenset({"bearing_stiffness", "mount_compliance"})
+# what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
+CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
+
 N_PER_UM = 1e6
 RESIDUAL_LIMIT = 1e-6
 
@@ -92,7 +93,7 @@ class Engine:
     # -- candidates ---------------------------------------------------------------------------------------
     def supports(self, effect) -> bool:
         """Whether :meth:`unit_change` solves ``effect`` exactly on this factorisation."""
-        return self.linear and (effect.kind in LOAD_KINDS or (effect.kind in SPRING_KINDS and self.system.kind == "beam"))
+        return self.linear and (effect.response == "load" or (effect.response == "spring" and self.system.kind == "beam"))
 
     def unit_change(self, applied: list) -> np.ndarray:
         """Change of the unit paths (n_unit_loads, n_path) when the effects ``applied`` [(effect, values)] act together."""
@@ -101,7 +102,7 @@ class Engine:
             rig = effect.apply(rig, list(values))
         system = self.system
         base_loads = system.unit_loads
-        springs_only = all(effect.kind in SPRING_KINDS for effect, _ in applied)
+        springs_only = all(effect.response == "spring" for effect, _ in applied)
         try:
             loads = base_loads if springs_only else system.with_loads_of(rig).unit_loads
         except KeyError:  # a load where the base mesh has no node: the rig's own mesh, by a real sweep
@@ -329,4 +330,4 @@ def prepare_engine(rig, settings: SweepSettings) -> Engine:
         check_solution(f"unit load {k}", unit[:, i], 0.0, float(np.linalg.norm(reduced) / scale) if scale > 0 else 0.0)
     stations = {s: np.asarray(system.probes[s].stations_mm, float) for s in MEASURED_SHAFTS}
     lengths = {s: float(system.probes[s].length_mm) for s in MEASURED_SHAFTS}
-    return Engine(rig, settings, prepared, unit, operator, stations, lengths, linear)
+    return Engine(rig=rig, settings=settings, prepared=prepared, unit=unit, path_operator=operator, stations_mm=stations, length_mm=lengths, linear=linear)

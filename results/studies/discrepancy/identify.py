@@ -54,13 +54,14 @@ class Step:
     pruned: tuple[str, ...] = ()
     ranking: tuple[tuple[str, float], ...] = ()
     group_fits: dict[str, Fit] = field(default_factory=dict)
+    rejected_fits: dict[str, Fit] = field(default_factory=dict)
 
 
 class Problem:
     """The least-squares problem: measured values, σ, base paths, observation operator, responses."""
 
-    def __init__(self, measured: np.ndarray, sigma: np.ndarray, base_paths: np.ndarray, observe,
-                 responses: dict[str, EffectResponse], rows: np.ndarray | None = None):
+    def __init__(self, measured: np.ndarray, sigma: np.ndarray, base_paths: np.ndarray, observe,  # noqa: PLR0913
+                 responses: dict[str, EffectResponse], *, rows: np.ndarray | None = None):
         self.measured = measured
         self.sigma = sigma
         self.base_paths = base_paths
@@ -194,7 +195,7 @@ def _cosine(a: np.ndarray, b: np.ndarray) -> float:
     return 0.0 if na == 0 or nb == 0 else float(abs(a @ b) / (na * nb))
 
 
-def forward_backward(problem: Problem, candidates: list[str], margin: float = 10.0, ambiguity_margin: float = 6.0,
+def forward_backward(problem: Problem, candidates: list[str], *, margin: float = 10.0, ambiguity_margin: float = 6.0,  # noqa: PLR0913
                      parallel_cosine: float = 0.999, max_effects: int = 4, stop=None) -> tuple[Fit, list[Step]]:
     """Forward selection by BIC with backward pruning.
 
@@ -237,7 +238,8 @@ def forward_backward(problem: Problem, candidates: list[str], margin: float = 10
                 break
             selected, current = fit.names, fit
             pruned.append(name)
-        steps.append(Step(winner, float(gain), tuple(group), current, rejected, tuple(pruned),
-                          tuple((name, float(before - t.bic)) for name, t in ranking[:8]),
-                          {name: valid[name] for name in group}))
+        steps.append(Step(added=winner, delta_bic=float(gain), group=tuple(group), fit=current, rejected=rejected, pruned=tuple(pruned),
+                          ranking=tuple((name, float(before - t.bic)) for name, t in ranking[:8]),
+                          group_fits={name: valid[name] for name in group},
+                          rejected_fits={name: t for name, t in trials.items() if t.rejected}))
     return current, steps

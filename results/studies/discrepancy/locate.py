@@ -124,6 +124,14 @@ class GapTest:
                 f"p = {self.p_value:.3g}: " + ("a gap beyond the noise" if self.gap else "consistent with the noise"))
 
 
+def detection_norm(n: int, alpha: float) -> float:
+    """The signature norm (in σ) an effect needs for the gap test on ``n`` observations to find it: the χ² it adds,
+    ‖s‖², must lift the expected χ² (n) to the test's critical value, χ²₁₋α(n) − n. The same σ (noise, the rounding
+    of printed digits, the model-form allowance) scales the signature and the test, so "detectable" means the
+    workflow's own test would see the gap."""
+    return float(np.sqrt(max(stats.chi2.isf(alpha, max(n, 1)) - max(n, 1), 0.0)))
+
+
 def gap_test(scaled_residual: np.ndarray, alpha: float) -> GapTest:
     chi2 = float(np.sum(scaled_residual ** 2))
     n = int(scaled_residual.size)
@@ -192,13 +200,14 @@ def residual_structure(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np
                                                  f"lower half vs the line of the upper half: χ² = {chi2:.3g} "
                                                  f"on {int(lower.sum())} points (p = {p:.2g})"))
         if data.schema == "paths" and np.ptp(data.x_mm[mask]) > 0:
-            finding = curvature_beyond_allowance(data, residual_mm, sigma_mm, shaft, model_form_fraction, threshold)
+            finding = curvature_beyond_allowance(data, residual_mm, sigma_mm, shaft,
+                                                 model_form_fraction=model_form_fraction, threshold=threshold)
             if finding is not None:
                 findings.append(finding)
     return findings
 
 
-def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray, shaft: str,
+def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigma_mm: np.ndarray, shaft: str, *,  # noqa: PLR0913
                                model_form_fraction: float, threshold: float) -> StructureFinding | None:
     """Curvature of the residual along one shaft, as a fraction of the signal, against the model-form allowance.
 

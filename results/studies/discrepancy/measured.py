@@ -89,10 +89,10 @@ class MeasuredData:
         used = sorted(set(self.case_index[keep].tolist()))
         renumber = {old: new for new, old in enumerate(used)}
         return MeasuredData(
-            self.schema, tuple(self.cases[i] for i in used),
-            np.array([renumber[i] for i in self.case_index[keep]], dtype=int), self.shaft[keep],
-            self.x_mm[keep], self.value_mm[keep], None if self.sigma_mm is None else self.sigma_mm[keep],
-            self.source, self.quantum_mm, None if self.line is None else self.line[keep],
+            schema=self.schema, cases=tuple(self.cases[i] for i in used),
+            case_index=np.array([renumber[i] for i in self.case_index[keep]], dtype=int), shaft=self.shaft[keep],
+            x_mm=self.x_mm[keep], value_mm=self.value_mm[keep], sigma_mm=None if self.sigma_mm is None else self.sigma_mm[keep],
+            source=self.source, quantum_mm=self.quantum_mm, line=None if self.line is None else self.line[keep],
         )
 
 
@@ -125,13 +125,8 @@ def printed_quantum(text: str) -> float:
     return 10.0 ** (int(exponent or 0) - decimals)
 
 
-def parse_measured(text: str, source: str) -> MeasuredData:
-    """Parse measured data from CSV text (see the module docstring for the two schemas)."""
-    try:
-        rows_of_file = list(csv_rows(text))
-    except InputFileError as error:
-        raise MeasuredDataError(source, str(error)) from None
-    columns = [c.strip() for c in (rows_of_file[0][1] if rows_of_file else [])]
+def _schema_of(columns: list[str], source: str) -> str:
+    """The schema (``paths`` or ``table``) a header line names; refuses an empty, repeated or unknown column."""
     if not columns:
         raise MeasuredDataError(source, "the file is empty (expected a CSV header line)")
     repeated = sorted({c for c in columns if c and columns.count(c) > 1})
@@ -153,6 +148,17 @@ def parse_measured(text: str, source: str) -> MeasuredData:
     if unknown:
         raise MeasuredDataError(source, f"line 1: unknown column(s) {', '.join(unknown)} for a {schema} file "
                                 f"(allowed: {', '.join(needed + OPTIONAL_COLUMNS)})")
+    return schema
+
+
+def parse_measured(text: str, source: str) -> MeasuredData:
+    """Parse measured data from CSV text (see the module docstring for the two schemas)."""
+    try:
+        rows_of_file = list(csv_rows(text))
+    except InputFileError as error:
+        raise MeasuredDataError(source, str(error)) from None
+    columns = [c.strip() for c in (rows_of_file[0][1] if rows_of_file else [])]
+    schema = _schema_of(columns, source)
     has_sigma = "sigma_mm" in columns
     cases: dict[tuple[float, float], int] = {}
     rows: list[tuple[int, str, float, float, float, int]] = []  # case, shaft, x, value, sigma, line
@@ -198,9 +204,9 @@ def parse_measured(text: str, source: str) -> MeasuredData:
         raise MeasuredDataError(source, "no data rows under the header")
     _check_magnitudes(rows, schema, source)
     case_index, shafts, x, values, sigmas, lines = (np.array(c) for c in zip(*rows))
-    return MeasuredData(schema, tuple(LoadCase(a, b) for a, b in cases), case_index.astype(int), shafts.astype(str),
-                        x.astype(float), values.astype(float), sigmas.astype(float) if has_sigma else None,
-                        source, quantum if schema == "table" else None, lines.astype(int))
+    return MeasuredData(schema=schema, cases=tuple(LoadCase(a, b) for a, b in cases), case_index=case_index.astype(int), shaft=shafts.astype(str),
+                        x_mm=x.astype(float), value_mm=values.astype(float), sigma_mm=sigmas.astype(float) if has_sigma else None,
+                        source=source, quantum_mm=quantum if schema == "table" else None, line=lines.astype(int))
 
 
 LARGEST_PLAUSIBLE_Y_MM = 10.0  # a shaft of a running test rig displaced 10 mm would be wrecked

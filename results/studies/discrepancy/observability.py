@@ -17,12 +17,14 @@ the measurement where their (data-matched) predictions differ most separates the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.studies.discrepancy.locate import detection_norm
+from rvcoax.results.studies.discrepancy.observed import Observed
 
 __all__ = ["PARALLEL_COSINE", "REVEAL_SIGMA", "Scenario", "Suggestion", "VISIBLE_NORM", "Visibility", "direction",
            "discriminate", "observability", "parallel_groups", "scenarios", "signature"]
@@ -30,6 +32,7 @@ __all__ = ["PARALLEL_COSINE", "REVEAL_SIGMA", "Scenario", "Suggestion", "VISIBLE
 VISIBLE_NORM = 3.0  # ‖s‖ at the end of the physical range: Δχ² = 9 (a 3 σ detection)
 PARALLEL_COSINE = 0.98  # sin θ = 0.2: scaled to fit, one effect mimics the other within 20 % of its size
 REVEAL_SIGMA = 3.0  # one new observation must change by 3 σ to reveal an effect
+DETECTION_ALPHA = 0.01  # the gap test's significance level (the workflow's default)
 
 
 @dataclass(frozen=True)
@@ -55,6 +58,14 @@ class Suggestion:
     in_sigma: float
     new_case: bool
     other_datum: bool
+    series_in_sigma: float = 0.0
+    cases_in_series: int = 1
+
+    @property
+    def reveals(self) -> bool:
+        """Whether measuring u_y at this station in every case of the suggestion (``cases_in_series``) would make
+        the gap test fire on those measurements alone (:func:`detection_norm`)."""
+        return self.series_in_sigma >= max(detection_norm(self.cases_in_series, DETECTION_ALPHA), REVEAL_SIGMA)
 
     def sentence(self) -> str:
         datum = "Y from the unloaded geometry" if self.other_datum else "Y as now"
@@ -76,20 +87,22 @@ class Visibility:
     visible: bool
     suggestion: Suggestion | None
     reason: str
+    detectable: bool = True
 
 
-def signature(response, values, base_paths, observe, sigma, rows=None) -> np.ndarray:
-    """Scaled change of the observations by the effect at ``values``."""
-    base = observe(base_paths)
-    change = (observe(base_paths + response.delta(values)) - base) / sigma
+def signature(response, values, view, rows=None) -> np.ndarray:
+    """Scaled change of the observations by the effect at ``values``; ``view`` has ``base_paths``, ``observe`` and
+    ``sigma`` (an :class:`Observed`, a fitting problem)."""
+    base = view.observe(view.base_paths)
+    change = (view.observe(view.base_paths + response.delta(values)) - base) / view.sigma
     return change if rows is None else change[rows]
 
 
-def _strongest(response, base_paths, observe, sigma, rows) -> tuple[np.ndarray, np.ndarray]:
+def _strongest(response, view, rows) -> tuple[np.ndarray, np.ndarray]:
     """(values, signature) at the end of the physical range with the largest signature."""
     best, best_key = None, None
     for values in response.extremes():
-        s = signature(response, values, base_paths, observe, sigma, rows)
+        s = signature(response, values, view, rows)
         unit = response.unit_at(values)
         key = (float(s @ s), 0.0 if unit is None else float(np.abs(unit).sum()))  # invisible here: the larger change
         if best is None or key > best_key:
@@ -97,13 +110,13 @@ def _strongest(response, base_paths, observe, sigma, rows) -> tuple[np.ndarray, 
     return best
 
 
-def direction(response, base_paths, observe, sigma, rows=None) -> np.ndarray:
+def direction(response, view, rows=None) -> np.ndarray:
     """Unit vector of the effect's dominant signature direction (grid effects: over the whole grid)."""
     if response.kind == "linear":
-        stack = [signature(response, np.eye(response.n_params)[i] * p.typical, base_paths, observe, sigma, rows)
+        stack = [signature(response, np.eye(response.n_params)[i] * p.typical, view, rows)
                  for i, p in enumerate(response.effect.parameters)]
     else:
-        stack = [signature(response, [g], base_paths, observe, sigma, rows) for g in response.grid if g != 0.0]
+        stack = [signature(response, [g], view, rows) for g in response.grid if g != 0.0]
     matrix = np.array(stack)
     if not np.any(matrix):
         return np.zeros(matrix.shape[1])
@@ -129,16 +142,21 @@ def scenarios(data, from_rest: bool) -> list[Scenario]:
 def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) -> Suggestion | None:
     paths = engine.full_paths(unit_change, scenario.cases, scenario.from_rest)
     layout = engine.layout(len(scenario.cases))
-    best = None
+    best, where = None, None
     for i, case in enumerate(scenario.cases):
         for shaft in MEASURED_SHAFTS:
             block = paths[layout.block(i, shaft)]
             scaled = np.abs(block) / shaft_sigma[shaft]
             j = int(np.argmax(scaled))
             if best is None or scaled[j] > best.in_sigma:
-                best = Suggestion(scenario.label, case, shaft, float(layout.stations_mm[shaft][j]),
-                                  float(1e3 * block[j]), float(scaled[j]), scenario.new_cases, scenario.other_datum)
-    return best
+                best = Suggestion(scenario=scenario.label, case=case, shaft=shaft, x_mm=float(layout.stations_mm[shaft][j]),
+                                  change_um=float(1e3 * block[j]), in_sigma=float(scaled[j]), new_case=scenario.new_cases, other_datum=scenario.other_datum)
+                where = (shaft, j)
+    if best is None:
+        return None
+    shaft, j = where  # the same station measured in every case of the scenario: what a gap test would see
+    series = np.array([paths[layout.block(i, shaft)][j] for i in range(len(scenario.cases))]) / shaft_sigma[shaft]
+    return replace(best, series_in_sigma=float(np.linalg.norm(series)), cases_in_series=len(scenario.cases))
 
 
 def shaft_sigmas(data, sigma) -> dict:
@@ -150,35 +168,46 @@ def shaft_sigmas(data, sigma) -> dict:
     return out
 
 
-def observability(responses: dict, data, base_paths, observe, sigma, engine, from_rest: bool) -> dict[str, Visibility]:
-    """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it."""
-    shaft_sigma = shaft_sigmas(data, sigma)
-    options = scenarios(data, from_rest)
+def observability(responses: dict, observed: Observed, alpha: float = DETECTION_ALPHA) -> dict[str, Visibility]:
+    """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it.
+
+    ``visible`` (‖s‖ ≥ :data:`VISIBLE_NORM`) decides which candidates are screened; ``detectable`` whether the gap
+    test at ``alpha`` would find the effect alone on these data (:func:`detection_norm` of the rows used to fit):
+    what the report calls "can reveal"."""
+    threshold = detection_norm(int(np.count_nonzero(observed.rows)), alpha)
+    shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
+    options = scenarios(observed.data, observed.from_rest)
     out = {}
     for name, response in responses.items():
-        values, s = _strongest(response, base_paths, observe, sigma, None)
+        values, s = _strongest(response, observed, None)
         norm, largest = float(np.linalg.norm(s)), float(np.max(np.abs(s))) if s.size else 0.0
         visible = norm >= VISIBLE_NORM
+        detectable = float(np.linalg.norm(s[observed.rows])) >= threshold
         suggestion = None
-        if not visible:
+        if not detectable:
             unit = response.unit_at(values)
             candidates = []
             if unit is not None:
-                candidates = [_best_station(engine, unit, scenario, shaft_sigma) for scenario in options]
+                candidates = [_best_station(observed.engine, unit, scenario, shaft_sigma) for scenario in options]
             candidates = [c for c in candidates if c is not None]
             if candidates:
                 suggestion = max(candidates, key=lambda c: c.in_sigma)
-        if visible:
+        if detectable:
             reason = f"visible: up to {norm:.3g} σ over the data (Δχ² {norm ** 2:.3g}) within its physical range"
-        elif suggestion is not None and suggestion.in_sigma >= REVEAL_SIGMA:
-            reason = (f"invisible on these data ({norm:.2g} σ at most within its physical range); revealed by "
-                      + suggestion.sentence())
+        elif suggestion is not None and suggestion.reveals:
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ "
+                      f"at most within its physical range, the test needs {threshold:.2g} σ); revealed by "
+                      + suggestion.sentence() + f", measured in each of its {suggestion.cases_in_series} case(s) "
+                      f"({suggestion.series_in_sigma:.2g} σ together)")
         elif suggestion is not None:
-            reason = (f"invisible on these data ({norm:.2g} σ) and on any single measurement considered "
-                      f"(best {suggestion.in_sigma:.2g} σ: {suggestion.scenario}): too small on this rig")
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ, "
+                      f"the test needs {threshold:.2g} σ) and on any single station considered (best "
+                      f"{suggestion.series_in_sigma:.2g} σ over {suggestion.cases_in_series} case(s): "
+                      f"{suggestion.scenario}): too small on this rig")
         else:
-            reason = f"invisible on these data ({norm:.2g} σ at most within its physical range)"
-        out[name] = Visibility(name, norm, largest, visible, suggestion, reason)
+            reason = (f"{'below what the gap test detects' if visible else 'invisible'} on these data ({norm:.2g} σ at "
+                      f"most within its physical range, the test needs {threshold:.2g} σ)")
+        out[name] = Visibility(effect=name, norm_sigma=norm, largest_sigma=largest, visible=visible, suggestion=suggestion, reason=reason, detectable=detectable)
     return out
 
 
@@ -211,15 +240,16 @@ def cosine_between(a: np.ndarray, b: np.ndarray) -> float:
     return 0.0 if na == 0 or nb == 0 else float(abs(a @ b) / (na * nb))
 
 
-def discriminate(first, second, data, base_paths, observe, sigma, engine, from_rest: bool) -> Suggestion | None:
+def discriminate(first, second, observed: Observed) -> Suggestion | None:
     """Where the predictions of two effects, each scaled to explain the data equally, differ most (in σ)."""
-    va, sa = _strongest(first, base_paths, observe, sigma, None)
-    vb, sb = _strongest(second, base_paths, observe, sigma, None)
+    va, sa = _strongest(first, observed, None)
+    vb, sb = _strongest(second, observed, None)
     ua, ub = first.unit_at(va), second.unit_at(vb)
     if ua is None or ub is None or not sb @ sb:
         return None
     scale = float(sa @ sb) / float(sb @ sb)
-    shaft_sigma = shaft_sigmas(data, sigma)
-    found = [_best_station(engine, ua - scale * ub, scenario, shaft_sigma) for scenario in scenarios(data, from_rest)]
+    shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
+    found = [_best_station(observed.engine, ua - scale * ub, scenario, shaft_sigma)
+             for scenario in scenarios(observed.data, observed.from_rest)]
     found = [f for f in found if f is not None]
     return max(found, key=lambda f: f.in_sigma) if found else None

@@ -84,7 +84,7 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
         return lines
     for s in result.selected:
         effect = result.effects[s.name]
-        text = meaning(effect, s.values)
+        text = meaning(effect, s.values) + _bound_note(effect, s.values)
         if len(s.group) > 1:
             text += (f" — or, equally well on these data, one of {len(s.group) - 1} look-alike(s): "
                      + ", ".join(g for g in s.group if g != s.name))
@@ -94,6 +94,16 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
                      "already puts its load: taken as that load, spread or reacted a little differently than modelled"
                      + ("" if result.sentinel_elsewhere is None else
                         f"; away from there the best is {result.sentinel_elsewhere.describe()}"))
+    lines += [a.sentence() for a in result.ambiguities if len(a.members) > 1]
+    if result.pair_search is not None:
+        p = result.pair_search
+        lines.append(f"pairs searched before accepting {p.why}: " + (
+            f"{p.pair[0]} and {p.pair[1]} fit better together (BIC {p.pair_bic:.4g} against {p.single_bic:.4g}; the "
+            f"correlation of their fitted sizes is {p.correlation:+.2f})" if p.pair is not None else
+            "no pair fits better"))
+    lines += [f"beyond a bound: {reason}" for reason in result.beyond_bounds[:3] if result.verdict != "no_gap"]
+    if result.verdict == "ambiguous":
+        lines.append("ambiguous: " + "; ".join(result.reasons))
     shown = result.verdict_sentinel
     if result.verdict == "unexplained":
         if shown is not None:
@@ -104,25 +114,75 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
     return lines
 
 
+def _bound_note(effect, values) -> str:
+    """`` (at its upper bound …)`` when a fitted value sits on a physical bound, else nothing."""
+    from rvcoax.results.studies.discrepancy.workflow import at_bound
+
+    notes = []
+    for p, v in zip(effect.parameters, values):
+        side = at_bound(p, float(v))
+        if side is not None:
+            notes.append(f"at its {side} bound {p.upper if side == 'upper' else p.lower:g} {p.unit}: the data may "
+                         "want more than the bounds allow")
+    return f" ({'; '.join(notes)})" if notes else ""
+
+
 def _suggestion(s) -> dict | None:
     if s is None:
         return None
     return {"T1_input_Nm": s.case.input_torque_Nm, "T2_output_Nm": s.case.output_torque_Nm, "shaft": s.shaft,
             "x_mm": s.x_mm, "change_um": float(f"{s.change_um:.4g}"), "change_in_sigma": float(f"{s.in_sigma:.4g}"),
             "new_load_case": s.new_case, "datum": "unloaded" if s.other_datum else "as measured",
-            "text": s.sentence()}
+            "series_in_sigma": float(f"{s.series_in_sigma:.4g}"), "cases_in_series": s.cases_in_series,
+            "reveals": s.reveals, "text": s.sentence()}
 
 
 def observability_document(result: DiscrepancyResult) -> dict:
     """Which effects these data can see, and for the others what would reveal them."""
     return {
         "visible": sorted(n for n, v in result.observability.items() if v.visible),
+        "detectable": sorted(n for n, v in result.observability.items() if v.detectable),
         "invisible": {n: {"signature_norm_sigma": float(f"{v.norm_sigma:.4g}"), "reason": v.reason,
                           "revealed_by": _suggestion(v.suggestion)}
                       for n, v in sorted(result.observability.items()) if not v.visible},
         "visible_signature_norm_sigma": {n: float(f"{v.norm_sigma:.4g}") for n, v in sorted(result.observability.items())
                                          if v.visible},
+        "below_detection": {n: {"signature_norm_sigma": float(f"{v.norm_sigma:.4g}"), "reason": v.reason,
+                                "revealed_by": _suggestion(v.suggestion)}
+                            for n, v in sorted(result.observability.items()) if v.visible and not v.detectable},
     }
+
+
+def _discrimination_document(d) -> dict:
+    return {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
+            "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
+            "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case,
+            "datum": "unloaded" if d.other_datum else "as measured"}
+
+
+def pair_search_document(p) -> dict | None:
+    """The pair search that a single effect at an implausible size prompted (None when there was none)."""
+    if p is None:
+        return None
+    return {"single": p.single, "single_value": float(f"{p.single_value:.6g}"), "why": p.why,
+            "pair": None if p.pair is None else list(p.pair),
+            "pair_values": None if p.pair_values is None else [float(f"{v:.6g}") for v in p.pair_values],
+            "correlation": None if p.correlation is None else float(f"{p.correlation:.4g}")}
+
+
+def ambiguity_document(a) -> dict:
+    """One named effect's group of look-alikes: what they share, their fitted sizes, the measurement that splits them."""
+    split = a.split
+    return {"effect": a.effect, "members": list(a.members), "shared": a.shared, "size_range": a.size_range(),
+            "fitted_sizes": [{"effect": m.effect, "value": float(f"{m.value:.4g}"), "unit": m.unit,
+                              "within_bounds": m.within_bounds} for m in a.sizes],
+            "split_by": None if split is None else {
+                "T1_input_Nm": split.case.input_torque_Nm, "T2_output_Nm": split.case.output_torque_Nm,
+                "shaft": split.shaft, "x_mm": split.x_mm, "new_load_case": split.new_case,
+                "datum": "unloaded" if split.other_datum else "as measured",
+                "spread_um": float(f"{split.spread_um:.4g}"), "spread_in_sigma": float(f"{split.spread_in_sigma:.4g}"),
+                "low": list(split.low), "high": list(split.high), "text": split.sentence()},
+            "text": a.sentence()}
 
 
 def sentinel_document(result: DiscrepancyResult, s=None) -> dict | None:
@@ -195,12 +255,10 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
                       "confident": s.confident}
                      for s in result.selected],
         "ambiguous_groups": ambiguous_groups(result),
-        "discriminating_measurements": [
-            {"effects": list(d.effects), "T1_input_Nm": d.case.input_torque_Nm, "T2_output_Nm": d.case.output_torque_Nm,
-             "shaft": d.shaft, "x_mm": d.x_mm, "difference_um": float(f"{1e3 * d.difference_mm:.6g}"),
-             "difference_in_sigma": float(f"{d.in_sigma:.4g}"), "new_load_case": d.new_case,
-             "datum": "unloaded" if d.other_datum else "as measured"}
-            for d in result.discriminations],
+        "ambiguity": [ambiguity_document(a) for a in result.ambiguities],
+        "pair_search": pair_search_document(result.pair_search),
+        "beyond_bounds": list(result.beyond_bounds),
+        "discriminating_measurements": [_discrimination_document(d) for d in result.discriminations],
         "rms_before_mm": _rounded(result.rms_mm("before")),
         "rms_after_mm": _rounded(result.rms_mm("after")),
         "rms": rms_table(result, lengths_mm),
@@ -243,6 +301,68 @@ def observation_rows(result: DiscrepancyResult) -> list[dict]:
     return rows
 
 
+def _plot_table_shaft(ax, result: DiscrepancyResult, shaft: str) -> None:
+    """|Y_max| of one shaft against its torque: measured (fit and held out), the model before and after."""
+    data = result.data
+    mask = data.shaft == shaft
+    torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
+    x = torque[data.case_index[mask]]
+    order = np.argsort(x)
+    ax.plot(x[order], 1e3 * result.before[mask][order], "--", color="tab:red", label="model before")
+    ax.plot(x[order], 1e3 * result.after[mask][order], "-", color="tab:green", label="model after")
+    held = ~result.fit_mask[mask]
+    ax.plot(x[~held], 1e3 * data.value_mm[mask][~held], "o", color="k", label="measured (fit)")
+    ax.plot(x[held], 1e3 * data.value_mm[mask][held], "o", mfc="none", color="k", label="measured (held out)")
+    ax.set_xlabel(("T1" if shaft == "input" else "T2") + " [N·m]")
+    ax.set_ylabel(f"|Y_max| {shaft} shaft [µm]")
+
+
+def _plot_paths_shaft(ax, result: DiscrepancyResult, shaft: str) -> None:
+    """u_y along one shaft in the lightest, a middle and the heaviest case: measured, the model before and after."""
+    data = result.data
+    mask = data.shaft == shaft
+    torque = np.array([abs(c.output_torque_Nm) + abs(c.input_torque_Nm) for c in data.cases])
+    cases = [int(c) for c in np.unique(data.case_index[mask])]
+    shown = sorted(cases, key=lambda c: torque[c])
+    shown = sorted({shown[0], shown[len(shown) // 2], shown[-1]})
+    for k, case in enumerate(shown):
+        m = mask & (data.case_index == case)
+        order = np.argsort(data.x_mm[m])
+        label = f"T1 = {data.cases[case].input_torque_Nm:g}, T2 = {data.cases[case].output_torque_Nm:g} N·m"
+        colour = f"C{k}"
+        ax.plot(data.x_mm[m][order], 1e3 * data.value_mm[m][order], ".", color=colour, label=label)
+        ax.plot(data.x_mm[m][order], 1e3 * result.before[m][order], "--", color=colour)
+        ax.plot(data.x_mm[m][order], 1e3 * result.after[m][order], "-", color=colour)
+    ax.set_xlabel(f"x along the {shaft} shaft [mm] (dots measured, dashed before, solid after)")
+    ax.set_ylabel("u_y [µm]")
+
+
+def _plot_rms_bars(axes, table: dict) -> None:
+    """The RMS gaps before and after, per shaft and subset (fit, held out): in µm on one axis, in µrad on the other."""
+    from matplotlib.ticker import FuncFormatter
+
+    for ax, (key_before, key_after, unit) in zip(axes, (("rms_before_um", "rms_after_um", "µm"),
+                                                        ("rms_tilt_before_urad", "rms_tilt_after_urad", "µrad"))):
+        labels, before, after = [], [], []
+        for subset in ("fit", "held_out"):
+            if subset not in table:
+                continue
+            for shaft in MEASURED_SHAFTS:
+                if shaft in table[subset][key_before]:
+                    labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
+                    before.append(table[subset][key_before][shaft])
+                    after.append(table[subset][key_after].get(shaft, np.nan))
+        position = np.arange(len(labels))
+        ax.bar(position - 0.2, before, 0.4, color="tab:red", label="before")
+        ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
+        ax.set_xticks(position, labels)
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # plain numbers, no mathtext
+        ax.set_ylabel(f"RMS gap [{unit}]")
+        ax.legend()
+        ax.grid(alpha=0.3, axis="y")
+
+
 def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], path_png: str | Path, title: str = "") -> Path:
     """Measured vs model before/after per shaft, and the RMS gaps (fit and held-out) as bars.
 
@@ -265,63 +385,15 @@ def plot_discrepancy(result: DiscrepancyResult, lengths_mm: dict[str, float], pa
     import textwrap
 
     from matplotlib.figure import Figure
-    from matplotlib.ticker import FuncFormatter
 
-    data = result.data
     figure = Figure(figsize=(13, 8), dpi=120, layout="constrained")
     axes = figure.subplots(2, 2)
     for ax, shaft in zip(axes[0], MEASURED_SHAFTS):
-        mask = data.shaft == shaft
-        if data.schema == "table":
-            torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
-            x = torque[data.case_index[mask]]
-            order = np.argsort(x)
-            ax.plot(x[order], 1e3 * result.before[mask][order], "--", color="tab:red", label="model before")
-            ax.plot(x[order], 1e3 * result.after[mask][order], "-", color="tab:green", label="model after")
-            held = ~result.fit_mask[mask]
-            ax.plot(x[~held], 1e3 * data.value_mm[mask][~held], "o", color="k", label="measured (fit)")
-            ax.plot(x[held], 1e3 * data.value_mm[mask][held], "o", mfc="none", color="k", label="measured (held out)")
-            ax.set_xlabel(("T1" if shaft == "input" else "T2") + " [N·m]")
-            ax.set_ylabel(f"|Y_max| {shaft} shaft [µm]")
-        else:
-            torque = np.array([abs(c.output_torque_Nm) + abs(c.input_torque_Nm) for c in data.cases])
-            cases = [int(c) for c in np.unique(data.case_index[mask])]
-            shown = sorted(cases, key=lambda c: torque[c])
-            shown = sorted({shown[0], shown[len(shown) // 2], shown[-1]})
-            for k, case in enumerate(shown):
-                m = mask & (data.case_index == case)
-                order = np.argsort(data.x_mm[m])
-                label = f"T1 = {data.cases[case].input_torque_Nm:g}, T2 = {data.cases[case].output_torque_Nm:g} N·m"
-                colour = f"C{k}"
-                ax.plot(data.x_mm[m][order], 1e3 * data.value_mm[m][order], ".", color=colour, label=label)
-                ax.plot(data.x_mm[m][order], 1e3 * result.before[m][order], "--", color=colour)
-                ax.plot(data.x_mm[m][order], 1e3 * result.after[m][order], "-", color=colour)
-            ax.set_xlabel(f"x along the {shaft} shaft [mm] (dots measured, dashed before, solid after)")
-            ax.set_ylabel("u_y [µm]")
+        (_plot_table_shaft if result.data.schema == "table" else _plot_paths_shaft)(ax, result, shaft)
         ax.set_title(f"{shaft} shaft")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    table = rms_table(result, lengths_mm)
-    for ax, (key_before, key_after, unit) in zip(axes[1], (("rms_before_um", "rms_after_um", "µm"),
-                                                           ("rms_tilt_before_urad", "rms_tilt_after_urad", "µrad"))):
-        labels, before, after = [], [], []
-        for subset in ("fit", "held_out"):
-            if subset not in table:
-                continue
-            for shaft in MEASURED_SHAFTS:
-                if shaft in table[subset][key_before]:
-                    labels.append(f"{shaft}\n{subset.replace('_', ' ')}")
-                    before.append(table[subset][key_before][shaft])
-                    after.append(table[subset][key_after].get(shaft, np.nan))
-        position = np.arange(len(labels))
-        ax.bar(position - 0.2, before, 0.4, color="tab:red", label="before")
-        ax.bar(position + 0.2, after, 0.4, color="tab:green", label="after")
-        ax.set_xticks(position, labels)
-        ax.set_yscale("log")
-        ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # plain numbers, no mathtext
-        ax.set_ylabel(f"RMS gap [{unit}]")
-        ax.legend()
-        ax.grid(alpha=0.3, axis="y")
+    _plot_rms_bars(axes[1], rms_table(result, lengths_mm))
     names = ", ".join(s.name + (f" (or {len(s.group) - 1} look-alike{'s' if len(s.group) > 2 else ''})"
                                 if len(s.group) > 1 else "") for s in result.selected)
     line = f"verdict: {result.verdict}" + (f"; added: {names}" if names else "")

@@ -267,7 +267,7 @@ def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
     if len(parameters) != 1:
         raise ValueError(f"{effect.name}: nonlinear effects with more than one parameter are not supported")
     parameter = parameters[0]
-    if engine.supports(effect) or (engine.linear and effect.kind != "bearing_clearance"):  # exact, or solved anew
+    if engine.supports(effect) or (engine.linear and effect.response != "clearance"):  # exact, or solved anew
         grid = parameter_grid(parameter, GRID_POINTS if engine.supports(effect) else COARSE_POINTS)
         unit = []
         for value in grid:
@@ -280,7 +280,7 @@ def engine_response(effect, engine, cases, visible=None) -> EffectResponse:
         unit = np.array(unit)
         return EffectResponse(effect, "grid", grid=grid, grid_paths=np.array([engine.full_paths(u, cases) for u in unit]),
                               unit=unit)
-    if engine.linear and effect.kind == "bearing_clearance":  # exact and cheap: the law condensed to the bearing
+    if engine.linear and effect.response == "clearance":  # exact and cheap: the law condensed to the bearing
         base = engine.full_paths(base_unit, cases)
         grid = parameter_grid(parameter)
         rows = [engine.clearance_paths(effect.location, value, cases) - base if value != 0.0 else np.zeros_like(base)

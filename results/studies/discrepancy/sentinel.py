@@ -84,7 +84,7 @@ def linear_observation(observe, base_paths) -> sp.csr_matrix:
     return sp.csr_matrix((vals, (rows, cols)), shape=(len(observe.blocks), base_paths.size))
 
 
-def _columns(engine, sites, component, cases, from_rest, operator) -> dict[str, np.ndarray]:
+def _columns(engine, sites, component, cases, *, from_rest: bool, operator) -> dict[str, np.ndarray]:  # noqa: PLR0913
     """Per sentinel part: observed change (n_obs, n_sites) per unit load at each site."""
     g = engine.sentinel_paths(sites, component)  # (n_sites, n_path)
     weights = case_matrix(cases, from_rest, gear_contact_torques(engine.rig))
@@ -116,10 +116,11 @@ def site_in(site, regions) -> bool:
     return any(site[0] == part and lo <= site[1] <= hi for part, lo, hi in regions)
 
 
-def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool,
-                 exclude: tuple[tuple[str, float, float], ...] = ()) -> SentinelFit | None:
-    """The best sentinel on the observations ``rows`` (see the module docstring), scanned over every site
-    except those in ``exclude`` ((part, lo_mm, hi_mm), …)."""
+def fit_sentinel(observed, exclude: tuple[tuple[str, float, float], ...] = ()) -> SentinelFit | None:
+    """The best sentinel on the observations used to fit (``observed.rows``; see the module docstring), scanned over
+    every site except those in ``exclude`` ((part, lo_mm, hi_mm), …)."""
+    engine, data, base_paths, observe = observed.engine, observed.data, observed.base_paths, observed.observe
+    sigma, rows = observed.sigma, observed.rows
     operator = linear_observation(observe, base_paths)
     residual = ((data.value_mm - observe(base_paths)) / sigma)
     target = residual[rows]
@@ -130,7 +131,7 @@ def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool
     best = None
     total = float(target @ target)
     for family, (component, _) in FAMILIES.items():
-        columns = _columns(engine, sites, component, data.cases, from_rest, operator)
+        columns = _columns(engine, sites, component, data.cases, from_rest=observed.from_rest, operator=operator)
         parts = list(columns)
         scaled = {p: columns[p][rows] / sigma[rows][:, None] for p in parts}
         for size in range(1, len(parts) + 1):
@@ -158,15 +159,17 @@ def fit_sentinel(engine, data, base_paths, observe, sigma, rows, from_rest: bool
     part, x_mm, _ = sites[j]
     change = sum(c * columns[p][:, j] for p, c in zip(subset, coefficients))
     role = next(p.role for p in engine.rig.parts if p.name == part)
-    return SentinelFit(family, part, role, float(x_mm), tuple(subset), tuple(float(c) for c in coefficients), chi2, n,
-                       np.asarray(change))
+    return SentinelFit(family=family, part=part, role=role, x_mm=float(x_mm), parts_fitted=tuple(subset), coefficients=tuple(float(c) for c in coefficients), chi2=chi2, n=n,
+                       change=np.asarray(change))
 
 
-def sentinel_columns(engine, fit: SentinelFit, data, base_paths, observe, from_rest: bool) -> np.ndarray:
+def sentinel_columns(fit: SentinelFit, observed) -> np.ndarray:
     """The observed change per unit of each fitted part of ``fit`` (n_obs, k − 1), for refits on other rows."""
-    operator = linear_observation(observe, base_paths)
+    engine = observed.engine
+    operator = linear_observation(observed.observe, observed.base_paths)
     site = [(fit.part, fit.x_mm, s[2]) for s in engine.sentinel_sites() if s[0] == fit.part and s[1] == fit.x_mm]
-    columns = _columns(engine, site, FAMILIES[fit.family][0], data.cases, from_rest, operator)
+    columns = _columns(engine, site, FAMILIES[fit.family][0], observed.data.cases, from_rest=observed.from_rest,
+                       operator=operator)
     return np.column_stack([columns[p][:, 0] for p in fit.parts_fitted])
 
 

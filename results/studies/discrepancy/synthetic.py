@@ -30,8 +30,8 @@ def observation_layout(cases, stations_per_shaft: int, lengths_mm: dict[str, flo
                 for station in np.linspace(0.0, lengths_mm[s], stations_per_shaft):
                     case_index.append(i), shaft.append(s), x.append(float(station))
     n = len(case_index)
-    return MeasuredData(schema, tuple(cases), np.array(case_index), np.array(shaft), np.array(x), np.zeros(n), None,
-                        "synthetic")
+    return MeasuredData(schema=schema, cases=tuple(cases), case_index=np.array(case_index), shaft=np.array(shaft), x_mm=np.array(x), value_mm=np.zeros(n), sigma_mm=None,
+                        source="synthetic")
 
 
 def _relative_change(delta_obs: np.ndarray, signal_obs: np.ndarray, shaft: np.ndarray) -> float:
@@ -45,7 +45,7 @@ def _relative_change(delta_obs: np.ndarray, signal_obs: np.ndarray, shaft: np.nd
     return float(max(ratios)) if ratios else 0.0
 
 
-def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float,
+def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float, *,  # noqa: PLR0913
                     settings: SweepSettings = BEAM) -> float:
     """Parameter value (within the effect's bounds, sign of its typical value) at which the effect changes
     the observations of ``template`` by ``fraction`` of the signal (RMS, on the shaft it changes most)."""
@@ -68,8 +68,8 @@ def effect_size_for(effect, rig, cases, template: MeasuredData, fraction: float,
     return float(brentq(excess, 0.0, bound, xtol=1e-6 * max(abs(bound), 1e-9)))
 
 
-def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int,
-                   settings: SweepSettings = BEAM, with_sigma: bool = False) -> MeasuredData:
+def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int,  # noqa: PLR0913
+                   settings: SweepSettings = BEAM, *, with_sigma: bool = False) -> MeasuredData:
     """Data of ``rig`` at the observations of ``template`` plus Gaussian noise (σ = ``noise_fraction`` × RMS
     of each shaft's values)."""
     paths, layout = solve_full_paths(rig, template.cases, settings)
@@ -82,6 +82,6 @@ def synthetic_data(rig, template: MeasuredData, noise_fraction: float, seed: int
     noisy = values + rng.normal(size=values.size) * sigma
     if template.schema == "table":
         noisy = np.abs(noisy)
-    return MeasuredData(template.schema, template.cases, template.case_index, template.shaft, template.x_mm, noisy,
-                        sigma if with_sigma else None, f"synthetic (noise {100 * noise_fraction:g} %, seed {seed})")
+    return MeasuredData(schema=template.schema, cases=template.cases, case_index=template.case_index, shaft=template.shaft, x_mm=template.x_mm, value_mm=noisy,
+                        sigma_mm=sigma if with_sigma else None, source=f"synthetic (noise {100 * noise_fraction:g} %, seed {seed})")
 

@@ -1,33 +1,36 @@
 """The discrepancy workflow from measured data to an updated rig file (pure functions).
 
-locate → name → add → show:
+Five stages, each a function passing a small frozen record to the next:
 
-1. the base model's predictions and σ (:mod:`locate`); a χ² test says whether there is a gap;
-2. every candidate effect of the library (:mod:`rvcoax.geometry.effects`) gets its response around the
-   current rig (:mod:`responses`); effects that cannot change the observations by half a σ over
-   their physical range are set aside as *not observable on these data*;
-3. forward selection with backward pruning by BIC (:mod:`identify`) on the cases used to fit;
-4. the selected effects are applied to the rig with their fitted values and fitted again with the
-   true model (no response interpolation, no additivity assumption); if a gap remains, the
-   library is rebuilt around the updated rig and the search goes on (at most ``max_rounds``);
-5. the verdict: ``no_gap``, ``explained`` (the remaining gap is consistent with the noise on every
-   case, held-out ones included) or ``unexplained``.
+1. **observe** (:class:`Seen`): σ, the rows to fit, the base model factorised once and every candidate effect's
+   response on it (:mod:`engine`, :mod:`responses`), what these data can reveal of each (:mod:`observability`)
+   and which candidates look alike on them;
+2. **locate** (:class:`Located`): the χ² test of the gap and its structure (:mod:`locate`), the best generic load
+   (:mod:`sentinel`);
+3. **screen**: forward selection with backward pruning by BIC on the responses (:mod:`identify`), until the
+   verdict's own gap test finds no gap;
+4. **refine** (:class:`Named`): the screened effects fitted again with the true model (no response interpolation,
+   no additivity assumption); a candidate that cannot be solved is set aside and the screen runs again;
+5. **judge** (:class:`DiscrepancyResult`): each effect with its look-alikes and the measurements that tell them
+   apart, the tests after, the cross-validation and the verdict (:mod:`judge`): ``no_gap``, ``explained`` or
+   ``unexplained``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import stats
 from scipy.optimize import least_squares
 
-from rvcoax.fem.solvers import SolverError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.studies.discrepancy.engine import Engine, prepare_engine, rig_is_linear
+from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguity
+from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
+from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, look_alike_places, verdict
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
     NoiseEstimate,
@@ -44,8 +47,8 @@ from rvcoax.results.studies.discrepancy.observability import (
     discriminate,
     observability,
     parallel_groups,
-    signature,
 )
+from rvcoax.results.studies.discrepancy.observed import Observed
 from rvcoax.results.studies.discrepancy.responses import (
     EffectResponse,
     Observation,
@@ -59,18 +62,14 @@ from rvcoax.results.studies.discrepancy.sentinel import (
     case_folds,
     cross_validate,
     fit_sentinel,
-    scan_spacing_mm,
     sentinel_columns,
     site_in,
 )
-from rvcoax.results.sweep import ModelError, SweepSettings
+from rvcoax.results.sweep import SweepSettings
 
 __all__ = ["CANDIDATE_FAILURES", "CASE_CANDIDATE_BYTES", "CASE_CANDIDATE_S", "NONLINEAR_CASE_CANDIDATE_S", "CandidateLibrary", "DiscrepancyResult", "DiscrepancySettings",
            "Discrimination", "OBSERVABLE_SIGMA", "OBSERVATION_BYTES", "OBSERVATION_S", "SelectedEffect",
            "build_library", "discrepancy_workload", "held_out_mask", "run_discrepancy"]
-
-# what one candidate's solve may raise; the candidate is set aside with the reason and the run goes on
-CANDIDATE_FAILURES = (ModelError, SolverError, np.linalg.LinAlgError, ValueError)
 
 OBSERVABLE_SIGMA = 0.5  # kept for callers; observability now uses the signature's norm (VISIBLE_NORM)
 # measured costs (2-core AMD EPYC dev machine, loaded): the reference table (20 cases, 57 candidates) takes 6 s
@@ -118,7 +117,7 @@ class CandidateLibrary:
     engine: Engine | None = None
 
 
-def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | None = None,
+def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | None = None, *,  # noqa: PLR0913
                   progress=None, visible=None, engine: Engine | None = None) -> CandidateLibrary:
     """The base rig factorised once and every candidate's response on it (:mod:`engine`).
 
@@ -141,7 +140,7 @@ def build_library(rig, cases, settings: SweepSettings, names: tuple[str, ...] | 
             failed[effect.name] = f"cannot be solved over its physical range: {error}"
     if progress is not None:
         progress(len(effects), len(effects))
-    return CandidateLibrary(rig, cases, base_paths, layout, responses, failed, engine)
+    return CandidateLibrary(rig=rig, cases=cases, base_paths=base_paths, layout=layout, responses=responses, failed=failed, engine=engine)
 
 
 @dataclass(frozen=True)
@@ -156,8 +155,39 @@ class SelectedEffect:
     confident: bool = False
 
     def parameters(self, effect) -> dict:
-        return {p.name: {"value": float(v), "unit": p.unit, "bounds": [p.lower, p.upper]}
+        """Per parameter: its value, unit, bounds, and ``at_bound`` (``lower`` or ``upper`` when the fit sits on a
+        bound, pushed against it; else None)."""
+        return {p.name: {"value": float(v), "unit": p.unit, "bounds": [p.lower, p.upper], "at_bound": at_bound(p, v)}
                 for p, v in zip(effect.parameters, self.values)}
+
+
+def at_bound(parameter, value: float) -> str | None:
+    """``lower`` or ``upper`` when ``value`` sits on that physical bound of ``parameter`` (within 0.1 % of its range,
+    where a bounded fit that is pushed against it stops), else None."""
+    tolerance = 1e-3 * (parameter.upper - parameter.lower)
+    if value <= parameter.lower + tolerance:
+        return "lower" if parameter.lower != 0.0 else None  # a zero bound is "nothing": no push
+    if value >= parameter.upper - tolerance:
+        return "upper"
+    return None
+
+
+@dataclass(frozen=True)
+class PairSearch:
+    """A pair searched before a single effect at an implausible size, or with structure left, was accepted.
+
+    ``single`` and ``single_value`` are the effect the screen named alone and its size; ``pair`` the two effects
+    fitted together instead (None when no pair fitted better), ``correlation`` the correlation of their two fitted
+    sizes (−cos of their signatures: near ±1 the data trade one for the other), ``why`` what prompted the search."""
+
+    single: str
+    single_value: float
+    single_bic: float
+    why: str
+    pair: tuple[str, str] | None = None
+    pair_values: tuple[float, float] | None = None
+    pair_bic: float | None = None
+    correlation: float | None = None
 
 
 @dataclass(frozen=True)
@@ -174,7 +204,7 @@ class Discrimination:
     other_datum: bool = False
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class DiscrepancyResult:
     """What :func:`run_discrepancy` found.
 
@@ -237,6 +267,9 @@ class DiscrepancyResult:
     vocabulary_chi2: float | None = None
     sentinel_elsewhere: SentinelFit | None = None
     sentinel_at: tuple[str, ...] = ()
+    ambiguities: tuple[Ambiguity, ...] = ()
+    pair_search: PairSearch | None = None
+    beyond_bounds: tuple[str, ...] = ()
 
     @property
     def verdict_sentinel(self) -> SentinelFit | None:
@@ -321,11 +354,11 @@ def _applied(rig, effects_by_name, selected) -> object:
     return rig
 
 
-def _true_paths(rig, effects_by_name, fits, cases, settings: SweepSettings, engine: Engine | None):
+def _true_paths(rig, effects_by_name, fits, cases, *, settings: SweepSettings, engine: Engine | None):  # noqa: PLR0913
     """Full paths of ``rig`` with the effects ``fits`` applied: exact on the factorisation when the engine
     solves every one of them, else a real sweep."""
     if engine is not None and engine.rig is rig and engine.linear and len(fits) == 1 \
-            and effects_by_name[fits[0][0]].kind == "bearing_clearance":
+            and effects_by_name[fits[0][0]].response == "clearance":
         (name, values), = fits
         return (engine.clearance_paths(effects_by_name[name].location, float(np.atleast_1d(values)[0]), cases),
                 engine.layout(len(cases)))
@@ -335,24 +368,156 @@ def _true_paths(rig, effects_by_name, fits, cases, settings: SweepSettings, engi
     return solve_full_paths(_applied(rig, effects_by_name, fits), cases, settings)
 
 
-def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data, observe_of, sigma, rows,
-                 settings: SweepSettings, engine: Engine | None = None):
-    """Fit the selected effects' parameters again with the true model (no response interpolation)."""
-    names = [name for name, _ in fits]
-    sizes = [effects_by_name[n].parameters for n in names]
-    x0 = np.concatenate([np.atleast_1d(v) for _, v in fits])
+# ---- the stages and what passes between them -------------------------------------------------------------
+
+@dataclass(frozen=True, eq=False)
+class Seen:
+    """The observe stage: the data as the base model sees them, and which candidates they can reveal.
+
+    ``responses`` are the visible candidates that could be evaluated; ``groups`` the look-alikes among them (nearly
+    parallel signatures on these data, independent of the noise level); ``set_aside`` the candidates that could not
+    be solved, with the reason."""
+
+    rig: object
+    observed: Observed
+    noise: NoiseEstimate
+    library: CandidateLibrary
+    effects: dict
+    visibility: dict[str, Visibility]
+    responses: dict[str, EffectResponse]
+    groups: tuple[tuple[str, ...], ...]
+    set_aside: dict[str, str]
+
+    @property
+    def not_observable(self) -> dict[str, str]:
+        return {n: v.reason for n, v in self.visibility.items() if not v.visible}
+
+
+@dataclass(frozen=True, eq=False)
+class Located:
+    """The locate stage: whether there is a gap, its structure, and the best generic load (the sentinel)."""
+
+    test_before: GapTest
+    structure: list
+    folds: list
+    sentinel: SentinelFit | None
+    sentinel_cv: CrossValidation | None
+    set_aside: dict[str, str]
+
+
+@dataclass(frozen=True, eq=False)
+class Named:
+    """The screen and refine stages: the effects added, fitted again with the true model, and the model with them."""
+
+    problem: Problem
+    steps: tuple[Step, ...]
+    fitted: tuple[tuple[str, np.ndarray], ...]
+    after: np.ndarray
+    set_aside: dict[str, str]
+    pair_search: PairSearch | None = None
+
+
+def _observe(rig, data: MeasuredData, settings: DiscrepancySettings, library: CandidateLibrary | None,
+             progress) -> Seen:
+    """σ, the rows to fit, the base model's predictions (one factorisation), every candidate's response, and what
+    these data can reveal of each (:mod:`observability`)."""
+    from_rest = rig.paths.measured_from == "aligned_at_rest"
+    noise = estimate_noise(data, settings.model_form_fraction)
+    sigma = noise.sigma_mm
+    observe_of = _observation_factory(data)
+
+    def visible(delta):
+        base = observe(library_base)
+        return bool(np.linalg.norm((observe(library_base + delta) - base) / sigma) >= VISIBLE_NORM)
+
+    if library is None or library.rig is not rig or library.cases != tuple(data.cases):
+        engine = prepare_engine(rig, settings.sweep)
+        check_stations(data, engine.length_mm)
+        observe = observe_of(engine.layout(len(data.cases)))
+        library_base = (engine.full_paths(engine.unit_paths, data.cases) if engine.linear
+                        else solve_full_paths(rig, data.cases, settings.sweep)[0])
+        library = build_library(rig, data.cases, settings.sweep, settings.candidates, progress=progress,
+                                visible=visible, engine=engine)
+    else:
+        check_stations(data, library.layout.length_mm)
+        observe = observe_of(library.layout)
+        library_base = library.base_paths
+    observed = Observed(data=data, sigma=sigma, base_paths=library.base_paths, observe=observe, rows=held_out_mask(data, settings.hold_out_every),
+                        from_rest=from_rest, engine=library.engine)
+    set_aside: dict[str, str] = dict(library.failed)
+    seen = {}
+    for name, response in library.responses.items():
+        try:
+            seen.update(observability({name: response}, observed) if observed.engine is not None else {})
+        except CANDIDATE_FAILURES as error:
+            set_aside[name] = f"its signature cannot be evaluated: {error}"
+    responses = {n: r for n, r in library.responses.items()
+                 if not (n in seen and not seen[n].visible) and n not in set_aside}
+    directions = {n: direction(r, observed, observed.rows) for n, r in responses.items()}
+    groups = tuple(tuple(g) for g in parallel_groups(directions, settings.parallel_cosine))
+    return Seen(rig=rig, observed=observed, noise=noise, library=library,
+                effects={e.name: e for e in candidate_effects(rig)}, visibility=seen, responses=responses,
+                groups=groups, set_aside=set_aside)
+
+
+def _locate(seen: Seen, settings: DiscrepancySettings) -> Located:
+    """The χ² test of the gap, its structure, and the best generic load with its cross-validation."""
+    observed = seen.observed
+    data, sigma, before = observed.data, observed.sigma, observed.before
+    test_before = gap_test(observed.scaled_before[observed.rows], settings.alpha)
+    structure = residual_structure(data, data.value_mm - before, sigma,
+                                   model_form_fraction=settings.model_form_fraction)
+    folds = case_folds(data)
+    set_aside = dict(seen.set_aside)
+    sentinel = sentinel_cv = None
+    if observed.engine is not None and test_before.gap:
+        try:  # the sentinel, like any candidate, never ends the run
+            sentinel = fit_sentinel(observed)
+            sentinel_cv = _sentinel_cv(sentinel, observed, folds)
+        except CANDIDATE_FAILURES as error:
+            set_aside["sentinel"] = f"the generic load could not be fitted: {error}"
+    return Located(test_before=test_before, structure=structure, folds=folds, sentinel=sentinel,
+                   sentinel_cv=sentinel_cv, set_aside=set_aside)
+
+
+def _screen(problem: Problem, candidates: list[str], observed: Observed, settings: DiscrepancySettings):
+    """Forward selection with backward pruning on the responses, until the verdict's own gap test finds no gap."""
+    data, sigma = observed.data, observed.sigma
+
+    def no_gap_left(fit: Fit) -> bool:
+        # the same test as the verdict's: every row, the held-out ones predicted by the fit on the others
+        scaled = (data.value_mm - observed.observe(problem.paths(fit.names, fit.values))) / sigma
+        return stats.chi2.sf(float(scaled @ scaled), scaled.size) >= settings.alpha
+
+    return forward_backward(problem, candidates, margin=settings.bic_margin,
+                            ambiguity_margin=settings.ambiguity_margin, parallel_cosine=settings.parallel_cosine,
+                            max_effects=settings.max_effects, stop=no_gap_left)
+
+
+def _refine(seen: Seen, trial: list, settings: SweepSettings):
+    """The screening fit confirmed with the true model: exact for linear effects on a linear rig, else fitted again
+    (no response interpolation, no additivity assumption)."""
+    observed, engine = seen.observed, seen.library.engine
+    observe_of = _observation_factory(observed.data)
+    if all(seen.library.responses[n].kind == "linear" for n, _ in trial):
+        paths, layout = _true_paths(seen.rig, seen.effects, trial, observed.data.cases, settings=settings,
+                                    engine=engine)
+        return trial, observe_of(layout)(paths)
+    names = [name for name, _ in trial]
+    sizes = [seen.effects[n].parameters for n in names]
+    x0 = np.concatenate([np.atleast_1d(v) for _, v in trial])
     lower = np.array([p.lower for ps in sizes for p in ps], float)
     upper = np.array([p.upper for ps in sizes for p in ps], float)
     scale = np.array([max(abs(p.typical), 1e-12) for ps in sizes for p in ps])
     splits = np.cumsum([len(ps) for ps in sizes])[:-1]
 
     def predicted(x):
-        paths, layout = _true_paths(rig, effects_by_name, list(zip(names, np.split(x, splits))), data.cases, settings,
-                                    engine)
+        paths, layout = _true_paths(seen.rig, seen.effects, list(zip(names, np.split(x, splits))),
+                                    observed.data.cases, settings=settings, engine=engine)
         return observe_of(layout)(paths)
 
     def residual(x):
-        return ((data.value_mm - predicted(x)) / sigma)[rows]
+        return ((observed.data.value_mm - predicted(x)) / observed.sigma)[observed.rows]
 
     x0 = np.clip(x0, lower, upper)
     result = least_squares(residual, x0, bounds=(lower, upper), x_scale=scale, diff_step=1e-4, max_nfev=40,
@@ -360,74 +525,240 @@ def _refine_true(rig, effects_by_name, fits: list[tuple[str, np.ndarray]], data,
     return list(zip(names, np.split(result.x, splits))), predicted(result.x)
 
 
-def _discriminations(group_fits: dict[str, Fit], library: CandidateLibrary, data, observe, sigma,
-                     from_rest: bool) -> list[Discrimination]:
-    """For the winner against each other member: the station and case where their predictions differ most."""
-    names = list(group_fits)
+def _name(seen: Seen, located: Located, settings: DiscrepancySettings) -> Named:
+    """Screen and refine until the true model confirms the screening fit (a candidate that fails is set aside)."""
+    observed = seen.observed
+    problem = Problem(observed.data.value_mm, observed.sigma, observed.base_paths, observed.observe, seen.responses,
+                      rows=observed.rows)
+    set_aside = dict(located.set_aside)
+    fitted, after, steps, searched = [], observed.before, [], None
+    while located.test_before.gap:
+        try:
+            screening, steps = _screen(problem, [n for n in seen.responses if n not in set_aside], observed, settings)
+        except CANDIDATE_FAILURES as error:  # a response that cannot be evaluated: never ends the run
+            set_aside["(screening)"] = f"the screening fit failed: {error}"
+            screening, steps = Fit((), (), 0.0, 0), []
+        if not screening.names:
+            break
+        searched = _pair_search(problem, screening, steps, seen, settings) if len(screening.names) == 1 else None
+        if searched is not None and searched.pair is not None:
+            screening, steps = _with_pair(problem, searched, steps)
+        try:
+            fitted, after = _refine(seen, list(zip(screening.names, screening.values)), settings.sweep)
+        except CANDIDATE_FAILURES as error:
+            for name in screening.names:
+                set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
+            continue
+        break
+    return Named(problem=problem, steps=tuple(steps), fitted=tuple(fitted), after=after, set_aside=set_aside,
+                 pair_search=searched if fitted else None)
+
+
+# a single effect at three quarters of its physical bound or more is an implausible size (at half the bound the pair
+# search also replaced true single effects, a bearing at a quarter of its stiffness in CalculiX data, by a pair that
+# absorbed the model form)
+IMPLAUSIBLE_FRACTION = 0.75
+PAIR_POOL = 8  # the best single candidates of the first step, paired with each other
+
+
+def _pair_search(problem: Problem, single: Fit, steps, seen: Seen, settings: DiscrepancySettings) -> PairSearch | None:
+    """Before a single effect at an implausible size (three quarters of its physical bound or more) is accepted, every
+    pair of the best single candidates is fitted; the best pair replaces it when it fits better by the ambiguity
+    margin (the structure the single leaves, along the sweep or the shaft, is reported with it)."""
+    name, value = single.names[0], float(np.atleast_1d(single.values[0])[0])
+    p = seen.effects[name].parameters[0]
+    bound = p.upper if value > 0 else p.lower
+    implausible = bound != 0.0 and value / bound >= IMPLAUSIBLE_FRACTION
+    observed = seen.observed
+    residual = observed.data.value_mm - observed.observe(problem.paths(single.names, single.values))
+    structure = [f for f in residual_structure(observed.data, residual, observed.sigma, threshold=STRUCTURE_T,
+                                               model_form_fraction=settings.model_form_fraction) if f.significant]
+    if not implausible:
+        return None
+    why = (f"{name} alone at {value:.4g} {p.unit}, {100 * value / bound:.0f} % of its bound {bound:g} {p.unit}"
+           + (f", leaving structure ({structure[0].shaft} shaft: {structure[0].test})" if structure else ""))
+    found = PairSearch(name, value, float(single.bic), why)
+    pool = list(dict.fromkeys([name] + [n for n, _ in steps[0].ranking[:PAIR_POOL]])) if steps else [name]
+    need = settings.ambiguity_margin
+    best = None
+    for i, a in enumerate(pool):
+        for b in pool[i + 1:]:
+            try:
+                fit = problem.fit((a, b))
+            except CANDIDATE_FAILURES:
+                continue
+            if fit.rejected is None and fit.bic < single.bic - need and (best is None or fit.bic < best.bic):
+                best = fit
+    if best is None:
+        return found
+    a, b = best.names
+    sa = problem.signature(a, np.atleast_1d(best.values[0]))
+    sb = problem.signature(b, np.atleast_1d(best.values[1]))
+    cosine = float(sa @ sb / (np.linalg.norm(sa) * np.linalg.norm(sb))) if np.any(sa) and np.any(sb) else 0.0
+    signs = np.sign(float(np.atleast_1d(best.values[0])[0]) * float(np.atleast_1d(best.values[1])[0])) or 1.0
+    return replace(found, pair=(a, b), pair_values=tuple(float(np.atleast_1d(v)[0]) for v in best.values),
+                   pair_bic=float(best.bic), correlation=float(-cosine * signs))
+
+
+def _with_pair(problem: Problem, searched: PairSearch, steps) -> tuple[Fit, list[Step]]:
+    """The screening fit and steps with the pair found by :func:`_pair_search` in place of the single effect."""
+    pair = problem.fit(searched.pair)
+    first = steps[0] if steps else None
+    kept = [s for s in steps if s.added in searched.pair]
+    for name in searched.pair:
+        if not any(s.added == name for s in kept):
+            kept.append(Step(name, float(searched.single_bic - pair.bic), (name,), pair,
+                             ranking=first.ranking if first is not None else ()))
+    return pair, kept
+
+
+def _discriminations(pairs, seen: Seen) -> list[Discrimination]:
+    """For each pair of look-alikes: the station and case where their predictions differ most."""
     out = []
-    for other in names[1:]:
-        found = discriminate(library.responses[names[0]], library.responses[other], data, library.base_paths, observe,
-                             sigma, library.engine, from_rest) if library.engine is not None else None
+    for first, other in pairs:
+        found = discriminate(seen.library.responses[first], seen.library.responses[other], seen.observed) \
+            if seen.library.engine is not None else None
         if found is not None:
-            out.append(_as_discrimination((names[0], other), found))
+            out.append(_as_discrimination((first, other), found))
     return out
 
 
 def _as_discrimination(pair, found: Suggestion) -> Discrimination:
-    return Discrimination(pair, found.case, found.shaft, found.x_mm, 1e-3 * found.change_um, found.in_sigma,
-                          found.new_case, found.other_datum)
+    return Discrimination(effects=pair, case=found.case, shaft=found.shaft, x_mm=found.x_mm, difference_mm=1e-3 * found.change_um, in_sigma=found.in_sigma,
+                          new_case=found.new_case, other_datum=found.other_datum)
 
 
-FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
-STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
+def _fits_as_well(named: Named, name: str, member: str, margin: float) -> bool:
+    """Whether ``member`` in place of ``name`` (with the other effects added) fits within ``margin`` of the BIC of the
+    selection, within its physical bounds: a signature look-alike that the data, at their noise, still tell apart is
+    not in the group."""
+    problem, names = named.problem, tuple(n for n, _ in named.fitted)
+    start = dict(named.fitted)
+    try:
+        current = problem.fit(names, start)
+        trial = problem.fit(tuple(n for n in names if n != name) + (member,), start)
+    except CANDIDATE_FAILURES:
+        return True  # cannot tell: keep it in the group
+    return trial.rejected is None and trial.bic - current.bic < margin
 
 
-def _opposite_loads(fitted: list[tuple[str, np.ndarray]], effects: dict, places: dict | None = None) -> list[str]:
-    """Pairs of the same torque-proportional load (N per N·m) at two neighbouring places with opposite signs: a
-    force couple between them, i.e. a localized load or moment that the vocabulary does not hold, mimicked by two
-    reactions. ``places`` (name → x in mm of every such candidate) restricts the pairs to neighbours: no candidate
-    of the same kind acts between them (the vocabulary would put a load there itself); without it every pair
-    counts."""
-    loads = {}
-    for name, values in fitted:
-        effect = effects.get(name)
-        values = np.atleast_1d(values)
-        if effect is not None and len(effect.parameters) == 1 and effect.parameters[0].unit == "N/(N·m)":
-            loads.setdefault(effect.kind, []).append((name, float(values[0])))
-    out = []
-    for members in loads.values():
-        for i, (a, va) in enumerate(members):
-            for b, vb in members[i + 1:]:
-                if places and a in places and b in places:
-                    lo, hi = sorted((places[a], places[b]))
-                    kind = effects[a].kind
-                    if any(lo < x < hi for n, x in places.items() if effects[n].kind == kind):
-                        continue  # not neighbours
-                if va * vb < 0:
-                    out.append(f"{a} and {b} are the same load at two places with opposite signs ({va:+.3g} and "
-                               f"{vb:+.3g} N per N·m): a couple mimicking a load between them, not an explanation")
-    return out
+def _groups(seen: Seen, named: Named, margin: float) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
+    """Each effect added with its group (the step's look-alikes, and the members of its signature group that fit
+    within ``margin`` of it), and the measurements that tell the members apart, the closest look-alikes first, each
+    pair once."""
+    fitted = dict(named.fitted)
+    pairs = [(next(iter(step.group_fits)), other) for step in named.steps if step.added in fitted
+             for other in list(step.group_fits)[1:]]
+    gains = {step.added: step for step in named.steps}
+    selected = []
+    for name, values in named.fitted:
+        step = gains.get(name)
+        group = list(step.group) if step is not None else [name]
+        for members in seen.groups:  # nearly parallel signatures on these data, fitting as well: the group
+            if name in members:
+                group += [m for m in members if m not in group and m in seen.responses
+                          and _fits_as_well(named, name, m, margin)]
+        selected.append(SelectedEffect(name, tuple(float(v) for v in values),
+                                       step.delta_bic if step is not None else 0.0, tuple(group), 1))
+    for name, _ in named.fitted:  # a parallel look-alike that is not in the step's group still needs telling apart
+        step = gains.get(name)
+        kept = next(s.group for s in selected if s.name == name)
+        pairs += [(name, m) for m in kept if m != name and (step is None or m not in step.group_fits)]
+    unique, seen_pairs = [], set()
+    for d in sorted(_discriminations(pairs, seen), key=lambda d: d.in_sigma):
+        if frozenset(d.effects) not in seen_pairs:
+            seen_pairs.add(frozenset(d.effects))
+            unique.append(d)
+    return selected, tuple(unique)
 
 
-def _fighting_pairs(problem: Problem, fitted: list[tuple[str, np.ndarray]]) -> list[str]:
-    """Pairs of selected effects that cancel each other: each large, their sum small."""
-    signatures = {n: signature(problem.responses[n], v, problem.base_paths, problem.observe, problem.sigma, problem.rows)
-                  for n, v in fitted if n in problem.responses}
-    out = []
-    names = list(signatures)
-    total = sum(signatures.values()) if signatures else 0.0
-    largest = max((np.linalg.norm(v) for v in signatures.values()), default=0.0)
-    if len(names) > 2 and largest > 0 and np.linalg.norm(total) < FIGHT_RATIO * largest:
-        out.append(f"{', '.join(names)} cancel each other (the largest {largest:.3g} σ, together "
-                   f"{np.linalg.norm(total):.3g} σ): a shape mimicked, not an explanation")
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            sa, sb = signatures[a], signatures[b]
-            larger = max(np.linalg.norm(sa), np.linalg.norm(sb))
-            if larger > 0 and np.linalg.norm(sa + sb) < FIGHT_RATIO * larger:
-                out.append(f"{a} and {b} cancel each other (each {np.linalg.norm(sa):.3g} and {np.linalg.norm(sb):.3g} σ, "
-                           f"together {np.linalg.norm(sa + sb):.3g} σ): a shape mimicked, not an explanation")
-    return out
+def _sentinel_away(seen: Seen, located: Located, named: Named, set_aside: dict):
+    """A generic load where a named effect already puts its load (a mesh force's teeth, a reaction) is that effect's
+    load with a model-form difference in how it is spread or reacted, not a load outside the vocabulary: the verdict
+    then compares with the best generic load away from there. Returns (that load or None, the named effects)."""
+    sentinel, engine = located.sentinel, seen.library.engine
+    if sentinel is None or not named.fitted or engine is None:
+        return None, ()
+    regions = load_regions(seen.effects, seen.rig, [n for n, _ in named.fitted], engine.sentinel_sites())
+    at = tuple(n for n, r in regions.items() if site_in((sentinel.part, sentinel.x_mm), r))
+    if not at:
+        return None, ()
+    try:
+        return fit_sentinel(seen.observed, exclude=tuple(x for r in regions.values() for x in r)), at
+    except CANDIDATE_FAILURES as error:
+        set_aside["sentinel"] = f"the generic load away from the named loads could not be fitted: {error}"
+        return None, at
+
+
+def _generic_elsewhere(seen: Seen, sentinel: SentinelFit | None, selected) -> SentinelFit | None:
+    """``sentinel``, unless it acts where a named effect or one of its look-alikes acts (:func:`look_alike_places`):
+    there it is that look-alike, which the group already holds, not a load outside the vocabulary."""
+    engine = seen.library.engine
+    if sentinel is None or engine is None:
+        return sentinel
+    names = list(dict.fromkeys(m for s in selected for m in s.group if m in seen.effects))
+    places = look_alike_places(seen.effects, seen.rig, names, engine.sentinel_sites())
+    return None if any(site_in((sentinel.part, sentinel.x_mm), r) for r in places.values()) else sentinel
+
+
+def _bic(problem: Problem, fitted, after: np.ndarray) -> float:
+    """The vocabulary's BIC on the rows used to fit, with the true model's ``after``."""
+    scaled = ((problem.measured - after) / problem.sigma)[problem.rows]
+    k = int(sum(np.atleast_1d(v).size for _, v in fitted))
+    return float(scaled @ scaled + k * np.log(max(problem.rows.size, 2)))
+
+
+def _beyond_bounds(named: Named) -> list[tuple[str, float]]:
+    """Fits the screen rejected because a value lies beyond its physical bound, with their BIC: (reason, BIC), the best
+    of each candidate, best first."""
+    best: dict[str, tuple[str, float]] = {}
+    for step in named.steps:
+        for name, fit in step.rejected_fits.items():
+            if fit.rejected and "outside its physical range" in fit.rejected \
+                    and (name not in best or fit.bic < best[name][1]):
+                best[name] = (fit.rejected, float(fit.bic))
+    return sorted(best.values(), key=lambda item: item[1])
+
+
+def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySettings) -> DiscrepancyResult:
+    """The tests after, the cross-validation, the verdict and its reasons, and the result."""
+    observed, problem, fitted, after = seen.observed, named.problem, named.fitted, named.after
+    data, sigma = observed.data, observed.sigma
+    rejected = {}
+    for step in named.steps:
+        rejected.update(step.rejected)
+    selected, discriminations = _groups(seen, named, settings.ambiguity_margin)
+    scaled_after = (data.value_mm - after) / sigma
+    test_after = gap_test(scaled_after, settings.alpha)
+    held = ~observed.rows
+    test_held = gap_test(scaled_after[held], settings.alpha) if held.any() else None
+    cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), observed.scaled_before, located.folds) \
+        if fitted and all(n in seen.responses for n, _ in fitted) else None
+    set_aside = dict(named.set_aside)
+    elsewhere, at = _sentinel_away(seen, located, named, set_aside)
+    kinds = [seen.effects[n].kind for n, _ in fitted]
+    places = load_x(seen.effects, seen.rig) if len(kinds) > len(set(kinds)) else None  # one load at two places
+    beyond = _beyond_bounds(named)
+    outcome, reasons = verdict(problem, list(fitted), after, data=data, tests=(located.test_before, test_after),
+                               sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
+                               settings=settings, effects=seen.effects, places=places,
+                               groups=[s.group for s in selected], beyond=beyond,
+                               generic=_generic_elsewhere(seen, elsewhere if at else located.sentinel, selected))
+    final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
+    ambiguities = tuple(ambiguity(s, seen, after) for s in final if len(s.group) > 1) \
+        if outcome in ("explained", "ambiguous") else ()
+    return DiscrepancyResult(
+        verdict=outcome, data=data, noise=seen.noise, fit_mask=observed.rows, before=observed.before, after=after,
+        test_before=located.test_before, test_after=test_after, test_after_held_out=test_held,
+        structure=located.structure, selected=final, steps=named.steps, not_observable=seen.not_observable,
+        rejected=rejected, set_aside=set_aside, discriminations=discriminations, rig_before=seen.rig,
+        rig_after=_applied(seen.rig, seen.effects, fitted), effects=seen.effects, observability=seen.visibility,
+        parallel_groups=seen.groups, sentinel=located.sentinel, cross_validation=cv,
+        sentinel_cross_validation=located.sentinel_cv, reasons=tuple(reasons),
+        vocabulary_chi2=float(np.sum(scaled_after[observed.rows] ** 2)) if fitted else None,
+        sentinel_elsewhere=elsewhere, sentinel_at=at, ambiguities=ambiguities, pair_search=named.pair_search,
+        beyond_bounds=tuple(reason for reason, b in beyond if fitted and b < _bic(problem, fitted, after)
+                            + settings.ambiguity_margin))
 
 
 def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled: np.ndarray, folds) -> CrossValidation | None:
@@ -436,7 +767,8 @@ def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled
         return None
 
     def predict(train):
-        fold = Problem(problem.measured, problem.sigma, problem.base_paths, problem.observe, problem.responses, train)
+        fold = Problem(problem.measured, problem.sigma, problem.base_paths, problem.observe, problem.responses,
+                       rows=train)
         fit = fold.fit(names, start)
         predicted = problem.observe(fold.paths(names, fit.values))
         return (predicted - problem.observe(problem.base_paths)) / problem.sigma
@@ -444,10 +776,11 @@ def _vocabulary_cv(problem: Problem, names: tuple[str, ...], start: dict, scaled
     return cross_validate(scaled, predict, folds)
 
 
-def _sentinel_cv(engine, sentinel: SentinelFit | None, data, base_paths, observe, sigma, scaled, folds, from_rest):
-    if sentinel is None or engine is None:
+def _sentinel_cv(sentinel: SentinelFit | None, observed: Observed, folds):
+    if sentinel is None or observed.engine is None:
         return None
-    columns = sentinel_columns(engine, sentinel, data, base_paths, observe, from_rest) / sigma[:, None]
+    scaled = observed.scaled_before
+    columns = sentinel_columns(sentinel, observed) / observed.sigma[:, None]
 
     def predict(train):
         coefficients, *_ = np.linalg.lstsq(columns[train], scaled[train], rcond=None)
@@ -458,7 +791,7 @@ def _sentinel_cv(engine, sentinel: SentinelFit | None, data, base_paths, observe
 
 def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = DiscrepancySettings(),
                     library: CandidateLibrary | None = None, progress=None) -> DiscrepancyResult:
-    """Observe, locate, name, add and show (see the module docstring). A pure function of its arguments
+    """Observe, locate, screen, refine and judge (see the module docstring). A pure function of its arguments
     (``progress(i, n)`` is told how far each library build is).
 
     Parameters
@@ -480,272 +813,10 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
         The verdict, the selected effects with their values, the rig with them added, and the gaps before
         and after, on fitted and held-out rows.
     """
-    sweep_settings = settings.sweep
-    from_rest = rig.paths.measured_from == "aligned_at_rest"
-    noise = estimate_noise(data, settings.model_form_fraction)
-    sigma = noise.sigma_mm
-    fit_rows = held_out_mask(data, settings.hold_out_every)
-    observe_of = _observation_factory(data)
-
-    def visible(delta):
-        base = observe(library_base)
-        return bool(np.linalg.norm((observe(library_base + delta) - base) / sigma) >= VISIBLE_NORM)
-
-    if library is None or library.rig is not rig or library.cases != tuple(data.cases):
-        engine = prepare_engine(rig, sweep_settings)
-        check_stations(data, engine.length_mm)
-        observe = observe_of(engine.layout(len(data.cases)))
-        library_base = (engine.full_paths(engine.unit_paths, data.cases) if engine.linear
-                        else solve_full_paths(rig, data.cases, sweep_settings)[0])
-        library = build_library(rig, data.cases, sweep_settings, settings.candidates, progress, visible, engine)
-    else:
-        check_stations(data, library.layout.length_mm)
-        observe = observe_of(library.layout)
-        library_base = library.base_paths
-    engine = library.engine
-    base_paths = library.base_paths
-    before = observe(base_paths)
-    scaled_before = (data.value_mm - before) / sigma
-    test_before = gap_test(scaled_before[fit_rows], settings.alpha)
-    structure = residual_structure(data, data.value_mm - before, sigma,
-                                   model_form_fraction=settings.model_form_fraction)
-    effects_by_name = {e.name: e for e in candidate_effects(rig)}
-    set_aside: dict[str, str] = dict(library.failed)
-    # 1. observability: which effects can these data see at all, and what would reveal the others
-    seen = {}
-    for name, response in library.responses.items():
-        try:
-            seen.update(observability({name: response}, data, base_paths, observe, sigma, engine, from_rest)
-                        if engine is not None else {})
-        except CANDIDATE_FAILURES as error:
-            set_aside[name] = f"its signature cannot be evaluated: {error}"
-    not_observable = {n: v.reason for n, v in seen.items() if not v.visible}
-    responses = {n: r for n, r in library.responses.items() if n not in not_observable and n not in set_aside}
-    # 2. groups of look-alikes, from the signatures alone (independent of the noise level)
-    directions = {n: direction(r, base_paths, observe, sigma, fit_rows) for n, r in responses.items()}
-    groups = tuple(tuple(g) for g in parallel_groups(directions, settings.parallel_cosine))
-    # 3. the out-of-vocabulary sentinel and the folds for cross-validation
-    folds = case_folds(data)
-    sentinel = sentinel_cv = None
-    if engine is not None and test_before.gap:
-        try:  # the sentinel, like any candidate, never ends the run
-            sentinel = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest)
-            sentinel_cv = _sentinel_cv(engine, sentinel, data, base_paths, observe, sigma, scaled_before, folds,
-                                       from_rest)
-        except CANDIDATE_FAILURES as error:
-            set_aside["sentinel"] = f"the generic load could not be fitted: {error}"
-
-    selected: list[SelectedEffect] = []
-    steps: list[Step] = []
-    rejected: dict[str, str] = {}
-    discriminations: list[Discrimination] = []
-    after, fitted = before, []
-    problem = Problem(data.value_mm, sigma, base_paths, observe, responses, fit_rows)
-    if test_before.gap:
-        def no_gap_left(fit: Fit) -> bool:
-            # the same test as the verdict's: every row, the held-out ones predicted by the fit on the others
-            scaled = (data.value_mm - observe(problem.paths(fit.names, fit.values))) / sigma
-            return stats.chi2.sf(float(scaled @ scaled), scaled.size) >= settings.alpha
-
-        while True:  # until the true model confirms the screening fit (a candidate that fails is set aside)
-            candidates = [n for n in responses if n not in set_aside]
-            try:
-                screening, steps = forward_backward(problem, candidates, settings.bic_margin, settings.ambiguity_margin,
-                                                    settings.parallel_cosine, settings.max_effects, stop=no_gap_left)
-            except CANDIDATE_FAILURES as error:  # a response that cannot be evaluated: never ends the run
-                set_aside["(screening)"] = f"the screening fit failed: {error}"
-                screening, steps = Fit((), (), 0.0, 0), []
-            if not screening.names:
-                break
-            trial = list(zip(screening.names, screening.values))
-            try:
-                if any(library.responses[n].kind != "linear" for n in screening.names):
-                    trial, trial_after = _refine_true(rig, effects_by_name, trial, data, observe_of, sigma, fit_rows,
-                                                      sweep_settings, engine)
-                else:  # linear effects on a linear rig: the screening fit is exact
-                    paths, layout = _true_paths(rig, effects_by_name, trial, data.cases, sweep_settings, engine)
-                    trial_after = observe_of(layout)(paths)
-            except CANDIDATE_FAILURES as error:
-                for name in screening.names:
-                    set_aside[name] = f"the fit with it cannot be solved with the true model: {error}"
-                continue
-            fitted, after = trial, trial_after
-            break
-        for step in steps:
-            rejected.update(step.rejected)
-        for step in steps:
-            if step.added in dict(fitted):
-                discriminations += _discriminations(step.group_fits, library, data, observe, sigma, from_rest)
-        gains = {step.added: step for step in steps}
-        for name, values in fitted:
-            step = gains.get(name)
-            group = list(step.group) if step is not None else [name]
-            for members in groups:  # nearly parallel signatures on these data: the group, not one name
-                if name in members:
-                    group += [m for m in members if m not in group]
-            selected.append(SelectedEffect(name, tuple(float(v) for v in values),
-                                           step.delta_bic if step is not None else 0.0, tuple(group), 1))
-        for name, _ in fitted:  # a parallel look-alike that is not in the step's group still needs telling apart
-            step = gains.get(name)
-            extra = [m for m in next((g for g in groups if name in g), ()) if m != name
-                     and (step is None or m not in step.group_fits)]
-            for other in extra:
-                found = discriminate(library.responses[name], library.responses[other], data, base_paths, observe,
-                                     sigma, engine, from_rest) if engine is not None else None
-                if found is not None:
-                    discriminations.append(_as_discrimination((name, other), found))
-    unique, seen_pairs = [], set()
-    for d in sorted(discriminations, key=lambda d: d.in_sigma):  # the closest look-alikes first, each pair once
-        if frozenset(d.effects) not in seen_pairs:
-            seen_pairs.add(frozenset(d.effects))
-            unique.append(d)
-    discriminations = unique
-    current_rig = _applied(rig, effects_by_name, fitted)
-    test_after = gap_test((data.value_mm - after) / sigma, settings.alpha)
-    held = ~fit_rows
-    test_held = gap_test(((data.value_mm - after) / sigma)[held], settings.alpha) if held.any() else None
-    cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), scaled_before, folds) \
-        if fitted and all(n in responses for n, _ in fitted) else None
-    # a generic load where a named effect already puts its load (a mesh force's teeth, a reaction) is that
-    # effect's load with a model-form difference in how it is spread or reacted, not a load outside the
-    # vocabulary: the verdict then compares with the best generic load away from there
-    sentinel_elsewhere, sentinel_at = None, ()
-    if sentinel is not None and fitted and engine is not None:
-        sites = engine.sentinel_sites()
-        regions = _load_regions(effects_by_name, rig, [n for n, _ in fitted], sites)
-        sentinel_at = tuple(n for n, r in regions.items() if site_in((sentinel.part, sentinel.x_mm), r))
-        if sentinel_at:
-            try:
-                sentinel_elsewhere = fit_sentinel(engine, data, base_paths, observe, sigma, fit_rows, from_rest,
-                                                  exclude=tuple(x for r in regions.values() for x in r))
-            except CANDIDATE_FAILURES as error:
-                set_aside["sentinel"] = f"the generic load away from the named loads could not be fitted: {error}"
-    kinds = [effects_by_name[n].kind for n, _ in fitted]
-    places = _load_x(effects_by_name, rig) if len(kinds) > len(set(kinds)) else None  # the same load at two places
-    verdict, reasons = _verdict(test_before, test_after, selected, fitted, problem, data, after, sigma,
-                                sentinel_elsewhere if sentinel_at else sentinel, cv, settings, effects_by_name,
-                                mimic=sentinel, places=places)
-    final = []
-    for s in selected:
-        confident = verdict == "explained" and len(s.group) == 1
-        final.append(SelectedEffect(s.name, s.values, s.delta_bic, s.group, s.round, confident))
-    vocabulary_chi2 = float(np.sum((((data.value_mm - after) / sigma)[fit_rows]) ** 2)) if fitted else None
-    return DiscrepancyResult(verdict, data, noise, fit_rows, before, after, test_before, test_after, test_held,
-                             structure, tuple(final), tuple(steps), not_observable, rejected, set_aside,
-                             tuple(discriminations), rig, current_rig, effects_by_name, seen, groups, sentinel, cv,
-                             sentinel_cv, tuple(reasons), vocabulary_chi2, sentinel_elsewhere, sentinel_at)
-
-
-def _changed_loads(effect, rig) -> list:
-    """The lateral loads (torque_lateral_loads) that ``effect`` at its typical value adds to ``rig`` or changes."""
-    before = {t.name: t for t in rig.torque_lateral_loads}
-    try:
-        changed = effect.apply(rig, [p.typical for p in effect.parameters])
-    except CANDIDATE_FAILURES:
-        return []
-    return [load for load in changed.torque_lateral_loads if before.get(load.name) != load]
-
-
-def _load_x(effects_by_name: dict, rig) -> dict[str, float]:
-    """x (mm) where each torque-proportional load of the vocabulary (one parameter in N per N·m) acts."""
-    out = {}
-    for name, effect in effects_by_name.items():
-        if len(effect.parameters) == 1 and effect.parameters[0].unit == "N/(N·m)":
-            loads = _changed_loads(effect, rig)
-            if loads:
-                out[name] = float(loads[0].on.x_mm)
-    return out
-
-
-def _load_regions(effects_by_name: dict, rig, names, sites) -> dict[str, tuple[tuple[str, float, float], ...]]:
-    """Where each named effect puts a lateral load on the rig: (part, lo_mm, hi_mm) of every load it adds or
-    changes, at its ``on`` and ``reacted_on`` places (the band of the teeth where given), widened by the
-    sentinel scan's spacing on that part (the scan cannot place a load more finely).
-
-    Two places more, both model form rather than a load the vocabulary lacks:
-    - a bearing whose stiffness an effect changes acts on its shaft and housing as a force over the bearing's
-      width (Δk times the deflection there), so a generic load there is that effect's load;
-    - on a housing (a body, far stiffer than the shafts) a load anywhere differs from the named load at another
-      x of the same body only by a moment about its mount, which the way another model spreads and reacts the
-      load decides: a named load on a body claims the whole body, and the shaft where a joint that carries
-      lateral force (a flange; not a torsion-only gear mesh or brake gap) ties the body to it."""
-    bodies = {p.name for p in rig.parts if p.role == "body"}
-    bearings = {b.name: b for b in rig.bearings}
-    lateral_joints = [pair for j in rig.joints if j.translational_stiffness_N_per_um[1] > 0
-                      for pair in ((j.from_, j.to), (j.to, j.from_))]
-
-    def region(part, lo, hi):
-        if part in bodies:
-            return (part, -np.inf, np.inf)
-        pad = scan_spacing_mm(sites, part)
-        return (part, float(lo) - pad, float(hi) + pad)
-
-    out = {}
-    for name in names:
-        regions = []
-        for load in _changed_loads(effects_by_name[name], rig):
-            for place in (load.on, load.reacted_on):
-                if place is None:
-                    continue
-                lo, hi = place.band_mm if place.band_mm is not None else (place.x_mm, place.x_mm)
-                regions.append(region(place.part, lo, hi))
-                if place.part in bodies:  # through a joint that carries lateral force (a flange) into a shaft
-                    regions += [region(b.part, b.x_mm, b.x_mm) for a, b in lateral_joints if a.part == place.part]
-        bearing = bearings.get(effects_by_name[name].location)
-        if bearing is not None and effects_by_name[name].kind == "bearing_stiffness":
-            half = 0.5 * bearing.width_mm  # the bearing's reaction spreads over its width
-            regions += [region(bearing.shaft, bearing.x_mm - half, bearing.x_mm + half),
-                        region(bearing.housing, bearing.x_mm - half, bearing.x_mm + half)]
-        if regions:
-            out[name] = tuple(regions)
-    return out
-
-
-def _verdict(test_before, test_after, selected, fitted, problem: Problem, data, after, sigma, sentinel, cv, settings,
-             effects: dict | None = None, mimic=None, places: dict | None = None):
-    """``no_gap``, ``explained`` or ``unexplained``, with the reasons for the last.
-
-    ``sentinel`` is the generic load the vocabulary must beat by the BIC margin; ``mimic`` (default ``sentinel``)
-    the best generic load anywhere, which tells whether effects that cancel each other mimic a load's shape and
-    whether the vocabulary needs more parameters than one load for a fit as good; ``places`` where the
-    vocabulary's torque-proportional loads act (:func:`_opposite_loads`)."""
-    if not test_before.gap:
-        return "no_gap", []
-    reasons = []
-    if not selected:
-        reasons.append("no effect of the vocabulary improves the fit by the margin")
-    if test_after.gap:
-        reasons.append(f"the gap left is beyond the noise and the model-form allowance ({test_after.describe()})")
-    mimic = sentinel if mimic is None else mimic
-    rows = problem.rows
-    chi2 = float(np.sum((((data.value_mm - after) / sigma)[rows]) ** 2))
-    k = int(sum(np.atleast_1d(v).size for _, v in fitted))
-    bic = chi2 + k * np.log(max(rows.size, 2))
-    # effects that cancel each other mimic a shape only if some simpler load makes that shape: when every single
-    # generic load fits far worse than the pair and leaves a gap itself, the two oppose each other in the data, as
-    # real effects may
-    if mimic is None or mimic.bic < bic + settings.bic_margin or stats.chi2.sf(mimic.chi2, mimic.n) >= settings.alpha:
-        reasons += _fighting_pairs(problem, fitted)
-    reasons += _opposite_loads(fitted, effects or {}, places)
-    if fitted:
-        better = sentinel is not None and sentinel.bic < bic - settings.bic_margin
-        if better:
-            reasons.append(f"a single generic load fits much better than the vocabulary (BIC {sentinel.bic:.4g} "
-                           f"against {bic:.4g})")
-        # more parameters than one generic load for a fit as good: judged against the best generic load anywhere,
-        # also where a named effect puts its load (a named load and spurious companions mimicking its form)
-        elif mimic is not None and k > mimic.k \
-                and (mimic.bic < bic or stats.chi2.sf(mimic.chi2, mimic.n) >= settings.alpha):
-            reasons.append(f"the vocabulary needs {k} parameters where one generic load needs {mimic.k} for a "
-                           f"fit as good (χ² {chi2:.4g} against {mimic.chi2:.4g})")
-        if cv is not None and not cv.improves:
-            reasons.append(f"held-out load cases do not improve (χ² {cv.chi2_before:.4g} → {cv.chi2_after:.4g})")
-        residual = data.value_mm - after
-        for finding in residual_structure(data, residual, sigma, threshold=STRUCTURE_T,
-                                          model_form_fraction=settings.model_form_fraction):
-            if finding.test == "curvature along the shaft" and finding.significant:
-                reasons.append(f"structure left along the {finding.shaft} shaft (curvature, {finding.detail})")
-    return ("unexplained" if reasons else "explained"), reasons
+    seen = _observe(rig, data, settings, library, progress)
+    located = _locate(seen, settings)
+    named = _name(seen, located, settings)
+    return _judge(seen, located, named, settings)
 
 
 def _observation_factory(data):

@@ -1,0 +1,134 @@
+"""Bearing lives, static safety and minimum load in a sweep: per case with the case named, over the duty cycle, in
+the files, the console and the report (issue 25 item 3)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from rvcoax.fem import bearing_life
+from rvcoax.geometry.builtin import example_rig_text, load_example_rig
+from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text
+from rvcoax.loadcases.cases import LoadCase, default_cases
+from rvcoax.results.cli.app import app
+from rvcoax.results.engineering import duty_cycle_lives, sweep_lives
+from rvcoax.results.reports.report_tables import life_tables
+from rvcoax.results.sweep import run_sweep
+
+
+@pytest.fixture(scope="module")
+def example_sweep():
+    rig = load_example_rig()
+    return run_sweep(rig, default_cases(rig))
+
+
+def test_typed_in_bearing_lives_per_case(example_sweep):
+    rig = example_sweep.rig
+    first = example_sweep.cases[0].engineering
+    life = next(b for b in first.lives if b.name == "output_B2")
+    force = next(b for b in first.bearings if b.name == "output_B2")
+    assert life.case == "T2_20pct" and life.speed_rpm == 15.0
+    assert life.equivalent_load_N == pytest.approx(force.force_radial_N)  # no axial load on output_B2
+    assert life.L10_Mrev == pytest.approx((32.5e3 / life.equivalent_load_N) ** 3)
+    assert life.L10_h == pytest.approx(life.L10_Mrev * 1e6 / (60 * 15.0))
+    assert life.static_safety == pytest.approx(19.0e3 / life.equivalent_load_N)
+    assert life.minimum_load_N == pytest.approx(325.0) and life.below_minimum_load
+    speeds = {b.name: b.speed_rpm for b in first.lives}
+    assert speeds["input_B1"] == pytest.approx(15.0 * 121)  # the input shaft: output speed × the reducer's ratio
+    assert rig.reducers[0].ratio == 121
+
+
+def test_duty_cycle_against_palmgren_miner_by_hand(example_sweep):
+    rig = example_sweep.rig
+    duty = {d.name: d for d in duty_cycle_lives(rig, [c.engineering for c in example_sweep.cases])}
+    lives = [next(b for b in c.engineering.lives if b.name == "output_B2").L10_h for c in example_sweep.cases]
+    shares = [c.time_share for c in rig.load_cases]
+    assert duty["output_B2"].L10_h == pytest.approx(1.0 / sum(s / life for s, life in zip(shares, lives)))
+    assert len(duty["output_B2"].cases_below_minimum_load) == 5
+
+
+def test_files_console_and_report_carry_the_lives(tmp_path, example_sweep):
+    rig_file = tmp_path / "rv40e.toml"
+    rig_file.write_text(example_rig_text(), encoding="utf-8")
+    result = CliRunner().invoke(app, ["sweep", "--rig", str(rig_file), "--out", str(tmp_path / "out")],
+                                terminal_width=220)
+    assert result.exit_code == 0, result.output
+    assert "Bearing life" in result.output and "duty cycle" in result.output
+    assert "WARNING" in result.output and "less than its minimum load" in result.output
+    with open(tmp_path / "out" / "sweep.csv", encoding="utf-8") as handle:
+        row = next(csv.DictReader(handle))
+    assert float(row["bearing_output_B2_L10_Mrev"]) > 0 and row["bearing_output_B2_below_minimum_load"] == "True"
+    assert "reducer_RV40E_main_bearings_verdict" in row
+    document = json.loads((tmp_path / "out" / "sweep.json").read_text(encoding="utf-8"))
+    assert document["cases"][0]["engineering"]["bearing_lives"][0]["case"] == "T2_20pct"
+    assert {d["name"] for d in document["bearing_duty_cycle"]} == {"input_B1", "input_B2", "output_B1", "output_B2"}
+    captions = [t.caption for t in life_tables(example_sweep)]
+    assert any("per case" in c and "life" in c for c in captions)
+    assert any("duty cycle" in c for c in captions) and any("Reducers" in c for c in captions)
+    table = next(t for t in life_tables(example_sweep) if "life, static safety" in t.caption)
+    assert table.columns[0] == "case" and table.rows[0][0] == "T2_20pct"
+
+
+def test_ball_bearing_lives_from_their_ball_loads():
+    """A nonlinear sweep: each ball bearing's L10r from its ball loads, s0 from the largest contact pressure."""
+    text = reference_rig_text("ball_bearings").replace(
+        'designation = "6206"', 'designation = "6206"\npreload_N = 200.0', 1)
+    rig = parse_rig_text(text)
+    sweep = run_sweep(rig, (LoadCase(1.43, 200.0),))
+    lives = {life.name: life for life in sweep_lives(sweep)[0]}
+    preloaded = lives["output_B1"]  # 200 N axial preload: every ball loaded
+    assert preloaded.L10r_Mrev is not None and math.isfinite(preloaded.L10r_Mrev)
+    assert preloaded.static_safety < 1e3  # the preloaded balls press their raceways
+    assert preloaded.equivalent_load_N < 10.0  # while the bearing passes a few newtons on (the preload is internal)
+    assert not preloaded.below_minimum_load  # the preload loads the balls: the minimum load counts the elements
+    assert preloaded.rating_source.startswith("ISO 281")
+    c, _ = bearing_life.dynamic_rating_ball(9, 9.525, 46.0), None
+    assert preloaded.dynamic_load_rating_N == pytest.approx(c)
+    assert lives["output_B2"].below_minimum_load  # the unpreloaded neighbour floats in its clearance
+    row = __import__("rvcoax.results.io.records", fromlist=["case_row"]).case_row(sweep.cases[0])
+    assert "bearing_output_B1_L10r_Mrev" in row
+
+
+def test_a_shaft_crossing_its_play_between_neighbouring_cases_is_named():
+    """docs/model.md: with CN clearance the input shaft is lifted across input_B2's play between T1 = 0.64 and
+    0.79 N·m (the lateral mesh load outgrows its weight): the sweep names the bearing and the two cases."""
+    from rvcoax.results import play_crossings
+
+    rig = parse_rig_text(reference_rig_text("ball_bearings"))
+    sweep = run_sweep(rig, (LoadCase(0.5, 70.0), LoadCase(0.64, 90.0), LoadCase(0.79, 110.0)))
+    found = play_crossings(sweep.solver_report["ball_bearing_operating_points"])
+    assert len(found) == 1
+    assert "input_B2" in found[0] and "T1=0.64Nm_T2=90Nm and T1=0.79Nm_T2=110Nm" in found[0]
+    steady = run_sweep(rig, (LoadCase(0.5, 70.0), LoadCase(0.64, 90.0)))
+    assert play_crossings(steady.solver_report["ball_bearing_operating_points"]) == []
+
+
+def test_revolution_shares_and_a_case_at_standstill():
+    """Revolution shares: Miner in revolutions, no speed needed. Time shares with a case at standstill: that case
+    adds no damage, and the cycle's hours count its standstill time (L_h = 1 / Σ_moving t_k / L_h,k)."""
+    text = example_rig_text()
+    for old, new in (("time_share = 0.30                   # [A] duty cycle of this bench", "revolution_share = 0.30"),
+                     ("time_share = 0.30                   # [A]", "revolution_share = 0.30"),
+                     ("time_share = 0.20", "revolution_share = 0.20"), ("time_share = 0.15", "revolution_share = 0.15"),
+                     ("time_share = 0.05", "revolution_share = 0.05")):
+        text = text.replace(old, new)
+    rig = parse_rig_text(text)
+    sweep = run_sweep(rig, default_cases(rig))
+    duty = {d.name: d for d in duty_cycle_lives(rig, [c.engineering for c in sweep.cases])}
+    revs = [next(b for b in c.engineering.lives if b.name == "output_B2").L10_Mrev for c in sweep.cases]
+    shares = [c.revolution_share for c in rig.load_cases]
+    assert duty["output_B2"].shares == "revolution" and duty["output_B2"].L10_h is None
+    assert duty["output_B2"].L10_Mrev == pytest.approx(1.0 / sum(s / r for s, r in zip(shares, revs)))
+
+    standstill = parse_rig_text(example_rig_text().replace(
+        "output_speed_rpm = 15               # [S] rated output speed of the RV-40E", "output_speed_rpm = 0"))
+    sweep = run_sweep(standstill, default_cases(standstill))
+    duty = {d.name: d for d in duty_cycle_lives(standstill, [c.engineering for c in sweep.cases])}
+    hours = [next(b for b in c.engineering.lives if b.name == "output_B2").L10_h for c in sweep.cases]
+    assert hours[0] is None  # no revolutions in the first case
+    shares = [c.time_share for c in standstill.load_cases]
+    assert duty["output_B2"].L10_h == pytest.approx(1.0 / sum(s / h for s, h in zip(shares[1:], hours[1:])))
