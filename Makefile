@@ -30,11 +30,12 @@ endef
 system-deps:
 	$(call debian-install,$(DEBIAN_PACKAGES),exit 1)
 
-# The tests open the HTML report in headless Chromium (Debian package chromium). Installed for `make test`
+# The tests open the HTML report in headless Chromium (Debian package chromium) and compare modes with CalculiX
+# (calculix-ccx). Installed for `make test`
 # when missing and we are root; without it the one browser test is skipped and says why.
-TEST_PACKAGES := chromium
+TEST_PACKAGES := chromium calculix-ccx
 test-deps:
-	$(call debian-install,$(TEST_PACKAGES),echo "the report's browser test will be skipped")
+	$(call debian-install,$(TEST_PACKAGES),echo "the report's browser test and the CalculiX modal comparison will be skipped")
 
 $(BIN)/rvcoax: pyproject.toml | system-deps
 	$(PYTHON) -m venv $(VENV)

@@ -66,6 +66,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.studies.check_run": ("CheckRun", "run_check"),
     "rvcoax.results.studies.check": ("measured_rows",),
     "rvcoax.results.studies.calibration": ("calibrate",),
+    "rvcoax.results.studies.modes": ("modes",),
     "rvcoax.results.studies.discrepancy.measured": ("read_measured",),
     "rvcoax.results.studies.discrepancy.workflow": ("DiscrepancySettings", "run_discrepancy"),
     "rvcoax.errors": ("RvcoaxError",),

@@ -17,8 +17,8 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["BeamElements", "element_dofs", "gravity_load",
-           "local_stiffness", "stiffness_triplets"]
+__all__ = ["BeamElements", "element_dofs", "gravity_load", "local_mass",
+           "local_stiffness", "mass_triplets", "stiffness_triplets"]
 
 
 @dataclass(frozen=True)
@@ -113,6 +113,63 @@ def local_stiffness(length_m, elements: BeamElements) -> np.ndarray:
     return k
 
 
+def _shear_parameter(length_m, elements: BeamElements) -> np.ndarray:
+    """Φ = 12 E I / (κ G A L²) per element (0 for κ = ∞: Euler–Bernoulli)."""
+    L = np.asarray(length_m, dtype=float)
+    kappa = np.asarray(elements.shear_coefficient, dtype=float)
+    return np.where(np.isinf(kappa), 0.0, 12.0 * elements.youngs_modulus_Pa * elements.second_moment_m4
+                    / (kappa * elements.shear_modulus_Pa * elements.area_m2 * L**2))
+
+
+def local_mass(length_m, elements: BeamElements) -> np.ndarray:
+    """Local 12×12 consistent mass matrices of uniform Timoshenko beams, shape (n, 12, 12).
+
+    The interpolation is the one the stiffness is exact for (the static Timoshenko deflection shapes, which
+    depend on Φ): translational inertia ρ A and rotary inertia ρ I of the sections in both bending planes
+    (Przemieniecki's matrices, *Theory of Matrix Structural Analysis*, 1968, eqs. 11.41–11.42, as polynomials
+    in Φ over (1 + Φ)²), linear axial (ρ A) and torsional (ρ (I_y + I_z), the polar mass moment of the
+    section) terms. Φ = 0 gives the Euler–Bernoulli consistent mass with rotary inertia.
+    """
+    L = np.asarray(length_m, dtype=float)
+    phi = _shear_parameter(L, elements)
+    rho = np.asarray(elements.density_kg_per_m3, dtype=float)
+    A = elements.area_m2
+    inertia = elements.second_moment_m4
+    m = np.zeros((L.size, 12, 12))
+
+    def put(i, j, value):
+        m[:, i, j] = value
+        m[:, j, i] = value
+
+    axial = rho * A * L / 6.0
+    put(0, 0, 2 * axial), put(6, 6, 2 * axial), put(0, 6, axial)
+    polar = rho * 2.0 * inertia * L / 6.0  # circular sections: I_y = I_z = I
+    put(3, 3, 2 * polar), put(9, 9, 2 * polar), put(3, 9, polar)
+
+    d = (1.0 + phi) ** 2
+    t = rho * A * L / d  # translational inertia
+    t11 = t * (13 / 35 + 7 * phi / 10 + phi**2 / 3)
+    t12 = t * L * (11 / 210 + 11 * phi / 120 + phi**2 / 24)
+    t13 = t * (9 / 70 + 3 * phi / 10 + phi**2 / 6)
+    t14 = t * L * (13 / 420 + 3 * phi / 40 + phi**2 / 24)
+    t22 = t * L**2 * (1 / 105 + phi / 60 + phi**2 / 120)
+    t24 = t * L**2 * (1 / 140 + phi / 60 + phi**2 / 120)
+    r = rho * inertia / (L * d)  # rotary inertia
+    r11 = r * 6 / 5
+    r12 = r * L * (1 / 10 - phi / 2)
+    r22 = r * L**2 * (2 / 15 + phi / 6 + phi**2 / 3)
+    r24 = r * L**2 * (-1 / 30 - phi / 6 + phi**2 / 6)
+    # x-y plane: v (1, 7), θz = dv/dx (5, 11)
+    put(1, 1, t11 + r11), put(7, 7, t11 + r11), put(1, 7, t13 - r11)
+    put(1, 5, t12 + r12), put(7, 11, -t12 - r12), put(1, 11, -t14 + r12), put(5, 7, t14 - r12)
+    put(5, 5, t22 + r22), put(11, 11, t22 + r22), put(5, 11, -t24 + r24)
+    # x-z plane: w (2, 8), θy = −dw/dx (4, 10): the w–θ couplings change sign
+    put(2, 2, t11 + r11), put(8, 8, t11 + r11), put(2, 8, t13 - r11)
+    put(2, 4, -t12 - r12), put(8, 10, t12 + r12), put(2, 10, t14 - r12), put(4, 8, -t14 + r12)
+    put(4, 4, t22 + r22), put(10, 10, t22 + r22), put(4, 10, -t24 + r24)
+    return m
+
+
 def element_dofs(connectivity: np.ndarray) -> np.ndarray:
     """Global DOF numbers of each element, shape (n, 12)."""
     base = DOFS_PER_NODE * np.asarray(connectivity)
@@ -120,17 +177,27 @@ def element_dofs(connectivity: np.ndarray) -> np.ndarray:
     return np.concatenate([base[:, :1] + offsets, base[:, 1:2] + offsets], axis=1)
 
 
-def stiffness_triplets(coordinates: np.ndarray, elements: BeamElements):
-    """Global stiffness of all beam elements as COO triplets ``(rows, cols, values)``."""
+def _global_triplets(coordinates: np.ndarray, elements: BeamElements, local) -> tuple:
+    """The local matrices ``local(length, elements)`` (n, 12, 12) rotated to global axes, as COO triplets."""
     if elements.connectivity.size == 0:
         return _empty_triplets()
     cosines, length = _rotations(coordinates, elements)
     t = _transformation(cosines)
-    k_global = np.einsum("eji,ejk,ekl->eil", t, local_stiffness(length, elements), t)
+    matrices = np.einsum("eji,ejk,ekl->eil", t, local(length, elements), t)
     dofs = element_dofs(elements.connectivity)
     rows = np.repeat(dofs, 12, axis=1).ravel()
     cols = np.tile(dofs, (1, 12)).ravel()
-    return rows, cols, k_global.ravel()
+    return rows, cols, matrices.ravel()
+
+
+def stiffness_triplets(coordinates: np.ndarray, elements: BeamElements):
+    """Global stiffness of all beam elements as COO triplets ``(rows, cols, values)``."""
+    return _global_triplets(coordinates, elements, local_stiffness)
+
+
+def mass_triplets(coordinates: np.ndarray, elements: BeamElements):
+    """Global consistent mass of all beam elements (:func:`local_mass`) as COO triplets ``(rows, cols, values)``."""
+    return _global_triplets(coordinates, elements, local_mass)
 
 
 def gravity_load(

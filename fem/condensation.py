@@ -12,6 +12,11 @@ reference node where something attaches (bearings, a part). Two routes, which ag
 * :func:`condensed_stiffness_and_loads` — the same, with the master loads equivalent to loads anywhere on
   the structure (its own weight): f_c = K_c u_m, with u_m the masters' displacement under those loads in
   the full model, so the condensed model moves its masters exactly as the full one does.
+* :func:`guyan_reduction` — the same solve also gives the static modes Ψ (the whole structure's displacement
+  for a unit displacement of each master DOF, Ψ = U K_c with U the unit-load displacements) and Guyan's mass
+  M_c = Ψᵀ M Ψ: the structure's inertia carried by the masters when it moves in its static shapes. Exact for
+  the rigid-body inertia the masters see; the structure's own dynamics (its modes with the masters held) are
+  left out, so it is good for rig modes well below the housing's own lowest frequency.
 * :func:`schur_complement` — Guyan's formula K_c = K_mm − K_ms K_ss⁻¹ K_sm when the masters are
   independent DOFs (no constraints).
 
@@ -21,6 +26,8 @@ bushing enters it (:mod:`rvcoax.fem.pieces`). Linear algebra only: meshes are un
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -28,7 +35,8 @@ from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.pieces import Contribution
 from rvcoax.fem.system import prepare_system
 
-__all__ = ["condensed_stiffness", "condensed_stiffness_and_loads", "schur_complement", "superelement_contribution"]
+__all__ = ["GuyanReduction", "condensed_stiffness", "condensed_stiffness_and_loads", "guyan_reduction",
+           "schur_complement", "superelement_contribution", "superelement_mass_contribution"]
 
 
 def condensed_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs,
@@ -64,6 +72,26 @@ def condensed_stiffness_and_loads(stiffness: sp.csr_matrix, elimination: sp.csr_
     displacements under those loads (and any load on the masters added to them). Parameters and errors as
     :func:`condensed_stiffness`.
     """
+    reduction = guyan_reduction(stiffness, elimination, master_dofs, loads, method=method)
+    return reduction.stiffness, reduction.loads
+
+
+@dataclass(frozen=True, eq=False)
+class GuyanReduction:
+    """K_c (k × k), the equivalent master loads f_c (k × p), Guyan's mass M_c (k × k, or None) and the lowest ω²
+    of the structure on its supports with the masters free (None without a mass): the dynamics Guyan leaves out
+    start above it."""
+
+    stiffness: np.ndarray
+    loads: np.ndarray
+    mass: np.ndarray | None
+    lowest_eigenvalue: float | None = None
+
+
+def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, *, mass=None,  # noqa: PLR0913
+                    method: str = "auto") -> GuyanReduction:
+    """K_c and f_c as :func:`condensed_stiffness_and_loads`, and with ``mass`` (M, n × n) Guyan's M_c = Ψᵀ M Ψ,
+    Ψ = U K_c the static modes (U: the displacements under unit master loads), from the same one solve."""
     masters = np.asarray(master_dofs, dtype=int)
     n = stiffness.shape[0]
     loads = np.asarray(loads, dtype=float).reshape(n, -1)
@@ -78,7 +106,15 @@ def condensed_stiffness_and_loads(stiffness: sp.csr_matrix, elimination: sp.csr_
                                  "DOF does not move the structure (check the ties)")
     result = np.linalg.inv(flexibility)
     result = 0.5 * (result + result.T)
-    return result, result @ displacement[masters, masters.size:]
+    condensed_mass = lowest = None
+    if mass is not None:
+        from rvcoax.fem.modal import natural_modes
+
+        shapes = displacement[:, : masters.size] @ result  # Ψ: unit master displacements
+        condensed_mass = shapes.T @ (sp.csr_matrix(mass) @ shapes)
+        condensed_mass = 0.5 * (condensed_mass + condensed_mass.T)
+        lowest = float(natural_modes(stiffness, mass, elimination, 1, reduced_solve=system.solver.solve).eigenvalues[0])
+    return GuyanReduction(result, result @ displacement[masters, masters.size:], condensed_mass, lowest)
 
 
 def schur_complement(stiffness: sp.csr_matrix, master_dofs, fixed_dofs=()) -> np.ndarray:
@@ -118,3 +154,12 @@ def superelement_contribution(matrix: np.ndarray, dofs, ground_dofs=None) -> Con
     rows = np.repeat(dofs, dofs.size)
     cols = np.tile(dofs, dofs.size)
     return Contribution((rows, cols, matrix.ravel()))
+
+
+def superelement_mass_contribution(matrix: np.ndarray, dofs) -> Contribution:
+    """A condensed (Guyan) mass M_c on the global ``dofs``: mass triplets (its ground side is fixed: no inertia)."""
+    dofs = np.asarray(dofs, dtype=int)
+    matrix = np.asarray(matrix, dtype=float)
+    if matrix.shape != (dofs.size, dofs.size):
+        raise ValueError(f"a {matrix.shape} matrix does not fit {dofs.size} DOFs")
+    return Contribution(mass=(np.repeat(dofs, dofs.size), np.tile(dofs, dofs.size), matrix.ravel()))

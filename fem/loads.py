@@ -8,7 +8,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity"]
+__all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity", "point_mass_triplets"]
 
 
 @dataclass(frozen=True)
@@ -51,3 +51,13 @@ def point_mass_gravity(masses: PointMasses, acceleration_m_per_s2: np.ndarray, n
     components = np.concatenate([force, np.zeros_like(force)], axis=1)
     return nodal_load_vector(NodalLoads(np.asarray(masses.node, int), components), n_dofs)
 
+
+
+def point_mass_triplets(masses: PointMasses):
+    """The mass matrix of point masses as COO triplets: m on a node's three translations, its rotary inertia
+    (Ixx, Iyy, Izz, about axes through the node) on its three rotations."""
+    node = np.asarray(masses.node, dtype=int)
+    values = np.concatenate([np.repeat(np.asarray(masses.mass_kg, float)[:, None], 3, axis=1),
+                             np.asarray(masses.rotary_inertia_kg_m2, float).reshape(-1, 3)], axis=1)
+    dofs = (DOFS_PER_NODE * node[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+    return dofs, dofs.copy(), values.ravel()

@@ -2,7 +2,9 @@
 
 A piece (beams, bushings, point masses, rigid links and fixed DOFs, a solid part, a tie between a
 reference node and a solid face) returns a :class:`Contribution`: stiffness triplets, load entries
-by load name, and constraint rows. :func:`assemble` sums any list of them into the system, in the
+by load name, and constraint rows; its mass form (:func:`beam_mass_contribution`,
+:func:`point_mass_mass_contribution`, :func:`solid_mass_contribution`, a condensed housing's Guyan mass) is a
+Contribution too, carrying mass triplets or a mass block, summed by the same :func:`assemble`. :func:`assemble` sums any list of them into the system, in the
 order given (so that the result does not depend on how the pieces were grouped). The beam, hybrid
 and solid rig models, calibration and a Monte Carlo sample that swaps springs all go through it.
 
@@ -28,7 +30,9 @@ from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 
 __all__ = ["AssembledSystem", "Contribution", "assemble", "assemble_frame", "beam_contribution", "bushing_contribution",
            "constraint_contribution", "dense_load_contribution", "frame_contributions", "load_vectors", "nodal_load_contribution",
-           "point_mass_contribution", "prestrain_contribution", "solid_contribution", "tie_contribution"]
+           "point_mass_contribution", "prestrain_contribution", "solid_contribution", "tie_contribution",
+           "beam_mass_contribution", "frame_mass_contributions", "point_mass_mass_contribution",
+           "solid_mass_contribution"]
 
 
 def _no_dofs() -> np.ndarray:
@@ -52,6 +56,10 @@ class Contribution:
     block : (offset, csr_matrix) or None
         A square stiffness matrix (a solid's, assembled in place: :func:`rvcoax.fem.solid.stiffness_matrix`)
         whose unknowns start at ``offset``; blocks of different pieces do not overlap.
+    mass : (rows, cols, values) or None
+        Mass triplets in global DOF numbers (kg, kg·m, kg·m²): the piece's mass form.
+    mass_block : (offset, csr_matrix) or None
+        A square mass matrix placed like ``block`` (a solid's, :func:`rvcoax.fem.solid.mass_matrix`).
     """
 
     stiffness: tuple | None = None
@@ -59,6 +67,8 @@ class Contribution:
     equations: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
     fixed_dofs: np.ndarray = field(default_factory=_no_dofs)
     block: tuple[int, sp.csr_matrix] | None = None
+    mass: tuple | None = None
+    mass_block: tuple[int, sp.csr_matrix] | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,6 +85,8 @@ class AssembledSystem:
     equations : dict
         Every constraint row, later pieces overriding earlier ones for the same dependent DOF.
     fixed_dofs : array of int
+    mass : csr_matrix or None
+        M (n × n) from the pieces' mass forms; None when no piece has one (a static model).
     """
 
     n_dofs: int
@@ -82,6 +94,7 @@ class AssembledSystem:
     loads: dict
     equations: dict
     fixed_dofs: np.ndarray
+    mass: sp.csr_matrix | None = None
 
     @functools.cached_property
     def _reduction(self) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -101,12 +114,15 @@ class AssembledSystem:
 def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSystem:
     """Sum ``contributions`` (in their order) into one system of ``n_dofs`` unknowns."""
     contributions = list(contributions)
-    stiffness = _stiffness(n_dofs, contributions)
+    stiffness = _summed(n_dofs, [c.stiffness for c in contributions], [c.block for c in contributions])
+    has_mass = any(c.mass is not None or c.mass_block is not None for c in contributions)
+    mass = _summed(n_dofs, [c.mass for c in contributions], [c.mass_block for c in contributions]) if has_mass else None
     equations: dict[int, Mapping[int, float]] = {}
     for c in contributions:
         equations.update(c.equations)
     fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
-    return AssembledSystem(int(n_dofs), stiffness, load_vectors(n_dofs, contributions), equations, fixed)
+    return AssembledSystem(n_dofs=int(n_dofs), stiffness=stiffness, loads=load_vectors(n_dofs, contributions),
+                           equations=equations, fixed_dofs=fixed, mass=mass)
 
 
 def load_vectors(n_dofs: int, contributions: Iterable[Contribution]) -> dict[str, np.ndarray]:
@@ -122,11 +138,11 @@ def load_vectors(n_dofs: int, contributions: Iterable[Contribution]) -> dict[str
     return vectors
 
 
-def _stiffness(n_dofs: int, contributions: list[Contribution]) -> sp.csr_matrix:
+def _summed(n_dofs: int, triplet_pieces: list, block_pieces: list) -> sp.csr_matrix:
     """Triplets summed, then the blocks placed: side by side when the triplets stay before the first block
-    (a frame and its solids: the matrix is written once), else added."""
-    triplets = assemble_matrix(n_dofs, [c.stiffness for c in contributions if c.stiffness is not None])
-    blocks = [c.block for c in contributions if c.block is not None]
+    (a frame and its solids: the matrix is written once), else added. Stiffness and mass alike."""
+    triplets = assemble_matrix(n_dofs, [t for t in triplet_pieces if t is not None])
+    blocks = [b for b in block_pieces if b is not None]
     if not blocks:
         return triplets
     first = min(offset for offset, _ in blocks)
@@ -205,6 +221,26 @@ def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_
     weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
     return Contribution(loads={"gravity": _dense(weight, dof_offset)},
                         block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_Pa, poisson)))
+
+
+def beam_mass_contribution(model) -> Contribution:
+    """The beams of a frame model: their consistent mass (:func:`rvcoax.fem.beam.mass_triplets`)."""
+    return Contribution(mass=beam.mass_triplets(model.coordinates, model.beams))
+
+
+def point_mass_mass_contribution(model) -> Contribution:
+    """The point masses of a frame model (coupling hubs): mass and rotary inertia at their nodes."""
+    return Contribution(mass=loads.point_mass_triplets(model.point_masses))
+
+
+def frame_mass_contributions(model) -> list[Contribution]:
+    """The mass forms of a frame model's pieces: beams and point masses (springs and links carry none)."""
+    return [beam_mass_contribution(model), point_mass_mass_contribution(model)]
+
+
+def solid_mass_contribution(basis, density_kg_per_m3: float, dof_offset: int) -> Contribution:
+    """A solid part's consistent mass (:func:`rvcoax.fem.solid.mass_matrix`), its DOFs from ``dof_offset``."""
+    return Contribution(mass_block=(dof_offset, solid.mass_matrix(basis, density_kg_per_m3)))
 
 
 def tie_contribution(equations: Mapping[int, Mapping[int, float]]) -> Contribution:

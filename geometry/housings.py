@@ -39,7 +39,7 @@ from rvcoax.geometry.meshing import MESHER_VERSION
 __all__ = ["BlockGeometry", "BracketGeometry", "FootPatch", "HOUSING_VERSION", "HousingGeometry", "PedestalGeometry",
            "Reference", "foot_facets", "housing_faces"]
 
-HOUSING_VERSION = 2
+HOUSING_VERSION = 3
 """Bump whenever a change here changes a condensed matrix (invalidates its cache entries)."""
 _TOL_MM = 1e-6
 

@@ -29,7 +29,7 @@ __all__ = ["KeyRow", "MEANINGS", "UNIT_SUFFIXES", "key_rows", "render_markdown",
 # key-name endings → the unit they name (longest first wins)
 UNIT_SUFFIXES = {
     "_N_per_um": "N/µm", "_N_per_mm": "N/mm", "_Nm_per_rad": "N·m/rad", "_N_per_Nm": "N/(N·m)", "_Nm_per_arcmin": "N·m/′", "_kN": "kN",
-    "_kg_per_m3": "kg/m³", "_m_per_s2": "m/s²", "_MPa": "MPa", "_mm": "mm", "_um": "µm", "_kg": "kg",
+    "_kg_per_m3": "kg/m³", "_kg_m2": "kg·m²", "_m_per_s2": "m/s²", "_MPa": "MPa", "_mm": "mm", "_um": "µm", "_kg": "kg",
     "_deg": "°", "_mrad": "mrad", "_arcmin": "′ (arcminute)", "_rpm": "1/min", "_Nm": "N·m", "_N": "N",
     "_N_per_mm_per_um": "N/(mm·µm)", "_N_per_um_per_mm2": "N/(µm·mm²)", "_per_K": "1/K",
     "_K": "K (= °C of difference)",
@@ -112,6 +112,11 @@ MEANINGS = {
     "couplings[].allowable_angular_misalignment_deg": "Angular misalignment the coupling maker allows "
                                                       "(datasheet).",
     "couplings[].speed_rpm": "Running speed, which grades the misalignment against alignment tolerances.",
+    "couplings[].polar_inertia_kg_m2": "Polar mass moment of the coupling about its axis, half on each hub "
+                                       "(natural frequencies); without it the hubs are point masses.",
+    "speeds.motor_rpm": "The motor's speed range [lowest, highest] for the interference diagram of rvcoax modes.",
+    "speeds.reduction_ratio": "The reducer's ratio: output speed = motor speed / ratio (the output order).",
+    "speeds.input_gear_teeth": "Teeth of the input gear: its mesh frequency = teeth × motor speed.",
     "joints[].name": "Unique name of the joint.",
     "joints[].from.part": "First part joined.",
     "joints[].from.x_mm": "Where the joint sits on the first part.",

@@ -417,6 +417,9 @@ class Coupling(Connection):
     allowable_parallel_offset_mm: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False, strict=True)] | None = None
     allowable_angular_misalignment_deg: Annotated[float, Field(gt=0.0, le=45.0, allow_inf_nan=False, strict=True)] | None = None
     speed_rpm: Annotated[float, Field(ge=0.0, le=1e6, allow_inf_nan=False, strict=True)] | None = None
+    # --- dynamics (issue 26): the coupling's polar mass moment, half on each hub (each hub a disc: its
+    # diametral moment half its polar one); without it the hubs are point masses ---
+    polar_inertia_kg_m2: Annotated[float, Field(ge=0.0, le=1e3, allow_inf_nan=False, strict=True)] | None = None
 
 
 class Joint(Connection):
@@ -889,6 +892,26 @@ class TorqueRange(StrictModel):
         return self
 
 
+class Speeds(StrictModel):
+    """``[speeds]``: the rig's running speeds, for the interference (Campbell) diagram of ``rvcoax modes``.
+
+    The excitation orders: the motor speed n (×1 and ×2), the input gear's mesh frequency
+    ``input_gear_teeth`` × n and the reducer's output speed n / ``reduction_ratio`` (×1).
+    """
+
+    motor_rpm: tuple[NonNegative, Positive]
+    reduction_ratio: Annotated[float, Field(gt=1.0, le=1e5, allow_inf_nan=False, strict=True)]
+    input_gear_teeth: Annotated[int, Field(ge=1, le=1000, strict=True)]
+
+    @model_validator(mode="after")
+    def _check(self) -> Speeds:
+        low, high = self.motor_rpm
+        if not low < high:
+            raise ValueError(f"motor_rpm = [{low:g}, {high:g}] is no speed range: give [lowest, highest] with "
+                             "lowest < highest (rpm)")
+        return self
+
+
 class SolidSettings(StrictModel):
     """Solid and hybrid models: which parts are solid in ``hybrid``, and mesh sizes."""
 
@@ -937,6 +960,8 @@ class Rig(StrictModel):
     # issue 15 (outputs): the rig's own load cases, a list or a range (not both)
     load_cases: list[RigLoadCase] = []
     sweep: TorqueRange | None = None
+    # issue 26 (dynamics): running speeds for the interference diagram
+    speeds: Speeds | None = None
 
     @field_validator("parts")
     @classmethod

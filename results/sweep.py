@@ -253,7 +253,7 @@ def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual
 
 
 def _prepare(system: RigSystem, settings: SweepSettings):
-    """The system's solver: returns (solve function, solver name, summary dict).
+    """The system's solver: returns (solve function, solver name, summary dict, the solve of Tᵀ K T itself).
 
     A beam model with the automatic or SuperLU solver is factorised by SuperLU in symmetric mode (the
     reduced matrix symmetrised); everything else goes to the method ``settings.solver`` names or, for
@@ -268,7 +268,7 @@ def _prepare(system: RigSystem, settings: SweepSettings):
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
     check_condition(reduced.condition_estimate(), system.frame.rig)
-    return reduced.solve, reduced.solver_name, reduced.summary()
+    return reduced.solve, reduced.solver_name, reduced.summary(), reduced.solver.solve
 
 
 CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)
@@ -289,6 +289,7 @@ class PreparedModel:
     solver_name: str
     report: dict  # rvcoax.fem.system.ReducedSystem.summary(): method, size, times, memory, condition estimate
     solved: dict = field(default_factory=dict, repr=False)
+    reduced_solve: object = field(default=None, repr=False)  # x → (Tᵀ K T)⁻¹ x on the independent DOFs (modes)
 
     def solve_unit_loads(self, columns: np.ndarray) -> np.ndarray:
         """Solutions of the load vectors ``columns`` (n, m): those solved before are taken from the cache, the
@@ -358,7 +359,8 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
 
 def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
     """Set up the solver of an already assembled system (e.g. one whose springs a sample changed)."""
-    return PreparedModel(system, *_prepare(system, settings))
+    solve, name, report, reduced_solve = _prepare(system, settings)
+    return PreparedModel(system, solve, name, report, reduced_solve=reduced_solve)
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913

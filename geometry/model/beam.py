@@ -319,14 +319,17 @@ def frame_springs(rig: Rig, nodes: FrameNodes) -> FrameSprings:
 
 
 def frame_masses(rig: Rig, nodes: FrameNodes) -> FrameMasses:
-    """Stage 4: half of each coupling's mass at each of its hubs (no rotary inertia)."""
-    hub_nodes, hub_masses = [], []
+    """Stage 4: half of each coupling's mass at each of its hubs, with half its polar inertia about the axis and a
+    quarter about each diameter (a disc); no rotary inertia without ``polar_inertia_kg_m2``."""
+    hub_nodes, hub_masses, hub_inertia = [], [], []
     for c in rig.couplings:
+        polar = (c.polar_inertia_kg_m2 or 0.0) / 2.0  # per hub; a disc's diametral moment is half its polar one
         for end in (c.from_, c.to):
             hub_nodes.append(nodes.node(end.part, end.x_mm))
             hub_masses.append(c.mass_kg / 2.0)
+            hub_inertia.append((polar, polar / 2.0, polar / 2.0))
     return FrameMasses(PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
-                                   np.zeros((len(hub_nodes), 3))))
+                                   np.array(hub_inertia, dtype=float).reshape(-1, 3)))
 
 
 def _part_masses(rig: Rig, nodes: FrameNodes, structure: StructuralModel) -> dict[str, float]:

@@ -25,7 +25,8 @@ import scipy.sparse as sp
 import skfem
 
 from rvcoax.fem import DOFS_PER_NODE, solid
-from rvcoax.fem.condensation import condensed_stiffness_and_loads
+from rvcoax.fem.assembly import block_diagonal
+from rvcoax.fem.condensation import guyan_reduction
 from rvcoax.fem.pieces import Contribution, assemble, tie_contribution
 from rvcoax.fem.solvers import pardiso_available
 from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
@@ -123,6 +124,12 @@ class CondensedHousing:
     weight_load: np.ndarray | None = None
     volume_m3: float = 0.0
     centroid_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mass_per_density: np.ndarray | None = None  # Guyan's M_c (6k × 6k) for 1 kg/m³ (fem.condensation.guyan_reduction)
+    lowest_eigenvalue_per_density: float = 0.0  # ω² of the housing on its bed (references free) × ρ, in (rad/s)² kg/m³
+
+    def lowest_frequency_hz(self, density_kg_per_m3: float) -> float:
+        """The housing's lowest natural frequency on its bed (Hz): Guyan's mass leaves out what happens above it."""
+        return float(np.sqrt(self.lowest_eigenvalue_per_density / density_kg_per_m3) / (2 * np.pi))
 
 
 def _cache_file(key: dict, cache_dir: Path | None) -> Path:
@@ -137,7 +144,9 @@ def _save(path: Path, result: CondensedHousing) -> None:
     try:
         with handle:
             np.savez(handle, matrix=result.matrix, solid_dofs=np.array(result.solid_dofs), weight_load=result.weight_load,
-                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m))
+                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m),
+                     mass_per_density=result.mass_per_density,
+                     lowest_eigenvalue_per_density=np.array(result.lowest_eigenvalue_per_density))
         os.replace(handle.name, path)
     except BaseException:
         Path(handle.name).unlink(missing_ok=True)
@@ -149,12 +158,14 @@ def _load(path: Path) -> CondensedHousing | None:
         with np.load(path, allow_pickle=False) as data:
             matrix, dofs = np.array(data["matrix"]), int(data["solid_dofs"])
             weight, volume, centroid = np.array(data["weight_load"]), float(data["volume_m3"]), np.array(data["centroid_m"])
+            mass, lowest = np.array(data["mass_per_density"]), float(data["lowest_eigenvalue_per_density"])
         if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or not np.all(np.isfinite(matrix)):
             raise ValueError("bad matrix")
-        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,):
-            raise ValueError("bad weight")
+        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,) or mass.shape != matrix.shape:
+            raise ValueError("bad weight or mass")
         return CondensedHousing(matrix=matrix, solid_dofs=dofs, seconds=0.0, from_cache=True, weight_load=weight,
-                                volume_m3=volume, centroid_m=tuple(float(c) for c in centroid))
+                                volume_m3=volume, centroid_m=tuple(float(c) for c in centroid), mass_per_density=mass,
+                                lowest_eigenvalue_per_density=lowest)
     except FileNotFoundError:
         return None
     except Exception:  # damaged entry: computed again and rewritten
@@ -179,12 +190,15 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
                                 cache_dir=cache_dir)
     weight = np.zeros(model.n_dofs)
     weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
-    matrix, equivalent = condensed_stiffness_and_loads(model.stiffness, model.elimination, model.master_dofs, weight,
-                                                       solid_method())
+    mass = block_diagonal(model.n_dofs, [(model.master_dofs.size, solid.mass_matrix(model.basis, 1.0))])
+    reduction = guyan_reduction(model.stiffness, model.elimination, model.master_dofs, weight, mass=mass,
+                                method=solid_method())
+    matrix, equivalent = reduction.stiffness, reduction.loads
     volume = float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(model.basis))
     centroid = tuple(float(skfem.Functional(lambda w, i=i: w.x[i]).assemble(model.basis)) / volume for i in range(3))
     result = CondensedHousing(matrix=matrix, solid_dofs=int(model.basis.N), seconds=time.perf_counter() - start,
-                              from_cache=False, weight_load=equivalent[:, 0], volume_m3=volume, centroid_m=centroid)
+                              from_cache=False, weight_load=equivalent[:, 0], volume_m3=volume, centroid_m=centroid,
+                              mass_per_density=reduction.mass, lowest_eigenvalue_per_density=reduction.lowest_eigenvalue)
     if use_cache:
         try:
             _save(path, result)

@@ -39,6 +39,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "chain-error": ("doe", "Paper 000's transmission-chain error vector: θ11, θ22, θ44, θ55 and θ_total = θ22 − θ11 − "
                            "θ44 − θ55 (°), with the coaxiality terms (tilt β and radial offset a of the input and "
                            "output shafts) from a sweep of the rig."),
+    "modes": ("modes", "Natural frequencies and mode shapes of the rig about each load case's operating point, each "
+                       "mode's class and the part or spring that owns it, and the interference (Campbell) diagram "
+                       "against the [speeds] of the rig file."),
     "report": ("report", "Write OUT/report.html: one self-contained HTML file for a design review (pictures "
                          "embedded, no network needed to open it)."),
     "rig": ("rig", "Inspect rig files."),

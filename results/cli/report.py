@@ -30,14 +30,16 @@ def report(
         f"{PDF_TIMEOUT_RANGE_S[0]:g} … {PDF_TIMEOUT_RANGE_S[1]:g} s; then it and its child processes are "
         "ended.")] = 120.0,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
+    modes: Annotated[int, support.number_option("--modes", 0, 500, help="Natural modes in the report (mode table, interference diagram, mode shapes); 0 leaves the section out.", integer=True)] = 12,
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
     network needed to open it).
 
     Sections: the rig with masses and the rig file's provenance tags, the load cases, the bending lines,
     Y and tilt against torque, the coupling and bearing misalignment with verdicts, the support
-    reactions, the check against --measured, the --discrepancy result, and the provenance (version,
-    rig file SHA-256, model, solver, mesh, date).
+    reactions, the check against --measured, the --discrepancy result, the natural frequencies (mode table,
+    interference diagram, mode shapes; --modes), and the provenance (version, rig file SHA-256, model, solver,
+    mesh, date).
     """
     from rvcoax import read_measured, write_report
     from rvcoax.results.reports import print_pdf, read_discrepancy
@@ -50,9 +52,18 @@ def report(
     source, text = model_choice.rig_text()
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
+    study = None
+    if modes:
+        from rvcoax import modes as natural_modes
+
+        with support.console.status(f"computing {modes} natural modes"):
+            study = natural_modes(rig, load_cases, n_modes=modes, model=settings.model,
+                                  solver="auto" if settings.solver == "amg" else settings.solver,
+                                  mesh_size_mm=settings.mesh_size_mm)
     with support.console.status("drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
-                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
+                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
+                                modes=study)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf", timeout_s=pdf_timeout_s))

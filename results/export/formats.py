@@ -118,7 +118,12 @@ def _write_ross(export: DynamicsExport, folder: Path, _: _Provenance) -> ExportF
     table = ExportTable("ROSS static analysis (gravity, rigid supports) vs rvcoax on the same shaft",
                         ("shaft", "nodes", "supports", "largest sag rvcoax nm", "largest sag ROSS nm",
                          "largest difference"), rows)
-    return ExportFiles(written.paths, (table,))
+    modal = ExportTable("ROSS natural frequencies at zero speed (run_modal) vs rvcoax on the same shaft and bearings",
+                        ("shaft", "bearing stiffness of", "f1…f4 rvcoax Hz", "f1…f4 ROSS Hz", "largest difference"),
+                        tuple((m.line.which, m.line.operating_point, ", ".join(f"{f:.1f}" for f in m.rvcoax_hz),
+                               ", ".join(f"{f:.1f}" for f in m.ross_hz), f"{m.relative_difference.max():.1e}")
+                              for m in written.modal))
+    return ExportFiles(written.paths, (table, modal))
 
 
 EXPORT_FORMATS: tuple[ExportFormat, ...] = (

@@ -9,8 +9,9 @@ For each measured shaft (``input``, ``output``) the adapter builds
 - a :class:`ShaftLine` from the rig: the shaft's beam elements exactly as the rvcoax beam model
   has them (node positions, outer and inner diameters, material), its supports (bearings, and joints
   with lateral stiffness to a housing, such as the reducer's output flange) with their radial
-  stiffness, and the coupling hubs it carries (half the coupling mass each, no rotary inertia, as
-  in the rvcoax model);
+  stiffness — the typed-in value, or for a ball bearing from geometry its operating tangent stiffness in the
+  load case the rotor is exported for (:func:`operating_supports`; the case is named in the rotor's tag) — and
+  the coupling hubs it carries (half the coupling's mass and polar inertia each, as in the rvcoax model);
 - a ``ross.Rotor`` of it (:func:`build_rotor`): Timoshenko shaft elements with Cowper's shear
   coefficient, bearings, hubs as disks;
 - per load case, the parameters of ROSS's flexible-coupling misalignment fault
@@ -24,11 +25,19 @@ z horizontal) maps to ROSS's (z, y, −x), both right-handed. ROSS works in SI u
 ROSS's static analysis (``rotor.run_static()``) loads the shaft with gravity (9.8065 m/s², fixed in
 ROSS) on rigid supports at the bearings. :func:`rvcoax_gravity_sag` solves the same shaft with
 rvcoax's beam elements under the same gravity, supports held rigidly in y and z: like with like.
+
+ROSS's undamped modal analysis at zero speed (``rotor.run_modal(0)``) is compared the same way
+(:func:`compare_modal`): :func:`rvcoax_line_modes` solves the same shaft line with rvcoax's consistent
+Timoshenko mass and stiffness (:mod:`rvcoax.fem.modal`) on the same radial springs, free axially and in
+torsion as ROSS's rotor is.
+
+Tested with ROSS 2.3.0 (the last release for Python 3.11; ROSS 3 needs Python ≥ 3.12 and is not tested).
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import os
 import re
@@ -53,13 +62,15 @@ from rvcoax.geometry.units import MM
 from rvcoax.results.export.dynamics import DynamicsExport
 from rvcoax.results.io.writers import write_csv_atomic
 
-__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
-           "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
-           "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
-           "RossFiles", "rvcoax_gravity_sag", "save_rotor", "shaft_line", "write_ross"]
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ModalComparison", "ROSS_GRAVITY_M_PER_S2",
+           "RossFiles", "RossUnavailableError", "ShaftLine", "StaticComparison", "Support", "build_rotor",
+           "compare_modal", "compare_static", "fault_arguments", "fault_element", "import_ross", "misalignment_fault",
+           "misalignment_parameters", "operating_supports", "ross_gravity_sag", "ross_modal_frequencies",
+           "rvcoax_gravity_sag", "rvcoax_line_modes", "save_rotor", "shaft_line", "write_ross"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
+RIGID_BODY_HZ = 1.0  # modes below this in compare_modal are a free line's rigid-body motions
 INSTALL_HINT = 'pip install "rvcoax[ross]"  (the package ross-rotordynamics)'
 
 
@@ -107,11 +118,18 @@ def import_ross():
 
 @dataclass(frozen=True)
 class Support:
-    """A lateral support of a shaft line: a bearing or a joint to a housing (radial stiffness in N/m)."""
+    """A lateral support of a shaft line: a bearing or a joint to a housing (radial stiffness in N/m; vertical
+    ``y`` and horizontal ``z`` of rvcoax, equal unless an operating point makes them differ)."""
 
     spring: SpringId
     x_mm: float
     radial_stiffness_N_per_m: float
+    horizontal_stiffness_N_per_m: float | None = None
+
+    @property
+    def stiffness_z_N_per_m(self) -> float:
+        return self.radial_stiffness_N_per_m if self.horizontal_stiffness_N_per_m is None else \
+            self.horizontal_stiffness_N_per_m
 
 
 @dataclass(frozen=True)
@@ -121,6 +139,7 @@ class Hub:
     coupling: str
     x_mm: float
     mass_kg: float
+    polar_inertia_kg_m2: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -138,6 +157,7 @@ class ShaftLine:
     poisson_ratio: float
     supports: tuple[Support, ...]
     hubs: tuple[Hub, ...]
+    operating_point: str = "typed-in bearing stiffness"
 
     def node_at(self, x_mm: float) -> int:
         hits = np.flatnonzero(np.isclose(self.node_x_mm, x_mm, atol=1e-6))
@@ -153,28 +173,84 @@ def _section_at(part, x_mm: float) -> tuple[float, float]:
     raise ValueError(f"no segment of part '{part.name}' at x = {x_mm} mm")
 
 
-def shaft_line(rig: Rig, which: str) -> ShaftLine:
-    """The measured shaft ``which`` with its beam-model nodes, supports and coupling hubs."""
+def shaft_line(rig: Rig, which: str, operating: dict | None = None, operating_point: str | None = None) -> ShaftLine:
+    """The measured shaft ``which`` with its beam-model nodes, supports and coupling hubs.
+
+    Parameters
+    ----------
+    rig : Rig
+    which : str
+        ``"input"`` or ``"output"``.
+    operating : dict, optional
+        Bearing name → (k_y, k_z) in N/m (:func:`operating_supports`): those bearings' operating tangent stiffness
+        replaces their typed-in radial stiffness.
+    operating_point : str, optional
+        The load case the stiffness belongs to (in the rotor's tag and file).
+
+    Returns
+    -------
+    ShaftLine
+    """
     name = getattr(rig.paths, which).part
     part = rig.part(name)
     frame = build_rig_model(rig)
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
-    supports = [Support(SpringId("bearing", b.name), b.x_mm, b.radial_stiffness_N_per_um * 1e6)
-                for b in rig.bearings if b.shaft == name]
+    operating = operating or {}
+    supports = []
+    for b in rig.bearings:
+        if b.shaft != name:
+            continue
+        if b.name in operating:
+            k_y, k_z = operating[b.name]
+            supports.append(Support(SpringId("bearing", b.name), b.x_mm, float(k_y), float(k_z)))
+        else:
+            supports.append(Support(SpringId("bearing", b.name), b.x_mm, b.radial_stiffness_N_per_um * 1e6))
     for j in rig.joints:
         lateral = min(j.translational_stiffness_N_per_um[1:]) * 1e6
         ends = {j.from_.part: j.from_.x_mm, j.to.part: j.to.x_mm}
         if name in ends and lateral > 0 and len(ends) == 2:
             supports.append(Support(SpringId("joint", j.name), ends[name], lateral))
-    hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0) for c in rig.couplings for end in (c.from_, c.to)
-            if end.part == name]
+    hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0, (c.polar_inertia_kg_m2 or 0.0) / 2.0)
+            for c in rig.couplings for end in (c.from_, c.to) if end.part == name]
     material = rig.materials[part.material]
+    point = operating_point or ("typed-in bearing stiffness" if not operating else "operating point")
     return ShaftLine(which=which, part=name, node_x_mm=x, outer_diameter_mm=sections[:, 0],
                      inner_diameter_mm=sections[:, 1], material=part.material,
                      density_kg_per_m3=material.density_kg_per_m3, youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6,
                      poisson_ratio=material.poisson_ratio, supports=tuple(sorted(supports, key=lambda s: s.x_mm)),
-                     hubs=tuple(hubs))
+                     hubs=tuple(hubs), operating_point=point)
+
+
+def operating_supports(sweep, index: int) -> dict:
+    """Bearing name → (k_y, k_z) (N/m): each nonlinear bearing's operating tangent radial stiffness in case ``index``
+    of ``sweep`` (a ball bearing's ∂F/∂Δ at that case's solution; a gapped bearing's, open or closed); empty for a
+    rig whose bearings are linear (their typed-in stiffness is the operating one in every case).
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A solved sweep (:func:`rvcoax.run_sweep`).
+    index : int
+        The load case (0-based).
+
+    Returns
+    -------
+    dict
+        Bearing name → (vertical, horizontal) radial stiffness in N/m.
+    """
+    bearings = sweep.nonlinear_bearings
+    if bearings is None:
+        return {}
+    u = sweep.case_displacements[:, index] + (sweep.rest_displacement if sweep.rig.paths.measured_from ==
+                                              "aligned_at_rest" else 0.0)
+    _, tangent = bearings.laws(bearings.operator @ u)
+    out = {}
+    for spring, components, rows in bearings.spring_rows():
+        block = tangent[rows, rows]
+        y, z = components.index(1), components.index(2)
+        out[spring.name] = (float(block[y, y]), float(block[z, z]))
+    return out
 
 
 def ross_identifier(text: str) -> str:
@@ -203,14 +279,15 @@ def build_rotor(line: ShaftLine, ross=None):
     shaft = [rs.ShaftElement(L=float(length), idl=float(inner * MM), odl=float(outer * MM), material=material, n=i,
                              shear_method_calc="cowper")
              for i, (length, outer, inner) in enumerate(zip(lengths, line.outer_diameter_mm, line.inner_diameter_mm))]
-    disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=0.0, Ip=0.0,
-                            tag=ross_identifier(f"hub_{h.coupling}"))
-             for h in line.hubs]
-    bearings = [rs.BearingElement(n=line.node_at(s.x_mm), kxx=s.radial_stiffness_N_per_m,
+    disks = [rs.DiskElement(n=line.node_at(h.x_mm), m=h.mass_kg, Id=h.polar_inertia_kg_m2 / 2.0,
+                            Ip=h.polar_inertia_kg_m2, tag=ross_identifier(f"hub_{h.coupling}")) for h in line.hubs]
+    # ROSS's x is rvcoax's −z (horizontal), its y rvcoax's y (vertical)
+    bearings = [rs.BearingElement(n=line.node_at(s.x_mm), kxx=s.stiffness_z_N_per_m,
                                   kyy=s.radial_stiffness_N_per_m, cxx=0.0,
                                   tag=ross_identifier(f"{s.spring.kind}_{s.spring.name}"))
                 for s in line.supports]
-    return rs.Rotor(shaft, disks, bearings, tag=f"rvcoax_{line.which}_shaft")
+    case = "".join(c if c.isalnum() or c in "._-=" else "_" for c in line.operating_point)
+    return rs.Rotor(shaft, disks, bearings, tag=f"rvcoax_{line.which}_shaft__{case}")
 
 
 def ross_gravity_sag(rotor) -> np.ndarray:
@@ -226,29 +303,10 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, acceleration_m_per_s2: float =
     The elements, hubs and material are those of the rig's beam model; the shaft is cut free from
     every other part, and u_x and the twist are held at the first support (they carry no load).
     """
-    frame = build_rig_model(rig)
-    structure = frame.structure
-    nodes = np.flatnonzero(frame.node_part == line.part)
-    nodes = nodes[np.argsort(frame.node_x_mm[nodes])]
-    renumber = -np.ones(structure.n_nodes, dtype=int)
-    renumber[nodes] = np.arange(nodes.size)
-    beams = structure.beams
-    keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
-    local = BeamElements(connectivity=renumber[beams.connectivity[keep]], area_m2=beams.area_m2[keep],
-                         second_moment_m4=beams.second_moment_m4[keep], polar_moment_m4=beams.polar_moment_m4[keep],
-                         shear_coefficient=beams.shear_coefficient[keep],
-                         youngs_modulus_Pa=beams.youngs_modulus_Pa[keep], shear_modulus_Pa=beams.shear_modulus_Pa[keep],
-                         density_kg_per_m3=beams.density_kg_per_m3[keep], reference_vector=beams.reference_vector[keep])
-    masses = structure.point_masses
-    on_shaft = renumber[masses.node] >= 0
-    hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],
-                       masses.rotary_inertia_kg_m2[on_shaft])
     support_nodes = [line.node_at(s.x_mm) for s in line.supports]
     fixed = [DOFS_PER_NODE * n + c for n in support_nodes for c in (1, 2)]
     fixed += [DOFS_PER_NODE * support_nodes[0] + c for c in (0, 3)]
-    no_springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
-    model = StructuralModel(structure.coordinates[nodes], local, no_springs, point_masses=hubs,
-                            fixed_dofs=np.array(sorted(fixed)))
+    model = dataclasses.replace(_line_model(rig, line, "none"), fixed_dofs=np.array(sorted(fixed)))
     system = assemble_frame(model, [0.0, -acceleration_m_per_s2, 0.0])
     u = factorize(system.stiffness, system.elimination).solve(system.loads["gravity"])
     return u[1::DOFS_PER_NODE]
@@ -276,7 +334,7 @@ class StaticComparison:
         return self.largest_difference_m / self.largest_sag_m
 
 
-def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticComparison]:
+def compare_static(rig: Rig, which: str, ross=None, line: ShaftLine | None = None) -> tuple[object, StaticComparison]:
     """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax.
 
     Parameters
@@ -287,6 +345,8 @@ def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticCompa
         ``"input"`` or ``"output"``.
     ross : module, optional
         The ``ross`` package (imported when not given).
+    line : ShaftLine, optional
+        The shaft line to build (an operating point's, :func:`shaft_line`); default the typed-in stiffness.
 
     Returns
     -------
@@ -298,9 +358,114 @@ def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticCompa
     RossUnavailableError
         ROSS is not installed.
     """
-    line = shaft_line(rig, which)
+    line = shaft_line(rig, which) if line is None else line
     rotor = build_rotor(line, ross)
     return rotor, StaticComparison(line, ross_gravity_sag(rotor), rvcoax_gravity_sag(rig, line))
+
+
+def _line_model(rig: Rig, line: ShaftLine, supports: str):
+    """The shaft line cut out of the rig's beam model, its beams and hubs; ``supports`` ``"springs"``: its supports as
+    radial springs to the ground, ``"none"``: no springs (the caller holds DOFs)."""
+    frame = build_rig_model(rig)
+    structure = frame.structure
+    nodes = np.flatnonzero(frame.node_part == line.part)
+    nodes = nodes[np.argsort(frame.node_x_mm[nodes])]
+    renumber = -np.ones(structure.n_nodes, dtype=int)
+    renumber[nodes] = np.arange(nodes.size)
+    beams = structure.beams
+    keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
+    local = BeamElements(connectivity=renumber[beams.connectivity[keep]], area_m2=beams.area_m2[keep],
+                         second_moment_m4=beams.second_moment_m4[keep], polar_moment_m4=beams.polar_moment_m4[keep],
+                         shear_coefficient=beams.shear_coefficient[keep],
+                         youngs_modulus_Pa=beams.youngs_modulus_Pa[keep], shear_modulus_Pa=beams.shear_modulus_Pa[keep],
+                         density_kg_per_m3=beams.density_kg_per_m3[keep], reference_vector=beams.reference_vector[keep])
+    masses = structure.point_masses
+    on_shaft = renumber[masses.node] >= 0
+    hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft], masses.rotary_inertia_kg_m2[on_shaft])
+    springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
+    if supports == "springs":
+        coordinates = structure.coordinates[nodes]
+        stiffness = np.zeros((len(line.supports), 6))
+        stiffness[:, 1] = [s.radial_stiffness_N_per_m for s in line.supports]
+        stiffness[:, 2] = [s.stiffness_z_N_per_m for s in line.supports]
+        at = np.array([line.node_at(s.x_mm) for s in line.supports], dtype=int)
+        springs = Bushings(np.full(at.size, -1), at, coordinates[at], stiffness)
+    return StructuralModel(structure.coordinates[nodes], local, springs, point_masses=hubs)
+
+
+def rvcoax_line_modes(rig: Rig, line: ShaftLine, count: int):
+    """The shaft line's lowest ``count`` modes in rvcoax: consistent Timoshenko mass and stiffness of its beam
+    elements and hubs, on its supports as radial springs (no tilt, axial or torsional stiffness, as in ROSS).
+
+    Parameters
+    ----------
+    rig : Rig
+    line : ShaftLine
+    count : int
+
+    Returns
+    -------
+    rvcoax.fem.modal.Modes
+        Its frequencies (rigid-body axial and torsional modes at 0 Hz included).
+    """
+    from rvcoax.fem.modal import natural_modes
+    from rvcoax.fem.pieces import assemble, frame_contributions, frame_mass_contributions
+
+    model = _line_model(rig, line, "springs")
+    system = assemble(model.n_dofs, frame_contributions(model, [0.0, -1.0, 0.0]) + frame_mass_contributions(model))
+    # free axially and in torsion: K is singular, the shift-invert factorises K + M (σ = −1 rad²/s²)
+    return natural_modes(system.stiffness, system.mass, system.elimination, count, shift=-1.0)
+
+
+def ross_modal_frequencies(rotor, count: int) -> np.ndarray:
+    """ROSS's undamped natural frequencies (Hz) at zero speed: ``rotor.run_modal(0).wn``, the lowest ``count``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        modal = rotor.run_modal(speed=0.0, num_modes=max(2 * count, 12))
+    return np.sort(np.asarray(modal.wn, dtype=float))[:count] / (2.0 * np.pi)
+
+
+@dataclass(frozen=True)
+class ModalComparison:
+    """ROSS's and rvcoax's lowest natural frequencies (Hz) of one shaft line on the same supports, zero speed."""
+
+    line: ShaftLine
+    ross_hz: np.ndarray
+    rvcoax_hz: np.ndarray
+
+    @property
+    def relative_difference(self) -> np.ndarray:
+        return np.abs(self.ross_hz / self.rvcoax_hz - 1.0)
+
+
+def compare_modal(rig: Rig, which: str, ross=None, count: int = 4, line: ShaftLine | None = None
+                  ) -> tuple[object, ModalComparison]:
+    """ROSS's ``run_modal`` at zero speed against rvcoax's modes of the same shaft line, lowest ``count`` above
+    :data:`RIGID_BODY_HZ`.
+
+    Parameters
+    ----------
+    rig : Rig
+    which : str
+        ``"input"`` or ``"output"``.
+    ross : module, optional
+    count : int
+        How many of the lowest nonzero frequencies (lateral pairs count twice, as ROSS lists them).
+    line : ShaftLine, optional
+        An operating point's line (:func:`shaft_line`); default the typed-in stiffness.
+
+    Returns
+    -------
+    (ross.Rotor, ModalComparison)
+    """
+    line = shaft_line(rig, which) if line is None else line
+    rotor = build_rotor(line, ross)
+    ours = rvcoax_line_modes(rig, line, count + 6).frequencies_hz
+    theirs = ross_modal_frequencies(rotor, count + 6)
+    # the line is free axially and in torsion: its rigid-body modes (0 Hz, ~0.01 Hz after the shift) are left out
+    ours = ours[ours > RIGID_BODY_HZ][:count]
+    theirs = theirs[theirs > RIGID_BODY_HZ][:count]
+    return rotor, ModalComparison(line, theirs, ours)
 
 
 def fault_element(line: ShaftLine, hub: Hub) -> int:
@@ -387,13 +552,17 @@ def misalignment_fault(rotor, parameters: dict, ross=None):
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))
 
 
-def save_rotor(rotor, path: str | Path) -> Path:
-    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix)."""
+def save_rotor(rotor, path: str | Path, header: str = "") -> Path:
+    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix), with ``header``
+    as TOML comment lines on top (ROSS's loader skips comments)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
     try:
         rotor.save(temporary)
+        if header:
+            lines = "".join(f"# {line}\n" for line in header.splitlines())
+            temporary.write_text(lines + temporary.read_text(encoding="utf-8"), encoding="utf-8")
         os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
@@ -402,16 +571,20 @@ def save_rotor(rotor, path: str | Path) -> Path:
 
 @dataclass(frozen=True)
 class RossFiles:
-    """What :func:`write_ross` wrote, and the static comparison of each measured shaft (in file order)."""
+    """What :func:`write_ross` wrote, the static comparison of each measured shaft (in file order) and the modal one
+    of each shaft and operating point."""
 
     paths: tuple[Path, ...]
     comparisons: tuple[StaticComparison, ...]
+    modal: tuple[ModalComparison, ...] = ()
 
 
 def write_ross(export: DynamicsExport, folder: str | Path, ross=None) -> RossFiles:
     """The ROSS files of ``export`` in ``folder``: ``ross_<shaft>_rotor.toml`` per measured shaft (the rotor with
-    its misalignment faults checked by ROSS), ``ross_misalignment.csv`` (the fault parameters per case) and
-    ``ross_static.csv`` (ROSS's and rvcoax's gravity sag of each shaft on rigid supports).
+    its misalignment faults checked by ROSS; with nonlinear bearings one rotor per load case,
+    ``ross_<shaft>_rotor_caseNN.toml``, at that case's operating bearing stiffness, named on the file's first lines),
+    ``ross_misalignment.csv`` (the fault parameters per case), ``ross_static.csv`` (ROSS's and rvcoax's gravity sag
+    of each shaft on rigid supports) and ``ross_modal.csv`` (ROSS's and rvcoax's lowest natural frequencies).
 
     Raises
     ------
@@ -420,18 +593,37 @@ def write_ross(export: DynamicsExport, folder: str | Path, ross=None) -> RossFil
     """
     ross = import_ross() if ross is None else ross
     folder = Path(folder)
-    written, faults, static, comparisons = [], [], [], []
+    sweep = export.sweep
+    rig = sweep.rig
+    if sweep.nonlinear_bearings is None:  # linear bearings: the typed-in stiffness is the operating one in every case
+        points = [(None, "every load case (linear bearings)", "")]
+    else:
+        points = [(i, c.case.label, f"_case{i + 1:02d}") for i, c in enumerate(sweep.cases)]
+    written, faults, static, comparisons, modal, modal_rows = [], [], [], [], [], []
     for shaft in MEASURED_SHAFTS:
-        rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
-        line = comparison.line
-        parameters = misalignment_parameters(export, line)
-        for row in parameters:
-            misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
-        faults += parameters
-        static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
-                   for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
-        written.append(save_rotor(rotor, folder / f"ross_{shaft}_rotor.toml"))
-        comparisons.append(comparison)
+        for index, label, suffix in points:
+            line = shaft_line(rig, shaft, {} if index is None else operating_supports(sweep, index), label)
+            rotor, comparison = compare_static(rig, shaft, ross, line)
+            _, frequencies = compare_modal(rig, shaft, ross, 4, line)
+            if not index:  # once per shaft: the faults and the static check do not depend on the bearings' stiffness
+                parameters = misalignment_parameters(export, line)
+                for row in parameters:
+                    misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
+                faults += parameters
+                static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6),
+                            "uy_rvcoax_um": float(b * 1e6)}
+                           for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
+                comparisons.append(comparison)
+            modal.append(frequencies)
+            modal_rows += [{"shaft": shaft, "load_case": label, "mode": k + 1, "frequency_ross_Hz": float(a),
+                            "frequency_rvcoax_Hz": float(b)}
+                           for k, (a, b) in enumerate(zip(frequencies.ross_hz, frequencies.rvcoax_hz))]
+            stiffness = ", ".join(f"{s.spring}: k_y {s.radial_stiffness_N_per_m * 1e-6:.6g} N/µm, k_z "
+                                  f"{s.stiffness_z_N_per_m * 1e-6:.6g} N/µm" for s in line.supports)
+            header = (f"rvcoax {shaft} shaft ({line.part}) of {rig.rig.name}\nbearing stiffness of load case: {label}"
+                      f"\n{stiffness}\nrotor tag: {rotor.tag}")
+            written.append(save_rotor(rotor, folder / f"ross_{shaft}_rotor{suffix}.toml", header))
     written.append(write_csv_atomic(folder / "ross_misalignment.csv", faults))
     written.append(write_csv_atomic(folder / "ross_static.csv", static))
-    return RossFiles(tuple(written), tuple(comparisons))
+    written.append(write_csv_atomic(folder / "ross_modal.csv", modal_rows))
+    return RossFiles(tuple(written), tuple(comparisons), tuple(modal))

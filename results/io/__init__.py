@@ -18,6 +18,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.io.pictures": ("RenderingUnavailableError", "plot_y_vs_torque", "render_deformed"),
     "rvcoax.results.io.sweep_pictures": ("draw_sweep_pictures",),
     "rvcoax.results.io.bending_line": ("plot_bending_line",),
+    "rvcoax.results.io.mode_pictures": ("plot_interference", "render_mode"),
 }, moved={  # up a floor to rvcoax.results.reports (documents over studies); the old imports keep working
     "rvcoax.results.reports.check_files": ("write_check",),
     "rvcoax.results.reports.report": ("read_discrepancy", "write_report"),

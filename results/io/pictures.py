@@ -588,6 +588,18 @@ def _write_screenshot(plotter, target: Path, translucent: bool, view: _RigView) 
         temporary.unlink(missing_ok=True)
 
 
+def _screenshot(plotter, view, target: Path) -> None:
+    """Anti-alias, set the camera of ``view`` and write the PNG ``target`` atomically (a temporary file beside it)."""
+    plotter.enable_anti_aliasing("ssaa")
+    view.apply(plotter)
+    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+    try:
+        plotter.screenshot(str(temporary), return_img=False)
+        os.replace(temporary, target)
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
 def _bounds(points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     pad = float(radius.max()) if len(radius) else 0.0
     return points.min(axis=0) - pad, points.max(axis=0) + pad

@@ -12,6 +12,7 @@ to PDF (``chromium --headless --print-to-pdf``). Sections, each an ``<section id
 ``reactions``      the support reactions and the equilibrium residual
 ``check``          the model against a measured table (when one is given)
 ``discrepancy``    the result of ``rvcoax discrepancy`` (when its ``discrepancy.json`` is given)
+``modes``          natural frequencies, interference diagram and mode shapes (:mod:`.modes_section`, when given)
 ``provenance``     rvcoax version, rig file and its SHA-256, model, solver, mesh, date
 """
 
@@ -39,7 +40,8 @@ REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
     "shafts": "Y and tilt against torque", "misalignment": "Couplings and bearings: misalignment",
     "reactions": "Support reactions and equilibrium", "check": "Check against measured data",
-    "discrepancy": "Discrepancy between model and measurement", "provenance": "Provenance",
+    "discrepancy": "Discrepancy between model and measurement", "modes": "Natural frequencies and interference",
+    "provenance": "Provenance",
 }
 
 _STYLE = """
@@ -90,6 +92,7 @@ class ReportInputs:
     measured: object | None = None
     discrepancy: dict | None = None
     discrepancy_source: str = ""
+    modes: object | None = None  # a ModalStudy (rvcoax.modes) for the section on natural frequencies
 
 
 def _png_uri(path: Path) -> str:
@@ -434,12 +437,21 @@ def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:
     return "<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in items) + "</dl>"
 
 
+def _modes_html(study, folder: Path) -> str:
+    if study is None:
+        return _missing("No modal analysis given (rvcoax report --modes N, or write_report(..., modes=rvcoax.modes(rig))).")
+    from rvcoax.results.reports.modes_section import modes_section_html
+
+    return modes_section_html(study, folder, _table_html, _png_uri)
+
+
 def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None) -> str:
     """The report of ``sweep`` as one self-contained HTML document (see the module's docstring)."""
     created = created or _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     with tempfile.TemporaryDirectory(prefix="rvcoax-report-") as folder:
         pictures, picture_note = _pictures(sweep, Path(folder), deformed_view)
         uris = {key: _png_uri(path) for key, path in pictures.items()}
+        modes = _modes_html(inputs.modes, Path(folder))
     rig = sweep.rig
     body = []
     body.append(_section("rig", "".join(_table_html(t) for t in tables.rig_tables(sweep, inputs.rig_text))
@@ -476,6 +488,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     else:
         body.append(_section("discrepancy", _missing("No discrepancy result given (rvcoax report --discrepancy "
                                                      "OUT/discrepancy.json, written by rvcoax discrepancy --out).")))
+    body.append(_section("modes", modes))
     body.append(_section("provenance", _provenance_html(sweep, inputs, created)))
     nav = "".join(f'<a href="#{k}">{html.escape(v)}</a>' for k, v in REPORT_SECTIONS.items())
     lengths = ", ".join(f"{s} {getattr(rig.paths, s).length_mm:g} mm" for s in MEASURED_SHAFTS)
@@ -490,7 +503,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,  # noqa: PLR0913
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
-                 deformed_view: bool = True) -> Path:
+                 deformed_view: bool = True, modes=None) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -507,6 +520,8 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     deformed_view : bool
         Include the rendered deformed rig of the largest case (needs off-screen rendering; when it is
         unavailable the report says why instead).
+    modes : ModalStudy, optional
+        The rig's natural modes (:func:`rvcoax.modes`): the mode table, interference diagram and mode shapes.
 
     Returns
     -------
@@ -520,5 +535,6 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     if isinstance(discrepancy, str | Path):
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
-    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given")
+    inputs = ReportInputs(rig_source=rig_source, rig_text=rig_text, measured=data, discrepancy=discrepancy,
+                          discrepancy_source=source or "the discrepancy document given", modes=modes)
     return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view))

@@ -17,7 +17,8 @@ DIMENSIONLESS = {"beam.shear_flexibility_factor", "force_table.scale", "material
                  "bearings[].ball_count", "bearings[].inner_conformity", "bearings[].outer_conformity",
                  "bearings[].viscosity_ratio", "bearings[].contamination_factor", "load_cases[].time_share",
                  "load_cases[].revolution_share", "reducers[].ratio", "bearings[].roller_count",
-                 "bearings[].slices_per_roller"}
+                 "bearings[].slices_per_roller",
+                 "speeds.reduction_ratio", "speeds.input_gear_teeth"}
 
 
 def test_the_committed_key_reference_is_up_to_date():

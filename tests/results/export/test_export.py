@@ -511,6 +511,42 @@ def test_ross_misalignment_faults_carry_our_coupling_misalignment(ross, rig, exp
     assert fault.delta_y == rows[0]["mis_distance_y_m"] and fault.radial_stiffness == 2.5e6
 
 
+@pytest.mark.parametrize("which", ["input", "output"])
+def test_ross_natural_frequencies_equal_ours_on_the_same_supports(ross, rig, which):
+    """ROSS's run_modal at zero speed and rvcoax's modes of the same shaft line: the lowest 4 within 1 %
+    (measured: 1e-8; the same Timoshenko theory, consistent masses, springs, hubs with their inertia)."""
+    from rvcoax.results.export.ross import compare_modal
+
+    rotor, comparison = compare_modal(rig, which, ross, 4)
+    assert comparison.ross_hz.size == comparison.rvcoax_hz.size == 4
+    assert np.all(comparison.relative_difference < 0.01), (comparison.ross_hz, comparison.rvcoax_hz)
+    assert "typed-in" in rotor.tag
+
+
+def test_ross_rotor_carries_the_operating_stiffness_of_ball_bearings(ross):
+    """A ball bearing exports its operating tangent stiffness in the load case, named in the rotor's tag."""
+    from pathlib import Path
+
+    from rvcoax.results.export.ross import build_rotor, compare_modal, operating_supports, shaft_line
+
+    ball_rig = load_rig(Path(__file__).resolve().parents[2] / "geometry" / "data" / "reference_rig_ball_bearings.toml")
+    sweep = run_sweep(ball_rig, (LoadCase(0.07, 10.0), LoadCase(1.43, 200.0)))
+    light, heavy = operating_supports(sweep, 0), operating_supports(sweep, 1)
+    balls = [b.name for b in ball_rig.bearings if b.model == "ball"]
+    assert balls and set(light) == set(balls)
+    assert any(heavy[name][0] != pytest.approx(light[name][0], rel=1e-6) for name in balls)
+    label = sweep.cases[1].case.label
+    line = shaft_line(ball_rig, "output", heavy, label)
+    rotor = build_rotor(line, ross)
+    assert label.replace(" ", "_") in rotor.tag
+    stiffness = {b.tag: float(np.ravel(b.kyy)[0]) for b in rotor.bearing_elements}
+    for support in line.supports:
+        if support.spring.name in heavy:
+            assert stiffness[f"bearing_{support.spring.name}"] == pytest.approx(heavy[support.spring.name][0])
+    _, comparison = compare_modal(ball_rig, "output", ross, 4, line)
+    assert np.all(comparison.relative_difference < 0.01)
+
+
 def test_every_format_is_written_from_python_as_the_command_writes_it(export, tmp_path):
     """write_export: one function for every format of the registry; the files are those of `rvcoax export`."""
     from rvcoax.results.export import EXPORT_FORMATS, ExportFormatError, adams_fragment, write_export

@@ -1,0 +1,217 @@
+"""Undamped natural frequencies and modes of a constrained structure: K φ = ω² M φ with u = T q.
+
+The generalised eigenproblem is solved on the independent DOFs, Tᵀ K T q = ω² Tᵀ M T q, by shift-invert
+Lanczos (ARPACK through :func:`scipy.sparse.linalg.eigsh` with ``sigma = 0``) whose operator is the static
+solve's own (Tᵀ K T)⁻¹: the factorisation a static solve already has is reused, nothing is factorised again.
+A low-rank change of the stiffness (nonlinear bearings at their operating tangent stiffness, K + Vᵀ D V) is
+applied to that operator by the Woodbury identity
+
+    (K + Vᵀ D V)⁻¹ = K⁻¹ − K⁻¹ Vᵀ D (I + V K⁻¹ Vᵀ D)⁻¹ V K⁻¹,
+
+which needs no inverse of D (D may be singular: a bearing whose tangent equals its reference spring).
+Small problems (fewer than :data:`DENSE_LIMIT` independent DOFs, or more modes than ARPACK can give) are
+solved densely. For large ones (more than :data:`LARGE_LIMIT`: solid and hybrid models) Tᵀ K T and Tᵀ M T are applied as
+operators, never formed (forming them costs as much as the solves of the whole eigensolution). Modes are mass-normalised: φᵀ M φ = 1, φᵀ K φ = ω².
+
+Linear algebra only: what the DOFs are is unknown here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from rvcoax.fem.errors import RvcoaxError
+
+__all__ = ["DENSE_LIMIT", "LARGE_LIMIT", "LowRankUpdate", "ModalError", "Modes", "natural_modes"]
+
+DENSE_LIMIT = 600
+"""Below this many independent DOFs the eigenproblem is solved densely (exact, and faster than ARPACK)."""
+
+
+LARGE_LIMIT = 20000
+"""Above this many independent DOFs (and with a given factorisation) Tᵀ K T and Tᵀ M T are not formed."""
+
+
+class ModalError(RvcoaxError, ValueError):
+    """A modal analysis that cannot be done as asked (too many modes, no mass), in the user's terms."""
+
+    stage = "cannot compute the natural frequencies"
+
+
+@dataclass(frozen=True, eq=False)
+class LowRankUpdate:
+    """A stiffness change Vᵀ D V on the full DOFs: V (p × n) sparse, D (p × p) dense."""
+
+    operator: sp.csr_matrix
+    matrix: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """The lowest modes of a structure.
+
+    Attributes
+    ----------
+    eigenvalues : (k,) array
+        ω² (rad²/s²), ascending.
+    shapes : (n, k) array
+        Mode shapes on all DOFs (u = T q), mass-normalised: φᵀ M φ = 1.
+    method : str
+        ``"shift-invert Lanczos"`` or ``"dense"``.
+    """
+
+    eigenvalues: np.ndarray
+    shapes: np.ndarray
+    method: str
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        """f = √ω² / 2π (Hz); a negative ω² (an unstable operating point) gives a negative f."""
+        return np.sign(self.eigenvalues) * np.sqrt(np.abs(self.eigenvalues)) / (2.0 * np.pi)
+
+
+def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix, n_modes: int, *,  # noqa: PLR0913
+                  reduced_solve: Callable[[np.ndarray], np.ndarray] | None = None,
+                  update: LowRankUpdate | None = None, tolerance: float = 1e-10, shift: float = 0.0) -> Modes:
+    """The ``n_modes`` lowest undamped modes of (K + Vᵀ D V, M) on u = T q.
+
+    Parameters
+    ----------
+    stiffness, mass : sparse (n × n)
+        K and M, constraints not applied.
+    elimination : sparse (n × m)
+        T.
+    n_modes : int
+    reduced_solve : callable, optional
+        x (m,) or (m, r) → (Tᵀ K T)⁻¹ x: the static solve's factorisation. Without it Tᵀ K T is factorised
+        here (SuperLU).
+    update : LowRankUpdate, optional
+        The operating point's change of stiffness (nonlinear bearings' tangent minus their reference springs).
+    tolerance : float
+        ARPACK's relative accuracy of the eigenvalues.
+    shift : float
+        σ (rad²/s²) of the shift-invert without ``reduced_solve``: K − σ M is factorised. A negative σ finds the
+        zero-frequency modes of a structure that is not supported (K singular).
+
+    Raises
+    ------
+    ModalError
+        ``n_modes`` < 1, or more modes than the model has DOFs with mass.
+    """
+    t = sp.csr_matrix(elimination)
+    m = t.shape[1]
+    if n_modes < 1:
+        raise ModalError(f"the number of modes must be at least 1, got {n_modes}")
+    v_r = d = None
+    if update is not None and update.operator.shape[0]:
+        v_r = (sp.csr_matrix(update.operator) @ t).toarray()
+        d = np.asarray(update.matrix, dtype=float)
+    if m > LARGE_LIMIT and reduced_solve is not None and n_modes < m // 4:
+        m_r = _reduced_operator(t, mass)
+        values, vectors = _lanczos_on_operators(t, stiffness, m_r, n_modes, reduced_solve=reduced_solve,
+                                                update=(v_r, d), tolerance=tolerance)
+        method = "shift-invert Lanczos"
+    else:
+        k_r = (t.T @ sp.csr_matrix(stiffness) @ t).tocsr()
+        m_r = (t.T @ sp.csr_matrix(mass) @ t).tocsr()
+        k_r = (k_r + k_r.T) * 0.5
+        m_r = (m_r + m_r.T) * 0.5
+        with_mass = int(np.count_nonzero(m_r.diagonal() > 0.0))
+        if n_modes > with_mass:
+            raise ModalError(f"{n_modes} modes asked for, but the model has only {with_mass} degrees of freedom with "
+                             f"mass ({m} independent DOFs): ask for at most {with_mass}")
+        if v_r is not None:
+            k_r = k_r + sp.csr_matrix(v_r.T @ d @ v_r)
+        if m < DENSE_LIMIT or n_modes >= m // 3:  # ARPACK is slow for a large share of the spectrum
+            values, vectors = _dense_modes(k_r.toarray(), m_r.toarray(), n_modes)
+            method = "dense"
+        else:
+            sigma = 0.0
+            if reduced_solve is None:  # k_r already holds the update
+                sigma = float(shift)
+                base, v_used, d_used = spla.splu((k_r - sigma * m_r).tocsc()).solve, None, None
+            else:
+                base, v_used, d_used = reduced_solve, v_r, d
+            inverse = _woodbury(base, v_used, d_used)
+            operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
+            values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=sigma, which="LM", OPinv=operator,
+                                         tol=tolerance)
+            order = np.argsort(values)
+            values, vectors = values[order], vectors[:, order]
+            method = "shift-invert Lanczos"
+    norms = np.sqrt(np.einsum("ik,ik->k", vectors, m_r @ vectors))
+    vectors = vectors / norms
+    # a sign convention: the largest component of each shape is positive
+    signs = np.sign(vectors[np.argmax(np.abs(vectors), axis=0), np.arange(vectors.shape[1])])
+    vectors = vectors * np.where(signs == 0, 1.0, signs)
+    return Modes(np.asarray(values, dtype=float), np.asarray(t @ vectors), method)
+
+
+def _reduced_operator(t: sp.csr_matrix, matrix) -> spla.LinearOperator:
+    """Tᵀ A T as an operator (never formed)."""
+    t_t, full = t.T.tocsr(), sp.csr_matrix(matrix)
+
+    def apply(x):
+        return t_t @ (full @ (t @ x))
+
+    return spla.LinearOperator((t.shape[1], t.shape[1]), matvec=apply, matmat=apply, dtype=float)
+
+
+def _lanczos_on_operators(t, stiffness, m_r, n_modes, *, reduced_solve, update, tolerance):  # noqa: PLR0913
+    """Shift-invert Lanczos with Tᵀ K T (+ Vᵀ D V) and Tᵀ M T applied as operators, for large models."""
+    v_r, d = update
+    k_plain = _reduced_operator(t, stiffness)
+
+    def k_op(x):
+        out = k_plain @ x
+        return out if v_r is None else out + v_r.T @ (d @ (v_r @ x))
+
+    m = t.shape[1]
+    inverse = _woodbury(reduced_solve, v_r, d)
+    k_r = spla.LinearOperator((m, m), matvec=k_op, dtype=float)
+    operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
+    values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance)
+    order = np.argsort(values)
+    return values[order], vectors[:, order]
+
+
+def _dense_modes(k: np.ndarray, m: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The lowest modes of dense (K, M); DOFs without mass are condensed out statically first (exact: no
+    inertia acts on them), since a singular M is not allowed by the dense solver."""
+    massless = m.diagonal() <= 0.0
+    if not massless.any():
+        values, vectors = scipy.linalg.eigh(k, m, subset_by_index=[0, n_modes - 1])
+        return values, vectors
+    keep = ~massless
+    k_ss = k[np.ix_(massless, massless)]
+    k_sm = k[np.ix_(massless, keep)]
+    recover = -scipy.linalg.solve(k_ss, k_sm, assume_a="sym")
+    reduced = k[np.ix_(keep, keep)] + k_sm.T @ recover
+    values, master = scipy.linalg.eigh(0.5 * (reduced + reduced.T), m[np.ix_(keep, keep)],
+                                       subset_by_index=[0, n_modes - 1])
+    vectors = np.zeros((k.shape[0], n_modes))
+    vectors[keep] = master
+    vectors[massless] = recover @ master
+    return values, vectors
+
+
+def _woodbury(solve: Callable, v: np.ndarray | None, d: np.ndarray | None) -> Callable[[np.ndarray], np.ndarray]:
+    """x → (K + Vᵀ D V)⁻¹ x from ``solve`` = K⁻¹ (Vᵀ D V skipped when V is None)."""
+    if v is None:
+        return lambda x: np.asarray(solve(np.asarray(x, dtype=float))).reshape(np.shape(x))
+    influence = np.asarray(solve(v.T.copy()), dtype=float).reshape(v.shape[1], -1)  # K⁻¹ Vᵀ
+    small = np.eye(v.shape[0]) + v @ influence @ d
+    factor = scipy.linalg.lu_factor(small)
+
+    def apply(x):
+        x = np.asarray(x, dtype=float)
+        y = np.asarray(solve(x), dtype=float).reshape(x.shape)
+        return y - influence @ (d @ scipy.linalg.lu_solve(factor, v @ y))
+
+    return apply

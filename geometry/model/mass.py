@@ -1,0 +1,74 @@
+"""A rig's mass matrix, on the DOFs of its assembled system (beam, hybrid or solid), from each piece's mass form.
+
+- beams: the consistent Timoshenko mass (:func:`rvcoax.fem.beam.mass_triplets`), bodies at their equivalent
+  density, so that each body weighs its ``mass_kg``;
+- coupling hubs: half the coupling's mass on each hub node, with half its ``polar_inertia_kg_m2`` about the axis
+  and a quarter about each diameter (:func:`rvcoax.fem.loads.point_mass_triplets`);
+- solid parts: the consistent P2 mass (:func:`rvcoax.fem.solid.mass_matrix`);
+- ``[[housings]]`` with ``self_weight``: Guyan's condensed mass on the nodes the housing holds (its bed side is
+  fixed: no inertia), :func:`rvcoax.fem.condensation.guyan_reduction`. Without ``self_weight`` the housing's mass is
+  its part's (the body whose weight the rig already carries), exactly as its weight is: not counted twice. Guyan and not Craig–Bampton: a housing's own lowest mode on its
+  bed is returned with it (:func:`housing_frequencies`) and the modal study warns when a rig mode comes within half of
+  it — the range where the static shapes stop describing the housing's motion.
+
+Every piece is a :class:`rvcoax.fem.pieces.Contribution` summed by :func:`rvcoax.fem.pieces.assemble`, the path the
+stiffness takes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.condensation import superelement_mass_contribution
+from rvcoax.fem.pieces import Contribution, assemble, frame_mass_contributions, solid_mass_contribution
+from rvcoax.geometry.model.housings import condensed_housing
+from rvcoax.geometry.model.system import RigSystem
+
+__all__ = ["housing_frequencies", "mass_contributions", "part_masses", "rig_mass_matrix"]
+
+
+def mass_contributions(system: RigSystem, cache_dir=None) -> list[Contribution]:
+    """The mass form of every piece of ``system``, in the order the stiffness is assembled."""
+    rig, frame = system.rig, system.frame
+    pieces = frame_mass_contributions(frame.structure)
+    for housing in rig.housings:
+        if not housing.self_weight:  # its mass is its part's (the body held), as its weight is: not counted twice
+            continue
+        condensed = condensed_housing(rig, housing, cache_dir)
+        nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
+        dofs = (DOFS_PER_NODE * np.asarray(nodes)[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+        density = rig.materials[housing.material].density_kg_per_m3
+        pieces.append(superelement_mass_contribution(density * condensed.mass_per_density, dofs))
+    pieces += [solid_mass_contribution(s.basis, s.density_kg_per_m3, s.offset) for s in system.solids]
+    return pieces
+
+
+def rig_mass_matrix(system: RigSystem, cache_dir=None) -> sp.csr_matrix:
+    """M (n × n) of ``system`` (kg, kg·m, kg·m²), constraints not applied."""
+    return assemble(system.n_dofs, mass_contributions(system, cache_dir)).mass
+
+
+def housing_frequencies(system: RigSystem, cache_dir=None) -> dict[str, float]:
+    """Each ``[[housings]]`` entry's lowest natural frequency on its bed (Hz), the limit of its Guyan mass."""
+    rig = system.rig
+    return {h.name: condensed_housing(rig, h, cache_dir).lowest_frequency_hz(rig.materials[h.material].density_kg_per_m3)
+            for h in rig.housings}
+
+
+def part_masses(system: RigSystem, mass: sp.csr_matrix) -> dict[str, float]:
+    """The translational mass (kg) of each part in ``mass``: rᵀ M r for r a unit translation (along y) of the part's
+    DOFs alone, frame nodes and solid DOFs; a condensed housing's share sits on the nodes of the part it holds."""
+    frame = system.frame
+    table = system.dofs
+    owner = np.full(system.n_dofs, "", dtype=object)
+    frame_dofs = DOFS_PER_NODE * frame.node_part.size
+    owner[:frame_dofs] = np.repeat(frame.node_part, DOFS_PER_NODE)
+    for s in system.solids:
+        owner[s.offset:s.offset + s.n_dofs] = s.name
+    out = {}
+    for part in system.rig.parts:
+        unit = ((owner == part.name) & (table.component == 1)).astype(float)
+        out[part.name] = float(unit @ (mass @ unit))
+    return out

@@ -1,0 +1,148 @@
+"""The rig's modal study (rvcoax.modes / `rvcoax modes`): energy and mass bookkeeping, operating-point stiffness of
+nonlinear bearings, the interference crossings, and clear errors for bad input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rigdata import dump_toml, reference_data
+from typer.testing import CliRunner
+
+import rvcoax
+from rvcoax.geometry.rigfile import load_rig, parse_rig_text
+from rvcoax.loadcases.cases import LoadCase
+from rvcoax.results.cli.app import app
+from rvcoax.results.studies.modes import ModesError, ModeSettings, run_modes
+
+DATA = Path(__file__).resolve().parents[2] / "geometry" / "data"
+
+
+@pytest.fixture(scope="module")
+def study():
+    return rvcoax.modes(n_modes=20)
+
+
+def test_reference_rig_modes_are_consistent(study):
+    case = study.cases[0]
+    f = np.array([m.frequency_hz for m in case.modes])
+    assert np.all(np.diff(f) >= 0) and f[0] > 1.0
+    phi = case.shapes
+    k, mass = study.system.stiffness, study.mass
+    assert np.allclose(phi.T @ mass @ phi, np.eye(20), atol=1e-8)
+    assert np.allclose(np.diag(phi.T @ k @ phi), (2 * np.pi * f) ** 2, rtol=1e-8)
+    for mode in case.modes:
+        assert sum(mode.direction_share.values()) == pytest.approx(1.0, abs=1e-9)
+        assert sum(mode.energy_share.values()) == pytest.approx(1.0, abs=1e-3)  # shares below 1e-4 are not listed
+    # the lowest mode: the input line twisting on the sun gear's torsional spring (8.45 N·m/rad)
+    assert case.modes[0].kind == "torsional" and case.modes[0].owner == "joint:sun_gear_mesh"
+    # lateral modes come in vertical/horizontal pairs (the rig is axisymmetric but for gravity, which is a load)
+    lateral = [m for m in case.modes if m.kind.startswith("lateral")]
+    assert len(lateral) >= 8
+    # the strain energies add up to ω²/2 for each mode (checked inside: shares are of the summed energy)
+    assert study.part_mass_kg["brake_housing"] == pytest.approx(46.0, rel=1e-12)
+
+
+def test_effective_masses_add_up_to_the_rig_mass(study):
+    """With every mode (dense), Σ Γ² along y is the moving mass along y, rᵀ M r; the study's Γ² are the first ones."""
+    from rvcoax.fem.modal import natural_modes
+
+    system, mass = study.system, study.mass
+    t = system.elimination
+    n_mass = int(np.count_nonzero((t.T @ mass @ t).diagonal() > 0))
+    every = natural_modes(system.stiffness, mass, t, n_mass)
+    r = (system.dofs.component == 1).astype(float)
+    r[np.asarray(t.sum(axis=1)).ravel() == 0] = 0.0  # held DOFs (the housings' bed side) do not move
+    gamma = every.shapes.T @ (mass @ r)
+    assert np.sum(gamma**2) == pytest.approx(float(r @ (mass @ r)), rel=1e-6)
+    # the study's Γ² per group of equal frequencies (a y/z pair may turn within its plane: only the sum is fixed)
+    modes = study.cases[0].modes
+    f = np.array([m.frequency_hz for m in modes])
+    groups = np.cumsum(np.r_[True, np.diff(f) > 1e-6 * f[1:]]) - 1
+    last = groups[-1]
+    every_f = every.frequencies_hz[:40]
+    for g in range(last):  # the last group may be cut by the 20th mode
+        members = groups == g
+        mine = sum(m.effective_mass["y_kg"] for m, keep in zip(modes, members) if keep)
+        same = np.abs(every_f - f[members][0]) <= 1e-6 * f[members][0]
+        assert mine == pytest.approx(np.sum(gamma[:40][same] ** 2), rel=1e-5, abs=1e-9 * float(r @ (mass @ r)))
+
+
+def test_ball_bearings_use_their_operating_tangent_stiffness():
+    """Ball bearings stiffen with load: each case's lateral modes rise with the torque."""
+    rig = load_rig(DATA / "reference_rig_ball_bearings.toml")
+    cases = (LoadCase(0.07, 10.0), LoadCase(1.43, 200.0))
+    result = run_modes(rig, cases, ModeSettings(n_modes=12))
+    assert [c.label for c in result.cases] == [c.label for c in cases]
+    low, high = (np.array([m.frequency_hz for m in c.modes]) for c in result.cases)
+    assert not np.allclose(low, high, rtol=1e-6)
+    owners = {m.owner for c in result.cases for m in c.modes}
+    assert any(o.startswith("bearing:") for o in owners) or owners
+
+
+def test_interference_crossings(study):
+    rig = study.rig
+    assert rig.speeds is not None
+    for crossing in study.crossings:
+        order = dict(study.orders)[crossing.order]
+        assert crossing.crossing_rpm == pytest.approx(60 * crossing.frequency_hz / order)
+        assert crossing.inside == (rig.speeds.motor_rpm[0] <= crossing.crossing_rpm <= rig.speeds.motor_rpm[1])
+    torsion = study.cases[0].modes[0].frequency_hz
+    once = [c for c in study.crossings if c.mode == 1 and c.order == "motor ×1"]
+    assert once and once[0].crossing_rpm == pytest.approx(60 * torsion)
+    assert study.gyroscopic_ratio_max < 0.02
+
+
+def test_rv40e_example_runs():
+    result = rvcoax.modes(rvcoax.load_example_rig(), n_modes=10)
+    assert len(result.cases[0].modes) == 10 and result.crossings
+
+
+def test_too_many_modes_is_a_clear_error():
+    with pytest.raises(ModesError, match="degrees of freedom with mass"):
+        rvcoax.modes(n_modes=100000)
+
+
+def _rig_text(change) -> str:
+    data = reference_data()
+    change(data)
+    return dump_toml(data)
+
+
+def test_speed_range_without_speeds_is_refused():
+    with pytest.raises(ValueError, match="speeds.motor_rpm"):
+        parse_rig_text(_rig_text(lambda d: d["speeds"].pop("motor_rpm")))
+    with pytest.raises(ValueError, match="no speed range"):
+        parse_rig_text(_rig_text(lambda d: d["speeds"].update(motor_rpm=[3000, 3000])))
+
+
+def test_cli_errors_without_traceback(tmp_path):
+    free = tmp_path / "free.toml"
+
+    def loose(data):  # the sun gear holds the whole input line in torsion: without it that line spins freely
+        for joint in data["joints"]:
+            if joint["name"] == "sun_gear_mesh":
+                joint["rotational_stiffness_Nm_per_rad"] = [0, 0, 0]
+
+    free.write_text(_rig_text(loose), encoding="utf-8")
+    result = CliRunner().invoke(app, ["modes", "--rig", str(free), "--out", str(tmp_path / "a"), "--pictures", "0"])
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert "input_shaft" in result.output or "motor_shaft" in result.output
+    nospeeds = tmp_path / "nospeeds.toml"
+    nospeeds.write_text(_rig_text(lambda d: d.pop("speeds")), encoding="utf-8")
+    result = CliRunner().invoke(app, ["modes", "--rig", str(nospeeds), "--interference", "--out", str(tmp_path / "b")])
+    assert result.exit_code == 2 and "[speeds]" in result.output
+    result = CliRunner().invoke(app, ["modes", "--modes", "99999", "--out", str(tmp_path / "c"), "--pictures", "0"])
+    assert result.exit_code == 2 and "degrees of" in result.output and "ask for at most" in result.output
+
+
+@pytest.mark.render
+def test_cli_writes_the_table_diagram_and_pictures(tmp_path):
+    result = CliRunner().invoke(app, ["modes", "--modes", "8", "--pictures", "2", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    for name in ("modes.csv", "modes.json", "modes_crossings.csv", "modes_interference.png", "modes/mode_01.png",
+                 "modes/mode_02.png"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    header = (tmp_path / "modes.csv").read_text().splitlines()[0]
+    assert "frequency_Hz" in header and "effective_mass_y_kg" in header
