@@ -32,10 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.results.connections import ConnectionStates, SpringMotion
+from rvcoax.results.connections import ConnectionStates, SpringMotion, with_nonlinear_laws
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
-           "CaseEngineering", "CouplingQuantities", "Reaction", "alignment_grade", "alignment_tolerance",
+           "CaseEngineering", "CouplingQuantities", "NOISE", "Reaction", "alignment_grade", "alignment_tolerance",
            "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
@@ -98,7 +98,11 @@ class CouplingQuantities:
     """Misalignment of a coupling's ``to`` hub against its ``from`` hub at the coupling centre.
 
     ``offset_*_um``: parallel offset; ``angle_*``: angular misalignment; ``angularity_mm_per_100mm``:
-    the angle as alignment practice writes it. ``*_use_percent``: of the datasheet allowable (None
+    the angle as alignment practice writes it; all from the state ``reference`` names (``[paths]
+    measured_from``: the change since the aligned rest state by default), which is what the coupling's
+    limits are judged with. ``offset_from_unloaded_um`` / ``angle_from_unloaded_urad``: the same
+    misalignment measured from the unloaded geometry (self-weight included), a different quantity
+    under its own name (equal to ``offset_um`` / ``angle_urad`` when ``measured_from = "unloaded"``). ``*_use_percent``: of the datasheet allowable (None
     without one). ``grade``: :func:`alignment_grade` at ``speed_rpm`` (None without a speed).
     """
 
@@ -110,6 +114,8 @@ class CouplingQuantities:
     angle_urad: float
     angle_deg: float
     angularity_mm_per_100mm: float
+    offset_from_unloaded_um: float
+    angle_from_unloaded_urad: float
     allowable_offset_mm: float | None
     allowable_angle_deg: float | None
     offset_use_percent: float | None
@@ -129,7 +135,15 @@ class CouplingQuantities:
 @dataclass(frozen=True)
 class BearingQuantities:
     """Load and tilt of a bearing (force the bearing exerts on its shaft; tilt of the inner ring,
-    on the shaft, against the outer ring, in the housing)."""
+    on the shaft, against the outer ring, in the housing).
+
+    ``model``: ``linear`` (typed-in springs), ``clearance`` (radial play) or ``ball`` (from geometry).
+    ``*_stiffness_*``: the operating stiffness in this case: the typed-in spring of a linear bearing, the
+    tangent ∂F/∂Δ of a nonlinear one at the case's state (radial: mean of y and z; tilt: mean about y
+    and z), never the linear reference spring a nonlinear bearing is assembled with.
+    ``loaded_balls`` / ``max_ball_load_N``: a ball bearing's balls in contact and its largest ball load
+    (None for other bearings).
+    """
 
     name: str
     shaft: str
@@ -145,6 +159,12 @@ class BearingQuantities:
     tilt_arcmin: float
     allowable_tilt_arcmin: float | None
     tilt_use_percent: float | None
+    model: str = "linear"
+    radial_stiffness_N_per_um: float = float("nan")
+    axial_stiffness_N_per_um: float = float("nan")
+    tilt_stiffness_Nm_per_rad: float = float("nan")
+    loaded_balls: int | None = None
+    max_ball_load_N: float | None = None
 
     @property
     def verdict(self) -> str:
@@ -156,8 +176,10 @@ class BearingQuantities:
 
 @dataclass(frozen=True)
 class Reaction:
-    """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
-    the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
+    """What a support to the ground (a mount, a bearing housed in ``ground``, a condensed ``[[housings]]``
+    entry as a whole, ``kind`` says which) exerts on its part, at the support point (a housing: the
+    centre of its attachments): force (N) and moment (N·m) along/about x, y, z; total and change under
+    load. Values below the solve's accuracy (:data:`NOISE`) are written as 0."""
 
     name: str
     kind: str
@@ -175,6 +197,10 @@ class CaseEngineering:
 
     ``residual_force_N`` / ``residual_moment_Nm``: |applied loads + ground reactions| (force, and
     moment about the origin) of the total state; zero up to rounding when equilibrium holds.
+    ``applied_force_N``: the resultant of every load on the rig (its weight and the applied forces);
+    the reactions' forces sum to its opposite. ``applied_torque_x_Nm``: the applied loads' moment about
+    the rig axis (the torques T1, T2 and what the reducer's housing passes on); the reactions' moments
+    about x sum to its opposite.
     """
 
     couplings: tuple[CouplingQuantities, ...]
@@ -182,6 +208,8 @@ class CaseEngineering:
     reactions: tuple[Reaction, ...]
     residual_force_N: float
     residual_moment_Nm: float
+    applied_force_N: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    applied_torque_x_Nm: float = 0.0
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -190,6 +218,8 @@ class CaseEngineering:
             row[f"coupling_{c.name}_offset_um"] = c.offset_um
             row[f"coupling_{c.name}_angle_urad"] = c.angle_urad
             row[f"coupling_{c.name}_angularity_mm_per_100mm"] = c.angularity_mm_per_100mm
+            row[f"coupling_{c.name}_offset_from_unloaded_um"] = c.offset_from_unloaded_um
+            row[f"coupling_{c.name}_angle_from_unloaded_urad"] = c.angle_from_unloaded_urad
             if c.offset_use_percent is not None:  # columns only for the limits the rig file gives
                 row[f"coupling_{c.name}_offset_use_percent"] = c.offset_use_percent
             if c.angle_use_percent is not None:
@@ -203,11 +233,20 @@ class CaseEngineering:
             row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
+            row[f"bearing_{b.name}_radial_stiffness_N_per_um"] = b.radial_stiffness_N_per_um
+            row[f"bearing_{b.name}_axial_stiffness_N_per_um"] = b.axial_stiffness_N_per_um
+            row[f"bearing_{b.name}_tilt_stiffness_Nm_per_rad"] = b.tilt_stiffness_Nm_per_rad
+            if b.loaded_balls is not None:
+                row[f"bearing_{b.name}_loaded_balls"] = b.loaded_balls
+                row[f"bearing_{b.name}_max_ball_load_N"] = b.max_ball_load_N
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
             for axis, value in zip("xyz", r.moment_Nm):
                 row[f"reaction_{r.name}_M{axis}_Nm"] = value
+        for axis, value in zip("xyz", self.applied_force_N):
+            row[f"applied_F{axis}_N"] = value
+        row["applied_Mx_Nm"] = self.applied_torque_x_Nm
         row["equilibrium_residual_force_N"] = self.residual_force_N
         row["equilibrium_residual_moment_Nm"] = self.residual_moment_Nm
         return row
@@ -221,48 +260,90 @@ class CaseEngineering:
                           "verdict": b.verdict} for b in self.bearings],
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
+            "applied_force_N": list(self.applied_force_N),
+            "applied_torque_x_Nm": self.applied_torque_x_Nm,
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
         }
 
 
-def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities:
-    d = states.deformation[0, states.index("coupling", c.name)]
+NOISE = 1e-9
+"""Relative size below which a reaction or bearing force is rounding, not data: the solves keep
+equilibrium to ~1e-10 of the loads (``equilibrium_relative_error``), so a component below 1e-9 of the
+case's largest support force (moment: times the rig's length) is written as 0."""
+
+
+def _extent(springs: SpringMotion) -> float:
+    """The lever (m) that turns a force scale into a moment scale: the springs' spread along x, at least 1 m."""
+    return max(float(np.ptp(springs.point_m[:, 0])) if len(springs.point_m) else 0.0, 1.0)
+
+
+def _denoise(values, scale: float) -> tuple[float, ...]:
+    return tuple(0.0 if abs(v) <= NOISE * scale else float(v) + 0.0 for v in values)
+
+
+def _coupling(c, states: ConnectionStates, unloaded: ConnectionStates, reference: str) -> CouplingQuantities:
+    row = states.index("coupling", c.name)
+    d = states.deformation[0, row]
+    total = unloaded.deformation[0, row]
     offset_m = math.hypot(d[1], d[2])
     angle = math.hypot(d[4], d[5])
     angularity = 100.0 * math.tan(angle)  # gap difference over 100 mm of diameter, mm
     offset_mm = offset_m * 1e3
     return CouplingQuantities(
         c.name, reference, float(d[1] * UM), float(d[2] * UM), offset_m * UM, angle * URAD, math.degrees(angle),
-        angularity, c.allowable_parallel_offset_mm, c.allowable_angular_misalignment_deg,
+        angularity, math.hypot(total[1], total[2]) * UM, math.hypot(total[4], total[5]) * URAD,
+        c.allowable_parallel_offset_mm, c.allowable_angular_misalignment_deg,
         _percent(offset_mm, c.allowable_parallel_offset_mm), _percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
         c.speed_rpm, None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
 
 
-def _bearing(b, total: ConnectionStates, change: ConnectionStates) -> BearingQuantities:
+def _bearing_model(b) -> str:
+    if b.model == "ball":
+        return "ball"
+    return "clearance" if b.radial_clearance_um > 0 else "linear"
+
+
+def _bearing(b, total: ConnectionStates, change: ConnectionStates, scale: float, balls: dict) -> BearingQuantities:
     row = total.index("bearing", b.name)
     f, d = total.force_on_b[0, row], total.deformation[0, row]
     df, dd = change.force_on_b[0, row], change.deformation[0, row]
+    k = total.stiffness[0, row]
+    f = np.array(_denoise(f[:3], scale))
+    df = np.array(_denoise(df[:3], scale))
     tilt = math.hypot(d[4], d[5])
+    ball = balls.get(b.name)
     return BearingQuantities(
-        b.name, b.shaft, b.housing, b.x_mm, float(f[1]) + 0.0, float(f[2]) + 0.0, float(f[0]) + 0.0,
+        b.name, b.shaft, b.housing, b.x_mm, float(f[1]), float(f[2]), float(f[0]),
         math.hypot(f[1], f[2]), math.hypot(df[1], df[2]), tilt * URAD, math.hypot(dd[4], dd[5]) * URAD,
-        tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin))
+        tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin),
+        _bearing_model(b), float(0.5 * (k[1] + k[2]) * 1e-6), float(k[0] * 1e-6), float(0.5 * (k[4] + k[5])),
+        None if ball is None else int(ball["loaded_balls"]), None if ball is None else float(ball["max_ball_load_N"]))
 
 
-def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[Reaction, ...]:
+def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: ConnectionStates,
+               fixed_total: np.ndarray | None, fixed_change: np.ndarray | None) -> tuple[Reaction, ...]:
     supports = [("mount", m.name, m.part, m.x_mm) for m in rig.mounts]
     supports += [("bearing", b.name, b.shaft, b.x_mm) for b in rig.bearings if b.housing == "ground"]
-    out = []
+    found = []
     for kind, name, part, x in supports:
         row = total.index(kind, name)
-        f, df = total.force_on_b[0, row], change.force_on_b[0, row]
-        out.append(Reaction(name, kind, part, x, tuple(float(v) + 0.0 for v in f[:3]), tuple(float(v) + 0.0 for v in f[3:]),
-                            tuple(float(v) + 0.0 for v in df[:3]), tuple(float(v) + 0.0 for v in df[3:])))
-    return tuple(out)
+        found.append((name, kind, part, x, total.force_on_b[0, row], change.force_on_b[0, row]))
+    for bed in springs.beds:  # a condensed housing: the reactions of its fixed bed nodes, as a whole
+        if fixed_total is None:
+            continue
+        change_of = bed.resultant(fixed_change) if fixed_change is not None else np.full(6, np.nan)
+        found.append((bed.name, "housing", bed.part, bed.x_mm, bed.resultant(fixed_total), change_of))
+    forces = [abs(v) for *_, f, df in found for v in (*f[:3], *df[:3]) if np.isfinite(v)]
+    scale = max(forces, default=0.0)
+    extent = _extent(springs)
+    return tuple(Reaction(name, kind, part, x, _denoise(f[:3], scale), _denoise(f[3:], scale * extent),
+                          _denoise(df[:3], scale), _denoise(df[3:], scale * extent))
+                 for name, kind, part, x, f, df in found)
 
 
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray, springs=None) -> CaseEngineering:
+                     applied: np.ndarray, reactions: np.ndarray, springs=None, *, fixed_total=None,
+                     fixed_change=None, nonlinear=None, rest_total=None, balls=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters
@@ -279,21 +360,37 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
         :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+    fixed_total, fixed_change : (n_dofs,) arrays, optional
+        K u − f of the total state and of the change since rest: their entries at fixed DOFs are the
+        reactions of the fixed supports (the bed nodes of condensed housings). Without them the
+        housings have no row in the reaction table.
+    nonlinear : NonlinearBearings, optional
+        The condensed nonlinear bearings of a nonlinear sweep; with ``rest_total`` (the rest state from
+        the unloaded geometry), their forces and operating stiffness come from their laws.
+    balls : dict, optional
+        :meth:`NonlinearBearings.operating_points` of the case (loaded balls, largest ball load).
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
     change = springs.states(u_change, from_rest=True)
+    linear_change = springs.states(u_change, from_rest=False)
+    if nonlinear is not None:
+        total = with_nonlinear_laws(total, nonlinear, u_total)
+        change = with_nonlinear_laws(change, nonlinear, u_total, rest_total)
     # a coupling's misalignment is what its element accommodates, Δ − Δ0: from the aligned rest state (the
     # change under load) or from the unloaded geometry, in both cases less the installed misalignment Δ0
     # that the rig file declares (parallel_offset_um, angular_misalignment_mrad; zero by default)
-    coupled = ((springs.states(u_change, from_rest=False), "change since the aligned rest state, with the installed "
-                "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
+    coupled = ((linear_change, "change since the aligned rest state, with the installed misalignment")
+               if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
+    support_reactions = _reactions(rig, springs, total, change, fixed_total, fixed_change)
+    scale = max((abs(v) for r in support_reactions for v in r.force_N), default=0.0)
     return CaseEngineering(
-        tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
-        tuple(_bearing(b, total, change) for b in rig.bearings),
-        _reactions(rig, total, change),
-        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])))
+        tuple(_coupling(c, coupled[0], total, coupled[1]) for c in rig.couplings),
+        tuple(_bearing(b, total, change, scale, balls or {}) for b in rig.bearings),
+        support_reactions,
+        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])),
+        _denoise(np.asarray(applied, float)[:3], scale), _denoise(np.asarray(applied, float)[3:4], scale * _extent(springs))[0])
 
 
 def shaft_quantities(path) -> dict:

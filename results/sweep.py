@@ -336,7 +336,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
-        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case)
+        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case,
+                             engineering)
     loads = system.unit_loads
     unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -345,13 +346,16 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
+    # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
+    rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
     results = []
     for i, case in enumerate(cases):
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
         u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
              if settings.method == "superposition" else solve(load))
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
-        reduced_residual = system.elimination.T @ (system.stiffness @ u - load)
+        unbalance = system.stiffness @ u - load
+        reduced_residual = system.elimination.T @ unbalance
         scale = np.linalg.norm(system.elimination.T @ load)
         residual = float(np.linalg.norm(reduced_residual) / scale) if scale > 0 else 0.0
         check_solution(case.label, u, check.relative_error, residual)
@@ -362,7 +366,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             check.relative_error,
             residual,
-            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs)
+            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs,
+                             fixed_total=unbalance, fixed_change=unbalance - rest_unbalance)
             if engineering else None,
         ))
         if on_case is not None:
@@ -375,7 +380,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
 
 
 def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
-                  progress=None, on_case=None) -> Sweep:
+                  progress=None, on_case=None, engineering: bool = True) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
     beam or hybrid): the rest state and each case solved on its own.
 
@@ -424,10 +429,11 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                              f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
         check_solution(label, u, check.relative_error, residual)
-        return u, solution, check, residual
+        return u, solution, check, residual, system.stiffness @ u - effective
 
     contact = gear_contact_torques(rig)
-    rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
+    springs = SpringMotion.of(system.frame, rig) if engineering else None
+    rest_u, rest_solution, _, _, rest_unbalance = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     operating = {name: [{"case": "at rest", **point}]
                  for name, point in bearings.operating_points(rest_solution.motion).items()}
     from_rest = rig.paths.measured_from == "aligned_at_rest"
@@ -435,16 +441,20 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     for i, case in enumerate(cases):
         weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
                                contact_torques_Nm=contact)
-        u, solution, check, residual = solve_case(weights, case.label)
+        u, solution, check, residual, unbalance = solve_case(weights, case.label)
         iterations.append(solution.iterations)
-        for name, point in bearings.operating_points(solution.motion).items():
+        points = bearings.operating_points(solution.motion)
+        for name, point in points.items():
             operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
-        # no engineering tables: their spring forces are linear, a gapped bearing's law is not
+        # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law
+        tables = (case_engineering(rig, system.frame, u, u - rest_u, from_rest, check.applied, check.reactions,
+                                   springs, fixed_total=unbalance, fixed_change=unbalance - rest_unbalance,
+                                   nonlinear=bearings, rest_total=rest_u, balls=points) if engineering else None)
         results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
-                                  residual))
+                                  residual, tables))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

@@ -27,6 +27,7 @@ def report(
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
+    paper: Annotated[str, typer.Option("--paper", help="Page size the report prints on (HTML print and --pdf): a4 or letter.")] = "a4",
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
     network needed to open it).
@@ -38,7 +39,10 @@ def report(
     """
     from rvcoax import load_rig, read_measured, write_report
     from rvcoax.results.io import print_pdf, read_discrepancy
+    from rvcoax.results.io.report import PAPER_SIZES
 
+    if paper.lower() not in PAPER_SIZES:
+        raise support.UserError(f"--paper: '{paper}' is not a page size; use a4 or letter")
     settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
     rig = load_rig(rig_file)
     load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
@@ -49,7 +53,8 @@ def report(
                                        support.prepare_with_status(rig, settings))
     with support.console.status("drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
-                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed)]
+                                discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
+                                paper=paper.lower())]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf"))

@@ -33,7 +33,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io import report_tables as tables
 from rvcoax.results.io.writers import write_text_atomic
 
-__all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
+__all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
 REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
@@ -49,6 +49,7 @@ h1 { font-size: 24px; margin: 28px 0 4px; }
 h2 { font-size: 19px; border-bottom: 2px solid #4c72b0; padding-bottom: 3px; margin-top: 34px; }
 h3 { font-size: 15px; margin: 18px 0 6px; }
 p.sub { color: #555; margin-top: 0; }
+p.sign { color: #333; font-size: 12px; margin: 0 0 6px; overflow-wrap: anywhere; }
 nav { background: #f3f5f9; padding: 8px 12px; border-radius: 4px; display: flex; flex-wrap: wrap; gap: 4px 14px; }
 nav a { color: #2a4f8f; text-decoration: none; white-space: nowrap; }
 table { border-collapse: collapse; margin: 6px 0 4px; font-size: 12.5px; }
@@ -318,19 +319,40 @@ def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:
     return "<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in items) + "</dl>"
 
 
-def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None) -> str:
-    """The report of ``sweep`` as one self-contained HTML document (see the module's docstring)."""
+PAPER_SIZES = {"a4": "A4", "letter": "letter"}
+
+
+def _signature_html(sweep, inputs: ReportInputs, created: str) -> str:
+    """The line under the title that signs the report: rig file, its SHA-256, rvcoax version, date."""
+    from rvcoax.results.io.records import rvcoax_version, text_sha256
+
+    items = (("rig file", inputs.rig_source), ("SHA-256", text_sha256(inputs.rig_text)),
+             ("rvcoax", rvcoax_version()), ("created", created))
+    return ('<p class="sign">' + " · ".join(f"{html.escape(k)}: <code>{html.escape(v)}</code>" for k, v in items)
+            + "</p>")
+
+
+def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,
+                paper: str = "a4") -> str:
+    """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
+
+    ``paper``: the page size it prints on (``a4``, the default, or ``letter``), set in its ``@page`` rule,
+    which headless Chromium's PDF follows.
+    """
+    if paper not in PAPER_SIZES:
+        raise ReportError(f"paper size must be one of {', '.join(PAPER_SIZES)}, got {paper!r}")
     created = created or _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     with tempfile.TemporaryDirectory(prefix="rvcoax-report-") as folder:
         pictures, picture_note = _pictures(sweep, Path(folder), deformed_view)
         uris = {key: _png_uri(path) for key, path in pictures.items()}
     rig = sweep.rig
+    entries = tables.case_entries(sweep)
     body = []
     body.append(_section("rig", "".join(_table_html(t) for t in tables.rig_tables(sweep, inputs.rig_text))
                          + '<p class="note">Provenance tags of the rig file: '
                          + "; ".join(f"[{k}] {v}" for k, v in tables.PROVENANCE_TAGS.items())
                          + ". An untagged value has no stated source.</p>"))
-    body.append(_section("load-cases", _table_html(tables.load_case_table(sweep))))
+    body.append(_section("load-cases", _table_html(tables.load_case_table(sweep, entries))))
     bending = (f'<img alt="bending line of the whole rig" src="{uris["bending"]}">'
                '<p class="note">u_y, u_z and the section rotations of every part along the rig axis; the strip on '
                'top names the parts (shafts blue, housings hatched), bearings ▲ and couplings ◆.</p>')
@@ -341,11 +363,11 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("bending-lines", bending))
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
-                         + _table_html(tables.shaft_table(sweep))))
-    misalignment = tables.misalignment_tables(sweep)
+                         + _table_html(tables.shaft_table(sweep, entries))))
+    misalignment = tables.misalignment_tables(sweep, entries)
     body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
                          or _missing("The rig has no couplings or bearings.")))
-    body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))
+    body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep
 
@@ -365,8 +387,10 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     lengths = ", ".join(f"{s} {getattr(rig.paths, s).length_mm:g} mm" for s in MEASURED_SHAFTS)
     title = html.escape(rig.rig.name)
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-            f"<title>rvcoax report: {title}</title><style>{_STYLE}</style></head><body>\n"
-            f"<h1>rvcoax report: {title}</h1><p class=\"sub\">{html.escape(rig.rig.description)} — "
+            f"<title>rvcoax report: {title}</title><style>{_STYLE}"
+            f"@page {{ size: {PAPER_SIZES[paper]}; margin: 14mm 12mm; }}</style></head><body>\n"
+            f"<h1>rvcoax report: {title}</h1>{_signature_html(sweep, inputs, created)}"
+            f"<p class=\"sub\">{html.escape(rig.rig.description)} — "
             f"{len(sweep.cases)} load cases, {html.escape(sweep.settings.model)} model, measured shafts: "
             f"{html.escape(lengths)}. Units: µm, µrad, N, N·m unless a heading says otherwise.</p>\n"
             f"<nav>{nav}</nav>\n" + "\n".join(body) + "\n</body></html>\n")
@@ -374,7 +398,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
-                 deformed_view: bool = True) -> Path:
+                 deformed_view: bool = True, paper: str = "a4") -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -391,6 +415,8 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     deformed_view : bool
         Include the rendered deformed rig of the largest case (needs off-screen rendering; when it is
         unavailable the report says why instead).
+    paper : str
+        ``a4`` (default) or ``letter``: the page size the report prints on.
 
     Returns
     -------
@@ -405,4 +431,4 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
     inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given")
-    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view))
+    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper))

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.connections import ConnectionStates, connection_states
 
-__all__ = ["PROVENANCE_TAGS", "Table", "check_table", "load_case_table", "misalignment_tables", "provenance_tags",
-           "reaction_table", "rig_tables", "shaft_table", "verdict_of"]
+__all__ = ["BEARING_COLUMNS", "COUPLING_COLUMNS", "Column", "PROVENANCE_TAGS", "Table", "case_entries", "case_label",
+           "check_table", "largest_case", "load_case_table", "misalignment_tables", "provenance_tags", "reaction_table",
+           "rig_tables", "shaft_table", "verdict_of", "worst_cases"]
 
 PROVENANCE_TAGS = {"S": "datasheet or catalogue", "P": "paper 000", "R": "catalogue value from memory (estimate)",
                    "A": "assumption", "D": "derived from tagged numbers"}
@@ -150,28 +150,30 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
     return tables
 
 
-def load_case_table(sweep) -> Table:
-    rows = tuple((str(i + 1), f"{c.case.input_torque_Nm:g}", f"{c.case.output_torque_Nm:g}")
-                 for i, c in enumerate(sweep.cases))
+def load_case_table(sweep, entries: list[dict] | None = None) -> Table:
+    entries = case_entries(sweep) if entries is None else entries
+    rows = tuple((str(i + 1), f"{e['T1_input_Nm']:g}", f"{e['T2_output_Nm']:g}") for i, e in enumerate(entries))
     return Table("Load cases", ("case", "T1 input torque [N·m]", "T2 output torque [N·m]"), rows)
 
 
-def shaft_table(sweep) -> Table:
-    """Per case and measured shaft: Y, the paper's β, the true tilt and the end slopes."""
+def shaft_table(sweep, entries: list[dict] | None = None) -> Table:
+    """Per case and measured shaft: Y, the paper's β, the true tilt and the end slopes (sweep.json's
+    ``engineering.shafts``)."""
+    entries = case_entries(sweep) if entries is None else entries
     rows = []
-    for case in sweep.cases:
+    for i, entry in enumerate(entries):
         for shaft in MEASURED_SHAFTS:
-            path = case.paths[shaft]
-            rows.append((f"{case.case.input_torque_Nm:g}", f"{case.case.output_torque_Nm:g}", shaft,
-                         _g(path.y_max_mm * 1e3), _g(path.beta_deg * math.pi / 180 * 1e6),
-                         _g(path.fitted_tilt_deg * math.pi / 180 * 1e6),
-                         _g(path.rotation_z_rad[0] * 1e6), _g(path.rotation_z_rad[-1] * 1e6)))
+            q = entry["engineering"]["shafts"][shaft]
+            rows.append((str(i + 1), f"{entry['T1_input_Nm']:g}", f"{entry['T2_output_Nm']:g}", shaft,
+                         _g(q["Y_max_um"]), _g(q["beta_paper_urad"]), _g(q["tilt_urad"]),
+                         _g(q["end_slopes_urad"][0]), _g(q["end_slopes_urad"][1])))
     return Table("Measured shafts: displacement and tilt",
-                 ("T1 [N·m]", "T2 [N·m]", "shaft", "Y_max [µm]", "β paper 000 = arcsin(Y_max/L) [µrad]",
+                 ("case", "T1 [N·m]", "T2 [N·m]", "shaft", "Y_max [µm]", "β paper 000 = arcsin(Y_max/L) [µrad]",
                   "true tilt: slope of the least-squares line [µrad]", "slope at start [µrad]",
                   "slope at end [µrad]"), tuple(rows),
                  note="β as paper 000 defines it is not a tilt: a symmetric bow with level ends has β > 0. "
-                      "The true tilt is the slope of the least-squares line through u_y(x).")
+                      "The true tilt is the slope of the least-squares line through u_y(x). sweep.csv: Y_<shaft>_um, "
+                      "beta_paper_<shaft>_urad, tilt_<shaft>_urad, end_slope_start/end_<shaft>_urad.")
 
 
 # --------------------------------------------------------------------------------------------
@@ -189,100 +191,179 @@ def verdict_of(ratio: float | None) -> str:
     return "EXCEEDS allowable"
 
 
-def _worst(values: np.ndarray) -> tuple[float, int]:
-    index = int(np.argmax(values))
-    return float(values[index]), index
+def case_entries(sweep) -> list[dict]:
+    """The sweep's cases as ``sweep.json`` holds them (:func:`rvcoax.results.io.records.case_entry`): every
+    table below reads these, so the report shows the numbers the result files hold, under their names."""
+    from rvcoax.results.io.records import canonical, case_entry
+
+    return [canonical(case_entry(case)) for case in sweep.cases]
 
 
-def _coupling_table(sweep, measured: ConnectionStates, unloaded: ConnectionStates) -> Table:
+def case_label(index: int, entry: dict) -> str:
+    """``3: T1 = 0.5, T2 = 70`` (the case's number in the load-case table and its torques in N·m; no-break
+    spaces around the equals signs, so that a narrow column wraps only after the comma)."""
+    return (f"{index + 1}: T1\u00a0=\u00a0{entry['T1_input_Nm']:g}, "
+            f"T2\u00a0=\u00a0{entry['T2_output_Nm']:g}")
+
+
+def _item(entry: dict, group: str, name: str) -> dict:
+    return next(q for q in entry["engineering"][group] if q["name"] == name)
+
+
+def worst_cases(entries: list[dict], group: str, name: str, criteria) -> list[tuple[str, int]]:
+    """The worst cases of item ``name`` of ``group`` (``couplings``, ``bearings``): for each criterion
+    ``(label, key)`` the case with the largest ``key``; criteria met by the same case share a row.
+
+    Returns ``[(labels joined by "and", case index), …]`` in case order (earliest case on ties)."""
+    picks: dict[int, list[str]] = {}
+    for label, key in criteria:
+        values = np.array([_item(e, group, name)[key] for e in entries], dtype=float)
+        if not np.isfinite(values).any():
+            continue
+        picks.setdefault(int(np.nanargmax(values)), []).append(label)
+    return [(" and ".join(labels), i) for i, labels in sorted(picks.items())]
+
+
+@dataclass(frozen=True)
+class Column:
+    """A column of a worst-case table: its heading (with unit) and its cell from the item's quantities
+    (a ``sweep.json`` couplings/bearings entry) in the row's case. Extend a table by adding columns."""
+
+    heading: str
+    cell: object  # callable(quantities: dict) -> str
+
+
+def _percent_of(*uses) -> float | None:
+    given = [u for u in uses if u is not None]
+    return max(given) / 100.0 if given else None
+
+
+COUPLING_COLUMNS = (
+    Column("offset [µm]", lambda q: _g(q["offset_um"])),
+    Column("angle [µrad]", lambda q: _g(q["angle_urad"])),
+    Column("angularity [mm/100 mm]", lambda q: _g(q["angularity_mm_per_100mm"], 3)),
+    Column("offset from unloaded geometry [µm]", lambda q: _g(q["offset_from_unloaded_um"])),
+    Column("angle from unloaded geometry [µrad]", lambda q: _g(q["angle_from_unloaded_urad"])),
+    Column("allowable offset", lambda q: f"{q['allowable_offset_mm']:g} mm" if q["allowable_offset_mm"] else "–"),
+    Column("allowable angle", lambda q: f"{q['allowable_angle_deg']:g}°" if q["allowable_angle_deg"] else "–"),
+    Column("alignment grade", lambda q: q["grade"] or "– (no speed_rpm)"),
+)
+
+
+def _coupling_table(sweep, entries: list[dict]) -> Table:
     rows = []
     for c in sweep.rig.couplings:
-        row = unloaded.index("coupling", c.name)
-        offset = np.hypot(unloaded.deformation[:, row, 1], unloaded.deformation[:, row, 2]) * 1e6  # µm
-        angle = np.hypot(unloaded.deformation[:, row, 4], unloaded.deformation[:, row, 5]) * 1e6  # µrad
-        worst_offset, i = _worst(offset)
-        worst_angle, j = _worst(angle)
-        change = np.hypot(measured.deformation[:, row, 1], measured.deformation[:, row, 2]).max() * 1e6
-        allow_offset = getattr(c, "allowable_parallel_offset_mm", None)
-        allow_angle = getattr(c, "allowable_angular_misalignment_deg", None)
-        ratios = []
-        if allow_offset:
-            ratios.append(worst_offset * 1e-3 / allow_offset)
-        if allow_angle:
-            ratios.append(math.degrees(worst_angle * 1e-6) / allow_angle)
-        rows.append((c.name, _g(worst_offset), _g(change), _g(worst_angle), _g(worst_angle * 1e-6 * 100, 3),
-                     _g(math.degrees(worst_angle * 1e-6), 3),
-                     f"{allow_offset:g} mm" if allow_offset else "–", f"{allow_angle:g}°" if allow_angle else "–",
-                     f"T2 = {sweep.cases[max(i, j, key=lambda k: offset[k] + angle[k])].case.output_torque_Nm:g}",
-                     verdict_of(max(ratios) if ratios else None)))
-    return Table("Couplings: misalignment between the hubs (worst case of the sweep, from the unloaded geometry)",
-                 ("coupling", "parallel offset [µm]", "offset change under load [µm]", "angle [µrad]",
-                  "angle [mm/100 mm]", "angle [°]", "allowable offset", "allowable angle", "worst case [N·m]", "verdict"),
-                 tuple(rows), verdict_column=9,
-                 note="Offset and angle of the to hub against the from hub at the coupling centre, installed "
-                      "misalignment and self-weight included. Allowable values are the coupling maker's "
-                      "(rig keys allowable_parallel_offset_mm, allowable_angular_misalignment_deg).")
+        for labels, i in worst_cases(entries, "couplings", c.name, (("offset", "offset_um"), ("angle", "angle_urad"))):
+            q = _item(entries[i], "couplings", c.name)
+            rows.append((c.name, labels, case_label(i, entries[i]), *(col.cell(q) for col in COUPLING_COLUMNS),
+                         verdict_of(_percent_of(q["offset_use_percent"], q["angle_use_percent"]))))
+    reference = entries[0]["engineering"]["couplings"][0]["reference"] if entries else ""
+    headings = ("coupling", "largest", "case", *(col.heading for col in COUPLING_COLUMNS), "verdict")
+    return Table("Couplings: misalignment between the hubs, worst cases of the sweep",
+                 headings, tuple(rows), verdict_column=len(headings) - 1,
+                 note=f"Each row is one load case (its number in the load-case table and its torques, N·m): the case "
+                      f"with the largest offset or angle, every value from that case. Offset and angle: of the to hub "
+                      f"against the from hub at the coupling centre, {reference} (the columns coupling_<name>_offset_um "
+                      "and _angle_urad of sweep.csv); the verdict judges them against the coupling maker's allowable "
+                      "values (rig keys allowable_parallel_offset_mm, allowable_angular_misalignment_deg). From "
+                      "unloaded geometry: the same misalignment including the rig's sag under its own weight "
+                      "(sweep.csv: coupling_<name>_offset_from_unloaded_um, _angle_from_unloaded_urad).")
 
 
-def _bearing_table(sweep, measured: ConnectionStates, unloaded: ConnectionStates) -> Table:
+def _maybe(value, digits=4) -> str:
+    return "–" if value is None else _g(value, digits)
+
+
+BEARING_COLUMNS = (
+    Column("model", lambda q: q["model"]),
+    Column("radial force [N]", lambda q: _g(q["force_radial_N"])),
+    Column("radial force change under load [N]", lambda q: _g(q["force_radial_change_N"])),
+    Column("tilt [µrad]", lambda q: _g(q["tilt_urad"])),
+    Column("tilt change under load [µrad]", lambda q: _g(q["tilt_change_urad"])),
+    Column("tilt [′]", lambda q: _g(q["tilt_arcmin"], 3)),
+    Column("radial stiffness, operating [N/µm]", lambda q: _g(q["radial_stiffness_N_per_um"], 3)),
+    Column("tilt stiffness, operating [N·m/rad]", lambda q: _g(q["tilt_stiffness_Nm_per_rad"], 3)),
+)
+BALL_COLUMNS = (
+    Column("loaded balls", lambda q: "–" if q["loaded_balls"] is None else str(q["loaded_balls"])),
+    Column("largest ball load [N]", lambda q: _maybe(q["max_ball_load_N"])),
+)
+
+
+def _bearing_table(sweep, entries: list[dict]) -> Table:
+    columns = BEARING_COLUMNS + (BALL_COLUMNS if any(b.model == "ball" for b in sweep.rig.bearings) else ())
     rows = []
     for b in sweep.rig.bearings:
-        row = unloaded.index("bearing", b.name)
-        total = np.hypot(unloaded.force_on_b[:, row, 1], unloaded.force_on_b[:, row, 2])
-        change = np.hypot(measured.force_on_b[:, row, 1], measured.force_on_b[:, row, 2])
-        tilt = np.hypot(unloaded.deformation[:, row, 4], unloaded.deformation[:, row, 5]) * 1e6
-        worst_tilt, _ = _worst(tilt)
-        allowable = getattr(b, "allowable_misalignment_arcmin", None)
-        arcmin = math.degrees(worst_tilt * 1e-6) * 60
-        rows.append((b.name, b.shaft, f"{b.x_mm:g}", _g(total.max(), 4), _g(change.max(), 4), _g(worst_tilt),
-                     _g(arcmin, 3), f"{allowable:g}′" if allowable else "–",
-                     verdict_of(arcmin / allowable if allowable else None)))
-    return Table("Bearings: radial force and tilt of the inner ring against the outer (worst case of the sweep)",
-                 ("bearing", "shaft", "x [mm]", "radial force, total [N]", "change under load [N]",
-                  "tilt [µrad]", "tilt [′]", "allowable tilt", "verdict"), tuple(rows), verdict_column=8,
-                 note="Total: from the unloaded geometry (self-weight included); change: since the rig at rest. "
-                      "Allowable tilt: rig key allowable_misalignment_arcmin (deep-groove ball bearings: "
-                      "2′ … 10′ in catalogues).")
+        for labels, i in worst_cases(entries, "bearings", b.name,
+                                     (("radial force", "force_radial_N"), ("tilt", "tilt_urad"))):
+            q = _item(entries[i], "bearings", b.name)
+            allowable = q["allowable_tilt_arcmin"]
+            rows.append((b.name, f"{b.x_mm:g}", labels, case_label(i, entries[i]), *(col.cell(q) for col in columns),
+                         f"{allowable:g}′" if allowable else "–",
+                         verdict_of(None if q["tilt_use_percent"] is None else q["tilt_use_percent"] / 100.0)))
+    headings = ("bearing", "x [mm]", "largest", "case", *(col.heading for col in columns), "allowable tilt", "verdict")
+    return Table("Bearings: radial force on the shaft and tilt of the inner ring against the outer, worst cases of "
+                 "the sweep", headings, tuple(rows), verdict_column=len(headings) - 1,
+                 note="Each row is one load case (its number and torques, N·m): the case with the largest radial force "
+                      "or tilt, every value from that case. Radial force and tilt: from the unloaded geometry "
+                      "(self-weight included); change under load: since the rig at rest (sweep.csv: "
+                      "bearing_<name>_force_radial_N, _force_radial_change_N, _tilt_urad, _tilt_change_urad). "
+                      "Operating stiffness: the typed-in spring of a linear bearing; the tangent of a ball bearing's "
+                      "or clearance's force law in that case (radial: mean of y and z; tilt: mean about y and z). "
+                      "Allowable tilt: rig key allowable_misalignment_arcmin (deep-groove ball bearings: 2′ … 10′ "
+                      "in catalogues).")
 
 
-def misalignment_tables(sweep) -> list[Table]:
-    """The coupling and bearing tables with verdicts (one function, so that the source can be swapped)."""
-    measured, unloaded = connection_states(sweep, "measured"), connection_states(sweep, "unloaded")
+def misalignment_tables(sweep, entries: list[dict] | None = None) -> list[Table]:
+    """The coupling and bearing tables with verdicts, worst cases of the sweep, each row from one case."""
+    entries = case_entries(sweep) if entries is None else entries
     tables = []
-    if sweep.rig.couplings:
-        tables.append(_coupling_table(sweep, measured, unloaded))
-    if sweep.rig.bearings:
-        tables.append(_bearing_table(sweep, measured, unloaded))
+    if sweep.rig.couplings and entries:
+        tables.append(_coupling_table(sweep, entries))
+    if sweep.rig.bearings and entries:
+        tables.append(_bearing_table(sweep, entries))
     return tables
 
 
-def reaction_table(sweep) -> Table:
-    """Every spring to the ground (mounts, grounded bearings): the force it exerts on the rig, per case,
-    its total and change under load, and the equilibrium residual of each case."""
-    measured, unloaded = connection_states(sweep, "measured"), connection_states(sweep, "unloaded")
-    grounded = [("mount", m.name) for m in sweep.rig.mounts]
-    grounded += [("bearing", b.name) for b in sweep.rig.bearings if b.housing == "ground"]
-    last = max(range(len(sweep.cases)), key=lambda i: (abs(sweep.cases[i].case.output_torque_Nm),
-                                                       abs(sweep.cases[i].case.input_torque_Nm)))
-    rows = []
-    for kind, name in grounded:
-        row = unloaded.index(kind, name)
-        f_total, f_change = unloaded.force_on_b[last, row], measured.force_on_b[last, row]
-        rows.append((f"{kind} {name}", _g(f_total[1], 4), _g(f_total[2], 4), _g(f_change[1], 4),
-                     _g(f_change[2], 4), _g(f_total[3], 4)))
-    if grounded:
-        rows_total = np.sum([unloaded.force_on_b[last, unloaded.index(k, n)] for k, n in grounded], axis=0)
-        rows.append(("sum", _g(rows_total[1], 4), _g(rows_total[2], 4), "", "", _g(rows_total[3], 4)))
-    case = sweep.cases[last].case
-    residual = max(c.equilibrium_error for c in sweep.cases)
-    return Table(f"Support reactions on the rig (case T1 = {case.input_torque_Nm:g} N·m, "
-                 f"T2 = {case.output_torque_Nm:g} N·m)",
-                 ("support", "F_y total [N]", "F_z total [N]", "F_y change under load [N]",
-                  "F_z change under load [N]", "torque about x [N·m]"), tuple(rows),
-                 note="Total: from the unloaded geometry (self-weight included, so ΣF_y is the rig's weight); "
-                      "change: since the rig at rest. Equilibrium residual (resultant of the ground reactions "
-                      f"against the applied loads, relative), largest over the {len(sweep.cases)} cases: "
-                      f"{residual:.1e}.")
+def largest_case(entries: list[dict]) -> int:
+    """The case of the largest |T2| (then |T1|): the one whose reactions the report lists."""
+    return max(range(len(entries)), key=lambda i: (abs(entries[i]["T2_output_Nm"]), abs(entries[i]["T1_input_Nm"])))
+
+
+SUPPORT_KINDS = {"mount": "mount", "bearing": "bearing housed in ground", "housing": "housing (as a whole)"}
+
+
+def reaction_table(sweep, entries: list[dict] | None = None) -> Table:
+    """Every load path to the ground (mounts, bearings housed in ground, condensed housings as a whole): the force
+    and moment it exerts on the rig in the case of the largest torque, their sum against the rig's weight and
+    applied forces, and the equilibrium residual."""
+    entries = case_entries(sweep) if entries is None else entries
+    last = largest_case(entries)
+    entry = entries[last]
+    reactions = entry["engineering"].get("reactions", [])
+    rows = [(r["name"], SUPPORT_KINDS.get(r["kind"], r["kind"]), r["part"], f"{r['x_mm']:g}",
+             *(_g(v, 4) for v in r["force_N"]), *(_g(v, 4) for v in r["moment_Nm"]), _g(r["force_change_N"][1], 4))
+            for r in reactions]
+    total = np.sum([r["force_N"] for r in reactions], axis=0) if reactions else np.zeros(3)
+    torque = sum(r["moment_Nm"][0] for r in reactions)
+    applied = entry["engineering"].get("applied_force_N", [0.0, 0.0, 0.0])
+    rows.append(("sum of the reactions", "", "", "", *(_g(v, 4) for v in total), _g(torque, 4), "", "", ""))
+    rows.append(("− (weight and applied loads)", "", "", "", *(_g(-v + 0.0, 4) for v in applied),
+                 _g(-entry["engineering"].get("applied_torque_x_Nm", 0.0) + 0.0, 4), "", "", ""))
+    residual = entry["engineering"]["equilibrium_residual"]
+    worst = max(e["equilibrium_relative_error"] for e in entries)
+    return Table(f"Support reactions on the rig, case {case_label(last, entry)} N·m",
+                 ("support", "kind", "part", "x [mm]", "F_x [N]", "F_y [N]", "F_z [N]", "M_x [N·m]", "M_y [N·m]",
+                  "M_z [N·m]", "F_y change under load [N]"), tuple(rows),
+                 note="Force and moment each support to the ground exerts on the rig, from the unloaded geometry "
+                      "(self-weight included), the moment about the support point (a housing: the centre of its "
+                      "attachments). The reactions' forces sum to minus the loads on the rig: its weight (parts, "
+                      "coupling hubs, housings with self_weight) and the applied forces (the torque-to-lateral-load "
+                      "table, gear contact); their moments about the axis (M_x) to minus the applied torques. "
+                      f"Residual of this case: {residual['force_N']:.1e} N, "
+                      f"{residual['moment_Nm']:.1e} N·m; relative equilibrium error, largest over the {len(entries)} "
+                      f"cases: {worst:.1e}. Values below 1e-9 of the largest support force are rounding and shown "
+                      "as 0.")
 
 
 def check_table(measured, sweep) -> Table:
