@@ -36,7 +36,7 @@ from rvcoax.results.connections import ConnectionStates, SpringMotion, with_nonl
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "NOISE", "Reaction", "alignment_grade", "alignment_tolerance",
-           "case_engineering", "engineering_tables", "shaft_quantities"]
+           "bearing_warnings", "case_engineering", "engineering_tables", "shaft_quantities"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -428,3 +428,69 @@ def engineering_tables(sweep) -> list[dict]:
         out.append({"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm,
                     "shafts": {s: shaft_quantities(p) for s, p in case.paths.items()}, **case.engineering.entry()})
     return out
+
+
+UNLOADED_SHARE = 0.01
+"""A bearing whose radial force is below this share of the largest bearing force of its case carries
+(nearly) nothing: a ball bearing hanging in its clearance, a shaft inside a radial play."""
+
+
+def _case_text(entry: dict) -> str:
+    return f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+
+
+def _carrying(entry: dict) -> dict[str, bool]:
+    bearings = entry["engineering"].get("bearings", [])
+    largest = max((b["force_radial_N"] for b in bearings), default=0.0)
+    return {b["name"]: b["force_radial_N"] > UNLOADED_SHARE * largest and (b.get("loaded_balls") is None
+                                                                          or b["loaded_balls"] > 0)
+            for b in bearings}
+
+
+def bearing_warnings(entries: list[dict]) -> list[str]:
+    """What a nonlinear sweep should say about its bearings, one sentence each, from the ``sweep.json`` case
+    entries.
+
+    * a bearing with a clearance or from ball geometry that carries (nearly) nothing in a case (radial force below :data:`UNLOADED_SHARE` of the
+      case's largest bearing force, or no ball loaded): the load goes elsewhere;
+    * a bearing with a clearance or from ball geometry that takes up its play (or lifts off) between two
+      neighbouring cases (ordered by T2, then T1): Y is not proportional to torque across that step.
+
+    Parameters
+    ----------
+    entries : list of dict
+        The ``cases`` of ``sweep.json`` (each with its ``engineering.bearings``).
+
+    Returns
+    -------
+    list of str
+        The warnings (empty for a sweep whose bearings all carry load in every case).
+    """
+    if not entries or not entries[0].get("engineering", {}).get("bearings"):
+        return []
+    carrying = [_carrying(e) for e in entries]
+    found = []
+    nonlinear = [b for b in entries[0]["engineering"]["bearings"] if b["model"] != "linear"]
+    for b in nonlinear:  # (a linear bearing's force passes through zero where torque cancels weight: no play)
+        name = b["name"]
+        idle = [i for i, state in enumerate(carrying) if not state[name]]
+        if idle:
+            cases = (f"in all {len(entries)} cases" if len(idle) == len(entries) else
+                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i]) for i in idle[:3])}"
+                     + (", …)" if len(idle) > 3 else ")"))
+            found.append(f"bearing {name} ({b['model']}) carries (nearly) nothing {cases}: less than "
+                         f"{100 * UNLOADED_SHARE:g} % of the largest bearing force"
+                         + (", no ball loaded" if b.get("loaded_balls") is not None else "")
+                         + "; its neighbours carry the shaft")
+    order = sorted(range(len(entries)), key=lambda i: (entries[i]["T2_output_Nm"], entries[i]["T1_input_Nm"]))
+    for b in nonlinear:
+        name = b["name"]
+        for i, j in zip(order, order[1:]):
+            if carrying[i][name] != carrying[j][name]:
+                shafts = entries[i]["engineering"].get("shafts", {})
+                jumps = ", ".join(f"Y_{s} {shafts[s]['Y_max_um']:.3g} → "
+                                  f"{entries[j]['engineering']['shafts'][s]['Y_max_um']:.3g} µm" for s in shafts)
+                what = "takes up its play" if carrying[j][name] else "lifts off into its play"
+                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i])} and "
+                             f"{_case_text(entries[j])}: Y is not proportional to torque across that step ({jumps})")
+    return found

@@ -7,6 +7,8 @@ superelement between the ground and the reference nodes of the housing's part at
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
@@ -17,7 +19,8 @@ from rvcoax.geometry.model.beam import housing_bed_group
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
-__all__ = ["condensed_housing", "housing_contributions", "housing_prestrain", "housing_weight"]
+__all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_contributions", "housing_prestrain",
+           "housing_weight", "seat_stiffness"]
 
 
 def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
@@ -99,3 +102,42 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
         vector[_dofs(nodes)] += matrix @ motion.ravel()
     return dense_load_contribution("prestrain", vector)
+
+
+SEAT_DIRECTIONS = {"vertical (y)": 1, "lateral (z)": 2}
+
+
+@dataclass(frozen=True)
+class SeatStiffness:
+    """The stiffness a bearing sees at one seat of a condensed housing, in one direction (N/µm).
+
+    ``held``: the diagonal entry of K_c, this seat moved with every other master DOF of the housing held
+    (its other seat and every rotation): an upper bound no bearing sees. ``alone``: this seat loaded, the
+    other seat and the rotations free (1 / F_ii, F = K_c⁻¹): one bearing loaded. ``together``: every seat
+    loaded with the same force in this direction, per seat (force / this seat's displacement): both
+    bearings of a shaft pushed the same way, as its weight and a lateral gear force do.
+    """
+
+    housing: str
+    seat_x_mm: float
+    direction: str
+    held_N_per_um: float
+    alone_N_per_um: float
+    together_N_per_um: float
+
+
+def seat_stiffness(housing: Housing, matrix: np.ndarray) -> tuple[SeatStiffness, ...]:
+    """The :class:`SeatStiffness` of every seat of ``housing`` in both lateral directions, from its condensed
+    matrix ``matrix`` (6k × 6k, SI, before ``stiffness_factor``, which is applied here)."""
+    stiffness = housing.stiffness_factor * np.asarray(matrix, dtype=float)
+    flexibility = np.linalg.inv(stiffness)
+    seats = len(housing.attachments_x_mm)
+    out = []
+    for direction, component in SEAT_DIRECTIONS.items():
+        rows = DOFS_PER_NODE * np.arange(seats) + component
+        together = flexibility[:, rows].sum(axis=1)
+        for i, x in enumerate(housing.attachments_x_mm):
+            row = rows[i]
+            out.append(SeatStiffness(housing.name, float(x), direction, float(stiffness[row, row]) * 1e-6,
+                                     1e-6 / float(flexibility[row, row]), 1e-6 / float(together[row])))
+    return tuple(out)

@@ -82,6 +82,7 @@ def _write_ross(export, out: Path) -> list[Path]:
         import_ross,
         misalignment_fault,
         misalignment_parameters,
+        operating_radial_stiffness,
     )
     from rvcoax.results.io import write_csv_atomic
 
@@ -96,7 +97,7 @@ def _write_ross(export, out: Path) -> list[Path]:
         table.add_column(column, justify="right")
     for shaft in MEASURED_SHAFTS:
         with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
-            rotor, comparison = compare_static(export.sweep.rig, shaft, ross)
+            rotor, comparison = compare_static(export.sweep.rig, shaft, ross, operating_radial_stiffness(export))
         line = comparison.line
         parameters = misalignment_parameters(export, line)
         for row in parameters:

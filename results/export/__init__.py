@@ -11,5 +11,5 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
                                        "write_dynamics_json"),
     "rvcoax.results.export.adams": ("AdamsExportError", "adams_fragment", "parse_adm", "spline_layout"),
     "rvcoax.results.export.ross": ("RossUnavailableError", "compare_static", "import_ross", "misalignment_fault",
-                                   "misalignment_parameters"),
+                                   "misalignment_parameters", "operating_radial_stiffness"),
 })

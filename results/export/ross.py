@@ -51,7 +51,7 @@ from rvcoax.results.export.dynamics import DynamicsExport
 __all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
            "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
            "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
-           "rvcoax_gravity_sag", "shaft_line"]
+           "operating_radial_stiffness", "rvcoax_gravity_sag", "shaft_line"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
@@ -149,14 +149,25 @@ def _section_at(part, x_mm: float) -> tuple[float, float]:
     raise ValueError(f"no segment of part '{part.name}' at x = {x_mm} mm")
 
 
-def shaft_line(rig: Rig, which: str) -> ShaftLine:
-    """The measured shaft ``which`` with its beam-model nodes, supports and coupling hubs."""
+def shaft_line(rig: Rig, which: str, operating_N_per_m: dict[str, float] | None = None) -> ShaftLine:
+    """The measured shaft ``which`` with its beam-model nodes, supports and coupling hubs.
+
+    ``operating_N_per_m``: the radial operating stiffness of the bearings with a clearance or from ball
+    geometry (:func:`operating_radial_stiffness`); their typed-in or filled-in linear reference spring is
+    not their stiffness, so such a bearing without one is refused (``ValueError`` naming it).
+    """
     name = getattr(rig.paths, which).part
     part = rig.part(name)
     frame = build_rig_model(rig)
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
-    supports = [Support(SpringId("bearing", b.name), b.x_mm, b.radial_stiffness_N_per_um * 1e6)
+    operating = operating_N_per_m or {}
+    nonlinear = [b.name for b in rig.bearings if b.shaft == name and (b.model == "ball" or b.radial_clearance_um > 0)
+                 and b.name not in operating]
+    if nonlinear:
+        raise ValueError(f"bearing(s) {', '.join(nonlinear)} of the {which} shaft are nonlinear (ball geometry or "
+                         "clearance): give their operating stiffness from a sweep (operating_radial_stiffness)")
+    supports = [Support(SpringId("bearing", b.name), b.x_mm, operating.get(b.name, b.radial_stiffness_N_per_um * 1e6))
                 for b in rig.bearings if b.shaft == name]
     for j in rig.joints:
         lateral = min(j.translational_stiffness_N_per_um[1:]) * 1e6
@@ -250,7 +261,25 @@ class StaticComparison:
         return self.largest_difference_m / self.largest_sag_m
 
 
-def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticComparison]:
+def operating_radial_stiffness(export: DynamicsExport) -> dict[str, float]:
+    """The radial operating stiffness (N/m, mean of y and z) of every bearing with a clearance or from ball
+    geometry in the sweep's case of the largest torque (|T2|, then |T1|): the tangent of its force law there."""
+    sweep = export.sweep
+    if sweep.nonlinear_bearings is None:
+        return {}
+    case = max(range(len(sweep.cases)), key=lambda i: (abs(sweep.cases[i].case.output_torque_Nm),
+                                                       abs(sweep.cases[i].case.input_torque_Nm)))
+    states = export.measured
+    out = {}
+    for b in sweep.rig.bearings:
+        if b.model == "ball" or b.radial_clearance_um > 0:
+            k = states.stiffness[case, states.index("bearing", b.name)]
+            out[b.name] = float(0.5 * (k[1] + k[2]))
+    return out
+
+
+def compare_static(rig: Rig, which: str, ross=None, operating_N_per_m: dict[str, float] | None = None
+                   ) -> tuple[object, StaticComparison]:
     """Build the ROSS rotor of the measured shaft ``which`` and compare its static analysis with rvcoax.
 
     Parameters
@@ -261,6 +290,8 @@ def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticCompa
         ``"input"`` or ``"output"``.
     ross : module, optional
         The ``ross`` package (imported when not given).
+    operating_N_per_m : dict, optional
+        The nonlinear bearings' radial operating stiffness (:func:`operating_radial_stiffness`).
 
     Returns
     -------
@@ -272,7 +303,7 @@ def compare_static(rig: Rig, which: str, ross=None) -> tuple[object, StaticCompa
     RossUnavailableError
         ROSS is not installed.
     """
-    line = shaft_line(rig, which)
+    line = shaft_line(rig, which, operating_N_per_m)
     rotor = build_rotor(line, ross)
     return rotor, StaticComparison(line, ross_gravity_sag(rotor), rvcoax_gravity_sag(rig, line))
 

@@ -30,6 +30,7 @@ import numpy as np
 
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.engineering import bearing_warnings
 from rvcoax.results.io import report_tables as tables
 from rvcoax.results.io.writers import write_text_atomic
 
@@ -365,8 +366,9 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
                          + _table_html(tables.shaft_table(sweep, entries))))
     misalignment = tables.misalignment_tables(sweep, entries)
-    body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
-                         or _missing("The rig has no couplings or bearings.")))
+    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
+                         + ("".join(_table_html(t) for t in misalignment)
+                            or _missing("The rig has no couplings or bearings."))))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep

@@ -1,0 +1,136 @@
+"""Issue 24: every number of the report is the one the result files hold, under one name, from one case.
+
+For each rig (the reference rig, the RV-40E example, the ball-bearing variant, a rig with a radial
+clearance, and the reference rig with its input bearing block as a condensed block, pedestal and wall
+bracket), ``rvcoax sweep`` and ``rvcoax report`` run through the real CLI on the same cases; every table
+of report.html computed from the sweep is then recomputed from sweep.json by the independent path of
+tests/report_check.py (its own worst-case search, sums and labels) and compared cell by cell.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import pytest
+import tomlkit
+from report_check import check_report_against_sweep, signature
+from typer.testing import CliRunner
+
+from rvcoax.geometry.rigfile import reference_rig_text
+from rvcoax.geometry.variants import BEARING_BLOCKS, BEARING_PEDESTALS
+from rvcoax.results.cli.app import app
+
+CASES = ("--t1", "0.07,0.3,0.7,1.43", "--t2", "10,40,100,200")
+BRACKET = {"name": "input_block", "part": "input_bearing_block", "material": "HT200", "shape": "bracket",
+           "x_mm": [248.0, 320.0], "width_mm": 90.0, "top_above_axis_mm": 45.0, "seat_below_axis_mm": 45.0,
+           "bore_diameter_mm": 47.0, "wall_distance_mm": 160.0, "arm_length_mm": 72.0, "arm_height_mm": 60.0,
+           "plate_length_mm": 120.0, "plate_height_mm": 140.0, "plate_thickness_mm": 15.0, "foot_pad_mm": 30.0,
+           "attachments_x_mm": [255.0, 315.0], "attachment_width_mm": 14.0, "feet": "clamped"}
+HOUSINGS = {"block": BEARING_BLOCKS[0], "pedestal": BEARING_PEDESTALS[0], "bracket": BRACKET}
+
+
+def invoke(*args: str):
+    result = CliRunner().invoke(app, list(args))
+    assert result.exit_code == 0, (result.output, result.exception)
+    return result
+
+
+def with_housing(shape: str) -> str:
+    """The reference rig with its input block's mount replaced by a condensed ``shape`` (coarse 24 mm mesh)."""
+    document = tomlkit.parse(reference_rig_text())
+    mounts = document["mounts"]
+    keep = [m for m in mounts if m["name"] != "input_block_base"]
+    document["mounts"] = tomlkit.aot()
+    for m in keep:
+        document["mounts"].append(m)
+    entry = {**HOUSINGS[shape], "mesh_size_mm": 24.0}
+    housings = tomlkit.aot()
+    housings.append(tomlkit.item(entry))
+    document["housings"] = housings
+    return tomlkit.dumps(document)
+
+
+def with_clearance() -> str:
+    document = tomlkit.parse(reference_rig_text())
+    for bearing in document["bearings"]:
+        if bearing["name"] == "input_B1":
+            bearing["radial_clearance_um"] = 8.0
+    return tomlkit.dumps(document)
+
+
+def rig_text(kind: str) -> str | None:
+    if kind == "reference":
+        return None
+    if kind == "example":
+        return invoke("rig", "example").stdout
+    if kind == "ball":
+        return invoke("rig", "reference", "--variant", "ball_bearings").stdout
+    if kind == "clearance":
+        return with_clearance()
+    return with_housing(kind)
+
+
+def run(kind: str, folder: Path, *extra: str) -> tuple[str, dict, Path | None]:
+    text = rig_text(kind)
+    rig = []
+    path = None
+    if text is not None:
+        path = folder / f"{kind}.toml"
+        path.write_text(text, encoding="utf-8")
+        rig = ["--rig", str(path)]
+    cases = [] if kind == "example" else list(CASES)
+    out = folder / "out"
+    invoke("sweep", *rig, *cases, "--out", str(out))
+    invoke("report", *rig, *cases, "--out", str(out), "--no-deformed", *extra)
+    return ((out / "report.html").read_text(encoding="utf-8"),
+            json.loads((out / "sweep.json").read_text(encoding="utf-8")), path)
+
+
+@pytest.mark.parametrize("kind", ["reference", "example", "ball", "clearance", "block", "pedestal", "bracket"])
+def test_every_report_table_is_the_sweep_json_value_by_value(kind, tmp_path):
+    html_text, document, path = run(kind, tmp_path)
+    summary = check_report_against_sweep(html_text, document)
+    counts = summary["counts"]
+    assert counts["shafts"] > 0 and counts["reactions"] > 0 and counts["couplings"] > 0 and counts["bearings"] > 0
+    # signed: rig file, its SHA-256, version, date
+    sign = signature(html_text)
+    text = path.read_bytes().decode("utf-8") if path is not None else reference_rig_text()
+    assert hashlib.sha256(text.encode("utf-8")).hexdigest() in sign
+    assert (str(path) if path is not None else "reference") in sign and "rvcoax:" in sign and "UTC" in sign
+    assert "size: A4" in html_text
+    if kind in HOUSINGS:
+        # the housing's reaction is in the table, and the reactions carry the rig's weight and applied loads
+        assert "housing" in summary["reaction_kinds"]
+        case = document["cases"][-1]["engineering"]
+        housing = next(r for r in case["reactions"] if r["kind"] == "housing")
+        assert housing["name"] == "input_block" and housing["force_N"][1] > 1.0
+
+
+@pytest.mark.parametrize("shape", list(HOUSINGS))
+def test_housing_reactions_sum_to_the_weight_through_the_cli(shape, tmp_path):
+    """rvcoax sweep on the reference rig with each housing shape in place of the input block's mount: the console
+    and sweep.csv list the housing's reaction, and in every case the support forces (mounts and the housing)
+    sum to the weight of the rig as modelled (its parts and coupling hubs, Σ m g) plus the applied forces,
+    which the reference rig's force table keeps self-equilibrated (zero resultant)."""
+    from rvcoax.geometry.model.beam import build_rig_model
+    from rvcoax.geometry.rigfile import load_rig
+
+    rig = tmp_path / "rig.toml"
+    rig.write_text(with_housing(shape), encoding="utf-8")
+    out = tmp_path / "out"
+    result = invoke("sweep", "--rig", str(rig), *CASES, "--out", str(out))
+    assert "input_block" in result.stdout and "housing" in result.stdout
+    header = (out / "sweep.csv").read_text(encoding="utf-8").splitlines()[0].split(",")
+    assert "reaction_input_block_Fy_N" in header and "reaction_input_block_Mx_Nm" in header
+    document = json.loads((out / "sweep.json").read_text(encoding="utf-8"))
+    model = load_rig(rig)
+    weight = sum(build_rig_model(model).part_mass_kg.values()) * model.gravity.acceleration_m_per_s2
+    for case in document["cases"]:
+        engineering = case["engineering"]
+        vertical = sum(r["force_N"][1] for r in engineering["reactions"])
+        assert vertical == pytest.approx(weight, rel=1e-9)
+        assert engineering["applied_force_N"][1] == pytest.approx(-weight, rel=1e-9)
+        housing = next(r for r in engineering["reactions"] if r["kind"] == "housing")
+        assert 5.0 < housing["force_N"][1] < 0.5 * weight  # it carries its share of the input side
