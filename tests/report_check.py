@@ -76,20 +76,15 @@ def case_text(number: int, case: dict) -> str:
     return f"{number}: T1\u00a0=\u00a0{case['T1_input_Nm']:g}, T2\u00a0=\u00a0{case['T2_output_Nm']:g}"
 
 
-def argmax(values: list[float]) -> int:
-    best = 0
-    for i, v in enumerate(values):
-        if v > values[best]:
-            best = i
-    return best
-
-
 def expected_worst_rows(cases: list[dict], group: str, name: str, keys: tuple[str, ...]) -> dict[int, set[str]]:
-    """Case index → the keys whose largest value over the sweep lies in that case."""
+    """Case index → the keys whose largest value over the sweep lies in that case (a tie goes to a case already
+    holding an earlier key, else to the earliest case)."""
     found: dict[int, set[str]] = {}
     for key in keys:
         values = [next(q for q in c["engineering"][group] if q["name"] == name)[key] for c in cases]
-        found.setdefault(argmax(values), set()).add(key)
+        top = max(values)
+        tied = [i for i, v in enumerate(values) if v == top]
+        found.setdefault(next((i for i in tied if i in found), tied[0]), set()).add(key)
     return found
 
 

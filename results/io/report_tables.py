@@ -131,12 +131,15 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
     tables = [Table("Parts along the rig axis", ("part", "role", "material", "x [mm]", "largest Ø [mm]",
                                                  "mass in the file [kg]", "mass as modelled [kg]", "provenance"),
                     tuple(parts), note=f"Mass of the whole rig as modelled (parts and coupling hubs): {total:.3g} kg.")]
-    bearings = tuple((b.name, b.shaft, b.housing, f"{b.x_mm:g}", _g(b.radial_stiffness_N_per_um, 3),
-                      _g(b.tilt_stiffness_Nm_per_rad, 3), _tags_text(tags.get(("bearings", b.name), {})))
+    bearings = tuple((b.name, b.shaft, b.housing, f"{b.x_mm:g}", *_bearing_input(b),
+                      _tags_text(tags.get(("bearings", b.name), {})))
                      for b in rig.bearings)
     if bearings:
-        tables.append(Table("Bearings", ("bearing", "shaft", "housing", "x [mm]", "radial stiffness [N/µm]",
-                                         "tilt stiffness [N·m/rad]", "provenance"), bearings))
+        tables.append(Table("Bearings", ("bearing", "shaft", "housing", "x [mm]", "model",
+                                         "radial stiffness [N/µm]", "tilt stiffness [N·m/rad]", "provenance"),
+                            bearings, note="A ball bearing's stiffness follows from its geometry and load (the "
+                                           "operating stiffness per case is in the bearing table below); a "
+                                           "clearance's is zero inside the play."))
     couplings = tuple((c.name, f"{c.from_.part} → {c.to.part}", f"{c.centre_x_mm:g}", _g(c.mass_kg, 3),
                        _g(c.radial_stiffness_N_per_mm, 3), _g(c.angular_stiffness_Nm_per_rad, 3),
                        _tags_text(tags.get(("couplings", c.name), {}))) for c in rig.couplings)
@@ -148,6 +151,18 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
                        _tags_text(tags.get(("materials", name), {}))) for name, m in rig.materials.items())
     tables.append(Table("Materials", ("material", "E [MPa]", "ν", "ρ [kg/m³]", "provenance"), materials))
     return tables
+
+
+def _bearing_input(b) -> tuple[str, str, str]:
+    """(model, radial, tilt stiffness) cells of a bearing as the rig file describes it."""
+    if b.model == "ball":
+        clearance = (f"{b.clearance_um:g} µm clearance" if b.clearance_um is not None
+                     else f"clearance class {b.clearance_class}" if b.clearance_class else "")
+        what = ", ".join(v for v in (b.designation, clearance,
+                                     f"preload {b.preload_N:g} N" if b.preload_N else "") if v)
+        return f"ball from geometry ({what})", "from geometry and load", "from geometry and load"
+    model = f"linear, radial play {b.radial_clearance_um:g} µm" if b.radial_clearance_um > 0 else "linear"
+    return model, _g(b.radial_stiffness_N_per_um, 3), _g(b.tilt_stiffness_Nm_per_rad, 3)
 
 
 def load_case_table(sweep, entries: list[dict] | None = None) -> Table:
@@ -214,13 +229,16 @@ def worst_cases(entries: list[dict], group: str, name: str, criteria) -> list[tu
     """The worst cases of item ``name`` of ``group`` (``couplings``, ``bearings``): for each criterion
     ``(label, key)`` the case with the largest ``key``; criteria met by the same case share a row.
 
-    Returns ``[(labels joined by "and", case index), …]`` in case order (earliest case on ties)."""
+    Returns ``[(labels joined by "and", case index), …]`` in case order. On a tie (a bearing that carries
+    nothing in every case) a case already chosen for an earlier criterion is taken, else the earliest."""
     picks: dict[int, list[str]] = {}
     for label, key in criteria:
         values = np.array([_item(e, group, name)[key] for e in entries], dtype=float)
         if not np.isfinite(values).any():
             continue
-        picks.setdefault(int(np.nanargmax(values)), []).append(label)
+        tied = np.flatnonzero(values == np.nanmax(values))
+        chosen = next((int(i) for i in tied if int(i) in picks), int(tied[0]))
+        picks.setdefault(chosen, []).append(label)
     return [(" and ".join(labels), i) for i, labels in sorted(picks.items())]
 
 
