@@ -23,15 +23,16 @@ __all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_con
            "housing_weight", "seat_stiffness"]
 
 
-def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
-    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``."""
+def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool = True) -> CondensedHousing | None:
+    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``; with
+    ``compute=False`` only from the cache (None before the first solve has condensed it)."""
     face = "bore" if housing.bore_diameter_mm > 0 else "top"
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
     material = rig.materials[housing.material]
     bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir)
+                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir, compute=compute)
 
 
 def _dofs(nodes) -> np.ndarray:

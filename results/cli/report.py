@@ -27,6 +27,7 @@ def report(
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
+    decides: Annotated[bool, typer.Option("--decides/--no-decides", help="Include the 'what decides Y' table: each input the rig file tags [A] halved and doubled, the rig solved again (beam model, largest-torque case).")] = True,
     paper: Annotated[str, typer.Option("--paper", help="Page size the report prints on (HTML print and --pdf): a4 or letter.")] = "a4",
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
@@ -51,10 +52,11 @@ def report(
     source, text = support.rig_text(rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
-    with support.console.status("drawing the pictures and writing the report"):
+    with support.console.status("drawing the pictures, varying the assumed inputs ([A]) and writing the report"
+                                if decides else "drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
-                                paper=paper.lower())]
+                                paper=paper.lower(), decides=decides)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf"))

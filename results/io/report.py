@@ -8,10 +8,12 @@ to PDF (``chromium --headless --print-to-pdf``). Sections, each an ``<section id
 ``load-cases``     the torque pairs solved
 ``bending-lines``  the bending line of the whole rig, and the deformed rig of the largest case
 ``shafts``         Y and tilt of the measured shafts against torque (pictures and table)
+``decides``        what decides Y: each assumed ([A]) input halved and doubled, ranked by the change of Y
 ``misalignment``   couplings and bearings against their allowable values, with verdicts
 ``reactions``      the support reactions and the equilibrium residual
 ``check``          the model against a measured table (when one is given)
 ``discrepancy``    the result of ``rvcoax discrepancy`` (when its ``discrepancy.json`` is given)
+``inputs``         every input of the rig file, key by key, with its provenance tag (or "default")
 ``provenance``     rvcoax version, rig file and its SHA-256, model, solver, mesh, date
 """
 
@@ -38,9 +40,11 @@ __all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "rea
 
 REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
-    "shafts": "Y and tilt against torque", "misalignment": "Couplings and bearings: misalignment",
+    "shafts": "Y and tilt against torque", "decides": "What decides Y",
+    "misalignment": "Couplings and bearings: misalignment",
     "reactions": "Support reactions and equilibrium", "check": "Check against measured data",
-    "discrepancy": "Discrepancy between model and measurement", "provenance": "Provenance",
+    "discrepancy": "Discrepancy between model and measurement", "inputs": "Complete input listing",
+    "provenance": "Provenance",
 }
 
 _STYLE = """
@@ -333,12 +337,26 @@ def _signature_html(sweep, inputs: ReportInputs, created: str) -> str:
             + "</p>")
 
 
+def _decides_html(sweep, inputs: ReportInputs) -> str:
+    from rvcoax.results.studies.decides import what_decides_y
+
+    assumed = tables.assumed_inputs(sweep.rig, inputs.rig_text)
+    if not assumed:
+        return _missing("The rig file tags no numeric input [A] (an assumption): nothing to vary. Tag the values "
+                        "you assumed with a comment # [A] to see which of them decide Y.")
+    entries = [c.case for c in sweep.cases]
+    case = entries[max(range(len(entries)), key=lambda i: (abs(entries[i].output_torque_Nm),
+                                                           abs(entries[i].input_torque_Nm)))]
+    return _table_html(tables.decides_table(what_decides_y(sweep.rig, assumed, case, sweep.settings)))
+
+
 def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,
-                paper: str = "a4") -> str:
+                paper: str = "a4", decides: bool = True) -> str:
     """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
 
     ``paper``: the page size it prints on (``a4``, the default, or ``letter``), set in its ``@page`` rule,
-    which headless Chromium's PDF follows.
+    which headless Chromium's PDF follows. ``decides``: compute the "what decides Y" table (two more
+    solves per assumed input).
     """
     if paper not in PAPER_SIZES:
         raise ReportError(f"paper size must be one of {', '.join(PAPER_SIZES)}, got {paper!r}")
@@ -365,6 +383,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
                          + _table_html(tables.shaft_table(sweep, entries))))
+    body.append(_section("decides", _decides_html(sweep, inputs) if decides else _missing(
+        "Not computed (rvcoax report --no-decides).")))
     misalignment = tables.misalignment_tables(sweep, entries)
     body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
                          + ("".join(_table_html(t) for t in misalignment)
@@ -384,6 +404,11 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     else:
         body.append(_section("discrepancy", _missing("No discrepancy result given (rvcoax report --discrepancy "
                                                      "OUT/discrepancy.json, written by rvcoax discrepancy --out).")))
+    body.append(_section("inputs", "".join(_table_html(t) for t in tables.input_listing(rig, inputs.rig_text))
+                         + '<p class="note">Provenance: the tag of the key\'s comment in the rig file ([S] datasheet, '
+                           '[P] paper 000, [R] catalogue value from memory, [A] assumption, [D] derived); a tag on '
+                           'a line of its own counts for its whole entry; "default": the key is not in the file and '
+                           'takes its default; "untagged": in the file without a stated source.</p>'))
     body.append(_section("provenance", _provenance_html(sweep, inputs, created)))
     nav = "".join(f'<a href="#{k}">{html.escape(v)}</a>' for k, v in REPORT_SECTIONS.items())
     lengths = ", ".join(f"{s} {getattr(rig.paths, s).length_mm:g} mm" for s in MEASURED_SHAFTS)
@@ -400,7 +425,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
-                 deformed_view: bool = True, paper: str = "a4") -> Path:
+                 deformed_view: bool = True, paper: str = "a4", decides: bool = True) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -419,6 +444,9 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         unavailable the report says why instead).
     paper : str
         ``a4`` (default) or ``letter``: the page size the report prints on.
+    decides : bool
+        Compute the "what decides Y" table: each [A] input of the rig file halved and doubled (two beam
+        solves each, seconds for a rig of tens of assumed inputs).
 
     Returns
     -------
@@ -433,4 +461,5 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
     inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given")
-    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper))
+    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper,
+                                                   decides=decides))

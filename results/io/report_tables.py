@@ -21,7 +21,8 @@ import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 
-__all__ = ["BEARING_COLUMNS", "COUPLING_COLUMNS", "Column", "PROVENANCE_TAGS", "Table", "case_entries", "case_label",
+__all__ = ["BEARING_COLUMNS", "COUPLING_COLUMNS", "Column", "LISTED_SECTIONS", "PROVENANCE_TAGS", "Table",
+           "assumed_inputs", "case_entries", "case_label", "decides_table", "input_listing",
            "check_table", "largest_case", "load_case_table", "misalignment_tables", "provenance_tags", "reaction_table",
            "rig_tables", "shaft_table", "verdict_of", "worst_cases"]
 
@@ -76,6 +77,8 @@ def provenance_tags(rig_text: str) -> dict[tuple[str, str], dict[str, str]]:
         code, _, comment = line.partition("#")
         header = re.match(r"^\[\[?\s*([A-Za-z0-9_.\-]+)\s*\]\]?", code.strip())
         if header:
+            for key, tags in pending:  # a plain table ([gravity], [thermal], …): its tags count for the table
+                _add(found, table, "", key, tags)
             table = header.group(1)
             name = table.split(".", 1)[1] if table.startswith("materials.") else ""
             table = "materials" if table.startswith("materials.") else table
@@ -96,6 +99,8 @@ def provenance_tags(rig_text: str) -> dict[tuple[str, str], dict[str, str]]:
             _add(found, table, name, key, tags)
         else:
             pending.append((key, tags))
+    for key, tags in pending:
+        _add(found, table, name, key, tags)
     return found
 
 
@@ -151,6 +156,122 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
                        _tags_text(tags.get(("materials", name), {}))) for name, m in rig.materials.items())
     tables.append(Table("Materials", ("material", "E [MPa]", "ν", "ρ [kg/m³]", "provenance"), materials))
     return tables
+
+
+LISTED_SECTIONS = ("gravity", "mesh", "beam", "paths", "torques", "parts", "bearings", "mounts", "couplings", "joints",
+                   "torque_lateral_loads", "gear_meshes", "housings", "thermal", "force_table", "solid")
+"""The rig file's sections the complete input listing shows (materials have their own table, load cases too)."""
+
+
+def _value_text(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, tuple | list):
+        return "[" + ", ".join(_value_text(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_value_text(v)}" for k, v in value.items()) + "}"
+    return str(value)
+
+
+def _flatten(model, prefix: str = ""):
+    """(key path, value, typed in?) of every field of a rig-file object, nested objects and lists of them
+    opened (``on.part``, ``segments[1].x_mm``)."""
+    from pydantic import BaseModel
+
+    fields_set = model.model_fields_set
+    for name, info in type(model).model_fields.items():
+        key = info.alias or name
+        value = getattr(model, name)
+        if value is None:
+            continue
+        path = f"{prefix}{key}"
+        if isinstance(value, BaseModel):
+            yield from _flatten(value, f"{path}.")
+        elif isinstance(value, tuple | list) and value and all(isinstance(v, BaseModel) for v in value):
+            for i, item in enumerate(value):
+                yield from _flatten(item, f"{path}[{i}].")
+        else:
+            yield path, value, name in fields_set
+
+
+def input_listing(rig, rig_text: str) -> list[Table]:
+    """Every input of the rig file that sets the answer, key by key, with its provenance tags: one table per
+    section (mounts, joints with the reducer's main bearings, the torque-to-lateral-load table with its
+    imbalance, gear stages, housings, thermal inputs, …). A key the file leaves out shows its default."""
+    tags = provenance_tags(rig_text)
+    tables = []
+    for section in LISTED_SECTIONS:
+        value = getattr(rig, section, None)
+        if value is None or (isinstance(value, tuple | list) and not value):
+            continue
+        entries = value if isinstance(value, tuple | list) else (value,)
+        rows = []
+        for k, entry in enumerate(entries):
+            name = getattr(entry, "name", None) or (f"[{k}]" if isinstance(value, tuple | list) else "")
+            entry_tags = tags.get((section, getattr(entry, "name", None) or ""), {})
+            for path, item, typed in _flatten(entry):
+                if path == "name":
+                    continue
+                top = path.split(".", 1)[0].split("[", 1)[0]
+                source = (entry_tags.get(top) or entry_tags.get("") or "untagged") if typed else "default"
+                rows.append((name, path, _value_text(item), source))
+        tables.append(Table(f"[{section}]" if not isinstance(value, tuple | list) else f"[[{section}]]",
+                            ("entry", "key", "value", "provenance"), tuple(rows)))
+    return tables
+
+
+def assumed_inputs(rig, rig_text: str) -> list[tuple[str, str, str, float]]:
+    """The numeric inputs tagged [A] (an assumption) in the rig file: (section, entry, key, value), for the
+    "what decides Y" study. Lists (a mount's three stiffnesses) count as one input, scaled together."""
+    tags = provenance_tags(rig_text)
+    found = []
+    for section in LISTED_SECTIONS:
+        value = getattr(rig, section, None)
+        if not isinstance(value, tuple | list):
+            continue
+        for entry in value:
+            name = getattr(entry, "name", None)
+            if name is None:
+                continue
+            entry_tags = tags.get((section, name), {})
+            for key, tag in entry_tags.items():
+                field = next((f for f, info in type(entry).model_fields.items() if (info.alias or f) == key), None)
+                if "[A]" not in tag or field is None:
+                    continue
+                item = getattr(entry, field)
+                numbers = item if isinstance(item, tuple | list) else (item,)
+                if all(isinstance(v, int | float) and not isinstance(v, bool) for v in numbers) and any(numbers):
+                    found.append((section, name, key, item))
+    return found
+
+
+def decides_table(decides, shown: int = 15) -> Table:
+    """The "what decides Y" table of :func:`rvcoax.results.studies.decides.what_decides_y`: the assumed inputs
+    ranked by the largest change of Y when halved or doubled."""
+    rows = []
+    for rank, influence in enumerate(decides.ranked[:shown], start=1):
+        cells = [str(rank), f"{influence.section}.{influence.entry}.{influence.key}", _value_text(influence.value)]
+        for shaft in MEASURED_SHAFTS:
+            cells += [_g(v, 3) for v in influence.y_change_um[shaft]]
+            cells += [_g(v, 3) for v in influence.tilt_change_urad[shaft]]
+        rows.append(tuple(cells))
+    case = decides.case
+    headings = ["rank", "assumed input [A]", "value"]
+    for shaft in MEASURED_SHAFTS:
+        headings += [f"ΔY {shaft} ×½ [µm]", f"ΔY {shaft} ×2 [µm]", f"Δtilt {shaft} ×½ [µrad]", f"Δtilt {shaft} ×2 [µrad]"]
+    base = "; ".join(f"{s}: Y = {_g(decides.y_um[s], 4)} µm, tilt = {_g(decides.tilt_urad[s], 4)} µrad"
+                     for s in MEASURED_SHAFTS)
+    skipped = "; ".join(f"{a}: {why}" for a, why in decides.not_varied)
+    more = len(decides.ranked) - len(rows)
+    return Table(f"What decides Y: each assumed input halved and doubled, case T1 = {case.input_torque_Nm:g}, "
+                 f"T2 = {case.output_torque_Nm:g} N·m", tuple(headings), tuple(rows),
+                 note=f"The rig as given: {base}. Every numeric key tagged [A] in the rig file is scaled by ½ and by 2 on "
+                      "its own (a list of stiffnesses as a whole) and the rig solved again (beam model); ranked by the "
+                      f"largest |ΔY| of either shaft. {len(decides.ranked)} inputs varied"
+                      + (f", the {more} with the smallest effect not shown" if more > 0 else "") + "."
+                      + (f" Not varied: {skipped}." if skipped else ""))
 
 
 def _bearing_input(b) -> tuple[str, str, str]:

@@ -83,7 +83,8 @@ def run(kind: str, folder: Path, *extra: str) -> tuple[str, dict, Path | None]:
     cases = [] if kind == "example" else list(CASES)
     out = folder / "out"
     invoke("sweep", *rig, *cases, "--out", str(out))
-    invoke("report", *rig, *cases, "--out", str(out), "--no-deformed", *extra)
+    decides = [] if kind in ("reference", "example") else ["--no-decides"]  # (its own test below; seconds each)
+    invoke("report", *rig, *cases, "--out", str(out), "--no-deformed", *decides, *extra)
     return ((out / "report.html").read_text(encoding="utf-8"),
             json.loads((out / "sweep.json").read_text(encoding="utf-8")), path)
 
@@ -100,6 +101,17 @@ def test_every_report_table_is_the_sweep_json_value_by_value(kind, tmp_path):
     assert hashlib.sha256(text.encode("utf-8")).hexdigest() in sign
     assert (str(path) if path is not None else "reference") in sign and "rvcoax:" in sign and "UTC" in sign
     assert "size: A4" in html_text
+    tables = summary["tables"]
+    _, rows = tables.find("[[mounts]]")
+    assert rows and all(r["provenance"] for r in rows)
+    if kind in ("reference", "example"):
+        _, rows = tables.find("[[torque_lateral_loads]]")
+        imbalance = [r for r in rows if r["key"] == "imbalance"]
+        assert imbalance and all("[A]" in r["provenance"] for r in imbalance)
+        _, rows = tables.find("[[joints]]")
+        assert any(r["key"] == "rotational_stiffness_Nm_per_rad" for r in rows)  # the reducer's main bearings
+        _, rows = tables.find("What decides Y")
+        assert len(rows) >= 5 and rows[0]["rank"] == "1"
     if kind in HOUSINGS:
         # the housing's reaction is in the table, and the reactions carry the rig's weight and applied loads
         assert "housing" in summary["reaction_kinds"]
@@ -134,3 +146,26 @@ def test_housing_reactions_sum_to_the_weight_through_the_cli(shape, tmp_path):
         assert engineering["applied_force_N"][1] == pytest.approx(-weight, rel=1e-9)
         housing = next(r for r in engineering["reactions"] if r["kind"] == "housing")
         assert 5.0 < housing["force_N"][1] < 0.5 * weight  # it carries its share of the input side
+
+
+def test_what_decides_y_ranks_the_reducers_lateral_load_first():
+    """The tutorial's finding, recomputed for the reference rig: the crankshafts' load-sharing imbalance decides the
+    output shaft's Y (doubling it roughly doubles Y), the sun gear's the input shaft's; the reducer's main-bearing
+    (flange) stiffness comes next for the output shaft; couplings hardly matter."""
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.loadcases.cases import LoadCase
+    from rvcoax.results.io.report_tables import assumed_inputs
+    from rvcoax.results.studies.decides import what_decides_y
+
+    rig = load_rig()
+    decides = what_decides_y(rig, assumed_inputs(rig, reference_rig_text()), LoadCase(1.43, 200.0))
+    order = [r.address for r in decides.ranked]
+    first = decides.ranked[0]
+    assert first.address == "torque_lateral_loads.crankshaft_load_sharing.imbalance"
+    assert 0.8 < first.y_change_um["output"][1] / decides.y_um["output"] < 1.2  # ×2: Y nearly doubles
+    assert first.y_change_um["output"][0] == pytest.approx(-0.5 * first.y_change_um["output"][1], rel=0.05)
+    sun = next(r for r in decides.ranked if r.address == "torque_lateral_loads.sun_gear_load_sharing.imbalance")
+    assert 0.8 < sun.y_change_um["input"][1] / decides.y_um["input"] < 1.2
+    assert order.index("joints.reducer_output_flange.translational_stiffness_N_per_um") < 6
+    coupling = max(r.largest_y_change_um for r in decides.ranked if r.section == "couplings")
+    assert coupling < 0.01 * first.largest_y_change_um
