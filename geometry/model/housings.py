@@ -24,8 +24,24 @@ __all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_con
 
 
 def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool = True) -> CondensedHousing | None:
-    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``; with
-    ``compute=False`` only from the cache (None before the first solve has condensed it)."""
+    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its materials).
+    housing : Housing
+        One of its ``[[housings]]`` entries.
+    cache_dir : Path, optional
+        Where condensations are cached (default: the mesh cache's folder).
+    compute : bool
+        False: only what the cache holds (None before the first solve has condensed it).
+
+    Returns
+    -------
+    CondensedHousing or None
+        The matrix, the solid's DOF count, the weight load, volume and centroid.
+    """
     face = "bore" if housing.bore_diameter_mm > 0 else "top"
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
@@ -128,8 +144,20 @@ class SeatStiffness:
 
 
 def seat_stiffness(housing: Housing, matrix: np.ndarray) -> tuple[SeatStiffness, ...]:
-    """The :class:`SeatStiffness` of every seat of ``housing`` in both lateral directions, from its condensed
-    matrix ``matrix`` (6k × 6k, SI, before ``stiffness_factor``, which is applied here)."""
+    """The :class:`SeatStiffness` of every seat of ``housing`` in both lateral directions.
+
+    Parameters
+    ----------
+    housing : Housing
+        The ``[[housings]]`` entry (its seats and ``stiffness_factor``, applied here).
+    matrix : (6k, 6k) array
+        Its condensed stiffness (:func:`condensed_housing`), SI, before ``stiffness_factor``.
+
+    Returns
+    -------
+    tuple of SeatStiffness
+        Per direction (vertical, lateral) and seat: held, alone and together (N/µm).
+    """
     stiffness = housing.stiffness_factor * np.asarray(matrix, dtype=float)
     flexibility = np.linalg.inv(stiffness)
     seats = len(housing.attachments_x_mm)

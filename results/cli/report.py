@@ -27,6 +27,8 @@ def report(
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     solver: support.SolverOption = "auto",
     mesh_size_mm: support.MeshOption = None,
+    uncertainty_um: Annotated[float | None, typer.Option("--uncertainty-um", min=0.0, max=1e4, help="Measurement uncertainty of --measured, absolute, µm (overrides the file's '# uncertainty_um').")] = None,
+    uncertainty_percent: Annotated[float | None, typer.Option("--uncertainty-percent", min=0.0, max=100.0, help="Measurement uncertainty of --measured, % of each value (overrides the file's '# uncertainty_percent').")] = None,
     decides: Annotated[bool, typer.Option("--decides/--no-decides", help="Include the 'what decides Y' table: each input the rig file tags [A] halved and doubled, the rig solved again (beam model, largest-torque case).")] = True,
     paper: Annotated[str, typer.Option("--paper", help="Page size the report prints on (HTML print and --pdf): a4 or letter.")] = "a4",
 ) -> None:
@@ -39,8 +41,7 @@ def report(
     rig file SHA-256, model, solver, mesh, date).
     """
     from rvcoax import load_rig, read_measured, write_report
-    from rvcoax.results.io import print_pdf, read_discrepancy
-    from rvcoax.results.io.report import PAPER_SIZES
+    from rvcoax.results.io import PAPER_SIZES, print_pdf, read_discrepancy
 
     if paper.lower() not in PAPER_SIZES:
         raise support.UserError(f"--paper: '{paper}' is not a page size; use a4 or letter")
@@ -48,6 +49,14 @@ def report(
     rig = load_rig(rig_file)
     load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
+    if data is None and (uncertainty_um is not None or uncertainty_percent is not None):
+        raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data: give "
+                                "--measured FILE")
+    tolerance = None
+    if data is not None:
+        from rvcoax.results.studies import measurement_tolerance
+
+        tolerance = measurement_tolerance(data, uncertainty_um, uncertainty_percent)
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
     source, text = support.rig_text(rig_file)
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
@@ -56,7 +65,7 @@ def report(
                                 if decides else "drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
-                                paper=paper.lower(), decides=decides)]
+                                paper=paper.lower(), decides=decides, measured_tolerance=tolerance)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf"))

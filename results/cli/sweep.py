@@ -10,8 +10,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results import bearing_warnings
 from rvcoax.results.cli import support
-from rvcoax.results.engineering import bearing_warnings
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
 

@@ -262,8 +262,19 @@ class StaticComparison:
 
 
 def operating_radial_stiffness(export: DynamicsExport) -> dict[str, float]:
-    """The radial operating stiffness (N/m, mean of y and z) of every bearing with a clearance or from ball
-    geometry in the sweep's case of the largest torque (|T2|, then |T1|): the tangent of its force law there."""
+    """The radial operating stiffness of the nonlinear bearings, for the ROSS rotors.
+
+    Parameters
+    ----------
+    export : DynamicsExport
+        :func:`rvcoax.results.export.dynamics_export` of a sweep.
+
+    Returns
+    -------
+    dict of str to float
+        Per bearing with a clearance or from ball geometry: the tangent of its force law (N/m, mean of y
+        and z) in the sweep's case of the largest torque (|T2|, then |T1|); empty for a linear sweep.
+    """
     sweep = export.sweep
     if sweep.nonlinear_bearings is None:
         return {}

@@ -17,6 +17,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.io.pictures": ("RenderingUnavailableError", "plot_y_vs_torque", "render_deformed"),
     "rvcoax.results.io.sweep_pictures": ("draw_sweep_pictures",),
     "rvcoax.results.io.bending_line": ("plot_bending_line",),
-    "rvcoax.results.io.report": ("read_discrepancy", "write_report"),
+    "rvcoax.results.io.report": ("PAPER_SIZES", "read_discrepancy", "write_report"),
     "rvcoax.results.io.report_pdf": ("print_pdf",),
 })

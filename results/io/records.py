@@ -231,14 +231,16 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
     })
 
 
-def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows) -> list[dict]:
-    """The columns of ``check.csv``: published, blind and calibrated values and errors per row."""
+def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows,
+               reference: str = "published") -> list[dict]:
+    """The columns of ``check.csv``: the table's values (``published_*`` for paper 000's table, ``measured_*``
+    for the user's data: ``reference``), blind and calibrated values and errors per row."""
     out = []
     for i, row in enumerate(rows):
         entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
                  "used_for_fit": i in fit_rows}
         for q in CHECK_QUANTITIES:
-            entry[f"published_{q}"] = float(comparison_blind.published[q][i])
+            entry[f"{reference}_{q}"] = float(comparison_blind.published[q][i])
             for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
                 entry[f"{label}_{q}"] = float(comp.model[q][i])
                 entry[f"{label}_abs_error_{q}"] = float(comp.absolute_error[q][i])

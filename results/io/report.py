@@ -87,6 +87,9 @@ class ReportInputs:
         The rig file's name and text (for the provenance tags and the hash).
     measured : MeasuredData, optional
         Measured Y (table or paths schema) to check the model against.
+    measured_tolerance : Tolerance, optional
+        Their measurement uncertainty (:func:`rvcoax.results.studies.check.measurement_tolerance`; by
+        default the file's own, else a stated assumption).
     discrepancy : dict, optional
         The document of ``rvcoax discrepancy`` (``discrepancy.json``), with ``discrepancy_source``.
     """
@@ -96,10 +99,14 @@ class ReportInputs:
     measured: object | None = None
     discrepancy: dict | None = None
     discrepancy_source: str = ""
+    measured_tolerance: object | None = None
 
 
 def _png_uri(path: Path) -> str:
     return "data:image/png;base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+_VERDICT_CLASSES = {"within uncertainty": "fine", "EXCEEDS uncertainty": "exceeds"}
 
 
 def _table_html(table: tables.Table) -> str:
@@ -110,8 +117,8 @@ def _table_html(table: tables.Table) -> str:
         for k, cell in enumerate(row):
             classes = []
             if k == table.verdict_column:
-                classes.append({"fine": "fine", "within": "within", "EXCEEDS": "exceeds"}.get(cell.split(" ")[0],
-                                                                                             "none"))
+                classes.append(_VERDICT_CLASSES.get(cell) or {"fine": "fine", "within": "within",
+                                                              "EXCEEDS": "exceeds"}.get(cell.split(" ")[0], "none"))
             elif _numeric(cell):
                 classes.append("num")
             attr = f' class="{" ".join(classes)}"' if classes else ""
@@ -325,6 +332,7 @@ def _provenance_html(sweep, inputs: ReportInputs, created: str) -> str:
 
 
 PAPER_SIZES = {"a4": "A4", "letter": "letter"}
+"""The page sizes a report prints on (``--paper``), as its CSS ``@page`` rule names them; A4 by default."""
 
 
 def _signature_html(sweep, inputs: ReportInputs, created: str) -> str:
@@ -394,7 +402,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         from rvcoax.results.sweep import run_sweep
 
         checked = run_sweep(rig, inputs.measured.cases, sweep.settings)
-        body.append(_section("check", _table_html(tables.check_table(inputs.measured, checked))))
+        body.append(_section("check", _table_html(tables.check_table(inputs.measured, checked,
+                                                                     inputs.measured_tolerance))))
     else:
         body.append(_section("check", _missing("No measured data given (rvcoax report --measured FILE, a table "
                                                "T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm or a paths "
@@ -425,7 +434,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
-                 deformed_view: bool = True, paper: str = "a4", decides: bool = True) -> Path:
+                 deformed_view: bool = True, paper: str = "a4", decides: bool = True,
+                 measured_tolerance=None) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -444,6 +454,9 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         unavailable the report says why instead).
     paper : str
         ``a4`` (default) or ``letter``: the page size the report prints on.
+    measured_tolerance : Tolerance, optional
+        The measurement uncertainty ``measured`` is judged with (by default its file's, else stated as
+        assumed).
     decides : bool
         Compute the "what decides Y" table: each [A] input of the rig file halved and doubled (two beam
         solves each, seconds for a rig of tens of assumed inputs).
@@ -460,6 +473,7 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     if isinstance(discrepancy, str | Path):
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
-    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given")
+    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given",
+                          measured_tolerance)
     return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper,
                                                    decides=decides))

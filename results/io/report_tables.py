@@ -505,13 +505,17 @@ def reaction_table(sweep, entries: list[dict] | None = None) -> Table:
                       "as 0.")
 
 
-def check_table(measured, sweep) -> Table:
-    """Measured data (table or paths schema) against the model, row by row (µm)."""
+def check_table(measured, sweep, tolerance=None) -> Table:
+    """Measured data (table or paths schema) against the model, row by row (µm), each value judged with the
+    measurement uncertainty (``tolerance``: :func:`rvcoax.results.studies.check.measurement_tolerance`; the
+    file's own, else the stated assumption)."""
+    from rvcoax.results.studies.check import measurement_tolerance
     from rvcoax.results.studies.discrepancy.measured import check_stations
 
+    tolerance = measurement_tolerance(measured) if tolerance is None else tolerance
     lengths = {s: getattr(sweep.rig.paths, s).length_mm for s in MEASURED_SHAFTS}
     check_stations(measured, lengths)
-    rows, gaps = [], []
+    rows, gaps, outside = [], [], 0
     for k in range(measured.n):
         case_index = int(measured.case_index[k])
         case = sweep.cases[case_index]
@@ -524,11 +528,17 @@ def check_table(measured, sweep) -> Table:
             model = float(np.interp(measured.x_mm[k], path.station_mm, path.uy_mm))
             where = f"x = {measured.x_mm[k]:g} mm"
         value = float(measured.value_mm[k])
+        limit = tolerance.limit(f"Y_{shaft}_mm", value, lengths[shaft])
+        within = abs(model - value) <= limit
+        outside += not within
         gaps.append(model - value)
         rows.append((f"{case.case.input_torque_Nm:g}", f"{case.case.output_torque_Nm:g}", shaft, where,
                      _g(value * 1e3), _g(model * 1e3), _g((model - value) * 1e3),
-                     f"{100 * (model - value) / value:+.1f} %" if value else "–"))
+                     f"{100 * (model - value) / value:+.1f} %" if value else "–", _g(limit * 1e3, 3),
+                     "within uncertainty" if within else "EXCEEDS uncertainty"))
     rms = float(np.sqrt(np.mean(np.square(gaps)))) * 1e3 if gaps else float("nan")
-    return Table(f"Model against the measured data {measured.source} ({measured.schema} schema)",
+    return Table(f"Model against {measured.name} ({measured.schema} schema, file {measured.source})",
                  ("T1 [N·m]", "T2 [N·m]", "shaft", "where", "measured [µm]", "model [µm]", "model − measured [µm]",
-                  "relative"), tuple(rows), note=f"RMS of model − measured: {_g(rms, 3)} µm over {len(rows)} values.")
+                  "relative", "uncertainty [µm]", "verdict"), tuple(rows), verdict_column=9,
+                 note=f"RMS of model − measured: {_g(rms, 3)} µm over {len(rows)} values; {outside} outside the "
+                      f"uncertainty. Judged with: {tolerance.description}.")

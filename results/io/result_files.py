@@ -43,7 +43,8 @@ def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibra
 
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,
-                title: str | None = None) -> list[Path]:
+                title: str | None = None, table_label: str = "published (paper 000)",
+                tolerance: str | None = None, measured: bool = False) -> list[Path]:
     """Write the check's files in ``out``, atomically.
 
     Parameters
@@ -58,6 +59,13 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         With a name, also the PNG of Y against torque with the published points.
     title : str, optional
         The picture's title.
+    table_label : str
+        What the table compared with is called (the legend of its points; ``check_verdict.json``).
+    tolerance : str, optional
+        How values were judged (:attr:`rvcoax.results.studies.check.Tolerance.description`).
+    measured : bool
+        The table is the user's measured data: ``check.csv`` names its columns ``measured_*`` instead of
+        ``published_*``.
 
     Returns
     -------
@@ -67,9 +75,11 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
     result = run.calibrated_verdict
     written = [
         write_csv_atomic(out / "check.csv", records.check_rows(run.comparison_blind, run.comparison_calibrated,
-                                                               run.rows, run.calibration.fit_rows)),
+                                                               run.rows, run.calibration.fit_rows,
+                                                               "measured" if measured else "published")),
         write_json_atomic(out / "check_verdict.json", {
             "status": run.outcome.status, "verdict": run.outcome.text, "exit_code": run.outcome.exit_code,
+            **({"compared_with": table_label, "tolerance": tolerance} if measured else {}),
             "implausible_parameters": list(run.outcome.implausible),
             "held_out_values_outside_tolerance": result.failures,
             "held_out_worst_relative_error_percent": 100 * result.worst_relative_error}),
@@ -80,5 +90,5 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         from rvcoax.results.io.pictures import plot_y_vs_torque
 
         written.append(plot_y_vs_torque({"blind": run.blind, "calibrated": run.calibrated}, out / picture_name,
-                                        published=run.rows, title=title))
+                                        published=run.rows, title=title, micro=True, published_label=table_label))
     return written
