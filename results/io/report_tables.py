@@ -22,7 +22,7 @@ import numpy as np
 from rvcoax.geometry import MEASURED_SHAFTS
 
 __all__ = ["BEARING_COLUMNS", "COUPLING_COLUMNS", "Column", "LISTED_SECTIONS", "PROVENANCE_TAGS", "Table",
-           "assumed_inputs", "case_entries", "case_label", "decides_table", "input_listing",
+           "assumed_inputs", "case_entries", "case_label", "decides_table", "housing_table", "input_listing",
            "check_table", "largest_case", "load_case_table", "misalignment_tables", "provenance_tags", "reaction_table",
            "rig_tables", "shaft_table", "verdict_of", "worst_cases"]
 
@@ -152,6 +152,8 @@ def rig_tables(sweep, rig_text: str) -> list[Table]:
         tables.append(Table("Couplings", ("coupling", "from → to", "centre x [mm]", "mass [kg]",
                                           "radial stiffness [N/mm]", "angular stiffness [N·m/rad]", "provenance"),
                             couplings))
+    if rig.housings:
+        tables.append(housing_table(rig, tags))
     materials = tuple((name, _g(m.youngs_modulus_MPa, 4), _g(m.poisson_ratio, 3), _g(m.density_kg_per_m3, 4),
                        _tags_text(tags.get(("materials", name), {}))) for name, m in rig.materials.items())
     tables.append(Table("Materials", ("material", "E [MPa]", "ν", "ρ [kg/m³]", "provenance"), materials))
@@ -272,6 +274,29 @@ def decides_table(decides, shown: int = 15) -> Table:
                       f"largest |ΔY| of either shaft. {len(decides.ranked)} inputs varied"
                       + (f", the {more} with the smallest effect not shown" if more > 0 else "") + "."
                       + (f" Not varied: {skipped}." if skipped else ""))
+
+
+def housing_table(rig, tags: dict) -> Table:
+    """Each condensed housing with what a bearing sees at its seats, in the load patterns that occur (N/µm)."""
+    from rvcoax.geometry.model import condensed_housing, seat_stiffness
+
+    rows = []
+    for housing in rig.housings:
+        condensed = condensed_housing(rig, housing)  # cached by the solve
+        described = (f"{housing.shape}, {housing.material}, mesh {housing.mesh_size_mm:g} mm, feet {housing.feet}"
+                     + (f", × {housing.stiffness_factor:g}" if housing.stiffness_factor != 1 else ""))
+        for seat in seat_stiffness(housing, condensed.matrix):
+            rows.append((housing.name, described, f"{seat.seat_x_mm:g}", seat.direction, _g(seat.together_N_per_um, 4),
+                         _g(seat.alone_N_per_um, 4), _g(seat.held_N_per_um, 4),
+                         _tags_text(tags.get(("housings", housing.name), {}))))
+    return Table("Housings condensed from solid models: stiffness at the bearing seats",
+                 ("housing", "shape", "seat x [mm]", "direction", "both seats pushed together [N/µm]",
+                  "this seat alone [N/µm]", "held: diagonal of K_c [N/µm]", "provenance"), tuple(rows),
+                 note="What a bearing sees at a seat depends on how the seats are loaded: together, the force per seat "
+                      "when every seat is pushed the same way (a shaft's weight, a lateral gear force); alone, one seat "
+                      "loaded and the other free; held, the other seat and all rotations held (the diagonal entry of "
+                      "the condensed matrix, an upper bound no bearing sees). The bearing's own stiffness is in series "
+                      "with these. Every dimension is in the complete input listing.")
 
 
 def _bearing_input(b) -> tuple[str, str, str]:

@@ -113,6 +113,7 @@ def test_every_report_table_is_the_sweep_json_value_by_value(kind, tmp_path):
         _, rows = tables.find("What decides Y")
         assert len(rows) >= 5 and rows[0]["rank"] == "1"
     if kind in HOUSINGS:
+        _check_seat_table(tables, path)
         # the housing's reaction is in the table, and the reactions carry the rig's weight and applied loads
         assert "housing" in summary["reaction_kinds"]
         case = document["cases"][-1]["engineering"]
@@ -120,8 +121,36 @@ def test_every_report_table_is_the_sweep_json_value_by_value(kind, tmp_path):
         assert housing["name"] == "input_block" and housing["force_N"][1] > 1.0
 
 
+def _check_seat_table(tables, path: Path) -> None:
+    """The report's seat stiffness against K_c solved here with loads on the seats (not its inverse): held is
+    K_ii, alone 1/u_i for a unit load at seat i, together 1/u_i for unit loads at both seats."""
+    import numpy as np
+
+    from rvcoax.geometry.model import condensed_housing
+    from rvcoax.geometry.rigfile import load_rig
+
+    rig = load_rig(path)
+    housing = rig.housings[0]
+    matrix = housing.stiffness_factor * condensed_housing(rig, housing, compute=False).matrix
+    _, rows = tables.find("Housings condensed from solid models")
+    assert len(rows) == 4
+    for row in rows:
+        seat = housing.attachments_x_mm.index(float(row["seat x [mm]"]))
+        component = 1 if row["direction"].startswith("vertical") else 2
+        i = 6 * seat + component
+        one, both = np.zeros(12), np.zeros(12)
+        one[i] = 1.0
+        both[[component, 6 + component]] = 1.0
+        report_check_same = float(row["held: diagonal of K_c [N/µm]"])
+        assert report_check_same == pytest.approx(matrix[i, i] * 1e-6, rel=6e-4)
+        assert float(row["this seat alone [N/µm]"]) == pytest.approx(1e-6 / np.linalg.solve(matrix, one)[i], rel=6e-4)
+        assert float(row["both seats pushed together [N/µm]"]) == pytest.approx(
+            1e-6 / np.linalg.solve(matrix, both)[i], rel=6e-4)
+        assert float(row["held: diagonal of K_c [N/µm]"]) >= float(row["this seat alone [N/µm]"])
+
+
 @pytest.mark.parametrize("shape", list(HOUSINGS))
-def test_housing_reactions_sum_to_the_weight_through_the_cli(shape, tmp_path):
+def test_housing_reactions_sum_to_the_weight_through_the_cli(shape, tmp_path, monkeypatch):
     """rvcoax sweep on the reference rig with each housing shape in place of the input block's mount: the console
     and sweep.csv list the housing's reaction, and in every case the support forces (mounts and the housing)
     sum to the weight of the rig as modelled (its parts and coupling hubs, Σ m g) plus the applied forces,
@@ -132,8 +161,15 @@ def test_housing_reactions_sum_to_the_weight_through_the_cli(shape, tmp_path):
     rig = tmp_path / "rig.toml"
     rig.write_text(with_housing(shape), encoding="utf-8")
     out = tmp_path / "out"
+    monkeypatch.setenv("RVCOAX_CACHE_DIR", str(tmp_path / "cache"))  # a first solve: nothing condensed yet
+    before = " ".join(invoke("rig", "show", "--rig", str(rig)).stdout.split())
+    assert "housing(s) input_block: condensed at the first solve" in before
     result = invoke("sweep", "--rig", str(rig), *CASES, "--out", str(out))
     assert "input_block" in result.stdout and "housing" in result.stdout
+    flat = " ".join(result.stdout.split())
+    assert "condensed housing 'input_block':" in flat and "all pushed together (softest seat): vertical (y)" in flat
+    after = " ".join(invoke("rig", "show", "--rig", str(rig)).stdout.split())
+    assert "Condensed housings: stiffness at the bearing seats" in after and "both seats pushed together" in after
     header = (out / "sweep.csv").read_text(encoding="utf-8").splitlines()[0].split(",")
     assert "reaction_input_block_Fy_N" in header and "reaction_input_block_Mx_Nm" in header
     document = json.loads((out / "sweep.json").read_text(encoding="utf-8"))
@@ -169,3 +205,16 @@ def test_what_decides_y_ranks_the_reducers_lateral_load_first():
     assert order.index("joints.reducer_output_flange.translational_stiffness_N_per_um") < 6
     coupling = max(r.largest_y_change_um for r in decides.ranked if r.section == "couplings")
     assert coupling < 0.01 * first.largest_y_change_um
+
+
+def test_rig_show_prints_the_warnings_a_solve_prints(tmp_path):
+    """A bearing typed in N/mm instead of N/µm: the solve warns, and so does rig show (without solving)."""
+    document = tomlkit.parse(reference_rig_text())
+    for bearing in document["bearings"]:
+        if bearing["name"] == "input_B1":
+            bearing["radial_stiffness_N_per_um"] = 50000.0
+    rig = tmp_path / "slip.toml"
+    rig.write_text(tomlkit.dumps(document), encoding="utf-8")
+    shown = CliRunner().invoke(app, ["rig", "show", "--rig", str(rig)])
+    assert shown.exit_code == 0, shown.output
+    assert "warning:" in shown.output and "input_B1" in shown.output and "radial_stiffness_N_per_um" in shown.output
