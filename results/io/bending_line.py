@@ -18,7 +18,11 @@ import numpy as np
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
 
-__all__ = ["PartLine", "bending_lines", "plot_bending_line", "stack_rows"]
+__all__ = ["NOISE", "PartLine", "bending_lines", "out_of_plane_is_rounding", "plot_bending_line", "stack_rows"]
+
+NOISE = 1e-6
+"""Out-of-plane motion (u_z, rotation about y) at most this share of the in-plane one is the solve's rounding and
+is drawn as 0, with a note."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,6 +137,31 @@ def _strip(axis, sweep, lines: list[PartLine]) -> None:
     axis.tick_params(axis="x", labelbottom=False)
 
 
+def out_of_plane_is_rounding(lines: list[PartLine]) -> tuple[bool, bool, float]:
+    """Whether u_z and the rotation about y are the solve's rounding (at most :data:`NOISE` of u_y and of the
+    rotation about z, whose solves hold ~1e-10), and the largest |u_z| (µm): such a panel is drawn as 0.
+
+    Parameters
+    ----------
+    lines : list of PartLine
+        :func:`bending_lines` of a sweep.
+
+    Returns
+    -------
+    (bool, bool, float)
+        u_z is rounding, the rotation about y is rounding, the largest |u_z|.
+    """
+    drawn = [line for line in lines if line.x_mm.size]
+
+    def largest(values) -> float:
+        return max((float(abs(v).max()) for v in values), default=0.0)
+
+    largest_z = largest(line.u_z_um for line in drawn)
+    return (largest_z <= NOISE * largest(line.u_y_um for line in drawn),
+            largest(line.rotation_y_urad for line in drawn) <= NOISE * largest(line.rotation_z_urad for line in drawn),
+            largest_z)
+
+
 def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | None = None, title: str | None = None,
                       dpi: int = 150) -> Path:
     """Draw the bending line of the whole rig (u_y, u_z, section rotations against x) as a PNG.
@@ -165,6 +194,7 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
     pad = 0.02 * (high - low)
     strip.set_xlim(low - pad, high + pad)
     colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"]
+    flat_z, flat_ry, largest_z = out_of_plane_is_rounding(lines)
     for k, case_index in enumerate(chosen):
         colour = colours[k % len(colours)]
         for line in lines:
@@ -175,10 +205,10 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
             if line.solid:
                 style.update(ls="none", marker="o", ms=3)
             panels[0].plot(line.x_mm, line.u_y_um[case_index], **style)
-            panels[1].plot(line.x_mm, line.u_z_um[case_index], **style)
+            panels[1].plot(line.x_mm, 0.0 * line.x_mm if flat_z else line.u_z_um[case_index], **style)
             panels[2].plot(line.x_mm, line.rotation_z_urad[case_index], **style)
-            panels[2].plot(line.x_mm, line.rotation_y_urad[case_index], **{**style, "lw": 0.8, "alpha": 0.6,
-                                                                            "ls": ":"})
+            panels[2].plot(line.x_mm, 0.0 * line.x_mm if flat_ry else line.rotation_y_urad[case_index],
+                           **{**style, "lw": 0.8, "alpha": 0.6, "ls": ":"})
         for shaft in MEASURED_SHAFTS:  # a solid measured shaft: its path as the sweep reads it (axis u_y, rotation)
             path = getattr(sweep.rig.paths, shaft)
             if any(line.solid and line.part == path.part for line in lines):
@@ -200,10 +230,10 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
     for axis in panels[:-1]:
         axis.tick_params(axis="x", labelbottom=False)
     panels[-1].set_xlabel("x along the rig axis [mm]")
-    largest_y = max((float(abs(line.u_y_um).max()) for line in lines if line.x_mm.size), default=0.0)
-    largest_z = max((float(abs(line.u_z_um).max()) for line in lines if line.x_mm.size), default=0.0)
-    if largest_z <= 1e-6 * largest_y:
-        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane",
+    if flat_z:
+        panels[1].set_ylim(-1.0, 1.0)
+        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane"
+                       + (f" (the solve's rounding, |u_z| ≤ {largest_z:.0e} µm, is drawn as 0)" if largest_z else ""),
                        transform=panels[1].transAxes, ha="center", va="center", fontsize=9, color="#444444",
                        bbox={"facecolor": "white", "edgecolor": "#cccccc"})
     _strip(strip, sweep, lines)

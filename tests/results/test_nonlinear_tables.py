@@ -116,3 +116,22 @@ def test_the_ross_shaft_line_takes_the_operating_stiffness():
     line = shaft_line(rig, "input", operating)
     stiffness = {s.spring.name: s.radial_stiffness_N_per_m for s in line.supports}
     assert stiffness["input_B2"] == pytest.approx(operating["input_B2"]) and np.isfinite(stiffness["input_B1"])
+
+
+def test_rounding_is_not_drawn_or_printed_as_data():
+    """The ball-bearing sweep's u_z (~4e-12 µm against Y of µm) is rounding: the bending line draws it as 0; a
+    real lateral motion (a pedestal's lateral flexibility, 2e-4 of Y) is drawn. A reaction component below 1e-9
+    of the largest support force prints as 0."""
+    from rvcoax.loadcases.cases import LoadCase
+    from rvcoax.results.io.bending_line import bending_lines, out_of_plane_is_rounding
+    from rvcoax.results.sweep import run_sweep
+
+    sweep = run_sweep(parse_rig_text(reference_rig_text("ball_bearings")), (LoadCase(1.43, 200.0),))
+    flat_z, flat_ry, largest = out_of_plane_is_rounding(bending_lines(sweep))
+    assert flat_z and flat_ry and 0.0 < largest < 1e-9
+    for reaction in sweep.cases[0].engineering.reactions:
+        assert reaction.force_N[2] == 0.0  # no lateral load: its rounding (~1e-20 N) is written as exactly 0
+    line = bending_lines(sweep)[0]
+    tilted = type(line)(line.part, line.role, line.solid, line.x_mm, line.u_y_um, line.u_y_um * 2e-4,
+                        line.rotation_z_urad, line.rotation_z_urad * 2e-4)
+    assert out_of_plane_is_rounding([tilted])[:2] == (False, False)
