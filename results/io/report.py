@@ -69,7 +69,10 @@ img { max-width: 100%; border: 1px solid #e2e2e2; margin: 6px 0; }
 .missing { color: #8a5a00; background: #fff6e0; padding: 6px 10px; border-left: 3px solid #e0a000; }
 dl { display: grid; grid-template-columns: max-content auto; gap: 2px 16px; }
 dt { font-weight: bold; } dd { margin: 0; font-family: "DejaVu Sans Mono", monospace; font-size: 12.5px; }
-@media print { nav { display: none; } section { page-break-inside: avoid; } }
+@media print { nav { display: none; } section { page-break-inside: avoid; }
+  body { font-size: 10.5px; padding: 0; max-width: none; } h1 { font-size: 18px; } h2 { font-size: 14px; }
+  table { font-size: 8px; } th, td { padding: 1px 3px; } p.note, p.sign { font-size: 9px; }
+  img { max-width: 100%; page-break-inside: avoid; } tr { page-break-inside: avoid; } }
 """
 
 
