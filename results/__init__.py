@@ -14,5 +14,5 @@ from rvcoax._lazy import lazy_names
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.sweep": ("PreparedModel", "Sweep", "SweepSettings", "prepare_model", "run_sweep"),
     "rvcoax.results.connections": ("ConnectionsUnavailableError",),
-    "rvcoax.results.engineering": ("bearing_warnings",),
+    "rvcoax.results.engineering": ("bearing_warnings", "reaction_sum"),
 })

@@ -36,7 +36,7 @@ from rvcoax.results.connections import ConnectionStates, SpringMotion, with_nonl
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "NOISE", "Reaction", "alignment_grade", "alignment_tolerance",
-           "bearing_warnings", "case_engineering", "engineering_tables", "shaft_quantities"]
+           "bearing_warnings", "case_engineering", "engineering_tables", "reaction_sum", "shaft_quantities"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -270,6 +270,15 @@ NOISE = 1e-9
 """Relative size below which a reaction or bearing force is rounding, not data: the solves keep
 equilibrium to ~1e-10 of the loads (``equilibrium_relative_error``), so a component below 1e-9 of the
 case's largest support force (moment: times the rig's length) is written as 0."""
+
+
+def reaction_sum(reactions: list[dict]) -> tuple[tuple[float, float, float], float]:
+    """The sum of the support forces (N) and of their moments about the rig axis (N·m) of one case's
+    ``reactions`` (its ``sweep.json`` entry), rounding below :data:`NOISE` of the largest force written as 0."""
+    scale = max((abs(v) for r in reactions for v in r["force_N"]), default=0.0)
+    forces = _denoise([math.fsum(r["force_N"][k] for r in reactions) for k in range(3)], scale)
+    torque = _denoise([math.fsum(r["moment_Nm"][0] for r in reactions)], scale)[0]
+    return forces, torque
 
 
 def _extent(springs: SpringMotion) -> float:

@@ -10,7 +10,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import bearing_warnings
+from rvcoax.results import bearing_warnings, reaction_sum
 from rvcoax.results.cli import support
 
 __all__ = ["TABLE_ROWS", "register", "sweep"]
@@ -109,9 +109,8 @@ def _engineering_tables(entry: dict) -> list[Table]:
         for r in reactions:
             table.add_row(escape(r["name"]), r["kind"], escape(r["part"]), f"{r['x_mm']:g}",
                           *[f"{v:.4g}" for v in r["force_N"]], *[f"{v:.4g}" for v in r["moment_Nm"]])
-        total = [sum(r["force_N"][k] for r in reactions) for k in range(3)]
-        table.add_row("sum", "", "", "", *[f"{v:.4g}" for v in total],
-                      f"{sum(r['moment_Nm'][0] for r in reactions):.4g}", "", "", end_section=False)
+        total, torque = reaction_sum(reactions)
+        table.add_row("sum", "", "", "", *[f"{v:.4g}" for v in total], f"{torque:.4g}", "", "", end_section=False)
         applied = entry["engineering"].get("applied_force_N", [0.0, 0.0, 0.0])
         table.add_row("− (weight and applied loads)", "", "", "", *[f"{-v + 0.0:.4g}" for v in applied],
                       f"{-entry['engineering'].get('applied_torque_x_Nm', 0.0) + 0.0:.4g}", "", "")

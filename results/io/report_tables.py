@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.engineering import reaction_sum
 
 __all__ = ["BEARING_COLUMNS", "COUPLING_COLUMNS", "Column", "LISTED_SECTIONS", "PROVENANCE_TAGS", "Table",
            "assumed_inputs", "case_entries", "case_label", "decides_table", "housing_table", "input_listing",
@@ -508,8 +509,7 @@ def reaction_table(sweep, entries: list[dict] | None = None) -> Table:
     rows = [(r["name"], SUPPORT_KINDS.get(r["kind"], r["kind"]), r["part"], f"{r['x_mm']:g}",
              *(_g(v, 4) for v in r["force_N"]), *(_g(v, 4) for v in r["moment_Nm"]), _g(r["force_change_N"][1], 4))
             for r in reactions]
-    total = np.sum([r["force_N"] for r in reactions], axis=0) if reactions else np.zeros(3)
-    torque = sum(r["moment_Nm"][0] for r in reactions)
+    total, torque = reaction_sum(reactions)
     applied = entry["engineering"].get("applied_force_N", [0.0, 0.0, 0.0])
     rows.append(("sum of the reactions", "", "", "", *(_g(v, 4) for v in total), _g(torque, 4), "", "", ""))
     rows.append(("− (weight and applied loads)", "", "", "", *(_g(-v + 0.0, 4) for v in applied),
