@@ -273,8 +273,18 @@ case's largest support force (moment: times the rig's length) is written as 0.""
 
 
 def reaction_sum(reactions: list[dict]) -> tuple[tuple[float, float, float], float]:
-    """The sum of the support forces (N) and of their moments about the rig axis (N·m) of one case's
-    ``reactions`` (its ``sweep.json`` entry), rounding below :data:`NOISE` of the largest force written as 0."""
+    """The sum of one case's support forces and of their moments about the rig axis.
+
+    Parameters
+    ----------
+    reactions : list of dict
+        The case's ``reactions`` (its ``sweep.json`` entry, or :meth:`CaseEngineering.entry`).
+
+    Returns
+    -------
+    ((float, float, float), float)
+        ΣF (N) along x, y, z and ΣM_x (N·m); rounding below :data:`NOISE` of the largest force written as 0.
+    """
     scale = max((abs(v) for r in reactions for v in r["force_N"]), default=0.0)
     forces = _denoise([math.fsum(r["force_N"][k] for r in reactions) for k in range(3)], scale)
     torque = _denoise([math.fsum(r["moment_Nm"][0] for r in reactions)], scale)[0]
