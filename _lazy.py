@@ -13,7 +13,8 @@ from collections.abc import Callable, Mapping
 __all__ = ["lazy_names"]
 
 
-def lazy_names(package: str, namespace: dict, modules: Mapping[str, tuple[str, ...]], eager: tuple[str, ...] = ()
+def lazy_names(package: str, namespace: dict, modules: Mapping[str, tuple[str, ...]], eager: tuple[str, ...] = (),
+               moved: Mapping[str, tuple[str, ...]] | None = None
                ) -> tuple[dict[str, str], list[str], Callable[[str], object], Callable[[], list[str]]]:
     """The public names of a package whose names load on use, and the ``__getattr__``/``__dir__`` that load them.
 
@@ -27,6 +28,9 @@ def lazy_names(package: str, namespace: dict, modules: Mapping[str, tuple[str, .
         The full name of each module → the public names it defines, in the order they are listed.
     eager
         Public names the package defines itself (listed first in ``__all__``).
+    moved
+        Names that moved to another package (the full name of their module → the names): still found here on
+        use, so that existing imports keep working, but not listed in ``__all__`` nor in ``_WHERE``.
 
     Returns
     -------
@@ -35,10 +39,11 @@ def lazy_names(package: str, namespace: dict, modules: Mapping[str, tuple[str, .
         lazy name to its module.
     """
     where = {name: module for module, names in modules.items() for name in names}
+    found = {**{name: module for module, names in (moved or {}).items() for name in names}, **where}
 
     def __getattr__(name: str):
         try:
-            module = where[name]
+            module = found[name]
         except KeyError:
             raise AttributeError(f"module {package!r} has no attribute {name!r}") from None
         value = getattr(importlib.import_module(module), name)

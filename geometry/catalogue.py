@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from rvcoax.geometry.gear_loads import gear_contact_torques, gear_mesh_full_contact_torque
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["CATALOGUE", "MASS_TO_VOLUME_RANGE", "PlausibleRange", "RADIAL_STIFFNESS_PER_BORE",
@@ -277,8 +278,6 @@ def _gear_contact_warnings(rig: Rig) -> list[str]:
     constant part by clip(T / T_c, −1, 1), exact when the position errors take at most two values (two
     planets always: :func:`rvcoax.geometry.model.loads.gear_contact_weight`) and one stage per torque.
     """
-    from rvcoax.geometry.model.loads import gear_contact_torques, gear_mesh_full_contact_torque
-
     found = []
     largest = dict(zip(("T1", "T2"), gear_contact_torques(rig)))
     for i, mesh in enumerate(rig.gear_meshes):

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.results.connections import ConnectionStates, SpringMotion, with_nonlinear_laws
+from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingQuantities",
            "CaseEngineering", "CouplingQuantities", "NOISE", "Reaction", "alignment_grade", "alignment_tolerance",
@@ -378,7 +378,7 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         Resultants of the applied loads and of the ground reactions of the total state
         (:func:`rvcoax.fem.equilibrium.check_equilibrium`).
     springs : SpringMotion, optional
-        :meth:`rvcoax.results.connections.SpringMotion.of` ``(model, rig)``, built once for many cases.
+        :meth:`rvcoax.geometry.model.springs.SpringMotion.of` ``(model, rig)``, built once for many cases.
     fixed_total, fixed_change : (n_dofs,) arrays, optional
         K u − f of the total state and of the change since rest: their entries at fixed DOFs are the
         reactions of the fixed supports (the bed nodes of condensed housings). Without them the

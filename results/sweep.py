@@ -35,10 +35,10 @@ from rvcoax.geometry.model.nonlinear_bearings import (
     nonlinear_bearing_names,
     prepare_nonlinear_bearings,
 )
+from rvcoax.geometry.model.springs import SpringMotion
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.connections import SpringMotion
 from rvcoax.results.engineering import CaseEngineering, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 

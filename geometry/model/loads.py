@@ -9,7 +9,7 @@
 ``T1``, ``T2``     a unit torque (1 N·m) with its torque-proportional lateral loads
 ``gear_contact_T1`` the constant part of the ``[[gear_meshes]]`` forces on T1 (their position errors),
                    weighted by clip(T1 / T_c, −1, 1) with T_c the stage's full-contact torque
-                   (:func:`gear_contact_torques`): below T_c a planet mesh is open and carries nothing
+                   (:func:`rvcoax.geometry.gear_loads.gear_contact_torques`): below T_c a planet mesh is open and carries nothing
 ``gear_contact_T2`` the same for T2
 
 A model turns each :class:`LocatedLoad` into a load vector: nodal forces on a beam part, a face
@@ -27,8 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.geometry.gears import full_contact_force, load_sharing, mesh_forces, single_stiffness
-from rvcoax.geometry.schema import GearMesh, Rig
+# the gear-mesh forces are rig physics, one floor down; listed here too, where the unit loads use them
+from rvcoax.geometry.gear_loads import gear_contact_torques, gear_mesh_forces, gear_mesh_full_contact_torque
+from rvcoax.geometry.schema import Rig
 
 __all__ = ["GRAVITY_DIRECTION", "LocatedLoad", "REST_LOADS", "UNIT_LOADS", "case_weights", "force_table_loads",
            "gear_contact_torques", "gear_contact_weight", "gear_mesh_forces", "gear_mesh_full_contact_torque",
@@ -70,74 +71,6 @@ def _lateral_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
             reacted = lateral.reacted_on
             out.append(LocatedLoad(reacted.part, reacted.x_mm, tuple(-force), band_mm=reacted.band_mm))
     return (out + _gear_mesh_loads(rig, which, part)) if part == "proportional" else out
-
-
-def gear_mesh_forces(rig: Rig, mesh: GearMesh):
-    """The mesh forces on the driving gear of ``mesh`` (:class:`rvcoax.geometry.gears.MeshForces`).
-
-    Parameters
-    ----------
-    rig : Rig
-        The rig, for the torque paths and positions the mesh refers to.
-    mesh : GearMesh
-        One of its ``gear_meshes``, with the gear data (module, teeth, width, position errors).
-
-    Returns
-    -------
-    per_torque, engaged : MeshForces
-        ``per_torque``: for 1 N·m of the mesh's torque (times its sign); ``engaged``: the part present
-        whenever torque flows, from the position errors (sign of the torque).
-    stiffness_N_per_m : ndarray
-        Each mesh's stiffness along its line of action.
-
-    The split is the all-meshes-in-contact one (:func:`rvcoax.geometry.gears.load_sharing`), linear in the
-    torque. Below :func:`gear_mesh_full_contact_torque` T_c a mesh opens: the true loads
-    (:func:`rvcoax.geometry.gears.contact_loads`) are then the straight line from no load at T = 0 to the
-    split at T_c whenever the position errors take at most two values (two planets always), which the
-    sweep reproduces by weighting ``engaged`` with clip(T / T_c, −1, 1) (:func:`gear_contact_weight`);
-    with more values it is a polyline and that weight interpolates it (a warning says so before a solve).
-    """
-    stage = mesh.stage
-    if mesh.mesh_stiffness_N_per_mm_per_um is not None:
-        per_width = mesh.mesh_stiffness_N_per_mm_per_um
-    else:
-        sun = rig.materials[rig.part(mesh.on.part).material]
-        planet = rig.materials[mesh.planet_material] if mesh.planet_material is not None else sun
-        per_width = single_stiffness(stage, mesh.blank_factor,
-                                     (sun.youngs_modulus_MPa * 1e6, planet.youngs_modulus_MPa * 1e6)).mesh
-    stiffness = per_width * mesh.face_width_mm * 1e6 * np.asarray(mesh.planet_stiffness_factors)  # N/(mm·µm)·mm → N/m
-    share, constant = load_sharing(stiffness, np.asarray(mesh.planet_position_errors_um) * 1e-6)
-    sign = float(getattr(rig.torques, mesh.torque).sign)
-    per_torque = mesh_forces(stage, mesh.planet_angles_deg, sign * share / (stage.base_radius_mm(0) * 1e-3))
-    return per_torque, mesh_forces(stage, mesh.planet_angles_deg, sign * constant), stiffness
-
-
-def gear_mesh_full_contact_torque(rig: Rig, mesh: GearMesh) -> float:
-    """|T| (N·m) below which a planet mesh of ``mesh`` opens (0 when the position errors are equal)."""
-    _, _, stiffness = gear_mesh_forces(rig, mesh)
-    share, constant = load_sharing(stiffness, np.asarray(mesh.planet_position_errors_um) * 1e-6)
-    return full_contact_force(share, constant) * mesh.stage.base_radius_mm(0) * 1e-3
-
-
-def gear_contact_torques(rig: Rig) -> tuple[float, float]:
-    """Per torque, the full-contact torque of the rig's gear stages: below it a planet mesh is open.
-
-    Parameters
-    ----------
-    rig : Rig
-        The rig, with its ``[[gear_meshes]]`` (none: no contact loss).
-
-    Returns
-    -------
-    (float, float)
-        (T_c1, T_c2) in N·m: for each of T1 and T2 the largest |T| below which a mesh of a stage it drives
-        opens (:func:`gear_mesh_full_contact_torque`; 0 without stages or with equal position errors).
-        :func:`case_weights` scales the stages' constant force by clip(T / T_c, −1, 1).
-    """
-    out = {"T1": 0.0, "T2": 0.0}
-    for mesh in rig.gear_meshes:
-        out[mesh.torque] = max(out[mesh.torque], gear_mesh_full_contact_torque(rig, mesh))
-    return out["T1"], out["T2"]
 
 
 def gear_contact_weight(torque_Nm: float, contact_torque_Nm: float) -> float:

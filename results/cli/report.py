@@ -41,7 +41,7 @@ def report(
     rig file SHA-256, model, solver, mesh, date).
     """
     from rvcoax import load_rig, read_measured, write_report
-    from rvcoax.results.io import PAPER_SIZES, print_pdf, read_discrepancy
+    from rvcoax.results.reports import PAPER_SIZES, print_pdf, read_discrepancy
 
     if paper.lower() not in PAPER_SIZES:
         raise support.UserError(f"--paper: '{paper}' is not a page size; use a4 or letter")

@@ -33,8 +33,9 @@ import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import stress_free_motions
+from rvcoax.geometry.model.springs import ConnectionStates
 from rvcoax.geometry.schema import Rig
-from rvcoax.results.connections import ConnectionStates, connection_states
+from rvcoax.results.connections import connection_states
 from rvcoax.results.io.records import rvcoax_version, text_sha256
 from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
 from rvcoax.results.sweep import Sweep

@@ -1,19 +1,23 @@
-"""Turning sweeps, checks and calibrations into rows, JSON documents and terminal tables."""
+"""Turning sweeps into rows and JSON documents.
+
+A study that changed the rig a sweep solved (a calibration) records itself in the sweep's JSON through its
+own ``document()`` (:class:`StudyRecord`); the files of a study are written on the floors above
+(:mod:`rvcoax.results.reports`).
+"""
 
 from __future__ import annotations
 
 import hashlib
 import json
 from importlib.metadata import PackageNotFoundError, version
+from typing import Protocol
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.results.engineering import ALIGNMENT_TOLERANCE_SOURCE, shaft_quantities
-from rvcoax.results.studies.calibration import Calibration
-from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.sweep import CaseResult, Sweep
 
-__all__ = ["ENGINEERING_DEFINITIONS", "UNITS", "calibration_document", "canonical", "case_entry", "case_record", "case_row", "check_rows",
+__all__ = ["ENGINEERING_DEFINITIONS", "StudyRecord", "UNITS", "canonical", "case_entry", "case_record", "case_row",
            "entry_path_rows", "model_section", "rvcoax_version", "sweep_header", "sweep_rows", "text_sha256"]
 
 UNITS = {
@@ -53,6 +57,14 @@ ENGINEERING_DEFINITIONS = {
                "forces sum to minus; applied_torque_x_Nm: the applied loads' moment about the rig axis",
     "equilibrium_residual": "|applied loads + ground reactions| of the total state, force and moment about the origin",
 }
+
+
+class StudyRecord(Protocol):
+    """A study recorded in a sweep's JSON header (:meth:`rvcoax.results.studies.calibration.Calibration.document`)."""
+
+    def document(self) -> dict:
+        """The study as a JSON-ready dict."""
+        ...
 
 
 def rvcoax_version() -> str:
@@ -153,21 +165,6 @@ def sweep_rows(sweep: Sweep) -> list[dict]:
     return [case_row(case) for case in sweep.cases]
 
 
-def calibration_document(calibration: Calibration) -> dict:
-    def entry(p):
-        return {"address": p.parameter.address, "shaft": p.parameter.shaft, "unit": p.parameter.unit,
-                "reference_value": p.reference_value, "fitted_value": p.fitted_value,
-                "plausible_range": list(p.parameter.plausible), "plausible": p.plausible,
-                "meaning": p.parameter.meaning}
-
-    return {
-        "fit_rows_index": list(calibration.fit_rows),
-        "fit_relative_residual": calibration.fit_relative_residual,
-        "parameters": [entry(p) for p in calibration.parameters],
-        "other_exact_solutions": [[entry(p) for p in alt] for alt in calibration.alternatives],
-    }
-
-
 def model_section(sweep: Sweep) -> dict:
     """How the sweep was solved: fidelity, DOFs, solver (requested and used), condition number, mesh.
 
@@ -199,7 +196,7 @@ def model_section(sweep: Sweep) -> dict:
     return canonical(section)
 
 
-def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: Calibration | None = None) -> dict:
+def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: StudyRecord | None = None) -> dict:
     """``sweep.json`` without its cases: units, provenance (version, rig and its SHA-256), ``model``.
 
     Parameters
@@ -211,7 +208,7 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
     rig_source, rig_text : str
         The rig file as the user named it, and its text.
     calibration : Calibration, optional
-        Recorded when the sweep is of a calibrated rig.
+        Recorded (its ``document()``) when the sweep is of a calibrated rig.
 
     Returns
     -------
@@ -227,24 +224,5 @@ def sweep_header(rig, model: dict, rig_source: str, rig_text: str, calibration: 
         "model": model,
         "beta_definition": "beta = arcsin(Y_max / L) (paper 000); fitted_tilt = slope of the least-squares line through u_y(x)",
         "engineering_definitions": ENGINEERING_DEFINITIONS,
-        "calibration": calibration_document(calibration) if calibration is not None else None,
+        "calibration": calibration.document() if calibration is not None else None,
     })
-
-
-def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows,
-               reference: str = "published") -> list[dict]:
-    """The columns of ``check.csv``: the table's values (``published_*`` for paper 000's table, ``measured_*``
-    for the user's data: ``reference``), blind and calibrated values and errors per row."""
-    out = []
-    for i, row in enumerate(rows):
-        entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
-                 "used_for_fit": i in fit_rows}
-        for q in CHECK_QUANTITIES:
-            entry[f"{reference}_{q}"] = float(comparison_blind.published[q][i])
-            for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
-                entry[f"{label}_{q}"] = float(comp.model[q][i])
-                entry[f"{label}_abs_error_{q}"] = float(comp.absolute_error[q][i])
-                entry[f"{label}_rel_error_{q}"] = float(comp.relative_error[q][i])
-            entry[f"calibrated_within_tolerance_{q}"] = bool(comparison_calibrated.within[q][i])
-        out.append(entry)
-    return out

@@ -102,6 +102,22 @@ class Calibration:
     def values(self) -> dict[str, float]:
         return {p.parameter.address: p.fitted_value for p in self.parameters}
 
+    def document(self) -> dict:
+        """The calibration as a sweep's JSON records it: the rows fitted, the residual, each fitted parameter
+        (reference and fitted value, plausible range) and the other exact solutions."""
+        def entry(p):
+            return {"address": p.parameter.address, "shaft": p.parameter.shaft, "unit": p.parameter.unit,
+                    "reference_value": p.reference_value, "fitted_value": p.fitted_value,
+                    "plausible_range": list(p.parameter.plausible), "plausible": p.plausible,
+                    "meaning": p.parameter.meaning}
+
+        return {
+            "fit_rows_index": list(self.fit_rows),
+            "fit_relative_residual": self.fit_relative_residual,
+            "parameters": [entry(p) for p in self.parameters],
+            "other_exact_solutions": [[entry(p) for p in alt] for alt in self.alternatives],
+        }
+
 
 LOAD_GROUPS = ("torque_lateral_loads.",)
 

@@ -1,7 +1,7 @@
 """The published-table check as one workflow: blind sweep → calibration → calibrated sweep → comparison → verdict.
 
 A pure function of (rig, published rows, settings): the command ``rvcoax check``, a notebook and a
-Dask worker all call :func:`run_check`; writing the files is :func:`rvcoax.results.io.result_files.write_check`.
+Dask worker all call :func:`run_check`; writing the files is :func:`rvcoax.results.reports.check_files.write_check`.
 """
 
 from __future__ import annotations

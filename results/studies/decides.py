@@ -1,7 +1,7 @@
 """What decides Y: the change of Y and tilt of each measured shaft when one assumed input is doubled or halved.
 
 An *assumed* input is a numeric rig-file key tagged ``[A]`` (an assumption) in its comment
-(:func:`rvcoax.results.io.report_tables.assumed_inputs`). Each is scaled by 2 and by ½ on its own (a
+(:func:`rvcoax.results.reports.report_tables.assumed_inputs`). Each is scaled by 2 and by ½ on its own (a
 list such as a mount's three stiffnesses as a whole) and the rig is solved again in one load case
 (the report takes its case of the largest torque); the inputs are ranked by the largest change of
 Y over both measured shafts and both factors. This is the one-at-a-time study of the tutorial
@@ -92,7 +92,7 @@ def what_decides_y(rig: Rig, assumed, case: LoadCase, settings: SweepSettings | 
     rig : Rig
         The rig as given.
     assumed : iterable of (section, entry, key, value)
-        The assumed inputs (:func:`rvcoax.results.io.report_tables.assumed_inputs`).
+        The assumed inputs (:func:`rvcoax.results.reports.report_tables.assumed_inputs`).
     case : LoadCase
         The load case solved.
     settings : SweepSettings, optional

@@ -14,7 +14,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 NAMESPACES = ("rvcoax", "rvcoax.fem", "rvcoax.geometry", "rvcoax.geometry.model", "rvcoax.loadcases", "rvcoax.results",
-              "rvcoax.results.io", "rvcoax.results.export", "rvcoax.results.studies", "rvcoax.results.studies.doe",
+              "rvcoax.results.io", "rvcoax.results.export", "rvcoax.results.reports", "rvcoax.results.studies",
+              "rvcoax.results.studies.doe",
               "rvcoax.results.studies.discrepancy")
 CLI = "rvcoax.results.cli"
 

@@ -14,9 +14,9 @@ from PIL import Image
 
 from rvcoax.geometry.rigfile import load_rig, reference_rig_text
 from rvcoax.loadcases.cases import paper_cases
-from rvcoax.results.io import report_tables
-from rvcoax.results.io.report import REPORT_SECTIONS, ReportError, read_discrepancy, write_report
-from rvcoax.results.io.report_pdf import find_browser, headless_command
+from rvcoax.results.reports import report_tables
+from rvcoax.results.reports.report import REPORT_SECTIONS, ReportError, read_discrepancy, write_report
+from rvcoax.results.reports.report_pdf import find_browser, headless_command
 from rvcoax.results.sweep import run_sweep
 
 
@@ -146,7 +146,7 @@ def test_report_command_on_a_rig_of_another_layout_and_a_bad_discrepancy_file(tm
 
 @pytest.mark.slow
 def test_the_report_prints_to_pdf(tmp_path):
-    from rvcoax.results.io.report_pdf import print_pdf
+    from rvcoax.results.reports.report_pdf import print_pdf
 
     if find_browser() is None:
         pytest.skip("no headless Chromium on the PATH: `make test` installs the Debian package chromium when root")
@@ -160,7 +160,7 @@ def test_the_report_prints_to_pdf(tmp_path):
 
 def test_the_discrepancy_section_reads_the_workflow_document():
     """The keys `rvcoax discrepancy` writes: summary lines, meanings, parameters with units, sentinel, folds."""
-    from rvcoax.results.io.report import _discrepancy_html
+    from rvcoax.results.reports.report import _discrepancy_html
 
     document = {
         "rvcoax_version": "test", "verdict": "unexplained", "confident": False,

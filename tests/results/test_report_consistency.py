@@ -190,7 +190,7 @@ def test_what_decides_y_ranks_the_reducers_lateral_load_first():
     (flange) stiffness comes next for the output shaft; couplings hardly matter."""
     from rvcoax.geometry.rigfile import load_rig
     from rvcoax.loadcases.cases import LoadCase
-    from rvcoax.results.io.report_tables import assumed_inputs
+    from rvcoax.results.reports.report_tables import assumed_inputs
     from rvcoax.results.studies.decides import what_decides_y
 
     rig = load_rig()

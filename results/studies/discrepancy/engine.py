@@ -48,7 +48,7 @@ RESIDUAL_LIMIT = 1e-6
 def case_matrix(cases, from_rest: bool, contact_torques_Nm: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
     """W (n_cases, n_unit_loads): the weights of the unit loads in each case, minus the rest loads when Y is read
     from rest; ``contact_torques_Nm``: the rig's gear-mesh full-contact torques
-    (:func:`rvcoax.geometry.model.loads.gear_contact_torques`)."""
+    (:func:`rvcoax.geometry.gear_loads.gear_contact_torques`)."""
     rows = []
     for case in cases:
         weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,

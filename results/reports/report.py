@@ -33,8 +33,8 @@ import numpy as np
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.engineering import bearing_warnings
-from rvcoax.results.io import report_tables as tables
 from rvcoax.results.io.writers import write_text_atomic
+from rvcoax.results.reports import report_tables as tables
 
 __all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 

@@ -1,4 +1,4 @@
-"""The tables of the study report (:mod:`rvcoax.results.io.report`), as plain rows.
+"""The tables of the study report (:mod:`rvcoax.results.reports.report`), as plain rows.
 
 Each function returns a :class:`Table`: a caption, column headings with their units, and rows of
 already formatted cells, so that the HTML writer only lays them out. Numbers follow one policy:
