@@ -117,49 +117,45 @@ def check_report_against_sweep(html_text: str, document: dict) -> dict:
         compared += 5
     counts["shafts"] = compared
 
-    couplings = [q["name"] for q in cases[0]["engineering"]["couplings"]]
-    if couplings:
-        _, rows = tables.find("Couplings: misalignment")
-        compared = 0
-        for name in couplings:
-            expected = expected_worst_rows(cases, "couplings", name, ("offset_um", "angle_urad"))
-            mine = [r for r in rows if r["coupling"] == name]
-            assert {r["case"] for r in mine} == {case_text(i + 1, cases[i]) for i in expected}, (name, mine)
-            for row in mine:
-                index = int(row["case"].split(":")[0]) - 1
-                q = next(c for c in cases[index]["engineering"]["couplings"] if c["name"] == name)
-                assert set(row["largest"].split(" and ")) == {{"offset_um": "offset", "angle_urad": "angle"}[k]
-                                                              for k in expected[index]}
-                same(row["offset [µm]"], q["offset_um"])
-                same(row["angle [µrad]"], q["angle_urad"])
-                same(row["offset from unloaded geometry [µm]"], q["offset_from_unloaded_um"])
-                same(row["angle from unloaded geometry [µrad]"], q["angle_from_unloaded_urad"])
-                compared += 4
-        counts["couplings"] = compared
+    def coupling_cells(row, q):
+        for heading, key in (("offset [µm]", "offset_um"), ("angle [µrad]", "angle_urad"),
+                             ("offset from unloaded geometry [µm]", "offset_from_unloaded_um"),
+                             ("angle from unloaded geometry [µrad]", "angle_from_unloaded_urad")):
+            same(row[heading], q[key])
+        return 4
 
-    bearings = [q["name"] for q in cases[0]["engineering"]["bearings"]]
-    if bearings:
-        _, rows = tables.find("Bearings: radial force")
+    def bearing_cells(row, q):
+        assert row["model"] == q["model"]
+        for heading, key in (("radial force [N]", "force_radial_N"),
+                             ("radial force change under load [N]", "force_radial_change_N"),
+                             ("tilt [µrad]", "tilt_urad"), ("tilt change under load [µrad]", "tilt_change_urad")):
+            same(row[heading], q[key])
+        same(row["radial stiffness, operating [N/µm]"], q["radial_stiffness_N_per_um"], 6e-3)
+        same(row["tilt stiffness, operating [N·m/rad]"], q["tilt_stiffness_Nm_per_rad"], 6e-3)
+        if "loaded balls" in row:
+            assert row["loaded balls"] == ("–" if q["loaded_balls"] is None else str(q["loaded_balls"]))
+            same(row["largest ball load [N]"], q["max_ball_load_N"])
+        return 6
+
+    for group, caption, column, labels, cells in (
+            ("couplings", "Couplings: misalignment", "coupling", {"offset_um": "offset", "angle_urad": "angle"},
+             coupling_cells),
+            ("bearings", "Bearings: radial force", "bearing", {"force_radial_N": "radial force", "tilt_urad": "tilt"},
+             bearing_cells)):
+        names = [q["name"] for q in cases[0]["engineering"][group]]
+        if not names:
+            continue
+        _, rows = tables.find(caption)
         compared = 0
-        for name in bearings:
-            expected = expected_worst_rows(cases, "bearings", name, ("force_radial_N", "tilt_urad"))
-            mine = [r for r in rows if r["bearing"] == name]
+        for name in names:
+            expected = expected_worst_rows(cases, group, name, tuple(labels))
+            mine = [r for r in rows if r[column] == name]
             assert {r["case"] for r in mine} == {case_text(i + 1, cases[i]) for i in expected}, (name, mine)
             for row in mine:
                 index = int(row["case"].split(":")[0]) - 1
-                q = next(b for b in cases[index]["engineering"]["bearings"] if b["name"] == name)
-                assert row["model"] == q["model"]
-                same(row["radial force [N]"], q["force_radial_N"])
-                same(row["radial force change under load [N]"], q["force_radial_change_N"])
-                same(row["tilt [µrad]"], q["tilt_urad"])
-                same(row["tilt change under load [µrad]"], q["tilt_change_urad"])
-                same(row["radial stiffness, operating [N/µm]"], q["radial_stiffness_N_per_um"], 6e-3)
-                same(row["tilt stiffness, operating [N·m/rad]"], q["tilt_stiffness_Nm_per_rad"], 6e-3)
-                if "loaded balls" in row:
-                    assert row["loaded balls"] == ("–" if q["loaded_balls"] is None else str(q["loaded_balls"]))
-                    same(row["largest ball load [N]"], q["max_ball_load_N"])
-                compared += 6
-        counts["bearings"] = compared
+                assert set(row["largest"].split(" and ")) == {labels[k] for k in expected[index]}
+                compared += cells(row, next(q for q in cases[index]["engineering"][group] if q["name"] == name))
+        counts[group] = compared
 
     last = max(range(len(cases)), key=lambda i: (abs(cases[i]["T2_output_Nm"]), abs(cases[i]["T1_input_Nm"])))
     caption = tables.caption("Support reactions on the rig")
