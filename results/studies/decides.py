@@ -25,7 +25,7 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.sweep import SweepSettings, run_sweep
 
-__all__ = ["FACTORS", "Influence", "NOT_VARIED_SECTIONS", "WhatDecides", "scaled_rig", "what_decides_y"]
+__all__ = ["FACTORS", "Influence", "NOISE", "NOT_VARIED_SECTIONS", "WhatDecides", "scaled_rig", "what_decides_y"]
 
 FACTORS = (0.5, 2.0)
 NOT_VARIED_SECTIONS = ("housings",)
@@ -75,6 +75,16 @@ def scaled_rig(rig: Rig, section: str, entry: str, key: str, factor: float) -> R
     value = target[key]
     target[key] = [v * factor for v in value] if isinstance(value, list | tuple) else value * factor
     return Rig.model_validate(data)
+
+
+NOISE = 1e-9
+"""A change below this share of the value it changes is the solves' rounding (a linear solve holds ~1e-12, a
+nonlinear bearing's Newton stop ~1e-10), written as 0 rather than as a 2e-15 µrad "effect"."""
+
+
+def _change(new: float, base: float) -> float:
+    change = new - base
+    return 0.0 if abs(change) <= NOISE * max(abs(new), abs(base)) else change
 
 
 def _shafts(sweep) -> tuple[dict[str, float], dict[str, float]]:
@@ -131,8 +141,8 @@ def what_decides_y(rig: Rig, assumed, case: LoadCase, settings: SweepSettings | 
             continue
         ranked.append(Influence(
             section, entry, key, value,
-            {s: tuple(c[0][s] - base_y[s] for c in changes) for s in MEASURED_SHAFTS},
-            {s: tuple(c[1][s] - base_tilt[s] for c in changes) for s in MEASURED_SHAFTS}))
+            {s: tuple(_change(c[0][s], base_y[s]) for c in changes) for s in MEASURED_SHAFTS},
+            {s: tuple(_change(c[1][s], base_tilt[s]) for c in changes) for s in MEASURED_SHAFTS}))
         if progress is not None:
             progress(i + 1, len(assumed))
     ranked.sort(key=lambda r: r.largest_y_change_um, reverse=True)

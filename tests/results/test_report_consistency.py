@@ -205,6 +205,11 @@ def test_what_decides_y_ranks_the_reducers_lateral_load_first():
     assert order.index("joints.reducer_output_flange.translational_stiffness_N_per_um") < 6
     coupling = max(r.largest_y_change_um for r in decides.ranked if r.section == "couplings")
     assert coupling < 0.01 * first.largest_y_change_um
+    # the input shaft does not feel the output side's load sharing at all: exactly 0, not rounding shown as data
+    assert first.y_change_um["input"] == (0.0, 0.0) and first.tilt_change_urad["input"] == (0.0, 0.0)
+    from rvcoax.results.studies.decides import _change
+
+    assert _change(0.29 + 2e-15, 0.29) == 0.0 and _change(0.2916, 0.29) == pytest.approx(0.0016)
 
 
 def test_rig_show_prints_the_warnings_a_solve_prints(tmp_path):
