@@ -29,6 +29,9 @@ Steps, in the order data flows:
   :func:`run_discrepancy`
 - ball bearings from geometry: :class:`BallBearingGeometry`, :func:`ball_loads`, :func:`bearing_force`,
   :func:`radial_deflection`, :data:`BALL_BEARINGS` (the catalogue)
+- angular-contact and roller bearings from geometry: :class:`RollerBearingGeometry`, :func:`roller_loads`,
+  :class:`BearingRow`, :class:`RollingBearing` (rows, pairs), :func:`rolling_element_loads` (every element's load
+  and contact pressure at a state), :data:`ROLLING_BEARINGS` (the catalogue)
 - errors: :class:`RvcoaxError`, the base of every error raised on purpose
 
 Units: SI inside the solver; files and results say their unit in every key (``Y_input_mm``,
@@ -68,4 +71,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.fem.errors": ("RvcoaxError",),
     "rvcoax.fem.ball_bearing": ("BallBearingGeometry", "ball_loads", "bearing_force", "radial_deflection"),
     "rvcoax.geometry.ball_bearings": ("BALL_BEARINGS",),
+    "rvcoax.fem.roller_bearing": ("RollerBearingGeometry", "roller_loads"),
+    "rvcoax.fem.rolling_bearing": ("BearingRow", "RollingBearing", "rolling_element_loads"),
+    "rvcoax.geometry.rolling_catalogue": ("ROLLING_BEARINGS",),
 }, eager=("__version__",))

@@ -35,6 +35,22 @@ contacts (α_r ≈ 10–30). The inner and outer contacts in series: K_n = (K_i^
 evaluated at the free contact angle α_0 (cos α_0 = 1 − P_d / (2A)); the change of the raceway
 curvature with the operating contact angle of each ball is neglected (below 1 % of K_n for the
 small angles of a radially loaded deep-groove bearing).
+
+Angular-contact ball bearings (``contact_angle_rad`` = α_0 > 0) are the same law with the rings at rest
+where the balls just touch at α_0 (Harris & Kotzalas vol. 2 ch. 1; Jones): the curvature centres sit
+at s_r0 = A cos α_0, s_a0 = A sin α_0, so that
+
+    s_r = A cos α_0 + δy cos ψ + δz sin ψ,   s_a = A sin α_0 + δx + ℛ_i (θy sin ψ − θz cos ψ),
+
+and the contact angle of every ball, tan α_j = s_a/s_r, follows the load. Such a bearing has one high
+shoulder per ring and carries thrust in +x only (inner ring against outer): where s_a < 0 the ball
+would have to run over the low shoulder, and the model takes s_a = 0 there (contact at the groove
+bottom, α_j = 0; the force is continuous, the tangent loses the ball's axial geometric term Q/s there). A bearing facing −x is mirrored
+(:mod:`rvcoax.fem.rolling_bearing`).
+
+Contact pressure: the largest Hertz pressure of a ball, p_max = 3 Q / (2π a b), with the semi-axes
+a = (6 k̄² Ē Q R / (π E'))^{1/3}, b = (6 Ē Q R / (π k̄ E'))^{1/3} (Hamrock & Brewe), the larger of the
+inner and outer contact (ISO 76's static limit is 4 200 MPa for ball bearings).
 """
 
 from __future__ import annotations
@@ -86,6 +102,16 @@ class HertzContact:
         """Approach δ (m) of the two bodies under the normal load Q (N)."""
         return (np.asarray(load_n, dtype=float) / self.load_deflection_constant) ** (2.0 / 3.0)
 
+    def max_pressure(self, load_n, e_prime: float):
+        """Largest contact pressure p_max = 3 Q / (2π a b) (Pa) under the normal load Q (N); E' in Pa.
+
+        a b = k̄^{1/3} (6 Ē Q R / (π E'))^{2/3} (the product of the semi-axes of Hamrock & Brewe's solution)."""
+        load = np.asarray(load_n, dtype=float)
+        ab = self.ellipticity ** (1.0 / 3.0) * (6.0 * self.elliptic_e * load * self.curvature_radius_m
+                                                 / (math.pi * e_prime)) ** (2.0 / 3.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(load > 0, 1.5 * load / (math.pi * np.where(ab > 0, ab, 1.0)), 0.0)
+
 
 def hertz_point_contact(curvature_x: float, curvature_y: float, e_prime: float) -> HertzContact:
     """Hertz point contact from the curvature sums 1/R_x and 1/R_y (1/m, both > 0) and E' (Pa)."""
@@ -126,6 +152,9 @@ class BallBearingGeometry:
         Diametral radial internal clearance P_d (≥ 0), ISO 5753-1's radial internal clearance.
     youngs_modulus_Pa, poisson : float
         Of balls and rings (bearing steel by default).
+    contact_angle_rad : float
+        Nominal contact angle α_0 of an angular-contact bearing (0 < α_0 < 60°; the rings touch at α_0
+        at rest and it carries thrust in +x only), 0 for a deep-groove bearing.
     """
 
     ball_count: int
@@ -136,6 +165,7 @@ class BallBearingGeometry:
     clearance_m: float = 0.0
     youngs_modulus_Pa: float = BEARING_STEEL_YOUNGS_MODULUS_PA
     poisson: float = BEARING_STEEL_POISSON
+    contact_angle_rad: float = 0.0
 
     def __post_init__(self) -> None:
         problems = []
@@ -149,6 +179,11 @@ class BallBearingGeometry:
         for name, f in (("inner", self.inner_conformity), ("outer", self.outer_conformity)):
             if not 0.5 < f < 1.0:
                 problems.append(f"{name} groove conformity r/D must lie in (0.5, 1), got {f}")
+        if not 0.0 <= self.contact_angle_rad < math.radians(60.0):
+            problems.append(f"contact angle must lie in [0°, 60°), got {math.degrees(self.contact_angle_rad):g}°")
+        elif self.contact_angle_rad > 0 and self.clearance_m != 0:
+            problems.append("an angular-contact bearing has no radial clearance of its own (its play or preload is "
+                            "the axial offset of its rings)")
         if not self.clearance_m >= 0:
             problems.append(f"clearance must be >= 0, got {self.clearance_m}")
         elif not problems and self.clearance_m >= 2.0 * self.curvature_centre_distance_m:
@@ -164,7 +199,9 @@ class BallBearingGeometry:
     @property
     def free_contact_angle_rad(self) -> float:
         """α_0 with cos α_0 = 1 − P_d / (2A): the contact angle after the rings were pushed axially
-        until the play is gone."""
+        until the play is gone (an angular-contact bearing's nominal contact angle)."""
+        if self.contact_angle_rad > 0:
+            return self.contact_angle_rad
         return math.acos(1.0 - self.clearance_m / (2.0 * self.curvature_centre_distance_m))
 
     @property
@@ -193,11 +230,31 @@ class BallBearingGeometry:
         return (inner.load_deflection_constant ** (-2.0 / 3.0)
                 + outer.load_deflection_constant ** (-2.0 / 3.0)) ** (-1.5)
 
+    @property
+    def angular_contact(self) -> bool:
+        """True for an angular-contact bearing (one-sided, rings at rest touching at α_0)."""
+        return self.contact_angle_rad > 0
+
+    @property
+    def rest_separation_m(self) -> tuple[float, float]:
+        """(s_r0, s_a0): the curvature centres' radial and axial distance with the rings at rest."""
+        big_a = self.curvature_centre_distance_m
+        if self.angular_contact:
+            return big_a * math.cos(self.contact_angle_rad), big_a * math.sin(self.contact_angle_rad)
+        return big_a - 0.5 * self.clearance_m, 0.0
+
     def with_clearance(self, clearance_m: float) -> BallBearingGeometry:
         """The same bearing with another diametral clearance."""
         return BallBearingGeometry(self.ball_count, self.ball_diameter_m, self.pitch_diameter_m,
                                    self.inner_conformity, self.outer_conformity, clearance_m,
-                                   self.youngs_modulus_Pa, self.poisson)
+                                   self.youngs_modulus_Pa, self.poisson, self.contact_angle_rad)
+
+    def max_contact_pressure(self, load_n):
+        """The largest Hertz pressure (Pa) of a ball carrying ``load_n`` (N): the larger of its inner and
+        outer raceway contact (at the nominal contact angle)."""
+        e_prime = reduced_modulus(self.youngs_modulus_Pa, self.poisson)
+        inner, outer = self.contacts()
+        return np.maximum(inner.max_pressure(load_n, e_prime), outer.max_pressure(load_n, e_prime))
 
 
 @dataclass(frozen=True)
@@ -214,6 +271,11 @@ class BallLoads:
     @property
     def loaded_balls(self) -> int:
         return int(np.count_nonzero(self.load_n > 0))
+
+    @property
+    def loaded_elements(self) -> int:
+        """The number of loaded balls (the name every rolling-element law shares)."""
+        return self.loaded_balls
 
 
 def ball_loads(geometry: BallBearingGeometry, displacement, azimuth0_rad: float = 0.0,
@@ -249,8 +311,13 @@ def ball_loads(geometry: BallBearingGeometry, displacement, azimuth0_rad: float 
     jac = np.zeros((z, 2, 5))
     jac[:, 0, 1], jac[:, 0, 2] = c, s
     jac[:, 1, 0], jac[:, 1, 3], jac[:, 1, 4] = 1.0, radius * s, -radius * c
-    sr = big_a - 0.5 * geometry.clearance_m + jac[:, 0] @ q
-    sa = jac[:, 1] @ q
+    sr0, sa0 = geometry.rest_separation_m
+    sr = sr0 + jac[:, 0] @ q
+    sa = sa0 + jac[:, 1] @ q
+    if geometry.angular_contact:  # the low shoulder: no thrust the other way (s_a held at 0 there)
+        relieved = sa < 0.0
+        sa = np.where(relieved, 0.0, sa)
+        jac[relieved, 1, :] = 0.0
     dist = np.hypot(sr, sa)
     delta = np.maximum(dist - big_a, 0.0)
     load = k_n * delta**1.5

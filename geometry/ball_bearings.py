@@ -83,17 +83,33 @@ _CLEARANCE_TABLE_UM = (
 )
 
 
-def clearance_range_um(bore_mm: float, clearance_class: str) -> tuple[float, float]:
-    """The ISO 5753-1 radial internal clearance range (min, max) in µm of a radial ball bearing.
+# ISO 5753-1, radial internal clearance of cylindrical roller bearings with a cylindrical bore (µm), the same
+# layout (as the makers' catalogue tables reproduce it; written from memory of those tables, not re-read against
+# the standard: check before relying on a class's edges)
+_CYLINDRICAL_CLEARANCE_TABLE_UM = (
+    (10.0, 24.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
+    (24.0, 30.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
+    (30.0, 40.0, ((5, 30), (25, 50), (45, 70), (60, 85))),
+    (40.0, 50.0, ((5, 35), (30, 60), (50, 80), (70, 100))),
+    (50.0, 65.0, ((10, 40), (40, 70), (60, 90), (80, 110))),
+)
+_CLEARANCE_TABLES = {"ball": _CLEARANCE_TABLE_UM, "cylindrical_roller": _CYLINDRICAL_CLEARANCE_TABLE_UM}
+
+
+def clearance_range_um(bore_mm: float, clearance_class: str, kind: str = "ball") -> tuple[float, float]:
+    """The ISO 5753-1 radial internal clearance range (min, max) in µm of a radial ball bearing (``kind`` =
+    ``"ball"``) or a cylindrical roller bearing with a cylindrical bore (``"cylindrical_roller"``).
 
     Raises
     ------
     ValueError
-        Unknown class, or a bore outside the table (6 … 65 mm).
+        Unknown class, or a bore outside the table (balls 6 … 65 mm, rollers 10 … 65 mm).
     """
     if clearance_class not in CLEARANCE_CLASSES:
         raise ValueError(f"unknown clearance class {clearance_class!r} (known: {', '.join(CLEARANCE_CLASSES)})")
-    for low, high, ranges in _CLEARANCE_TABLE_UM:
+    table = _CLEARANCE_TABLES[kind]
+    for low, high, ranges in table:
         if low < bore_mm <= high:
             return tuple(float(v) for v in ranges[CLEARANCE_CLASSES.index(clearance_class)])
-    raise ValueError(f"bore {bore_mm:g} mm is outside the clearance table (over 6 up to 65 mm); give clearance_um")
+    raise ValueError(f"bore {bore_mm:g} mm is outside the clearance table (over {table[0][0]:g} up to "
+                     f"{table[-1][1]:g} mm); give clearance_um")

@@ -10,17 +10,15 @@ A ``[thermal]`` table whose shaft and housing rises differ changes it in operati
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from rvcoax.fem.ball_bearing import BallBearingGeometry, axial_offset_for_preload, ball_loads
+from rvcoax.fem.ball_bearing import BallBearingGeometry, ball_loads
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
-__all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "BallBearingModel", "GEOMETRY_KEYS",
-           "OperatingClearanceError", "REFERENCE_DEFLECTION_UM", "ball_bearing_model", "clearance_um_of",
-           "clearance_upper_um", "geometry_of", "operating_geometry", "preload_upper_N", "reference_stiffness",
+__all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "GEOMETRY_KEYS", "OperatingClearanceError",
+           "REFERENCE_DEFLECTION_UM", "clearance_from_keys", "clearance_um_of", "clearance_upper_um", "geometry_of",
+           "operating_clearance_m", "operating_geometry", "preload_upper_N", "reference_stiffness",
            "thermal_clearance_change_um"]
 
 BEARING_STEEL_EXPANSION_PER_K = 12.0e-6
@@ -48,14 +46,21 @@ def clearance_um_of(bearing) -> float:
     float
         The clearance in µm.
     """
+    return clearance_from_keys(bearing, lambda: BALL_BEARINGS[bearing.designation].bore_mm, "ball", "a ball bearing")
+
+
+def clearance_from_keys(bearing, bore_mm, kind: str, what: str) -> float:
+    """``clearance_um`` when given, else the middle of ``clearance_class``'s ISO 5753-1 range for the bore
+    ``bore_mm()`` of the designation (CN when neither is given), for a bearing of ``kind``
+    (:func:`rvcoax.geometry.ball_bearings.clearance_range_um`); ``what`` names it in the errors."""
     if bearing.clearance_um is not None:  # the operating clearance; a class then only records what was bought
         return float(bearing.clearance_um)
     if bearing.designation is None:
         if bearing.clearance_class is not None:
             raise ValueError("clearance_class needs a designation (the class range depends on the bore); "
                              "give clearance_um with explicit geometry")
-        raise ValueError("a ball bearing with explicit geometry needs clearance_um (the radial internal clearance)")
-    low, high = clearance_range_um(BALL_BEARINGS[bearing.designation].bore_mm, bearing.clearance_class or "CN")
+        raise ValueError(f"{what} with explicit geometry needs clearance_um (the radial internal clearance)")
+    low, high = clearance_range_um(bore_mm(), bearing.clearance_class or "CN", kind)
     return 0.5 * (low + high)
 
 
@@ -122,7 +127,7 @@ class OperatingClearanceError(RvcoaxError, ValueError):
     stage = "cannot solve the rig"
 
 
-def thermal_clearance_change_um(rig, bearing) -> float:
+def thermal_clearance_change_um(rig, bearing, pitch_diameter_m: float | None = None) -> float:
     """Change of a ball bearing's diametral clearance (µm) from the ``[thermal]`` rises of its rings.
 
     The inner ring is as warm as its shaft (ΔT_i: the shaft part's ``temperature_rise_K``), the outer ring as
@@ -133,16 +138,18 @@ def thermal_clearance_change_um(rig, bearing) -> float:
         ΔP_d = α_b [(d_m + D_w) ΔT_o − (d_m − D_w) ΔT_i − D_w (ΔT_i + ΔT_o)] = −α_b d_m (ΔT_i − ΔT_o):
 
     a shaft warmer than its housing takes clearance up; equal rises leave it (the rig grows as a rigid body).
-    Fits are not changed by the rises (shaft and housing materials other than steel would).
+    Fits are not changed by the rises (shaft and housing materials other than steel would). The same holds for
+    the rollers of a roller bearing (``pitch_diameter_m`` given: any bearing from geometry).
     """
-    thermal = getattr(rig, "thermal", None)
+    thermal = getattr(rig, "thermal", None) if rig is not None else None
     if thermal is None:
         return 0.0
     inner = thermal.temperature_rise_K.get(bearing.shaft, 0.0)
     outer = thermal.temperature_rise_K.get(bearing.housing, 0.0)
     if inner == outer:
         return 0.0
-    return -BEARING_STEEL_EXPANSION_PER_K * geometry_of(bearing).pitch_diameter_m * (inner - outer) * 1e6
+    pitch = geometry_of(bearing).pitch_diameter_m if pitch_diameter_m is None else pitch_diameter_m
+    return -BEARING_STEEL_EXPANSION_PER_K * pitch * (inner - outer) * 1e6
 
 
 def operating_geometry(rig, bearing) -> BallBearingGeometry:
@@ -154,9 +161,19 @@ def operating_geometry(rig, bearing) -> BallBearingGeometry:
         The rises take up more than the whole clearance (an interference the model does not take).
     """
     geometry = geometry_of(bearing)
-    change = thermal_clearance_change_um(rig, bearing)
-    if change == 0.0:
-        return geometry
+    return geometry.with_clearance(operating_clearance_m(rig, bearing, geometry))
+
+
+def operating_clearance_m(rig, bearing, geometry) -> float:
+    """The diametral clearance (m) of ``geometry`` (a ball or cylindrical roller bearing's) after the ``[thermal]``
+    rises of its shaft and housing (:func:`thermal_clearance_change_um`).
+
+    Raises
+    ------
+    OperatingClearanceError
+        The rises take up more than the whole clearance (an interference the model does not take).
+    """
+    change = thermal_clearance_change_um(rig, bearing, geometry.pitch_diameter_m)
     clearance = geometry.clearance_m + change * 1e-6
     if clearance < 0.0:
         raise OperatingClearanceError(
@@ -166,25 +183,7 @@ def operating_geometry(rig, bearing) -> BallBearingGeometry:
             f"more than its {geometry.clearance_m * 1e6:.3g} µm: the rings would be forced together (an "
             "interference this model does not take); give a larger clearance_um or clearance_class, or closer "
             "temperature rises")
-    return geometry.with_clearance(clearance)
-
-
-@dataclass(frozen=True)
-class BallBearingModel:
-    """What the nonlinear solve needs of one ball bearing (SI)."""
-
-    name: str
-    geometry: BallBearingGeometry
-    preload_offset_m: float
-    constant: float  # K_n (N/m^1.5)
-
-
-def ball_bearing_model(bearing, rig=None) -> BallBearingModel:
-    """The solver's view of a ``model = "ball"`` bearing entry; with ``rig``, at the clearance its
-    ``[thermal]`` rises leave (:func:`operating_geometry`)."""
-    geometry = geometry_of(bearing) if rig is None else operating_geometry(rig, bearing)
-    return BallBearingModel(bearing.name, geometry, axial_offset_for_preload(geometry, bearing.preload_N),
-                            geometry.load_deflection_constant)
+    return clearance
 
 
 def clearance_upper_um(bearing) -> float:

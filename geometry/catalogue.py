@@ -201,13 +201,19 @@ def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
 
 
 def _ball_bore_warnings(rig: Rig) -> list[str]:
-    """A catalogue ball bearing (``model = "ball"``, ``designation``) whose bore is not the shaft's Ø at it."""
+    """A catalogue bearing (``model = "ball"`` or another model from geometry, ``designation``) whose bore is not
+    the shaft's Ø at it."""
     from rvcoax.geometry.ball_bearings import BALL_BEARINGS
+    from rvcoax.geometry.rolling_catalogue import ROLLING_BEARINGS, normalise_designation
 
     found = []
     for i, bearing in enumerate(rig.bearings):
         bore = bearing_bore_mm(rig, bearing)
-        entry = BALL_BEARINGS.get(bearing.designation) if bearing.model == "ball" and bearing.designation else None
+        entry = None
+        if bearing.designation and bearing.model == "ball":
+            entry = BALL_BEARINGS.get(bearing.designation)
+        elif bearing.designation and bearing.model != "linear":
+            entry = ROLLING_BEARINGS.get(normalise_designation(bearing.designation))
         if entry is not None and bore is not None and abs(entry.bore_mm - bore) > 0.05 * entry.bore_mm:
             found.append(f"bearings[{i}] ('{bearing.name}').designation = {bearing.designation}: its bore is "
                          f"{entry.bore_mm:g} mm, but the shaft's Ø at x = {bearing.x_mm:g} mm is {bore:g} mm: "
@@ -267,8 +273,36 @@ def plausibility_warnings(rig: Rig) -> list[str]:
         The warnings, in rig-file order.
     """
     components = _component_warnings(rig)
-    return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _mass_warnings(rig)
-            + _topology_warnings(rig) + _gear_contact_warnings(rig))
+    return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _rolling_preload_warnings(rig)
+            + _mass_warnings(rig) + _topology_warnings(rig) + _gear_contact_warnings(rig))
+
+
+PRELOAD_SHARE_LIMIT = 0.1
+"""A row of an angular-contact or tapered roller bearing preloaded beyond this share of its C (2.5 times the
+heavy class of :data:`rvcoax.geometry.rolling_model.PRELOAD_CLASS_SHARE`) is warned about: a unit slip or a
+mistaken offset rather than a design."""
+
+
+def _rolling_preload_warnings(rig: Rig) -> list[str]:
+    """An angular-contact or tapered roller bearing whose rows carry more than a tenth of their C at rest."""
+    import numpy as np
+
+    from rvcoax.geometry.rolling_model import load_ratings_N, rolling_bearing_of
+
+    found = []
+    for i, bearing in enumerate(rig.bearings):
+        if bearing.model not in ("angular_contact", "tapered_roller"):
+            continue
+        rows = rolling_bearing_of(bearing).rows
+        carried = max(abs(row.state(np.zeros(5)).force[0]) for row in rows)
+        rating = load_ratings_N(bearing)[0]
+        if carried > PRELOAD_SHARE_LIMIT * rating:
+            key = next((k for k in ("preload_N", "axial_offset_um") if getattr(bearing, k)), "preload_class")
+            found.append(f"bearings[{i}] ('{bearing.name}').{key}: each row carries {carried:.4g} N at rest, "
+                         f"{100 * carried / rating:.0f} % of its C = {rating:.4g} N (a heavy preload class is 4 %; "
+                         f"warned above {100 * PRELOAD_SHARE_LIMIT:.0f} %): a unit slip, or an offset meant in another "
+                         "unit?")
+    return found
 
 
 def _gear_contact_warnings(rig: Rig) -> list[str]:

@@ -41,7 +41,11 @@ bearing from geometry nothing is (the model is nonlinear), and every effect is t
 On a ball bearing (``model = "ball"``) ``bearing_clearance@B`` is its operating radial internal
 clearance (diametral, ``clearance_um``, 0 … the top of ISO 5753-1's C4 range) and ``bearing_preload@B``
 its axial preload (``preload_N``, 0 … 2 % of C0); ``bearing_stiffness@B`` is not offered there (the
-stiffness follows from geometry). On a linear bearing ``bearing_clearance@B`` is the radial gap
+stiffness follows from geometry). On a cylindrical roller bearing from geometry ``bearing_clearance@B`` is
+its clearance the same way (ISO 5753-1's table for cylindrical roller bearings). On an angular-contact or
+tapered roller bearing ``bearing_preload@B`` is its setting: ``preload_N`` when the entry gives a preload force
+(0 … the heavy class), else ``axial_offset_um`` (an axial play of 30 µm … the heavy class's offset); an entry
+set by ``preload_class`` has no bearing effect. On a linear bearing ``bearing_clearance@B`` is the radial gap
 ``radial_clearance_um`` (from the centred position) and ``bearing_preload@B`` does not exist.
 
 With ``paths.measured_from = "aligned_at_rest"`` (the reference rig) Y is u − u_rest, so an effect
@@ -242,11 +246,14 @@ def _bearing_clearance(rig: Rig, name: str) -> Effect:
 # ---- ball bearings from geometry (model = "ball"): operating clearance and preload, in physical units ----
 
 def _ball_clearance(rig: Rig, name: str) -> Effect:
-    from rvcoax.geometry.ball_model import clearance_um_of, clearance_upper_um
+    from rvcoax.geometry import ball_model, rolling_model
 
     address = f"bearings.{name}.clearance_um"
     bearing = next(b for b in rig.bearings if b.name == name)
+    model = ball_model if bearing.model == "ball" else rolling_model  # ball or cylindrical_roller
+    clearance_um_of, clearance_upper_um = model.clearance_um_of, model.clearance_upper_um
     current = clearance_um_of(bearing)
+    what = "ball bearing" if bearing.model == "ball" else "cylindrical roller bearing"
 
     def change(r: Rig, v: tuple[float, ...]) -> RigChange:
         return RigChange({address: clearance_um_of(next(b for b in r.bearings if b.name == name)) + v[0]})
@@ -255,7 +262,7 @@ def _ball_clearance(rig: Rig, name: str) -> Effect:
     # temperatures lies between zero (a tight fit) and an unmounted C4 bearing.
     return Effect(f"bearing_clearance@{name}", "bearing_clearance", name,
                   (EffectParameter("clearance_um", "µm", -current, clearance_upper_um(bearing) - current, 5.0),),
-                  False, f"Operating radial internal clearance of ball bearing {name} (diametral, µm) changed by this "
+                  False, f"Operating radial internal clearance of {what} {name} (diametral, µm) changed by this "
                   "much: a dead band and a softer, load-dependent stiffness (nonlinear).", change)
 
 
@@ -274,6 +281,38 @@ def _ball_preload(rig: Rig, name: str) -> Effect:
                                    20.0),),
                   False, f"Axial preload of ball bearing {name} (N) changed by this much: it takes up the clearance "
                   "and stiffens the bearing.", change)
+
+
+def _rolling_preload(rig: Rig, name: str) -> Effect | None:
+    """An angular-contact or tapered roller bearing's setting: its preload force (``preload_N`` given) or its
+    axial offset (``axial_offset_um`` or nothing given); None for one set by a preload class."""
+    from rvcoax.geometry.rolling_model import heavy_setting
+
+    bearing = next(b for b in rig.bearings if b.name == name)
+    if bearing.preload_class is not None:
+        return None
+    heavy_n, heavy_um = heavy_setting(bearing)  # up to the heavy class's preload, as a force and as an offset
+    if bearing.preload_N:
+        address = f"bearings.{name}.preload_N"
+
+        def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+            return RigChange({address: get_parameter(r, address) + v[0]})
+
+        return Effect(f"bearing_preload@{name}", "bearing_preload", name,
+                      (EffectParameter("preload_N", "N", -bearing.preload_N, heavy_n - bearing.preload_N, 20.0),),
+                      False, f"Axial preload of bearing {name} (N) changed by this much: it stiffens the bearing.",
+                      change)
+    address = f"bearings.{name}.axial_offset_um"
+    current = bearing.axial_offset_um or 0.0
+
+    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
+        return RigChange({address: (next(b for b in r.bearings if b.name == name).axial_offset_um or 0.0) + v[0]})
+
+    # from an axial play of 30 µm (a loose adjustment) to the heavy class's preload (an over-tight one)
+    return Effect(f"bearing_preload@{name}", "bearing_preload", name,
+                  (EffectParameter("axial_offset_um", "µm", -30.0 - current, max(heavy_um - current, 0.0), 2.0),),
+                  False, f"Axial setting of bearing {name} (µm from first contact; > 0 a preload, < 0 a play) changed "
+                  "by this much: play is a dead band, preload stiffens the bearing.", change)
 
 
 def _mount_compliance(rig: Rig, part: str) -> Effect:
@@ -496,7 +535,7 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     tuple of Effect
         Each with its name (``kind@location``), parameters with units and bounds, and how it changes the rig.
     """
-    linear_rig = not any(b.radial_clearance_um > 0 or b.model == "ball" for b in rig.bearings)
+    linear_rig = not any(b.radial_clearance_um > 0 or b.model != "linear" for b in rig.bearings)
     mounted = list(dict.fromkeys(m.part for m in rig.mounts))
     effects: list[Effect | None] = [_self_weight(rig)]
     if rig.force_table.pairs or rig.force_table.singles:
@@ -504,6 +543,10 @@ def candidate_effects(rig: Rig) -> tuple[Effect, ...]:
     for b in rig.bearings:
         if b.model == "ball":  # its stiffness follows from geometry, clearance and preload
             effects += [_ball_clearance(rig, b.name), _ball_preload(rig, b.name)]
+        elif b.model == "cylindrical_roller":
+            effects.append(_ball_clearance(rig, b.name))
+        elif b.model != "linear":  # angular-contact and tapered: their setting (none when set by a preload class)
+            effects.append(_rolling_preload(rig, b.name))
         else:
             effects += [_bearing_stiffness(rig, b.name), _bearing_clearance(rig, b.name)]
     for part in mounted:

@@ -15,8 +15,10 @@ __all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "REFERENCE_VARIANTS", "RigFileError
            "reference_rig_text"]
 
 REFERENCE_RIG = "reference_rig.toml"
-REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml"}
-"""Variants of the reference rig: the input and output shaft bearings as ball bearings from geometry."""
+REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml",
+                      "rolling_bearings": "reference_rig_rolling_bearings.toml"}
+"""Variants of the reference rig: the input and output shaft bearings as ball bearings from geometry, or as
+angular-contact, cylindrical and tapered roller bearings from geometry."""
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 
 

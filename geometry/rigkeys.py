@@ -69,7 +69,8 @@ MEANINGS = {
     "bearings[].x_mm": "Bearing centre along the rig axis.",
     "bearings[].radial_stiffness_N_per_um": "Radial stiffness (datasheet rigidity, or Palmgren's law at the "
                                             "expected load): one of the numbers that matter most.",
-    "bearings[].axial_stiffness_N_per_um": "Axial stiffness (0: the bearing floats axially).",
+    "bearings[].axial_stiffness_N_per_um": ("Axial stiffness (0: the bearing floats axially); on a cylindrical_roller "
+                                            "bearing the linear axial spring beside its rollers (an NJ's rib)."),
     "bearings[].tilt_stiffness_Nm_per_rad": "Moment stiffness against tilting the rings (0 for a single "
                                             "deep-groove ball bearing).",
     "bearings[].width_mm": "Bearing width (catalogue), for drawing and solid attachment bands.",

@@ -153,19 +153,25 @@ class Bearing(Strict):
 
     ``model = "linear"`` (default): springs typed in (``radial_stiffness_N_per_um`` required).
     ``model = "ball"``: a deep-groove ball bearing from its internal geometry (see the block below and
-    :mod:`rvcoax.fem.ball_bearing`); the stiffness keys are then optional and only set the linear
-    reference the nonlinear solve is condensed on (filled from the geometry when absent).
+    :mod:`rvcoax.fem.ball_bearing`); ``"angular_contact"``, ``"cylindrical_roller"``, ``"tapered_roller"``:
+    those bearings (single or paired) from their internal geometry (:mod:`rvcoax.geometry.rolling_model`).
+    The stiffness keys are then optional and only set the linear reference the nonlinear solve is condensed
+    on (filled from the geometry when absent; a cylindrical roller bearing's axial key is its axial spring).
     """
 
     name: Name
     shaft: str
     housing: str  # a part name or "ground"
     x_mm: Finite
-    model: Literal["linear", "ball"] = Field("linear", description=(  # before the stiffness keys: their check reads it
-        "linear: the stiffness keys typed in; ball: a deep-groove ball bearing from its internal geometry "
-        "(Hertz contact per ball, clearance, preload; solved nonlinearly)."))
+    model: Literal["linear", "ball", "angular_contact", "cylindrical_roller", "tapered_roller"] = Field(
+        "linear", description=(  # before the stiffness keys: their check reads it
+            "linear: the stiffness keys typed in; ball: a deep-groove ball bearing from its internal geometry "
+            "(Hertz contact per ball, clearance, preload; solved nonlinearly); angular_contact: an angular-contact "
+            "ball bearing or matched pair (Hertz contact per ball, contact angles follow the load); "
+            "cylindrical_roller, tapered_roller: roller bearings, line contact by slicing (Palmgren laminae, "
+            "crowning)."))
     radial_stiffness_N_per_um: Annotated[Positive | None, Field(validate_default=True, json_schema_extra={
-        "default_text": "required (model = \"ball\": from the geometry)"})] = None
+        "default_text": "required (a bearing from geometry: from its geometry)"})] = None
     axial_stiffness_N_per_um: NonNegative = 0.0
     tilt_stiffness_Nm_per_rad: NonNegative = 0.0
     width_mm: Positive = 15.0
@@ -178,28 +184,66 @@ class Bearing(Strict):
 
     # ---- model = "ball": deep-groove ball bearing from internal geometry (issue 16 item 1) ----------
     designation: str | None = Field(None, description=(
-        "model = \"ball\": catalogue deep-groove ball bearing, 6200 … 6210 or 6300 … 6310 (ball set, pitch "
-        "diameter, groove conformities and width from geometry/data/ball_bearings.csv)."))
+        "Catalogue bearing: model = \"ball\" 6200 … 6210, 6300 … 6310 (geometry/data/ball_bearings.csv); "
+        "angular_contact 7000 … 7010, 7200 … 7210, 7300 … 7310 with suffix B (40°), AC (25°) or C (15°); "
+        "cylindrical_roller NU, N or NJ 204 … 210, 304 … 310; tapered_roller 30204 … 30210, 32004X … 32010X, "
+        "32204 … 32210 (geometry/data/rolling_bearings.csv; internal geometry estimated, see docs/model.md)."))
     clearance_class: Literal["C2", "CN", "C3", "C4"] | None = Field(None, description=(
-        "model = \"ball\": ISO 5753-1 radial internal clearance class; the middle of its range for the bore "
-        "(CN when neither this nor clearance_um is given)."))
+        "model = \"ball\" or \"cylindrical_roller\": ISO 5753-1 radial internal clearance class; the middle of "
+        "its range for the bore (CN when neither this nor clearance_um is given)."))
     clearance_um: Annotated[float, Field(ge=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="model = \"ball\": radial internal clearance (diametral) as mounted, after fits; used "
+        None, description="model = \"ball\" or \"cylindrical_roller\": radial internal clearance (diametral) as "
+                          "mounted, after fits; used "
                           "instead of the class when given. [thermal] rises of shaft and housing change it in "
                           "operation by −α d_m (ΔT_shaft − ΔT_housing).")
     preload_N: Annotated[float, Field(ge=0.0, le=1e5, allow_inf_nan=False, strict=True)] = Field(
         0.0, description="model = \"ball\": axial position preload, carried by the balls at rest (takes up the "
-                         "clearance, stiffens the bearing).")
+                         "clearance, stiffens the bearing); angular_contact, tapered_roller: the axial preload "
+                         "each row of a DB/DF pair carries at rest, or a single bearing (DT pair) against its "
+                         "mounting.")
     ball_count: Annotated[int, Field(ge=3, le=200, strict=True)] | None = Field(
-        None, description="model = \"ball\": number of balls Z (overrides the catalogue).")
+        None, description="model = \"ball\", angular_contact: number of balls Z (overrides the catalogue).")
     ball_diameter_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="model = \"ball\": ball diameter D_w (overrides the catalogue).")
+        None, description="model = \"ball\", angular_contact: ball diameter D_w (overrides the catalogue).")
     pitch_diameter_mm: Annotated[float, Field(gt=0.0, le=5000.0, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="model = \"ball\": pitch diameter d_m of the ball set (overrides the catalogue).")
+        None, description="model = \"ball\", angular_contact, cylindrical_roller, tapered_roller: pitch diameter "
+                          "d_m of the rolling elements (overrides the catalogue).")
     inner_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = Field(
-        None, description="model = \"ball\": inner groove radius over ball diameter, f_i = r_i / D_w.")
+        None, description="model = \"ball\", angular_contact: inner groove radius over ball diameter, f_i = r_i / D_w.")
     outer_conformity: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] | None = Field(
-        None, description="model = \"ball\": outer groove radius over ball diameter, f_o = r_o / D_w.")
+        None, description="model = \"ball\", angular_contact: outer groove radius over ball diameter, f_o = r_o / D_w.")
+
+    # ---- angular_contact, cylindrical_roller, tapered_roller (issue 25 item 1) -------------------------
+    arrangement: Literal["single", "DB", "DF", "DT"] = Field("single", description=(
+        "angular_contact, tapered_roller: a single bearing, or a matched pair back-to-back (DB), face-to-face "
+        "(DF) or in tandem (DT), its two rows a bearing width apart around x_mm."))
+    axial_direction: Literal[1, -1] = Field(1, description=(
+        "angular_contact, tapered_roller, single or DT: the direction (+1: +x, −1: −x) of the shaft's axial "
+        "motion against the housing that the bearing carries."))
+    preload_class: Literal["light", "medium", "heavy"] | None = Field(None, description=(
+        "angular_contact, tapered_roller, DB or DF pair: each row carries 1 %, 2 % or 4 % of its C axially at "
+        "rest (estimated: makers' classes differ). Not for a single bearing (nothing to preload against)."))
+    axial_offset_um: Annotated[float, Field(ge=-1000.0, le=1000.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="angular_contact, tapered_roller: axial offset of the rings from first contact, signed "
+                          "(> 0 pressed together: a preload; < 0 apart: an axial play); a DB/DF pair's total.")
+    contact_angle_deg: Annotated[float, Field(gt=0.0, lt=60.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="angular_contact, tapered_roller: nominal contact angle α0 (overrides the catalogue).")
+    roller_count: Annotated[int, Field(ge=3, le=200, strict=True)] | None = Field(
+        None, description="cylindrical_roller, tapered_roller: number of rollers Z (overrides the catalogue).")
+    roller_diameter_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="cylindrical_roller, tapered_roller: (mean) roller diameter D_w (overrides the catalogue).")
+    roller_length_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="cylindrical_roller, tapered_roller: effective roller length l_we (overrides the catalogue).")
+    crowning: Literal["logarithmic", "circular", "none"] = Field("logarithmic", description=(
+        "cylindrical_roller, tapered_roller: roller profile: logarithmic (Lundberg, even pressure at "
+        "crowning_load_N), circular (crown_drop_um at the ends) or none."))
+    crown_drop_um: Annotated[float, Field(ge=0.0, le=200.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="crowning = \"circular\": drop of the profile at the roller ends.")
+    crowning_load_N: Annotated[float, Field(gt=0.0, le=1e7, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="crowning = \"logarithmic\": the roller load the profile is designed for (default: "
+                          "the load giving 2000 MPa on an evenly loaded roller).")
+    slices_per_roller: Annotated[int, Field(ge=1, le=500, strict=True)] = Field(
+        20, description="cylindrical_roller, tapered_roller: laminae per roller of the line-contact slicing.")
 
     @field_validator("radial_stiffness_N_per_um")
     @classmethod
@@ -210,17 +254,32 @@ class Bearing(Strict):
 
     @model_validator(mode="after")
     def _check_model(self) -> Bearing:
-        from rvcoax.geometry import ball_model
+        from rvcoax.geometry import ball_model, rolling_model
 
+        every = set(ball_model.BALL_KEYS).union(*rolling_model.MODEL_KEYS.values())
+        allowed = set(ball_model.BALL_KEYS) if self.model == "ball" else set(rolling_model.MODEL_KEYS.get(self.model, ()))
+        given = [key for key in Bearing.model_fields if key in every and key not in allowed
+                 and getattr(self, key) not in (None, 0.0, Bearing.model_fields[key].default)]
+        if given:
+            takes = [m for m, keys in (("ball", ball_model.BALL_KEYS), *rolling_model.MODEL_KEYS.items())
+                     if given[0] in keys]
+            if self.model == "linear":
+                raise ValueError(f"{', '.join(given)} only apply to model = "
+                                 f"{' or '.join(f'{chr(34)}{m}{chr(34)}' for m in takes)} (this bearing is model = "
+                                 "\"linear\": set model or remove them)")
+            raise ValueError(f"{', '.join(given)}: not a key of model = \"{self.model}\" (it applies to "
+                             f"{', '.join(takes)})")
         if self.model == "linear":
-            given = [key for key in ball_model.BALL_KEYS if getattr(self, key) not in (None, 0.0)]
-            if given:
-                raise ValueError(f"{', '.join(given)} only apply to model = \"ball\" (this bearing is model = "
-                                 "\"linear\": set model = \"ball\" or remove them)")
             return self
         if self.radial_clearance_um > 0:
-            raise ValueError("radial_clearance_um is the gap of the linear model; a ball bearing takes clearance_um "
-                             "(the radial internal clearance) or clearance_class")
+            takes = {"ball": "a ball bearing takes clearance_um (the radial internal clearance) or clearance_class",
+                     "cylindrical_roller": "a cylindrical roller bearing takes clearance_um (the radial internal "
+                                           "clearance) or clearance_class"}.get(
+                self.model, f"an {self.model.replace('_', ' ')} bearing's play is axial_offset_um < 0"
+                if self.model == "angular_contact" else "a tapered roller bearing's play is axial_offset_um < 0")
+            raise ValueError(f"radial_clearance_um is the gap of the linear model; {takes}")
+        if self.model != "ball":
+            return self._check_rolling(rolling_model)
         ball_model.geometry_of(self)  # raises ValueError naming the key
         # the linear reference of the condensed Newton solve, where not given; the catalogue's width
         for key, value in ball_model.reference_stiffness(self).items():
@@ -228,6 +287,34 @@ class Bearing(Strict):
                 object.__setattr__(self, key, value)
         if "width_mm" not in self.model_fields_set and self.designation is not None:
             object.__setattr__(self, "width_mm", ball_model.BALL_BEARINGS[self.designation].width_mm)
+        return self
+
+    def _check_rolling(self, rolling_model) -> Bearing:
+        """angular_contact, cylindrical_roller, tapered_roller: the preload keys fit the arrangement, the
+        geometry builds; the linear reference and the catalogue width filled in."""
+        chosen = [key for key in ("preload_class", "preload_N", "axial_offset_um") if getattr(self, key) not in (None, 0.0)]
+        if len(chosen) > 1:
+            raise ValueError(f"{' and '.join(chosen)}: give one way of setting the rings (a preload class, a preload "
+                             "force or an axial offset)")
+        if self.preload_class is not None and self.arrangement not in ("DB", "DF"):
+            what = "a single bearing" if self.arrangement == "single" else "a tandem (DT) pair"
+            raise ValueError(f"preload_class = \"{self.preload_class}\" needs a DB or DF pair (arrangement): "
+                             f"{what} has no partner row to be preloaded against; give preload_N (a preload "
+                             "against its mounting) or axial_offset_um")
+        for key, crowning in (("crown_drop_um", "circular"), ("crowning_load_N", "logarithmic")):
+            if getattr(self, key) is not None and self.crowning != crowning:
+                raise ValueError(f"{key} applies to crowning = \"{crowning}\" (this bearing's crowning is "
+                                 f"\"{self.crowning}\")")
+        if self.axial_direction != 1 and self.arrangement in ("DB", "DF"):
+            raise ValueError(f"axial_direction: a {self.arrangement} pair carries thrust both ways (its rows' "
+                             "directions follow from the arrangement)")
+        rolling_model.rolling_bearing_of(self)  # raises ValueError naming the key
+        for key, value in rolling_model.reference_stiffness(self).items():
+            if not getattr(self, key):
+                object.__setattr__(self, key, value)
+        if "width_mm" not in self.model_fields_set and self.designation is not None:
+            rows = 1 if self.arrangement == "single" else 2
+            object.__setattr__(self, "width_mm", rows * rolling_model.entry_of(self).width_mm)
         return self
 
 

@@ -137,12 +137,13 @@ class BearingQuantities:
     """Load and tilt of a bearing (force the bearing exerts on its shaft; tilt of the inner ring,
     on the shaft, against the outer ring, in the housing).
 
-    ``model``: ``linear`` (typed-in springs), ``clearance`` (radial play) or ``ball`` (from geometry).
+    ``model``: ``linear`` (typed-in springs), ``clearance`` (radial play) or the model from internal geometry
+    (``ball``, ``angular_contact``, ``cylindrical_roller``, ``tapered_roller``).
     ``*_stiffness_*``: the operating stiffness in this case: the typed-in spring of a linear bearing, the
     tangent ∂F/∂Δ of a nonlinear one at the case's state (radial: mean of y and z; tilt: mean about y
     and z), never the linear reference spring a nonlinear bearing is assembled with.
-    ``loaded_balls`` / ``max_ball_load_N``: a ball bearing's balls in contact and its largest ball load
-    (None for other bearings).
+    ``loaded_elements`` / ``max_element_load_N``: a bearing from geometry's rolling elements in contact (balls or
+    rollers) and its largest element load (None for other bearings).
     """
 
     name: str
@@ -163,8 +164,8 @@ class BearingQuantities:
     radial_stiffness_N_per_um: float = float("nan")
     axial_stiffness_N_per_um: float = float("nan")
     tilt_stiffness_Nm_per_rad: float = float("nan")
-    loaded_balls: int | None = None
-    max_ball_load_N: float | None = None
+    loaded_elements: int | None = None
+    max_element_load_N: float | None = None
 
     @property
     def verdict(self) -> str:
@@ -236,9 +237,9 @@ class CaseEngineering:
             row[f"bearing_{b.name}_radial_stiffness_N_per_um"] = b.radial_stiffness_N_per_um
             row[f"bearing_{b.name}_axial_stiffness_N_per_um"] = b.axial_stiffness_N_per_um
             row[f"bearing_{b.name}_tilt_stiffness_Nm_per_rad"] = b.tilt_stiffness_Nm_per_rad
-            if b.loaded_balls is not None:
-                row[f"bearing_{b.name}_loaded_balls"] = b.loaded_balls
-                row[f"bearing_{b.name}_max_ball_load_N"] = b.max_ball_load_N
+            if b.loaded_elements is not None:
+                row[f"bearing_{b.name}_loaded_elements"] = b.loaded_elements
+                row[f"bearing_{b.name}_max_element_load_N"] = b.max_element_load_N
         for r in self.reactions:
             for axis, value in zip("xyz", r.force_N):
                 row[f"reaction_{r.name}_F{axis}_N"] = value
@@ -317,9 +318,20 @@ def _coupling(c, states: ConnectionStates, unloaded: ConnectionStates, reference
 
 
 def _bearing_model(b) -> str:
-    if b.model == "ball":
-        return "ball"
+    """``linear``, ``clearance`` (a linear bearing with radial play) or the model from geometry (``ball``,
+    ``angular_contact``, ``cylindrical_roller``, ``tapered_roller``)."""
+    if b.model != "linear":
+        return b.model
     return "clearance" if b.radial_clearance_um > 0 else "linear"
+
+
+def _elements(point: dict | None) -> tuple[int | None, float | None]:
+    """(loaded rolling elements, largest element load N) of a bearing's operating point (balls or rollers)."""
+    if point is None:
+        return None, None
+    loaded = point.get("loaded_balls", point.get("loaded_elements"))  # a ball bearing's point names them balls
+    largest = point.get("max_ball_load_N", point.get("max_element_load_N"))
+    return (None if loaded is None else int(loaded)), (None if largest is None else float(largest))
 
 
 def _bearing(b, total: ConnectionStates, change: ConnectionStates, scale: float, balls: dict) -> BearingQuantities:
@@ -330,13 +342,13 @@ def _bearing(b, total: ConnectionStates, change: ConnectionStates, scale: float,
     f = np.array(_denoise(f[:3], scale))
     df = np.array(_denoise(df[:3], scale))
     tilt = math.hypot(d[4], d[5])
-    ball = balls.get(b.name)
+    loaded, largest = _elements(balls.get(b.name))
     return BearingQuantities(
         b.name, b.shaft, b.housing, b.x_mm, float(f[1]), float(f[2]), float(f[0]),
         math.hypot(f[1], f[2]), math.hypot(df[1], df[2]), tilt * URAD, math.hypot(dd[4], dd[5]) * URAD,
         tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin),
         _bearing_model(b), float(0.5 * (k[1] + k[2]) * 1e-6), float(k[0] * 1e-6), float(0.5 * (k[4] + k[5])),
-        None if ball is None else int(ball["loaded_balls"]), None if ball is None else float(ball["max_ball_load_N"]))
+        loaded, largest)
 
 
 def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: ConnectionStates,
@@ -387,7 +399,7 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         The condensed nonlinear bearings of a nonlinear sweep; with ``rest_total`` (the rest state from
         the unloaded geometry), their forces and operating stiffness come from their laws.
     balls : dict, optional
-        :meth:`NonlinearBearings.operating_points` of the case (loaded balls, largest ball load).
+        :meth:`NonlinearBearings.operating_points` of the case (loaded rolling elements, largest element load).
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
@@ -461,8 +473,8 @@ def _case_text(entry: dict) -> str:
 def _carrying(entry: dict) -> dict[str, bool]:
     bearings = entry["engineering"].get("bearings", [])
     largest = max((b["force_radial_N"] for b in bearings), default=0.0)
-    return {b["name"]: b["force_radial_N"] > UNLOADED_SHARE * largest and (b.get("loaded_balls") is None
-                                                                          or b["loaded_balls"] > 0)
+    return {b["name"]: b["force_radial_N"] > UNLOADED_SHARE * largest and (b.get("loaded_elements") is None
+                                                                          or b["loaded_elements"] > 0)
             for b in bearings}
 
 
@@ -471,7 +483,7 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
     entries.
 
     * a bearing with a clearance or from ball geometry that carries (nearly) nothing in a case (radial force below :data:`UNLOADED_SHARE` of the
-      case's largest bearing force, or no ball loaded): the load goes elsewhere;
+      case's largest bearing force, or no rolling element loaded): the load goes elsewhere;
     * a bearing with a clearance or from ball geometry that takes up its play (or lifts off) between two
       neighbouring cases (ordered by T2, then T1): Y is not proportional to torque across that step.
 
@@ -499,7 +511,7 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
                      + (", …)" if len(idle) > 3 else ")"))
             found.append(f"bearing {name} ({b['model']}) carries (nearly) nothing {cases}: less than "
                          f"{100 * UNLOADED_SHARE:g} % of the largest bearing force"
-                         + (", no ball loaded" if b.get("loaded_balls") is not None else "")
+                         + (", no rolling element loaded" if b.get("loaded_elements") is not None else "")
                          + "; its neighbours carry the shaft")
     order = sorted(range(len(entries)), key=lambda i: (entries[i]["T2_output_Nm"], entries[i]["T1_input_Nm"]))
     for b in nonlinear:

@@ -37,6 +37,7 @@ from rvcoax.geometry.model.nonlinear_bearings import (
 )
 from rvcoax.geometry.model.springs import SpringMotion
 from rvcoax.geometry.model.system import RigSystem, assemble_beam
+from rvcoax.geometry.rolling_model import GEOMETRIC_MODELS
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.engineering import CaseEngineering, case_engineering
@@ -119,6 +120,28 @@ class Sweep:
         case = self.cases[index].case
         return superpose(unit, case.input_torque_Nm, case.output_torque_Nm,
                          self.rig.paths.measured_from == "aligned_at_rest", gear_contact_torques(self.rig))
+
+
+    def total_displacement(self, index: int | None) -> np.ndarray:
+        """The full displacement u of case ``index`` (None: the rest state) of a nonlinear sweep, from the
+        unloaded geometry (not measured from rest)."""
+        if self.case_displacements is None or self.rest_displacement is None:
+            raise ValueError("total_displacement needs a nonlinear sweep (bearings from geometry or clearance)")
+        if index is None:
+            return self.rest_displacement
+        measured = self.case_displacements[:, index]
+        return measured + self.rest_displacement if self.rig.paths.measured_from == "aligned_at_rest" else measured
+
+    def rolling_element_loads(self, index: int | None) -> dict:
+        """Per bearing from internal geometry, every rolling element's contact load, contact angle and largest
+        contact pressure in case ``index`` (None: at rest): :func:`rvcoax.fem.rolling_bearing.rolling_element_loads`
+        at the converged state — what a life (ISO/TS 16281) or static-safety (ISO 76) calculation reads."""
+        from rvcoax.fem.rolling_bearing import rolling_element_loads
+
+        if self.nonlinear_bearings is None:
+            return {}
+        motions = self.nonlinear_bearings.motions(self.nonlinear_bearings.operator @ self.total_displacement(index))
+        return {m.name: rolling_element_loads(m.bearing, motions[m.name]) for m in self.nonlinear_bearings.rolling}
 
 
 class ModelError(RvcoaxError, RuntimeError):
@@ -250,17 +273,18 @@ class PreparedModel:
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
-    """The nonlinear bearings (radial clearance, or ``model = "ball"``); raise :class:`ModelError` for a
+    """The nonlinear bearings (radial clearance, or a bearing from internal geometry); raise :class:`ModelError` for a
     radial clearance outside the beam model, or a ball bearing in the solid model (the fidelities their
     nonlinear solve is tested on)."""
     gapped = [b.name for b in rig.bearings if b.radial_clearance_um > 0]
-    balls = [b.name for b in rig.bearings if b.model == "ball"]
+    balls = [b.name for b in rig.bearings if b.model != "linear"]
     if gapped and kind != "beam":
         raise ModelError(f"bearing(s) {', '.join(gapped)} have a radial clearance (radial_clearance_um > 0), which "
                          "makes the model nonlinear; only the beam model solves it (use --model beam, or set "
                          "radial_clearance_um = 0)")
     if balls and kind not in ("beam", "hybrid"):
-        raise ModelError(f"bearing(s) {', '.join(balls)} are ball bearings from geometry (model = \"ball\"), which "
+        raise ModelError(f"bearing(s) {', '.join(balls)} are ball bearings from geometry (model = \"ball\") or "
+                         "other bearings from internal geometry, which "
                          "makes the model nonlinear; the beam and hybrid models solve it (use --model beam or "
                          "hybrid)")
     return nonlinear_bearing_names(rig)
@@ -434,8 +458,9 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     contact = gear_contact_torques(rig)
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     rest_u, rest_solution, _, _, rest_unbalance = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
+    every = ("ball",) + GEOMETRIC_MODELS
     operating = {name: [{"case": "at rest", **point}]
-                 for name, point in bearings.operating_points(rest_solution.motion).items()}
+                 for name, point in bearings.operating_points(rest_solution.motion, every).items()}
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     results, iterations, measured_all = [], [rest_solution.iterations], []
     for i, case in enumerate(cases):
@@ -443,7 +468,7 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
                                contact_torques_Nm=contact)
         u, solution, check, residual, unbalance = solve_case(weights, case.label)
         iterations.append(solution.iterations)
-        points = bearings.operating_points(solution.motion)
+        points = bearings.operating_points(solution.motion, every)
         for name, point in points.items():
             operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
@@ -460,13 +485,18 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         if progress is not None:
             progress(i + 1, len(cases))
     summary = dict(report)
-    kinds = (["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
+    others = [m.name for m in bearings.rolling if m.model != "ball"]
+    kinds = ((["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
+             + (["rolling bearings from geometry"] if others else []))
     summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
                     "gapped_bearings": list(bearings.gap_names),
                     "newton_iterations_max": int(max(iterations))})
     if bearings.balls:
         summary["ball_bearings"] = [ball.name for ball in bearings.balls]
-        summary["ball_bearing_operating_points"] = operating
+        summary["ball_bearing_operating_points"] = {m.name: operating[m.name] for m in bearings.balls}
+    if others:
+        summary["rolling_bearings"] = others
+        summary["rolling_bearing_operating_points"] = {name: operating[name] for name in others}
     return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
                  np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)), rest_u, bearings)
 

@@ -132,9 +132,9 @@ def check_report_against_sweep(html_text: str, document: dict) -> dict:
             same(row[heading], q[key])
         same(row["radial stiffness, operating [N/µm]"], q["radial_stiffness_N_per_um"], 6e-3)
         same(row["tilt stiffness, operating [N·m/rad]"], q["tilt_stiffness_Nm_per_rad"], 6e-3)
-        if "loaded balls" in row:
-            assert row["loaded balls"] == ("–" if q["loaded_balls"] is None else str(q["loaded_balls"]))
-            same(row["largest ball load [N]"], q["max_ball_load_N"])
+        if "loaded rolling elements" in row:
+            assert row["loaded rolling elements"] == ("–" if q["loaded_elements"] is None else str(q["loaded_elements"]))
+            same(row["largest rolling-element load [N]"], q["max_element_load_N"])
         return 6
 
     for group, caption, column, labels, cells in (

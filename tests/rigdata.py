@@ -13,12 +13,35 @@ import tomllib
 
 from rvcoax.geometry.rigfile import reference_rig_text
 
-__all__ = ["dump_toml", "reference_data"]
+__all__ = ["assert_input_b1_refused", "dump_toml", "reference_data", "with_bearing_keys"]
 
 
 def reference_data() -> dict:
     """A fresh, mutable copy of the reference rig as parsed TOML."""
     return tomllib.loads(reference_rig_text())
+
+
+def with_bearing_keys(variant: str, header: str, keys: str) -> str:
+    """The text of the reference rig's ``variant`` with the keys after ``header`` (a bearing entry's first lines,
+    name to x_mm) up to the next ``[[bearings]]`` replaced by ``keys``."""
+    text = reference_rig_text(variant)
+    start = text.index(header) + len(header)
+    end = text.index("[[bearings]]", start)
+    return text[:start] + keys + "\n" + text[end:]
+
+
+def assert_input_b1_refused(text_of, cases: dict[str, str]) -> None:
+    """Each rig text ``text_of(keys)`` of ``cases`` (keys → reason) is refused naming the file, the bearing
+    ``bearings[4] ('input_B1')`` and the reason."""
+    import pytest
+
+    from rvcoax.geometry.rigfile import RigFileError, parse_rig_text
+
+    for keys, reason in cases.items():
+        with pytest.raises(RigFileError) as error:
+            parse_rig_text(text_of(keys), "rig.toml")
+        message = str(error.value)
+        assert "rig.toml" in message and "bearings[4] ('input_B1')" in message and reason in message, message
 
 
 def _toml_key(key: str) -> str:

@@ -59,6 +59,16 @@ def rig_show(rig_file: RigOption = None) -> None:
             g = geometry_of(b)
             stiffness = (f"ball bearing {b.designation or ''} ({g.ball_count} × Ø{g.ball_diameter_m * 1e3:.3f} mm), "
                          f"clearance {clearance_um_of(b):g} µm, preload {b.preload_N:g} N: nonlinear")
+        elif b.model != "linear":
+            kind = {"angular_contact": "angular-contact ball bearing", "cylindrical_roller": "cylindrical roller bearing",
+                    "tapered_roller": "tapered roller bearing"}[b.model]
+            arrangement = "" if b.arrangement == "single" else f" {b.arrangement} pair"
+            rings = (f"{b.preload_class} preload" if b.preload_class else f"preload {b.preload_N:g} N" if b.preload_N
+                     else f"axial offset {b.axial_offset_um:g} µm" if b.axial_offset_um is not None
+                     else f"clearance {b.clearance_um:g} µm" if b.clearance_um is not None
+                     else f"clearance {b.clearance_class}" if b.clearance_class else "")
+            stiffness = (f"{kind} {b.designation or ''}{arrangement}" + (f", {rings}" if rings else "")
+                         + ": from geometry, nonlinear")
         else:
             stiffness = f"radial {b.radial_stiffness_N_per_um:g} N/µm, axial {b.axial_stiffness_N_per_um:g} N/µm"
         add_text_row(springs, "bearing", b.name, f"{b.shaft} / {b.housing}", f"{b.x_mm:g}", stiffness)
@@ -147,7 +157,9 @@ def _seat_table(rig) -> Table | str:
 def rig_reference(
     variant: Annotated[str | None, typer.Option(
         help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
-             "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly)")] = None,
+             "deep-groove ball bearings from their internal geometry, CN clearance, solved nonlinearly); "
+             "rolling_bearings (the input shaft on a 7204 B DB pair and an NU 204, the output shaft on two 30206 "
+             "tapered roller bearings with end play, from internal geometry)")] = None,
 ) -> None:
     """Print the built-in reference rig file (copy it to start your own)."""
     from rvcoax import reference_rig_text

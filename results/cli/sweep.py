@@ -55,12 +55,12 @@ def _operating_table(where: str, bearings: list[dict]) -> Table:
                                "clearance's tangent; a linear bearing's typed-in spring) and ball loads"),
                   title_justify="left")
     for column in ("bearing", "model", "axial force N", "k radial N/µm", "k axial N/µm", "k tilt N·m/rad",
-                   "balls loaded", "largest ball load N"):
+                   "elements loaded", "largest element load N"):
         table.add_column(column, justify="left" if column in ("bearing", "model") else "right")
     for b in bearings:
         table.add_row(escape(b["name"]), b["model"], f"{b['force_axial_N']:.4g}", f"{b['radial_stiffness_N_per_um']:.3g}",
                       f"{b['axial_stiffness_N_per_um']:.3g}", f"{b['tilt_stiffness_Nm_per_rad']:.3g}",
-                      _maybe_int(b["loaded_balls"]), _maybe_g(b["max_ball_load_N"]))
+                      _maybe_int(b["loaded_elements"]), _maybe_g(b["max_element_load_N"]))
     return table
 
 
@@ -208,13 +208,14 @@ def sweep(
                                                   resume)
     if fields:
         support.report_written(_write_fields(out / "fields", result))
-    how_solved = "each case by Newton iteration" if model_section.get("nonlinear") else method
-    support.console.print(_sweep_table(rig.rig.name, how_solved, [r["row"] for r in records]))
+    shown = "nonlinear: each case by Newton" if model_section.get("nonlinear") else method  # not superposed
+    support.console.print(_sweep_table(rig.rig.name, shown, [r["row"] for r in records]))
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
     if model_section.get("nonlinear"):
-        nonlinear = model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+        nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
+                     + model_section.get("rolling_bearings", []))
         how = f"each case solved on its own ({model_section['nonlinear']}: {', '.join(nonlinear)})"
     elif method == "superposition":
         how = ("each case built from unit responses (self-weight, force table, engaged load sharing, "

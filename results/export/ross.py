@@ -162,7 +162,7 @@ def shaft_line(rig: Rig, which: str, operating_N_per_m: dict[str, float] | None 
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
     operating = operating_N_per_m or {}
-    nonlinear = [b.name for b in rig.bearings if b.shaft == name and (b.model == "ball" or b.radial_clearance_um > 0)
+    nonlinear = [b.name for b in rig.bearings if b.shaft == name and (b.model != "linear" or b.radial_clearance_um > 0)
                  and b.name not in operating]
     if nonlinear:
         raise ValueError(f"bearing(s) {', '.join(nonlinear)} of the {which} shaft are nonlinear (ball geometry or "
@@ -283,7 +283,7 @@ def operating_radial_stiffness(export: DynamicsExport) -> dict[str, float]:
     states = export.measured
     out = {}
     for b in sweep.rig.bearings:
-        if b.model == "ball" or b.radial_clearance_um > 0:
+        if b.model != "linear" or b.radial_clearance_um > 0:
             k = states.stiffness[case, states.index("bearing", b.name)]
             out[b.name] = float(0.5 * (k[1] + k[2]))
     return out

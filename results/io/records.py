@@ -45,10 +45,12 @@ ENGINEERING_DEFINITIONS = {
     "alignment_tolerances": ALIGNMENT_TOLERANCE_SOURCE,
     "bearings": "force the bearing exerts on its shaft (force_radial_N: total from the unloaded geometry, self-weight "
                 "included; force_radial_change_N: since the rest state) and tilt of the inner ring against the outer "
-                "(total and change), against allowable_misalignment_arcmin; model: linear, clearance or ball; "
+                "(total and change), against allowable_misalignment_arcmin; model: linear, clearance, or the model from "
+                "geometry (ball, angular_contact, cylindrical_roller, tapered_roller); "
                 "radial/axial/tilt_stiffness: the operating stiffness in the case (a linear bearing's typed-in spring, "
-                "the tangent of a clearance's or ball bearing's force law; radial: mean of y and z); loaded_balls, "
-                "max_ball_load_N: a ball bearing's balls in contact and its largest ball load",
+                "the tangent of a clearance's or a bearing from geometry's force law; radial: mean of y and z); "
+                "loaded_elements, max_element_load_N: a bearing from geometry's balls or rollers in contact and its "
+                "largest rolling-element load",
     "reactions": "force and moment (about the support point; a housing: the centre of its attachments) each mount, "
                  "each bearing housed in ground and each condensed housing as a whole (kind) exerts on the rig, total "
                  "(self-weight included) and change under load; components below 1e-9 of the case's largest support "
@@ -190,7 +192,7 @@ def model_section(sweep: Sweep) -> dict:
                         "elements": int(part.mesh.t.shape[1]), "dofs": part.n_dofs}
             for part in solids}
     for key in ("nonlinear", "gapped_bearings", "newton_iterations_max", "ball_bearings",
-                "ball_bearing_operating_points"):
+                "ball_bearing_operating_points", "rolling_bearings", "rolling_bearing_operating_points"):
         if key in sweep.solver_report:
             section[key] = sweep.solver_report[key]
     return canonical(section)

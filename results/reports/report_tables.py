@@ -121,6 +121,18 @@ def _tags_text(tags: dict[str, str], keys: tuple[str, ...] | None = None) -> str
 # The rig
 
 
+def _bearing_stiffness_cells(bearing) -> tuple[str, str]:
+    """The radial and tilt stiffness cells of the rig's bearing table: the typed-in values of a linear bearing; for
+    a bearing from internal geometry its kind (its stiffness follows from its state: see the solver's operating
+    points), not the linear reference the solve is condensed on."""
+    if bearing.model == "linear":
+        return _g(bearing.radial_stiffness_N_per_um, 3), _g(bearing.tilt_stiffness_Nm_per_rad, 3)
+    kind = {"ball": "deep-groove ball", "angular_contact": "angular-contact ball",
+            "cylindrical_roller": "cylindrical roller", "tapered_roller": "tapered roller"}[bearing.model]
+    pair = "" if bearing.model == "ball" or bearing.arrangement == "single" else f" {bearing.arrangement} pair"
+    return f"from geometry: {kind} {bearing.designation or ''}{pair}".rstrip(), "from geometry"
+
+
 def rig_tables(sweep, rig_text: str) -> list[Table]:
     """Parts (with modelled masses), bearings and couplings, each with its provenance tags."""
     rig, frame = sweep.rig, sweep.frame
@@ -301,15 +313,19 @@ def housing_table(rig, tags: dict) -> Table:
 
 
 def _bearing_input(b) -> tuple[str, str, str]:
-    """(model, radial, tilt stiffness) cells of a bearing as the rig file describes it."""
-    if b.model == "ball":
-        clearance = (f"{b.clearance_um:g} µm clearance" if b.clearance_um is not None
-                     else f"clearance class {b.clearance_class}" if b.clearance_class else "")
-        what = ", ".join(v for v in (b.designation, clearance,
-                                     f"preload {b.preload_N:g} N" if b.preload_N else "") if v)
-        return f"ball from geometry ({what})", "from geometry and load", "from geometry and load"
-    model = f"linear, radial play {b.radial_clearance_um:g} µm" if b.radial_clearance_um > 0 else "linear"
-    return model, _g(b.radial_stiffness_N_per_um, 3), _g(b.tilt_stiffness_Nm_per_rad, 3)
+    """(model, radial, tilt stiffness) cells of a bearing as the rig file describes it: a linear bearing's typed-in
+    springs; a bearing from internal geometry by its kind, designation and clearance (its stiffness follows from
+    geometry and load, per case in the bearing table), never the linear reference the solve is condensed on."""
+    if b.model == "linear":
+        model = f"linear, radial play {b.radial_clearance_um:g} µm" if b.radial_clearance_um > 0 else "linear"
+        return model, _g(b.radial_stiffness_N_per_um, 3), _g(b.tilt_stiffness_Nm_per_rad, 3)
+    kind, _ = _bearing_stiffness_cells(b)
+    clearance_um, clearance_class = getattr(b, "clearance_um", None), getattr(b, "clearance_class", None)
+    preload = getattr(b, "preload_N", 0.0)
+    extra = ", ".join(v for v in (f"{clearance_um:g} µm clearance" if clearance_um is not None else
+                                  f"clearance class {clearance_class}" if clearance_class else "",
+                                  f"preload {preload:g} N" if preload else "") if v)
+    return kind + (f" ({extra})" if extra else ""), "from geometry and load", "from geometry and load"
 
 
 def load_case_table(sweep, entries: list[dict] | None = None) -> Table:
@@ -449,14 +465,14 @@ BEARING_COLUMNS = (
     Column("radial stiffness, operating [N/µm]", lambda q: _g(q["radial_stiffness_N_per_um"], 3)),
     Column("tilt stiffness, operating [N·m/rad]", lambda q: _g(q["tilt_stiffness_Nm_per_rad"], 3)),
 )
-BALL_COLUMNS = (
-    Column("loaded balls", lambda q: "–" if q["loaded_balls"] is None else str(q["loaded_balls"])),
-    Column("largest ball load [N]", lambda q: _maybe(q["max_ball_load_N"])),
+BALL_COLUMNS = (  # a bearing from geometry's rolling elements (balls or rollers)
+    Column("loaded rolling elements", lambda q: "–" if q["loaded_elements"] is None else str(q["loaded_elements"])),
+    Column("largest rolling-element load [N]", lambda q: _maybe(q["max_element_load_N"])),
 )
 
 
 def _bearing_table(sweep, entries: list[dict]) -> Table:
-    columns = BEARING_COLUMNS + (BALL_COLUMNS if any(b.model == "ball" for b in sweep.rig.bearings) else ())
+    columns = BEARING_COLUMNS + (BALL_COLUMNS if any(b.model != "linear" for b in sweep.rig.bearings) else ())
     rows = []
     for b in sweep.rig.bearings:
         for labels, i in worst_cases(entries, "bearings", b.name,

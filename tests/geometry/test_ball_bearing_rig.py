@@ -7,10 +7,11 @@ import difflib
 
 import numpy as np
 import pytest
+from rigdata import assert_input_b1_refused, with_bearing_keys
 
 from rvcoax.geometry.ball_model import clearance_um_of, geometry_of
 from rvcoax.geometry.effects import candidate_effects, effect_by_name
-from rvcoax.geometry.rigfile import RigFileError, parse_rig_text, reference_rig_text
+from rvcoax.geometry.rigfile import parse_rig_text, reference_rig_text
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.io.records import model_section
 from rvcoax.results.sweep import ModelError, SweepSettings, run_sweep
@@ -29,11 +30,8 @@ def _variant():
 
 
 def _with_input_b1(keys: str):
-    """The variant with input_B1's ball keys replaced by ``keys``."""
-    text = reference_rig_text("ball_bearings")
-    start = text.index(INPUT_B1) + len(INPUT_B1)
-    end = text.index("[[bearings]]", start)
-    return text[:start] + keys + "\n" + text[end:]
+    """The variant with input_B1's model keys replaced by ``keys``."""
+    return with_bearing_keys("ball_bearings", INPUT_B1, keys)
 
 
 def test_the_variant_differs_from_the_reference_rig_only_in_the_four_shaft_bearings():
@@ -83,11 +81,7 @@ def test_ball_bearing_keys_give_clear_errors():
         'model = "ball"\nball_count = 30\nball_diameter_mm = 7.9\npitch_diameter_mm = 33.5\n'
         'inner_conformity = 0.52\nouter_conformity = 0.53\nclearance_um = 10': "do not fit on a pitch circle",
     }
-    for keys, reason in cases.items():
-        with pytest.raises(RigFileError) as error:
-            parse_rig_text(_with_input_b1(keys), "rig.toml")
-        message = str(error.value)
-        assert "rig.toml" in message and "bearings[4] ('input_B1')" in message and reason in message, message
+    assert_input_b1_refused(_with_input_b1, cases)
 
 
 def test_the_nonlinear_sweep_reports_operating_stiffness_per_bearing_and_case():

@@ -14,7 +14,8 @@ DIMENSIONLESS = {"beam.shear_flexibility_factor", "force_table.scale", "material
                  "sweep.cases", "gear_meshes[].sun_teeth", "gear_meshes[].planet_teeth",
                  "gear_meshes[].profile_shift", "gear_meshes[].dedendum_factor", "gear_meshes[].blank_factor",
                  "gear_meshes[].planet_stiffness_factors", "housings[].stiffness_factor",
-                 "bearings[].ball_count", "bearings[].inner_conformity", "bearings[].outer_conformity"}
+                 "bearings[].ball_count", "bearings[].inner_conformity", "bearings[].outer_conformity",
+                 "bearings[].roller_count", "bearings[].slices_per_roller"}
 
 
 def test_the_committed_key_reference_is_up_to_date():

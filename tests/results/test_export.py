@@ -285,6 +285,26 @@ def test_a_ball_bearing_sweep_exports_each_bearing_s_own_force_and_operating_sti
                 assert by_name[b.name]["stiffness_y_N_per_um"] == pytest.approx(b.radial_stiffness_N_per_um, rel=1e-12)
 
 
+def test_a_rolling_bearing_sweep_exports_each_bearing_s_own_force_and_operating_stiffness():
+    # angular-contact pair, cylindrical and tapered roller bearings from geometry: the same converged state
+    rolling_rig = parse_rig_text(reference_rig_text("rolling_bearings"), "variant")
+    result = run_sweep(rolling_rig, NONLINEAR_CASES)
+    for reference in ("measured", "unloaded"):
+        _assert_each_shaft_in_equilibrium(result, connection_states(result, reference), reference,
+                                          _shafts(rolling_rig))
+    rows = export_tables(dynamics_export(result))["bearings"]
+    points = result.solver_report["rolling_bearing_operating_points"]
+    for i, case in enumerate(NONLINEAR_CASES):
+        by_name = {r["bearing"]: r for r in rows if r["T2_output_Nm"] == case.output_torque_Nm}
+        for name in points:
+            point, row = points[name][i + 1], by_name[name]
+            assert row["stiffness_y_N_per_um"] == pytest.approx(point["radial_stiffness_y_N_per_um"], rel=1e-9, abs=1e-12)
+            assert row["stiffness_axial_N_per_um"] == pytest.approx(point["axial_stiffness_N_per_um"], rel=1e-9, abs=1e-12)
+            # 1 µN: the preloaded pair's 100 N/µm times the Newton motion's last digits (1e-16 m) differ by 1e-8 N
+            assert row["force_radial_unloaded_ref_N"] == pytest.approx(point["radial_force_N"], rel=1e-9, abs=1e-6)
+        assert by_name["input_B1"]["stiffness_y_N_per_um"] > 50.0  # the preloaded pair
+
+
 def test_a_bearing_with_clearance_exports_the_gap_law_force():
     data = tomllib.loads(reference_rig_text())
     for bearing in data["bearings"]:

@@ -49,7 +49,7 @@ def test_a_ball_bearing_sweep_keeps_every_table_of_the_linear_one(linear, balls)
     output, rows, document = balls
     groups, reference = _groups(rows[0]), _groups(linear_rows[0])
     assert groups["coupling_"] == reference["coupling_"] and groups["reaction_"] == reference["reaction_"]
-    assert groups["bearing_"] == reference["bearing_"] + 2 * 4  # loaded balls and largest ball load of 4 bearings
+    assert groups["bearing_"] == reference["bearing_"] + 2 * 4  # loaded elements and largest element load of 4 bearings
     for title in ("Couplings at", "Bearings at", "Bearing operating points at", "Support reactions at"):
         assert title in output
     # every bearing's force is its own law's: the reactions and the applied loads balance in every case
@@ -58,7 +58,7 @@ def test_a_ball_bearing_sweep_keeps_every_table_of_the_linear_one(linear, balls)
         vertical = sum(r["force_N"][1] for r in engineering["reactions"])
         assert vertical == pytest.approx(-engineering["applied_force_N"][1], rel=1e-8)
         b2 = next(b for b in engineering["bearings"] if b["name"] == "input_B2")
-        assert b2["model"] == "ball" and b2["loaded_balls"] is not None
+        assert b2["model"] == "ball" and b2["loaded_elements"] is not None
 
 
 def test_operating_stiffness_is_the_tangent_not_the_reference_spring(balls):
@@ -74,7 +74,7 @@ def test_operating_stiffness_is_the_tangent_not_the_reference_spring(balls):
             expected = 0.5 * (point["radial_stiffness_y_N_per_um"] + point["radial_stiffness_z_N_per_um"])
             assert float(row[f"bearing_{name}_radial_stiffness_N_per_um"]) == pytest.approx(expected, rel=1e-9,
                                                                                             abs=1e-9)
-            assert float(row[f"bearing_{name}_max_ball_load_N"]) == pytest.approx(point["max_ball_load_N"], rel=1e-9,
+            assert float(row[f"bearing_{name}_max_element_load_N"]) == pytest.approx(point["max_ball_load_N"], rel=1e-9,
                                                                                    abs=1e-12)
             assert float(row[f"bearing_{name}_radial_stiffness_N_per_um"]) != pytest.approx(reference, rel=0.05)
 

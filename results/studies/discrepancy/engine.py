@@ -312,7 +312,7 @@ def _same_but_clearance(base, rig) -> bool:
 
 def rig_is_linear(rig) -> bool:
     """True when the rig's response is linear in its loads: no bearing with a clearance, no ball bearing."""
-    return not any(b.radial_clearance_um > 0 or getattr(b, "model", "linear") == "ball" for b in rig.bearings)
+    return not any(b.radial_clearance_um > 0 or getattr(b, "model", "linear") != "linear" for b in rig.bearings)
 
 
 def prepare_engine(rig, settings: SweepSettings) -> Engine:
