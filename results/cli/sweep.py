@@ -50,9 +50,11 @@ def _maybe_g(value) -> str:
 
 
 def _operating_table(where: str, bearings: list[dict]) -> Table:
-    """The nonlinear bearings' operating point: axial force, stiffness (the tangent of their law) and ball loads."""
-    table = Table(title=escape(f"Bearing operating points at {where}: stiffness in this case (a ball bearing's or "
-                               "clearance's tangent; a linear bearing's typed-in spring) and ball loads"),
+    """The nonlinear bearings' operating point: axial force, stiffness (the tangent of their law) and rolling-element
+    loads."""
+    table = Table(title=escape(f"Bearing operating points at {where}: stiffness in this case (the tangent of a "
+                               "bearing from geometry's or a clearance's law; a linear bearing's typed-in spring) and "
+                               "rolling-element loads"),
                   title_justify="left")
     for column in ("bearing", "model", "axial force N", "k radial N/µm", "k axial N/µm", "k tilt N·m/rad",
                    "elements loaded", "largest element load N"):

@@ -489,8 +489,8 @@ def _bearing_table(sweep, entries: list[dict]) -> Table:
                       "or tilt, every value from that case. Radial force and tilt: from the unloaded geometry "
                       "(self-weight included); change under load: since the rig at rest (sweep.csv: "
                       "bearing_<name>_force_radial_N, _force_radial_change_N, _tilt_urad, _tilt_change_urad). "
-                      "Operating stiffness: the typed-in spring of a linear bearing; the tangent of a ball bearing's "
-                      "or clearance's force law in that case (radial: mean of y and z; tilt: mean about y and z). "
+                      "Operating stiffness: the typed-in spring of a linear bearing; the tangent of the force law of a "
+                      "bearing from geometry or a clearance in that case (radial: mean of y and z; tilt: mean about y and z). "
                       "Allowable tilt: rig key allowable_misalignment_arcmin (deep-groove ball bearings: 2′ … 10′ "
                       "in catalogues).")
 
