@@ -68,7 +68,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.studies.calibration": ("calibrate",),
     "rvcoax.results.studies.discrepancy.measured": ("read_measured",),
     "rvcoax.results.studies.discrepancy.workflow": ("DiscrepancySettings", "run_discrepancy"),
-    "rvcoax.fem.errors": ("RvcoaxError",),
+    "rvcoax.errors": ("RvcoaxError",),
     "rvcoax.fem.ball_bearing": ("BallBearingGeometry", "ball_loads", "bearing_force", "radial_deflection"),
     "rvcoax.geometry.ball_bearings": ("BALL_BEARINGS",),
     "rvcoax.fem.roller_bearing": ("RollerBearingGeometry", "roller_loads"),

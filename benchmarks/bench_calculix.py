@@ -242,6 +242,7 @@ def run_ccx(work: Path, job: str) -> dict:
 def rvcoax_child(label: str, cache_dir: str) -> dict:
     """Mesh (from the cache) to tip displacement in this fresh process; phases timed."""
     from rvcoax.fem import blas_threads, hugepages, solid
+    from rvcoax.fem.rigid_body import rigid_body_modes
     from rvcoax.fem.solvers import prepare
     from rvcoax.geometry.meshing import mesh_part
 
@@ -273,7 +274,7 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
     reduced = stiffness[free][:, free]
     del stiffness
     lap("constraint elimination")
-    solver = prepare(reduced, method="auto", near_null_space=solid.rigid_body_modes(basis.doflocs.T)[free])
+    solver = prepare(reduced, method="auto", near_null_space=rigid_body_modes(basis.doflocs.T)[free])
     lap("solver set-up")
     q = solver.solve(force[free])
     lap("solve")

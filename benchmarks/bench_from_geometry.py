@@ -80,7 +80,8 @@ def observed_order(sizes, values) -> tuple[float, float]:
 
 
 def shape_convergence(rows: list) -> None:
-    from rvcoax.geometry.housings import BracketGeometry, Reference, condense_housing
+    from rvcoax.geometry.housings import BracketGeometry, Reference
+    from rvcoax.geometry.model.condensed_housing import condense_housing
 
     def bracket(size: float) -> BracketGeometry:  # as in tests/geometry/test_housing_shapes.py
         return BracketGeometry(name="bracket", x_mm=(0.0, 60.0), width_mm=70.0, top_mm=35.0, seat_bottom_mm=-35.0,
@@ -99,7 +100,7 @@ def shape_convergence(rows: list) -> None:
              lambda size, cache: condensed_housing(rig, pedestal.model_copy(update={"mesh_size_mm": size}), cache)),
             ("wall bracket of the tests (Winkler bed 0.5 / 0.2 N/(µm·mm²))",
              lambda size, cache: condense_housing(bracket(size), material.youngs_modulus_MPa * 1e6,
-                                                  material.poisson_ratio, seats, "bed", (0.5, 0.2), cache_dir=cache))):
+                                                  material.poisson_ratio, seats, "bed", bed_stiffness_N_per_um_per_mm2=(0.5, 0.2), cache_dir=cache))):
         stiffness = []
         for size in sizes:
             with tempfile.TemporaryDirectory() as cache:

@@ -61,7 +61,8 @@ def compare(label: str, geometry, cache: Path, keep: Path | None) -> tuple[list[
     from rvcoax.fem import solid
     from rvcoax.fem.system import prepare_system
     from rvcoax.fem.ties import face_nodes
-    from rvcoax.geometry.housings import build_housing_model, foot_facets, housing_faces, solid_method
+    from rvcoax.geometry.housings import foot_facets, housing_faces
+    from rvcoax.geometry.model.condensed_housing import build_housing_model, solid_method
 
     model = build_housing_model(geometry, YOUNGS_PA, POISSON, [], "clamped", cache_dir=cache)
     mesh, basis = model.mesh, model.basis

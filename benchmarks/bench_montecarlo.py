@@ -72,8 +72,8 @@ def cluster_run(study, values, scheduler: str, workers: int | None) -> dict:
     stamps = []
     with tempfile.TemporaryDirectory() as folder:
         start = time.perf_counter()
-        _, report = run_samples(evaluate_sample, study, values, folder, f"bench-{scheduler}-{workers}", scheduler,
-                                workers, on_result=lambda index, result: stamps.append(time.perf_counter()))
+        _, report = run_samples(evaluate_sample, study, values, folder, f"bench-{scheduler}-{workers}", scheduler=scheduler,
+                                workers=workers, on_result=lambda index, result: stamps.append(time.perf_counter()))
         total = time.perf_counter() - start
     steady = (len(stamps) - 1) / (stamps[-1] - stamps[0]) if len(stamps) > 1 else float("nan")
     return {"total_s": total, "end_to_end": len(values) / total, "steady": steady, "first_result_s": stamps[0] - start,
@@ -94,7 +94,7 @@ def worker_memory(study, values, workers: int) -> tuple[dict, list[float]]:
                       dashboard_address=None, silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         with tempfile.TemporaryDirectory() as folder:
             start = time.perf_counter()
-            run_samples(evaluate_sample, study, values, folder, "bench-hybrid", cluster.scheduler_address,
+            run_samples(evaluate_sample, study, values, folder, "bench-hybrid", scheduler=cluster.scheduler_address,
                         on_result=lambda index, result: stamps.append(time.perf_counter()))
             total = time.perf_counter() - start
         memory = list(client.run(peak_rss_mb).values())

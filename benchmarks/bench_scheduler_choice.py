@@ -53,7 +53,7 @@ def main() -> None:
             found = {}
             for scheduler in ("serial", "local", "auto"):
                 found[scheduler] = run_samples(evaluate_sample, study, values, Path(folder) / f"{n}-{scheduler}",
-                                               f"bench-{n}-{scheduler}", scheduler, setup_seconds=setup)
+                                               f"bench-{n}-{scheduler}", scheduler=scheduler, setup_seconds=setup)
             same = found["serial"][0] == found["local"][0] == found["auto"][0]
             serial, local, auto = (found[s][1] for s in ("serial", "local", "auto"))
             rows.append((f"{n} samples: serial / local cluster ({local.workers} workers) / auto",

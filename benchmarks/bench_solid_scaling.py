@@ -131,6 +131,7 @@ def run_one(label: str) -> dict:
 
     from rvcoax.fem import blas_threads, hugepages, solid
     from rvcoax.fem.memory import available_memory_bytes
+    from rvcoax.fem.rigid_body import rigid_body_modes
     from rvcoax.fem.solver_cost import COST_MODEL
     from rvcoax.fem.solvers import choose_method, prepare
     from rvcoax.geometry.meshing import mesh_part
@@ -163,7 +164,7 @@ def run_one(label: str) -> dict:
     del stiffness
 
     def set_up():
-        modes = solid.rigid_body_modes(basis.doflocs.T)[free]
+        modes = rigid_body_modes(basis.doflocs.T)[free]
         return prepare(reduced, method="auto", near_null_space=modes)
 
     available = available_memory_bytes()

@@ -45,6 +45,7 @@ def system(h: float, cache: str):
     import numpy as np
 
     from rvcoax.fem import solid
+    from rvcoax.fem.rigid_body import rigid_body_modes
     from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
     mesh = mesh_part(SolidPartGeometry(f"cantilever_{h}", SEGMENTS, (), h), cache_dir=Path(cache))
@@ -56,7 +57,7 @@ def system(h: float, cache: str):
     free = np.flatnonzero(keep)
     tip = mesh.facets_satisfying(lambda x: np.isclose(x[0], LENGTH_MM * 1e-3, rtol=0.0, atol=1e-9))
     force = solid.force_traction_vector(mesh, tip, TIP_FORCE_N)[free]
-    return stiffness[free][:, free].tocsr(), force, solid.rigid_body_modes(basis.doflocs.T)[free]
+    return stiffness[free][:, free].tocsr(), force, rigid_body_modes(basis.doflocs.T)[free]
 
 
 def child(h: float, method: str, cache: str) -> dict:

@@ -75,10 +75,10 @@ from rvcoax.geometry.effects import candidate_effects  # noqa: E402
 from rvcoax.geometry.model.beam import attachment_positions  # noqa: E402
 from rvcoax.geometry.model.loads import located_unit_loads  # noqa: E402
 from rvcoax.geometry.schema import Rig  # noqa: E402
+from rvcoax.geometry.units import MM  # noqa: E402
 from rvcoax.loadcases.cases import paper_cases  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-MM = 1e-3
 STEPS = ("T1", "T2", "engaged_T1", "engaged_T2")
 ARM_STIFFENING = 1e3
 ELEMENT_MM = 5.0

@@ -19,7 +19,8 @@ DOFS_PER_NODE = 6
 
 # the module that defines each public name
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
-    "rvcoax.fem.errors": ("RvcoaxError", "SolverError"),
+    "rvcoax.errors": ("RvcoaxError",),
+    "rvcoax.fem.errors": ("SolverError",),
     "rvcoax.fem.hugepages": ("avoid_compaction_stalls",),
     "rvcoax.fem.blas_threads": ("single_threaded_openblas",),
 }, eager=("DOFS_PER_NODE",))

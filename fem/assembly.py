@@ -113,9 +113,9 @@ def assemble_matrix(n_dofs: int, pieces: Iterable[tuple[np.ndarray, np.ndarray, 
 
     threads = _threads() if nnz >= PARALLEL_MIN_TRIPLETS else 1
     if threads == 1:
-        return _assemble(n_dofs, nnz, rows, cols, vals, _InlinePool(), 1)
+        return _assemble(n_dofs, nnz, rows, cols, vals, pool=_InlinePool(), threads=1)
     with ThreadPoolExecutor(threads) as pool:
-        return _assemble(n_dofs, nnz, rows, cols, vals, pool, threads)
+        return _assemble(n_dofs, nnz, rows, cols, vals, pool=pool, threads=threads)
 
 
 class _InlinePool:
@@ -153,7 +153,7 @@ def _transpose_block(job) -> tuple[np.ndarray, int]:
     return out_ptr, e0
 
 
-def _assemble(n_dofs, nnz, rows, cols, vals, pool, threads) -> sp.csr_matrix:
+def _assemble(n_dofs, nnz, rows, cols, vals, *, pool, threads) -> sp.csr_matrix:  # noqa: PLR0913
     index_type = np.int32 if max(nnz, n_dofs) < _INT32_MAX else np.int64
     # rows and columns side by side in one buffer, which the second pass reuses for its values
     pair = np.empty(2 * nnz, dtype=index_type)

@@ -245,9 +245,11 @@ class BallBearingGeometry:
 
     def with_clearance(self, clearance_m: float) -> BallBearingGeometry:
         """The same bearing with another diametral clearance."""
-        return BallBearingGeometry(self.ball_count, self.ball_diameter_m, self.pitch_diameter_m,
-                                   self.inner_conformity, self.outer_conformity, clearance_m,
-                                   self.youngs_modulus_Pa, self.poisson, self.contact_angle_rad)
+        return BallBearingGeometry(ball_count=self.ball_count, ball_diameter_m=self.ball_diameter_m,
+                                   pitch_diameter_m=self.pitch_diameter_m, inner_conformity=self.inner_conformity,
+                                   outer_conformity=self.outer_conformity, clearance_m=clearance_m,
+                                   youngs_modulus_Pa=self.youngs_modulus_Pa, poisson=self.poisson,
+                                   contact_angle_rad=self.contact_angle_rad)
 
     def max_contact_pressure(self, load_n):
         """The largest Hertz pressure (Pa) of a ball carrying ``load_n`` (N): the larger of its inner and
@@ -327,7 +329,8 @@ def ball_loads(geometry: BallBearingGeometry, displacement, azimuth0_rad: float 
     tangent = np.einsum("j,jp,jq->pq", 1.5 * k_n * np.sqrt(delta), g, g)
     projector = np.eye(2)[None] - np.einsum("ja,jb->jab", normal, normal)
     tangent += np.einsum("j,jap,jab,jbq->pq", load / dist, jac, projector, jac)
-    return BallLoads(psi, delta, load, np.arctan2(sa, sr), force, tangent)
+    return BallLoads(azimuth_rad=psi, deflection_m=delta, load_n=load, contact_angle_rad=np.arctan2(sa, sr), force=force,
+                     stiffness=tangent)
 
 
 def bearing_force(geometry: BallBearingGeometry, relative_motion, preload_offset_m: float = 0.0,

@@ -134,7 +134,7 @@ def stiffness_triplets(coordinates: np.ndarray, elements: BeamElements):
 
 
 def gravity_load(
-    coordinates: np.ndarray, elements: BeamElements, acceleration_m_s2: np.ndarray, n_dofs: int
+    coordinates: np.ndarray, elements: BeamElements, acceleration_m_per_s2: np.ndarray, n_dofs: int
 ) -> np.ndarray:
     """Consistent nodal load vector of the beams' self-weight ρ A g (N, N·m).
 
@@ -145,7 +145,7 @@ def gravity_load(
     if elements.connectivity.size == 0:
         return load
     cosines, length = _rotations(coordinates, elements)
-    q_global = (elements.density_kg_per_m3 * elements.area_m2)[:, None] * np.asarray(acceleration_m_s2)
+    q_global = (elements.density_kg_per_m3 * elements.area_m2)[:, None] * np.asarray(acceleration_m_per_s2)
     q = np.einsum("eij,ej->ei", cosines, q_global)  # local components
     f = np.zeros((length.size, 12))
     half = length / 2.0

@@ -246,7 +246,7 @@ def solve_with_gaps(gaps: RadialGaps, solve, load: np.ndarray, tolerance: float 
         value, tangent, _ = _released(w.reshape(-1, 2), gaps)
         return value.ravel(), tangent
 
-    solution = solve_condensed(gaps, solve, load, released, tolerance, max_iterations, "bearing-clearance")
+    solution = solve_condensed(gaps, solve, load, released, tolerance, max_iterations=max_iterations, what="bearing-clearance")
     d = solution.motion.reshape(-1, 2)
     return GapSolution(solution.displacement, d, np.linalg.norm(d, axis=1) > gaps.clearance, solution.iterations,
                        solution.condensed_residual)
@@ -263,8 +263,8 @@ class CondensedSolution:
     condensed_residual: float
 
 
-def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,
-                    max_iterations: int = 100, what: str = "nonlinear spring",
+def solve_condensed(condensed, solve, load: np.ndarray, released, tolerance: float = 1e-13,  # noqa: PLR0913
+                    *, max_iterations: int = 100, what: str = "nonlinear spring",
                     regularisation: np.ndarray | None = None) -> CondensedSolution:
     """Static solution of a linear structure with nonlinear springs, condensed on their motions.
 

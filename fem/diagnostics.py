@@ -15,6 +15,8 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.equilibrium import frame_dof_table
+from rvcoax.fem.rigid_body import rigid_body_modes
 
 __all__ = ["FreeMotion", "MOTION_NAMES", "constraint_penalty", "find_free_motions", "scaled_condition_estimate",
            "scaled_inverse_norm_bound"]
@@ -36,22 +38,15 @@ class FreeMotion:
         return f"{noun} {who} can move freely ({'; '.join(self.directions)}): no support path to ground"
 
 
-def _rigid_body_modes(coordinates: np.ndarray, nodes: np.ndarray, n_dofs: int) -> np.ndarray:
-    centre = coordinates[nodes].mean(axis=0)
+def _part_modes(coordinates: np.ndarray, nodes: np.ndarray, n_dofs: int) -> np.ndarray:
+    """The rigid-body modes (n_dofs, 6) of the frame ``nodes`` (six DOFs each), rotations scaled so that the
+    largest motion is about 1; zero elsewhere."""
     extent = max(float(np.ptp(coordinates[nodes], axis=0).max()), 1e-3)
-    r = coordinates[nodes] - centre
+    table = frame_dof_table(coordinates[nodes])
     modes = np.zeros((n_dofs, 6))
-    base = DOFS_PER_NODE * nodes
-    for axis in range(3):
-        modes[base + axis, axis] = 1.0
-        modes[base + 3 + axis, 3 + axis] = 1.0 / extent
-    # rotation θ about axis a: u = θ e_a × r, scaled so that the largest motion is about 1
-    modes[base + 1, 3] = -r[:, 2] / extent
-    modes[base + 2, 3] = r[:, 1] / extent
-    modes[base + 0, 4] = r[:, 2] / extent
-    modes[base + 2, 4] = -r[:, 0] / extent
-    modes[base + 0, 5] = -r[:, 1] / extent
-    modes[base + 1, 5] = r[:, 0] / extent
+    dofs = (DOFS_PER_NODE * nodes[:, None] + np.arange(DOFS_PER_NODE)).ravel()
+    modes[dofs] = rigid_body_modes(table.position, table.component, centre=coordinates[nodes].mean(axis=0),
+                                   length=extent)
     return modes
 
 
@@ -74,15 +69,15 @@ def constraint_penalty(n_dofs: int, elimination: sp.csr_matrix, free_dofs: np.nd
     return (c.T @ c).tocsr()
 
 
-def find_free_motions(
-    coordinates: np.ndarray,
-    stiffness: sp.csr_matrix,
-    elimination: sp.csr_matrix,
-    free_dofs: np.ndarray,
-    node_group: np.ndarray,
-    relative_tolerance: float = 1e-9,
-) -> list[FreeMotion]:
-    """Rigid-body motions of single parts, and of connected sets of parts, with no energy."""
+def find_free_motions(structure, system, *, relative_tolerance: float = 1e-9) -> list[FreeMotion]:
+    """Rigid-body motions of single parts, and of connected sets of parts, with no energy.
+
+    ``structure`` gives the node ``coordinates`` and each node's part (``node_group``; a
+    :class:`rvcoax.fem.model.StructuralModel`), ``system`` the ``stiffness``, its constraint ``elimination`` and
+    ``free_dofs`` (a :class:`rvcoax.fem.pieces.AssembledSystem`).
+    """
+    coordinates, node_group = structure.coordinates, structure.node_group
+    stiffness, elimination, free_dofs = system.stiffness, system.elimination, system.free_dofs
     n_dofs = stiffness.shape[0]
     scale = float(np.abs(stiffness.diagonal()).max()) or 1.0
     k = (stiffness + scale * constraint_penalty(n_dofs, elimination, free_dofs)).tocsr()
@@ -90,7 +85,7 @@ def find_free_motions(
     names = list(dict.fromkeys(groups.tolist()))
 
     def free_directions(nodes: np.ndarray) -> list[str]:
-        modes = _rigid_body_modes(coordinates, nodes, n_dofs)
+        modes = _part_modes(coordinates, nodes, n_dofs)
         energy = modes.T @ (k @ modes)
         own = np.concatenate([DOFS_PER_NODE * nodes + a for a in range(DOFS_PER_NODE)])
         local_scale = float(np.abs(stiffness.diagonal()[own]).max()) or scale

@@ -1,40 +1,14 @@
-"""The errors rvcoax raises on purpose, and those of the finite-element core.
-
-Every error rvcoax raises for a reason a user can act on derives from :class:`RvcoaxError`; the
-command line turns any of them into one paragraph and exit status 2, and a script can catch them
-all with one clause. Each error still derives from the built-in class it always had
-(``ValueError`` for bad input, ``RuntimeError`` for a model or solver that fails), so code that
-caught those keeps working.
+"""The errors of the finite-element core: a singular model, a failed solve, PARDISO, a bearing gap that does not
+converge. They derive from :class:`rvcoax.errors.RvcoaxError`, the base of every error rvcoax raises on purpose
+(also found here, where it was first defined).
 """
 
 from __future__ import annotations
 
+from rvcoax.errors import RvcoaxError
+
 __all__ = ["GapConvergenceError", "PardisoError", "RvcoaxError", "SingularMatrixError", "SingularModelError",
            "SolverError"]
-
-
-class RvcoaxError(Exception):
-    """Base of every error rvcoax raises on purpose.
-
-    Attributes
-    ----------
-    stage : str
-        The step of the work that failed, in the user's words (class attribute), e.g. ``"solving
-        the rig"``; empty for errors whose message already says everything (bad input files).
-    where : str or None
-        The file, option, key, part or equation where it happened, when the raiser knows it.
-    """
-
-    stage = ""
-
-    def __init__(self, *args, where: str | None = None):
-        super().__init__(*args)
-        self.where = where
-
-    def describe(self, subject: str | None = None) -> str:
-        """One paragraph for a user: ``"<subject>: <stage>: <message>"``, leaving out what is empty."""
-        parts = [part for part in (subject if self.stage else None, self.stage, str(self)) if part]
-        return ": ".join(parts)
 
 
 class SingularModelError(RvcoaxError, RuntimeError):

@@ -45,9 +45,9 @@ class PointMasses:
     rotary_inertia_kg_m2: np.ndarray  # (n, 3): Ixx, Iyy, Izz
 
 
-def point_mass_gravity(masses: PointMasses, acceleration_m_s2: np.ndarray, n_dofs: int) -> np.ndarray:
+def point_mass_gravity(masses: PointMasses, acceleration_m_per_s2: np.ndarray, n_dofs: int) -> np.ndarray:
     """Weight m g of each point mass as nodal forces."""
-    force = np.asarray(masses.mass_kg, float)[:, None] * np.asarray(acceleration_m_s2)[None, :]
+    force = np.asarray(masses.mass_kg, float)[:, None] * np.asarray(acceleration_m_per_s2)[None, :]
     components = np.concatenate([force, np.zeros_like(force)], axis=1)
     return nodal_load_vector(NodalLoads(np.asarray(masses.node, int), components), n_dofs)
 

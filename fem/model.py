@@ -1,17 +1,19 @@
-"""The assembled structural model: nodes, pieces, constraints and their global matrices."""
+"""A frame model: nodes, beams, bushings, point masses, rigid links and fixed DOFs (data only).
+
+Its pieces enter a system through :func:`rvcoax.fem.pieces.frame_contributions` and
+:func:`rvcoax.fem.pieces.assemble`, like every other model piece.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads
-from rvcoax.fem.assembly import assemble_matrix
-from rvcoax.fem.constraints import RigidLinks, elimination_matrix, rigid_link_equations
+from rvcoax.fem.constraints import RigidLinks
 
-__all__ = ["StructuralModel", "constraint_elimination", "gravity_load_vector", "stiffness_matrix"]
+__all__ = ["StructuralModel"]
 
 
 def _no_links() -> RigidLinks:
@@ -55,28 +57,3 @@ class StructuralModel:
     @property
     def n_dofs(self) -> int:
         return DOFS_PER_NODE * self.n_nodes
-
-
-def stiffness_matrix(model: StructuralModel) -> sp.csr_matrix:
-    """Global stiffness of all beams and bushings (constraints not applied)."""
-    return assemble_matrix(
-        model.n_dofs,
-        [
-            beam.stiffness_triplets(model.coordinates, model.beams),
-            bushing.stiffness_triplets(model.coordinates, model.bushings),
-        ],
-    )
-
-
-def constraint_elimination(model: StructuralModel):
-    """Elimination matrix T (u = T q) and the independent DOF numbers."""
-    equations = rigid_link_equations(model.coordinates, model.rigid_links)
-    return elimination_matrix(model.n_dofs, model.fixed_dofs, equations)
-
-
-def gravity_load_vector(model: StructuralModel, acceleration_m_s2) -> np.ndarray:
-    """Weight of beams (consistent) and point masses as a global load vector."""
-    g = np.asarray(acceleration_m_s2, dtype=float)
-    return beam.gravity_load(model.coordinates, model.beams, g, model.n_dofs) + loads.point_mass_gravity(
-        model.point_masses, g, model.n_dofs
-    )

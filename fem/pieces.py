@@ -26,7 +26,7 @@ from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads, solid
 from rvcoax.fem.assembly import assemble_matrix, block_diagonal
 from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
 
-__all__ = ["AssembledSystem", "Contribution", "assemble", "beam_contribution", "bushing_contribution",
+__all__ = ["AssembledSystem", "Contribution", "assemble", "assemble_frame", "beam_contribution", "bushing_contribution",
            "constraint_contribution", "dense_load_contribution", "frame_contributions", "load_vectors", "nodal_load_contribution",
            "point_mass_contribution", "prestrain_contribution", "solid_contribution", "tie_contribution"]
 
@@ -84,9 +84,18 @@ class AssembledSystem:
     fixed_dofs: np.ndarray
 
     @functools.cached_property
+    def _reduction(self) -> tuple[sp.csr_matrix, np.ndarray]:
+        return elimination_matrix(self.n_dofs, self.fixed_dofs, self.equations)
+
+    @property
     def elimination(self) -> sp.csr_matrix:
         """T (n × m) with u = T q: the fixed DOFs and constraint rows eliminated."""
-        return elimination_matrix(self.n_dofs, self.fixed_dofs, self.equations)[0]
+        return self._reduction[0]
+
+    @property
+    def free_dofs(self) -> np.ndarray:
+        """The m independent DOFs q (T's columns), in increasing order."""
+        return self._reduction[1]
 
 
 def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSystem:
@@ -174,13 +183,24 @@ def constraint_contribution(model) -> Contribution:
 
 
 def frame_contributions(model, gravity_direction) -> list[Contribution]:
-    """Every piece of a frame model, in assembly order: beams, bushings, point masses, constraints."""
+    """Every piece of a frame model, in assembly order: beams, bushings, point masses, constraints.
+
+    The one list of a frame's element types: a new one (a field of :class:`rvcoax.fem.model.StructuralModel`)
+    is added here, and every frame model (the rig's, the checks before a solve, the exports) assembles it.
+    ``gravity_direction`` scales the load ``"gravity"``: a unit vector gives the weight per m/s², an
+    acceleration (m/s²) the weight itself.
+    """
     return [beam_contribution(model, gravity_direction), bushing_contribution(model),
             point_mass_contribution(model, gravity_direction), constraint_contribution(model)]
 
 
-def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,
-                       gravity_direction) -> Contribution:
+def assemble_frame(model, gravity_direction=(0.0, 0.0, 0.0)) -> AssembledSystem:
+    """A frame model alone (:func:`frame_contributions`) summed by :func:`assemble`."""
+    return assemble(model.n_dofs, frame_contributions(model, gravity_direction))
+
+
+def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,  # noqa: PLR0913
+                       *, gravity_direction) -> Contribution:
     """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
     weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
     return Contribution(loads={"gravity": _dense(weight, dof_offset)},

@@ -173,10 +173,12 @@ class RollerBearingGeometry:
 
     def with_clearance(self, clearance_m: float) -> RollerBearingGeometry:
         """The same bearing with another diametral clearance."""
-        return RollerBearingGeometry(self.roller_count, self.roller_diameter_m, self.roller_length_m,
-                                     self.pitch_diameter_m, self.contact_angle_rad, clearance_m, self.crowning,
-                                     self.crowning_load_n, self.crown_drop_m, self.slices, self.youngs_modulus_Pa,
-                                     self.poisson)
+        return RollerBearingGeometry(roller_count=self.roller_count, roller_diameter_m=self.roller_diameter_m,
+                                     roller_length_m=self.roller_length_m, pitch_diameter_m=self.pitch_diameter_m,
+                                     contact_angle_rad=self.contact_angle_rad, clearance_m=clearance_m,
+                                     crowning=self.crowning, crowning_load_n=self.crowning_load_n,
+                                     crown_drop_m=self.crown_drop_m, slices=self.slices,
+                                     youngs_modulus_Pa=self.youngs_modulus_Pa, poisson=self.poisson)
 
     def max_contact_pressure(self, lamina_load_n):
         """Hertz line-contact pressure p = √(q' E' / (2π R)) (Pa) of laminae carrying ``lamina_load_n`` (N)
@@ -250,4 +252,6 @@ def roller_loads(geometry: RollerBearingGeometry, displacement, azimuth0_rad: fl
     stiffness = (np.einsum("j,jp,jq->pq", k0, a, a) + np.einsum("j,jp,jq->pq", k1, a, b)
                  + np.einsum("j,jp,jq->pq", k1, b, a) + np.einsum("j,jp,jq->pq", k2, b, b))
     pressure = geometry.max_contact_pressure(lamina.max(axis=1))
-    return RollerLoads(psi, delta, lamina, q0, np.full(z, geometry.contact_angle_rad), pressure, force, stiffness)
+    return RollerLoads(azimuth_rad=psi, lamina_deflection_m=delta, lamina_load_n=lamina, load_n=q0,
+                       contact_angle_rad=np.full(z, geometry.contact_angle_rad), max_contact_pressure_Pa=pressure,
+                       force=force, stiffness=stiffness)

@@ -238,5 +238,6 @@ def rolling_element_loads(bearing: RollingBearing, relative_motion) -> ElementLo
             kinds.append("roller")
             laminae.append(state.lamina_load_n)
             widths.append(row.law.roller_length_m / row.law.slices)
-    return ElementLoads(np.concatenate(rows), np.concatenate(azimuth), np.concatenate(load), np.concatenate(angle),
-                        np.concatenate(pressure), tuple(kinds), tuple(laminae), tuple(widths))
+    return ElementLoads(row=np.concatenate(rows), azimuth_rad=np.concatenate(azimuth), load_n=np.concatenate(load),
+                        contact_angle_rad=np.concatenate(angle), max_contact_pressure_Pa=np.concatenate(pressure),
+                        kind=tuple(kinds), lamina_load_n=tuple(laminae), lamina_width_m=tuple(widths))

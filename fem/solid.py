@@ -32,7 +32,7 @@ from scipy.spatial import cKDTree
 
 __all__ = ["DEFAULT_INTORDER", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
            "facet_basis", "force_traction_vector", "lame_parameters", "logger",
-           "probe_matrix", "rigid_body_modes", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
+           "probe_matrix", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
 
 logger = logging.getLogger(__name__)
@@ -189,10 +189,10 @@ def _scatter(basis, local: np.ndarray) -> np.ndarray:
     return np.bincount(basis.element_dofs.ravel(), weights=local.ravel(), minlength=basis.N)
 
 
-def body_force_vector(basis, density_kg_per_m3: float, acceleration_m_s2) -> np.ndarray:
+def body_force_vector(basis, density_kg_per_m3: float, acceleration_m_per_s2) -> np.ndarray:
     """Consistent load vector of the body force ρ g (self-weight: g = (0, −9.81, 0) or similar), (N,)."""
     _check_vector_p2(basis)
-    g = np.asarray(acceleration_m_s2, dtype=float).reshape(3)
+    g = np.asarray(acceleration_m_per_s2, dtype=float).reshape(3)
     integrals = np.einsum("aeq,eq->ae", _scalar_values(basis), basis.dx)  # ∫ Nₐ dV, (10, e)
     local = density_kg_per_m3 * integrals[:, None, :] * g[None, :, None]  # (10, 3, e)
     return _scatter(basis, local.reshape(3 * _N_P2, -1))
@@ -242,8 +242,8 @@ def force_traction_vector(mesh: skfem.MeshTet2, facets, force_N, intorder: int =
     return _traction_vector(fbasis, traction)
 
 
-def torque_traction_vector(
-    mesh: skfem.MeshTet2, facets, axis_point, axis_dir, torque_Nm: float, intorder: int = FACET_INTORDER
+def torque_traction_vector(  # noqa: PLR0913
+    mesh: skfem.MeshTet2, facets, axis_point, axis_dir, torque_Nm: float, *, intorder: int = FACET_INTORDER
 ) -> np.ndarray:
     """Load vector (N,) of a torsional shear traction with moment ``torque_Nm`` about the axis.
 
@@ -433,28 +433,3 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
 def von_mises_at_nodes(basis, displacement, youngs_modulus_Pa: float, poisson: float) -> np.ndarray:
     """Von Mises stress (n_nodes,) of the node-averaged stress (:func:`stress_at_nodes`), Pa."""
     return von_mises(stress_at_nodes(basis, displacement, youngs_modulus_Pa, poisson))
-
-
-def rigid_body_modes(dof_coordinates, components=None) -> np.ndarray:
-    """Rigid-body modes (N, 6): 3 translations, 3 rotations about the centroid (near null space for AMG).
-
-    Parameters
-    ----------
-    dof_coordinates : (N, 3) array
-        Position of the node each DOF belongs to (``basis.doflocs.T``).
-    components : (N,) int array, optional
-        Component of each DOF (0 = x, 1 = y, 2 = z); default ``arange(N) % 3``, the interleaved
-        numbering of scikit-fem's vector P2 basis (:func:`dof_components` gives it for any basis).
-    """
-    x = np.asarray(dof_coordinates, dtype=float)
-    n = x.shape[0]
-    c = np.arange(n) % 3 if components is None else np.asarray(components)
-    x = x - x.mean(axis=0)
-    modes = np.zeros((n, 6))
-    modes[np.arange(n), c] = 1.0
-    for k in range(3):
-        axis = np.zeros(3)
-        axis[k] = 1.0
-        field = np.cross(axis, x)  # ω × (x − x₀)
-        modes[:, 3 + k] = field[np.arange(n), c]
-    return modes

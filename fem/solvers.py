@@ -122,7 +122,7 @@ def pardiso_available() -> bool:
     return pardiso.available()
 
 
-def choose_method(
+def choose_method(  # noqa: PLR0913
     n_dofs: int,
     nonzeros: float | None = None,
     n_rhs: int = 1,
@@ -162,8 +162,8 @@ def choose_method(
 class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
-    def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,
-                 release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
+    def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,  # noqa: PLR0913
+                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
         self._rss_before = rss_before
@@ -172,9 +172,10 @@ class PreparedSolver:
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
         peak = _peak_rss_mb()
-        self._report = SolverReport(name, matrix.shape[0], setup_seconds, 0.0, peak, max(0.0, peak - rss_before),
-                                    matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros), factor_nonzeros=int(factor[0]),
-                                    factor_memory_MB=float(factor[1]))
+        self._report = SolverReport(name=name, n_dofs=matrix.shape[0], setup_seconds=setup_seconds, solve_seconds=0.0,
+                                    peak_memory_MB=peak, peak_memory_increase_MB=max(0.0, peak - rss_before),
+                                    matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros),
+                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]))
 
     def release(self) -> None:
         """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
@@ -431,12 +432,13 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
                                   f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
     _refuse_singular(operator, solve, factor)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
-    return PreparedSolver(operator, name, solve, time.perf_counter() - start, rss_before, factor.release,
-                          (factor.factor_nonzeros, factor.memory_MB), matrix_nonzeros=pardiso.stored_nonzeros(upper))
+    return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
+                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
+                          matrix_nonzeros=pardiso.stored_nonzeros(upper))
 
 
-def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,
-                        residual_limit: float = AMG_RESIDUAL_LIMIT, maxiter: int | None = None,
+def conjugate_gradients(matrix, b: np.ndarray, precondition, accuracy: float = AMG_ACCURACY,  # noqa: PLR0913
+                        residual_limit: float = AMG_RESIDUAL_LIMIT, *, maxiter: int | None = None,
                         delay: int = AMG_ERROR_DELAY) -> tuple[np.ndarray, int, float]:
     """Preconditioned CG from x₀ = 0 that stops on an estimate of the displacement's error.
 
@@ -536,7 +538,7 @@ def _setup_amg(a: sp.csr_matrix, near_null_space, accuracy: float, maxiter: int 
             f"of {accuracy:.0e})", solve, None, (0, 0.0))
 
 
-def prepare(
+def prepare(  # noqa: PLR0913
     matrix,
     method: str = "auto",
     near_null_space=None,
@@ -555,7 +557,7 @@ def prepare(
         Symmetric positive definite (constraints already eliminated).
     method : {"auto", "superlu", "pardiso", "amg"}
     near_null_space : (n, k) array, optional
-        AMG only: the rigid-body modes of the unconstrained structure (``rvcoax.fem.solid.rigid_body_modes``)
+        AMG only: the rigid-body modes of the unconstrained structure (:func:`rvcoax.fem.rigid_body.rigid_body_modes`)
         restricted to the free DOFs. Without them AMG converges slowly on elasticity.
     n_rhs : int
         ``"auto"``: how many right-hand sides the set-up will serve (:func:`choose_method`).
@@ -587,4 +589,5 @@ def prepare(
         name, solve, release, factor = _setup_amg(a, near_null_space, accuracy, maxiter)
     else:
         raise SolverError(f"unknown solver method '{method}': choose one of auto, {', '.join(METHODS)}")
-    return PreparedSolver(a, name, solve, time.perf_counter() - start, rss_before, release, factor)
+    return PreparedSolver(a, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
+                          release=release, factor=factor)

@@ -225,9 +225,9 @@ def reduced_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, symm
     return (reduced + reduced.T) * 0.5 if symmetrize else reduced
 
 
-def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",
+def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",  # noqa: PLR0913
                    near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False,
-                   n_rhs: int = 1) -> ReducedSystem:
+                   *, n_rhs: int = 1) -> ReducedSystem:
     """Reduce K with T and set up ``method`` for Tᵀ K T.
 
     Parameters

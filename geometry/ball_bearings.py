@@ -59,10 +59,15 @@ def _read_catalogue() -> dict[str, CatalogueBallBearing]:
                                       .read_text(encoding="utf-8")))
     out = {}
     for row in rows:
-        out[row["designation"]] = CatalogueBallBearing(
-            row["designation"], float(row["bore_mm"]), float(row["outside_diameter_mm"]), float(row["width_mm"]),
-            int(row["ball_count"]), float(row["ball_diameter_mm"]), float(row["pitch_diameter_mm"]),
-            float(row["inner_conformity"]), float(row["outer_conformity"]), row["source"])
+        out[row["designation"]] = CatalogueBallBearing(designation=row["designation"], bore_mm=float(row["bore_mm"]),
+                                                       outside_diameter_mm=float(row["outside_diameter_mm"]),
+                                                       width_mm=float(row["width_mm"]),
+                                                       ball_count=int(row["ball_count"]),
+                                                       ball_diameter_mm=float(row["ball_diameter_mm"]),
+                                                       pitch_diameter_mm=float(row["pitch_diameter_mm"]),
+                                                       inner_conformity=float(row["inner_conformity"]),
+                                                       outer_conformity=float(row["outer_conformity"]),
+                                                       source=row["source"])
     return out
 
 

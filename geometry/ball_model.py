@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem.ball_bearing import BallBearingGeometry, ball_loads
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.geometry.ball_bearings import BALL_BEARINGS, clearance_range_um
 
 __all__ = ["BALL_BEARINGS", "BALL_KEYS", "BEARING_STEEL_EXPANSION_PER_K", "GEOMETRY_KEYS", "OperatingClearanceError",
@@ -99,9 +99,11 @@ def geometry_of(bearing) -> BallBearingGeometry:
         raise ValueError(f"model = \"ball\" needs a designation or the geometry keys; missing: {', '.join(missing)}")
     clearance = clearance_um_of(bearing)
     try:
-        return BallBearingGeometry(int(values["ball_count"]), values["ball_diameter_mm"] * 1e-3,
-                                   values["pitch_diameter_mm"] * 1e-3, values["inner_conformity"],
-                                   values["outer_conformity"], clearance * 1e-6)
+        return BallBearingGeometry(ball_count=int(values["ball_count"]),
+                                   ball_diameter_m=values["ball_diameter_mm"] * 1e-3,
+                                   pitch_diameter_m=values["pitch_diameter_mm"] * 1e-3,
+                                   inner_conformity=values["inner_conformity"],
+                                   outer_conformity=values["outer_conformity"], clearance_m=clearance * 1e-6)
     except ValueError as error:
         raise ValueError(f"ball bearing geometry: {error}") from None
 

@@ -74,32 +74,36 @@ _PER_MM = ((1e-3, "written in N/m?"), (1e3, "written in N/µm?"))
 _PER_RAD = ((1e-3, "written in N·mm/rad?"), (1e3, "written in kN·m/rad?"))
 _LENGTH_MM = ((1e3, "written in m?"), (1e-3, "written in µm?"))
 
-CATALOGUE = (
-    PlausibleRange("bearing", "radial_stiffness_N_per_um", 1.0, 5000.0, "N/µm", _PER_UM),
-    PlausibleRange("bearing", "axial_stiffness_N_per_um", 0.5, 5000.0, "N/µm", _PER_UM, zero_allowed=True),
-    PlausibleRange("bearing", "tilt_stiffness_Nm_per_rad", 1.0, 1e7, "N·m/rad", _PER_RAD, zero_allowed=True),
-    PlausibleRange("bearing", "width_mm", 2.0, 500.0, "mm", _LENGTH_MM),
-    PlausibleRange("coupling", "radial_stiffness_N_per_mm", 10.0, 1e6, "N/mm", _PER_MM),
-    PlausibleRange("coupling", "angular_stiffness_Nm_per_rad", 1.0, 1e6, "N·m/rad", _PER_RAD),
-    PlausibleRange("coupling", "torsional_stiffness_Nm_per_rad", 100.0, 1e7, "N·m/rad", _PER_RAD),
-    PlausibleRange("coupling", "axial_stiffness_N_per_mm", 1.0, 1e6, "N/mm", _PER_MM),
-    PlausibleRange("coupling", "hub_length_mm", 2.0, 500.0, "mm", _LENGTH_MM),
-    PlausibleRange("coupling", "mass_kg", 0.005, 100.0, "kg", ((1e-3, "written in g?"),), zero_allowed=True),
-    PlausibleRange("mount", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, zero_allowed=True),
-    PlausibleRange("mount", "rotational_stiffness_Nm_per_rad", 100.0, 1e9, "N·m/rad", _PER_RAD, zero_allowed=True),
-    PlausibleRange("joint", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, zero_allowed=True),
-    PlausibleRange("joint", "rotational_stiffness_Nm_per_rad", 0.1, 1e9, "N·m/rad", _PER_RAD, zero_allowed=True),
-    PlausibleRange("torque_lateral_load", "mesh_stiffness_N_per_um", 10.0, 1e4, "N/µm", _PER_UM),
-    PlausibleRange("torque_lateral_load", "pitch_radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
-    PlausibleRange("torque_lateral_load", "radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
-    PlausibleRange("torque_lateral_load", "arm_length_mm", 1.0, 2000.0, "mm", _LENGTH_MM),
-    PlausibleRange("segment", "outer_diameter_mm", 1.0, 3000.0, "mm", _LENGTH_MM),
-    PlausibleRange("material", "youngs_modulus_MPa", 1e3, 5e5, "MPa", ((1e-6, "written in Pa?"), (1e3, "written in GPa?"))),
-    PlausibleRange("material", "poisson_ratio", 0.1, 0.45, ""),
-    PlausibleRange("material", "density_kg_per_m3", 500.0, 25000.0, "kg/m³", ((1e3, "written in g/cm³?"),)),
+# kind, key, low, high, unit, likely unit slips ((factor, what it suggests), …), zero allowed
+_RANGES = (
+    ("bearing", "radial_stiffness_N_per_um", 1.0, 5000.0, "N/µm", _PER_UM, False),
+    ("bearing", "axial_stiffness_N_per_um", 0.5, 5000.0, "N/µm", _PER_UM, True),
+    ("bearing", "tilt_stiffness_Nm_per_rad", 1.0, 1e7, "N·m/rad", _PER_RAD, True),
+    ("bearing", "width_mm", 2.0, 500.0, "mm", _LENGTH_MM, False),
+    ("coupling", "radial_stiffness_N_per_mm", 10.0, 1e6, "N/mm", _PER_MM, False),
+    ("coupling", "angular_stiffness_Nm_per_rad", 1.0, 1e6, "N·m/rad", _PER_RAD, False),
+    ("coupling", "torsional_stiffness_Nm_per_rad", 100.0, 1e7, "N·m/rad", _PER_RAD, False),
+    ("coupling", "axial_stiffness_N_per_mm", 1.0, 1e6, "N/mm", _PER_MM, False),
+    ("coupling", "hub_length_mm", 2.0, 500.0, "mm", _LENGTH_MM, False),
+    ("coupling", "mass_kg", 0.005, 100.0, "kg", ((1e-3, "written in g?"),), True),
+    ("mount", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, True),
+    ("mount", "rotational_stiffness_Nm_per_rad", 100.0, 1e9, "N·m/rad", _PER_RAD, True),
+    ("joint", "translational_stiffness_N_per_um", 1.0, 1e5, "N/µm", _PER_UM, True),
+    ("joint", "rotational_stiffness_Nm_per_rad", 0.1, 1e9, "N·m/rad", _PER_RAD, True),
+    ("torque_lateral_load", "mesh_stiffness_N_per_um", 10.0, 1e4, "N/µm", _PER_UM, False),
+    ("torque_lateral_load", "pitch_radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM, False),
+    ("torque_lateral_load", "radius_mm", 1.0, 2000.0, "mm", _LENGTH_MM, False),
+    ("torque_lateral_load", "arm_length_mm", 1.0, 2000.0, "mm", _LENGTH_MM, False),
+    ("segment", "outer_diameter_mm", 1.0, 3000.0, "mm", _LENGTH_MM, False),
+    ("material", "youngs_modulus_MPa", 1e3, 5e5, "MPa", ((1e-6, "written in Pa?"), (1e3, "written in GPa?")), False),
+    ("material", "poisson_ratio", 0.1, 0.45, "", (), False),
+    ("material", "density_kg_per_m3", 500.0, 25000.0, "kg/m³", ((1e3, "written in g/cm³?"),), False),
     # metals 4e-6 (Invar-like steels excluded) … 2.5e-5 (aluminium, zinc); polymers reach 1e-4 but do not carry rigs
-    PlausibleRange("material", "thermal_expansion_per_K", 4e-6, 3e-5, "1/K"),
+    ("material", "thermal_expansion_per_K", 4e-6, 3e-5, "1/K", (), False),
 )
+CATALOGUE = tuple(PlausibleRange(kind=kind, key=key, low=low, high=high, unit=unit, slips=slips, zero_allowed=zero)
+                  for kind, key, low, high, unit, slips, zero in _RANGES)
+
 MASS_TO_VOLUME_RANGE = (0.05, 20.0)  # a body's mass_kg over its segments' volume × density
 RADIAL_STIFFNESS_PER_BORE = (0.5, 100.0)  # a rolling bearing's radial stiffness (N/µm) per mm of its bore
 
@@ -190,7 +194,8 @@ def _bore_warnings(rig: Rig, already: list[str]) -> list[str]:
         if bore is None or not diameter.low <= bore <= diameter.high \
                 or any(m.startswith(f"{where}.radial_stiffness_N_per_um") for m in already):
             continue  # no bore, an implausible one (warned about already), or the plain range warned
-        row = PlausibleRange("bearing", "radial_stiffness_N_per_um", low * bore, high * bore, "N/µm", _PER_UM)
+        row = PlausibleRange(kind="bearing", key="radial_stiffness_N_per_um", low=low * bore, high=high * bore,
+                             unit="N/µm", slips=_PER_UM)
         value = bearing.radial_stiffness_N_per_um
         message = _value_warning(where, row, value)
         if message:

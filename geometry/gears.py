@@ -186,8 +186,8 @@ def single_stiffness(stage: GearStage, blank_factor: float = 1.0,
     c_b = (1.0 + 0.5 * (1.2 - stage.dedendum_factor)) * (1.0 - 0.02 * (20.0 - stage.normal_pressure_angle_deg))
     e1, e2 = youngs_moduli_pa
     material = 2.0 * e1 * e2 / (e1 + e2) / STEEL_YOUNGS_MODULUS_PA
-    return SingleStiffness(q, 1.0 / q, ISO6336_C_M, blank_factor, c_b, math.cos(stage.beta), material,
-                           stage.contact_ratio)
+    return SingleStiffness(q_prime_mm_um_per_N=q, theoretical=1.0 / q, C_M=ISO6336_C_M, C_R=blank_factor, C_B=c_b,
+                           cos_beta=math.cos(stage.beta), material_factor=material, contact_ratio=stage.contact_ratio)
 
 
 def load_sharing(stiffness: np.ndarray, position_error: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -18,6 +18,10 @@ area), and one 6-DOF reference node per attachment is tied to a face (a band of 
 face). The supported model is then reduced to the reference nodes (:mod:`rvcoax.fem.condensation`): a
 6k × 6k stiffness against the ground that enters the rig like a bushing. The condensed matrix is cached
 too, keyed by everything it depends on.
+
+This module is the geometric half (the shapes, their feet, the faces references are tied to); the
+finite-element half (the supported solid model, its condensation and the cache) is
+:mod:`rvcoax.geometry.model.condensed_housing`.
 """
 
 from __future__ import annotations
@@ -25,27 +29,15 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
-import tempfile
-import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
 import skfem
 
-from rvcoax.fem import DOFS_PER_NODE, solid
-from rvcoax.fem.assembly import assemble_matrix
-from rvcoax.fem.condensation import condensed_stiffness_and_loads
-from rvcoax.fem.constraints import elimination_matrix
-from rvcoax.fem.solvers import pardiso_available
-from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
-from rvcoax.geometry.meshing import MESHER_VERSION, default_cache_dir, mesh_part
+from rvcoax.geometry.meshing import MESHER_VERSION
 
-__all__ = ["BlockGeometry", "BracketGeometry", "CondensedHousing", "FootPatch", "HOUSING_VERSION", "HousingGeometry",
-           "HousingModel", "PedestalGeometry", "Reference", "build_housing_model", "condense_housing", "foot_facets",
-           "housing_faces", "solid_method"]
+__all__ = ["BlockGeometry", "BracketGeometry", "FootPatch", "HOUSING_VERSION", "HousingGeometry", "PedestalGeometry",
+           "Reference", "foot_facets", "housing_faces"]
 
 HOUSING_VERSION = 2
 """Bump whenever a change here changes a condensed matrix (invalidates its cache entries)."""
@@ -410,7 +402,7 @@ class BracketGeometry(_SeatGeometry):
 
 
 HousingGeometry = BlockGeometry | PedestalGeometry | BracketGeometry
-"""A housing's shape: everything :func:`build_housing_model` needs (``feet``, ``top_mm``, ``bore_diameter_mm``,
+"""A housing's shape: everything :func:`rvcoax.geometry.model.condensed_housing.build_housing_model` needs (``feet``, ``top_mm``, ``bore_diameter_mm``,
 ``cache_key``, ``build_occ_model``)."""
 
 
@@ -478,160 +470,3 @@ def foot_facets(mesh: skfem.MeshTet2, geometry: HousingGeometry) -> list[np.ndar
             raise ValueError(f"housing '{geometry.name}': no mesh facets on a foot at {'xyz'[foot.axis]} = {foot.at_mm:g} mm")
         found.append(facets)
     return found
-
-
-@dataclass(frozen=True, eq=False)
-class HousingModel:
-    """The supported solid model of a housing with its reference nodes (DOFs 0 … 6k − 1, solid DOFs after).
-
-    Attributes
-    ----------
-    stiffness, elimination : csr_matrix
-        K (n × n) and T (u = T q): ties and clamped feet eliminated.
-    master_dofs : array of int
-        The reference nodes' DOFs, 6 per node.
-    mesh, basis :
-        The solid's mesh and P2 basis (its DOFs start at ``6k``).
-    """
-
-    stiffness: sp.csr_matrix
-    elimination: sp.csr_matrix
-    master_dofs: np.ndarray
-    mesh: object
-    basis: object
-
-    @property
-    def n_dofs(self) -> int:
-        return int(self.stiffness.shape[0])
-
-
-def solid_method() -> str:
-    """PARDISO where it is installed (a solid's fill-in makes SuperLU 5–10× slower at 15 k DOFs), else ``auto``."""
-    return "pardiso" if pardiso_available() else "auto"
-
-
-def build_housing_model(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float,
-                        references: list[Reference], feet: str = "clamped",
-                        bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
-                        cache_dir: Path | None = None) -> HousingModel:
-    """Mesh ``geometry`` and build its supported model: ``feet`` ``"clamped"`` (the feet held) or ``"bed"`` (a
-    Winkler bed of (normal, shear) stiffness per area under the feet; normal along the feet's normal, shear in
-    their plane)."""
-    mesh = mesh_part(geometry, cache_dir=cache_dir)
-    basis = solid.solid_basis(mesh)
-    offset = DOFS_PER_NODE * len(references)
-    n = offset + int(basis.N)
-    pieces = [solid.stiffness_triplets(basis, youngs_modulus_Pa, poisson, dof_offset=offset)]
-    fixed = np.zeros(0, dtype=int)
-    if feet == "clamped":
-        bottom = np.concatenate(foot_facets(mesh, geometry))
-        fixed = np.unique(face_nodes(mesh, basis, bottom, offset).dofs.ravel())
-    elif feet == "bed":
-        normal, shear = (v * 1e12 for v in bed_stiffness_N_per_um_per_mm2)  # N/(µm·mm²) → N/m³
-        for foot, facets in zip(geometry.feet, foot_facets(mesh, geometry)):
-            k = np.full(3, shear)
-            k[foot.axis] = normal
-            form = skfem.BilinearForm(lambda u, v, w, k=k: k[0] * u[0] * v[0] + k[1] * u[1] * v[1] + k[2] * u[2] * v[2])
-            bed = form.assemble(solid.facet_basis(mesh, facets)).tocoo()
-            pieces.append((bed.row + offset, bed.col + offset, bed.data))
-    else:
-        raise ValueError(f"unknown feet {feet!r} (clamped, bed)")
-    equations: dict[int, dict[int, float]] = {}
-    for i, reference in enumerate(references):
-        nodes = face_nodes(mesh, basis, housing_faces(mesh, geometry, reference.face), offset)
-        point = np.asarray(reference.point_mm, dtype=float) * 1e-3
-        tie = rigid_tie_equations if reference.tie == "rigid" else distributing_tie_equations
-        equations.update(tie(i, point, nodes))
-    stiffness = assemble_matrix(n, pieces)
-    elimination = elimination_matrix(n, fixed, equations)[0]
-    return HousingModel(stiffness, elimination, np.arange(offset), mesh, basis)
-
-
-@dataclass(frozen=True)
-class CondensedHousing:
-    """A housing's condensed stiffness (6k × 6k, SI: N/m, N/rad, N·m/rad) at its reference nodes, and its weight.
-
-    ``weight_load`` (6k,) is the master load equivalent to the solid's own weight for a density of 1 kg/m³ under
-    1 m/s² along −y (N per kg/m³ per m/s²; :func:`rvcoax.fem.condensation.condensed_stiffness_and_loads`);
-    ``volume_m3`` and ``centroid_m`` are the meshed solid's. ``seconds`` is the time it took (meshing included;
-    near 0 when read from the cache) and ``solid_dofs`` the size of the solid model it came from.
-    """
-
-    matrix: np.ndarray
-    solid_dofs: int
-    seconds: float
-    from_cache: bool
-    weight_load: np.ndarray | None = None
-    volume_m3: float = 0.0
-    centroid_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
-
-
-def _cache_file(key: dict, cache_dir: Path | None) -> Path:
-    digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
-    directory = (default_cache_dir() if cache_dir is None else Path(cache_dir)) / "housings"
-    return directory / f"{digest}.npz"
-
-
-def _save(path: Path, result: CondensedHousing) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle = tempfile.NamedTemporaryFile(dir=path.parent, prefix=path.stem + ".", suffix=".tmp", delete=False)
-    try:
-        with handle:
-            np.savez(handle, matrix=result.matrix, solid_dofs=np.array(result.solid_dofs), weight_load=result.weight_load,
-                     volume_m3=np.array(result.volume_m3), centroid_m=np.array(result.centroid_m))
-        os.replace(handle.name, path)
-    except BaseException:
-        Path(handle.name).unlink(missing_ok=True)
-        raise
-
-
-def _load(path: Path) -> CondensedHousing | None:
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            matrix, dofs = np.array(data["matrix"]), int(data["solid_dofs"])
-            weight, volume, centroid = np.array(data["weight_load"]), float(data["volume_m3"]), np.array(data["centroid_m"])
-        if matrix.ndim != 2 or matrix.shape[0] != matrix.shape[1] or not np.all(np.isfinite(matrix)):
-            raise ValueError("bad matrix")
-        if weight.shape != (matrix.shape[0],) or centroid.shape != (3,):
-            raise ValueError("bad weight")
-        return CondensedHousing(matrix, dofs, 0.0, True, weight, volume, tuple(float(c) for c in centroid))
-    except FileNotFoundError:
-        return None
-    except Exception:  # damaged entry: computed again and rewritten
-        path.unlink(missing_ok=True)
-        return None
-
-
-def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],
-                     feet: str = "clamped", bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
-                     cache_dir: Path | None = None, use_cache: bool = True,
-                     compute: bool = True) -> CondensedHousing | None:
-    """The condensed stiffness of a housing at its references (cached by everything it depends on); with
-    ``compute=False`` only what the cache holds (None when it does not hold it)."""
-    key = {"geometry": geometry.cache_key(), "E": youngs_modulus_Pa, "nu": poisson, "feet": feet,
-           "bed": list(bed_stiffness_N_per_um_per_mm2 or ()),
-           "references": [[list(r.point_mm), list(r.face), r.tie] for r in references]}
-    path = _cache_file(key, cache_dir)
-    if use_cache:
-        cached = _load(path)
-        if cached is not None:
-            return cached
-    if not compute:
-        return None
-    start = time.perf_counter()
-    model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2,
-                                cache_dir)
-    weight = np.zeros(model.n_dofs)
-    weight[model.master_dofs.size:] = solid.body_force_vector(model.basis, 1.0, np.array([0.0, -1.0, 0.0]))
-    matrix, equivalent = condensed_stiffness_and_loads(model.stiffness, model.elimination, model.master_dofs, weight,
-                                                       solid_method())
-    volume = float(skfem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(model.basis))
-    centroid = tuple(float(skfem.Functional(lambda w, i=i: w.x[i]).assemble(model.basis)) / volume for i in range(3))
-    result = CondensedHousing(matrix, int(model.basis.N), time.perf_counter() - start, False, equivalent[:, 0], volume,
-                              centroid)
-    if use_cache:
-        try:
-            _save(path, result)
-        except OSError:
-            pass  # a read-only cache only costs the next run the condensation
-    return result

@@ -15,7 +15,7 @@ import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 
 __all__ = ["InputFileError", "check_readable_file", "csv_rows", "parse_toml", "plain_number", "read_input_text",
            "toml_error_text"]

@@ -34,9 +34,10 @@ from pathlib import Path
 import numpy as np
 import skfem
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
+from rvcoax.geometry.units import MM
 
-__all__ = ["MESHER_VERSION", "MIN_SHAPE_QUALITY", "MM", "MeshingError", "SolidPartGeometry", "cache_path",
+__all__ = ["MESHER_VERSION", "MIN_SHAPE_QUALITY", "MeshingError", "SolidPartGeometry", "cache_path",
            "check_mesh", "default_cache_dir", "estimate_dofs", "logger", "mesh_part", "shape_quality"]
 
 logger = logging.getLogger(__name__)
@@ -44,7 +45,6 @@ logger = logging.getLogger(__name__)
 MESHER_VERSION = 2
 """Bump whenever a change here changes the meshes produced (invalidates every cache entry)."""
 
-MM = 1e-3
 _TOL_MM = 1e-6  # breakpoints closer than this are one plane
 _ELEMENTS_PER_CIRCLE = 8  # gmsh Mesh.MeshSizeFromCurvature
 

@@ -7,12 +7,13 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.inputfiles import InputFileError, parse_toml, read_input_text
+from rvcoax.errors import InputFileProblems
+from rvcoax.geometry.inputfiles import InputFileError, read_input_text
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.validation import read_toml_model, validation_problems
 
-__all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "REFERENCE_VARIANTS", "RigFileError", "load_rig", "parse_rig", "parse_rig_text",
-           "reference_rig_text"]
+__all__ = ["MAX_RIG_BYTES", "REFERENCE_RIG", "REFERENCE_VARIANTS", "RigFileError", "UNKNOWN_KEY", "load_rig", "parse_rig",
+           "parse_rig_text", "reference_rig_text"]
 
 REFERENCE_RIG = "reference_rig.toml"
 REFERENCE_VARIANTS = {"ball_bearings": "reference_rig_ball_bearings.toml",
@@ -22,47 +23,13 @@ angular-contact, cylindrical and tapered roller bearings from geometry."""
 MAX_RIG_BYTES = 4_000_000  # the reference rig is 20 kB; 200 times that is no hand-written rig
 
 
-class RigFileError(RvcoaxError, ValueError):
+class RigFileError(InputFileProblems):
     """A rig file that cannot be used; the message names the file, the keys and the reasons."""
 
-    def __init__(self, source: str, problems: list[str]):
-        self.source = source
-        self.problems = problems
-        listing = "\n".join(f"  - {p}" for p in problems)
-        super().__init__(f"rig file {source}: {len(problems)} problem(s):\n{listing}")
+    what = "rig file"
 
 
-def _key_path(location: tuple) -> str:
-    out = ""
-    for item in location:
-        if isinstance(item, int):
-            out += f"[{item}]"
-        else:
-            out += ("." if out else "") + str(item)
-    return out or "(top level)"
-
-
-def _describe(error: dict, data: dict) -> str:
-    location = tuple(x for x in error["loc"] if x not in ("function-after[_check()]",))
-    key = _key_path(location)
-    # name the item, e.g. parts[3] ('input_shaft')
-    if len(location) >= 2 and isinstance(location[1], int) and isinstance(data.get(location[0]), list):
-        try:
-            item = data[location[0]][location[1]]
-            label = item.get("name") or item.get("label")
-            if label:
-                key = key.replace(f"{location[0]}[{location[1]}]", f"{location[0]}[{location[1]}] ('{label}')", 1)
-        except (IndexError, AttributeError, TypeError):
-            pass
-    kind = error["type"]
-    message = error["msg"].removeprefix("Value error, ")
-    if kind == "missing":
-        return f"{key}: required key is missing"
-    if kind == "extra_forbidden":
-        return f"{key}: unknown key (misspelled? it is not part of the rig schema)"
-    value = error.get("input")
-    shown = f" (got {value!r})" if not isinstance(value, (dict, list)) and kind != "value_error" else ""
-    return f"{key}: {message}{shown}"
+UNKNOWN_KEY = "it is not part of the rig schema"
 
 
 def parse_rig(data: dict, source: str) -> Rig:
@@ -70,14 +37,7 @@ def parse_rig(data: dict, source: str) -> Rig:
     try:
         return Rig.model_validate(data)
     except ValidationError as error:
-        problems = []
-        for e in error.errors():
-            text = _describe(e, data)
-            if e["type"] == "value_error" and not e["loc"]:
-                problems.extend(text.removeprefix("(top level): ").split("\n"))
-            else:
-                problems.append(text)
-        raise RigFileError(source, problems) from None
+        raise RigFileError(source, validation_problems(error, data, UNKNOWN_KEY)) from None
 
 
 def load_rig(path: str | Path | None = None) -> Rig:
@@ -131,11 +91,7 @@ def parse_rig_text(text: str, source: str = "<rig text>") -> Rig:
     RigFileError
         The text is not TOML, or a key is missing, unknown or out of its physical range.
     """
-    try:
-        data = parse_toml(text)
-    except InputFileError as error:
-        raise RigFileError(source, [str(error)]) from None
-    return parse_rig(data, source)
+    return read_toml_model(Rig, text, lambda problems: RigFileError(source, problems), unknown_key=UNKNOWN_KEY)
 
 
 def reference_rig_text(variant: str | None = None) -> str:

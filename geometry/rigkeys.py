@@ -432,13 +432,14 @@ def _walk(model: type[BaseModel], prefix: str, section: str) -> Iterator[KeyRow]
             # a map of plain values keyed by name (e.g. a temperature rise per part): one row, <name> = value
             kind, allowed = _kind_and_allowed(typing.get_args(core)[1], None)
             meaning = field.description or MEANINGS.get(f"{path}.<name>", "")
-            yield KeyRow(section or key, f"{path}.<name>", f"{kind} per name", unit_of(key), _default_text(field),
-                         allowed, _plausible(section or key, key), meaning)
+            yield KeyRow(section=section or key, key=f"{path}.<name>", kind=f"{kind} per name", unit=unit_of(key),
+                         default=_default_text(field), allowed=allowed, plausible=_plausible(section or key, key),
+                         meaning=meaning)
             continue
         kind, allowed = _kind_and_allowed(field.annotation, field)
         meaning = field.description or MEANINGS.get(path, "")
-        yield KeyRow(section or key, path, kind, unit_of(key), _default_text(field), allowed,
-                     _plausible(section or key, key), meaning)
+        yield KeyRow(section=section or key, key=path, kind=kind, unit=unit_of(key), default=_default_text(field),
+                     allowed=allowed, plausible=_plausible(section or key, key), meaning=meaning)
 
 
 def key_rows() -> list[KeyRow]:

@@ -41,19 +41,19 @@ def _table_of(entry: dict):
     return table
 
 
-def _update(node, old: dict, new: dict, note: str, path: str, changed: list[str]) -> None:
+def _update(node, old: dict, new: dict, note: str, path: str, *, changed: list[str]) -> None:  # noqa: PLR0913
     for key, value in new.items():
         before = old.get(key)
         if before == value:
             continue
         where = f"{path}.{key}" if path else key
         if isinstance(value, dict) and isinstance(before, dict) and key in node:
-            _update(node[key], before, value, note, where, changed)
+            _update(node[key], before, value, note, where, changed=changed)
         elif (isinstance(value, list) and value and all(isinstance(v, dict) for v in value)
               and isinstance(before, list) and key in node):
             for i, entry in enumerate(value):
                 if i < len(before):
-                    _update(node[key][i], before[i], entry, note, f"{where}[{i}]", changed)
+                    _update(node[key][i], before[i], entry, note, f"{where}[{i}]", changed=changed)
                 else:
                     table = _table_of(entry)
                     table.comment(note)
@@ -105,7 +105,7 @@ def updated_rig_text(original_text: str, new_rig: Rig, note: str, header: list[s
     document = tomlkit.parse(original_text)
     changed: list[str] = []
     _update(document, old_rig.model_dump(by_alias=True, mode="json"), new_rig.model_dump(by_alias=True, mode="json"),
-            note, "", changed)
+            note, "", changed=changed)
     text = "".join(f"# {line}\n" for line in header) + tomlkit.dumps(document)
     written = parse_rig(tomllib.loads(text), "updated rig")
     if written.model_dump() != new_rig.model_dump():

@@ -88,8 +88,8 @@ def ball_dynamic_rating_N(ball_count: int, ball_diameter_mm: float, pitch_diamet
     return 1.3 * fc * (rows * cos_a) ** 0.7 * ball_count ** (2.0 / 3.0) * ball_diameter_mm**1.8
 
 
-def roller_dynamic_rating_N(roller_count: int, roller_diameter_mm: float, roller_length_mm: float,
-                            pitch_diameter_mm: float, contact_angle_deg: float, rows: int = 1) -> float:
+def roller_dynamic_rating_N(roller_count: int, roller_diameter_mm: float, roller_length_mm: float,  # noqa: PLR0913
+                            pitch_diameter_mm: float, contact_angle_deg: float, *, rows: int = 1) -> float:
     """ISO 281 basic dynamic radial load rating C (N) of a radial roller bearing."""
     cos_a = math.cos(math.radians(contact_angle_deg))
     fc = _fc(ROLLER_FC, roller_diameter_mm * cos_a / pitch_diameter_mm)
@@ -147,13 +147,16 @@ def _angular(designation: str, row: dict, suffix: str) -> CatalogueRollingBearin
     ball = round(0.30 * (big_d - d), 3)
     count = int(math.pi * pitch / (1.2 * ball))
     angle = ANGULAR_CONTACT_SUFFIXES[suffix]
-    geometry = BallBearingGeometry(count, ball * 1e-3, pitch * 1e-3, 0.52, 0.53, 0.0,
+    geometry = BallBearingGeometry(ball_count=count, ball_diameter_m=ball * 1e-3, pitch_diameter_m=pitch * 1e-3,
+                                   inner_conformity=0.52, outer_conformity=0.53, clearance_m=0.0,
                                    contact_angle_rad=math.radians(angle))
     estimated = "ESTIMATED (rules in rvcoax.geometry.rolling_catalogue)"
     return CatalogueRollingBearing(
-        designation, "angular_contact", d, big_d, width, angle, count, ball, pitch, None, 0.52, 0.53,
-        ball_dynamic_rating_N(count, ball, pitch, angle), ball_static_rating_N(geometry),
-        {"bore_mm": row["source"], "outside_diameter_mm": row["source"], "width_mm": row["source"],
+        designation=designation, kind="angular_contact", bore_mm=d, outside_diameter_mm=big_d, width_mm=width,
+        contact_angle_deg=angle, element_count=count, element_diameter_mm=ball, pitch_diameter_mm=pitch,
+        element_length_mm=None, inner_conformity=0.52, outer_conformity=0.53,
+        dynamic_rating_N=ball_dynamic_rating_N(count, ball, pitch, angle), static_rating_N=ball_static_rating_N(geometry),
+        sources={"bore_mm": row["source"], "outside_diameter_mm": row["source"], "width_mm": row["source"],
          "contact_angle_deg": f"suffix {suffix}", "element_count": estimated, "element_diameter_mm": estimated,
          "pitch_diameter_mm": estimated, "inner_conformity": estimated, "outer_conformity": estimated,
          "dynamic_rating_N": "COMPUTED (ISO 281) from the estimated geometry",
@@ -175,9 +178,12 @@ def _roller(designation: str, row: dict, kind: str, series: str) -> CatalogueRol
                                      crowning="none", slices=1)
     estimated = "ESTIMATED (rules in rvcoax.geometry.rolling_catalogue)"
     return CatalogueRollingBearing(
-        designation, kind, d, big_d, width, angle, count, roller, pitch, length, None, None,
-        roller_dynamic_rating_N(count, roller, length, pitch, angle), roller_static_rating_N(geometry),
-        {"bore_mm": row["source"], "outside_diameter_mm": row["source"], "width_mm": row["source"],
+        designation=designation, kind=kind, bore_mm=d, outside_diameter_mm=big_d, width_mm=width,
+        contact_angle_deg=angle, element_count=count, element_diameter_mm=roller, pitch_diameter_mm=pitch,
+        element_length_mm=length, inner_conformity=None, outer_conformity=None,
+        dynamic_rating_N=roller_dynamic_rating_N(count, roller, length, pitch, angle),
+        static_rating_N=roller_static_rating_N(geometry),
+        sources={"bore_mm": row["source"], "outside_diameter_mm": row["source"], "width_mm": row["source"],
          "contact_angle_deg": angle_source, "element_count": estimated, "element_diameter_mm": estimated,
          "pitch_diameter_mm": estimated, "element_length_mm": estimated,
          "dynamic_rating_N": "COMPUTED (ISO 281) from the estimated geometry",

@@ -89,9 +89,11 @@ def _law(bearing, clearance_um: float = 0.0):
         if bearing.model == "angular_contact":
             if not values["contact_angle_deg"] > 0:
                 raise ValueError("an angular-contact bearing needs contact_angle_deg > 0")
-            return BallBearingGeometry(int(values["ball_count"]), values["ball_diameter_mm"] * 1e-3,
-                                       values["pitch_diameter_mm"] * 1e-3, values["inner_conformity"],
-                                       values["outer_conformity"], 0.0,
+            return BallBearingGeometry(ball_count=int(values["ball_count"]),
+                                       ball_diameter_m=values["ball_diameter_mm"] * 1e-3,
+                                       pitch_diameter_m=values["pitch_diameter_mm"] * 1e-3,
+                                       inner_conformity=values["inner_conformity"],
+                                       outer_conformity=values["outer_conformity"], clearance_m=0.0,
                                        contact_angle_rad=math.radians(values["contact_angle_deg"]))
         if bearing.model == "tapered_roller" and not values["contact_angle_deg"] > 0:
             raise ValueError("a tapered roller bearing needs contact_angle_deg > 0")
@@ -105,9 +107,11 @@ def _law(bearing, clearance_um: float = 0.0):
                                                          angle))
         if bearing.crowning == "circular" and bearing.crown_drop_um is None:
             raise ValueError("crowning = \"circular\" needs crown_drop_um (the drop at the roller ends)")
-        return RollerBearingGeometry(count, diameter, length, values["pitch_diameter_mm"] * 1e-3, angle,
-                                     clearance_um * 1e-6, bearing.crowning, crowning_load,
-                                     (bearing.crown_drop_um or 0.0) * 1e-6, bearing.slices_per_roller)
+        return RollerBearingGeometry(roller_count=count, roller_diameter_m=diameter, roller_length_m=length,
+                                     pitch_diameter_m=values["pitch_diameter_mm"] * 1e-3, contact_angle_rad=angle,
+                                     clearance_m=clearance_um * 1e-6, crowning=bearing.crowning,
+                                     crowning_load_n=crowning_load, crown_drop_m=(bearing.crown_drop_um or 0.0) * 1e-6,
+                                     slices=bearing.slices_per_roller)
     except ValueError as error:
         raise ValueError(f"{bearing.model.replace('_', ' ')} bearing geometry: {error}") from None
 

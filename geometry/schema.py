@@ -10,11 +10,12 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict, Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.limits import MESH_SIZE_RANGE_MM
+from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
@@ -31,25 +32,24 @@ Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
 
 
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+Strict = StrictModel  # the name the rig schema had for it (rvcoax.geometry.validation.StrictModel)
 
 
-class RigInfo(Strict):
+class RigInfo(StrictModel):
     name: str
     description: str = ""
 
 
-class Gravity(Strict):
+class Gravity(StrictModel):
     enabled: Flag = True
     acceleration_m_per_s2: Positive = 9.80665
 
 
-class MeshSettings(Strict):
+class MeshSettings(StrictModel):
     max_element_length_mm: Positive = 5.0
 
 
-class BeamSettings(Strict):
+class BeamSettings(StrictModel):
     """Shaft beams: Timoshenko (shear flexibility, default) or Euler–Bernoulli.
 
     ``shear_deformation = false`` makes the beams of every shaft (``role = "shaft"``)
@@ -70,7 +70,7 @@ class BeamSettings(Strict):
         return self.shear_flexibility_factor if self.shear_deformation else 0.0
 
 
-class Material(Strict):
+class Material(StrictModel):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
     density_kg_per_m3: Positive
@@ -82,7 +82,7 @@ class Material(Strict):
         return self.youngs_modulus_MPa / (2.0 * (1.0 + self.poisson_ratio))
 
 
-class Segment(Strict):
+class Segment(StrictModel):
     x_mm: tuple[Finite, Finite]
     outer_diameter_mm: Diameter
     inner_diameter_mm: Annotated[float, Field(ge=0, le=1e5, allow_inf_nan=False, strict=True)] = 0.0
@@ -103,7 +103,7 @@ class Segment(Strict):
         return math.pi / 4 * (self.outer_diameter_mm**2 - self.inner_diameter_mm**2) * (self.x_mm[1] - self.x_mm[0])
 
 
-class Part(Strict):
+class Part(StrictModel):
     name: Name
     role: Literal["shaft", "body"]
     material: str
@@ -132,7 +132,7 @@ class Part(Strict):
         return sum(s.volume_mm3 for s in self.segments)
 
 
-class Location(Strict):
+class Location(StrictModel):
     """A place on a part. On a solid part it is a face: ``band_mm`` (a band of the lateral surface),
     the end face when x is at the part's end, or a band ``[solid] attachment_band_mm`` wide."""
 
@@ -148,7 +148,7 @@ class Location(Strict):
         return self
 
 
-class Bearing(Strict):
+class Bearing(StrictModel):
     """A bearing between a shaft and its housing (or the ground).
 
     ``model = "linear"`` (default): springs typed in (``radial_stiffness_N_per_um`` required).
@@ -321,7 +321,7 @@ class Bearing(Strict):
 Triple = tuple[NonNegative, NonNegative, NonNegative]
 
 
-class Mount(Strict):
+class Mount(StrictModel):
     name: Name
     part: str
     x_mm: Finite
@@ -336,7 +336,7 @@ class Mount(Strict):
     support_material: str | None = None
 
 
-class Connection(Strict):
+class Connection(StrictModel):
     """Something joining two parts: ``from`` and ``to`` locations."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
@@ -374,18 +374,18 @@ class Joint(Connection):
     rotational_stiffness_Nm_per_rad: Triple
 
 
-class TorqueInput(Strict):
+class TorqueInput(StrictModel):
     part: str
     x_mm: Finite
     sign: Literal[1, -1] = 1
 
 
-class Torques(Strict):
+class Torques(StrictModel):
     T1: TorqueInput
     T2: TorqueInput
 
 
-class TorqueLateralLoad(Strict):
+class TorqueLateralLoad(StrictModel):
     """A lateral force that appears when torque flows, applied as a pair (on / reacted_on).
 
     Kinds
@@ -473,7 +473,7 @@ class TorqueLateralLoad(Strict):
 PlanetError = Annotated[float, Field(ge=-100.0, le=100.0, allow_inf_nan=False, strict=True)]
 
 
-class GearMesh(Strict):
+class GearMesh(StrictModel):
     """``[[gear_meshes]]``: a driving gear in mesh with planet gears, from its gear data.
 
     The RV reducer's first stage: the input (sun) gear on part ``on`` drives ``len(planet_angles_deg)``
@@ -541,8 +541,10 @@ class GearMesh(Strict):
         """The :class:`rvcoax.geometry.gears.GearStage` of the sun and one planet."""
         from rvcoax.geometry.gears import GearStage
 
-        return GearStage(self.normal_module_mm, (self.sun_teeth, self.planet_teeth), self.normal_pressure_angle_deg,
-                         self.face_width_mm, self.helix_angle_deg, tuple(self.profile_shift), self.dedendum_factor)
+        return GearStage(normal_module_mm=self.normal_module_mm, teeth=(self.sun_teeth, self.planet_teeth),
+                         normal_pressure_angle_deg=self.normal_pressure_angle_deg, face_width_mm=self.face_width_mm,
+                         helix_angle_deg=self.helix_angle_deg, profile_shift=tuple(self.profile_shift),
+                         dedendum_factor=self.dedendum_factor)
 
 
 
@@ -561,7 +563,7 @@ OptionalLength = Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, str
 FootStiffness = Annotated[float, Field(gt=0.0, le=1e7, allow_inf_nan=False, strict=True)] | None
 
 
-class Housing(Strict):
+class Housing(StrictModel):
     """``[[housings]]``: a housing of part ``part`` (bearing block, web pedestal, wall bracket), condensed from a
     solid model.
 
@@ -688,9 +690,10 @@ class Housing(Strict):
 
         splits = tuple(x for band in self.bands_mm() for x in band)
         if self.shape == "block":
-            return BlockGeometry(self.name, tuple(self.x_mm), self.width_mm, -self.height_above_bed_mm,
-                                 self.top_above_axis_mm, self.bore_diameter_mm, self.foot_thickness_mm,
-                                 self.foot_width_mm, splits, self.mesh_size_mm)
+            return BlockGeometry(name=self.name, x_mm=tuple(self.x_mm), width_mm=self.width_mm,
+                                 bottom_mm=-self.height_above_bed_mm, top_mm=self.top_above_axis_mm,
+                                 bore_diameter_mm=self.bore_diameter_mm, foot_thickness_mm=self.foot_thickness_mm,
+                                 foot_width_mm=self.foot_width_mm, split_x_mm=splits, mesh_size_mm=self.mesh_size_mm)
         seat = {"name": self.name, "x_mm": tuple(self.x_mm), "width_mm": self.width_mm, "top_mm": self.top_above_axis_mm,
                 "seat_bottom_mm": -self.seat_below_axis_mm, "bore_diameter_mm": self.bore_diameter_mm,
                 "split_x_mm": splits, "mesh_size_mm": self.mesh_size_mm, "foot_pad_mm": self.foot_pad_mm}
@@ -708,7 +711,7 @@ class Housing(Strict):
 TemperatureRise = Annotated[float, Field(ge=-100.0, le=300.0, allow_inf_nan=False, strict=True)]
 
 
-class Thermal(Strict):
+class Thermal(StrictModel):
     """``[thermal]``: steady temperature rises (K, = °C of difference) from the state the rig was built in.
 
     ``temperature_rise_K`` per part (missing parts: 0) grows every part axially and radially by its
@@ -724,20 +727,20 @@ class Thermal(Strict):
     bed_fixed_x_mm: Finite = 0.0
 
 
-class ForcePair(Strict):
+class ForcePair(StrictModel):
     label: str
     force_N: Finite
     plus_at: Location
     minus_at: Location
 
 
-class SingleForce(Strict):
+class SingleForce(StrictModel):
     label: str
     force_N: Finite
     at: Location
 
 
-class ForceTable(Strict):
+class ForceTable(StrictModel):
     apply: Flag = False
     scale: Finite = 1.0  # multiplies every force of the table when applied
     pairs: list[ForcePair] = []
@@ -746,14 +749,14 @@ class ForceTable(Strict):
 
 # --- load cases in the rig file (issue 15, outputs) ---------------------------------------------
 
-class RigLoadCase(Strict):
+class RigLoadCase(StrictModel):
     """One ``[[load_cases]]`` entry: a torque pair (N·m)."""
 
     T1_input_Nm: Finite
     T2_output_Nm: Finite
 
 
-class TorqueRange(Strict):
+class TorqueRange(StrictModel):
     """``[sweep]``: ``cases`` evenly spaced (T1, T2) pairs from the first to the last values (N·m)."""
 
     T1_input_Nm: tuple[Finite, Finite]
@@ -768,7 +771,7 @@ class TorqueRange(Strict):
         return self
 
 
-class SolidSettings(Strict):
+class SolidSettings(StrictModel):
     """Solid and hybrid models: which parts are solid in ``hybrid``, and mesh sizes."""
 
     hybrid_parts: list[str] | None = None
@@ -777,20 +780,20 @@ class SolidSettings(Strict):
     attachment_band_mm: Positive = 10.0
 
 
-class Path(Strict):
+class Path(StrictModel):
     part: str
     x_start_mm: Finite
     length_mm: Positive
     stations: Annotated[int, Field(ge=25, le=2001, strict=True)] = 41
 
 
-class Paths(Strict):
+class Paths(StrictModel):
     measured_from: Literal["aligned_at_rest", "unloaded"] = "aligned_at_rest"
     input: Path
     output: Path
 
 
-class Rig(Strict):
+class Rig(StrictModel):
     """A whole rig file."""
 
     schema_version: Literal[1]
@@ -949,69 +952,100 @@ class Rig(Strict):
             if p.material not in self.materials:
                 yield (f"parts[{i}] ('{p.name}').material: unknown material '{p.material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
+        yield from self._connection_problems(parts)
+        yield from self._load_problems(parts)
+        yield from self._thermal_problems()
+        yield from self._housing_problems(parts)
+        yield from self._force_table_problems(parts)
+        yield from self._path_problems(parts)
+        yield from self._overlapping_supports()
+        yield from self._overlapping_shafts()
+        yield from self._metre_scale()
+        yield from self._mesh_sizes()
+        for name in self.solid.hybrid_parts or []:
+            if name not in parts:
+                yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
+        yield from self._repeated_names()
 
-        def at(where: str, part: str, x: float, role: str | None = None):
-            if part not in parts:
-                yield f"{where}: unknown part '{part}' (parts: {', '.join(parts)})"
-                return
-            lo, hi = parts[part].x_range_mm
-            if not lo - 1e-9 <= x <= hi + 1e-9:
-                yield f"{where}: x_mm = {x} lies outside part '{part}' ({lo} .. {hi} mm)"
-            if role and parts[part].role != role:
-                yield f"{where}: part '{part}' is a {parts[part].role}, expected a {role}"
+    @staticmethod
+    def _at(parts: dict, where: str, part: str, x: float, role: str | None = None):
+        """A position ``x`` on ``part``: the part exists, ``x`` lies on it (and the part has ``role``)."""
+        if part not in parts:
+            yield f"{where}: unknown part '{part}' (parts: {', '.join(parts)})"
+            return
+        lo, hi = parts[part].x_range_mm
+        if not lo - 1e-9 <= x <= hi + 1e-9:
+            yield f"{where}: x_mm = {x} lies outside part '{part}' ({lo} .. {hi} mm)"
+        if role and parts[part].role != role:
+            yield f"{where}: part '{part}' is a {parts[part].role}, expected a {role}"
 
+    def _connection_problems(self, parts: dict):
+        """Bearings, mounts, couplings and joints: their parts and positions."""
         for i, b in enumerate(self.bearings):
-            yield from at(f"bearings[{i}] ('{b.name}').shaft", b.shaft, b.x_mm)
+            yield from self._at(parts, f"bearings[{i}] ('{b.name}').shaft", b.shaft, b.x_mm)
             if b.housing != "ground":
-                yield from at(f"bearings[{i}] ('{b.name}').housing", b.housing, b.x_mm)
+                yield from self._at(parts, f"bearings[{i}] ('{b.name}').housing", b.housing, b.x_mm)
                 if b.housing == b.shaft:
                     yield f"bearings[{i}] ('{b.name}'): shaft and housing are the same part"
         for i, m in enumerate(self.mounts):
-            yield from at(f"mounts[{i}] ('{m.name}')", m.part, m.x_mm)
+            yield from self._at(parts, f"mounts[{i}] ('{m.name}')", m.part, m.x_mm)
         for group, items in (("couplings", self.couplings), ("joints", self.joints)):
             for i, c in enumerate(items):
-                yield from at(f"{group}[{i}] ('{c.name}').from", c.from_.part, c.from_.x_mm)
-                yield from at(f"{group}[{i}] ('{c.name}').to", c.to.part, c.to.x_mm)
+                yield from self._at(parts, f"{group}[{i}] ('{c.name}').from", c.from_.part, c.from_.x_mm)
+                yield from self._at(parts, f"{group}[{i}] ('{c.name}').to", c.to.part, c.to.x_mm)
                 if c.from_.part == c.to.part:
                     yield f"{group}[{i}] ('{c.name}'): from and to are the same part '{c.to.part}'"
+
+    def _load_problems(self, parts: dict):
+        """The torques, the torque-proportional lateral loads and the gear meshes: where they act."""
         for key in ("T1", "T2"):
             t = getattr(self.torques, key)
-            yield from at(f"torques.{key}", t.part, t.x_mm)
+            yield from self._at(parts, f"torques.{key}", t.part, t.x_mm)
         for i, t in enumerate(self.torque_lateral_loads):
-            yield from at(f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
+            yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)
             if t.reacted_on is not None:
-                yield from at(f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
+                yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
         for i, g in enumerate(self.gear_meshes):
-            yield from at(f"gear_meshes[{i}] ('{g.name}').on", g.on.part, g.on.x_mm)
-            yield from at(f"gear_meshes[{i}] ('{g.name}').reacted_on", g.reacted_on.part, g.reacted_on.x_mm)
+            yield from self._at(parts, f"gear_meshes[{i}] ('{g.name}').on", g.on.part, g.on.x_mm)
+            yield from self._at(parts, f"gear_meshes[{i}] ('{g.name}').reacted_on", g.reacted_on.part, g.reacted_on.x_mm)
             if g.planet_material is not None and g.planet_material not in self.materials:
                 yield (f"gear_meshes[{i}] ('{g.name}').planet_material: unknown material '{g.planet_material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
             if g.on.part == g.reacted_on.part:
                 yield f"gear_meshes[{i}] ('{g.name}'): on and reacted_on are the same part '{g.on.part}'"
-        yield from self._thermal_problems()
+
+    def _housing_problems(self, parts: dict):
+        """``[[housings]]``: their part, attachments and material."""
         for i, h in enumerate(self.housings):
-            yield from at(f"housings[{i}] ('{h.name}').part", h.part, h.attachments_x_mm[0])
+            yield from self._at(parts, f"housings[{i}] ('{h.name}').part", h.part, h.attachments_x_mm[0])
             for x in h.attachments_x_mm[1:]:
-                yield from at(f"housings[{i}] ('{h.name}').attachments_x_mm", h.part, x)
+                yield from self._at(parts, f"housings[{i}] ('{h.name}').attachments_x_mm", h.part, x)
             if h.material not in self.materials:
                 yield (f"housings[{i}] ('{h.name}').material: unknown material '{h.material}' "
                        f"(known: {', '.join(sorted(self.materials))})")
+
+    def _force_table_problems(self, parts: dict):
+        """The force table's pairs and single forces: where they act."""
         for i, f in enumerate(self.force_table.pairs):
-            yield from at(f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
-            yield from at(f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
+            yield from self._at(parts, f"force_table.pairs[{i}] ('{f.label}').plus_at", f.plus_at.part, f.plus_at.x_mm)
+            yield from self._at(parts, f"force_table.pairs[{i}] ('{f.label}').minus_at", f.minus_at.part, f.minus_at.x_mm)
         for i, f in enumerate(self.force_table.singles):
-            yield from at(f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
+            yield from self._at(parts, f"force_table.singles[{i}] ('{f.label}').at", f.at.part, f.at.x_mm)
+
+    def _path_problems(self, parts: dict):
+        """The measured paths: on their part, not running past its end."""
         for key in MEASURED_SHAFTS:
             path = getattr(self.paths, key)
-            yield from at(f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
+            yield from self._at(parts, f"paths.{key}.x_start_mm", path.part, path.x_start_mm)
             if path.part in parts:
                 lo, hi = parts[path.part].x_range_mm
                 end = path.x_start_mm + path.length_mm
                 if end > hi + 1e-9:
                     yield (f"paths.{key}.length_mm: the path x_start_mm + length_mm = {path.x_start_mm:g} + "
                            f"{path.length_mm:g} = {end:g} mm runs past the end of part '{path.part}' ({lo:g} .. {hi:g} mm)")
-        # overlapping supports: two supports of one part at the same place
+
+    def _overlapping_supports(self):
+        """Two supports of one part at the same place."""
         seen: dict[tuple[str, float], str] = {}
         supports = [(f"bearings '{b.name}'", b.shaft, b.x_mm) for b in self.bearings]
         supports += [(f"mounts '{m.name}'", m.part, m.x_mm) for m in self.mounts]
@@ -1022,12 +1056,9 @@ class Rig(Strict):
                        "(overlapping supports; merge them into one with the summed stiffness)")
             else:
                 seen[key] = label
-        yield from self._overlapping_shafts()
-        yield from self._metre_scale()
-        yield from self._mesh_sizes()
-        for name in self.solid.hybrid_parts or []:
-            if name not in parts:
-                yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
+
+    def _repeated_names(self):
+        """Names of connections, loads and housings are unique."""
         names = [item.name for group in (self.bearings, self.mounts, self.couplings, self.joints,
                                          self.torque_lateral_loads, self.gear_meshes, self.housings)
                  for item in group]

@@ -98,9 +98,11 @@ def bed_growth_mm(rig: Rig, x_mm: float) -> float:
     return _alpha(rig, thermal.bed_material) * thermal.bed_temperature_rise_K * (x_mm - thermal.bed_fixed_x_mm)
 
 
-def _spacing_growth_mm(rig: Rig, from_part: str, from_x: float, to_part: str, to_x: float, centre_x: float) -> float:
-    """Growth of the axial spacing of two nodes joined at ``centre_x``: each part's strain on its side."""
-    return part_strain(rig, from_part) * (centre_x - from_x) + part_strain(rig, to_part) * (to_x - centre_x)
+def _spacing_growth_mm(rig: Rig, from_end, to_end, centre_x: float) -> float:
+    """Growth of the axial spacing of two ends (``part``, ``x_mm``) joined at ``centre_x``: each part's strain on
+    its side."""
+    return (part_strain(rig, from_end.part) * (centre_x - from_end.x_mm)
+            + part_strain(rig, to_end.part) * (to_end.x_mm - centre_x))
 
 
 def thermal_stress_free_motions(rig: Rig) -> np.ndarray:
@@ -118,10 +120,10 @@ def thermal_stress_free_motions(rig: Rig) -> np.ndarray:
     for m in rig.mounts:
         rows.append(np.array([bed_growth_mm(rig, m.x_mm) * 1e-3, mount_lift_um(rig, m) * 1e-6, 0.0, 0.0, 0.0, 0.0]))
     for c in rig.couplings:
-        growth = _spacing_growth_mm(rig, c.from_.part, c.from_.x_mm, c.to.part, c.to.x_mm, c.centre_x_mm)
+        growth = _spacing_growth_mm(rig, c.from_, c.to, c.centre_x_mm)
         rows.append(np.array([growth * 1e-3, 0.0, 0.0, 0.0, 0.0, 0.0]))
     for j in rig.joints:
-        growth = _spacing_growth_mm(rig, j.from_.part, j.from_.x_mm, j.to.part, j.to.x_mm, j.to.x_mm)
+        growth = _spacing_growth_mm(rig, j.from_, j.to, j.to.x_mm)
         rows.append(np.array([growth * 1e-3, 0.0, 0.0, 0.0, 0.0, 0.0]))
     return np.array(rows, dtype=float).reshape(-1, 6)
 

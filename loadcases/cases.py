@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
 from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES, MAX_TORQUE_NM
 

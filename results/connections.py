@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights, gear_contact_torques
 from rvcoax.geometry.model.springs import ConnectionStates, spring_states, with_nonlinear_laws
 

@@ -309,12 +309,17 @@ def _coupling(c, states: ConnectionStates, unloaded: ConnectionStates, reference
     angle = math.hypot(d[4], d[5])
     angularity = 100.0 * math.tan(angle)  # gap difference over 100 mm of diameter, mm
     offset_mm = offset_m * 1e3
-    return CouplingQuantities(
-        c.name, reference, float(d[1] * UM), float(d[2] * UM), offset_m * UM, angle * URAD, math.degrees(angle),
-        angularity, math.hypot(total[1], total[2]) * UM, math.hypot(total[4], total[5]) * URAD,
-        c.allowable_parallel_offset_mm, c.allowable_angular_misalignment_deg,
-        _percent(offset_mm, c.allowable_parallel_offset_mm), _percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
-        c.speed_rpm, None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
+    return CouplingQuantities(name=c.name, reference=reference, offset_y_um=float(d[1] * UM),
+                              offset_z_um=float(d[2] * UM), offset_um=offset_m * UM, angle_urad=angle * URAD,
+                              angle_deg=math.degrees(angle), angularity_mm_per_100mm=angularity,
+                              offset_from_unloaded_um=math.hypot(total[1], total[2]) * UM,
+                              angle_from_unloaded_urad=math.hypot(total[4], total[5]) * URAD,
+                              allowable_offset_mm=c.allowable_parallel_offset_mm,
+                              allowable_angle_deg=c.allowable_angular_misalignment_deg,
+                              offset_use_percent=_percent(offset_mm, c.allowable_parallel_offset_mm),
+                              angle_use_percent=_percent(math.degrees(angle), c.allowable_angular_misalignment_deg),
+                              speed_rpm=c.speed_rpm,
+                              grade=None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
 
 
 def _bearing_model(b) -> str:
@@ -343,15 +348,19 @@ def _bearing(b, total: ConnectionStates, change: ConnectionStates, scale: float,
     df = np.array(_denoise(df[:3], scale))
     tilt = math.hypot(d[4], d[5])
     loaded, largest = _elements(balls.get(b.name))
-    return BearingQuantities(
-        b.name, b.shaft, b.housing, b.x_mm, float(f[1]), float(f[2]), float(f[0]),
-        math.hypot(f[1], f[2]), math.hypot(df[1], df[2]), tilt * URAD, math.hypot(dd[4], dd[5]) * URAD,
-        tilt * ARCMIN, b.allowable_misalignment_arcmin, _percent(tilt * ARCMIN, b.allowable_misalignment_arcmin),
-        _bearing_model(b), float(0.5 * (k[1] + k[2]) * 1e-6), float(k[0] * 1e-6), float(0.5 * (k[4] + k[5])),
-        loaded, largest)
+    return BearingQuantities(name=b.name, shaft=b.shaft, housing=b.housing, x_mm=b.x_mm, force_y_N=float(f[1]) + 0.0,
+                             force_z_N=float(f[2]) + 0.0, force_axial_N=float(f[0]) + 0.0,
+                             force_radial_N=math.hypot(f[1], f[2]), force_radial_change_N=math.hypot(df[1], df[2]),
+                             tilt_urad=tilt * URAD, tilt_change_urad=math.hypot(dd[4], dd[5]) * URAD,
+                             tilt_arcmin=tilt * ARCMIN, allowable_tilt_arcmin=b.allowable_misalignment_arcmin,
+                             tilt_use_percent=_percent(tilt * ARCMIN, b.allowable_misalignment_arcmin),
+                             model=_bearing_model(b), radial_stiffness_N_per_um=float(0.5 * (k[1] + k[2]) * 1e-6),
+                             axial_stiffness_N_per_um=float(k[0] * 1e-6),
+                             tilt_stiffness_Nm_per_rad=float(0.5 * (k[4] + k[5])), loaded_elements=loaded,
+                             max_element_load_N=largest)
 
 
-def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: ConnectionStates,
+def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: ConnectionStates, *,  # noqa: PLR0913
                fixed_total: np.ndarray | None, fixed_change: np.ndarray | None) -> tuple[Reaction, ...]:
     supports = [("mount", m.name, m.part, m.x_mm) for m in rig.mounts]
     supports += [("bearing", b.name, b.shaft, b.x_mm) for b in rig.bearings if b.housing == "ground"]
@@ -367,13 +376,14 @@ def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: Conn
     forces = [abs(v) for *_, f, df in found for v in (*f[:3], *df[:3]) if np.isfinite(v)]
     scale = max(forces, default=0.0)
     extent = _extent(springs)
-    return tuple(Reaction(name, kind, part, x, _denoise(f[:3], scale), _denoise(f[3:], scale * extent),
-                          _denoise(df[:3], scale), _denoise(df[3:], scale * extent))
+    return tuple(Reaction(name=name, kind=kind, part=part, x_mm=x, force_N=_denoise(f[:3], scale),
+                          moment_Nm=_denoise(f[3:], scale * extent), force_change_N=_denoise(df[:3], scale),
+                          moment_change_Nm=_denoise(df[3:], scale * extent))
                  for name, kind, part, x, f, df in found)
 
 
-def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,
-                     applied: np.ndarray, reactions: np.ndarray, springs=None, *, fixed_total=None,
+def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,  # noqa: PLR0913
+                     *, applied: np.ndarray, reactions: np.ndarray, springs=None, fixed_total=None,
                      fixed_change=None, nonlinear=None, rest_total=None, balls=None) -> CaseEngineering:
     """The engineering tables of one case.
 
@@ -414,14 +424,15 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
     coupled = ((linear_change, "change since the aligned rest state, with the installed misalignment")
                if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
-    support_reactions = _reactions(rig, springs, total, change, fixed_total, fixed_change)
+    support_reactions = _reactions(rig, springs, total, change, fixed_total=fixed_total, fixed_change=fixed_change)
     scale = max((abs(v) for r in support_reactions for v in r.force_N), default=0.0)
     return CaseEngineering(
-        tuple(_coupling(c, coupled[0], total, coupled[1]) for c in rig.couplings),
-        tuple(_bearing(b, total, change, scale, balls or {}) for b in rig.bearings),
-        support_reactions,
-        float(np.linalg.norm(residual[:3])), float(np.linalg.norm(residual[3:])),
-        _denoise(np.asarray(applied, float)[:3], scale), _denoise(np.asarray(applied, float)[3:4], scale * _extent(springs))[0])
+        couplings=tuple(_coupling(c, coupled[0], total, coupled[1]) for c in rig.couplings),
+        bearings=tuple(_bearing(b, total, change, scale, balls or {}) for b in rig.bearings),
+        reactions=support_reactions,
+        residual_force_N=float(np.linalg.norm(residual[:3])), residual_moment_Nm=float(np.linalg.norm(residual[3:])),
+        applied_force_N=_denoise(np.asarray(applied, float)[:3], scale),
+        applied_torque_x_Nm=_denoise(np.asarray(applied, float)[3:4], scale * _extent(springs))[0])
 
 
 def shaft_quantities(path) -> dict:

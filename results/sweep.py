@@ -16,14 +16,17 @@ are then solved on their own by Newton's method on the condensed bearing motions
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import bushing, equilibrium
 from rvcoax.fem import system as fem_system
-from rvcoax.fem.errors import RvcoaxError, SingularModelError
+from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.system import factorize
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model import preflight
@@ -43,9 +46,9 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.engineering import CaseEngineering, case_engineering
 from rvcoax.results.paths import ShaftPathResult
 
-__all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "ModelError", "PreparedModel",
-           "MEASURED_SHAFTS", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
-           "check_supports", "prepare_model", "prepare_system", "read_path", "rigid_body_modes", "run_gap_sweep",
+__all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
+           "ModelError", "NonlinearStates", "PreparedModel", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
+           "check_supports", "prepare_model", "prepare_system", "read_path", "run_gap_sweep",
            "run_sweep", "solve_unit_responses"]
 
 
@@ -82,7 +85,7 @@ class SweepSettings:
             raise ValueError(f"mesh size must be > 0 mm, got {self.mesh_size_mm}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CaseResult:
     """Results of one load case."""
 
@@ -95,8 +98,44 @@ class CaseResult:
 
 
 @dataclass(frozen=True, eq=False)
+class LinearStates:
+    """The states of a linear sweep: its unit-load responses; a case's displacement superposes them.
+
+    Attributes
+    ----------
+    unit_displacements : (n_dofs, len(UNIT_LOADS)) array
+        One column per unit load of :data:`rvcoax.geometry.model.loads.UNIT_LOADS`, in that order (m, rad).
+    """
+
+    unit_displacements: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearStates:
+    """The states of a sweep with nonlinear bearings: each case solved on its own.
+
+    Attributes
+    ----------
+    case_displacements : (n_dofs, n_cases) array
+        Each case's displacement as Y is measured (from the rest state when the rig is aligned at rest).
+    rest_displacement : (n_dofs,) array
+        The rest state from the unloaded geometry.
+    bearings : NonlinearBearings
+        Their condensed laws (operating forces and stiffness).
+    """
+
+    case_displacements: np.ndarray
+    rest_displacement: np.ndarray
+    bearings: NonlinearBearings
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Sweep:
-    """All cases of a sweep, plus what is needed to explain how they were obtained."""
+    """All cases of a sweep, plus what is needed to explain how they were obtained.
+
+    ``states`` holds the displacements every case comes from: :class:`LinearStates` (unit responses) or
+    :class:`NonlinearStates` (each case's own); None for a sweep rebuilt without them.
+    """
 
     rig: Rig
     frame: RigModel
@@ -106,17 +145,34 @@ class Sweep:
     solver: str = ""
     n_dofs: int = 0
     system: RigSystem | None = None
-    unit_displacements: np.ndarray | None = None
+    states: LinearStates | NonlinearStates | None = None
     solver_report: dict = field(default_factory=dict)
-    case_displacements: np.ndarray | None = None  # (n_dofs, n_cases), as measured; nonlinear sweeps only
-    rest_displacement: np.ndarray | None = None  # (n_dofs,), the rest state from the unloaded geometry; nonlinear only
-    nonlinear_bearings: NonlinearBearings | None = None  # their condensed laws (operating forces and stiffness)
+
+    @property
+    def unit_displacements(self) -> np.ndarray | None:
+        """The unit-load responses (n_dofs, len(UNIT_LOADS)) of a linear sweep; None otherwise."""
+        return self.states.unit_displacements if isinstance(self.states, LinearStates) else None
+
+    @property
+    def case_displacements(self) -> np.ndarray | None:
+        """(n_dofs, n_cases), as measured, of a nonlinear sweep; None otherwise."""
+        return self.states.case_displacements if isinstance(self.states, NonlinearStates) else None
+
+    @property
+    def rest_displacement(self) -> np.ndarray | None:
+        """(n_dofs,), the rest state from the unloaded geometry, of a nonlinear sweep; None otherwise."""
+        return self.states.rest_displacement if isinstance(self.states, NonlinearStates) else None
+
+    @property
+    def nonlinear_bearings(self) -> NonlinearBearings | None:
+        """The condensed laws of a nonlinear sweep's bearings; None otherwise."""
+        return self.states.bearings if isinstance(self.states, NonlinearStates) else None
 
     def measured_displacement(self, index: int) -> np.ndarray:
         """The displacement of case ``index`` measured as Y is (u − u_rest when aligned at rest, else u)."""
-        if self.case_displacements is not None:
-            return self.case_displacements[:, index]
-        unit = {k: self.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
+        if isinstance(self.states, NonlinearStates):
+            return self.states.case_displacements[:, index]
+        unit = {k: self.states.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
         case = self.cases[index].case
         return superpose(unit, case.input_torque_Nm, case.output_torque_Nm,
                          self.rig.paths.measured_from == "aligned_at_rest", gear_contact_torques(self.rig))
@@ -201,33 +257,14 @@ def _prepare(system: RigSystem, settings: SweepSettings):
     """
     beam_superlu = system.kind == "beam" and settings.solver in ("auto", "superlu")
     try:
-        reduced = fem_system.prepare_system(system.stiffness, system.elimination,
-                                            "superlu" if beam_superlu else settings.solver,
-                                            near_null_space=lambda: rigid_body_modes(system), symmetrize=beam_superlu,
-                                            n_rhs=len(UNIT_LOADS))
+        reduced = fem_system.prepare_system(
+            system.stiffness, system.elimination, "superlu" if beam_superlu else settings.solver,
+            near_null_space=lambda: rigid_body_modes(system.dofs.position, system.dofs.component),
+            symmetrize=beam_superlu, n_rhs=len(UNIT_LOADS))
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
     check_condition(reduced.condition_estimate())
     return reduced.solve, reduced.solver_name, reduced.summary()
-
-
-def rigid_body_modes(system: RigSystem) -> np.ndarray:
-    """The six rigid-body motions of the whole DOF vector (near-null space for AMG)."""
-    table = system.dofs
-    modes = np.zeros((system.n_dofs, 6))
-    translational = table.component < 3
-    centre = table.position.mean(axis=0)
-    r = table.position - centre
-    for axis in range(3):
-        modes[table.component == axis, axis] = 1.0
-        modes[table.component == 3 + axis, 3 + axis] = 1.0
-    for rot in range(3):
-        e = np.zeros(3)
-        e[rot] = 1.0
-        motion = np.cross(e, r)  # θ × r
-        rows = np.flatnonzero(translational)
-        modes[rows, 3 + rot] = motion[rows, table.component[rows]]
-    return modes
 
 
 CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)
@@ -320,8 +357,8 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
     return PreparedModel(system, *_prepare(system, settings))
 
 
-def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,
-              prepared: PreparedModel | None = None, on_case=None, engineering: bool = True) -> Sweep:
+def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
+              prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
 
     A rig with bearing clearance is solved case by case (:func:`run_gap_sweep`); otherwise every case
@@ -360,8 +397,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         system = prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
-        return run_gap_sweep(rig, cases, settings, system, solve, solver_name, report, progress, on_case,
-                             engineering)
+        return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
+                             on_case=on_case, engineering=engineering)
     loads = system.unit_loads
     unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -385,30 +422,89 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         check_solution(case.label, u, check.relative_error, residual)
         measured = u - rest if from_rest else u
         results.append(CaseResult(
-            case,
-            {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
-            {s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-            check.relative_error,
-            residual,
-            case_engineering(rig, system.frame, u, u - rest, from_rest, check.applied, check.reactions, springs,
-                             fixed_total=unbalance, fixed_change=unbalance - rest_unbalance)
-            if engineering else None,
+            case=case,
+            paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+            absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
+            equilibrium_error=check.relative_error,
+            residual=residual,
+            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
+                                         reactions=check.reactions, springs=springs, fixed_total=unbalance,
+                                         fixed_change=unbalance - rest_unbalance) if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
     unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in MEASURED_SHAFTS} for k in UNIT_LOADS}
-    return Sweep(rig, system.frame, settings, tuple(results), unit_paths, solver_name, system.n_dofs, system, unit,
-                 dict(report))
+    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), unit_paths=unit_paths,
+                 solver=solver_name, n_dofs=system.n_dofs, system=system, states=LinearStates(unit),
+                 solver_report=dict(report))
 
 
-def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, solve, solver_name: str, report,
-                  progress=None, on_case=None, engineering: bool = True) -> Sweep:
+@dataclass(frozen=True, eq=False)
+class _NonlinearProblem:
+    """What every case of a sweep with nonlinear bearings is solved on: the system, its condensed bearings, the
+    solve of the linear reference model and |K| (for the backward error)."""
+
+    system: RigSystem
+    bearings: NonlinearBearings
+    solve: object
+    abs_stiffness: object
+
+
+def _solve_nonlinear_case(problem: _NonlinearProblem, weights: dict, label: str):
+    """One case by Newton on the condensed bearing motions, checked: (u, solution, equilibrium, residual, K u − f)
+    (the last at the fixed DOFs: their supports' reactions)."""
+    system, bearings = problem.system, problem.bearings
+    load = sum(weights[k] * system.unit_loads[k] for k in UNIT_LOADS)
+    try:
+        solution = bushing.solve_condensed(bearings, problem.solve, load, bearings.released, what="nonlinear bearing",
+                                           regularisation=bearings.regularisation)
+    except bushing.GapConvergenceError as error:
+        raise ModelError(f"case {label}: {error}") from None
+    u = solution.displacement
+    # the nonlinear laws as a load: K u = f + Uᵀ G(U u) is their equilibrium
+    released, _ = bearings.released(bearings.operator @ u)
+    effective = load + bearings.operator.T @ released
+    reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
+    loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
+    residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
+    # backward error: against the terms K u is summed from (|K| |u|), which is what floating point resolves
+    terms = loads_norm + np.linalg.norm(system.elimination.T @ (problem.abs_stiffness @ np.abs(u)))
+    backward = float(reduced_residual / terms) if terms > 0 else 0.0
+    if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
+        raise ModelError(f"case {label}: the nonlinear bearing solution misses equilibrium: backward error "
+                         f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
+    check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, effective, system.dofs)
+    check_solution(label, u, check.relative_error, residual)
+    return u, solution, check, residual, system.stiffness @ u - effective
+
+
+def _nonlinear_summary(report, bearings: NonlinearBearings, iterations: list[int], operating: dict) -> dict:
+    """The solver report of a nonlinear sweep: which nonlinearity, the Newton iterations, the operating points of
+    the bearings from internal geometry."""
+    summary = dict(report)
+    others = [m.name for m in bearings.rolling if m.model != "ball"]
+    kinds = ((["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
+             + (["rolling bearings from geometry"] if others else []))
+    summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
+                    "gapped_bearings": list(bearings.gap_names),
+                    "newton_iterations_max": int(max(iterations))})
+    if bearings.balls:
+        summary["ball_bearings"] = [ball.name for ball in bearings.balls]
+        summary["ball_bearing_operating_points"] = {m.name: operating[m.name] for m in bearings.balls}
+    if others:
+        summary["rolling_bearings"] = others
+        summary["rolling_bearing_operating_points"] = {name: operating[name] for name in others}
+    return summary
+
+
+def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, progress=None, on_case=None,  # noqa: PLR0913
+                  engineering: bool = True) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
     beam or hybrid): the rest state and each case solved on its own.
 
-    ``solve`` solves the model as assembled (every bearing on its linear reference spring); the
+    ``prepared.solve`` solves the model as assembled (every bearing on its linear reference spring); the
     nonlinear bearings are condensed on it once
     (:func:`rvcoax.geometry.model.nonlinear_bearings.prepare_nonlinear_bearings`) and each case is
     solved by Newton's method on the condensed motions (:func:`rvcoax.fem.bushing.solve_condensed`)
@@ -424,36 +520,13 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
     gives every spring's state with each nonlinear bearing's own force and operating stiffness. The solver report lists each ball bearing's operating
     point (force, tangent stiffness, ball loads) at rest and in every case.
     """
-    frame = system.frame.structure
+    system, solve = prepared.system, prepared.solve
+    rig = system.rig
     bearings = prepare_nonlinear_bearings(rig, system.frame, solve, system.n_dofs)
-    operator = bearings.operator
-    regularisation = bearings.regularisation
-    loads = system.unit_loads
-    abs_stiffness = abs(system.stiffness)
+    problem = _NonlinearProblem(system, bearings, solve, abs(system.stiffness))
 
     def solve_case(weights: dict, label: str):
-        load = sum(weights[k] * loads[k] for k in UNIT_LOADS)
-        try:
-            solution = bushing.solve_condensed(bearings, solve, load, bearings.released, what="nonlinear bearing",
-                                               regularisation=regularisation)
-        except bushing.GapConvergenceError as error:
-            raise ModelError(f"case {label}: {error}") from None
-        u = solution.displacement
-        # the nonlinear laws as a load: K u = f + Uᵀ G(U u) is their equilibrium
-        released, _ = bearings.released(operator @ u)
-        effective = load + operator.T @ released
-        reduced_residual = np.linalg.norm(system.elimination.T @ (system.stiffness @ u - effective))
-        loads_norm = np.linalg.norm(system.elimination.T @ load) + np.linalg.norm(system.elimination.T @ (effective - load))
-        residual = float(reduced_residual / loads_norm) if loads_norm > 0 else 0.0
-        # backward error: against the terms K u is summed from (|K| |u|), which is what floating point resolves
-        terms = loads_norm + np.linalg.norm(system.elimination.T @ (abs_stiffness @ np.abs(u)))
-        backward = float(reduced_residual / terms) if terms > 0 else 0.0
-        if not np.all(np.isfinite(u)) or not backward <= GAP_BACKWARD_LIMIT:
-            raise ModelError(f"case {label}: the nonlinear bearing solution misses equilibrium: backward error "
-                             f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
-        check = equilibrium.check_equilibrium(frame, system.stiffness, u, effective, system.dofs)
-        check_solution(label, u, check.relative_error, residual)
-        return u, solution, check, residual, system.stiffness @ u - effective
+        return _solve_nonlinear_case(problem, weights, label)
 
     contact = gear_contact_torques(rig)
     springs = SpringMotion.of(system.frame, rig) if engineering else None
@@ -474,31 +547,23 @@ def run_gap_sweep(rig: Rig, cases, settings: SweepSettings, system: RigSystem, s
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law
-        tables = (case_engineering(rig, system.frame, u, u - rest_u, from_rest, check.applied, check.reactions,
-                                   springs, fixed_total=unbalance, fixed_change=unbalance - rest_unbalance,
-                                   nonlinear=bearings, rest_total=rest_u, balls=points) if engineering else None)
-        results.append(CaseResult(case, {s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
-                                  {s: read_path(system, u, s) for s in MEASURED_SHAFTS}, check.relative_error,
-                                  residual, tables))
+        tables = (case_engineering(rig, system.frame, u, u - rest_u, from_rest, applied=check.applied,
+                                   reactions=check.reactions, springs=springs, fixed_total=unbalance,
+                                   fixed_change=unbalance - rest_unbalance, nonlinear=bearings, rest_total=rest_u,
+                                   balls=points) if engineering else None)
+        results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
+                                  absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
+                                  equilibrium_error=check.relative_error, residual=residual, engineering=tables))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
             progress(i + 1, len(cases))
-    summary = dict(report)
-    others = [m.name for m in bearings.rolling if m.model != "ball"]
-    kinds = ((["bearing clearance"] if bearings.gap_names else []) + (["ball bearings"] if bearings.balls else [])
-             + (["rolling bearings from geometry"] if others else []))
-    summary.update({"nonlinear": f"{' and '.join(kinds)}, Newton on the condensed bearing motions",
-                    "gapped_bearings": list(bearings.gap_names),
-                    "newton_iterations_max": int(max(iterations))})
-    if bearings.balls:
-        summary["ball_bearings"] = [ball.name for ball in bearings.balls]
-        summary["ball_bearing_operating_points"] = {m.name: operating[m.name] for m in bearings.balls}
-    if others:
-        summary["rolling_bearings"] = others
-        summary["rolling_bearing_operating_points"] = {name: operating[name] for name in others}
-    return Sweep(rig, system.frame, settings, tuple(results), {}, solver_name, system.n_dofs, system, None, summary,
-                 np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)), rest_u, bearings)
+    summary = _nonlinear_summary(prepared.report, bearings, iterations, operating)
+    states = NonlinearStates(np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)),
+                             rest_u, bearings)
+    return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), solver=prepared.solver_name,
+                 n_dofs=system.n_dofs, system=system, states=states,
+                 solver_report=summary)
 
 
 def solve_unit_responses(frame: RigModel):

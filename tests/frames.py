@@ -15,7 +15,8 @@ from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
 from rvcoax.fem.equilibrium import check_equilibrium
 from rvcoax.fem.loads import NodalLoads, nodal_load_vector
-from rvcoax.fem.model import StructuralModel, constraint_elimination, stiffness_matrix
+from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
 
@@ -146,6 +147,22 @@ def model(coordinates, beams, bushing_table=None, group: str = "shaft", **kwargs
         node_group=kwargs.pop("node_group", np.full(len(coordinates), group)),
         **kwargs,
     )
+
+
+def stiffness_matrix(structure: StructuralModel):
+    """K of a frame model, through the one assembly path (:func:`rvcoax.fem.pieces.assemble_frame`)."""
+    return assemble_frame(structure).stiffness
+
+
+def constraint_elimination(structure: StructuralModel):
+    """T (u = T q) and the independent DOFs of a frame model."""
+    system = assemble_frame(structure)
+    return system.elimination, system.free_dofs
+
+
+def gravity_load_vector(structure: StructuralModel, acceleration_m_per_s2) -> np.ndarray:
+    """The weight of a frame model's beams and point masses under ``acceleration_m_per_s2`` (3,)."""
+    return assemble_frame(structure, acceleration_m_per_s2).loads["gravity"]
 
 
 def solve(structure: StructuralModel, load: np.ndarray) -> np.ndarray:

@@ -22,11 +22,12 @@ from rvcoax.fem.sections import CircularSection
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.schema import Rig
 from rvcoax.geometry.thermal import beam_thermal_load, thermal_stress_free_motions
+from rvcoax.geometry.units import MM
 
-__all__ = ["SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM", "RigModel", "UM", "attachment_positions",
-           "build_rig_model", "housing_bed_group", "prestrain_contributions", "stress_free_motions"]
+__all__ = ["FrameMasses", "FrameNodes", "FrameSprings", "SpringId", "MM", "MRAD", "NODE_MERGE_MM", "N_PER_MM", "N_PER_UM",
+           "RigModel", "UM", "attachment_positions", "build_rig_model", "frame_beams", "frame_masses", "frame_nodes",
+           "frame_springs", "housing_bed_group", "prestrain_contributions", "stress_free_motions"]
 
-MM = 1e-3
 N_PER_UM = 1e6  # N/µm → N/m
 N_PER_MM = 1e3  # N/mm → N/m
 # Positions on one part closer than this (mm) share a node: a shorter beam element would be so stiff next to
@@ -160,48 +161,95 @@ def _segment_at(part, x_mid: float):
     raise ValueError(f"no segment of part '{part.name}' at x = {x_mid} mm")
 
 
-def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
-    """Build the beam model of a validated rig.
+@dataclass(frozen=True, eq=False)
+class FrameNodes:
+    """Stage 1 of :func:`build_rig_model`: every node of the frame, by part and position.
 
-    Parts named in ``solid_parts`` get no beams: only reference nodes where springs attach (the
-    solid model ties them to faces), and no mass (the solid carries it).
-
-    Parameters
+    Attributes
     ----------
-    rig : Rig
-        A validated rig.
-    solid_parts : tuple of str
-        Parts that a solid model meshes instead.
-
-    Returns
-    -------
-    RigModel
-        The frame: nodes, beams, springs (bushings), point masses and fixed DOFs, with the maps from rig
-        names and positions to nodes and springs.
+    node_part : (n,) array of str
+        The part (or housing bed group) of each node.
+    node_x_mm : (n,) array
+    beam_lines : tuple of (part name, first node, positions)
+        The node lines of the parts meshed with beams (not those of ``solid_parts``).
+    bed_nodes : tuple of int
+        The fixed bed node of each ``[[housings]]`` attachment.
+    equivalent_density : dict
+        Density used for each body (kg/m³).
     """
+
+    node_part: np.ndarray
+    node_x_mm: np.ndarray
+    beam_lines: tuple
+    bed_nodes: tuple[int, ...]
+    equivalent_density: dict
+
+    @property
+    def coordinates(self) -> np.ndarray:
+        """(n, 3) node positions in m, on the axis."""
+        coordinates = np.zeros((self.node_x_mm.size, 3))
+        coordinates[:, 0] = self.node_x_mm * MM
+        return coordinates
+
+    def node(self, part: str, x_mm: float) -> int:
+        return _nearest_node(self.node_part, self.node_x_mm, part, x_mm)
+
+
+@dataclass(frozen=True, eq=False)
+class FrameSprings:
+    """Stage 3 of :func:`build_rig_model`: the six-component springs and which rig item each one is."""
+
+    bushings: Bushings
+    names: tuple[SpringId, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class FrameMasses:
+    """Stage 4 of :func:`build_rig_model`: the coupling hubs as point masses (half a coupling's mass at each end)."""
+
+    point_masses: PointMasses
+
+
+def frame_nodes(rig: Rig, solid_parts: tuple[str, ...] = ()) -> FrameNodes:
+    """Stage 1: the node lines of every part (only the attachment nodes of ``solid_parts``), then one fixed bed node
+    per ``[[housings]]`` attachment (the other side of the condensed housing, geometry/model/housings.py; its
+    fixed-DOF reactions are the housing's ground reactions)."""
     referenced = _referenced_positions(rig)
     attachments = attachment_positions(rig)
-    shaft_shear = rig.beam.shear_factor  # shafts' Φ × factor: κ / factor (∞ when 0: Euler–Bernoulli)
     node_part: list[str] = []
     node_x: list[float] = []
-    element_rows: list[tuple] = []
+    lines = []
     equivalent_density: dict[str, float] = {}
     for part in rig.parts:
-        material = rig.materials[part.material]
-        density = material.density_kg_per_m3
         if part.role == "body":
-            density = part.mass_kg / (part.volume_mm3 * MM**3)
-            equivalent_density[part.name] = density
+            equivalent_density[part.name] = part.mass_kg / (part.volume_mm3 * MM**3)
         if part.name in solid_parts:
             positions = np.unique(np.round(np.array(attachments[part.name], dtype=float), 9))
-            node_part.extend([part.name] * positions.size)
-            node_x.extend(positions.tolist())
-            continue
-        positions = _part_positions(part, referenced[part.name], rig.mesh.max_element_length_mm)
-        first = len(node_x)
-        shear_factor = shaft_shear if part.role == "shaft" else 1.0
+        else:
+            positions = _part_positions(part, referenced[part.name], rig.mesh.max_element_length_mm)
+            lines.append((part.name, len(node_x), positions))
         node_part.extend([part.name] * positions.size)
         node_x.extend(positions.tolist())
+    bed_nodes = []
+    for h in rig.housings:
+        for x in h.attachments_x_mm:
+            bed_nodes.append(len(node_x))
+            node_part.append(housing_bed_group(h.name))
+            node_x.append(float(x))
+    return FrameNodes(np.array(node_part), np.array(node_x), tuple(lines), tuple(bed_nodes), equivalent_density)
+
+
+def frame_beams(rig: Rig, nodes: FrameNodes) -> BeamElements:
+    """Stage 2: one Timoshenko beam between neighbouring nodes of each beam line, with its segment's section and its
+    part's material (a body's density is its equivalent density; a shaft's shear flexibility × ``[beam]
+    shear_factor``, Euler–Bernoulli when 0)."""
+    shaft_shear = rig.beam.shear_factor  # shafts' Φ × factor: κ / factor (∞ when 0: Euler–Bernoulli)
+    element_rows: list[tuple] = []
+    for name, first, positions in nodes.beam_lines:
+        part = rig.part(name)
+        material = rig.materials[part.material]
+        density = nodes.equivalent_density.get(name, material.density_kg_per_m3)
+        shear_factor = shaft_shear if part.role == "shaft" else 1.0
         for i in range(positions.size - 1):
             segment = _segment_at(part, 0.5 * (positions[i] + positions[i + 1]))
             section = CircularSection(segment.outer_diameter_mm * MM, segment.inner_diameter_mm * MM)
@@ -211,30 +259,18 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
                 section.shear_coefficient(material.poisson_ratio) / shear_factor if shear_factor > 0 else np.inf,
                 material.youngs_modulus_MPa * 1e6, material.shear_modulus_MPa * 1e6, density,
             ))
-    # each [[housings]] attachment: a node of its own on the bed, held fixed, the other side of the condensed
-    # housing (geometry/model/housings.py); its fixed-DOF reactions are the housing's ground reactions
-    bed_nodes = []
-    for h in rig.housings:
-        for x in h.attachments_x_mm:
-            bed_nodes.append(len(node_x))
-            node_part.append(housing_bed_group(h.name))
-            node_x.append(float(x))
-    node_part_arr = np.array(node_part)
-    node_x_arr = np.array(node_x)
-    coordinates = np.zeros((node_x_arr.size, 3))
-    coordinates[:, 0] = node_x_arr * MM
-
-    def node(part: str, x_mm: float) -> int:
-        return _nearest_node(node_part_arr, node_x_arr, part, x_mm)
-
     table = np.array(element_rows, dtype=float).reshape(-1, 9)
-    beams = BeamElements(
+    return BeamElements(
         connectivity=table[:, :2].astype(int), area_m2=table[:, 2], second_moment_m4=table[:, 3],
         polar_moment_m4=table[:, 4], shear_coefficient=table[:, 5], youngs_modulus_Pa=table[:, 6],
         shear_modulus_Pa=table[:, 7], density_kg_per_m3=table[:, 8],
         reference_vector=np.tile([0.0, 1.0, 0.0], (table.shape[0], 1)),
     )
 
+
+def frame_springs(rig: Rig, nodes: FrameNodes) -> FrameSprings:
+    """Stage 3: bearings, mounts, couplings and joints as six-component springs (N/m, N·m/rad), in that order."""
+    node = nodes.node
     rows: list[tuple[int, int, float, list[float]]] = []  # node_a, node_b, point x (mm), stiffness
     names: list[SpringId] = []
     for b in rig.bearings:
@@ -264,25 +300,62 @@ def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
         node_a=np.array([r[0] for r in rows], dtype=int), node_b=np.array([r[1] for r in rows], dtype=int),
         point_m=points, stiffness=np.array([r[3] for r in rows], dtype=float).reshape(len(rows), 6),
     )
+    return FrameSprings(bushings, tuple(names))
 
+
+def frame_masses(rig: Rig, nodes: FrameNodes) -> FrameMasses:
+    """Stage 4: half of each coupling's mass at each of its hubs (no rotary inertia)."""
     hub_nodes, hub_masses = [], []
     for c in rig.couplings:
         for end in (c.from_, c.to):
-            hub_nodes.append(node(end.part, end.x_mm))
+            hub_nodes.append(nodes.node(end.part, end.x_mm))
             hub_masses.append(c.mass_kg / 2.0)
-    masses = PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
-                         np.zeros((len(hub_nodes), 3)))
+    return FrameMasses(PointMasses(np.array(hub_nodes, dtype=int), np.array(hub_masses, dtype=float),
+                                   np.zeros((len(hub_nodes), 3))))
 
-    fixed = (6 * np.asarray(bed_nodes, dtype=int)[:, None] + np.arange(6)).ravel()
-    structure = StructuralModel(coordinates, beams, bushings, point_masses=masses, node_group=node_part_arr,
-                                fixed_dofs=fixed)
-    element_mass = beams.density_kg_per_m3 * beams.area_m2 * np.diff(coordinates[beams.connectivity, 0], axis=1).ravel()
+
+def _part_masses(rig: Rig, nodes: FrameNodes, structure: StructuralModel) -> dict[str, float]:
+    """Mass of each part as modelled: its beams plus the coupling hubs it carries (kg)."""
+    beams, hubs = structure.beams, structure.point_masses
+    element_mass = (beams.density_kg_per_m3 * beams.area_m2
+                    * np.diff(structure.coordinates[beams.connectivity, 0], axis=1).ravel())
     part_mass = {p.name: 0.0 for p in rig.parts}
     for e, m in zip(beams.connectivity[:, 0], element_mass):
-        part_mass[node_part[e]] += float(m)
-    for n, m in zip(hub_nodes, hub_masses):
-        part_mass[node_part[n]] += float(m)
-    return RigModel(rig, structure, node_part_arr, node_x_arr, tuple(names), part_mass, equivalent_density)
+        part_mass[str(nodes.node_part[e])] += float(m)
+    for n, m in zip(hubs.node, hubs.mass_kg):
+        part_mass[str(nodes.node_part[n])] += float(m)
+    return part_mass
+
+
+def build_rig_model(rig: Rig, solid_parts: tuple[str, ...] = ()) -> RigModel:
+    """Build the beam model of a validated rig, in four stages: nodes (:func:`frame_nodes`), beams
+    (:func:`frame_beams`), springs (:func:`frame_springs`) and masses (:func:`frame_masses`).
+
+    Parts named in ``solid_parts`` get no beams: only reference nodes where springs attach (the
+    solid model ties them to faces), and no mass (the solid carries it).
+
+    Parameters
+    ----------
+    rig : Rig
+        A validated rig.
+    solid_parts : tuple of str
+        Parts that a solid model meshes instead.
+
+    Returns
+    -------
+    RigModel
+        The frame: nodes, beams, springs (bushings), point masses and fixed DOFs, with the maps from rig
+        names and positions to nodes and springs.
+    """
+    nodes = frame_nodes(rig, solid_parts)
+    springs = frame_springs(rig, nodes)
+    fixed = (6 * np.asarray(nodes.bed_nodes, dtype=int)[:, None] + np.arange(6)).ravel()
+    structure = StructuralModel(nodes.coordinates, frame_beams(rig, nodes), springs.bushings,
+                                point_masses=frame_masses(rig, nodes).point_masses, node_group=nodes.node_part,
+                                fixed_dofs=fixed)
+    return RigModel(rig=rig, structure=structure, node_part=nodes.node_part, node_x_mm=nodes.node_x_mm,
+                    bushing_names=springs.names, part_mass_kg=_part_masses(rig, nodes, structure),
+                    equivalent_density=nodes.equivalent_density)
 
 
 def housing_bed_group(name: str) -> str:

@@ -1,6 +1,6 @@
 """``[[housings]]`` in a rig model: each housing's condensed stiffness on the frame nodes it holds.
 
-The condensed matrix (:func:`rvcoax.geometry.housings.condense_housing`, cached by content) is a
+The condensed matrix (:func:`rvcoax.geometry.model.condensed_housing.condense_housing`, cached by content) is a
 superelement between the ground and the reference nodes of the housing's part at
 ``attachments_x_mm``; it enters the system like a bushing (:func:`rvcoax.fem.condensation.superelement_contribution`).
 """
@@ -14,8 +14,9 @@ import numpy as np
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.condensation import superelement_contribution
 from rvcoax.fem.pieces import Contribution, dense_load_contribution
-from rvcoax.geometry.housings import CondensedHousing, Reference, condense_housing
+from rvcoax.geometry.housings import Reference
 from rvcoax.geometry.model.beam import housing_bed_group
+from rvcoax.geometry.model.condensed_housing import CondensedHousing, condense_housing
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
@@ -48,7 +49,8 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool 
     material = rig.materials[housing.material]
     bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            "clamped" if bed is None else "bed", bed, cache_dir=cache_dir, compute=compute)
+                            "clamped" if bed is None else "bed", bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache_dir,
+                            compute=compute)
 
 
 def _dofs(nodes) -> np.ndarray:

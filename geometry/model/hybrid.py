@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.pieces import (
     Contribution,
     assemble,
@@ -41,12 +41,12 @@ from rvcoax.geometry.model.loads import (
 from rvcoax.geometry.model.system import PathProbe, RigSystem, UnitLoadBuilder, frame_path_probe, located_contribution
 from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.thermal import part_strain
+from rvcoax.geometry.units import MM
 
-__all__ = ["Attachment", "FaceSpec", "MM", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
+__all__ = ["Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
            "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
            "select_facets", "solid_geometry"]
 
-MM = 1e-3
 RING_POINTS = 8
 TOL_MM = 1e-6
 
@@ -323,8 +323,9 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         basis = solid.solid_basis(mesh)
         material = rig.materials[part.material]
         density = (part.mass_kg / (part.volume_mm3 * MM**3)) if part.role == "body" else material.density_kg_per_m3
-        solids[name] = SolidPart(name, geometry, mesh, basis, offset, material.youngs_modulus_MPa * 1e6,
-                                 material.poisson_ratio, density)
+        solids[name] = SolidPart(name=name, geometry=geometry, mesh=mesh, basis=basis, offset=offset,
+                                 youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6, poisson=material.poisson_ratio,
+                                 density_kg_per_m3=density)
         offset += int(basis.N)
     n = offset
 
@@ -334,7 +335,7 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
                               "beam part's nodes (keep the part out of [solid] hybrid_parts)")
     pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
     pieces += [solid_contribution(s.basis, s.youngs_modulus_Pa, s.poisson, s.density_kg_per_m3, s.offset,
-                                  GRAVITY_DIRECTION) for s in solids.values()]
+                                  gravity_direction=GRAVITY_DIRECTION) for s in solids.values()]
     for a in ties:
         s = solids[a.part]
         nodes = face_nodes(s, select_facets(s, a.face))
@@ -362,5 +363,5 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         positions.append(locations)
         components.append(solid.dof_components(s.basis))
     table = DofTable(np.vstack(positions), np.concatenate(components))
-    return RigSystem(rig, kind, frame, assembled.stiffness, assembled.elimination, loads(rig), probes, table,
-                     tuple(solids.values()), load_builder=loads)
+    return RigSystem(rig=rig, kind=kind, frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
+                     unit_loads=loads(rig), probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)

@@ -188,5 +188,6 @@ def prepare_nonlinear_bearings(rig, frame_model, solve, n_dofs: int) -> Nonlinea
                               np.array([b.radial_clearance_um * 1e-6 for b in gapped]),
                               influence[:, : 2 * len(gap_rows)], compliance[: 2 * len(gap_rows), : 2 * len(gap_rows)])
     reference = np.asarray(structure.bushings.stiffness[ball_rows], dtype=float).reshape(-1, 6)
-    return NonlinearBearings(operator, influence, compliance, gaps, tuple(b.name for b in gapped),
-                             tuple(rolling_bearing_model(b, rig) for b in balls), reference)
+    return NonlinearBearings(operator=operator, influence=influence, compliance=compliance, gaps=gaps,
+                             gap_names=tuple(b.name for b in gapped),
+                             rolling=tuple(rolling_bearing_model(b, rig) for b in balls), rolling_reference=reference)

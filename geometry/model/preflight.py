@@ -10,7 +10,8 @@
 - :func:`estimate_memory`: DOFs and memory of a solid or hybrid model from the rig alone, before
   any meshing, against the memory this machine has available.
 
-All three work on the rig's beam model or on its geometry only: milliseconds, at any fidelity.
+All three work on the rig's beam model, assembled as the solve assembles it (a ``[[housings]]`` entry's
+condensed stiffness read from its cache), or on its geometry only: milliseconds, at any fidelity.
 """
 
 from __future__ import annotations
@@ -22,10 +23,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE, bushing, diagnostics
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.pieces import AssembledSystem, assemble, assemble_frame
 from rvcoax.fem.system import factorize
-from rvcoax.geometry.model.loads import GRAVITY_DIRECTION
+from rvcoax.geometry.model.beam import SpringId, build_rig_model
+from rvcoax.geometry.model.system import beam_contributions
 from rvcoax.geometry.schema import Rig
 
 __all__ = ["BASE_BYTES", "BYTES_PER_DOF", "COMPONENT_NAMES", "CONDITION_LIMIT", "MemoryEstimate", "SAG_WARNING_MM",
@@ -50,46 +52,25 @@ COMPONENT_NAMES = diagnostics.MOTION_NAMES
 SPRING_KINDS = {"bearing": "bearing", "mount": "mount", "coupling": "coupling", "joint": "joint"}
 
 
-HOUSING_STAND_IN = (1e9, 1e9, 1e9, 1e6, 1e6, 1e6)
-"""N/m and N·m/rad: the order of a condensed bearing block (≈ 1000–4000 N/µm), standing in for a ``[[housings]]``
-entry's matrix in the checks here, which must stay cheap (the condensed matrix needs a solid model)."""
+def _assembled(frame, structure=None) -> AssembledSystem:
+    """The beam model's system as the solve assembles it (:func:`rvcoax.geometry.model.system.beam_contributions`:
+    the frame's pieces and each ``[[housings]]`` entry's condensed stiffness); ``structure`` replaces the frame's."""
+    if structure is not None:
+        frame = dataclasses.replace(frame, structure=structure)
+    return assemble(frame.structure.n_dofs, beam_contributions(frame.rig, frame))
 
 
-def _frame(rig: Rig):
-    """The rig's beam frame; each ``[[housings]]`` attachment held to its bed node by a stand-in spring."""
-    from rvcoax.geometry.model.beam import SpringId, build_rig_model, housing_bed_group
-
-    frame = build_rig_model(rig)
-    held = [(h.name, frame.node(h.part, x), x, frame.node(housing_bed_group(h.name), x))
-            for h in rig.housings for x in h.attachments_x_mm]
-    if not held:
-        return frame
-    old = frame.structure.bushings
-    points = np.zeros((len(held), 3))
-    points[:, 0] = [x * 1e-3 for _, _, x, _ in held]
-    springs = bushing.Bushings(
-        node_a=np.concatenate([old.node_a, [bed for _, _, _, bed in held]]).astype(int),
-        node_b=np.concatenate([old.node_b, [node for _, node, _, _ in held]]).astype(int),
-        point_m=np.vstack([old.point_m, points]),
-        stiffness=np.vstack([old.stiffness, np.tile(HOUSING_STAND_IN, (len(held), 1))]))
-    structure = dataclasses.replace(frame.structure, bushings=springs)
-    names = frame.bushing_names + tuple(SpringId("housing", name) for name, _, _, _ in held)
-    return dataclasses.replace(frame, structure=structure, bushing_names=names)
+def _free_motions(structure, system: AssembledSystem) -> list[diagnostics.FreeMotion]:
+    return diagnostics.find_free_motions(structure, system)
 
 
-def _free_motions(structure) -> list[diagnostics.FreeMotion]:
-    stiffness = fem_model.stiffness_matrix(structure)
-    elimination, free = fem_model.constraint_elimination(structure)
-    return diagnostics.find_free_motions(structure.coordinates, stiffness, elimination, free, structure.node_group)
-
-
-def _non_finite_parts(structure) -> list[str]:
+def _non_finite_parts(frame, system: AssembledSystem) -> list[str]:
     """The parts whose stiffness entries overflow or are undefined (NaN/inf): nothing can be solved then."""
-    stiffness = fem_model.stiffness_matrix(structure).tocoo()
+    stiffness = system.stiffness.tocoo()
     bad = ~np.isfinite(stiffness.data)
     if not bad.any():
         return []
-    groups = np.asarray(structure.node_group)
+    groups = np.asarray(frame.structure.node_group)
     nodes = np.unique(stiffness.row[bad] // diagnostics.DOFS_PER_NODE)
     return list(dict.fromkeys(str(groups[n]) for n in nodes))
 
@@ -143,13 +124,12 @@ def _stiffness_range_note(frame) -> str:
             f"({softest[2]}); {note}")
 
 
-def _beam_condition(structure) -> float:
+def _beam_condition(system: AssembledSystem) -> float:
     """Estimated condition number of the beam model's reduced stiffness (inf when SuperLU finds it singular)."""
     from rvcoax.fem.solvers import SingularMatrixError, prepare
 
-    elimination = fem_model.constraint_elimination(structure)[0]
     try:
-        prepared = prepare(elimination.T @ fem_model.stiffness_matrix(structure) @ elimination, "superlu")
+        prepared = prepare(system.elimination.T @ system.stiffness @ system.elimination, "superlu")
     except SingularMatrixError:
         return math.inf
     return prepared.condition_estimate()
@@ -170,13 +150,14 @@ def support_problem(rig: Rig) -> str | None:
     too_big = rig_problem(rig)
     if too_big:
         return too_big
-    frame = _frame(rig)
-    unusable = _non_finite_parts(frame.structure)
+    frame = build_rig_model(rig)
+    system = _assembled(frame)
+    unusable = _non_finite_parts(frame, system)
     if unusable:
         return (f"the stiffness of part(s) {', '.join(repr(p) for p in unusable)} is not a finite number: a diameter, "
                 "length or modulus is too small or too large to compute with (e.g. 1e-300 mm); check their "
                 "segments' *_diameter_mm, x_mm and their material's youngs_modulus_MPa")
-    motions = _free_motions(frame.structure)
+    motions = _free_motions(frame.structure, system)
     if not motions:
         return None
     structure = frame.structure
@@ -185,16 +166,16 @@ def support_problem(rig: Rig) -> str | None:
                                 shear_modulus_Pa=np.full_like(structure.beams.shear_modulus_Pa, TYPICAL_MODULI[1]))
     springless = dataclasses.replace(structure, beams=steel, bushings=dataclasses.replace(
         structure.bushings, stiffness=np.zeros_like(structure.bushings.stiffness)))
-    scale = float(np.abs(fem_model.stiffness_matrix(springless).diagonal()).max())
+    scale = float(np.abs(assemble_frame(springless).stiffness.diagonal()).max())
     length = max(float(np.ptp(structure.coordinates, axis=0).max()), 1e-3)
     typical = np.where(structure.bushings.stiffness > 0, scale * np.array([1, 1, 1, length**2, length**2, length**2]),
                        0.0)
     topological = dataclasses.replace(springless, bushings=dataclasses.replace(structure.bushings, stiffness=typical))
-    if _free_motions(topological):
+    if _free_motions(topological, _assembled(frame, topological)):
         return ("the model is singular: " + "; ".join(m.describe() for m in motions)
                 + ". Add a bearing, mount or joint with stiffness in those directions." + _zero_springs_note(frame,
                                                                                                         motions))
-    kappa = _beam_condition(structure)
+    kappa = _beam_condition(system)
     if kappa <= CONDITION_LIMIT:
         return None
     parts = [p for m in motions for p in m.parts]
@@ -232,20 +213,20 @@ def sag_warnings(rig: Rig, limit_mm: float = SAG_WARNING_MM) -> list[str]:
 
     if rig_problem(rig):
         return []  # too large to build: support_problem says so
-    frame = _frame(rig)
-    structure = frame.structure
+    frame = build_rig_model(rig)
+    system = _assembled(frame)
     try:
-        factorised = factorize(fem_model.stiffness_matrix(structure), fem_model.constraint_elimination(structure)[0])
-        u = factorised.solve(fem_model.gravity_load_vector(structure, STANDARD_GRAVITY * np.asarray(GRAVITY_DIRECTION)))
+        u = factorize(system.stiffness, system.elimination).solve(STANDARD_GRAVITY * system.loads["gravity"])
     except SingularModelError:
         return []
-    groups = np.asarray(structure.node_group)
-    touched = _spring_parts(frame)
+    groups = np.asarray(frame.structure.node_group)
+    held_by = list(zip(frame.bushing_names, _spring_parts(frame)))
+    held_by += [(SpringId("housing", h.name), {h.part}) for h in rig.housings]
     warnings = []
     for part in dict.fromkeys(groups.tolist()):
         nodes = np.flatnonzero(groups == part)
         sag_mm = float(np.abs(u[DOFS_PER_NODE * nodes[:, None] + np.arange(3)]).max()) * 1e3
-        holders = [spring for spring, parts in zip(frame.bushing_names, touched) if part in parts]
+        holders = [spring for spring, parts in held_by if part in parts]
         couplings_only = bool(holders) and all(spring.kind == "coupling" for spring in holders)
         if couplings_only or sag_mm > limit_mm:
             held = ", ".join(_spring_label(spring) for spring in holders) or "nothing"
@@ -315,7 +296,8 @@ def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, sol
     needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
     from rvcoax.geometry.model.workload import available_memory_bytes
 
-    return MemoryEstimate(model, size, dofs, part_dofs, method, needed, available_memory_bytes())
+    return MemoryEstimate(model=model, mesh_size_mm=size, dofs=dofs, part_dofs=part_dofs, solver=method,
+                          bytes_needed=needed, bytes_available=available_memory_bytes())
 
 
 def memory_problem(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> str | None:

@@ -40,7 +40,7 @@ from rvcoax.geometry.model.loads import (
 )
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "UnitLoadBuilder", "assemble_beam", "frame_path_probe",
+__all__ = ["MODEL_KINDS", "PathProbe", "RigSystem", "UnitLoadBuilder", "assemble_beam", "beam_contributions", "frame_path_probe",
            "located_contribution"]
 
 MODEL_KINDS = ("beam", "hybrid", "solid")
@@ -169,13 +169,20 @@ def frame_path_probe(frame: RigModel, which: str, n_dofs: int) -> PathProbe:
     return PathProbe(stations, getattr(frame.rig.paths, which).length_mm, pick(1), pick(5))
 
 
+def beam_contributions(rig: Rig, frame: RigModel) -> list[Contribution]:
+    """Every piece of the beam model of ``rig`` on ``frame``: the frame's (beams, springs, point masses, constraints;
+    weight per m/s² along gravity) and each ``[[housings]]`` entry's condensed stiffness and weight."""
+    return frame_contributions(frame.structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame)
+
+
 def assemble_beam(rig: Rig) -> RigSystem:
     """The beam model of a rig as a :class:`RigSystem`: every piece of the frame through :func:`rvcoax.fem.pieces.assemble`."""
     frame = build_rig_model(rig)
     structure = frame.structure
     n = structure.n_dofs
-    assembled = assemble(n, frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame))
+    assembled = assemble(n, beam_contributions(rig, frame))
     loads = UnitLoadBuilder(frame, n, assembled.loads["gravity"])
     probes = {which: frame_path_probe(frame, which, n) for which in MEASURED_SHAFTS}
-    return RigSystem(rig, "beam", frame, assembled.stiffness, assembled.elimination, loads(rig), probes,
-                     frame_dof_table(structure.coordinates), load_builder=loads)
+    return RigSystem(rig=rig, kind="beam", frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
+                     unit_loads=loads(rig), probes=probes, dofs=frame_dof_table(structure.coordinates),
+                     load_builder=loads)

@@ -17,7 +17,7 @@ import math
 import os
 from dataclasses import dataclass
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem.memory import available_memory_bytes
 
 __all__ = ["available_memory_bytes", "BASE_BYTES", "BEAM_ELEMENT_SEGMENT_S", "BEAM_NODE_BYTES", "BEAM_NODE_S", "BEAM_NODE_SPRING_S",
@@ -312,8 +312,8 @@ def check_workers(workers: int | None, option: str = "--workers") -> int | None:
     return workers
 
 
-def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",
-                   strategy: str = "full") -> Workload:
+def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, model: str = "beam",  # noqa: PLR0913
+                   *, strategy: str = "full") -> Workload:
     """A Monte Carlo or sensitivity study of ``n_solves`` samples, each solving ``n_cases`` load cases
     (``strategy``: what a sample re-assembles, :data:`rvcoax.results.studies.montecarlo.STRATEGIES`)."""
     per_case = SAMPLE_CASE_S.get(strategy, SAMPLE_CASE_S["full"]) if model == "beam" else SAMPLE_CASE_S_SOLID
@@ -321,7 +321,7 @@ def study_workload(n_solves: int, n_parameters: int, n_cases: int, what: str, mo
                     BASE_BYTES + n_solves * (SAMPLE_BYTES * max(n_cases, 1) + 8.0 * (3 * n_parameters + 8)))
 
 
-def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, model: str = "beam",
+def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, what: str, *, model: str = "beam",  # noqa: PLR0913
                 strategy: str = "full") -> Workload:
     """Refuse a study design too large for this machine, before it is drawn.
 
@@ -352,7 +352,7 @@ def check_study(n_solves: int, n_parameters: int, n_cases: int, option: str, wha
     WorkloadError
         Naming ``option``, the estimate and the largest size that fits.
     """
-    fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy))
-    return check_workload(study_workload(n_solves, n_parameters, n_cases, what, model, strategy), option,
+    fitting = _largest_fitting(lambda n: study_workload(n, n_parameters, n_cases, "", model, strategy=strategy))
+    return check_workload(study_workload(n_solves, n_parameters, n_cases, what, model, strategy=strategy), option,
                           f"use a smaller {option} (at most about {count_text(fitting)} solves here), or run the study on a "
                           "Dask cluster in parts with --resume")

@@ -2,8 +2,9 @@
 
 ``rvcoax --help`` lists the commands from :data:`COMMANDS` without importing them, so it prints
 in a fraction of a second; running a command imports its module (``rvcoax.results.cli.<module>``),
-whose ``register(app)`` adds the command, and that module imports numpy, scipy and the model only
-inside the command's body. A test checks that the listed help equals each command's own.
+whose ``COMMANDS`` (name → command function or command group) are added the one way
+(:func:`rvcoax.results.cli.support.register_commands`: every command under the user-error guard), and
+that module imports numpy, scipy and the model only inside the command's body. A test checks that the listed help equals each command's own.
 
 Units shown to the user follow paper 000: torques in N·m, lengths and Y in mm, angles in degrees.
 A user mistake ends with one paragraph and exit status 2, never a traceback.
@@ -62,9 +63,11 @@ def _reflow_help(command) -> None:
 
 def load_command(name: str) -> TyperCommand | TyperGroup:
     """The real click command ``name``: imports its module and lets it register on a fresh app."""
+    from rvcoax.results.cli.support import register_commands
+
     module = importlib.import_module(f"rvcoax.results.cli.{COMMANDS[name][0]}")
     holder = typer.Typer(rich_markup_mode="rich")
-    module.register(holder)
+    register_commands(holder, {name: module.COMMANDS[name]})
     command = typer.main.get_group(holder).commands[name]
     _reflow_help(command)
     return command

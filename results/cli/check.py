@@ -12,12 +12,12 @@ from rich.table import Table
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
 
-__all__ = ["check", "register"]
+__all__ = ["COMMANDS", "check"]
 
 DEG_TO_URAD = 1e6 * 3.141592653589793 / 180.0
 
 
-def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, table_name: str) -> Table:
+def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, *, table_name: str) -> Table:
     table = Table(title=escape(f"{shaft} shaft: {table_name} vs rvcoax"), title_justify="left")
     for column in ("T1 N·m", "T2 N·m", "fit", "Y table µm", "Y blind µm", "blind err", "Y cal µm", "cal err",
                    "β table µrad", "β cal µrad", "β cal err", "ok"):
@@ -38,12 +38,11 @@ def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, t
 
 
 
+@support.model_options
 def check(
-    rig_file: support.RigOption = None,
-    model: support.ModelOption = "beam",
+    *,
+    model_choice: support.ModelChoice,
     out: support.OutOption = None,
-    solver: support.SolverOption = "auto",
-    mesh_size_mm: support.MeshOption = None,
     measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to compare with: a CSV table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or measured paths (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm); '#' lines are comments, '# label = …', '# uncertainty_um = …', '# uncertainty_percent = …' describe the data. Default: paper 000's table, for the built-in reference rig only.")] = None,
     uncertainty_um: Annotated[float | None, typer.Option("--uncertainty-um", min=0.0, max=1e4, help="Measurement uncertainty of --measured, absolute, µm (overrides the file's '# uncertainty_um').")] = None,
     uncertainty_percent: Annotated[float | None, typer.Option("--uncertainty-percent", min=0.0, max=100.0, help="Measurement uncertainty of --measured, % of each value (overrides the file's '# uncertainty_percent'). A value is within when |model − measured| ≤ the larger of the two.")] = None,
@@ -54,7 +53,7 @@ def check(
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
-    from rvcoax import is_reference_rig, load_rig, paper_table, run_check, write_check
+    from rvcoax import is_reference_rig, paper_table, run_check, write_check
     from rvcoax.results.studies import (
         CHECK_QUANTITIES,
         EXIT_OUTSIDE,
@@ -65,8 +64,8 @@ def check(
         measurement_tolerance,
     )
 
-    settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_file)
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
     tolerance = None
     if measured is None and (uncertainty_um is not None or uncertainty_percent is not None):
         raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data; paper 000's "
@@ -81,7 +80,7 @@ def check(
     elif is_reference_rig(rig):
         rows, table_name = paper_table(), "published (paper 000)"
     else:
-        raise support.UserError(f"rig file {support.rig_text(rig_file)[0]}: nothing to compare with: {NO_TABLE_HELP}")
+        raise support.UserError(f"rig file {model_choice.rig_text()[0]}: nothing to compare with: {NO_TABLE_HELP}")
     prepared = support.prepare_with_status(rig, settings)
     with support.progress_bar() as progress:
         tasks = {}
@@ -94,11 +93,11 @@ def check(
         try:
             run = run_check(rig, rows, settings, prepared=prepared, progress=show, tolerance=tolerance)
         except CalibrationError as error:
-            raise support.UserError(f"rig file {support.rig_text(rig_file)[0]}: {error}") from None
+            raise support.UserError(f"rig file {model_choice.rig_text()[0]}: {error}") from None
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
-                                   rows, table_name))
+                                   rows, table_name=table_name))
     _print_calibration(run.calibration, fit_output_torques(rows))
     support.console.print(
         f"Blind (nothing fitted): worst relative error {100 * blind_result.worst_relative_error:.1f} % "
@@ -117,9 +116,9 @@ def check(
     colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
     support.console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
-        source, text = support.rig_text(rig_file)
-        support.report_written(write_check(out, run, source, text, picture_name=f"check_{model}.png",
-                                           title=f"{rig.rig.name}: {model} model vs {table_name}",
+        source, text = model_choice.rig_text()
+        support.report_written(write_check(out, run, source, text, picture_name=f"check_{model_choice.model}.png",
+                                           title=f"{rig.rig.name}: {model_choice.model} model vs {table_name}",
                                            table_label=table_name, measured=measured is not None,
                                            tolerance=None if tolerance is None else tolerance.description))
     raise typer.Exit(code=outcome.exit_code)
@@ -144,7 +143,5 @@ def _print_calibration(calibration, fit) -> None:
                       f"{values}; not used (farther from the reference values)[/]")
 
 
-
-def register(app: typer.Typer) -> None:
-    """Add ``check`` to ``app``."""
-    app.command()(support.guard(check))
+COMMANDS = {"check": check}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -19,15 +19,14 @@ from rich.table import Table
 from rvcoax.geometry import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases import MAX_TORQUE_NM
 from rvcoax.results.cli import support as options
-from rvcoax.results.cli.support import UserError, console, guard, sweep_settings
+from rvcoax.results.cli.support import UserError, console, sweep_settings
 from rvcoax.results.studies.doe import ALPHA_RANGE, POOL_BELOW_F_RANGE
 
-__all__ = ["AlphaOption", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command", "doe_analyze",
-           "doe_app", "doe_rig", "register"]
+__all__ = ["AlphaOption", "COMMANDS", "DOE_HELP", "GoalOption", "PoolOption", "TORQUE_RANGE_NM", "chain_error_command",
+           "doe_analyze", "doe_rig"]
 
-doe_app = typer.Typer(no_args_is_help=True, help=(
-    "Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
-    "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig)."))
+DOE_HELP = ("Orthogonal experiments: range analysis, ANOVA with pooling, optimal levels and second-order regression "
+            "of a design file (doe analyze), or an orthogonal study of rig tolerances on the tilt β (doe rig).")
 
 AlphaOption = Annotated[float, options.number_option("--alpha", *ALPHA_RANGE, exclusive=True,
                                                     help="Significance level of the F tests, in (0, 0.5).")]
@@ -39,12 +38,6 @@ GoalOption = Annotated[str, typer.Option("--goal", help="min (smaller response i
 
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
     from rvcoax.results.studies.doe import Analysis
-
-
-def register(app: typer.Typer) -> None:
-    """Add ``doe`` and ``chain-error`` to the main app."""
-    app.add_typer(doe_app, name="doe")
-    app.command("chain-error")(chain_error_command)
 
 
 # -- doe analyze ---------------------------------------------------------------------------------
@@ -170,8 +163,6 @@ def _print_analysis(analysis: Analysis, published_coefficients=None) -> None:
                   f"{document['prediction_at_optimum']['levels']}: {document['prediction_at_optimum']['y']:.6g}")
 
 
-@doe_app.command("analyze")
-@guard
 def doe_analyze(
     design_file: Annotated[Path, typer.Argument(metavar="DESIGN.csv", help=(
         "One row per run: optional run column (test/run), a level-code column per factor (named by its key), "
@@ -180,7 +171,7 @@ def doe_analyze(
     response: Annotated[str | None, typer.Option("--response", help="Response column (needed if several columns could be).")] = None,
     alpha: AlphaOption = 0.05,
     pool_below_F: PoolOption = 1.0,
-    pool: Annotated[str | None, typer.Option("--pool", help="Also pool these sources, comma-separated (e.g. AxB,C).")] = None,
+    *, pool: Annotated[str | None, typer.Option("--pool", help="Also pool these sources, comma-separated (e.g. AxB,C).")] = None,
     goal: GoalOption = "min",
     terms: Annotated[str, typer.Option("--terms", help=(
         "Regression terms: auto (full second-order if the runs allow, else stepwise), full, stepwise, a comma list "
@@ -206,8 +197,8 @@ def doe_analyze(
     if unknown:
         raise UserError(f"--pool: {', '.join(unknown)} is not a source of {design_file} (sources: {', '.join(sources)})")
     try:
-        analysis = analyse(design, alpha, pool_below_F or None, pooled_names, goal, chosen,
-                           _outliers_option(outliers, design.runs))
+        analysis = analyse(design, alpha, pool_below_F or None, pooled_names, goal, terms=chosen,
+                           outliers=_outliers_option(outliers, design.runs))
     except ValueError as error:
         raise UserError(f"{design_file}: {error}") from None
     _print_analysis(analysis, published)
@@ -256,15 +247,13 @@ def _study_outputs(result, analyses: list[Analysis], out: Path, rig_source: str,
     ]
 
 
-@doe_app.command("rig")
-@guard
 def doe_rig(
     study: Annotated[Path | None, typer.Option("--study", help="Study file (TOML). Default: the built-in L27 rig-tolerance study.")] = None,
     rig_file: options.RigOption = None,
     model: options.ModelOption = "beam",
     out: options.OutOption = Path("rvcoax_out/doe_rig"),
     solver: options.SolverOption = "auto",
-    mesh_size_mm: options.MeshOption = None,
+    *, mesh_size_mm: options.MeshOption = None,
 ) -> None:
     """Orthogonal study of rig tolerances on β: every run is a solve of the rig (beam: about 0.1 s a run;
     hybrid: about 20 s). Writes the design, levels, runs, ANOVA (CSV and JSON), regression (JSON) and a
@@ -291,21 +280,47 @@ def doe_rig(
                   + f"; case T1 = {s.T1_input_Nm:g} N·m, T2 = {s.T2_output_Nm:g} N·m; Y measured from: {s.measured_from}")
     analyses = []
     for name in result.responses:
-        analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, "auto", "auto")
+        analysis = analyse(result.design(name), s.alpha, s.pool_below_F, (), s.goal, terms="auto", outliers="auto")
         _print_analysis(analysis)
         analyses.append(analysis)
     options.report_written(_study_outputs(result, analyses, out, str(rig_file) if rig_file else "built-in reference_rig.toml", model))
 
 
 # -- chain-error ---------------------------------------------------------------------------------
-@guard
+def _chain_table(chain, result) -> tuple[Table, list[dict]]:
+    """The chain-error table on the console and its rows for chain_error.csv, one per component."""
+    import numpy as np
+
+    from rvcoax.results.studies import torsion_constant_deg_per_m
+
+    table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",
+                  title_justify="left")
+    for column in ("component", "θ", "stages loaded", "G GPa", "C °/m", "transfer", "part twist °",
+                   "θ at β = 0 °", "θ °", "coaxiality part °", "sign"):
+        table.add_column(column, justify="right")
+    rows = []
+    for p in result.contributions:
+        c = p.component
+        loaded = ",".join(str(i + 1) for i in np.flatnonzero(p.forces_N))
+        table.add_row(escape(c.name), escape(c.symbol), loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
+                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{escape(c.transmission)} = {c.transmission_factor:.4g}",
+                      f"{p.twist_deg:.4g}", f"{p.baseline_deg:.4g}", f"{p.value_deg:.6g}",
+                      f"{p.coaxiality_part_deg:.3g}", "+" if c.sign > 0 else "−")
+        rows.append({"component": c.name, "symbol": c.symbol, "coaxiality": c.coaxiality,
+                     "beta_deg": p.coaxiality.beta_deg, "a_mm": p.coaxiality.offset_mm,
+                     "shear_modulus_GPa": c.shear_modulus_Pa / 1e9, "transmission_factor": c.transmission_factor,
+                     "part_twist_deg": p.twist_deg, "theta_beta0_deg": p.baseline_deg, "theta_deg": p.value_deg,
+                     "coaxiality_part_deg": p.coaxiality_part_deg, "sign": c.sign, "signed_theta_deg": p.signed_deg})
+    return table, rows
+
+
 def chain_error_command(
     forces: Annotated[Path, typer.Option("--forces", help="CSV of stage forces: component, stage (1-based), force_N.")],
     rig_file: options.RigOption = None,
     stages: Annotated[Path | None, typer.Option("--stages", help="Stage data file (TOML). Default: the built-in RV-20E stages.")] = None,
     t1: Annotated[float, options.number_option("--t1", *TORQUE_RANGE_NM, "N·m", help="Input torque T1 (N·m) of the sweep case that gives β and a.")] = 1.43,
     t2: Annotated[float, options.number_option("--t2", *TORQUE_RANGE_NM, "N·m", help="Output torque T2 (N·m) of that case.")] = 200.0,
-    tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
+    *, tilt: Annotated[str, typer.Option("--tilt", help="sweep: β and a of each shaft from the sweep case; none: β = 0 (paper 000's baseline).")] = "sweep",
     a_input_mm: Annotated[float | None, options.number_option("--input-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-input-mm",), help="Radial displacement a of the input shaft (mm) instead of the sweep's Y_max (paper 000: 0.002, IT3).")] = None,
     a_output_mm: Annotated[float | None, options.number_option("--output-radial-mm", *options.RADIAL_OFFSET_RANGE_MM, "mm", aliases=("--a-output-mm",), help="Radial displacement a of the output shaft (mm) instead of the sweep's Y_max (paper 000: 0.003, IT3).")] = None,
     model: options.ModelOption = "beam",
@@ -313,7 +328,6 @@ def chain_error_command(
 ) -> None:
     """Paper 000's transmission-chain error vector: θ11, θ22, θ44, θ55 and θ_total = θ22 − θ11 − θ44 − θ55 (°),
     with the coaxiality terms (tilt β and radial offset a of the input and output shafts) from a sweep of the rig."""
-    import numpy as np
 
     from rvcoax import LoadCase, load_rig
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
@@ -349,24 +363,7 @@ def chain_error_command(
                       f"{rig.paths.measured_from}): " + "; ".join(
                           f"{s} β = {c.beta_deg:.4g}°, a = {c.offset_mm:.4g} mm" for s, c in shafts.items()))
     result = evaluate_chain_error(chain, stage_forces, shafts["input"], shafts["output"])
-    table = Table(title=f"Transmission-chain error vector of the {escape(chain.reducer.name)} (paper 000)",
-                  title_justify="left")
-    for column in ("component", "θ", "stages loaded", "G GPa", "C °/m", "transfer", "part twist °",
-                   "θ at β = 0 °", "θ °", "coaxiality part °", "sign"):
-        table.add_column(column, justify="right")
-    rows = []
-    for p in result.contributions:
-        c = p.component
-        loaded = ",".join(str(i + 1) for i in np.flatnonzero(p.forces_N))
-        table.add_row(escape(c.name), escape(c.symbol), loaded or "-", f"{c.shear_modulus_Pa / 1e9:.2f}",
-                      f"{torsion_constant_deg_per_m(c.shear_modulus_Pa):.0f}", f"{escape(c.transmission)} = {c.transmission_factor:.4g}",
-                      f"{p.twist_deg:.4g}", f"{p.baseline_deg:.4g}", f"{p.value_deg:.6g}",
-                      f"{p.coaxiality_part_deg:.3g}", "+" if c.sign > 0 else "−")
-        rows.append({"component": c.name, "symbol": c.symbol, "coaxiality": c.coaxiality,
-                     "beta_deg": p.coaxiality.beta_deg, "a_mm": p.coaxiality.offset_mm,
-                     "shear_modulus_GPa": c.shear_modulus_Pa / 1e9, "transmission_factor": c.transmission_factor,
-                     "part_twist_deg": p.twist_deg, "theta_beta0_deg": p.baseline_deg, "theta_deg": p.value_deg,
-                     "coaxiality_part_deg": p.coaxiality_part_deg, "sign": c.sign, "signed_theta_deg": p.signed_deg})
+    table, rows = _chain_table(chain, result)
     console.print(table)
     console.print(f"C: torsion constant 180/π · 32 / (π G), φ = C T / d⁴ in °/m (T in N·m, d in mm); paper 000's 7350 is "
                   f"C at G = 79.4 GPa ({torsion_constant_deg_per_m(79.4e9):.1f}). Stage data: {escape(chain.source)}")
@@ -380,3 +377,8 @@ def chain_error_command(
                     "total_deg": result.total_deg, "total_beta0_deg": result.baseline_total_deg,
                     "sign_convention": "clockwise positive: θ_total = Σ sign · θ (paper 000: θ22 − θ11 − θ44 − θ55)"}
         options.report_written((write_csv_atomic(out / "chain_error.csv", rows), write_json_atomic(out / "chain_error.json", document)))
+
+
+COMMANDS = {"doe": options.CommandGroup(DOE_HELP, {"analyze": doe_analyze, "rig": doe_rig}),
+            "chain-error": chain_error_command}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

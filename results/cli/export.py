@@ -7,19 +7,15 @@ for the two dynamics packages.
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich.table import Table
 
-from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.cli import support
 
-__all__ = ["FORMATS", "register"]
-
-FORMATS = ("json", "csv", "adams", "ross")
+__all__ = ["COMMANDS", "export"]
 
 
 def _summary(export) -> Table:
@@ -40,146 +36,80 @@ def _summary(export) -> Table:
     return table
 
 
-def _check_adams_cases(cases) -> None:
-    """Refuse, before solving, cases that cannot make the ADAMS splines."""
-    from rvcoax.results.export import AdamsExportError, spline_layout
+def _format_help() -> str:
+    """``--format``'s help: every format of the registry with its files."""
+    from rvcoax.results.export import EXPORT_FORMATS
+
+    named = [f"{f.name} ({f.description.replace('[', chr(92) + '[')})" for f in EXPORT_FORMATS]
+    return ", ".join(named[:-1]) + f" or {named[-1]}."
+
+
+def _refusal(name: str, check, *args) -> None:
+    """Run a format's check before solving; its refusal becomes a user error naming the format."""
+    from rvcoax import RvcoaxError
 
     try:
-        for shaft in MEASURED_SHAFTS:
-            spline_layout(cases, shaft)
-    except AdamsExportError as error:
-        raise support.UserError(f"--format adams: {error}") from None
+        check(*args)
+    except RvcoaxError as error:
+        raise support.UserError(f"--format {name}: {error}") from None
 
 
-def _write_adams(export, out: Path) -> list[Path]:
-    from rvcoax.results.export import AdamsExportError, adams_fragment, parse_adm
-    from rvcoax.results.io import write_text_atomic
-
-    try:
-        text = adams_fragment(export)
-    except AdamsExportError as error:
-        raise support.UserError(f"--format adams: {error}") from None
-    parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
-    return [write_text_atomic(out / "dynamics.adm", text)]
+def _print_table(table) -> None:
+    shown = Table(title=table.title, title_justify="left")
+    for column in table.columns:
+        shown.add_column(column, justify="right")
+    for row in table.rows:
+        shown.add_row(*row)
+    support.console.print(shown)
 
 
-def _save_rotor(rotor, path: Path) -> Path:
-    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
-    try:
-        rotor.save(temporary)
-        os.replace(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)
-    return path
-
-
-def _write_ross(export, out: Path) -> list[Path]:
-    from rvcoax.results.export import (
-        RossUnavailableError,
-        compare_static,
-        import_ross,
-        misalignment_fault,
-        misalignment_parameters,
-        operating_radial_stiffness,
-    )
-    from rvcoax.results.io import write_csv_atomic
+@support.model_options
+@support.case_options
+def export(
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
+    output_format: Annotated[str, typer.Option("--format", help=_format_help())] = "json",
+    out: support.OutOption = Path("rvcoax_out"),
+    input_radial_mm: Annotated[float | None, support.number_option(
+        "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
+        help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
+    output_radial_mm: Annotated[float | None, support.number_option(
+        "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
+        help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
+) -> None:
+    """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
+    000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
+    from rvcoax.results import ConnectionsUnavailableError
+    from rvcoax.results.export import ExportFormatError, dynamics_export, export_format, write_export
 
     try:
-        ross = import_ross()
-    except RossUnavailableError as error:
-        raise support.UserError(str(error)) from None
-    written, faults, static = [], [], []
-    table = Table(title="ROSS static analysis (gravity, rigid supports) vs rvcoax on the same shaft",
-                  title_justify="left")
-    for column in ("shaft", "nodes", "supports", "largest sag rvcoax nm", "largest sag ROSS nm", "largest difference"):
-        table.add_column(column, justify="right")
-    for shaft in MEASURED_SHAFTS:
-        with support.console.status(f"building and solving the ROSS rotor of the {shaft} shaft"):
-            rotor, comparison = compare_static(export.sweep.rig, shaft, ross, operating_radial_stiffness(export))
-        line = comparison.line
-        parameters = misalignment_parameters(export, line)
-        for row in parameters:
-            misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
-        faults += parameters
-        static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
-                   for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
-        written.append(_save_rotor(rotor, out / f"ross_{shaft}_rotor.toml"))
-        table.add_row(shaft, str(line.node_x_mm.size), ", ".join(s.spring.name for s in line.supports),
-                      f"{comparison.largest_sag_m * 1e9:.4g}", f"{abs(comparison.ross_uy_m).max() * 1e9:.4g}",
-                      f"{comparison.relative_difference:.1e}")
-    written.append(write_csv_atomic(out / "ross_misalignment.csv", faults))
-    written.append(write_csv_atomic(out / "ross_static.csv", static))
-    support.console.print(table)
-    return written
+        chosen = export_format(output_format)
+    except ExportFormatError as error:
+        raise support.UserError(f"--format: {error}") from None
+    _refusal(chosen.name, chosen.check_ready)  # before solving: a missing optional package should not cost a sweep
+    radial = {"input": input_radial_mm, "output": output_radial_mm}
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
+    load_cases = case_choice.load(rig)
+    _refusal(chosen.name, chosen.check_cases, load_cases)
+    result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
+                                       support.prepare_with_status(rig, settings))
+    try:
+        exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
+    except ConnectionsUnavailableError as error:
+        raise support.UserError(f"rig file {model_choice.rig_text()[0]}: cannot export: {error}") from None
+    support.console.print(_summary(exported))
+    source, text = model_choice.rig_text()
+    with support.console.status(f"writing the {chosen.name} export"):
+        written = write_export(exported, out, chosen.name, rig_source=source, rig_text=text)
+    for table in written.tables:
+        _print_table(table)
+    support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
+                          f"couplings, bearings and β from the {exported.measured_from} state "
+                          "(columns *_unloaded_ref: from the unloaded geometry)")
+    support.report_written(list(written.paths))
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``rvcoax export`` to ``app``."""
-    from rvcoax import load_rig
-
-
-    @app.command()
-    @support.guard
-    def export(
-        output_format: Annotated[str, typer.Option("--format", help="json (dynamics.json), csv (dynamics_*.csv), adams "
-                                            "(dynamics.adm, an ADAMS/Solver dataset fragment) or ross (ROSS rotors "
-                                            "of the measured shafts, misalignment fault parameters, static check; "
-                                            "needs the rvcoax\\[ross] extra).")] = "json",
-        rig_file: support.RigOption = None,
-        model: support.ModelOption = "beam",
-        out: support.OutOption = Path("rvcoax_out"),
-        cases: support.CasesOption = None,
-        t1: support.T1Option = None,
-        t2: support.T2Option = None,
-        grid: support.GridOption = False,
-        input_radial_mm: Annotated[float | None, support.number_option(
-            "--input-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the input shaft (mm); default 0.002 (paper 000, IT3).")] = None,
-        output_radial_mm: Annotated[float | None, support.number_option(
-            "--output-radial-mm", *support.RADIAL_OFFSET_RANGE_MM, "mm",
-            help="Radial displacement a of the output shaft (mm); default 0.003 (paper 000, IT3).")] = None,
-        solver: support.SolverOption = "auto",
-        mesh_size_mm: support.MeshOption = None,
-    ) -> None:
-        """Export dynamics inputs per load case: tilt β and radial displacement a of both measured shafts, paper
-        000's lever arm per shaft stage, offset and angle at every coupling, bearing reactions (N, N·m)."""
-        from rvcoax.results import ConnectionsUnavailableError
-        from rvcoax.results.export import dynamics_export, write_dynamics_csv, write_dynamics_json
-
-        if output_format not in FORMATS:
-            raise support.UserError(f"--format: '{output_format}' is not one of {', '.join(FORMATS)}")
-        radial = {"input": input_radial_mm, "output": output_radial_mm}
-        if output_format == "ross":
-            from rvcoax.results.export import RossUnavailableError, import_ross
-
-            try:  # before solving: a missing optional package should not cost a sweep
-                import_ross()
-            except RossUnavailableError as error:
-                raise support.UserError(str(error)) from None
-        settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-        rig = load_rig(rig_file)
-        load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
-        if output_format == "adams":
-            _check_adams_cases(load_cases)
-        result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
-                                   support.prepare_with_status(rig, settings))
-        try:
-            exported = dynamics_export(result, {k: v for k, v in radial.items() if v is not None})
-        except ConnectionsUnavailableError as error:
-            raise support.UserError(f"rig file {rig_file or 'built-in reference_rig.toml'}: cannot export: {error}") from None
-        support.console.print(_summary(exported))
-        if output_format == "json":
-            source, text = support.rig_text(rig_file)
-            written = [write_dynamics_json(exported, out / "dynamics.json", source, text)]
-        elif output_format == "csv":
-            written = write_dynamics_csv(exported, out)
-        elif output_format == "adams":
-            written = _write_adams(exported, out)
-        else:
-            written = _write_ross(exported, out)
-        support.console.print(f"a: input {exported.radial_mm['input']:g} mm, output {exported.radial_mm['output']:g} mm; "
-                      f"couplings, bearings and β from the {exported.measured_from} state "
-                      "(columns *_unloaded_ref: from the unloaded geometry)")
-        support.report_written(written)
+COMMANDS = {"export": export}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

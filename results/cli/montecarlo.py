@@ -9,7 +9,9 @@ arrives and then the tables and the picture.
 from __future__ import annotations
 
 import hashlib
+import inspect
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -20,21 +22,18 @@ from rich.table import Table
 
 from rvcoax.results.cli.support import (
     SEED_RANGE,
-    MeshOption,
-    ModelOption,
-    RigOption,
+    ModelChoice,
     UserError,
     console,
-    guard,
+    model_options,
     number_option,
+    option_block,
     report_written,
-    rig_text,
     scheduler_address,
-    sweep_settings,
 )
 
 __all__ = ["MAX_SAMPLES", "ResumeOption", "SchedulerOption", "SeedOption", "TolerancesOption", "WorkersOption",
-           "montecarlo", "register", "sensitivity"]
+           "COMMANDS", "StudyChoice", "montecarlo", "sensitivity", "study_options"]
 
 TolerancesOption = Annotated[Path, typer.Option(
     "--tolerances", help="Tolerance file (TOML): parameters with distributions, load cases, β limits. "
@@ -53,6 +52,27 @@ SeedOption = Annotated[int, number_option("--seed", *SEED_RANGE, integer=True,
                                                f"{SEED_RANGE[0]} … {SEED_RANGE[1]}.")]
 MAX_SAMPLES = 10_000_000  # every sample is a solve: ten million beam solves is days of work
 
+
+@dataclass(frozen=True)
+class StudyChoice:
+    """``--tolerances``, ``--scheduler``, ``--workers``, ``--resume``, ``--seed``: the options every tolerance study
+    (``montecarlo``, ``sensitivity``) shares."""
+
+    tolerances: Path
+    scheduler: str = "auto"
+    workers: int | None = None
+    resume: bool = False
+    seed: int = 0
+
+
+_STUDY_BLOCK = (("tolerances", TolerancesOption, inspect.Parameter.empty), ("scheduler", SchedulerOption, "auto"),
+                ("workers", WorkersOption, None), ("resume", ResumeOption, False), ("seed", SeedOption, 0))
+
+
+def study_options(function):
+    """Give a command the tolerance-study options as one :class:`StudyChoice` argument ``study_choice``."""
+    return option_block(function, "study_choice", StudyChoice, _STUDY_BLOCK)
+
 if TYPE_CHECKING:  # annotations only: the modules load when a command runs
     import numpy as np
 
@@ -63,8 +83,7 @@ def _progress() -> Progress:
                     disable=not console.is_terminal)
 
 
-def _setup(rig_file, tolerances_path, model, mesh_size_mm):
-    from rvcoax import load_rig
+def _setup(model_choice: ModelChoice, tolerances_path: Path):
     from rvcoax.results.studies import (
         STRATEGY_TEXT,
         ToleranceFileError,
@@ -73,8 +92,9 @@ def _setup(rig_file, tolerances_path, model, mesh_size_mm):
         plan_study,
     )
 
-    settings = sweep_settings(model, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_file)
+    model = model_choice.model
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
     try:
         tolerances = load_tolerances(tolerances_path, rig)
     except ToleranceFileError as error:
@@ -105,9 +125,11 @@ def _nominal(study) -> dict:
     return {"values": dict(zip(study.addresses, values)), **result}
 
 
-def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: str, workers, resume: bool,
+def _execute(study, values: np.ndarray, out: Path, fingerprint: str, choice: StudyChoice, *,
              setup_seconds: float | None = None):
     from rvcoax.results.studies import ClusterError, ResumeError, SampleError, evaluate_sample, run_samples
+
+    scheduler, workers, resume = choice.scheduler, choice.workers, choice.resume
 
     where = "this process" if scheduler == "serial" else "this process, or a local Dask cluster where it pays" if (
         scheduler == "auto") else (
@@ -118,8 +140,8 @@ def _execute(study, values: np.ndarray, out: Path, fingerprint: str, scheduler: 
     try:
         with _progress() as progress:
             task = progress.add_task("solving samples", total=len(values))
-            records, run = run_samples(evaluate_sample, study, values, out / "samples", fingerprint, scheduler,
-                                       workers, resume, progress=lambda done, total: progress.update(task, completed=done),
+            records, run = run_samples(evaluate_sample, study, values, out / "samples", fingerprint, scheduler=scheduler,
+                                       workers=workers, resume=resume, progress=lambda done, total: progress.update(task, completed=done),
                                        setup_seconds=setup_seconds)
     except (ResumeError, ClusterError) as error:
         raise UserError(str(error)) from None
@@ -139,7 +161,7 @@ def _check_size(n_solves: int, tol, study, option: str, what: str) -> None:
     from rvcoax.geometry.model import REPORT_AFTER_S, check_study
 
     work = check_study(n_solves, len(tol.parameters), len(study.cases), option,
-                       f"{what} × {len(study.cases)} load case(s)", study.settings.model, study.strategy)
+                       f"{what} × {len(study.cases)} load case(s)", model=study.settings.model, strategy=study.strategy)
     if work.seconds > REPORT_AFTER_S:
         console.print(f"{work.what}: {work.describe()} on one core (estimated)")
 
@@ -148,18 +170,15 @@ def _fingerprint(*items) -> str:
     return hashlib.sha256(repr(items).encode()).hexdigest()
 
 
+@model_options
+@study_options
 def montecarlo(
-    tolerances: TolerancesOption,
+    *,
+    model_choice: ModelChoice,
+    study_choice: StudyChoice,
     samples: Annotated[int, number_option("--samples", 1, MAX_SAMPLES, integer=True, help="Number of samples (each a solve of every load case).")] = 1000,
     sampling: Annotated[str, typer.Option("--sampling", help="lhs (Latin hypercube, default), sobol (scrambled Sobol', a power of two samples) or random.")] = "lhs",
-    rig_file: RigOption = None,
-    model: ModelOption = "beam",
-    mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/montecarlo"),
-    scheduler: SchedulerOption = "auto",
-    workers: WorkersOption = None,
-    resume: ResumeOption = False,
-    seed: SeedOption = 0,
 ) -> None:
     """Monte Carlo of the tilt β: distribution of Y and β per shaft and load case, and P(β > limit) with its interval.
 
@@ -179,11 +198,12 @@ def montecarlo(
         study_document,
     )
 
+    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
     scheduler_address(scheduler)
     if sampling not in SAMPLING_METHODS:
         raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
     check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
+    tol, study = _setup(model_choice, study_choice.tolerances)
     _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
@@ -192,12 +212,13 @@ def montecarlo(
     begin = time.perf_counter()
     nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
     fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
+    records, run = _execute(study, values, out, fingerprint, study_choice,
+                            setup_seconds=time.perf_counter() - begin)
     found = exceedances(study, tol, records)
-    source, text = rig_text(rig_file)
+    source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,
                                      {"kind": "montecarlo", "sampling": sampling, "seed": seed, "samples": samples},
-                                     run, nominal)
+                                     run=run, nominal=nominal)
     document["distribution"] = distribution_rows(study, records)
     document["exceedance"] = exceedance_rows(study, found)
     written = [
@@ -235,49 +256,42 @@ def _distribution_table(study, records, found) -> Table:
     return table
 
 
+@model_options
+@study_options
 def sensitivity(
-    tolerances: TolerancesOption,
+    *,
+    model_choice: ModelChoice,
+    study_choice: StudyChoice,
     samples: Annotated[int, number_option("--samples", 2, MAX_SAMPLES, integer=True, help="sobol: base samples N, a power of two (N (d + 2) solves for d parameters); morris: trajectories r (r (d + 1) solves).")] = 256,
     method: Annotated[str, typer.Option("--method", help="sobol (first-order and total indices, default) or morris (cheaper screening).")] = "sobol",
-    rig_file: RigOption = None,
-    model: ModelOption = "beam",
-    mesh_size_mm: MeshOption = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the result files.")] = Path("rvcoax_out/sensitivity"),
-    scheduler: SchedulerOption = "auto",
-    workers: WorkersOption = None,
-    resume: ResumeOption = False,
-    seed: SeedOption = 0,
 ) -> None:
     """Global sensitivity of β to the toleranced parameters: which tolerance to tighten first.
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
-    from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.geometry.model import check_workers, count_text
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import (
         SENSITIVITY_METHODS,
-        case_label,
         design_runs,
         morris_design,
-        morris_indices,
         morris_values,
         plot_indices,
-        ranking,
         sample_rows,
         sensitivity_rows,
         sobol_design,
-        sobol_indices,
         stack_records,
         study_document,
         to_values,
     )
 
+    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
     scheduler_address(scheduler)
     if method not in SENSITIVITY_METHODS:
         raise UserError(f"--method: must be sobol or morris, got '{method}'")
     check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(rig_file, tolerances, model, mesh_size_mm)
+    tol, study = _setup(model_choice, study_choice.tolerances)
     d = len(tol.parameters)
     _check_size(design_runs(method, samples, d), tol, study, "--samples",
                 f"{count_text(design_runs(method, samples, d))} solves ({method}: --samples {samples}, {d} parameters)")
@@ -291,17 +305,13 @@ def sensitivity(
     begin = time.perf_counter()
     nominal = _nominal(study)
     fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, scheduler, workers, resume, time.perf_counter() - begin)
-    beta = stack_records(records, "beta_deg")
-    found = {}
-    for c in range(len(study.cases)):
-        for s, shaft in enumerate(MEASURED_SHAFTS):
-            found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, tol.confidence_level) if method == "sobol"
-                                 else morris_indices(points, beta[:, c, s], seed, tol.confidence_level))
-    source, text = rig_text(rig_file)
+    records, run = _execute(study, values, out, fingerprint, study_choice,
+                            setup_seconds=time.perf_counter() - begin)
+    found = _indices(stack_records(records, "beta_deg"), points, method, seed, tol)
+    source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,
                                      {"kind": "sensitivity", "method": method, "seed": seed, "samples": samples,
-                                      "solves": len(values)}, run, nominal)
+                                      "solves": len(values)}, run=run, nominal=nominal)
     document["indices"] = sensitivity_rows(study, tol, found)
     written = [
         write_csv_atomic(out / "sensitivity_indices.csv", document["indices"]),
@@ -309,6 +319,28 @@ def sensitivity(
         write_json_atomic(out / "sensitivity.json", document),
         plot_indices(study, tol, found, out / "sensitivity_indices.png"),
     ]
+    _print_rankings(study, tol, found, method)
+    report_written(written)
+
+
+def _indices(beta, points, method: str, seed: int, tol) -> dict:
+    """The sensitivity indices of β per (case, shaft): Sobol' (first-order and total) or Morris (μ*, σ)."""
+    from rvcoax.geometry import MEASURED_SHAFTS
+    from rvcoax.results.studies import morris_indices, sobol_indices
+
+    d, confidence_level = len(tol.parameters), tol.confidence_level
+    found = {}
+    for c in range(beta.shape[1]):
+        for s, shaft in enumerate(MEASURED_SHAFTS):
+            found[(c, shaft)] = (sobol_indices(beta[:, c, s], d, seed, confidence_level) if method == "sobol"
+                                 else morris_indices(points, beta[:, c, s], seed, confidence_level))
+    return found
+
+
+def _print_rankings(study, tol, found: dict, method: str) -> None:
+    """Per shaft and case: the three parameters to tighten first (or that β does not vary)."""
+    from rvcoax.results.studies import case_label, ranking
+
     for (c, shaft), indices in found.items():
         if indices.constant:
             console.print(f"β {shaft}, {case_label(study.cases[c])}: does not vary with these parameters")
@@ -317,10 +349,7 @@ def sensitivity(
         measure = "ST" if method == "sobol" else "μ* (°)"
         console.print(f"β {shaft}, {case_label(study.cases[c])}: tighten first "
                       + "; ".join(f"{escape(name)} ({measure} {score:.3g})" for name, score in ranked[:3]))
-    report_written(written)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``montecarlo`` and ``sensitivity`` to the main command line."""
-    app.command("montecarlo")(guard(montecarlo))
-    app.command("sensitivity")(guard(sensitivity))
+COMMANDS = {"montecarlo": montecarlo, "sensitivity": sensitivity}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -10,23 +10,20 @@ from rich.markup import escape
 
 from rvcoax.results.cli import support
 
-__all__ = ["register", "report"]
+__all__ = ["COMMANDS", "report"]
 
 
+@support.model_options
+@support.case_options
 def report(
-    rig_file: support.RigOption = None,
-    model: support.ModelOption = "beam",
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
     out: support.OutOption = Path("rvcoax_out"),
-    cases: support.CasesOption = None,
-    t1: support.T1Option = None,
-    t2: support.T2Option = None,
-    grid: support.GridOption = False,
     measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to check the model against: a table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or a paths file (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm).")] = None,
     discrepancy: Annotated[Path | None, typer.Option("--discrepancy", help="A discrepancy.json written by rvcoax discrepancy --out, shown in the report.")] = None,
     pdf: Annotated[bool, typer.Option("--pdf", help="Also print the report to OUT/report.pdf with headless Chromium (Debian package chromium).")] = False,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
-    solver: support.SolverOption = "auto",
-    mesh_size_mm: support.MeshOption = None,
     uncertainty_um: Annotated[float | None, typer.Option("--uncertainty-um", min=0.0, max=1e4, help="Measurement uncertainty of --measured, absolute, µm (overrides the file's '# uncertainty_um').")] = None,
     uncertainty_percent: Annotated[float | None, typer.Option("--uncertainty-percent", min=0.0, max=100.0, help="Measurement uncertainty of --measured, % of each value (overrides the file's '# uncertainty_percent').")] = None,
     decides: Annotated[bool, typer.Option("--decides/--no-decides", help="Include the 'what decides Y' table: each input the rig file tags [A] halved and doubled, the rig solved again (beam model, largest-torque case).")] = True,
@@ -40,14 +37,14 @@ def report(
     reactions, the check against --measured, the --discrepancy result, and the provenance (version,
     rig file SHA-256, model, solver, mesh, date).
     """
-    from rvcoax import load_rig, read_measured, write_report
+    from rvcoax import read_measured, write_report
     from rvcoax.results.reports import PAPER_SIZES, print_pdf, read_discrepancy
 
     if paper.lower() not in PAPER_SIZES:
         raise support.UserError(f"--paper: '{paper}' is not a page size; use a4 or letter")
-    settings = support.sweep_settings(model, solver=solver, mesh_size_mm=mesh_size_mm)
-    rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+    settings = model_choice.settings()
+    rig = model_choice.load_rig()
+    load_cases = case_choice.load(rig)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
     if data is None and (uncertainty_um is not None or uncertainty_percent is not None):
         raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data: give "
@@ -58,7 +55,7 @@ def report(
 
         tolerance = measurement_tolerance(data, uncertainty_um, uncertainty_percent)
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
-    source, text = support.rig_text(rig_file)
+    source, text = model_choice.rig_text()
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
                                        support.prepare_with_status(rig, settings))
     with support.console.status("drawing the pictures, varying the assumed inputs ([A]) and writing the report"
@@ -73,6 +70,5 @@ def report(
     support.report_written(written)
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``report`` to ``app``."""
-    app.command()(support.guard(report))
+COMMANDS = {"report": report}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -10,27 +10,21 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.results.cli.support import (
+    CommandGroup,
     RigOption,
     add_text_row,
     console,
-    guard,
     warn,
 )
 
-__all__ = ["register", "rig_app", "rig_reference", "rig_show"]
+__all__ = ["COMMANDS", "rig_example", "rig_reference", "rig_show"]
 
-rig_app = typer.Typer(no_args_is_help=True, help="Inspect rig files.")
-
-
-@rig_app.command("show")
-@guard
 def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
     import numpy as np
 
     from rvcoax import load_rig
-    from rvcoax.geometry import plausibility_warnings
-    from rvcoax.geometry.model import build_rig_model, gear_mesh_forces, sag_warnings
+    from rvcoax.geometry.model import build_rig_model, gear_mesh_forces
 
     rig = load_rig(rig_file)
     frame = build_rig_model(rig)
@@ -89,8 +83,7 @@ def rig_show(rig_file: RigOption = None) -> None:
         add_text_row(springs, "joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
                         f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
     console.print(springs)
-    if rig.housings:
-        console.print(_seat_table(rig))
+    _print_seat_table(rig)
     paths = Table(title="How torque becomes a lateral load", title_justify="left")
     for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
         paths.add_column(column)
@@ -116,7 +109,20 @@ def rig_show(rig_file: RigOption = None) -> None:
                   f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
                   f"output {rig.paths.output.part} {rig.paths.output.x_start_mm:g} + "
                   f"{rig.paths.output.length_mm:g} mm")
-    for message in plausibility_warnings(rig) + sag_warnings(rig):  # the warnings a solve of this rig prints
+    _warn_as_a_solve_does(rig)
+
+
+def _print_seat_table(rig) -> None:
+    if rig.housings:
+        console.print(_seat_table(rig))
+
+
+def _warn_as_a_solve_does(rig) -> None:
+    """The plausibility and sag warnings a solve of ``rig`` prints (rig show solves nothing)."""
+    from rvcoax.geometry import plausibility_warnings
+    from rvcoax.geometry.model import sag_warnings
+
+    for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
 
 
@@ -152,8 +158,6 @@ def _seat_table(rig) -> Table | str:
     return table
 
 
-@rig_app.command("reference")
-@guard
 def rig_reference(
     variant: Annotated[str | None, typer.Option(
         help="A variant of the reference rig: ball_bearings (the input 6204 and output 6206 shaft bearings as "
@@ -167,17 +171,11 @@ def rig_reference(
     sys.stdout.write(reference_rig_text(variant))
 
 
-@rig_app.command("example")
 def rig_example() -> None:
     """Print the built-in example rig of another layout (RV-40E bench, one torque sensor, 260 mm output shaft, hysteresis brake, its own load cases)."""
     from rvcoax import example_rig_text
 
     sys.stdout.write(example_rig_text())
-
-
-def register(app: typer.Typer) -> None:
-    """Add the ``rig`` command group to ``app``."""
-    app.add_typer(rig_app, name="rig")
 
 
 def _housing_reach(housing) -> str:
@@ -196,3 +194,8 @@ def _housing_feet(housing) -> str:
     else:
         feet = "feet clamped"
     return feet + (", its own weight included" if housing.self_weight else "")
+
+
+COMMANDS = {"rig": CommandGroup("Inspect rig files.", {"show": rig_show, "reference": rig_reference,
+                                                       "example": rig_example})}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

@@ -7,8 +7,10 @@ modules (``results/cli/<command>.py``) import from here and register their comma
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated
 
@@ -22,10 +24,10 @@ from rvcoax.fem import SolverError
 from rvcoax.geometry import MESH_SIZE_RANGE_MM, plain_number
 from rvcoax.results.io import output_folder_lock
 
-__all__ = ["CasesOption", "GridOption", "MeshOption", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
+__all__ = ["CaseChoice", "CasesOption", "CommandGroup", "GridOption", "MeshOption", "ModelChoice", "ModelOption", "OutOption", "RADIAL_OFFSET_RANGE_MM",
            "RigOption", "SCHEDULER_PROTOCOLS", "SEED_RANGE", "SolverOption", "T1Option", "T2Option", "UserError",
-           "add_text_row", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
-           "guard", "number_option", "prepare_with_status", "progress_bar", "report_written", "rig_text",
+           "add_text_row", "case_options", "cases_from_options", "check_environment", "console", "errors", "fail", "finite_option",
+           "guard", "model_options", "number_option", "option_block", "prepare_with_status", "register_commands", "progress_bar", "report_written", "rig_text",
            "run_with_progress", "scheduler_address", "sweep_settings", "torque_list", "warn", "write_error_text"]
 
 console = Console()
@@ -49,7 +51,7 @@ def _range_text(low: float, high: float, unit: str, exclusive: bool, integer: bo
 
 
 def finite_option(value: float | int | str, option: str, low: float, high: float, unit: str = "",
-                  exclusive: bool = False, integer: bool = False) -> float | int:
+                  *, exclusive: bool = False, integer: bool = False) -> float | int:
     """The value of a numeric command-line option, checked at the boundary.
 
     Parameters
@@ -94,7 +96,7 @@ def finite_option(value: float | int | str, option: str, low: float, high: float
     return number
 
 
-def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", exclusive: bool = False,
+def number_option(name: str, low: float, high: float, unit: str = "", help: str = "", *, exclusive: bool = False,
                   integer: bool = False, aliases: tuple[str, ...] = ()):
     """A ``typer.Option`` for a numeric option checked by :func:`finite_option` as it is parsed.
 
@@ -106,7 +108,7 @@ def number_option(name: str, low: float, high: float, unit: str = "", help: str 
 
     def parse(value):
         try:
-            return finite_option(value, name, low, high, unit, exclusive, integer)
+            return finite_option(value, name, low, high, unit, exclusive=exclusive, integer=integer)
         except UserError as error:
             fail(str(error))
 
@@ -169,6 +171,104 @@ CasesOption = Annotated[Path | None, typer.Option("--cases", help="CSV (columns 
 T1Option = Annotated[str | None, typer.Option("--t1", help="Input torques T1 in N·m, comma-separated.")]
 T2Option = Annotated[str | None, typer.Option("--t2", help="Output torques T2 in N·m, comma-separated.")]
 GridOption = Annotated[bool, typer.Option("--grid", help="Combine every --t1 with every --t2 (default: pair them in order).")]
+
+
+@dataclass(frozen=True)
+class ModelChoice:
+    """``--rig``, ``--model``, ``--solver``, ``--mesh-size-mm``: which rig, at which fidelity, solved how."""
+
+    rig_file: Path | None = None
+    model: str = "beam"
+    solver: str = "auto"
+    mesh_size_mm: float | None = None
+
+    def settings(self, method: str = "superposition"):
+        """The validated :class:`rvcoax.SweepSettings` of these options."""
+        return sweep_settings(self.model, method, self.solver, self.mesh_size_mm)
+
+    def load_rig(self):
+        """The rig file (or the built-in reference rig), validated."""
+        from rvcoax import load_rig
+
+        return load_rig(self.rig_file)
+
+    def rig_text(self) -> tuple[str, str]:
+        """(source name, text) of the rig file (:func:`rig_text`)."""
+        return rig_text(self.rig_file)
+
+
+@dataclass(frozen=True)
+class CaseChoice:
+    """``--cases``, ``--t1``, ``--t2``, ``--grid``: the load cases asked for (else the rig's own)."""
+
+    cases: Path | None = None
+    t1: str | None = None
+    t2: str | None = None
+    grid: bool = False
+
+    @property
+    def given(self) -> bool:
+        """Whether the command line names the load cases (else the rig file's, or paper 000's, are solved)."""
+        return self.cases is not None or self.t1 is not None or self.t2 is not None
+
+    def load(self, rig) -> list:
+        """The load cases (:func:`cases_from_options`)."""
+        return cases_from_options(self.cases, self.t1, self.t2, self.grid, rig)
+
+
+_MODEL_BLOCK = (("rig_file", RigOption, None), ("model", ModelOption, "beam"), ("solver", SolverOption, "auto"),
+                ("mesh_size_mm", MeshOption, None))
+_CASE_BLOCK = (("cases", CasesOption, None), ("t1", T1Option, None), ("t2", T2Option, None),
+               ("grid", GridOption, False))
+
+
+def option_block(function, name: str, record, block):
+    """``function`` with the options of ``block`` in front of its own, passed to it as one ``record`` named ``name``."""
+    own = [p for p in inspect.signature(function, eval_str=True).parameters.values() if p.name != name]
+    added = [inspect.Parameter(key, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation)
+             for key, annotation, default in block]
+
+    @functools.wraps(function)
+    def wrapper(**options):
+        values = {key: options.pop(key) for key, _, _ in block}
+        return function(**options, **{name: record(**values)})
+
+    parameters = [*added, *(p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in own)]
+    wrapper.__signature__ = inspect.Signature(parameters, return_annotation=None)
+    wrapper.__annotations__ = {p.name: p.annotation for p in parameters}
+    return wrapper
+
+
+def model_options(function):
+    """Give a command ``--rig``, ``--model``, ``--solver`` and ``--mesh-size-mm`` as one :class:`ModelChoice`
+    argument ``model_choice`` (the same options, help and defaults for every command)."""
+    return option_block(function, "model_choice", ModelChoice, _MODEL_BLOCK)
+
+
+def case_options(function):
+    """Give a command ``--cases``, ``--t1``, ``--t2`` and ``--grid`` as one :class:`CaseChoice` argument
+    ``case_choice``."""
+    return option_block(function, "case_choice", CaseChoice, _CASE_BLOCK)
+
+
+@dataclass(frozen=True)
+class CommandGroup:
+    """A command with subcommands (``rvcoax rig show``): its help and its subcommands by name."""
+
+    help: str
+    commands: dict
+
+
+def register_commands(app: typer.Typer, commands: dict) -> None:
+    """Add each of ``commands`` (name → a command function, or a :class:`CommandGroup` of them) to ``app``: the one
+    way a command module's commands are registered; every command function runs under :func:`guard`."""
+    for name, command in commands.items():
+        if isinstance(command, CommandGroup):
+            group = typer.Typer(no_args_is_help=True, help=command.help)
+            register_commands(group, command.commands)
+            app.add_typer(group, name=name)
+        else:
+            app.command(name)(guard(command))
 
 
 def fail(message: str) -> None:
@@ -305,12 +405,13 @@ def prepare_with_status(rig, settings):
 
 
 def progress_bar() -> Progress:
-    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                    TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(), console=console, transient=True,
-                    disable=not console.is_terminal)
+    """A progress bar on the console: what runs, the bar, done/total, the time taken and the time left."""
+    columns = (TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+               TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn())
+    return Progress(*columns, console=console, transient=True, disable=not console.is_terminal)
 
 
-def run_with_progress(rig, cases, settings, label: str, prepared=None, on_case=None):
+def run_with_progress(rig, cases, settings, label: str, prepared=None, *, on_case=None):
     """A sweep with a progress bar."""
     from rvcoax import run_sweep
 

@@ -13,7 +13,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results import bearing_warnings, reaction_sum
 from rvcoax.results.cli import support
 
-__all__ = ["TABLE_ROWS", "register", "sweep"]
+__all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
 
 TABLE_ROWS = 40  # a sweep table longer than this shows its first rows only (every case is in sweep.csv)
 
@@ -135,7 +135,7 @@ def _print_engineering(records: list[dict]) -> None:
         support.warn(message)
 
 
-def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
+def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
     """:func:`rvcoax.results.io.durable_sweep.run_durable_sweep` with the resume messages and a progress bar.
 
     Returns (records of every case in order, the ``model`` section, the Sweep of the cases solved now
@@ -161,7 +161,7 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
         live["bar"].update(live["task"], completed=i)
 
     try:
-        done = run_durable_sweep(rig, load_cases, settings, text, store, resume,
+        done = run_durable_sweep(rig, load_cases, settings, text, store, resume=resume,
                                  prepare=support.prepare_with_status, on_plan=plan, progress=progress)
     finally:
         if "bar" in live:
@@ -169,17 +169,14 @@ def _solve_sweep(rig, load_cases, settings, text: str, store, resume: bool):
     return done.records, done.model, done.sweep
 
 
+@support.model_options
+@support.case_options
 def sweep(
-    rig_file: support.RigOption = None,
-    model: support.ModelOption = "beam",
+    *,
+    model_choice: support.ModelChoice,
+    case_choice: support.CaseChoice,
     out: support.OutOption = Path("rvcoax_out"),
-    cases: support.CasesOption = None,
-    t1: support.T1Option = None,
-    t2: support.T2Option = None,
-    grid: support.GridOption = False,
     method: Annotated[str, typer.Option("--method", help="superposition (of unit responses, default) or direct (solve each case).")] = "superposition",
-    solver: support.SolverOption = "auto",
-    mesh_size_mm: support.MeshOption = None,
     fields: Annotated[bool, typer.Option("--fields", help="Also write the full displacement fields: one .vtu per case and an .xdmf time series (open in ParaView).")] = False,
     resume: Annotated[bool, typer.Option("--resume", help="Reuse the cases an interrupted sweep already journalled in OUT/cases (same rig file, torques and settings, checksum verified) and solve only the others.")] = False,
 ) -> None:
@@ -192,22 +189,21 @@ def sweep(
     an interruption, the same command with --resume solves only the missing cases and writes the same
     files.
     """
-    from rvcoax import load_rig
     from rvcoax.geometry.model import REPORT_AFTER_S, sweep_workload
     from rvcoax.results.io import CaseStore, sweep_header, write_sweep_files
 
     if resume and fields:
         raise support.UserError("--fields needs every case's displacement field, which --resume does not keep: "
                         "run without --resume")
-    settings = support.sweep_settings(model, method, solver, mesh_size_mm)
-    rig = load_rig(rig_file)
-    load_cases = support.cases_from_options(cases, t1, t2, grid, rig)
+    settings = model_choice.settings(method)
+    rig = model_choice.load_rig()
+    load_cases = case_choice.load(rig)
     work = sweep_workload(len(load_cases))
     if work.seconds > REPORT_AFTER_S:
         support.console.print(f"{work.what}: {work.describe()} (estimated)")
-    source, text = support.rig_text(rig_file)
+    source, text = model_choice.rig_text()
     records, model_section, result = _solve_sweep(rig, load_cases, settings, text, CaseStore(out / "cases"),
-                                                  resume)
+                                                  resume=resume)
     if fields:
         support.report_written(_write_fields(out / "fields", result))
     shown = "nonlinear: each case by Newton" if model_section.get("nonlinear") else method  # not superposed
@@ -239,6 +235,5 @@ def _write_fields(folder: Path, result) -> list[Path]:
     return written
 
 
-def register(app: typer.Typer) -> None:
-    """Add ``sweep`` to ``app``."""
-    app.command()(support.guard(sweep))
+COMMANDS = {"sweep": sweep}
+"""The commands of this module, by name (:func:`rvcoax.results.cli.support.register_commands`)."""

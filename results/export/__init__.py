@@ -12,4 +12,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.export.adams": ("AdamsExportError", "adams_fragment", "parse_adm", "spline_layout"),
     "rvcoax.results.export.ross": ("RossUnavailableError", "compare_static", "import_ross", "misalignment_fault",
                                    "misalignment_parameters", "operating_radial_stiffness"),
+    "rvcoax.results.export.formats": ("EXPORT_FORMATS", "ExportFiles", "ExportFormat", "ExportFormatError",
+                                      "ExportTable", "export_format", "write_export"),
 })

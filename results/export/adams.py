@@ -27,16 +27,18 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.export.dynamics import DynamicsExport, tilt_direction
+from rvcoax.results.io.writers import write_text_atomic
 
 __all__ = ["AdamsExportError", "AdamsSyntaxError", "LINE_LIMIT", "MARKER_BASE_ID", "OTHER_TORQUE", "Statement",
            "adams_angle_deg", "adams_fragment", "adams_real", "marker_euler_deg", "marker_z_axis", "parse_adm",
-           "spline_curves", "spline_data", "spline_layout"]
+           "spline_curves", "spline_data", "spline_layout", "write_adams"]
 
 LINE_LIMIT = 80
 MARKER_BASE_ID = {"input": 1000, "output": 2000}
@@ -340,3 +342,16 @@ def marker_z_axis(s: Statement) -> np.ndarray:
 
     rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(b), -math.sin(b)], [0.0, math.sin(b), math.cos(b)]])
     return (rz(a) @ rx @ rz(c))[:, 2]
+
+
+def write_adams(export: DynamicsExport, folder: str | Path) -> list[Path]:
+    """``dynamics.adm`` in ``folder``: :func:`adams_fragment`, read back by :func:`parse_adm` before it is written.
+
+    Raises
+    ------
+    AdamsExportError
+        The cases cannot make the splines (:func:`spline_layout`).
+    """
+    text = adams_fragment(export)
+    parse_adm(text)  # the fragment must read back under the dataset rules it claims to follow
+    return [write_text_atomic(Path(folder) / "dynamics.adm", text)]

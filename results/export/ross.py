@@ -33,29 +33,32 @@ import math
 import os
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+from rvcoax.errors import RvcoaxError
 from rvcoax.fem import DOFS_PER_NODE
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.beam import BeamElements
 from rvcoax.fem.bushing import Bushings
-from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.loads import PointMasses
 from rvcoax.fem.model import StructuralModel
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.system import factorize
+from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.units import MM
 from rvcoax.results.export.dynamics import DynamicsExport
+from rvcoax.results.io.writers import write_csv_atomic
 
-__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "MM", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
+__all__ = ["FAULT_ARGUMENTS", "Hub", "INSTALL_HINT", "ROSS_GRAVITY_M_PER_S2", "RossUnavailableError",
            "ShaftLine", "StaticComparison", "Support", "build_rotor", "compare_static", "fault_arguments",
            "fault_element", "import_ross", "misalignment_fault", "misalignment_parameters", "ross_gravity_sag",
-           "operating_radial_stiffness", "rvcoax_gravity_sag", "shaft_line"]
+           "RossFiles", "operating_radial_stiffness", "rvcoax_gravity_sag", "save_rotor", "shaft_line", "write_ross"]
 
 ROSS_GRAVITY_M_PER_S2 = 9.8065
 """The gravity ``ross.Rotor.run_static`` applies (fixed inside ROSS)."""
-MM = 1e-3
 INSTALL_HINT = 'pip install "rvcoax[ross]"  (the package ross-rotordynamics)'
 
 
@@ -177,9 +180,11 @@ def shaft_line(rig: Rig, which: str, operating_N_per_m: dict[str, float] | None 
     hubs = [Hub(c.name, end.x_mm, c.mass_kg / 2.0) for c in rig.couplings for end in (c.from_, c.to)
             if end.part == name]
     material = rig.materials[part.material]
-    return ShaftLine(which, name, x, sections[:, 0], sections[:, 1], part.material, material.density_kg_per_m3,
-                     material.youngs_modulus_MPa * 1e6, material.poisson_ratio,
-                     tuple(sorted(supports, key=lambda s: s.x_mm)), tuple(hubs))
+    return ShaftLine(which=which, part=name, node_x_mm=x, outer_diameter_mm=sections[:, 0],
+                     inner_diameter_mm=sections[:, 1], material=part.material,
+                     density_kg_per_m3=material.density_kg_per_m3, youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6,
+                     poisson_ratio=material.poisson_ratio, supports=tuple(sorted(supports, key=lambda s: s.x_mm)),
+                     hubs=tuple(hubs))
 
 
 def build_rotor(line: ShaftLine, ross=None):
@@ -220,9 +225,11 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     renumber[nodes] = np.arange(nodes.size)
     beams = structure.beams
     keep = np.all(renumber[beams.connectivity] >= 0, axis=1)
-    local = BeamElements(renumber[beams.connectivity[keep]], beams.area_m2[keep], beams.second_moment_m4[keep],
-                         beams.polar_moment_m4[keep], beams.shear_coefficient[keep], beams.youngs_modulus_Pa[keep],
-                         beams.shear_modulus_Pa[keep], beams.density_kg_per_m3[keep], beams.reference_vector[keep])
+    local = BeamElements(connectivity=renumber[beams.connectivity[keep]], area_m2=beams.area_m2[keep],
+                         second_moment_m4=beams.second_moment_m4[keep], polar_moment_m4=beams.polar_moment_m4[keep],
+                         shear_coefficient=beams.shear_coefficient[keep],
+                         youngs_modulus_Pa=beams.youngs_modulus_Pa[keep], shear_modulus_Pa=beams.shear_modulus_Pa[keep],
+                         density_kg_per_m3=beams.density_kg_per_m3[keep], reference_vector=beams.reference_vector[keep])
     masses = structure.point_masses
     on_shaft = renumber[masses.node] >= 0
     hubs = PointMasses(renumber[masses.node[on_shaft]], masses.mass_kg[on_shaft],
@@ -233,9 +240,8 @@ def rvcoax_gravity_sag(rig: Rig, line: ShaftLine, gravity_m_per_s2: float = ROSS
     no_springs = Bushings(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 6)))
     model = StructuralModel(structure.coordinates[nodes], local, no_springs, point_masses=hubs,
                             fixed_dofs=np.array(sorted(fixed)))
-    elimination, _ = fem_model.constraint_elimination(model)
-    load = fem_model.gravity_load_vector(model, [0.0, -gravity_m_per_s2, 0.0])
-    u = factorize(fem_model.stiffness_matrix(model), elimination).solve(load)
+    system = assemble_frame(model, [0.0, -gravity_m_per_s2, 0.0])
+    u = factorize(system.stiffness, system.elimination).solve(system.loads["gravity"])
     return u[1::DOFS_PER_NODE]
 
 
@@ -401,3 +407,53 @@ def misalignment_fault(rotor, parameters: dict, ross=None):
     """
     rs = ross if ross is not None else import_ross()
     return rs.MisalignmentFlex(rotor, **fault_arguments(parameters))
+
+
+def save_rotor(rotor, path: str | Path) -> Path:
+    """``rotor.save`` through a temporary file in the same folder (ROSS picks the format by suffix)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.stem}.partial{path.suffix}")
+    try:
+        rotor.save(temporary)
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return path
+
+
+@dataclass(frozen=True)
+class RossFiles:
+    """What :func:`write_ross` wrote, and the static comparison of each measured shaft (in file order)."""
+
+    paths: tuple[Path, ...]
+    comparisons: tuple[StaticComparison, ...]
+
+
+def write_ross(export: DynamicsExport, folder: str | Path, ross=None) -> RossFiles:
+    """The ROSS files of ``export`` in ``folder``: ``ross_<shaft>_rotor.toml`` per measured shaft (the rotor with
+    its misalignment faults checked by ROSS), ``ross_misalignment.csv`` (the fault parameters per case) and
+    ``ross_static.csv`` (ROSS's and rvcoax's gravity sag of each shaft on rigid supports).
+
+    Raises
+    ------
+    RossUnavailableError
+        ROSS is not installed.
+    """
+    ross = import_ross() if ross is None else ross
+    folder = Path(folder)
+    written, faults, static, comparisons = [], [], [], []
+    for shaft in MEASURED_SHAFTS:
+        rotor, comparison = compare_static(export.sweep.rig, shaft, ross, operating_radial_stiffness(export))
+        line = comparison.line
+        parameters = misalignment_parameters(export, line)
+        for row in parameters:
+            misalignment_fault(rotor, row, ross)  # ROSS accepts every set of parameters
+        faults += parameters
+        static += [{"shaft": shaft, "x_mm": float(x), "uy_ross_um": float(a * 1e6), "uy_rvcoax_um": float(b * 1e6)}
+                   for x, a, b in zip(line.node_x_mm, comparison.ross_uy_m, comparison.rvcoax_uy_m)]
+        written.append(save_rotor(rotor, folder / f"ross_{shaft}_rotor.toml"))
+        comparisons.append(comparison)
+    written.append(write_csv_atomic(folder / "ross_misalignment.csv", faults))
+    written.append(write_csv_atomic(folder / "ross_static.csv", static))
+    return RossFiles(tuple(written), tuple(comparisons))

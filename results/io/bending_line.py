@@ -67,9 +67,10 @@ def bending_lines(sweep) -> list[PartLine]:
         nodes = np.flatnonzero(frame.node_part == part.name)
         nodes = nodes[np.argsort(frame.node_x_mm[nodes], kind="stable")]
         picked = motion[:, nodes, :]
-        lines.append(PartLine(part.name, part.role, part.name in solid, np.asarray(frame.node_x_mm[nodes], float),
-                              picked[:, :, 1] * 1e6, picked[:, :, 2] * 1e6, picked[:, :, 5] * 1e6,
-                              picked[:, :, 4] * 1e6))
+        lines.append(PartLine(part=part.name, role=part.role, solid=part.name in solid,
+                              x_mm=np.asarray(frame.node_x_mm[nodes], float), u_y_um=picked[:, :, 1] * 1e6,
+                              u_z_um=picked[:, :, 2] * 1e6, rotation_z_urad=picked[:, :, 5] * 1e6,
+                              rotation_y_urad=picked[:, :, 4] * 1e6))
     return lines
 
 
@@ -162,6 +163,57 @@ def out_of_plane_is_rounding(lines: list[PartLine]) -> tuple[bool, bool, float]:
             largest_z)
 
 
+def _draw_case(panels, sweep, lines, case_index: int, colour: str) -> None:
+    """One case's u_y, u_z and section rotations along every part (a solid measured shaft: its path as read);
+    out-of-plane motion that is the solve's rounding (:func:`out_of_plane_is_rounding`) drawn as 0."""
+    flat_z, flat_ry, _ = out_of_plane_is_rounding(lines)
+    for line in lines:
+        if not line.x_mm.size:
+            continue
+        style = {"color": colour, "lw": 1.6 if line.role == "shaft" else 0.9,
+                 "ls": "-" if line.role == "shaft" else "--"}
+        if line.solid:
+            style.update(ls="none", marker="o", ms=3)
+        panels[0].plot(line.x_mm, line.u_y_um[case_index], **style)
+        panels[1].plot(line.x_mm, 0.0 * line.x_mm if flat_z else line.u_z_um[case_index], **style)
+        panels[2].plot(line.x_mm, line.rotation_z_urad[case_index], **style)
+        panels[2].plot(line.x_mm, 0.0 * line.x_mm if flat_ry else line.rotation_y_urad[case_index],
+                       **{**style, "lw": 0.8, "alpha": 0.6, "ls": ":"})
+    for shaft in MEASURED_SHAFTS:  # a solid measured shaft: its path as the sweep reads it (axis u_y, rotation)
+        path = getattr(sweep.rig.paths, shaft)
+        if any(line.solid and line.part == path.part for line in lines):
+            read = sweep.cases[case_index].paths[shaft]
+            x = path.x_start_mm + read.station_mm
+            panels[0].plot(x, read.uy_mm * 1e3, color=colour, lw=1.6)
+            panels[2].plot(x, read.rotation_z_rad * 1e6, color=colour, lw=1.6)
+
+
+def _draw_panel_frames(panels, sweep, lines) -> None:
+    """The bearings and couplings as vertical lines, the axis labels, and a note when u_z is zero everywhere."""
+    for x in [b.x_mm for b in sweep.rig.bearings]:
+        for axis in panels:
+            axis.axvline(x, color="#c44e52", lw=0.5, alpha=0.35)
+    for x in [c.centre_x_mm for c in sweep.rig.couplings]:
+        for axis in panels:
+            axis.axvline(x, color="#55a868", lw=0.5, alpha=0.5, ls="-.")
+    labels = ("u_y (vertical, + up) [µm]", "u_z (horizontal) [µm]", "section rotation [µrad]")
+    for axis, label in zip(panels, labels):
+        axis.set_ylabel(label)
+        axis.grid(True, alpha=0.3)
+        axis.axhline(0.0, color="black", lw=0.6)
+    for axis in panels[:-1]:
+        axis.tick_params(axis="x", labelbottom=False)
+    panels[-1].set_xlabel("x along the rig axis [mm]")
+    flat_z, _, largest_z = out_of_plane_is_rounding(lines)
+    if flat_z:
+        panels[1].set_ylim(-1.0, 1.0)
+        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane"
+                       + (f" (the solve's rounding, |u_z| ≤ {largest_z:.0e} µm, is drawn as 0)" if largest_z else ""),
+                       transform=panels[1].transAxes, ha="center", va="center", fontsize=9, color="#444444",
+                       bbox={"facecolor": "white", "edgecolor": "#cccccc"})
+
+
+
 def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | None = None, title: str | None = None,
                       dpi: int = 150) -> Path:
     """Draw the bending line of the whole rig (u_y, u_z, section rotations against x) as a PNG.
@@ -194,48 +246,9 @@ def plot_bending_line(sweep, path_png: str | Path, *, cases: Sequence[int] | Non
     pad = 0.02 * (high - low)
     strip.set_xlim(low - pad, high + pad)
     colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"]
-    flat_z, flat_ry, largest_z = out_of_plane_is_rounding(lines)
     for k, case_index in enumerate(chosen):
-        colour = colours[k % len(colours)]
-        for line in lines:
-            if not line.x_mm.size:
-                continue
-            style = {"color": colour, "lw": 1.6 if line.role == "shaft" else 0.9,
-                     "ls": "-" if line.role == "shaft" else "--"}
-            if line.solid:
-                style.update(ls="none", marker="o", ms=3)
-            panels[0].plot(line.x_mm, line.u_y_um[case_index], **style)
-            panels[1].plot(line.x_mm, 0.0 * line.x_mm if flat_z else line.u_z_um[case_index], **style)
-            panels[2].plot(line.x_mm, line.rotation_z_urad[case_index], **style)
-            panels[2].plot(line.x_mm, 0.0 * line.x_mm if flat_ry else line.rotation_y_urad[case_index],
-                           **{**style, "lw": 0.8, "alpha": 0.6, "ls": ":"})
-        for shaft in MEASURED_SHAFTS:  # a solid measured shaft: its path as the sweep reads it (axis u_y, rotation)
-            path = getattr(sweep.rig.paths, shaft)
-            if any(line.solid and line.part == path.part for line in lines):
-                read = sweep.cases[case_index].paths[shaft]
-                x = path.x_start_mm + read.station_mm
-                panels[0].plot(x, read.uy_mm * 1e3, color=colour, lw=1.6)
-                panels[2].plot(x, read.rotation_z_rad * 1e6, color=colour, lw=1.6)
-    for x in [b.x_mm for b in sweep.rig.bearings]:
-        for axis in panels:
-            axis.axvline(x, color="#c44e52", lw=0.5, alpha=0.35)
-    for x in [c.centre_x_mm for c in sweep.rig.couplings]:
-        for axis in panels:
-            axis.axvline(x, color="#55a868", lw=0.5, alpha=0.5, ls="-.")
-    labels = ("u_y (vertical, + up) [µm]", "u_z (horizontal) [µm]", "section rotation [µrad]")
-    for axis, label in zip(panels, labels):
-        axis.set_ylabel(label)
-        axis.grid(True, alpha=0.3)
-        axis.axhline(0.0, color="black", lw=0.6)
-    for axis in panels[:-1]:
-        axis.tick_params(axis="x", labelbottom=False)
-    panels[-1].set_xlabel("x along the rig axis [mm]")
-    if flat_z:
-        panels[1].set_ylim(-1.0, 1.0)
-        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane"
-                       + (f" (the solve's rounding, |u_z| ≤ {largest_z:.0e} µm, is drawn as 0)" if largest_z else ""),
-                       transform=panels[1].transAxes, ha="center", va="center", fontsize=9, color="#444444",
-                       bbox={"facecolor": "white", "edgecolor": "#cccccc"})
+        _draw_case(panels, sweep, lines, case_index, colours[k % len(colours)])
+    _draw_panel_frames(panels, sweep, lines)
     _strip(strip, sweep, lines)
     cases_legend = [Line2D([], [], color=colours[k % len(colours)], lw=1.6,
                            label=f"T1 = {sweep.cases[i].case.input_torque_Nm:g} N·m, "

@@ -44,8 +44,8 @@ class DurableSweep:
     solved: tuple[int, ...]
 
 
-def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,
-                      store: CaseStore, resume: bool = False,
+def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings, rig_text: str,  # noqa: PLR0913
+                      store: CaseStore, *, resume: bool = False,
                       prepare: Callable[[Rig, SweepSettings], PreparedModel] = prepare_model,
                       progress: Callable[[int, int], None] | None = None,
                       on_plan: Callable[[JournalReading, int], None] | None = None) -> DurableSweep:

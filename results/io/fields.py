@@ -64,9 +64,9 @@ from meshio.xdmf.common import (
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import RigModel
 from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques, superpose
+from rvcoax.geometry.units import M_TO_MM
 
 LINE = "line"
-MM = 1e3  # m → mm: field files are in mm
 TETRA10 = "tetra10"
 XDMF_TIME = "case index (0, 1, ... in the order of the cases)"
 
@@ -146,7 +146,7 @@ class FieldMesh:
         part, radius = [], []
         if len(self.lines):
             part.append(np.array(self.line_part_id, dtype=np.int32))
-            radius.append(np.array(self.line_radius_m, dtype=float) * MM)
+            radius.append(np.array(self.line_radius_m, dtype=float) * M_TO_MM)
         if len(self.tetra10):
             part.append(np.array(self.tetra_part_id, dtype=np.int32))
             radius.append(np.zeros(len(self.tetra10)))  # a tetrahedron is drawn as itself, not as a tube
@@ -155,7 +155,7 @@ class FieldMesh:
     @property
     def points_mm(self) -> np.ndarray:
         """Point positions in mm, as written to files."""
-        return np.asarray(self.points) * MM
+        return np.asarray(self.points) * M_TO_MM
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,7 +198,7 @@ class FieldCase:
 
     def point_data(self) -> dict[str, np.ndarray]:
         """Point data as written to files (the unit in each name)."""
-        data = {"displacement_mm": np.array(self.displacement_m) * MM, "displacement_y_um": self.displacement_y_um}
+        data = {"displacement_mm": np.array(self.displacement_m) * M_TO_MM, "displacement_y_um": self.displacement_y_um}
         if self.von_mises_Pa is not None:
             data["von_mises_MPa"] = np.array(self.von_mises_Pa) * 1e-6
         return data
@@ -349,17 +349,16 @@ def _mesh_from_meshio(points, cells, cell_data, part_names) -> FieldMesh:
         return np.asarray(cell_data[name][blocks[kind]]).reshape(-1) if kind in blocks else np.zeros(0)
 
     # files before the unit policy (issue 15) were in m: points, radius_m, displacement
-    scale = 1.0 / MM if "radius_mm" in cell_data else 1.0
-    radius = per_cell("radius_mm", LINE) / MM if "radius_mm" in cell_data else per_cell("radius_m", LINE)
+    scale = 1.0 / M_TO_MM if "radius_mm" in cell_data else 1.0
+    radius = per_cell("radius_mm", LINE) / M_TO_MM if "radius_mm" in cell_data else per_cell("radius_m", LINE)
 
     lines = data(LINE)
     tets = data(TETRA10)
-    return FieldMesh(
-        np.asarray(points, float) * scale,
-        np.zeros((0, 2), np.int64) if lines is None else lines,
-        radius, per_cell("part_id", LINE).astype(np.int32), tuple(part_names),
-        np.zeros((0, 10), np.int64) if tets is None else tets, per_cell("part_id", TETRA10).astype(np.int32),
-    )
+    return FieldMesh(points=np.asarray(points, float) * scale,
+                     lines=np.zeros((0, 2), np.int64) if lines is None else lines, line_radius_m=radius,
+                     line_part_id=per_cell("part_id", LINE).astype(np.int32), part_names=tuple(part_names),
+                     tetra10=np.zeros((0, 10), np.int64) if tets is None else tets,
+                     tetra_part_id=per_cell("part_id", TETRA10).astype(np.int32))
 
 
 def read_vtu(path: str | Path) -> tuple[FieldMesh, FieldCase]:
@@ -378,7 +377,7 @@ def _case_fields(point_data: dict) -> tuple[np.ndarray, np.ndarray | None]:
     """(displacement in m, von Mises in Pa or None) from a file's point data (mm, MPa; or m, Pa before)."""
     if "displacement_mm" in point_data:
         stress = point_data.get("von_mises_MPa")
-        return (np.asarray(point_data["displacement_mm"]) / MM,
+        return (np.asarray(point_data["displacement_mm"]) / M_TO_MM,
                 None if stress is None else np.asarray(stress) * 1e6)
     stress = point_data.get("von_mises")
     if stress is not None and not np.all(np.isfinite(stress)):
@@ -617,9 +616,10 @@ def sweep_field_mesh(sweep) -> tuple[FieldMesh, dict[str, np.ndarray]]:
             count += stations.size
         else:
             paths[which] = system.frame.path_nodes(which)[0]
-    mesh = FieldMesh(np.vstack(points), frame.lines, frame.line_radius_m, frame.line_part_id, names,
-                     np.vstack(tets) if tets else np.zeros((0, 10), dtype=np.int64),
-                     np.concatenate(tet_ids) if tet_ids else np.zeros(0, dtype=np.int32))
+    mesh = FieldMesh(points=np.vstack(points), lines=frame.lines, line_radius_m=frame.line_radius_m,
+                     line_part_id=frame.line_part_id, part_names=names,
+                     tetra10=np.vstack(tets) if tets else np.zeros((0, 10), dtype=np.int64),
+                     tetra_part_id=np.concatenate(tet_ids) if tet_ids else np.zeros(0, dtype=np.int32))
     return mesh, paths
 
 

@@ -16,7 +16,7 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 
 __all__ = ["FolderLockedError", "LOCK_NAME", "output_folder_lock"]
 

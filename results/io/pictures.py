@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.fields import FieldCase, FieldMesh
 from rvcoax.results.io.writers import write_png_atomic
@@ -367,7 +367,7 @@ def _named_paths(paths) -> list[tuple[str, np.ndarray]]:
     return out
 
 
-def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, rig_length_m: float | None = None,
+def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, rig_length_m: float | None = None,  # noqa: PLR0913
                     paths=None, warp_fraction: float = 0.05, colour_limits_um: tuple[float, float] | None = None,
                     title: str | None = None, window_size: tuple[int, int] = (1600, 600),
                     warp_factor: float | None = None, translucent_parts: Sequence[str] | None = None,
@@ -409,6 +409,79 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
     ``translucent_parts``, ``window_class`` and ``seconds`` (time to build, render and write).
     """
     started = time.perf_counter()
+    scene = _deformed_scene(mesh, case, _SceneOptions(
+        rig_length_m=rig_length_m, paths=paths, warp_fraction=warp_fraction, colour_limits_um=colour_limits_um,
+        warp_factor=warp_factor, translucent_parts=translucent_parts, min_radius_fraction=min_radius_fraction))
+    target = Path(path_png)
+    target.parent.mkdir(parents=True, exist_ok=True)
+
+    window_class = check_offscreen_rendering()
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    with _quiet_vtk():
+        surfaces = _part_surfaces(mesh, scene.deformed, case.displacement_y_um, scene.radius)
+        names = scene.translucent_parts
+        if names is None:
+            names = enclosing_parts(mesh, rig_length_m=scene.length_m, min_radius_fraction=min_radius_fraction)
+        translucent = {mesh.part_names.index(n) for n in names}
+
+        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+        try:
+            plotter.set_background("white")
+            _draw_surfaces(plotter, surfaces, scene.limits, translucent, window_size)
+            title_lines = _title_lines(title, window_size)
+            view, labels = _fit_view(mesh, scene, window_size, len(title_lines))
+            _draw_overlays(plotter, scene, _Overlays(view, tuple(labels), tuple(title_lines) if title else (),
+                                                     tuple(bearings_x_mm or ())))
+            _write_screenshot(plotter, target, bool(translucent), view)
+        finally:
+            plotter.close()
+    return {
+        "path": target,
+        "warp_factor": scene.factor,
+        "colour_limits_um": scene.limits,
+        "max_displacement_m": scene.largest_m,
+        "translucent_parts": tuple(mesh.part_names[i] for i in sorted(translucent)),
+        "window_class": window_class,
+        "seconds": time.perf_counter() - started,
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class _DeformedScene:
+    """Stage 1 of :func:`render_deformed`: what is drawn, checked and scaled (SI, µm for u_y)."""
+
+    deformed: np.ndarray  # (n, 3) warped points, m
+    radius: np.ndarray  # drawn radius of each line cell, m
+    length_m: float
+    largest_m: float
+    factor: float
+    limits: tuple[float, float]
+    path_lines: tuple  # (label, undeformed points, their displacement) per measured path
+    translucent_parts: tuple[str, ...] | None  # as asked for (None: the enclosing parts)
+
+
+@dataclass(frozen=True, eq=False)
+class _SceneOptions:
+    """The drawing options of :func:`render_deformed` that decide what is drawn (see its parameters)."""
+
+    rig_length_m: float | None
+    paths: object
+    warp_fraction: float
+    colour_limits_um: tuple[float, float] | None
+    warp_factor: float | None
+    translucent_parts: object
+    min_radius_fraction: float
+
+
+def _deformed_scene(mesh: FieldMesh, case: FieldCase, options: _SceneOptions) -> _DeformedScene:
+    """Check the inputs of :func:`render_deformed` and scale the case: the warp factor, the colour limits, the paths."""
+    rig_length_m, colour_limits_um, translucent_parts = (options.rig_length_m, options.colour_limits_um,
+                                                         options.translucent_parts)
+    warp_fraction, warp_factor, min_radius_fraction = (options.warp_fraction, options.warp_factor,
+                                                       options.min_radius_fraction)
+    paths = options.paths
     if case.displacement_m.shape[0] != mesh.n_points:
         raise ValueError(f"case {case.label!r} has {case.displacement_m.shape[0]} points, the mesh {mesh.n_points}")
     length = mesh_length_m(mesh) if rig_length_m is None else float(rig_length_m)
@@ -419,93 +492,98 @@ def render_deformed(mesh: FieldMesh, case: FieldCase, path_png: str | Path, *, r
     limits = sweep_colour_limits_um([case]) if colour_limits_um is None else tuple(map(float, colour_limits_um))
     if not limits[0] < limits[1]:
         raise ValueError(f"colour_limits_um must be (low, high) with low < high, got {limits}")
-    path_lines = [(label, *_path_points(mesh, case, polyline)) for label, polyline in _named_paths(paths)]
+    path_lines = tuple((label, *_path_points(mesh, case, polyline)) for label, polyline in _named_paths(paths))
     if isinstance(translucent_parts, str):
         translucent_parts = (translucent_parts,)
     unknown = set(translucent_parts or ()) - set(mesh.part_names)
     if unknown:
         raise ValueError(f"unknown parts {sorted(unknown)}; parts are {', '.join(mesh.part_names)}")
-    target = Path(path_png)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    return _DeformedScene(deformed=mesh.points + factor * case.displacement_m,
+                          radius=np.maximum(mesh.line_radius_m, min_radius_fraction * length), length_m=length,
+                          largest_m=largest, factor=factor, limits=limits, path_lines=path_lines,
+                          translucent_parts=None if translucent_parts is None else tuple(translucent_parts))
 
-    window_class = check_offscreen_rendering()
+
+def _draw_surfaces(plotter, surfaces: dict, limits, translucent: set, window_size) -> None:
+    """Stage 2: every part's surface coloured by u_y, the colour bar with the first one."""
+    # VTK's built-in font draws "[" as "(": the title goes through matplotlib's mathtext
+    bar = {"title": "$u_y$ [µm]", "vertical": True, "color": "black", "fmt": "%.3g", "n_labels": 5,
+           "position_x": 0.9, "position_y": 0.15, "height": 0.7, "width": 0.05,
+           "title_font_size": max(8, round(_band(window_size))),
+           "label_font_size": max(6, round(0.8 * _band(window_size)))}
+    first = True
+    for part, surface in surfaces.items():
+        plotter.add_mesh(surface, scalars="u_y_um", cmap=COLOURMAP, clim=limits, smooth_shading=True,
+                         split_sharp_edges=True,
+                         opacity=ENCLOSING_OPACITY if part in translucent else 1.0,
+                         show_scalar_bar=first, scalar_bar_args=bar if first else None)
+        first = False
+
+
+def _fit_view(mesh: FieldMesh, scene: _DeformedScene, window_size, title_rows: int):
+    """Stage 3: the camera and the rows of part labels under the rig (fitted twice: the labels need the view)."""
+    view = _RigView.fit(_bounds(scene.deformed, scene.radius), window_size, label_rows=2, title_lines=title_rows)
+    labels = _part_labels(mesh, scene.deformed, view)
+    view = _RigView.fit(_bounds(scene.deformed, scene.radius), window_size,
+                        label_rows=1 + max((r for *_, r in labels), default=0), title_lines=title_rows)
+    return view, _part_labels(mesh, scene.deformed, view)
+
+
+@dataclass(frozen=True, eq=False)
+class _Overlays:
+    """What stage 4 of :func:`render_deformed` draws over the rig, placed by ``view``."""
+
+    view: _RigView
+    labels: tuple  # (part name, x mm, row)
+    title_lines: tuple[str, ...]  # empty: no title
+    bearings_x_mm: tuple[float, ...]
+
+
+def _draw_overlays(plotter, scene: _DeformedScene, overlays: _Overlays) -> None:
+    """Stage 4: the measured paths in front of the rig, the x ruler, the part names, the legend, the warp and the
+    title."""
     import pyvista as pv
 
-    pv.OFF_SCREEN = True
-    deformed = mesh.points + factor * case.displacement_m
-    uy_um = case.displacement_y_um
-    radius = np.maximum(mesh.line_radius_m, min_radius_fraction * length)
-    with _quiet_vtk():
-        surfaces = _part_surfaces(mesh, deformed, uy_um, radius)
-        if translucent_parts is None:
-            translucent_parts = enclosing_parts(mesh, rig_length_m=length, min_radius_fraction=min_radius_fraction)
-        translucent = {mesh.part_names.index(n) for n in translucent_parts}
+    view, length = overlays.view, scene.length_m
+    radius = scene.radius
+    front = (float(scene.deformed[:, 2].max() + 1.5 * radius.max()) if len(radius)
+             else float(scene.deformed[:, 2].max()))
+    legend = []
+    for (label, where, moved), colour in zip(scene.path_lines, PATH_COLOURS * 4):
+        line = where + scene.factor * moved
+        line[:, 2] = front + 0.01 * length
+        plotter.add_mesh(pv.lines_from_points(line), color=colour, line_width=6, render_lines_as_tubes=True)
+        legend.append([label, colour])
+    _draw_ruler(plotter, view, front + 0.02 * length, overlays.bearings_x_mm)
+    for name, x_mm, row in overlays.labels:
+        column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
+        plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
+    if legend:
+        plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.02, 0.1), loc="lower right",
+                           face="line")
+    factor, largest = scene.factor, scene.largest_m
+    warp = (f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
+            f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm")
+    if view.text_width_px(warp + RULER_CAPTION) + 4 * view.band > RULER_END * view.window[0]:
+        warp = f"warp × {factor:.4g} ({largest * 1e6:.4g} µm drawn as {factor * largest / length:.3g} of L)"
+    plotter.add_text(warp, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
+    if overlays.title_lines:
+        plotter.add_text("\n".join(overlays.title_lines), position="upper_edge", font_size=view.title_font,
+                         color="black")
 
-        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-        try:
-            plotter.set_background("white")
-            # VTK's built-in font draws "[" as "(": the title goes through matplotlib's mathtext
-            bar = {"title": "$u_y$ [µm]", "vertical": True, "color": "black", "fmt": "%.3g", "n_labels": 5,
-                   "position_x": 0.9, "position_y": 0.15, "height": 0.7, "width": 0.05,
-                   "title_font_size": max(8, round(_band(window_size))),
-                   "label_font_size": max(6, round(0.8 * _band(window_size)))}
-            first = True
-            for part, surface in surfaces.items():
-                plotter.add_mesh(surface, scalars="u_y_um", cmap=COLOURMAP, clim=limits, smooth_shading=True,
-                                 split_sharp_edges=True,
-                                 opacity=ENCLOSING_OPACITY if part in translucent else 1.0,
-                                 show_scalar_bar=first, scalar_bar_args=bar if first else None)
-                first = False
-            front = float(deformed[:, 2].max() + 1.5 * radius.max()) if len(radius) else float(deformed[:, 2].max())
-            title_lines = _title_lines(title, window_size)
-            view = _RigView.fit(_bounds(deformed, radius), window_size, label_rows=2, title_lines=len(title_lines))
-            labels = _part_labels(mesh, deformed, view)
-            view = _RigView.fit(_bounds(deformed, radius), window_size,
-                                label_rows=1 + max((r for *_, r in labels), default=0), title_lines=len(title_lines))
-            labels = _part_labels(mesh, deformed, view)
-            legend = []
-            for (label, where, moved), colour in zip(path_lines, PATH_COLOURS * 4):
-                line = where + factor * moved
-                line[:, 2] = front + 0.01 * length
-                plotter.add_mesh(pv.lines_from_points(line), color=colour, line_width=6, render_lines_as_tubes=True)
-                legend.append([label, colour])
-            _draw_ruler(plotter, view, front + 0.02 * length, bearings_x_mm or ())
-            for name, x_mm, row in labels:
-                column, pixel_row = view.label_pixel(x_mm * 1e-3, row, name)
-                plotter.add_text(name, position=(column, pixel_row), font_size=view.small_font, color="black")
-            if legend:
-                plotter.add_legend(legend, bcolor="white", border=True, size=(1 - RULER_END - 0.02, 0.1),
-                                   loc="lower right",
-                                   face="line")
-            warp = (f"warp factor × {factor:.4g}: largest displacement {largest * 1e6:.4g} µm drawn as "
-                    f"{factor * largest / length:.3g} of {length * 1e3:.0f} mm")
-            if view.text_width_px(warp + RULER_CAPTION) + 4 * view.band > RULER_END * window_size[0]:
-                warp = f"warp × {factor:.4g} ({largest * 1e6:.4g} µm drawn as {factor * largest / length:.3g} of L)"
-            plotter.add_text(warp, position=(4, 0.2 * view.band), font_size=view.small_font, color="black")
-            if title:
-                plotter.add_text("\n".join(title_lines), position="upper_edge", font_size=view.title_font,
-                                 color="black")
-            if translucent:
-                plotter.enable_depth_peeling(number_of_peels=6)
-            plotter.enable_anti_aliasing("ssaa")
-            view.apply(plotter)
-            temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
-            try:
-                plotter.screenshot(str(temporary), return_img=False)
-                os.replace(temporary, target)
-            finally:
-                temporary.unlink(missing_ok=True)
-        finally:
-            plotter.close()
-    return {
-        "path": target,
-        "warp_factor": factor,
-        "colour_limits_um": limits,
-        "max_displacement_m": largest,
-        "translucent_parts": tuple(mesh.part_names[i] for i in sorted(translucent)),
-        "window_class": window_class,
-        "seconds": time.perf_counter() - started,
-    }
+
+def _write_screenshot(plotter, target: Path, translucent: bool, view: _RigView) -> None:
+    """Stage 5: depth peeling for translucent parts, anti-aliasing, the camera, and the PNG written atomically."""
+    if translucent:
+        plotter.enable_depth_peeling(number_of_peels=6)
+    plotter.enable_anti_aliasing("ssaa")
+    view.apply(plotter)
+    temporary = target.with_name(f".{target.stem}.{os.getpid()}.tmp.png")
+    try:
+        plotter.screenshot(str(temporary), return_img=False)
+        os.replace(temporary, target)
+    finally:
+        temporary.unlink(missing_ok=True)
 
 
 def _bounds(points: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -697,7 +775,21 @@ def _series(rows) -> tuple[dict[str, np.ndarray], dict[str, float]]:
     return data, lengths
 
 
-def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,
+def _beta_axis(ax, length: float, micro: bool) -> None:
+    """The right-hand axis β = arcsin(Y / L) of a Y panel, ``length`` in the unit of the Y axis."""
+    if micro:
+        functions = (lambda y, L=length: 1e6 * np.arcsin(np.clip(y / L, -1, 1)),
+                     lambda b, L=length: L * np.sin(1e-6 * np.asarray(b)))
+    else:
+        functions = (lambda y, L=length: np.degrees(np.arcsin(np.clip(y / L, -1, 1))),
+                     lambda b, L=length: L * np.sin(np.radians(b)))
+    secondary = ax.secondary_yaxis("right", functions=functions)
+    secondary.set_ylabel("β = arcsin(Y / L) (paper 000) [" + ("µrad]" if micro else "°]"))
+    if not micro:
+        secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
+
+
+def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,  # noqa: PLR0913
                      path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150,
                      micro: bool = False, published_label: str = "published (paper 000)") -> Path:
     """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.
@@ -767,17 +859,7 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
         ax.grid(True, alpha=0.3)
         ax.set_title(f"{shaft} shaft" + (f", L = {lengths[shaft]:g} mm" if shaft in lengths else ""))
         if shaft in lengths:
-            length = lengths[shaft] * scale  # in the unit of the axis
-            if micro:
-                functions = (lambda y, L=length: 1e6 * np.arcsin(np.clip(y / L, -1, 1)),
-                             lambda b, L=length: L * np.sin(1e-6 * np.asarray(b)))
-            else:
-                functions = (lambda y, L=length: np.degrees(np.arcsin(np.clip(y / L, -1, 1))),
-                             lambda b, L=length: L * np.sin(np.radians(b)))
-            secondary = ax.secondary_yaxis("right", functions=functions)
-            secondary.set_ylabel("β = arcsin(Y / L) (paper 000) [" + ("µrad]" if micro else "°]"))
-            if not micro:
-                secondary.ticklabel_format(style="sci", scilimits=(-3, 3))
+            _beta_axis(ax, lengths[shaft] * scale, micro)
         ax.legend(loc="upper left", fontsize=9)
     if title:
         figure.suptitle(title)

@@ -11,8 +11,8 @@ from rvcoax.results.sweep import Sweep
 __all__ = ["write_sweep"]
 
 
-def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibration: records.StudyRecord | None = None,
-                stem: str = "sweep") -> list[Path]:
+def write_sweep(out: Path, sweep: Sweep, rig_source: str, rig_text: str, calibration: records.StudyRecord | None = None,  # noqa: PLR0913
+                *, stem: str = "sweep") -> list[Path]:
     """Write ``<stem>.csv``, ``<stem>.json`` and ``<stem>_paths.csv`` of a sweep in ``out``, atomically.
 
     Parameters

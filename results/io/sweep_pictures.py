@@ -47,7 +47,7 @@ class SweepPictures:
     bending_line: Path
 
 
-def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.05, published=None,
+def draw_sweep_pictures(sweep: Sweep, folder: Path, *, warp_fraction: float = 0.05, published=None,  # noqa: PLR0913
                         progress: Callable[[int, int], None] | None = None,
                         window_size: tuple[int, int] = (1600, 600)) -> SweepPictures:
     """Draw every case of ``sweep`` off screen into ``folder``.

@@ -13,8 +13,8 @@ from rvcoax.results.studies.check_run import CheckRun
 __all__ = ["check_rows", "write_check"]
 
 
-def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,
-                title: str | None = None, table_label: str = "published (paper 000)",
+def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,  # noqa: PLR0913
+                *, title: str | None = None, table_label: str = "published (paper 000)",
                 tolerance: str | None = None, measured: bool = False) -> list[Path]:
     """Write the check's files in ``out``, atomically.
 

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.engineering import bearing_warnings
 from rvcoax.results.io.writers import write_text_atomic
@@ -208,6 +208,17 @@ def _parameter_text(name: str, value) -> str:
 
 
 def _discrepancy_html(document: dict, source: str) -> str:
+    """The discrepancy section: the verdict and its figures, the gap table, the effects added (or candidates)."""
+    rows = _verdict_rows(document) + _figure_rows(document)
+    parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
+    parts += _gap_table_html(document)
+    parts.append(_effects_html(document))
+    parts.append(f'<p class="note">From {html.escape(source)} (rvcoax {html.escape(str(document.get("rvcoax_version", "?")))}).</p>')
+    return "\n".join(parts)
+
+
+def _verdict_rows(document: dict) -> list[tuple[str, str]]:
+    """(label, text) of the verdict, the summary (or headline) and the reasons."""
     rows = []
     verdict = document.get("verdict")
     if isinstance(verdict, str):
@@ -224,6 +235,12 @@ def _discrepancy_html(document: dict, source: str) -> str:
     reasons = document.get("reasons")
     if isinstance(reasons, list):
         rows += [("why" if i == 0 else "", str(reason)) for i, reason in enumerate(reasons)]
+    return rows
+
+
+def _figure_rows(document: dict) -> list[tuple[str, str]]:
+    """(label, text) of the measured data, the RMS gaps, the generic load, the cross-validation, the observability."""
+    rows = []
     measured = document.get("measured") or {}
     if isinstance(measured, dict) and measured:
         rows.append(("measured data", f"{measured.get('source', '?')} ({measured.get('schema', '?')} schema, "
@@ -257,7 +274,12 @@ def _discrepancy_html(document: dict, source: str) -> str:
                          f"effects: {', '.join(map(str, visible)) or 'none'}"))
             rows.append(("what they cannot reveal", f"{len(invisible)} effects, {revealable} of them with one "
                          "more measurement (listed in discrepancy.json under observability)"))
-    parts = ["<dl>" + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(str(v))}</dd>" for k, v in rows) + "</dl>"]
+    return rows
+
+
+def _gap_table_html(document: dict) -> list[str]:
+    """The table of RMS gaps before and after, per case subset and shaft (empty without one)."""
+    parts = []
     gaps = document.get("rms")
     if isinstance(gaps, dict) and gaps:
         gap_rows = []
@@ -275,6 +297,12 @@ def _discrepancy_html(document: dict, source: str) -> str:
                 "Gap between measurement and model, before and after the named effects",
                 ("cases", "shaft", "RMS Y gap before [µm]", "after [µm]", "RMS tilt gap before [µrad]", "after [µrad]"),
                 tuple(gap_rows), note="fit: the cases the effects were fitted on; held out: cases not used to fit.")))
+    return parts
+
+
+def _effects_html(document: dict) -> str:
+    """The effects added to the model (explained) or the candidates (not a fix), or a sentence saying none was."""
+    verdict = document.get("verdict")
     meanings = {n.get("effect"): n.get("meaning") for n in document.get("named") or [] if isinstance(n, dict)}
     selected = document.get("selected") or []
     if selected:
@@ -285,12 +313,9 @@ def _discrepancy_html(document: dict, source: str) -> str:
                             for s in selected if isinstance(s, dict))
         title = "Effects added to the model" if verdict == "explained" else \
             "Candidate effects (they reduce the gap but do not explain it; not a fix)"
-        parts.append(_table_html(tables.Table(title, ("effect", "what it means", "parameters",
-                                                      "equally well on these data"), effect_rows)))
-    else:
-        parts.append("<p>No effect was added to the model.</p>")
-    parts.append(f'<p class="note">From {html.escape(source)} (rvcoax {html.escape(str(document.get("rvcoax_version", "?")))}).</p>')
-    return "\n".join(parts)
+        return _table_html(tables.Table(title, ("effect", "what it means", "parameters",
+                                               "equally well on these data"), effect_rows))
+    return "<p>No effect was added to the model.</p>"
 
 
 def read_discrepancy(path: str | Path) -> dict:
@@ -361,7 +386,7 @@ def _decides_html(sweep, inputs: ReportInputs) -> str:
     return _table_html(tables.decides_table(what_decides_y(sweep.rig, assumed, case, sweep.settings)))
 
 
-def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,
+def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,  # noqa: PLR0913
                 paper: str = "a4", decides: bool = True) -> str:
     """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
 
@@ -435,7 +460,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
             f"<nav>{nav}</nav>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
-def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,
+def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,  # noqa: PLR0913
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
                  deformed_view: bool = True, paper: str = "a4", decides: bool = True,
                  measured_tolerance=None) -> Path:

@@ -13,7 +13,7 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 
 __all__ = ["BROWSERS", "BrowserUnavailableError", "find_browser", "headless_command", "print_pdf"]
 

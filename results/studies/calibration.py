@@ -58,22 +58,20 @@ class CalibrationParameter:
 
 DEFAULT_PARAMETERS = (
     CalibrationParameter(
-        "torque_lateral_loads.sun_gear_load_sharing.imbalance", "input", "-", (-1.0, 1.0), (-0.15, 0.15), 0.02,
-        "mesh-stiffness imbalance (k1-k2)/(k1+k2) of the two crankshaft gears on the input gear; "
+        address="torque_lateral_loads.sun_gear_load_sharing.imbalance", shaft="input", unit="-", bounds=(-1.0, 1.0),
+        plausible=(-0.15, 0.15), scale=0.02,
+        meaning="mesh-stiffness imbalance (k1-k2)/(k1+k2) of the two crankshaft gears on the input gear; "
         "|imbalance| <= 0.15 is a load-sharing factor K_gamma <= 1.15",
     ),
-    CalibrationParameter(
-        "torque_lateral_loads.sun_gear_load_sharing.position_error_um", "input", "µm", (-50.0, 50.0), (-2.0, 2.0),
-        0.01, "position error of the two input-gear meshes along their line of action; IT3 band is ±2 µm [P]",
-    ),
-    CalibrationParameter(
-        "torque_lateral_loads.crankshaft_load_sharing.imbalance", "output", "-", (-1.0, 1.0), (-0.15, 0.15), 0.02,
-        "stiffness imbalance of the two crankshafts driving the output carrier",
-    ),
-    CalibrationParameter(
-        "torque_lateral_loads.crankshaft_load_sharing.position_error_um", "output", "µm", (-50.0, 50.0), (-3.0, 3.0),
-        0.01, "position error of the two crankshafts in the carrier; IT3 band is ±3 µm [P]",
-    ),
+    CalibrationParameter(address="torque_lateral_loads.sun_gear_load_sharing.position_error_um", shaft="input",
+                         unit="µm", bounds=(-50.0, 50.0), plausible=(-2.0, 2.0), scale=0.01,
+                         meaning="position error of the two input-gear meshes along their line of action; IT3 band is ±2 µm [P]"),
+    CalibrationParameter(address="torque_lateral_loads.crankshaft_load_sharing.imbalance", shaft="output", unit="-",
+                         bounds=(-1.0, 1.0), plausible=(-0.15, 0.15), scale=0.02,
+                         meaning="stiffness imbalance of the two crankshafts driving the output carrier"),
+    CalibrationParameter(address="torque_lateral_loads.crankshaft_load_sharing.position_error_um", shaft="output",
+                         unit="µm", bounds=(-50.0, 50.0), plausible=(-3.0, 3.0), scale=0.01,
+                         meaning="position error of the two crankshafts in the carrier; IT3 band is ±3 µm [P]"),
 )
 
 
@@ -139,7 +137,7 @@ def _y_max(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return _row_y(rig, rows, shaft, _paths(rig, rows, shaft, prepared))
 
 
-def _affine_surrogate(rig, parameters, rows, shaft, prepared, scale):
+def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):  # noqa: PLR0913
     """If the paths are affine in the (scaled) parameters, a function x → paths that is exact.
 
     Load-sharing parameters enter the loads linearly, so the paths at the fitting rows are
@@ -178,7 +176,7 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
     upper = np.array([p.bounds[1] for p in parameters]) / scale
     reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
 
-    surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale) if prepared is not None else None
+    surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale=scale) if prepared is not None else None
 
     def residual(x):
         if surrogate is not None:
@@ -204,13 +202,13 @@ def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[Publ
     return unique, best
 
 
-def calibrate(
+def calibrate(  # noqa: PLR0913
     rig: Rig,
     published: tuple[PublishedRow, ...],
     fit_output_torques_Nm=(10.0, 200.0),
     parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS,
     settings: SweepSettings | None = None,
-    prepared=None,
+    *, prepared=None,
 ) -> Calibration:
     """Fit ``parameters`` to the published Y of the rows whose T2 is in ``fit_output_torques_Nm``.
 

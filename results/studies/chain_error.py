@@ -39,14 +39,15 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import Field
 
-from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number
+from rvcoax.errors import RvcoaxError, problems_text
+from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number
 from rvcoax.geometry.schema import Part, Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.results.io.datafiles import read_data_text
 
-__all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainError", "ChainModel", "Coaxiality", "Component",
+__all__ = ["COAXIALITY_SOURCES", "ChainDataError", "ChainErrorBudget", "ChainModel", "Coaxiality", "Component",
            "Contribution", "NO_TILT", "NonNegative", "Positive", "Reducer", "STAGE_DATA", "Stage", "evaluate_chain_error",
            "contribution", "load_chain_model", "moment_arms_mm", "read_stage_forces", "rig_stages",
            "shear_modulus_Pa", "signed_total", "stage_midpoints_mm", "stage_twists_deg",
@@ -65,17 +66,13 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class _StageEntry(_Strict):
+class _StageEntry(StrictModel):
     length_mm: Positive
     outer_diameter_mm: Positive
     inner_diameter_mm: NonNegative = 0.0
 
 
-class _Reducer(_Strict):
+class _Reducer(StrictModel):
     name: str
     ratio_i16: Positive
     cycloid_teeth_Z4: Annotated[int, Field(gt=0, strict=True)]
@@ -83,12 +80,12 @@ class _Reducer(_Strict):
     pin_count: Annotated[int, Field(gt=0, strict=True)]
 
 
-class _MaterialEntry(_Strict):
+class _MaterialEntry(StrictModel):
     youngs_modulus_MPa: Positive
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, strict=True)]
 
 
-class _ComponentEntry(_Strict):
+class _ComponentEntry(StrictModel):
     symbol: str
     description: str = ""
     transmission: Literal["1/i16", "2/Z4", "1", "pins*Z5/Z4"]
@@ -99,7 +96,7 @@ class _ComponentEntry(_Strict):
     stages: list[_StageEntry] | None = None
 
 
-class _StageFile(_Strict):
+class _StageFile(StrictModel):
     schema_version: Literal[1]
     reducer: _Reducer
     materials: dict[str, _MaterialEntry] = Field(default_factory=dict)
@@ -236,8 +233,8 @@ class Contribution:
 
 
 @dataclass(frozen=True)
-class ChainError:
-    """Every contribution and the total, θ_total = Σ sign · θ."""
+class ChainErrorBudget:
+    """The chain-error budget of a load case: every contribution and the total, θ_total = Σ sign · θ."""
 
     contributions: tuple[Contribution, ...]
     total_deg: float
@@ -298,10 +295,10 @@ def contribution(component: Component, forces_N, coaxiality: Coaxiality = NO_TIL
         coaxiality = NO_TILT
     twists = stage_twists_deg(component, forces_N, coaxiality)
     baseline = stage_twists_deg(component, forces_N, NO_TILT)
-    return Contribution(component, coaxiality, np.asarray(forces_N, dtype=float),
-                        moment_arms_mm(component.stages, coaxiality), twists,
-                        component.transmission_factor * float(twists.sum()),
-                        component.transmission_factor * float(baseline.sum()))
+    return Contribution(component=component, coaxiality=coaxiality, forces_N=np.asarray(forces_N, dtype=float),
+                        arms_mm=moment_arms_mm(component.stages, coaxiality), stage_twists_deg=twists,
+                        value_deg=component.transmission_factor * float(twists.sum()),
+                        baseline_deg=component.transmission_factor * float(baseline.sum()))
 
 
 def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> float:
@@ -310,7 +307,7 @@ def signed_total(values_deg: Mapping[str, float], signs: Mapping[str, int]) -> f
 
 
 def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], input_shaft: Coaxiality = NO_TILT,
-                         output_shaft: Coaxiality = NO_TILT) -> ChainError:
+                         output_shaft: Coaxiality = NO_TILT) -> ChainErrorBudget:
     """Each component's error vector and the total, with the shafts' tilts and offsets.
 
     Parameters
@@ -324,7 +321,7 @@ def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], 
 
     Returns
     -------
-    ChainError
+    ChainErrorBudget
         Every component's contribution θ, θ_total, and θ_total with the shafts untilted (baseline), in degrees.
     """
     tilts = {"input": input_shaft, "output": output_shaft, "none": NO_TILT}
@@ -333,7 +330,7 @@ def evaluate_chain_error(model: ChainModel, forces_N: Mapping[str, np.ndarray], 
         for c in model.components
     )
     signs = {p.component.name: p.component.sign for p in parts}
-    return ChainError(parts, signed_total({p.component.name: p.value_deg for p in parts}, signs),
+    return ChainErrorBudget(parts, signed_total({p.component.name: p.value_deg for p in parts}, signs),
                       signed_total({p.component.name: p.baseline_deg for p in parts}, signs))
 
 
@@ -352,12 +349,8 @@ def rig_stages(part: Part) -> tuple[Stage, ...]:
     return tuple(stages)
 
 
-def _key(location: tuple) -> str:
-    return "".join(f"[{item}]" if isinstance(item, int) else f".{item}" for item in location).lstrip(".")
-
-
-def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,
-               reducer: Reducer) -> Component:
+def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,  # noqa: PLR0913
+               *, reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
         return ChainDataError(f"stage data {source}: components.{name}: {text}")
 
@@ -386,10 +379,11 @@ def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, so
     else:
         known = sorted(set(data.materials) | set(rig.materials))
         raise problem(f"material '{material}' is neither in the stage data nor in the rig (known: {', '.join(known)})")
-    return Component(name, entry.symbol, entry.description, stages,
-                     shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio), material,
-                     entry.transmission, reducer.transmission_factor(entry.transmission), entry.sign,
-                     entry.coaxiality)
+    return Component(name=name, symbol=entry.symbol, description=entry.description, stages=stages,
+                     shear_modulus_Pa=shear_modulus_Pa(properties.youngs_modulus_MPa, properties.poisson_ratio),
+                     material=material, transmission=entry.transmission,
+                     transmission_factor=reducer.transmission_factor(entry.transmission), sign=entry.sign,
+                     coaxiality=entry.coaxiality)
 
 
 def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
@@ -413,16 +407,10 @@ def load_chain_model(rig: Rig, path: str | Path | None = None) -> ChainModel:
         Naming the file, the key and the reason.
     """
     source, text = read_data_text(path, STAGE_DATA, ChainDataError, "stage data")
-    try:
-        data = _StageFile.model_validate(parse_toml(text))
-    except InputFileError as error:
-        raise ChainDataError(f"stage data {source}: {error}") from None
-    except ValidationError as error:
-        problems = "; ".join(f"{_key(e['loc'])}: {e['msg']}" for e in error.errors())
-        raise ChainDataError(f"stage data {source}: {problems}") from None
+    data = read_toml_model(_StageFile, text, lambda problems: ChainDataError(problems_text("stage data", source, problems)))
     r = data.reducer
     reducer = Reducer(r.name, r.ratio_i16, r.cycloid_teeth_Z4, r.pin_teeth_Z5, r.pin_count)
-    components = tuple(_component(name, entry, data, rig, source, reducer)
+    components = tuple(_component(name, entry, data, rig, source, reducer=reducer)
                        for name, entry in data.components.items())
     return ChainModel(reducer, components, source)
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.paths import beta_from_y_deg
@@ -150,8 +150,9 @@ def measured_rows(data: MeasuredData, path_lengths_mm: dict[str, float]) -> tupl
             values[shaft] = float(np.max(np.abs(data.value_mm[here])))
             stations[shaft] = None if data.schema == "table" else tuple(float(x) for x in data.x_mm[here])
         beta = {s: float(beta_from_y_deg(values[s], path_lengths_mm[s])) for s in MEASURED_SHAFTS}
-        rows.append(PublishedRow(case, values["input"], values["output"], beta["input"], beta["output"],
-                                 stations["input"], stations["output"]))
+        rows.append(PublishedRow(case=case, y_input_mm=values["input"], y_output_mm=values["output"],
+                                 beta_input_deg=beta["input"], beta_output_deg=beta["output"],
+                                 stations_input_mm=stations["input"], stations_output_mm=stations["output"]))
     return tuple(rows)
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table
@@ -26,7 +26,7 @@ class CalibrationError(RvcoaxError, ValueError):
     """The rig lacks a parameter that the check's calibration fits."""
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class CheckRun:
     """Everything the check computed.
 
@@ -106,8 +106,8 @@ def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
     return mask
 
 
-def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,
-              prepared: PreparedModel | None = None,
+def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,  # noqa: PLR0913
+              prepared: PreparedModel | None = None, *,
               progress: Callable[[str, int, int], None] | None = None,
               tolerance: Tolerance | None = None) -> CheckRun:
     """Compare ``rig`` with a published Y/β table, blind and calibrated.
@@ -170,5 +170,7 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     held_out = held_out_mask(len(rows), calibration.fit_rows)
     calibrated_verdict = verdict(comparison_calibrated, held_out)
     blind_verdict = verdict(comparison_blind, np.ones(len(rows), dtype=bool))
-    return CheckRun(rows, blind, calibration, calibrated, comparison_blind, comparison_calibrated, held_out,
-                    blind_verdict, calibrated_verdict, check_verdict(calibrated_verdict, calibration.parameters))
+    return CheckRun(rows=rows, blind=blind, calibration=calibration, calibrated=calibrated,
+                    comparison_blind=comparison_blind, comparison_calibrated=comparison_calibrated, held_out=held_out,
+                    blind_verdict=blind_verdict, calibrated_verdict=calibrated_verdict,
+                    outcome=check_verdict(calibrated_verdict, calibration.parameters))

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.results.io.writers import write_json_atomic
 
 __all__ = ["CLUSTER_START_SECONDS", "CLUSTER_STEADY_CORES", "ClusterError", "MANIFEST", "PAYS_BELOW", "ResumeError",
@@ -195,8 +195,26 @@ def _connect(stack: ExitStack, scheduler: str, workers: int | None):
     return client
 
 
-def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,
-                fingerprint: str, scheduler: str = "local", workers: int | None = None, resume: bool = False,
+def _timed_choice(run_here, first: list[int], remaining: int, setup_seconds: float | None,
+                  workers: int | None) -> SchedulerChoice:
+    """``"auto"``: run the ``first`` samples (up to two) here, timed, and choose where the ``remaining`` ones run.
+
+    The first builds the model (when not built yet), the second reuses it: the second's time is a sample's, the
+    difference the set-up every cluster worker would repeat (unless ``setup_seconds`` gives it).
+    """
+    timed = []
+    for index in first:
+        begin = time.perf_counter()
+        run_here(index)
+        timed.append(time.perf_counter() - begin)
+    per_sample = timed[-1] if timed else 0.0
+    if setup_seconds is None:
+        setup_seconds = max(timed[0] - per_sample, 0.0) if timed else 0.0
+    return choose_scheduler(remaining, per_sample, setup_seconds, workers)
+
+
+def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np.ndarray, folder: str | Path,  # noqa: PLR0913
+                fingerprint: str, *, scheduler: str = "local", workers: int | None = None, resume: bool = False,
                 progress: Callable[[int, int], None] | None = None, retries: int = 3,
                 on_result: Callable[[int, dict], None] | None = None,
                 setup_seconds: float | None = None) -> tuple[list[dict], RunReport]:
@@ -249,9 +267,7 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
 
     if progress is not None:
         progress(len(results), total)
-    resubmitted = 0
-    n_workers = 1
-    choice = None
+    resubmitted, n_workers, choice = 0, 1, None
 
     def run_here(index: int) -> None:
         try:
@@ -260,21 +276,10 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
             raise SampleError(index, f"{type(error).__name__}: {error}") from error
         store(index, outcome)
 
+    computed_here = 0
     if scheduler == "auto":
-        timed = []
-        for index in pending[:2]:  # the first builds the model (when not built yet), the second reuses it
-            begin = time.perf_counter()
-            run_here(index)
-            timed.append(time.perf_counter() - begin)
-        pending = pending[2:]
-        per_sample = timed[-1] if timed else 0.0
-        if setup_seconds is None:
-            setup_seconds = max(timed[0] - per_sample, 0.0) if timed else 0.0
-        choice = choose_scheduler(len(pending), per_sample, setup_seconds, workers)
-        scheduler = choice.scheduler
-        computed_here = len(timed)
-    else:
-        computed_here = 0
+        choice = _timed_choice(run_here, pending[:2], len(pending) - len(pending[:2]), setup_seconds, workers)
+        computed_here, pending, scheduler = len(pending[:2]), pending[2:], choice.scheduler
     if scheduler == "serial":
         for index in pending:
             run_here(index)
@@ -282,9 +287,10 @@ def run_samples(function: Callable[[object, np.ndarray], dict], shared, rows: np
         with ExitStack() as stack:
             client = _connect(stack, scheduler, workers)
             n_workers = len(client.scheduler_info()["workers"])
-            resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries)
-    report = RunReport(scheduler, n_workers, total, resumed, computed_here + len(pending), resubmitted,
-                       time.perf_counter() - start, choice)
+            resubmitted = _run_on_cluster(client, function, shared, rows, pending, fingerprint=fingerprint, store=store, retries=retries)
+    report = RunReport(scheduler=scheduler, workers=n_workers, n_samples=total, resumed=resumed,
+                       computed=computed_here + len(pending), resubmitted=resubmitted,
+                       seconds=time.perf_counter() - start, choice=choice)
     return [results[i] for i in range(total)], report
 
 
@@ -302,7 +308,7 @@ def future_outcome(future) -> tuple[object, BaseException | None]:
         return None, error
 
 
-def _run_on_cluster(client, function, shared, rows, pending, fingerprint, store, retries) -> int:
+def _run_on_cluster(client, function, shared, rows, pending, *, fingerprint, store, retries) -> int:  # noqa: PLR0913
     """Submit every pending sample, store results as they complete; returns the number resubmitted."""
     from distributed import KilledWorker, as_completed
 

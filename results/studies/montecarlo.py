@@ -32,7 +32,6 @@ import numpy as np
 import scipy.sparse as sp
 from scipy import stats
 
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.pieces import Contribution, assemble, beam_contribution, bushing_contribution
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.model.beam import build_rig_model
@@ -115,11 +114,13 @@ class _FixedStiffness:
 
 def _fixed_stiffness(system: RigSystem, solid_parts: tuple[str, ...]) -> _FixedStiffness:
     structure = system.frame.structure
+    beams = beam_contribution(structure, GRAVITY_DIRECTION)
     block = None
     if system.solids:
-        solid = (system.stiffness - _pad(fem_model.stiffness_matrix(structure), system.n_dofs)).tocoo()
+        frame = assemble(structure.n_dofs, [beams, bushing_contribution(structure)]).stiffness
+        solid = (system.stiffness - _pad(frame, system.n_dofs)).tocoo()
         block = Contribution((solid.row, solid.col, solid.data))
-    return _FixedStiffness(beam_contribution(structure, GRAVITY_DIRECTION), block, solid_parts)
+    return _FixedStiffness(beams, block, solid_parts)
 
 
 def _frame_system(system: RigSystem, fixed: _FixedStiffness, rig: Rig) -> RigSystem:
@@ -246,7 +247,8 @@ def plan_study(rig: Rig, tolerances: Tolerances, settings: SweepSettings | None 
     key = _fingerprint(rig.model_dump(mode="json", by_alias=True),
                        [(c.input_torque_Nm, c.output_torque_Nm) for c in tolerances.cases],
                        dataclasses.asdict(settings), tolerances.addresses, strategy)
-    return Study(rig, tolerances.cases, settings, tolerances.addresses, strategy, key)
+    return Study(rig=rig, cases=tolerances.cases, settings=settings, addresses=tolerances.addresses, strategy=strategy,
+                 key=key)
 
 
 @dataclass(frozen=True, eq=False)
@@ -357,7 +359,8 @@ def exceedance(beta_deg, limit_deg: float, confidence_level: float = 0.95) -> Ex
     z = float(stats.norm.ppf(0.5 + confidence_level / 2))
     centre = (p + z * z / (2 * n)) / (1 + z * z / n)
     half = z / (1 + z * z / n) * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
-    return Exceedance(count, n, confidence_level, p, max(0.0, float(centre - half)), min(1.0, float(centre + half)))
+    return Exceedance(count=count, n=n, confidence_level=confidence_level, probability=p,
+                      lower=max(0.0, float(centre - half)), upper=min(1.0, float(centre + half)))
 
 
 def describe(values) -> dict:

@@ -142,8 +142,8 @@ def exceedance_rows(study: Study, found) -> list[dict]:
     return rows
 
 
-def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_text: str, design: dict,
-                   run, nominal: dict) -> dict:
+def study_document(study: Study, tolerances: Tolerances, rig_source: str, rig_text: str, design: dict,  # noqa: PLR0913
+                   *, run, nominal: dict) -> dict:
     """What every study's JSON holds: provenance, the parameters, how samples were solved and run.
 
     Parameters

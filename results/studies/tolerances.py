@@ -39,12 +39,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, model_validator
 
-from rvcoax.fem.errors import RvcoaxError
-from rvcoax.geometry.inputfiles import InputFileError, parse_toml, read_input_text
+from rvcoax.errors import InputFileProblems
+from rvcoax.geometry.inputfiles import InputFileError, read_input_text
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.loadcases.cases import LoadCase, LoadCaseError, paired_cases
 from rvcoax.results.studies.sampling import Distribution
 
@@ -61,33 +62,25 @@ MAX_TOLERANCE_FILE_BYTES = 1_000_000  # a tolerance file lists tens of parameter
 Number = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 
 
-class ToleranceFileError(RvcoaxError, ValueError):
+class ToleranceFileError(InputFileProblems):
     """A tolerance file that cannot be used; the message names the file, the keys and the reasons."""
 
-    def __init__(self, source: str, problems: list[str]):
-        self.source = source
-        self.problems = problems
-        listing = "\n".join(f"  - {p}" for p in problems)
-        super().__init__(f"tolerance file {source}: {len(problems)} problem(s):\n{listing}")
+    what = "tolerance file"
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class _Study(_Strict):
+class _Study(StrictModel):
     name: str
     description: str = ""
     measured_from: Literal["aligned_at_rest", "unloaded"] | None = None
     confidence_level: Annotated[float, Field(gt=0.5, lt=1.0, strict=True)] = 0.95
 
 
-class _Case(_Strict):
+class _Case(StrictModel):
     T1_input_Nm: Number
     T2_output_Nm: Number
 
 
-class _Parameter(_Strict):
+class _Parameter(StrictModel):
     address: str
     distribution: Literal["normal", "uniform", "truncated_normal"]
     mean: Number | None = None
@@ -102,7 +95,7 @@ class _Parameter(_Strict):
         return self
 
 
-class _Limit(_Strict):
+class _Limit(StrictModel):
     shaft: Literal["input", "output"]
     label: str = ""
     Y_max_mm: Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)] | None = None
@@ -116,7 +109,7 @@ class _Limit(_Strict):
         return self
 
 
-class _File(_Strict):
+class _File(StrictModel):
     schema_version: Literal[1]
     study: _Study
     cases: list[_Case] = []
@@ -259,36 +252,20 @@ def _normalise_units(raw: list, problems: list[str]) -> list:
     return out
 
 
-def _key_path(location: tuple, data: dict) -> str:
-    text = ""
-    for item in location:
-        if isinstance(item, int):
-            text += f"[{item}]"
-        else:
-            text += ("." if text else "") + str(item)
-    if len(location) >= 2 and location[0] == "parameters" and isinstance(location[1], int):
+def _statistic_key(location: tuple, key: str, data) -> str:
+    """A parameter's statistic as the file writes it, with the unit of its address: ``mean`` → ``mean_um``."""
+    if len(location) >= 3 and location[0] == "parameters" and isinstance(location[1], int) and location[2] in STATISTICS:
         try:
             address = data["parameters"][location[1]].get("address")
-        except (IndexError, AttributeError, KeyError):
+        except (IndexError, AttributeError, KeyError, TypeError):
             address = None
         if address:
-            text = text.replace(f"parameters[{location[1]}]", f"parameters[{location[1]}] ('{address}')", 1)
-        if len(location) >= 3 and location[2] in STATISTICS and address:
             unit = unit_of(address)
-            text = text.rsplit(".", 1)[0] + f".{location[2]}" + (f"_{unit}" if unit else "")
-    return text or "(top level)"
+            return key.rsplit(".", 1)[0] + f".{location[2]}" + (f"_{unit}" if unit else "")
+    return key
 
 
-def _describe(error: dict, data: dict) -> str:
-    location = tuple(x for x in error["loc"] if not str(x).startswith("function-"))
-    key = _key_path(location, data)
-    if error["type"] == "missing":
-        return f"{key}: required key is missing"
-    if error["type"] == "extra_forbidden":
-        return f"{key}: unknown key (statistics are mean/std/low/high with the parameter's unit, e.g. mean_um)"
-    value = error.get("input")
-    shown = f" (got {value!r})" if not isinstance(value, (dict, list)) and error["type"] != "value_error" else ""
-    return f"{key}: {error['msg'].removeprefix('Value error, ')}{shown}"
+UNKNOWN_KEY = "statistics are mean/std/low/high with the parameter's unit, e.g. mean_um"
 
 
 def _check_against_rig(parsed: _File, rig: Rig) -> list[str]:
@@ -325,19 +302,16 @@ def _limit(limit: _Limit, rig: Rig) -> BetaLimit:
 
 def parse_tolerances(text: str, source: str, rig: Rig) -> Tolerances:
     """Validate a tolerance file's text against ``rig``; raise :class:`ToleranceFileError` naming every problem."""
-    try:
-        data = parse_toml(text)
-    except InputFileError as error:
-        raise ToleranceFileError(source, [str(error)]) from None
     problems: list[str] = []
-    normalised = dict(data)
-    if isinstance(data.get("parameters"), list):
-        normalised["parameters"] = _normalise_units(data["parameters"], problems)
-    try:
-        parsed = _File.model_validate(normalised)
-    except ValidationError as error:
-        problems += [_describe(e, data) for e in error.errors()]
-        raise ToleranceFileError(source, problems) from None
+
+    def prepare(data: dict) -> dict:
+        normalised = dict(data)
+        if isinstance(data.get("parameters"), list):
+            normalised["parameters"] = _normalise_units(data["parameters"], problems)
+        return normalised
+
+    parsed = read_toml_model(_File, text, lambda found: ToleranceFileError(source, problems + found), prepare=prepare,
+                             unknown_key=UNKNOWN_KEY, rename=_statistic_key)
     if problems:
         raise ToleranceFileError(source, problems)
     problems = _check_against_rig(parsed, rig)
@@ -354,8 +328,9 @@ def parse_tolerances(text: str, source: str, rig: Rig) -> Tolerances:
         for p in parsed.parameters
     )
     study = parsed.study
-    return Tolerances(source, text, study.name, study.description, study.measured_from, study.confidence_level,
-                      cases, parameters, tuple(_limit(x, rig) for x in parsed.limits))
+    return Tolerances(source=source, text=text, name=study.name, description=study.description,
+                      measured_from=study.measured_from, confidence_level=study.confidence_level, cases=cases,
+                      parameters=parameters, limits=tuple(_limit(x, rig) for x in parsed.limits))
 
 
 def load_tolerances(path: str | Path, rig: Rig) -> Tolerances:

@@ -1,6 +1,6 @@
 """The one piece interface (rvcoax.fem.pieces): contributions in global DOF numbers, summed by one function.
 
-Checked against closed forms, against the FE helpers of a frame model (bit for bit), and for
+Checked against closed forms, against the rig's beam system (bit for bit), and for
 independence of how the same pieces are grouped.
 """
 
@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from frames import GRAVITY, assert_close, bushings, dof, model, no_beams, node_dofs, polyline, rigidities
 
-from rvcoax.fem import model as fem_model
 from rvcoax.fem.bushing import GROUND
 from rvcoax.fem.loads import NodalLoads, nodal_load_vector
 from rvcoax.fem.pieces import (
     Contribution,
     assemble,
+    assemble_frame,
     beam_contribution,
     bushing_contribution,
     constraint_contribution,
@@ -56,14 +56,26 @@ def test_a_cantilever_assembled_from_pieces_bends_as_timoshenko_says():
     assert_close(-tip_sag, q * LENGTH**4 / (8 * r.EI) + q * LENGTH**2 / (2 * r.kGA), 1e-9)
 
 
-def test_the_frame_pieces_give_the_frame_helpers_bit_for_bit():
+def test_the_frame_pieces_are_the_beam_rig_system_bit_for_bit():
+    """The rig's beam model is its frame's pieces (and no housing here) through the one assembly path."""
     rig_system = assemble_beam(load_rig())
     structure = rig_system.frame.structure
-    assert (rig_system.stiffness != fem_model.stiffness_matrix(structure)).nnz == 0
-    assert (rig_system.elimination != fem_model.constraint_elimination(structure)[0]).nnz == 0
-    assembled = assemble(structure.n_dofs, frame_contributions(structure, GRAVITY_DIRECTION))
-    assert np.array_equal(assembled.loads["gravity"], fem_model.gravity_load_vector(structure, GRAVITY_DIRECTION))
+    assembled = assemble_frame(structure, GRAVITY_DIRECTION)
+    assert (rig_system.stiffness != assembled.stiffness).nnz == 0
+    assert (rig_system.elimination != assembled.elimination).nnz == 0
     assert np.array_equal(rig_system.load_builder.weight_per_g, assembled.loads["gravity"])
+    # the weight per m/s²: beams' ρ A L and the coupling hubs, along −y only
+    weight = assembled.loads["gravity"].reshape(-1, 6)
+    total_kg = sum(rig_system.frame.part_mass_kg.values())
+    assert -weight[:, 1].sum() == pytest.approx(total_kg, rel=1e-12)
+    assert not weight[:, [0, 2]].any()
+
+
+def test_a_free_dof_list_comes_with_the_elimination():
+    structure = cantilever(4)
+    system = assemble_frame(structure)
+    assert np.array_equal(system.free_dofs, np.arange(6, structure.n_dofs))
+    assert system.elimination.shape == (structure.n_dofs, structure.n_dofs - 6)
 
 
 def test_grouping_the_same_pieces_differently_gives_the_same_system():

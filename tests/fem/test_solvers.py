@@ -9,6 +9,7 @@ import scipy.sparse as sp
 from rvcoax.fem import solid, solvers
 from rvcoax.fem.assembly import assemble_matrix
 from rvcoax.fem.errors import SingularModelError
+from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.solvers import SingularMatrixError, SolverError, SolverReport, pardiso_available, prepare
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
@@ -42,7 +43,7 @@ def cantilever(tmp_path_factory):
         solid.force_traction_vector(mesh, tip, [500.0, 0.0, 200.0]),
         solid.torque_traction_vector(mesh, tip, [0, 0, 0], [1, 0, 0], 50.0),
     ])[free]
-    modes = solid.rigid_body_modes(basis.doflocs.T)[free]
+    modes = rigid_body_modes(basis.doflocs.T)[free]
     return k[free][:, free].tocsr(), loads, modes, k
 
 

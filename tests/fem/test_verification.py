@@ -12,7 +12,19 @@ from __future__ import annotations
 import frames
 import numpy as np
 import pytest
-from frames import DENSITY, GRAVITY, REL_TOL, SHEAR_MODULUS, assert_close, dof, node_dofs, rigidities
+from frames import (
+    DENSITY,
+    GRAVITY,
+    REL_TOL,
+    SHEAR_MODULUS,
+    assert_close,
+    constraint_elimination,
+    dof,
+    gravity_load_vector,
+    node_dofs,
+    rigidities,
+    stiffness_matrix,
+)
 
 from rvcoax.fem.bushing import GROUND
 from rvcoax.fem.constraints import RigidLinks
@@ -20,7 +32,7 @@ from rvcoax.fem.diagnostics import MOTION_NAMES, find_free_motions
 from rvcoax.fem.equilibrium import ground_reactions
 from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.loads import PointMasses
-from rvcoax.fem.model import constraint_elimination, gravity_load_vector, stiffness_matrix
+from rvcoax.fem.pieces import assemble_frame
 from rvcoax.fem.sections import CircularSection
 from rvcoax.fem.system import factorize
 
@@ -306,9 +318,7 @@ def test_rigid_link_offset_load():
 # 10 --------------------------------------------------------------------------------------------
 def free_motions(structure):
     """find_free_motions of a model."""
-    elimination, free = constraint_elimination(structure)
-    return find_free_motions(structure.coordinates, stiffness_matrix(structure), elimination, free,
-                             structure.node_group)
+    return find_free_motions(structure, assemble_frame(structure))
 
 
 def motion_names(motion) -> set[str]:

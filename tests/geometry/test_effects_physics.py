@@ -242,7 +242,7 @@ def test_clearance_nonlinear_solver_alone():
     springs = frames.bushings([bushing.GROUND, bushing.GROUND], [0, 0], np.zeros((2, 3)),
                               [[1.0, k1, k1, 1.0, 1.0, 1.0], [0.0, k, k, 0.0, 0.0, 0.0]])
     structure = frames.model(np.zeros((1, 3)), frames.no_beams(), springs)
-    from rvcoax.fem.model import constraint_elimination, stiffness_matrix
+    from frames import constraint_elimination, stiffness_matrix
 
     solver = factorize(stiffness_matrix(structure), constraint_elimination(structure)[0])
     gaps = bushing.prepare_radial_gaps(solver.solve, bushing.radial_operator(structure.coordinates, springs, [1], 6),

@@ -13,15 +13,8 @@ import numpy as np
 import pytest
 
 from rvcoax.fem.system import prepare_system
-from rvcoax.geometry.housings import (
-    BracketGeometry,
-    PedestalGeometry,
-    Reference,
-    build_housing_model,
-    condense_housing,
-    foot_facets,
-    solid_method,
-)
+from rvcoax.geometry.housings import BracketGeometry, PedestalGeometry, Reference, foot_facets
+from rvcoax.geometry.model.condensed_housing import build_housing_model, condense_housing, solid_method
 
 E, NU = 1.57e11, 0.27  # HT200
 G = E / (2 * (1 + NU))
@@ -62,9 +55,9 @@ def test_condensed_shape_reproduces_the_full_solid_model_at_the_seats(shape, cac
     random loads on the 12 master DOFs, K_c⁻¹ f equals the full solid model's displacement there to rounding."""
     make, feet, bed = SHAPES[shape]
     geometry = make()
-    model = build_housing_model(geometry, E, NU, SEATS, feet, bed, cache_dir=cache)
+    model = build_housing_model(geometry, E, NU, SEATS, feet, bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache)
     assert [f.size > 0 for f in foot_facets(model.mesh, geometry)] == [True] * 4
-    condensed = condense_housing(geometry, E, NU, SEATS, feet, bed, cache_dir=cache).matrix
+    condensed = condense_housing(geometry, E, NU, SEATS, feet, bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache).matrix
     assert np.all(np.linalg.eigvalsh(condensed) > 0)
     loads = np.random.default_rng(2).normal(size=(12, 4)) * np.array([1e3] * 3 + [50.0] * 3 + [1e3] * 3 + [50.0] * 3)[:, None]
     full = np.zeros((model.n_dofs, 4))
@@ -128,7 +121,7 @@ def test_shape_stiffness_converges_with_mesh_size(shape, cache):
     benchmarks/bench_from_geometry.py: the stiffness falls by ≈ 3 % per refinement step, order ≈ 1 (the re-entrant
     web/base edges and the edges of clamped feet are singular)."""
     make, feet, bed = SHAPES[shape]
-    coarse, fine = (np.diag(condense_housing(make(size), E, NU, SEATS, feet, bed, cache_dir=cache).matrix)
+    coarse, fine = (np.diag(condense_housing(make(size), E, NU, SEATS, feet, bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache).matrix)
                     for size in (24.0, 16.0))
     translations = [0, 1, 2, 6, 7, 8]
     assert np.all(fine[translations] < coarse[translations])
@@ -150,7 +143,7 @@ def test_a_spring_per_bolt_foot_adds_its_compliance(cache):
     per_area = housing.bed_stiffness_per_area()
     assert per_area == pytest.approx((k / 400.0, k / 400.0))
     top = [Reference((0.0, 0.0, 0.0), ("top", -10.0, 10.0), "rigid")]
-    result = condense_housing(prism, E, 0.0, top, "bed", per_area, cache_dir=cache)
+    result = condense_housing(prism, E, 0.0, top, "bed", bed_stiffness_N_per_um_per_mm2=per_area, cache_dir=cache)
     expected = 0.315 / (E * 0.02**2) + 1.0 / (k * 1e6)
     assert np.linalg.inv(result.matrix)[1, 1] == pytest.approx(expected, rel=1e-6)
 
@@ -188,10 +181,10 @@ def test_every_dimension_is_in_the_cache_key(shape, cache):
             changed = value - 1.0 if field.name in ("wall_z_mm", "bottom_mm", "seat_bottom_mm") else value * 0.9
         keys.add(dataclasses.replace(base, **{field.name: changed}).cache_key())
     assert len(keys) == len(dataclasses.fields(base))  # every field but the name changes the key
-    first = condense_housing(base, E, NU, SEATS, feet, bed, cache_dir=cache)
-    again = condense_housing(base, E, NU, SEATS, feet, bed, cache_dir=cache)
+    first = condense_housing(base, E, NU, SEATS, feet, bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache)
+    again = condense_housing(base, E, NU, SEATS, feet, bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache)
     assert again.from_cache and np.array_equal(first.matrix, again.matrix)
-    softer = condense_housing(base, E, NU, SEATS, "bed", (0.25, 0.2), cache_dir=cache)
+    softer = condense_housing(base, E, NU, SEATS, "bed", bed_stiffness_N_per_um_per_mm2=(0.25, 0.2), cache_dir=cache)
     assert not softer.from_cache and softer.matrix[1, 1] < first.matrix[1, 1]
 
 

@@ -12,7 +12,8 @@ import pytest
 
 from rvcoax.fem.condensation import condensed_stiffness, schur_complement, superelement_contribution
 from rvcoax.fem.system import prepare_system
-from rvcoax.geometry.housings import BlockGeometry, Reference, build_housing_model, condense_housing, solid_method
+from rvcoax.geometry.housings import BlockGeometry, Reference
+from rvcoax.geometry.model.condensed_housing import build_housing_model, condense_housing, solid_method
 
 E, NU = 1.57e11, 0.27  # HT200
 G = E / (2 * (1 + NU))

@@ -4,6 +4,11 @@ Data flows one way (DEVELOPERS.md): rig file → geometry → model → solve �
 documents, exports → the command line. Every import counts, wherever it is: at module level, inside a
 function, under ``if TYPE_CHECKING:``, and a package's lazy name table (a name loaded on use is imported
 then). The import graph itself: tests/import_graph.py; its cycles: tests/package/test_package.py.
+
+One exception, declared where it is made: a name that moved up a floor can stay importable from where it
+was (``lazy_names(…, moved={module: names})``, e.g. ``rvcoax.results.io.write_report``, now in
+``rvcoax.results.reports``); such a name is no longer the package's own (not in its ``__all__``) and is not
+an edge here. tests/package/test_public_api.py checks that each still loads.
 """
 
 from import_graph import edges, module_files

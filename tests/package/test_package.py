@@ -166,3 +166,21 @@ def test_the_folders_are_not_packages_of_their_own_from_the_repository_root():
         done = subprocess.run([sys.executable, "-c", f"import {name}"], capture_output=True, text=True, cwd=ROOT)
         assert done.returncode == 1
         assert f"ImportError: '{name}' is part of rvcoax and is imported as rvcoax.{name}" in done.stderr
+
+
+def test_one_name_one_meaning():
+    """``MM`` is defined once (mm → m, geometry/units.py), and a class named ``…Error`` is an exception, never a
+    result type."""
+    import importlib
+
+    defined, not_errors = [], []
+    for name, path in module_files().items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in tree.body:
+            if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "MM" for t in node.targets):
+                defined.append(name)
+            if isinstance(node, ast.ClassDef) and node.name.endswith("Error"):
+                if not issubclass(getattr(importlib.import_module(name), node.name), BaseException):
+                    not_errors.append(f"{name}.{node.name}")
+    assert defined == ["rvcoax.geometry.units"]
+    assert not not_errors

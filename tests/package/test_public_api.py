@@ -155,3 +155,13 @@ def test_docs_api_lists_every_public_name_and_nothing_else():
     assert set(documented) == set(NAMESPACES)
     for namespace, names in documented.items():
         assert names == _public(namespace), namespace
+
+
+def test_names_moved_up_a_floor_still_import_from_where_they_were():
+    """``rvcoax.results.io`` lost the documents over studies to ``rvcoax.results.reports``; old imports work."""
+    import rvcoax.results.io as io
+    import rvcoax.results.reports as reports
+
+    for name in ("write_check", "write_report", "read_discrepancy", "print_pdf"):
+        assert name not in io.__all__ and name in reports.__all__
+        assert getattr(io, name) is getattr(reports, name)

@@ -248,7 +248,7 @@ def test_hybrid_model_springs_balance_the_solid_input_shaft(rig):
 
 def test_a_sweep_without_unit_responses_is_refused(sweep):
     with pytest.raises(ConnectionsUnavailableError, match="radial clearance"):
-        connection_states(dataclasses.replace(sweep, unit_displacements=None))
+        connection_states(dataclasses.replace(sweep, states=None))
 
 
 NONLINEAR_CASES = (LoadCase(1.43, 200.0), LoadCase(0.07, 10.0))
@@ -509,3 +509,32 @@ def test_ross_misalignment_faults_carry_our_coupling_misalignment(ross, rig, exp
     hub = line.node_at(570 - 27.5)  # the C3 hub at 542.5 mm is a node of the fault's element
     assert hub in (fault.shaft_elem.n_l, fault.shaft_elem.n_r)
     assert fault.delta_y == rows[0]["mis_distance_y_m"] and fault.radial_stiffness == 2.5e6
+
+
+def test_every_format_is_written_from_python_as_the_command_writes_it(export, tmp_path):
+    """write_export: one function for every format of the registry; the files are those of `rvcoax export`."""
+    from rvcoax.results.export import EXPORT_FORMATS, ExportFormatError, adams_fragment, write_export
+    from rvcoax.results.export.dynamics import export_document
+
+    assert [f.name for f in EXPORT_FORMATS] == ["json", "csv", "adams", "ross"]
+    written = write_export(export, tmp_path / "adams", "adams")
+    assert [p.name for p in written.paths] == ["dynamics.adm"] and written.tables == ()
+    assert written.paths[0].read_text(encoding="utf-8") == adams_fragment(export)
+    csv_files = write_export(export, tmp_path / "csv", "csv").paths
+    assert sorted(p.name for p in csv_files) == sorted(f"dynamics_{t}.csv" for t in CSV_TABLES)
+    json_file = write_export(export, tmp_path, "json", rig_source="my_rig.toml", rig_text="x = 1\n").paths[0]
+    document = json.loads(json_file.read_text(encoding="utf-8"))
+    assert document == json.loads(json.dumps(export_document(export, "my_rig.toml", "x = 1\n")))
+    with pytest.raises(ExportFormatError, match="give rig_source and rig_text"):
+        write_export(export, tmp_path, "json")
+    with pytest.raises(ExportFormatError, match="'xml' is not one of json, csv, adams, ross"):
+        write_export(export, tmp_path, "xml")
+
+
+def test_the_export_command_lists_every_registered_format():
+    from rvcoax.results.cli.app import load_command
+    from rvcoax.results.export import EXPORT_FORMATS
+
+    shown = next(p.help for p in load_command("export").params if p.name == "output_format").replace("\\[", "[")
+    for entry in EXPORT_FORMATS:
+        assert f"{entry.name} ({entry.description})" in shown

@@ -166,7 +166,7 @@ def test_reused_model_gives_the_fresh_solution_exactly(example, example_study):
 
 def _example_run(study, folder, scheduler, n=40, **options):
     values = sample_values(tuple(_EXAMPLE_LAWS), n, "lhs", seed=11)
-    return run_samples(evaluate_sample, study, values, folder, f"example-{n}", scheduler, **options)
+    return run_samples(evaluate_sample, study, values, folder, f"example-{n}", scheduler=scheduler, **options)
 
 
 _EXAMPLE_LAWS = load_tolerances(EXAMPLE, RIG).distributions
@@ -209,7 +209,7 @@ def test_resume_computes_only_missing_samples(example_study, tmp_path):
     assert again == first
     study = example_study
     with pytest.raises(ResumeError, match="another study"):
-        run_samples(evaluate_sample, study, np.zeros((12, len(study.addresses))), tmp_path, "other", "serial",
+        run_samples(evaluate_sample, study, np.zeros((12, len(study.addresses))), tmp_path, "other", scheduler="serial",
                     resume=True)
 
 
@@ -297,7 +297,7 @@ def test_killed_worker_loses_only_its_in_flight_samples(cluster, tmp_path):
     tolerances = parse_tolerances(LOAD_ONLY, "load-only.toml", RIG)
     study = plan_study(RIG, tolerances)
     values = sample_values(tolerances.distributions, 200, "lhs", seed=9)
-    serial, _ = run_samples(evaluate_sample, study, values, tmp_path / "serial", "kill", "serial")
+    serial, _ = run_samples(evaluate_sample, study, values, tmp_path / "serial", "kill", scheduler="serial")
     with Client(cluster.scheduler_address) as client:
         before = client.run(os.getpid)
         victim = sorted(before.values())[0]
@@ -309,7 +309,7 @@ def test_killed_worker_loses_only_its_in_flight_samples(cluster, tmp_path):
                 killed.append(index)
 
         results, report = run_samples(evaluate_sample, study, values, tmp_path / "cluster", "kill",
-                                      cluster.scheduler_address, on_result=kill_once)
+                                      scheduler=cluster.scheduler_address, on_result=kill_once)
         client.wait_for_workers(2, timeout=120)
         after = client.run(os.getpid)
     assert killed and victim not in after.values()  # the worker died mid-run and the nanny replaced it

@@ -49,8 +49,8 @@ def test_small_study_runs_serially_by_default_with_the_serial_results(tmp_path):
     tolerances = load_tolerances(EXAMPLE, rig)
     study = plan_study(rig, tolerances)
     values = sample_values(tolerances.distributions, 6, "lhs", seed=3)
-    auto, auto_run = run_samples(evaluate_sample, study, values, tmp_path / "auto", "auto-6", "auto")
-    serial, serial_run = run_samples(evaluate_sample, study, values, tmp_path / "serial", "serial-6", "serial")
+    auto, auto_run = run_samples(evaluate_sample, study, values, tmp_path / "auto", "auto-6", scheduler="auto")
+    serial, serial_run = run_samples(evaluate_sample, study, values, tmp_path / "serial", "serial-6", scheduler="serial")
     assert auto_run.scheduler == "serial" and auto_run.choice is not None and auto_run.choice.scheduler == "serial"
     assert auto_run.computed == serial_run.computed == 6 and auto_run.workers == 1
     assert auto == serial  # the same floats, in sample order

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import InputFileProblems
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase, separator_hint
@@ -46,11 +46,13 @@ OPTIONAL_COLUMNS = ("sigma_mm", "beta_input_deg", "beta_output_deg")
 MAX_BYTES = 50_000_000
 
 
-class MeasuredDataError(RvcoaxError, ValueError):
+class MeasuredDataError(InputFileProblems):
     """Measured data that cannot be used; the message names the file, line/column and reason."""
 
+    what = "measured data"
+
     def __init__(self, source: str, problem: str):
-        super().__init__(f"measured data {source}: {problem}")
+        super().__init__(source, [problem])
 
 
 @dataclass(frozen=True)

@@ -96,7 +96,8 @@ def _tested(row: AnovaRow, error: AnovaRow, alpha: float) -> AnovaRow:
         return row
     F = row.V / error.V
     p = float(stats.f.sf(F, row.f, error.f))
-    return AnovaRow(row.source, row.S, row.f, row.V, F, p, float(stats.f.isf(alpha, row.f, error.f)), p < alpha)
+    return AnovaRow(source=row.source, S=row.S, f=row.f, V=row.V, F=F, p=p,
+                    F_critical=float(stats.f.isf(alpha, row.f, error.f)), significant=p < alpha)
 
 
 def _empty_columns(design: Design) -> tuple[str | None, tuple[int, ...], float | None]:
@@ -155,7 +156,8 @@ def anova(design: Design, alpha: float = 0.05, pool_below_F: float | None = None
         notes.append(f"pooled into the error: {', '.join(sorted(pooled))}")
     if error.f == 0:
         notes.append("no degrees of freedom left for the error: F and p need pooling (pool sources by name)")
-    return Anova(tuple(tested), error, total, alpha, tuple(sorted(pooled)), array, empty, empty_S, tuple(notes))
+    return Anova(rows=tuple(tested), error=error, total=total, alpha=alpha, pooled=tuple(sorted(pooled)), array=array,
+                 empty_columns=empty, empty_columns_S=empty_S, notes=tuple(notes))
 
 
 def optimal_levels(design: Design, table: Anova | None = None, goal: str = "min") -> dict[str, int]:

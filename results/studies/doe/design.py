@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.results.studies.doe.orthogonal import orthogonality_problems
 
@@ -224,6 +224,7 @@ def read_design(path: str | Path, factors: tuple[Factor, ...], response: str | N
         y[i] = _number(row[response], where, response)
     runs = tuple(row[run_column] if run_column else str(i + 1) for i, (_, row) in enumerate(rows))
     try:
-        return Design(runs, codes, tuple(f for f in factors if f.key in keys), sources, y, response)
+        return Design(runs=runs, codes=codes, factors=tuple(f for f in factors if f.key in keys), sources=sources,
+                      response=y, response_name=response)
     except DesignError as error:
         raise DesignError(f"design file {path}: {error}") from None

@@ -151,7 +151,7 @@ def studentized_residuals(matrix: np.ndarray, y: np.ndarray) -> np.ndarray:
     return t
 
 
-def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), studentized=None,
+def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, removed=(), *, studentized=None,  # noqa: PLR0913
         note: str = "") -> RegressionFit:
     """Least-squares fit of ``terms`` (must include the intercept) on the runs ``used``."""
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -175,8 +175,9 @@ def fit(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], used=None, remove
         p_value = float(stats.f.sf(F, p - 1, n - p))
     else:
         F, p_value = (float("inf"), 0.0) if p > 1 else (float("nan"), float("nan"))
-    return RegressionFit(tuple(terms), coefficients, r2, adjusted, float(F), p_value, float(np.sqrt(sse / (n - p))),
-                         used, tuple(removed), np.full(y.size, np.nan) if studentized is None else studentized, note)
+    return RegressionFit(terms=tuple(terms), coefficients=coefficients, r2=r2, adjusted_r2=adjusted, F=float(F),
+                         p=p_value, residual_std=float(np.sqrt(sse / (n - p))), used=used, removed=tuple(removed),
+                         studentized=np.full(y.size, np.nan) if studentized is None else studentized, note=note)
 
 
 def outlier_runs(x: np.ndarray, y: np.ndarray, terms: tuple[Term, ...], alpha: float = 0.05) -> tuple[np.ndarray, tuple[int, ...]]:
@@ -207,7 +208,7 @@ def fit_without_outliers(x, y, terms: tuple[Term, ...], outliers="auto", alpha: 
             raise ValueError(f"outlier runs must be among the {y.size} runs")
     used = np.ones(y.size, dtype=bool)
     used[list(removed)] = False
-    return fit(x, y, terms, used, removed, studentized, note)
+    return fit(x, y, terms, used, removed, studentized=studentized, note=note)
 
 
 def _coefficient_p_values(x, y, terms) -> np.ndarray:
@@ -222,8 +223,8 @@ def _coefficient_p_values(x, y, terms) -> np.ndarray:
     return np.where(np.isfinite(t), 2.0 * stats.t.sf(np.abs(t), n - p), 0.0)
 
 
-def stepwise_terms(x, y, candidates: tuple[Term, ...] | None = None, p_enter: float = 0.05, p_remove: float = 0.10,
-                   min_residual_dof: int = 3) -> tuple[Term, ...]:
+def stepwise_terms(x, y, candidates: tuple[Term, ...] | None = None, p_enter: float = 0.05, p_remove: float = 0.10,  # noqa: PLR0913
+                   *, min_residual_dof: int = 3) -> tuple[Term, ...]:
     """Forward–backward selection from ``candidates`` (default: the full second-order model).
 
     Starting from the intercept, add the candidate with the smallest partial-F p value while it is

@@ -58,8 +58,8 @@ def choose_terms(design: Design, terms: str | tuple[Term, ...] = "auto") -> tupl
     raise ValueError(f"terms must be auto, full, stepwise or a list of terms, got {terms!r}")
 
 
-def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),
-            goal: str = "min", terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
+def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.0, pool: tuple[str, ...] = (),  # noqa: PLR0913
+            goal: str = "min", *, terms: str | tuple[Term, ...] = "auto", outliers="auto") -> Analysis:
     """Range analysis, ANOVA (unpooled and pooled), optimal levels and the second-order regression.
 
     Parameters
@@ -88,8 +88,8 @@ def analyse(design: Design, alpha: float = 0.05, pool_below_F: float | None = 1.
     pooled = anova(design, alpha, pool_below_F, pool) if (pool_below_F is not None or pool) else table
     chosen, how = choose_terms(design, terms)
     regression = fit_without_outliers(design.values(), design.response, chosen, outliers, alpha=0.05)
-    return Analysis(design, range_analysis(design), table, pooled, optimal_levels(design, pooled, goal), regression,
-                    how)
+    return Analysis(design=design, ranges=range_analysis(design), anova=table, pooled=pooled,
+                    optimum=optimal_levels(design, pooled, goal), regression=regression, term_selection=how)
 
 
 def combination_label(optimum: dict[str, int]) -> str:

@@ -14,13 +14,13 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, model_validator
 
-from rvcoax.fem.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError, problems_text
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.inputfiles import InputFileError, parse_toml
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
+from rvcoax.geometry.validation import StrictModel, read_toml_model
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase
 from rvcoax.results.io.datafiles import read_data_text
 from rvcoax.results.studies.doe.design import Design, Factor, build_sources
@@ -39,11 +39,7 @@ class StudyError(RvcoaxError, ValueError):
     """A study file that cannot be used; the message names the file, key and reason."""
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class StudySettings(_Strict):
+class StudySettings(StrictModel):
     """The ``[study]`` table."""
 
     name: str
@@ -56,7 +52,7 @@ class StudySettings(_Strict):
     T2_output_Nm: Torque = 200.0
 
 
-class StudyFactor(_Strict):
+class StudyFactor(StrictModel):
     """One ``[[factors]]`` entry."""
 
     key: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9]*$")]
@@ -74,7 +70,7 @@ class StudyFactor(_Strict):
         return self
 
 
-class Study(_Strict):
+class Study(StrictModel):
     """A whole study file."""
 
     schema_version: Literal[1]
@@ -111,8 +107,8 @@ class StudyResult:
             key = next((k for k, c in self.columns.items() if c == j), f"e{j}")
             codes[key] = self.array.table[:, j - 1]
         runs = tuple(str(i + 1) for i in range(self.array.runs))
-        return Design(runs, codes, self.factors, build_sources(self.factors, list(codes)),
-                      self.responses[response], response)
+        return Design(runs=runs, codes=codes, factors=self.factors, sources=build_sources(self.factors, list(codes)),
+                      response=self.responses[response], response_name=response)
 
 
 def load_study(path: str | Path | None = None) -> Study:
@@ -134,13 +130,7 @@ def load_study(path: str | Path | None = None) -> Study:
         Naming the file, the key and the reason.
     """
     source, text = read_data_text(path, STUDY_FILE, StudyError, "study file")
-    try:
-        return Study.model_validate(parse_toml(text))
-    except InputFileError as error:
-        raise StudyError(f"study file {source}: {error}") from None
-    except ValidationError as error:
-        problems = "; ".join(".".join(str(p) for p in e["loc"]) + f": {e['msg']}" for e in error.errors())
-        raise StudyError(f"study file {source}: {problems}") from None
+    return read_toml_model(Study, text, lambda problems: StudyError(problems_text("study file", source, problems)))
 
 
 def preferred_columns(array: OrthogonalArray) -> list[int]:
@@ -220,9 +210,9 @@ def check_addresses(rig: Rig, study: Study, source: str = "study file") -> None:
                 raise StudyError(f"{source}: factor {factor.key}: {error.args[0]}") from None
 
 
-def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
+def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,  # noqa: PLR0913
               progress: Callable[[int, int], None] | None = None, runs: range | None = None,
-              source: str = "study file") -> StudyResult:
+              *, source: str = "study file") -> StudyResult:
     """Solve the rig once per run of the study's array and collect β and Y_max of both shafts.
 
     ``runs`` limits the solves to some runs (the others stay NaN), e.g. to try a slow model;
@@ -265,7 +255,8 @@ def run_study(rig: Rig, study: Study, settings: SweepSettings | None = None,
             beta[shaft][run], y_max[shaft][run] = path.beta_deg, path.y_max_mm
         if progress is not None:
             progress(count, len(selected))
-    return StudyResult(study, array, columns, settings, {f"beta_{s}_deg": beta[s] for s in MEASURED_SHAFTS}, y_max)
+    return StudyResult(study=study, array=array, columns=columns, settings=settings,
+                       responses={f"beta_{s}_deg": beta[s] for s in MEASURED_SHAFTS}, y_max_mm=y_max)
 
 
 __all__ = ["ARRAYS", "RESPONSES", "Study", "StudyError", "StudyResult", "assign_columns", "load_study",
