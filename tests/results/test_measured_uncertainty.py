@@ -96,7 +96,7 @@ def test_comment_lines_and_bad_metadata(tmp_path):
     assert data.n == 2 and data.name == "gauges" and data.line.tolist() == [5, 5]
     assert parse_measured("T1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n1,100,1e-4,2e-4\n", "m.csv").name \
         == "measured (m.csv)"
-    with pytest.raises(MeasuredDataError, match=r"m\.csv: line 1, # uncertainty_um: .* must lie in 0 … 10000"):
+    with pytest.raises(MeasuredDataError, match=r"m\.csv[\s\S]*line 1, # uncertainty_um: .* must lie in 0 … 10000"):
         parse_measured("# uncertainty_um = -3\nT1_input_Nm,T2_output_Nm,Y_input_mm,Y_output_mm\n1,100,1e-4,2e-4\n",
                        "m.csv")
     with pytest.raises(MeasuredDataError, match=r"line 2, # uncertainty_percent"):
