@@ -21,7 +21,7 @@ from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
 __all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_contributions", "housing_prestrain",
-           "housing_weight", "seat_stiffness"]
+           "housing_condensation", "housing_weight", "seat_stiffness"]
 
 
 def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool = True) -> CondensedHousing | None:
@@ -169,6 +169,11 @@ def seat_stiffness(housing: Housing, matrix: np.ndarray) -> tuple[SeatStiffness,
         together = flexibility[:, rows].sum(axis=1)
         for i, x in enumerate(housing.attachments_x_mm):
             row = rows[i]
-            out.append(SeatStiffness(housing.name, float(x), direction, float(stiffness[row, row]) * 1e-6,
-                                     1e-6 / float(flexibility[row, row]), 1e-6 / float(together[row])))
+            out.append(SeatStiffness(housing=housing.name, seat_x_mm=float(x), direction=direction,
+                                     held_N_per_um=float(stiffness[row, row]) * 1e-6,
+                                     alone_N_per_um=1e-6 / float(flexibility[row, row]),
+                                     together_N_per_um=1e-6 / float(together[row])))
     return tuple(out)
+
+
+housing_condensation = condensed_housing  # the public name (rvcoax.geometry.model.condensed_housing is a module)

@@ -129,7 +129,7 @@ def _warn_as_a_solve_does(rig) -> None:
 def _seat_table(rig) -> Table | str:
     """The stiffness a bearing sees at each seat of each condensed housing, in the load patterns that occur; the
     housings not condensed yet (before the first solve) are named instead."""
-    from rvcoax.geometry.model import condensed_housing, seat_stiffness
+    from rvcoax.geometry.model import housing_condensation, seat_stiffness
 
     table = Table(title="Condensed housings: stiffness at the bearing seats, N/µm (the factor stiffness_factor "
                         "applied)", title_justify="left")
@@ -138,7 +138,7 @@ def _seat_table(rig) -> Table | str:
         table.add_column(column, justify="left" if column in ("housing", "direction") else "right")
     waiting = []
     for housing in rig.housings:
-        condensed = condensed_housing(rig, housing, compute=False)
+        condensed = housing_condensation(rig, housing, compute=False)
         if condensed is None:
             waiting.append(housing.name)
             continue

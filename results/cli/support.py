@@ -365,15 +365,15 @@ def guard(function):
 def condense_housings(rig) -> None:
     """Condense every ``[[housings]]`` entry the cache does not hold yet, one at a time, saying what is done and
     how long it took (the first condensation of a fine mesh takes about a minute; later runs read the cache)."""
-    from rvcoax.geometry.model import condensed_housing, seat_stiffness
+    from rvcoax.geometry.model import housing_condensation, seat_stiffness
 
-    missing = [h for h in rig.housings if condensed_housing(rig, h, compute=False) is None]
+    missing = [h for h in rig.housings if housing_condensation(rig, h, compute=False) is None]
     for k, housing in enumerate(missing, start=1):
         what = (f"condensing housing {k} of {len(missing)}, '{housing.name}' ({housing.shape}, {housing.material}, "
                 f"{housing.mesh_size_mm:g} mm mesh): meshing the solid with gmsh, assembling its stiffness and "
                 f"solving it for each of the {6 * len(housing.attachments_x_mm)} seat motions (cached afterwards)")
         with console.status(escape(what)):
-            condensed = condensed_housing(rig, housing)
+            condensed = housing_condensation(rig, housing)
         seats = seat_stiffness(housing, condensed.matrix)
         together = {d: min(s.together_N_per_um for s in seats if s.direction == d) for d in dict.fromkeys(
             s.direction for s in seats)}

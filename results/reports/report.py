@@ -501,7 +501,8 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
     if isinstance(discrepancy, str | Path):
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
-    inputs = ReportInputs(rig_source, rig_text, data, discrepancy, source or "the discrepancy document given",
-                          measured_tolerance)
+    inputs = ReportInputs(rig_source=rig_source, rig_text=rig_text, measured=data, discrepancy=discrepancy,
+                          discrepancy_source=source or "the discrepancy document given",
+                          measured_tolerance=measured_tolerance)
     return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper,
                                                    decides=decides))

@@ -291,11 +291,11 @@ def decides_table(decides, shown: int = 15) -> Table:
 
 def housing_table(rig, tags: dict) -> Table:
     """Each condensed housing with what a bearing sees at its seats, in the load patterns that occur (N/µm)."""
-    from rvcoax.geometry.model import condensed_housing, seat_stiffness
+    from rvcoax.geometry.model import housing_condensation, seat_stiffness
 
     rows = []
     for housing in rig.housings:
-        condensed = condensed_housing(rig, housing)  # cached by the solve
+        condensed = housing_condensation(rig, housing)  # cached by the solve
         described = (f"{housing.shape}, {housing.material}, mesh {housing.mesh_size_mm:g} mm, feet {housing.feet}"
                      + (f", × {housing.stiffness_factor:g}" if housing.stiffness_factor != 1 else ""))
         for seat in seat_stiffness(housing, condensed.matrix):

@@ -140,10 +140,10 @@ def what_decides_y(rig: Rig, assumed, case: LoadCase, settings: SweepSettings | 
             not_varied.append((address, f"×{factor:g} does not solve ({error})"))
             continue
         ranked.append(Influence(
-            section, entry, key, value,
-            {s: tuple(_change(c[0][s], base_y[s]) for c in changes) for s in MEASURED_SHAFTS},
-            {s: tuple(_change(c[1][s], base_tilt[s]) for c in changes) for s in MEASURED_SHAFTS}))
+            section=section, entry=entry, key=key, value=value,
+            y_change_um={s: tuple(_change(c[0][s], base_y[s]) for c in changes) for s in MEASURED_SHAFTS},
+            tilt_change_urad={s: tuple(_change(c[1][s], base_tilt[s]) for c in changes) for s in MEASURED_SHAFTS}))
         if progress is not None:
             progress(i + 1, len(assumed))
     ranked.sort(key=lambda r: r.largest_y_change_um, reverse=True)
-    return WhatDecides(case, base_y, base_tilt, tuple(ranked), tuple(not_varied))
+    return WhatDecides(case=case, y_um=base_y, tilt_urad=base_tilt, ranked=tuple(ranked), not_varied=tuple(not_varied))

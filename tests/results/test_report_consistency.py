@@ -126,12 +126,12 @@ def _check_seat_table(tables, path: Path) -> None:
     K_ii, alone 1/u_i for a unit load at seat i, together 1/u_i for unit loads at both seats."""
     import numpy as np
 
-    from rvcoax.geometry.model import condensed_housing
+    from rvcoax.geometry.model import housing_condensation
     from rvcoax.geometry.rigfile import load_rig
 
     rig = load_rig(path)
     housing = rig.housings[0]
-    matrix = housing.stiffness_factor * condensed_housing(rig, housing, compute=False).matrix
+    matrix = housing.stiffness_factor * housing_condensation(rig, housing, compute=False).matrix
     _, rows = tables.find("Housings condensed from solid models")
     assert len(rows) == 4
     for row in rows:
