@@ -113,7 +113,10 @@ def rig_show(rig_file: RigOption = None) -> None:
 
 
 def _print_seat_table(rig) -> None:
+    from rvcoax.results.cli.support import condense_housings
+
     if rig.housings:
+        condense_housings(rig)  # the sag check a solve makes (printed below) needs them condensed anyway
         console.print(_seat_table(rig))
 
 

@@ -389,13 +389,13 @@ def prepare_with_status(rig, settings):
     from rvcoax.geometry import plausibility_warnings
     from rvcoax.geometry.model import REPORT_AFTER_S, beam_size, rig_problem, sag_warnings
 
+    condense_housings(rig)  # first: the size and sag checks below assemble the condensed housings too
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
         if size.seconds > REPORT_AFTER_S:
             console.print(f"{size.what}: {size.describe()} to assemble and factorise (estimated)")
     for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
-    condense_housings(rig)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
         prepared = prepare_model(rig, settings)
     system = prepared.system
