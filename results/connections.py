@@ -20,7 +20,7 @@ import numpy as np
 
 from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights, gear_contact_torques
-from rvcoax.geometry.model.springs import ConnectionStates, spring_states
+from rvcoax.geometry.model.springs import ConnectionStates, spring_states, with_nonlinear_laws
 
 if TYPE_CHECKING:  # the sweep is the floor below; it never imports this module
     from rvcoax.results.sweep import Sweep
@@ -78,15 +78,5 @@ def connection_states(sweep: Sweep, reference: str = "measured") -> ConnectionSt
     law = sweep.nonlinear_bearings
     if law is None:
         return states
-    operator = law.operator
-    motions = np.asarray(operator @ case_displacements(sweep, "unloaded"))  # (p, n_cases), as the laws see them
-    rest_force = law.laws(operator @ np.asarray(sweep.rest_displacement, dtype=float))[0] if from_rest else 0.0
-    force, stiffness = states.force_on_b.copy(), states.stiffness.copy()
-    rows = [(states.names.index(spring), list(components), block) for spring, components, block in law.spring_rows()]
-    for case in range(motions.shape[1]):
-        carried, tangent = law.laws(motions[:, case])
-        carried = carried - rest_force
-        for row, components, block in rows:
-            force[case, row, components] = -carried[block]
-            stiffness[case, row, components] = np.diag(tangent[block, block])
-    return ConnectionStates(states.names, states.point_m, states.deformation, force, stiffness)
+    rest = np.asarray(sweep.rest_displacement, dtype=float) if from_rest else None
+    return with_nonlinear_laws(states, law, case_displacements(sweep, "unloaded"), rest)

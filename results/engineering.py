@@ -34,14 +34,16 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE, bearing_life
 from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
-from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion
+from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
-           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment", "Reaction", "alignment_grade",
-           "alignment_tolerance", "ball_bearing_lives", "case_engineering", "case_name", "duty_cycle_lives",
-           "duty_cycle_of_lives", "duty_cycle_of_records", "engineering_tables", "life_columns", "life_entries", "reducer_columns", "reducer_entries",
-           "lives_of_records", "mesh_misalignment", "play_crossings", "reducer_checks", "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
+           "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
+           "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "ball_bearing_lives", "bearing_warnings",
+           "case_engineering", "case_name", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
+           "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
+           "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries",
+           "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
 URAD = 1e6  # rad → µrad
@@ -103,7 +105,11 @@ class CouplingQuantities:
     """Misalignment of a coupling's ``to`` hub against its ``from`` hub at the coupling centre.
 
     ``offset_*_um``: parallel offset; ``angle_*``: angular misalignment; ``angularity_mm_per_100mm``:
-    the angle as alignment practice writes it. ``*_use_percent``: of the datasheet allowable (None
+    the angle as alignment practice writes it; all from the state ``reference`` names (``[paths]
+    measured_from``: the change since the aligned rest state by default), which is what the coupling's
+    limits are judged with. ``offset_from_unloaded_um`` / ``angle_from_unloaded_urad``: the same
+    misalignment measured from the unloaded geometry (self-weight included), a different quantity
+    under its own name (equal to ``offset_um`` / ``angle_urad`` when ``measured_from = "unloaded"``). ``*_use_percent``: of the datasheet allowable (None
     without one). ``grade``: :func:`alignment_grade` at ``speed_rpm`` (None without a speed).
     """
 
@@ -115,6 +121,8 @@ class CouplingQuantities:
     angle_urad: float
     angle_deg: float
     angularity_mm_per_100mm: float
+    offset_from_unloaded_um: float
+    angle_from_unloaded_urad: float
     allowable_offset_mm: float | None
     allowable_angle_deg: float | None
     offset_use_percent: float | None
@@ -134,7 +142,16 @@ class CouplingQuantities:
 @dataclass(frozen=True)
 class BearingQuantities:
     """Load and tilt of a bearing (force the bearing exerts on its shaft; tilt of the inner ring,
-    on the shaft, against the outer ring, in the housing)."""
+    on the shaft, against the outer ring, in the housing).
+
+    ``model``: ``linear`` (typed-in springs), ``clearance`` (radial play) or the model from internal geometry
+    (``ball``, ``angular_contact``, ``cylindrical_roller``, ``tapered_roller``).
+    ``*_stiffness_*``: the operating stiffness in this case: the typed-in spring of a linear bearing, the
+    tangent ∂F/∂Δ of a nonlinear one at the case's state (radial: mean of y and z; tilt: mean about y
+    and z), never the linear reference spring a nonlinear bearing is assembled with.
+    ``loaded_elements`` / ``max_element_load_N``: a bearing from geometry's rolling elements in contact (balls or
+    rollers) and its largest element load (None for other bearings).
+    """
 
     name: str
     shaft: str
@@ -150,6 +167,12 @@ class BearingQuantities:
     tilt_arcmin: float
     allowable_tilt_arcmin: float | None
     tilt_use_percent: float | None
+    model: str = "linear"
+    radial_stiffness_N_per_um: float = float("nan")
+    axial_stiffness_N_per_um: float = float("nan")
+    tilt_stiffness_Nm_per_rad: float = float("nan")
+    loaded_elements: int | None = None
+    max_element_load_N: float | None = None
 
     @property
     def verdict(self) -> str:
@@ -288,8 +311,10 @@ def mesh_misalignment(rotation_on, rotation_mate, planet_angle_deg: float, press
 
 @dataclass(frozen=True)
 class Reaction:
-    """What a support to the ground (a mount, a bearing housed in ``ground``) exerts on its part, at
-    the support point: force (N) and moment (N·m) along/about x, y, z; total and change under load."""
+    """What a support to the ground (a mount, a bearing housed in ``ground``, a condensed ``[[housings]]``
+    entry as a whole, ``kind`` says which) exerts on its part, at the support point (a housing: the
+    centre of its attachments): force (N) and moment (N·m) along/about x, y, z; total and change under
+    load. Values below the solve's accuracy (:data:`NOISE`) are written as 0."""
 
     name: str
     kind: str
@@ -307,6 +332,10 @@ class CaseEngineering:
 
     ``residual_force_N`` / ``residual_moment_Nm``: |applied loads + ground reactions| (force, and
     moment about the origin) of the total state; zero up to rounding when equilibrium holds.
+    ``applied_force_N``: the resultant of every load on the rig (its weight and the applied forces);
+    the reactions' forces sum to its opposite. ``applied_torque_x_Nm``: the applied loads' moment about
+    the rig axis (the torques T1, T2 and what the reducer's housing passes on); the reactions' moments
+    about x sum to its opposite.
     """
 
     couplings: tuple[CouplingQuantities, ...]
@@ -317,6 +346,8 @@ class CaseEngineering:
     lives: tuple[BearingLifeQuantities, ...] = ()
     reducers: tuple[ReducerCheck, ...] = ()
     gear_meshes: tuple[GearMeshMisalignment, ...] = ()
+    applied_force_N: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    applied_torque_x_Nm: float = 0.0
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -325,6 +356,8 @@ class CaseEngineering:
             row[f"coupling_{c.name}_offset_um"] = c.offset_um
             row[f"coupling_{c.name}_angle_urad"] = c.angle_urad
             row[f"coupling_{c.name}_angularity_mm_per_100mm"] = c.angularity_mm_per_100mm
+            row[f"coupling_{c.name}_offset_from_unloaded_um"] = c.offset_from_unloaded_um
+            row[f"coupling_{c.name}_angle_from_unloaded_urad"] = c.angle_from_unloaded_urad
             if c.offset_use_percent is not None:  # columns only for the limits the rig file gives
                 row[f"coupling_{c.name}_offset_use_percent"] = c.offset_use_percent
             if c.angle_use_percent is not None:
@@ -338,6 +371,12 @@ class CaseEngineering:
             row[f"bearing_{b.name}_tilt_change_urad"] = b.tilt_change_urad
             if b.tilt_use_percent is not None:
                 row[f"bearing_{b.name}_tilt_use_percent"] = b.tilt_use_percent
+            row[f"bearing_{b.name}_radial_stiffness_N_per_um"] = b.radial_stiffness_N_per_um
+            row[f"bearing_{b.name}_axial_stiffness_N_per_um"] = b.axial_stiffness_N_per_um
+            row[f"bearing_{b.name}_tilt_stiffness_Nm_per_rad"] = b.tilt_stiffness_Nm_per_rad
+            if b.loaded_elements is not None:
+                row[f"bearing_{b.name}_loaded_elements"] = b.loaded_elements
+                row[f"bearing_{b.name}_max_element_load_N"] = b.max_element_load_N
         row.update(life_columns(self.lives))
         row.update(reducer_columns(self.reducers))
         for g in self.gear_meshes:
@@ -348,6 +387,9 @@ class CaseEngineering:
                 row[f"reaction_{r.name}_F{axis}_N"] = value
             for axis, value in zip("xyz", r.moment_Nm):
                 row[f"reaction_{r.name}_M{axis}_Nm"] = value
+        for axis, value in zip("xyz", self.applied_force_N):
+            row[f"applied_F{axis}_N"] = value
+        row["applied_Mx_Nm"] = self.applied_torque_x_Nm
         row["equilibrium_residual_force_N"] = self.residual_force_N
         row["equilibrium_residual_moment_Nm"] = self.residual_moment_Nm
         return row
@@ -361,6 +403,8 @@ class CaseEngineering:
                           "verdict": b.verdict} for b in self.bearings],
             "reactions": [{k: (list(v) if isinstance(v, tuple) else v) for k, v in
                            ((k, getattr(r, k)) for k in Reaction.__dataclass_fields__)} for r in self.reactions],
+            "applied_force_N": list(self.applied_force_N),
+            "applied_torque_x_Nm": self.applied_torque_x_Nm,
             "equilibrium_residual": {"force_N": self.residual_force_N, "moment_Nm": self.residual_moment_Nm},
         } | {key: value for key, value in (
             ("bearing_lives", life_entries(self.lives)), ("reducers", reducer_entries(self.reducers)),
@@ -368,8 +412,44 @@ class CaseEngineering:
                              for g in self.gear_meshes])) if value}  # only what the rig has
 
 
-def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities:
-    d = states.deformation[0, states.index("coupling", c.name)]
+NOISE = 1e-9
+"""Relative size below which a reaction or bearing force is rounding, not data: the solves keep
+equilibrium to ~1e-10 of the loads (``equilibrium_relative_error``), so a component below 1e-9 of the
+case's largest support force (moment: times the rig's length) is written as 0."""
+
+
+def reaction_sum(reactions: list[dict]) -> tuple[tuple[float, float, float], float]:
+    """The sum of one case's support forces and of their moments about the rig axis.
+
+    Parameters
+    ----------
+    reactions : list of dict
+        The case's ``reactions`` (its ``sweep.json`` entry, or :meth:`CaseEngineering.entry`).
+
+    Returns
+    -------
+    ((float, float, float), float)
+        ΣF (N) along x, y, z and ΣM_x (N·m); rounding below :data:`NOISE` of the largest force written as 0.
+    """
+    scale = max((abs(v) for r in reactions for v in r["force_N"]), default=0.0)
+    forces = _denoise([math.fsum(r["force_N"][k] for r in reactions) for k in range(3)], scale)
+    torque = _denoise([math.fsum(r["moment_Nm"][0] for r in reactions)], scale)[0]
+    return forces, torque
+
+
+def _extent(springs: SpringMotion) -> float:
+    """The lever (m) that turns a force scale into a moment scale: the springs' spread along x, at least 1 m."""
+    return max(float(np.ptp(springs.point_m[:, 0])) if len(springs.point_m) else 0.0, 1.0)
+
+
+def _denoise(values, scale: float) -> tuple[float, ...]:
+    return tuple(0.0 if abs(v) <= NOISE * scale else float(v) + 0.0 for v in values)
+
+
+def _coupling(c, states: ConnectionStates, unloaded: ConnectionStates, reference: str) -> CouplingQuantities:
+    row = states.index("coupling", c.name)
+    d = states.deformation[0, row]
+    total = unloaded.deformation[0, row]
     offset_m = math.hypot(d[1], d[2])
     angle = math.hypot(d[4], d[5])
     angularity = 100.0 * math.tan(angle)  # gap difference over 100 mm of diameter, mm
@@ -377,6 +457,8 @@ def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities
     return CouplingQuantities(name=c.name, reference=reference, offset_y_um=float(d[1] * UM),
                               offset_z_um=float(d[2] * UM), offset_um=offset_m * UM, angle_urad=angle * URAD,
                               angle_deg=math.degrees(angle), angularity_mm_per_100mm=angularity,
+                              offset_from_unloaded_um=math.hypot(total[1], total[2]) * UM,
+                              angle_from_unloaded_urad=math.hypot(total[4], total[5]) * URAD,
                               allowable_offset_mm=c.allowable_parallel_offset_mm,
                               allowable_angle_deg=c.allowable_angular_misalignment_deg,
                               offset_use_percent=_percent(offset_mm, c.allowable_parallel_offset_mm),
@@ -385,31 +467,64 @@ def _coupling(c, states: ConnectionStates, reference: str) -> CouplingQuantities
                               grade=None if c.speed_rpm is None else alignment_grade(offset_mm, angularity, c.speed_rpm))
 
 
-def _bearing(b, total: ConnectionStates, change: ConnectionStates) -> BearingQuantities:
+def _bearing_model(b) -> str:
+    """``linear``, ``clearance`` (a linear bearing with radial play) or the model from geometry (``ball``,
+    ``angular_contact``, ``cylindrical_roller``, ``tapered_roller``)."""
+    if b.model != "linear":
+        return b.model
+    return "clearance" if b.radial_clearance_um > 0 else "linear"
+
+
+def _elements(point: dict | None) -> tuple[int | None, float | None]:
+    """(loaded rolling elements, largest element load N) of a bearing's operating point (balls or rollers)."""
+    if point is None:
+        return None, None
+    loaded = point.get("loaded_balls", point.get("loaded_elements"))  # a ball bearing's point names them balls
+    largest = point.get("max_ball_load_N", point.get("max_element_load_N"))
+    return (None if loaded is None else int(loaded)), (None if largest is None else float(largest))
+
+
+def _bearing(b, total: ConnectionStates, change: ConnectionStates, scale: float, balls: dict) -> BearingQuantities:
     row = total.index("bearing", b.name)
     f, d = total.force_on_b[0, row], total.deformation[0, row]
     df, dd = change.force_on_b[0, row], change.deformation[0, row]
+    k = total.stiffness[0, row]
+    f = np.array(_denoise(f[:3], scale))
+    df = np.array(_denoise(df[:3], scale))
     tilt = math.hypot(d[4], d[5])
+    loaded, largest = _elements(balls.get(b.name))
     return BearingQuantities(name=b.name, shaft=b.shaft, housing=b.housing, x_mm=b.x_mm, force_y_N=float(f[1]) + 0.0,
                              force_z_N=float(f[2]) + 0.0, force_axial_N=float(f[0]) + 0.0,
                              force_radial_N=math.hypot(f[1], f[2]), force_radial_change_N=math.hypot(df[1], df[2]),
                              tilt_urad=tilt * URAD, tilt_change_urad=math.hypot(dd[4], dd[5]) * URAD,
                              tilt_arcmin=tilt * ARCMIN, allowable_tilt_arcmin=b.allowable_misalignment_arcmin,
-                             tilt_use_percent=_percent(tilt * ARCMIN, b.allowable_misalignment_arcmin))
+                             tilt_use_percent=_percent(tilt * ARCMIN, b.allowable_misalignment_arcmin),
+                             model=_bearing_model(b), radial_stiffness_N_per_um=float(0.5 * (k[1] + k[2]) * 1e-6),
+                             axial_stiffness_N_per_um=float(k[0] * 1e-6),
+                             tilt_stiffness_Nm_per_rad=float(0.5 * (k[4] + k[5])), loaded_elements=loaded,
+                             max_element_load_N=largest)
 
 
-def _reactions(rig, total: ConnectionStates, change: ConnectionStates) -> tuple[Reaction, ...]:
+def _reactions(rig, springs: SpringMotion, total: ConnectionStates, change: ConnectionStates, *,  # noqa: PLR0913
+               fixed_total: np.ndarray | None, fixed_change: np.ndarray | None) -> tuple[Reaction, ...]:
     supports = [("mount", m.name, m.part, m.x_mm) for m in rig.mounts]
     supports += [("bearing", b.name, b.shaft, b.x_mm) for b in rig.bearings if b.housing == "ground"]
-    out = []
+    found = []
     for kind, name, part, x in supports:
         row = total.index(kind, name)
-        f, df = total.force_on_b[0, row], change.force_on_b[0, row]
-        out.append(Reaction(name=name, kind=kind, part=part, x_mm=x, force_N=tuple(float(v) + 0.0 for v in f[:3]),
-                            moment_Nm=tuple(float(v) + 0.0 for v in f[3:]),
-                            force_change_N=tuple(float(v) + 0.0 for v in df[:3]),
-                            moment_change_Nm=tuple(float(v) + 0.0 for v in df[3:])))
-    return tuple(out)
+        found.append((name, kind, part, x, total.force_on_b[0, row], change.force_on_b[0, row]))
+    for bed in springs.beds:  # a condensed housing: the reactions of its fixed bed nodes, as a whole
+        if fixed_total is None:
+            continue
+        change_of = bed.resultant(fixed_change) if fixed_change is not None else np.full(6, np.nan)
+        found.append((bed.name, "housing", bed.part, bed.x_mm, bed.resultant(fixed_total), change_of))
+    forces = [abs(v) for *_, f, df in found for v in (*f[:3], *df[:3]) if np.isfinite(v)]
+    scale = max(forces, default=0.0)
+    extent = _extent(springs)
+    return tuple(Reaction(name=name, kind=kind, part=part, x_mm=x, force_N=_denoise(f[:3], scale),
+                          moment_Nm=_denoise(f[3:], scale * extent), force_change_N=_denoise(df[:3], scale),
+                          moment_change_Nm=_denoise(df[3:], scale * extent))
+                 for name, kind, part, x, f, df in found)
 
 
 def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
@@ -673,7 +788,8 @@ def duty_cycle_of_lives(rig, case_lives: list[tuple[BearingLifeQuantities, ...]]
 
 
 def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, measured_from_rest: bool,  # noqa: PLR0913
-                     *, applied: np.ndarray, reactions: np.ndarray, springs=None, case=None) -> CaseEngineering:
+                     *, applied: np.ndarray, reactions: np.ndarray, springs=None, case=None, fixed_total=None,
+                     fixed_change=None, nonlinear=None, rest_total=None, balls=None) -> CaseEngineering:
     """The engineering tables of one case.
 
     Parameters
@@ -692,21 +808,38 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
         :meth:`rvcoax.geometry.model.springs.SpringMotion.of` ``(model, rig)``, built once for many cases.
     case : LoadCase, optional
         The case's torques: with them, the bearing lives and the reducer checks.
+    fixed_total, fixed_change : (n_dofs,) arrays, optional
+        K u − f of the total state and of the change since rest: their entries at fixed DOFs are the
+        reactions of the fixed supports (the bed nodes of condensed housings). Without them the
+        housings have no row in the reaction table.
+    nonlinear : NonlinearBearings, optional
+        The condensed nonlinear bearings of a nonlinear sweep; with ``rest_total`` (the rest state from
+        the unloaded geometry), their forces and operating stiffness come from their laws.
+    balls : dict, optional
+        :meth:`NonlinearBearings.operating_points` of the case (loaded rolling elements, largest element load).
     """
     springs = SpringMotion.of(model, rig) if springs is None else springs
     total = springs.states(u_total, from_rest=False)
     change = springs.states(u_change, from_rest=True)
+    linear_change = springs.states(u_change, from_rest=False)
+    if nonlinear is not None:
+        total = with_nonlinear_laws(total, nonlinear, u_total)
+        change = with_nonlinear_laws(change, nonlinear, u_total, rest_total)
     # a coupling's misalignment is what its element accommodates, Δ − Δ0: from the aligned rest state (the
     # change under load) or from the unloaded geometry, in both cases less the installed misalignment Δ0
     # that the rig file declares (parallel_offset_um, angular_misalignment_mrad; zero by default)
-    coupled = ((springs.states(u_change, from_rest=False), "change since the aligned rest state, with the installed "
-                "misalignment") if measured_from_rest else (total, "from the unloaded geometry"))
+    coupled = ((linear_change, "change since the aligned rest state, with the installed misalignment")
+               if measured_from_rest else (total, "from the unloaded geometry"))
     residual = np.asarray(applied, float) + np.asarray(reactions, float)
+    support_reactions = _reactions(rig, springs, total, change, fixed_total=fixed_total, fixed_change=fixed_change)
+    scale = max((abs(v) for r in support_reactions for v in r.force_N), default=0.0)
     return CaseEngineering(
-        couplings=tuple(_coupling(c, coupled[0], coupled[1]) for c in rig.couplings),
-        bearings=tuple(_bearing(b, total, change) for b in rig.bearings),
-        reactions=_reactions(rig, total, change),
+        couplings=tuple(_coupling(c, coupled[0], total, coupled[1]) for c in rig.couplings),
+        bearings=tuple(_bearing(b, total, change, scale, balls or {}) for b in rig.bearings),
+        reactions=support_reactions,
         residual_force_N=float(np.linalg.norm(residual[:3])), residual_moment_Nm=float(np.linalg.norm(residual[3:])),
+        applied_force_N=_denoise(np.asarray(applied, float)[:3], scale),
+        applied_torque_x_Nm=_denoise(np.asarray(applied, float)[3:4], scale * _extent(springs))[0],
         lives=() if case is None else _lives(rig, total, case.input_torque_Nm, case.output_torque_Nm),
         reducers=() if case is None else _reducers(rig, total, case.input_torque_Nm, case.output_torque_Nm),
         gear_meshes=_gear_meshes(rig, model, u_change if measured_from_rest else u_total))
@@ -747,3 +880,69 @@ def engineering_tables(sweep) -> list[dict]:
         out.append({"T1_input_Nm": case.case.input_torque_Nm, "T2_output_Nm": case.case.output_torque_Nm,
                     "shafts": {s: shaft_quantities(p) for s, p in case.paths.items()}, **case.engineering.entry()})
     return out
+
+
+UNLOADED_SHARE = 0.01
+"""A bearing whose radial force is below this share of the largest bearing force of its case carries
+(nearly) nothing: a ball bearing hanging in its clearance, a shaft inside a radial play."""
+
+
+def _case_text(entry: dict) -> str:
+    return f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+
+
+def _carrying(entry: dict) -> dict[str, bool]:
+    bearings = entry["engineering"].get("bearings", [])
+    largest = max((b["force_radial_N"] for b in bearings), default=0.0)
+    return {b["name"]: b["force_radial_N"] > UNLOADED_SHARE * largest and (b.get("loaded_elements") is None
+                                                                          or b["loaded_elements"] > 0)
+            for b in bearings}
+
+
+def bearing_warnings(entries: list[dict]) -> list[str]:
+    """What a nonlinear sweep should say about its bearings, one sentence each, from the ``sweep.json`` case
+    entries.
+
+    * a bearing with a clearance or from ball geometry that carries (nearly) nothing in a case (radial force below :data:`UNLOADED_SHARE` of the
+      case's largest bearing force, or no rolling element loaded): the load goes elsewhere;
+    * a bearing with a clearance or from ball geometry that takes up its play (or lifts off) between two
+      neighbouring cases (ordered by T2, then T1): Y is not proportional to torque across that step.
+
+    Parameters
+    ----------
+    entries : list of dict
+        The ``cases`` of ``sweep.json`` (each with its ``engineering.bearings``).
+
+    Returns
+    -------
+    list of str
+        The warnings (empty for a sweep whose bearings all carry load in every case).
+    """
+    if not entries or not entries[0].get("engineering", {}).get("bearings"):
+        return []
+    carrying = [_carrying(e) for e in entries]
+    found = []
+    nonlinear = [b for b in entries[0]["engineering"]["bearings"] if b["model"] != "linear"]
+    for b in nonlinear:  # (a linear bearing's force passes through zero where torque cancels weight: no play)
+        name = b["name"]
+        idle = [i for i, state in enumerate(carrying) if not state[name]]
+        if idle:
+            cases = (f"in all {len(entries)} cases" if len(idle) == len(entries) else
+                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i]) for i in idle[:3])}"
+                     + (", …)" if len(idle) > 3 else ")"))
+            found.append(f"bearing {name} ({b['model']}) carries (nearly) nothing {cases}: less than "
+                         f"{100 * UNLOADED_SHARE:g} % of the largest bearing force"
+                         + (", no rolling element loaded" if b.get("loaded_elements") is not None else "")
+                         + "; its neighbours carry the shaft")
+    order = sorted(range(len(entries)), key=lambda i: (entries[i]["T2_output_Nm"], entries[i]["T1_input_Nm"]))
+    for b in nonlinear:
+        name = b["name"]
+        for i, j in zip(order, order[1:]):
+            if carrying[i][name] != carrying[j][name]:
+                shafts = entries[i]["engineering"].get("shafts", {})
+                jumps = ", ".join(f"Y_{s} {shafts[s]['Y_max_um']:.3g} → "
+                                  f"{entries[j]['engineering']['shafts'][s]['Y_max_um']:.3g} µm" for s in shafts)
+                what = "takes up its play" if carrying[j][name] else "lifts off into its play"
+                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i])} and "
+                             f"{_case_text(entries[j])}: Y is not proportional to torque across that step ({jumps})")
+    return found

@@ -404,7 +404,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
         return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
-                             on_case=on_case)
+                             on_case=on_case, engineering=engineering)
     loads = system.unit_loads
     unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
@@ -413,13 +413,16 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
+    # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
+    rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
     results = []
     for i, case in enumerate(cases):
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
         u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
              if settings.method == "superposition" else solve(load))
         check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
-        reduced_residual = system.elimination.T @ (system.stiffness @ u - load)
+        unbalance = system.stiffness @ u - load
+        reduced_residual = system.elimination.T @ unbalance
         scale = np.linalg.norm(system.elimination.T @ load)
         residual = float(np.linalg.norm(reduced_residual) / scale) if scale > 0 else 0.0
         check_solution(case.label, u, check.relative_error, residual)
@@ -431,8 +434,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             equilibrium_error=check.relative_error,
             residual=residual,
             engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
-                                         reactions=check.reactions, springs=springs, case=case)
-            if engineering else None,
+                                         reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
+                                         fixed_change=unbalance - rest_unbalance) if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
@@ -456,7 +459,8 @@ class _NonlinearProblem:
 
 
 def _solve_nonlinear_case(problem: _NonlinearProblem, weights: dict, label: str):
-    """One case by Newton on the condensed bearing motions, checked: (u, solution, equilibrium, residual)."""
+    """One case by Newton on the condensed bearing motions, checked: (u, solution, equilibrium, residual, K u − f)
+    (the last at the fixed DOFs: their supports' reactions)."""
     system, bearings = problem.system, problem.bearings
     load = sum(weights[k] * system.unit_loads[k] for k in UNIT_LOADS)
     try:
@@ -479,7 +483,7 @@ def _solve_nonlinear_case(problem: _NonlinearProblem, weights: dict, label: str)
                          f"{backward:.1e} (> {GAP_BACKWARD_LIMIT:g}, relative to |K| |u| and the loads)")
     check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, effective, system.dofs)
     check_solution(label, u, check.relative_error, residual)
-    return u, solution, check, residual
+    return u, solution, check, residual, system.stiffness @ u - effective
 
 
 def _nonlinear_summary(report, bearings: NonlinearBearings, iterations: list[int], operating: dict) -> dict:
@@ -501,7 +505,8 @@ def _nonlinear_summary(report, bearings: NonlinearBearings, iterations: list[int
     return summary
 
 
-def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, progress=None, on_case=None) -> Sweep:
+def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, progress=None, on_case=None,  # noqa: PLR0913
+                  engineering: bool = True) -> Sweep:
     """The sweep of a model with nonlinear bearings (radial clearance: beam; ball bearings from geometry:
     beam or hybrid): the rest state and each case solved on its own.
 
@@ -530,8 +535,9 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         return _solve_nonlinear_case(problem, weights, label)
 
     contact = gear_contact_torques(rig)
-    springs = SpringMotion.of(system.frame, rig) if rig.reducers else None  # the reducers' joints are linear springs
-    rest_u, rest_solution, _, _ = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
+    # the reducers' joints are linear springs: their checks need the spring states even without the tables
+    springs = SpringMotion.of(system.frame, rig) if engineering or rig.reducers else None
+    rest_u, rest_solution, _, _, rest_unbalance = solve_case(case_weights(0.0, 0.0, include_rest=True), "at rest")
     every = ("ball",) + GEOMETRIC_MODELS
     operating = {name: [{"case": "at rest", **point}]
                  for name, point in bearings.operating_points(rest_solution.motion, every).items()}
@@ -540,20 +546,25 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
     for i, case in enumerate(cases):
         weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
                                contact_torques_Nm=contact)
-        u, solution, check, residual = solve_case(weights, case.label)
+        u, solution, check, residual, unbalance = solve_case(weights, case.label)
         iterations.append(solution.iterations)
         lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
         checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
-                  if springs is not None else ())
-        for name, point in bearings.operating_points(solution.motion, every).items():
+                  if rig.reducers else ())
+        points = bearings.operating_points(solution.motion, every)
+        for name, point in points.items():
             operating[name].append({"case": case.label, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
-        # no engineering tables: their spring forces are linear, a gapped bearing's law is not
+        # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law
+        tables = (case_engineering(rig, system.frame, u, u - rest_u, from_rest, applied=check.applied,
+                                   reactions=check.reactions, springs=springs, fixed_total=unbalance,
+                                   fixed_change=unbalance - rest_unbalance, nonlinear=bearings, rest_total=rest_u,
+                                   balls=points) if engineering else None)
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-                                  equilibrium_error=check.relative_error, residual=residual, ball_lives=lives,
-                                  reducer_checks=checks))
+                                  equilibrium_error=check.relative_error, residual=residual, engineering=tables,
+                                  ball_lives=lives, reducer_checks=checks))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

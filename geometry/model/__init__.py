@@ -12,6 +12,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.geometry.model.system": ("MODEL_KINDS", "RigSystem"),
     "rvcoax.geometry.model.assemble": ("assemble_rig",),
     "rvcoax.geometry.model.beam": ("build_rig_model",),
+    "rvcoax.geometry.model.housings": ("SeatStiffness", "housing_condensation", "seat_stiffness"),
     "rvcoax.geometry.gear_loads": ("gear_contact_torques", "gear_mesh_forces"),
     "rvcoax.geometry.model.preflight": ("sag_warnings",),
     "rvcoax.geometry.model.workload": ("REPORT_AFTER_S", "Workload", "WorkloadError", "beam_size", "check_cases",

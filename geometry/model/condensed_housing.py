@@ -175,8 +175,10 @@ def _load(path: Path) -> CondensedHousing | None:
 
 def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float, references: list[Reference],  # noqa: PLR0913
                      feet: str = "clamped", *, bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
-                     cache_dir: Path | None = None, use_cache: bool = True) -> CondensedHousing:
-    """The condensed stiffness of a housing at its references (cached by everything it depends on)."""
+                     cache_dir: Path | None = None, use_cache: bool = True,
+                     compute: bool = True) -> CondensedHousing | None:
+    """The condensed stiffness of a housing at its references (cached by everything it depends on); with
+    ``compute=False`` only what the cache holds (None when it does not hold it)."""
     key = {"geometry": geometry.cache_key(), "E": youngs_modulus_Pa, "nu": poisson, "feet": feet,
            "bed": list(bed_stiffness_N_per_um_per_mm2 or ()),
            "references": [[list(r.point_mm), list(r.face), r.tie] for r in references]}
@@ -185,6 +187,8 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
         cached = _load(path)
         if cached is not None:
             return cached
+    if not compute:
+        return None
     start = time.perf_counter()
     model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet, bed_stiffness_N_per_um_per_mm2=bed_stiffness_N_per_um_per_mm2,
                                 cache_dir=cache_dir)

@@ -7,6 +7,8 @@ superelement between the ground and the reference nodes of the housing's part at
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
@@ -18,18 +20,37 @@ from rvcoax.geometry.model.condensed_housing import CondensedHousing, condense_h
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
-__all__ = ["condensed_housing", "housing_contributions", "housing_prestrain", "housing_weight"]
+__all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_contributions", "housing_prestrain",
+           "housing_condensation", "housing_weight", "seat_stiffness"]
 
 
-def condensed_housing(rig: Rig, housing: Housing, cache_dir=None) -> CondensedHousing:
-    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``."""
+def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool = True) -> CondensedHousing | None:
+    """The condensed stiffness of ``housing`` (6k × 6k, SI), before its ``stiffness_factor``.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its materials).
+    housing : Housing
+        One of its ``[[housings]]`` entries.
+    cache_dir : Path, optional
+        Where condensations are cached (default: the mesh cache's folder).
+    compute : bool
+        False: only what the cache holds (None before the first solve has condensed it).
+
+    Returns
+    -------
+    CondensedHousing or None
+        The matrix, the solid's DOF count, the weight load, volume and centroid.
+    """
     face = "bore" if housing.bore_diameter_mm > 0 else "top"
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
     material = rig.materials[housing.material]
     bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
     return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            "clamped" if bed is None else "bed", bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache_dir)
+                            "clamped" if bed is None else "bed", bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache_dir,
+                            compute=compute)
 
 
 def _dofs(nodes) -> np.ndarray:
@@ -100,3 +121,59 @@ def housing_prestrain(rig: Rig, frame, n_dofs: int) -> Contribution:
         nodes = [frame.node(housing.part, x) for x in housing.attachments_x_mm]
         vector[_dofs(nodes)] += matrix @ motion.ravel()
     return dense_load_contribution("prestrain", vector)
+
+
+SEAT_DIRECTIONS = {"vertical (y)": 1, "lateral (z)": 2}
+
+
+@dataclass(frozen=True)
+class SeatStiffness:
+    """The stiffness a bearing sees at one seat of a condensed housing, in one direction (N/µm).
+
+    ``held``: the diagonal entry of K_c, this seat moved with every other master DOF of the housing held
+    (its other seat and every rotation): an upper bound no bearing sees. ``alone``: this seat loaded, the
+    other seat and the rotations free (1 / F_ii, F = K_c⁻¹): one bearing loaded. ``together``: every seat
+    loaded with the same force in this direction, per seat (force / this seat's displacement): both
+    bearings of a shaft pushed the same way, as its weight and a lateral gear force do.
+    """
+
+    housing: str
+    seat_x_mm: float
+    direction: str
+    held_N_per_um: float
+    alone_N_per_um: float
+    together_N_per_um: float
+
+
+def seat_stiffness(housing: Housing, matrix: np.ndarray) -> tuple[SeatStiffness, ...]:
+    """The :class:`SeatStiffness` of every seat of ``housing`` in both lateral directions.
+
+    Parameters
+    ----------
+    housing : Housing
+        The ``[[housings]]`` entry (its seats and ``stiffness_factor``, applied here).
+    matrix : (6k, 6k) array
+        Its condensed stiffness (:func:`condensed_housing`), SI, before ``stiffness_factor``.
+
+    Returns
+    -------
+    tuple of SeatStiffness
+        Per direction (vertical, lateral) and seat: held, alone and together (N/µm).
+    """
+    stiffness = housing.stiffness_factor * np.asarray(matrix, dtype=float)
+    flexibility = np.linalg.inv(stiffness)
+    seats = len(housing.attachments_x_mm)
+    out = []
+    for direction, component in SEAT_DIRECTIONS.items():
+        rows = DOFS_PER_NODE * np.arange(seats) + component
+        together = flexibility[:, rows].sum(axis=1)
+        for i, x in enumerate(housing.attachments_x_mm):
+            row = rows[i]
+            out.append(SeatStiffness(housing=housing.name, seat_x_mm=float(x), direction=direction,
+                                     held_N_per_um=float(stiffness[row, row]) * 1e-6,
+                                     alone_N_per_um=1e-6 / float(flexibility[row, row]),
+                                     together_N_per_um=1e-6 / float(together[row])))
+    return tuple(out)
+
+
+housing_condensation = condensed_housing  # the public name (rvcoax.geometry.model.condensed_housing is a module)

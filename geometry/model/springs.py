@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import bushing
-from rvcoax.geometry.model.beam import SpringId, stress_free_motions
+from rvcoax.geometry.model.beam import SpringId, housing_bed_group, stress_free_motions
 
-__all__ = ["ConnectionStates", "SpringMotion", "spring_states"]
+__all__ = ["ConnectionStates", "HousingBed", "SpringMotion", "housing_beds", "spring_states", "with_nonlinear_laws"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +64,40 @@ class ConnectionStates:
 
 
 @dataclass(frozen=True, eq=False)
+class HousingBed:
+    """Where a condensed ``[[housings]]`` entry meets the ground: its fixed bed nodes (one per attachment).
+
+    The fixed DOFs' reactions there, K u − f, are what the ground exerts on the housing (and through it
+    on the part it holds); :meth:`resultant` sums them about the housing's centre ``x_mm``.
+    """
+
+    name: str
+    part: str
+    x_mm: float
+    dofs: np.ndarray  # (attachments × 6,) frame DOFs of the bed nodes
+    attachments_m: np.ndarray  # (attachments, 3)
+
+    def resultant(self, reactions: np.ndarray) -> np.ndarray:
+        """Force (N) and moment about (x_mm, 0, 0) (N·m) of the fixed-DOF ``reactions`` (n_dofs,) at the bed."""
+        per_node = np.asarray(reactions, dtype=float)[self.dofs].reshape(-1, 6)
+        arms = self.attachments_m - np.array([self.x_mm * 1e-3, 0.0, 0.0])
+        return np.concatenate([per_node[:, :3].sum(axis=0),
+                               (np.cross(arms, per_node[:, :3]) + per_node[:, 3:]).sum(axis=0)])
+
+
+def housing_beds(model, rig) -> tuple[HousingBed, ...]:
+    """The :class:`HousingBed` of every ``[[housings]]`` entry of ``rig`` in ``model`` (a RigModel)."""
+    beds = []
+    for h in rig.housings:
+        nodes = np.array([model.node(housing_bed_group(h.name), x) for x in h.attachments_x_mm])
+        points = np.zeros((nodes.size, 3))
+        points[:, 0] = np.asarray(h.attachments_x_mm, dtype=float) * 1e-3
+        beds.append(HousingBed(h.name, h.part, float(np.mean(h.attachments_x_mm)),
+                               (6 * nodes[:, None] + np.arange(6)).ravel(), points))
+    return tuple(beds)
+
+
+@dataclass(frozen=True, eq=False)
 class SpringMotion:
     """What turns displacement vectors into spring states, built once per model (the springs' rigid-arm
     operators, their DOFs, stiffnesses and stress-free motions Δ0)."""
@@ -75,6 +109,7 @@ class SpringMotion:
     stiffness: np.ndarray  # (springs, 6)
     stress_free: np.ndarray  # (springs, 6)
     n_dofs: int
+    beds: tuple[HousingBed, ...] = ()
 
     @classmethod
     def of(cls, model, rig) -> SpringMotion:
@@ -82,7 +117,8 @@ class SpringMotion:
         frame = model.structure
         operator, dofs = bushing.relative_motion_operator(frame.coordinates, frame.bushings)
         return cls(tuple(model.bushing_names), np.asarray(frame.bushings.point_m, float), operator, dofs,
-                   np.asarray(frame.bushings.stiffness, float), stress_free_motions(rig), frame.n_dofs)
+                   np.asarray(frame.bushings.stiffness, float), stress_free_motions(rig), frame.n_dofs,
+                   housing_beds(model, rig))
 
     def states(self, displacements: np.ndarray, from_rest: bool) -> ConnectionStates:
         """Spring states for displacement vectors (n_dofs, n_cases) or (n_dofs,): measured since the rest
@@ -101,3 +137,40 @@ def spring_states(model, rig, displacements: np.ndarray, from_rest: bool) -> Con
     """Relative motion and force of every spring of ``model`` (a :class:`RigModel`) for displacement
     vectors ``displacements`` (n_dofs, n_cases) or (n_dofs,) (see :meth:`SpringMotion.states`)."""
     return SpringMotion.of(model, rig).states(displacements, from_rest)
+
+
+def with_nonlinear_laws(states: ConnectionStates, law, unloaded: np.ndarray,
+                        rest: np.ndarray | None = None) -> ConnectionStates:
+    """``states`` with each nonlinear bearing's force and operating stiffness taken from its own law.
+
+    Parameters
+    ----------
+    states : ConnectionStates
+        The linear spring states of the cases (every bearing on its linear reference spring).
+    law : NonlinearBearings
+        The condensed nonlinear bearings (:mod:`rvcoax.geometry.model.nonlinear_bearings`).
+    unloaded : (n_dofs, n_cases) or (n_dofs,) array
+        The cases' displacements from the unloaded geometry (what the laws see).
+    rest : (n_dofs,) array, optional
+        The rest state from the unloaded geometry: given, forces are the change since rest,
+        −(F(Δ) − F(Δ_rest)); else the totals −F(Δ).
+
+    Returns
+    -------
+    ConnectionStates
+        The same springs, with the nonlinear bearings' rows of ``force_on_b`` and ``stiffness`` replaced
+        (the tangent ∂F/∂Δ's diagonal at each case's state, the same in both references).
+    """
+    operator = law.operator
+    u = np.asarray(unloaded, dtype=float)
+    motions = np.asarray(operator @ (u[:, None] if u.ndim == 1 else u))  # (p, n_cases), as the laws see them
+    rest_force = law.laws(operator @ np.asarray(rest, dtype=float))[0] if rest is not None else 0.0
+    force, stiffness = states.force_on_b.copy(), states.stiffness.copy()
+    rows = [(states.names.index(spring), list(components), block) for spring, components, block in law.spring_rows()]
+    for case in range(motions.shape[1]):
+        carried, tangent = law.laws(motions[:, case])
+        carried = carried - rest_force
+        for row, components, block in rows:
+            force[case, row, components] = -carried[block]
+            stiffness[case, row, components] = np.diag(tangent[block, block])
+    return ConnectionStates(states.names, states.point_m, states.deformation, force, stiffness)

@@ -14,11 +14,13 @@ from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "check"]
 
+DEG_TO_URAD = 1e6 * 3.141592653589793 / 180.0
+
 
 def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, *, table_name: str) -> Table:
     table = Table(title=escape(f"{shaft} shaft: {table_name} vs rvcoax"), title_justify="left")
     for column in ("T1 N·m", "T2 N·m", "fit", "Y table µm", "Y blind µm", "blind err", "Y cal µm", "cal err",
-                   "β table °", "β cal °", "β cal err", "ok"):
+                   "β table µrad", "β cal µrad", "β cal err", "ok"):
         table.add_column(column, justify="right")
     y, b = f"Y_{shaft}_mm", f"beta_{shaft}_deg"
     for i, row in enumerate(rows):
@@ -28,7 +30,7 @@ def _check_table(shaft: str, comparison_blind, comparison_cal, fit_rows, rows, *
             f"{1e3 * comparison_cal.published[y][i]:.5g}", f"{1e3 * comparison_blind.model[y][i]:.4g}",
             f"{100 * comparison_blind.relative_error[y][i]:+.1f} %",
             f"{1e3 * comparison_cal.model[y][i]:.5g}", f"{100 * comparison_cal.relative_error[y][i]:+.3f} %",
-            f"{comparison_cal.published[b][i]:.3g}", f"{comparison_cal.model[b][i]:.4g}",
+            f"{comparison_cal.published[b][i] * DEG_TO_URAD:.4g}", f"{comparison_cal.model[b][i] * DEG_TO_URAD:.4g}",
             f"{100 * comparison_cal.relative_error[b][i]:+.2f} %",
             "[green]yes[/]" if ok else "[red]NO[/]",
         )
@@ -41,11 +43,13 @@ def check(
     *,
     model_choice: support.ModelChoice,
     out: support.OutOption = None,
-    measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to compare with: a CSV table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or measured paths (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm). Default: paper 000's table, for the built-in reference rig only.")] = None,
+    measured: Annotated[Path | None, typer.Option("--measured", help="Measured Y to compare with: a CSV table (T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm) or measured paths (T1_input_Nm, T2_output_Nm, shaft, x_mm, uy_mm); '#' lines are comments, '# label = …', '# uncertainty_um = …', '# uncertainty_percent = …' describe the data. Default: paper 000's table, for the built-in reference rig only.")] = None,
+    uncertainty_um: Annotated[float | None, typer.Option("--uncertainty-um", min=0.0, max=1e4, help="Measurement uncertainty of --measured, absolute, µm (overrides the file's '# uncertainty_um').")] = None,
+    uncertainty_percent: Annotated[float | None, typer.Option("--uncertainty-percent", min=0.0, max=100.0, help="Measurement uncertainty of --measured, % of each value (overrides the file's '# uncertainty_percent'). A value is within when |model − measured| ≤ the larger of the two.")] = None,
 ) -> None:
     """Compare every row of a Y/β table with the model, blind and calibrated.
 
-    The table: --measured FILE; without it, paper 000's published table (built-in reference rig only). Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows of the smallest and the largest T2 only (paper 000: T2 = 10 and 200 N·m); the other rows are predictions. Measured paths are compared at their stations (the largest |u_y| there). Tolerance: 2 % of Y and β, or 1e-7 mm next to the input sign change.
+    The table: --measured FILE; without it, paper 000's published table (built-in reference rig only). Blind: the rig as built, nothing fitted. Calibrated: two named parameters per shaft fitted on the rows of the smallest and the largest T2 only (paper 000: T2 = 10 and 200 N·m); the other rows are predictions. Measured paths are compared at their stations (the largest |u_y| there). Tolerance: paper 000's table, 2 % of Y and β (or 1e-7 mm next to the input sign change); measured data, their measurement uncertainty (--uncertainty-um, --uncertainty-percent, or the file's '#' lines; without any, 2 % and the file's printed resolution, said as an assumption).
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
@@ -57,15 +61,22 @@ def check(
         NO_TABLE_HELP,
         CalibrationError,
         fit_output_torques,
+        measurement_tolerance,
     )
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
+    tolerance = None
+    if measured is None and (uncertainty_um is not None or uncertainty_percent is not None):
+        raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data; paper 000's "
+                                "table is judged with its own 2 % (give --measured FILE)")
     if measured is not None:
         from rvcoax import measured_rows, read_measured
 
         lengths = {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}
-        rows, table_name = measured_rows(read_measured(measured), lengths), f"measured ({measured})"
+        data = read_measured(measured)
+        rows, table_name = measured_rows(data, lengths), data.name
+        tolerance = measurement_tolerance(data, uncertainty_um, uncertainty_percent)
     elif is_reference_rig(rig):
         rows, table_name = paper_table(), "published (paper 000)"
     else:
@@ -80,7 +91,7 @@ def check(
             progress.update(tasks[stage], completed=done)
 
         try:
-            run = run_check(rig, rows, settings, prepared=prepared, progress=show)
+            run = run_check(rig, rows, settings, prepared=prepared, progress=show, tolerance=tolerance)
         except CalibrationError as error:
             raise support.UserError(f"rig file {model_choice.rig_text()[0]}: {error}") from None
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
@@ -99,14 +110,17 @@ def check(
         f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
         f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
     )
+    if tolerance is not None:
+        support.console.print(f"Judged with: {escape(tolerance.description)}.")
     outcome = run.outcome
     colour = "green" if outcome.exit_code == EXIT_WITHIN else "red" if outcome.exit_code == EXIT_OUTSIDE else "yellow"
     support.console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
         source, text = model_choice.rig_text()
         support.report_written(write_check(out, run, source, text, picture_name=f"check_{model_choice.model}.png",
-                                   title=f"{rig.rig.name}: {model_choice.model} model vs "
-                                         + ("paper 000" if measured is None else "measured")))
+                                           title=f"{rig.rig.name}: {model_choice.model} model vs {table_name}",
+                                           table_label=table_name, measured=measured is not None,
+                                           tolerance=None if tolerance is None else tolerance.description))
     raise typer.Exit(code=outcome.exit_code)
 
 

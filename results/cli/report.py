@@ -31,6 +31,10 @@ def report(
         "ended.")] = 120.0,
     deformed: Annotated[bool, typer.Option("--deformed/--no-deformed", help="Include the rendered deformed rig of the largest case (off-screen rendering).")] = True,
     modes: Annotated[int, support.number_option("--modes", 0, 500, help="Natural modes in the report (mode table, interference diagram, mode shapes); 0 leaves the section out.", integer=True)] = 12,
+    uncertainty_um: Annotated[float | None, typer.Option("--uncertainty-um", min=0.0, max=1e4, help="Measurement uncertainty of --measured, absolute, µm (overrides the file's '# uncertainty_um').")] = None,
+    uncertainty_percent: Annotated[float | None, typer.Option("--uncertainty-percent", min=0.0, max=100.0, help="Measurement uncertainty of --measured, % of each value (overrides the file's '# uncertainty_percent').")] = None,
+    decides: Annotated[bool, typer.Option("--decides/--no-decides", help="Include the 'what decides Y' table: each input the rig file tags [A] halved and doubled, the rig solved again (beam model, largest-torque case).")] = True,
+    paper: Annotated[str, typer.Option("--paper", help="Page size the report prints on (HTML print and --pdf): a4 or letter.")] = "a4",
 ) -> None:
     """Write OUT/report.html: one self-contained HTML file for a design review (pictures embedded, no
     network needed to open it).
@@ -42,12 +46,22 @@ def report(
     mesh, date).
     """
     from rvcoax import read_measured, write_report
-    from rvcoax.results.reports import print_pdf, read_discrepancy
+    from rvcoax.results.reports import PAPER_SIZES, print_pdf, read_discrepancy
 
+    if paper.lower() not in PAPER_SIZES:
+        raise support.UserError(f"--paper: '{paper}' is not a page size; use a4 or letter")
     settings = model_choice.settings()
     rig = model_choice.load_rig()
     load_cases = case_choice.load(rig, model_choice.rig_file)
     data = read_measured(measured) if measured is not None else None  # bad files fail before the solve
+    if data is None and (uncertainty_um is not None or uncertainty_percent is not None):
+        raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data: give "
+                                "--measured FILE")
+    tolerance = None
+    if data is not None:
+        from rvcoax.results.studies import measurement_tolerance
+
+        tolerance = measurement_tolerance(data, uncertainty_um, uncertainty_percent)
     found = read_discrepancy(discrepancy) if discrepancy is not None else None
     source, text = model_choice.rig_text()
     result = support.run_with_progress(rig, load_cases, settings, "solving load cases",
@@ -60,10 +74,11 @@ def report(
             study = natural_modes(rig, load_cases, n_modes=modes, model=settings.model,
                                   solver="auto" if settings.solver == "amg" else settings.solver,
                                   mesh_size_mm=settings.mesh_size_mm)
-    with support.console.status("drawing the pictures and writing the report"):
+    with support.console.status("drawing the pictures, varying the assumed inputs ([A]) and writing the report"
+                                if decides else "drawing the pictures and writing the report"):
         written = [write_report(result, out / "report.html", rig_source=source, rig_text=text, measured=data,
                                 discrepancy=found, discrepancy_source=str(discrepancy), deformed_view=deformed,
-                                modes=study)]
+                                modes=study, paper=paper.lower(), decides=decides, measured_tolerance=tolerance)]
     if pdf:
         with support.console.status("printing the report to PDF with headless Chromium"):
             written.append(print_pdf(written[0], out / "report.pdf", timeout_s=pdf_timeout_s))

@@ -15,6 +15,7 @@ from rvcoax.results.cli.support import (
     UserError,
     add_text_row,
     console,
+    warn,
 )
 
 __all__ = ["COMMANDS", "rig_example", "rig_reference", "rig_show"]
@@ -83,6 +84,7 @@ def rig_show(rig_file: RigOption = None) -> None:
         add_text_row(springs, "joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
                         f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
     console.print(springs)
+    _print_seat_table(rig)
     paths = Table(title="How torque becomes a lateral load", title_justify="left")
     for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
         paths.add_column(column)
@@ -108,6 +110,56 @@ def rig_show(rig_file: RigOption = None) -> None:
                   f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
                   f"output {rig.paths.output.part} {rig.paths.output.x_start_mm:g} + "
                   f"{rig.paths.output.length_mm:g} mm")
+    _warn_as_a_solve_does(rig)
+
+
+def _print_seat_table(rig) -> None:
+    from rvcoax.results.cli.support import condense_housings
+
+    if rig.housings:
+        condense_housings(rig)  # the sag check a solve makes (printed below) needs them condensed anyway
+        console.print(_seat_table(rig))
+
+
+def _warn_as_a_solve_does(rig) -> None:
+    """The plausibility and sag warnings a solve of ``rig`` prints (rig show solves nothing)."""
+    from rvcoax.geometry import plausibility_warnings
+    from rvcoax.geometry.model import sag_warnings
+
+    for message in plausibility_warnings(rig) + sag_warnings(rig):
+        warn(message)
+
+
+def _seat_table(rig) -> Table | str:
+    """The stiffness a bearing sees at each seat of each condensed housing, in the load patterns that occur; the
+    housings not condensed yet (before the first solve) are named instead."""
+    from rvcoax.geometry.model import housing_condensation, seat_stiffness
+
+    table = Table(title="Condensed housings: stiffness at the bearing seats, N/µm (the factor stiffness_factor "
+                        "applied)", title_justify="left")
+    for column in ("housing", "seat x mm", "direction", "both seats pushed together", "this seat alone",
+                   "held (diagonal of K_c)"):
+        table.add_column(column, justify="left" if column in ("housing", "direction") else "right")
+    waiting = []
+    for housing in rig.housings:
+        condensed = housing_condensation(rig, housing, compute=False)
+        if condensed is None:
+            waiting.append(housing.name)
+            continue
+        for seat in seat_stiffness(housing, condensed.matrix):
+            add_text_row(table, housing.name, f"{seat.seat_x_mm:g}", seat.direction, f"{seat.together_N_per_um:.4g}",
+                         f"{seat.alone_N_per_um:.4g}", f"{seat.held_N_per_um:.4g}")
+    if waiting:
+        note = (f"housing(s) {', '.join(waiting)}: condensed at the first solve (rvcoax sweep), about a minute for "
+                "an 8 mm mesh; rig show then prints their stiffness at the seats")
+        if not table.rows:
+            return escape(note)
+        table.caption = escape(note)
+    table.caption = ((table.caption + "; ") if table.caption else "") + (
+        "together: the force per seat when every seat of the housing is pushed the same way (a shaft's weight, a "
+        "lateral gear force); alone: one seat loaded, the other free; held: the other seat and all rotations held, "
+        "an upper bound no bearing sees. The bearing is in series with these.")
+    return table
 
 
 def rig_reference(

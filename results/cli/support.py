@@ -412,6 +412,27 @@ def guard(function):
     return wrapper
 
 
+def condense_housings(rig) -> None:
+    """Condense every ``[[housings]]`` entry the cache does not hold yet, one at a time, saying what is done and
+    how long it took (the first condensation of a fine mesh takes about a minute; later runs read the cache)."""
+    from rvcoax.geometry.model import housing_condensation, seat_stiffness
+
+    missing = [h for h in rig.housings if housing_condensation(rig, h, compute=False) is None]
+    for k, housing in enumerate(missing, start=1):
+        what = (f"condensing housing {k} of {len(missing)}, '{housing.name}' ({housing.shape}, {housing.material}, "
+                f"{housing.mesh_size_mm:g} mm mesh): meshing the solid with gmsh, assembling its stiffness and "
+                f"solving it for each of the {6 * len(housing.attachments_x_mm)} seat motions (cached afterwards)")
+        with console.status(escape(what)):
+            condensed = housing_condensation(rig, housing)
+        seats = seat_stiffness(housing, condensed.matrix)
+        together = {d: min(s.together_N_per_um for s in seats if s.direction == d) for d in dict.fromkeys(
+            s.direction for s in seats)}
+        console.print(escape(f"condensed housing '{housing.name}': {condensed.solid_dofs} solid DOF in "
+                             f"{condensed.seconds:.0f} s; stiffness at its seats, all pushed together (softest seat): "
+                             + ", ".join(f"{d} {v:.3g} N/µm" for d, v in together.items())
+                             + " (rvcoax rig show: every load pattern)"))
+
+
 def prepare_with_status(rig, settings):
     """Assemble the model and set up its solver, with a status line and the sag warnings."""
     from rvcoax import prepare_model
@@ -425,6 +446,7 @@ def prepare_with_status(rig, settings):
         sag_warnings,
     )
 
+    condense_housings(rig)  # first: the size and sag checks below assemble the condensed housings too
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
         size = beam_size(rig).workload(rig.mesh.max_element_length_mm)
         if size.seconds > REPORT_AFTER_S:

@@ -11,6 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results import bearing_warnings, reaction_sum
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -41,6 +42,31 @@ def _percent(value) -> str:
     return "" if value is None else f"{value:.3g} %"
 
 
+def _maybe_int(value) -> str:
+    return "" if value is None else str(value)
+
+
+def _maybe_g(value) -> str:
+    return "" if value is None else f"{value:.4g}"
+
+
+def _operating_table(where: str, bearings: list[dict]) -> Table:
+    """The nonlinear bearings' operating point: axial force, stiffness (the tangent of their law) and rolling-element
+    loads."""
+    table = Table(title=escape(f"Bearing operating points at {where}: stiffness in this case (the tangent of a "
+                               "bearing from geometry's or a clearance's law; a linear bearing's typed-in spring) and "
+                               "rolling-element loads"),
+                  title_justify="left")
+    for column in ("bearing", "model", "axial force N", "k radial N/µm", "k axial N/µm", "k tilt N·m/rad",
+                   "elements loaded", "largest element load N"):
+        table.add_column(column, justify="left" if column in ("bearing", "model") else "right")
+    for b in bearings:
+        table.add_row(escape(b["name"]), b["model"], f"{b['force_axial_N']:.4g}", f"{b['radial_stiffness_N_per_um']:.3g}",
+                      f"{b['axial_stiffness_N_per_um']:.3g}", f"{b['tilt_stiffness_Nm_per_rad']:.3g}",
+                      _maybe_int(b["loaded_elements"]), _maybe_g(b["max_element_load_N"]))
+    return table
+
+
 def _engineering_tables(entry: dict) -> list[Table]:
     """The coupling, bearing and reaction tables of one case (from its ``sweep.json`` entry)."""
     tables = []
@@ -50,13 +76,15 @@ def _engineering_tables(entry: dict) -> list[Table]:
         table = Table(title=escape(f"Couplings at {where}: misalignment of the to-hub against the from-hub "
                                    f"({couplings[0]['reference']})"), title_justify="left")
         for column in ("coupling", "rpm", "offset µm", "angle µrad", "angle mm/100 mm", "of allowable offset",
-                       "of allowable angle", "alignment grade", "datasheet"):
+                       "of allowable angle", "alignment grade", "datasheet", "offset from unloaded µm",
+                       "angle from unloaded µrad"):
             table.add_column(column, justify="left" if column in ("coupling", "alignment grade", "datasheet") else "right")
         for c in couplings:
             table.add_row(escape(c["name"]), "" if c["speed_rpm"] is None else f"{c['speed_rpm']:g}",
                           f"{c['offset_um']:.3g}", f"{c['angle_urad']:.3g}", f"{c['angularity_mm_per_100mm']:.2g}",
                           _percent(c["offset_use_percent"]), _percent(c["angle_use_percent"]),
-                          c["grade"] or "(no speed_rpm)", c["datasheet_verdict"])
+                          c["grade"] or "(no speed_rpm)", c["datasheet_verdict"], f"{c['offset_from_unloaded_um']:.3g}",
+                          f"{c['angle_from_unloaded_urad']:.3g}")
         tables.append(table)
     bearings = entry["engineering"].get("bearings", [])
     if bearings:
@@ -72,15 +100,23 @@ def _engineering_tables(entry: dict) -> list[Table]:
                           "" if b["allowable_tilt_arcmin"] is None else f"{b['allowable_tilt_arcmin']:g}",
                           _percent(b["tilt_use_percent"]), b["verdict"])
         tables.append(table)
+        if any(b["model"] != "linear" for b in bearings):  # a linear bearing's stiffness is the rig file's
+            tables.append(_operating_table(where, bearings))
     reactions = entry["engineering"].get("reactions", [])
     if reactions:
         table = Table(title=escape(f"Support reactions at {where}: force and moment each ground support exerts on "
-                                   "its part (total, self-weight included)"), title_justify="left")
-        for column in ("support", "part", "x mm", "Fx N", "Fy N", "Fz N", "Mx N·m", "My N·m", "Mz N·m"):
-            table.add_column(column, justify="left" if column in ("support", "part") else "right")
+                                   "its part (total, self-weight included; a housing as a whole, about the centre "
+                                   "of its attachments)"), title_justify="left")
+        for column in ("support", "kind", "part", "x mm", "Fx N", "Fy N", "Fz N", "Mx N·m", "My N·m", "Mz N·m"):
+            table.add_column(column, justify="left" if column in ("support", "kind", "part") else "right")
         for r in reactions:
-            table.add_row(escape(r["name"]), escape(r["part"]), f"{r['x_mm']:g}",
+            table.add_row(escape(r["name"]), r["kind"], escape(r["part"]), f"{r['x_mm']:g}",
                           *[f"{v:.4g}" for v in r["force_N"]], *[f"{v:.4g}" for v in r["moment_Nm"]])
+        total, torque = reaction_sum(reactions)
+        table.add_row("sum", "", "", "", *[f"{v:.4g}" for v in total], f"{torque:.4g}", "", "", end_section=False)
+        applied = entry["engineering"].get("applied_force_N", [0.0, 0.0, 0.0])
+        table.add_row("− (weight and applied loads)", "", "", "", *[f"{-v + 0.0:.4g}" for v in applied],
+                      f"{-entry['engineering'].get('applied_torque_x_Nm', 0.0) + 0.0:.4g}", "", "")
         tables.append(table)
     return tables
 
@@ -172,6 +208,8 @@ def _print_engineering(records: list[dict]) -> None:
     residual = entry["engineering"]["equilibrium_residual"]
     support.console.print(f"Equilibrium residual (applied loads + reactions): {residual['force_N']:.2g} N, "
                           f"{residual['moment_Nm']:.2g} N·m. Every case's tables are in sweep.csv and sweep.json.")
+    for message in bearing_warnings(entries):
+        support.warn(message)
 
 
 def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):

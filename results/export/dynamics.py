@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.geometry.model.beam import stress_free_motions
 from rvcoax.geometry.model.springs import ConnectionStates
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.connections import connection_states
@@ -202,8 +203,10 @@ def _float_list(values) -> list[float]:
     return [float(v) + 0.0 for v in values]
 
 
-def _coupling_values(states: ConnectionStates, case: int, row: int, suffix: str = "") -> dict:
+def _coupling_values(states: ConnectionStates, case: int, row: int, suffix: str = "", installed=None) -> dict:
     delta, force = _float_list(states.deformation[case, row]), _float_list(states.force_on_b[case, row])
+    if installed is not None:  # from rest: the installed misalignment stays in the coupling, as in sweep.csv
+        delta = [d - float(i) for d, i in zip(delta, installed)]
     um, deg = 1e6, math.degrees(1.0)
     return {
         f"offset_y{suffix}_um": delta[1] * um, f"offset_z{suffix}_um": delta[2] * um,
@@ -229,12 +232,14 @@ def coupling_rows(export: DynamicsExport) -> list[dict]:
         Parallel offset (µm) and angle (degrees) per case and coupling, keys with units.
     """
     rows = []
+    stress_free = stress_free_motions(export.sweep.rig)
+    from_rest = export.measured_from == "aligned_at_rest"
     for i, case in enumerate(export.sweep.cases):
         for c in export.sweep.rig.couplings:
             row = export.measured.index("coupling", c.name)
             rows.append({**_torques(case), "coupling": c.name, "from_part": c.from_.part, "to_part": c.to.part,
                          "centre_x_mm": c.centre_x_mm, "measured_from": export.measured_from,
-                         **_coupling_values(export.measured, i, row),
+                         **_coupling_values(export.measured, i, row, installed=stress_free[row] if from_rest else None),
                          **_coupling_values(export.unloaded, i, row, UNLOADED)})
     return rows
 
@@ -300,7 +305,11 @@ def export_document(export: DynamicsExport, rig_source: str, rig_text: str) -> d
             "axes": "x along the drivetrain, y vertical (+ up), z horizontal; angles about y and z",
             "beta": "arcsin(Y_max / L) (paper 000), from the measured_from state",
             "lever_arm": "tan(beta) * ((l_k + l_{k-1}) / 2 + a / cos(beta)) + d_k / 2, l_0 = 0; stage 1 at the reducer",
-            "couplings": "motion of the to-hub relative to the from-hub at the coupling centre; forces on the to-part",
+            "couplings": "motion of the to-hub relative to the from-hub at the coupling centre, as sweep.csv's "
+                         "coupling_<name>_offset_um / _angle_urad (from the measured_from state, with the installed "
+                         "misalignment the rig file declares) and, _unloaded_ref, its _offset_from_unloaded_um / "
+                         "_angle_from_unloaded_urad; forces on the to-part: the coupling's spring force (stiffness x "
+                         "(offset - installed misalignment) from rest, stiffness x offset from the unloaded geometry)",
             "bearings": "force and moment the bearing exerts on its shaft, at the bearing centre; stiffness: the "
                         "operating (tangent) stiffness in the case, the typed-in value for a linear bearing",
             "unloaded_ref": "columns ending in _unloaded_ref: from the unloaded geometry (forces: total, self-weight included)",

@@ -183,7 +183,8 @@ def shaft_line(rig: Rig, which: str, operating: dict | None = None, operating_po
         ``"input"`` or ``"output"``.
     operating : dict, optional
         Bearing name → (k_y, k_z) in N/m (:func:`operating_supports`): those bearings' operating tangent stiffness
-        replaces their typed-in radial stiffness.
+        replaces their typed-in radial stiffness. A bearing with a clearance or from internal geometry needs
+        one: its linear reference spring is not its stiffness (``ValueError`` naming it otherwise).
     operating_point : str, optional
         The load case the stiffness belongs to (in the rotor's tag and file).
 
@@ -197,6 +198,11 @@ def shaft_line(rig: Rig, which: str, operating: dict | None = None, operating_po
     x = np.sort(frame.node_x_mm[frame.node_part == name])
     sections = np.array([_section_at(part, 0.5 * (a + b)) for a, b in zip(x[:-1], x[1:])])
     operating = operating or {}
+    nonlinear = [b.name for b in rig.bearings if b.shaft == name and (b.model != "linear" or b.radial_clearance_um > 0)
+                 and b.name not in operating]
+    if nonlinear:
+        raise ValueError(f"bearing(s) {', '.join(nonlinear)} of the {which} shaft are nonlinear (from geometry or with "
+                         "a clearance): give their operating stiffness in a load case (operating_supports)")
     supports = []
     for b in rig.bearings:
         if b.shaft != name:

@@ -18,7 +18,11 @@ import numpy as np
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
 
-__all__ = ["PartLine", "bending_lines", "plot_bending_line", "stack_rows"]
+__all__ = ["NOISE", "PartLine", "bending_lines", "out_of_plane_is_rounding", "plot_bending_line", "stack_rows"]
+
+NOISE = 1e-6
+"""Out-of-plane motion (u_z, rotation about y) at most this share of the in-plane one is the solve's rounding and
+is drawn as 0, with a note."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,8 +138,35 @@ def _strip(axis, sweep, lines: list[PartLine]) -> None:
     axis.tick_params(axis="x", labelbottom=False)
 
 
+def out_of_plane_is_rounding(lines: list[PartLine]) -> tuple[bool, bool, float]:
+    """Whether u_z and the rotation about y are the solve's rounding (at most :data:`NOISE` of u_y and of the
+    rotation about z, whose solves hold ~1e-10), and the largest |u_z| (µm): such a panel is drawn as 0.
+
+    Parameters
+    ----------
+    lines : list of PartLine
+        :func:`bending_lines` of a sweep.
+
+    Returns
+    -------
+    (bool, bool, float)
+        u_z is rounding, the rotation about y is rounding, the largest |u_z|.
+    """
+    drawn = [line for line in lines if line.x_mm.size]
+
+    def largest(values) -> float:
+        return max((float(abs(v).max()) for v in values), default=0.0)
+
+    largest_z = largest(line.u_z_um for line in drawn)
+    return (largest_z <= NOISE * largest(line.u_y_um for line in drawn),
+            largest(line.rotation_y_urad for line in drawn) <= NOISE * largest(line.rotation_z_urad for line in drawn),
+            largest_z)
+
+
 def _draw_case(panels, sweep, lines, case_index: int, colour: str) -> None:
-    """One case's u_y, u_z and section rotations along every part (a solid measured shaft: its path as read)."""
+    """One case's u_y, u_z and section rotations along every part (a solid measured shaft: its path as read);
+    out-of-plane motion that is the solve's rounding (:func:`out_of_plane_is_rounding`) drawn as 0."""
+    flat_z, flat_ry, _ = out_of_plane_is_rounding(lines)
     for line in lines:
         if not line.x_mm.size:
             continue
@@ -144,10 +175,10 @@ def _draw_case(panels, sweep, lines, case_index: int, colour: str) -> None:
         if line.solid:
             style.update(ls="none", marker="o", ms=3)
         panels[0].plot(line.x_mm, line.u_y_um[case_index], **style)
-        panels[1].plot(line.x_mm, line.u_z_um[case_index], **style)
+        panels[1].plot(line.x_mm, 0.0 * line.x_mm if flat_z else line.u_z_um[case_index], **style)
         panels[2].plot(line.x_mm, line.rotation_z_urad[case_index], **style)
-        panels[2].plot(line.x_mm, line.rotation_y_urad[case_index], **{**style, "lw": 0.8, "alpha": 0.6,
-                                                                        "ls": ":"})
+        panels[2].plot(line.x_mm, 0.0 * line.x_mm if flat_ry else line.rotation_y_urad[case_index],
+                       **{**style, "lw": 0.8, "alpha": 0.6, "ls": ":"})
     for shaft in MEASURED_SHAFTS:  # a solid measured shaft: its path as the sweep reads it (axis u_y, rotation)
         path = getattr(sweep.rig.paths, shaft)
         if any(line.solid and line.part == path.part for line in lines):
@@ -173,10 +204,11 @@ def _draw_panel_frames(panels, sweep, lines) -> None:
     for axis in panels[:-1]:
         axis.tick_params(axis="x", labelbottom=False)
     panels[-1].set_xlabel("x along the rig axis [mm]")
-    largest_y = max((float(abs(line.u_y_um).max()) for line in lines if line.x_mm.size), default=0.0)
-    largest_z = max((float(abs(line.u_z_um).max()) for line in lines if line.x_mm.size), default=0.0)
-    if largest_z <= 1e-6 * largest_y:
-        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane",
+    flat_z, _, largest_z = out_of_plane_is_rounding(lines)
+    if flat_z:
+        panels[1].set_ylim(-1.0, 1.0)
+        panels[1].text(0.5, 0.7, "u_z = 0 along the whole rig: every load of these cases acts in the x–y plane"
+                       + (f" (the solve's rounding, |u_z| ≤ {largest_z:.0e} µm, is drawn as 0)" if largest_z else ""),
                        transform=panels[1].transAxes, ha="center", va="center", fontsize=9, color="#444444",
                        bbox={"facecolor": "white", "edgecolor": "#cccccc"})
 

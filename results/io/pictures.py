@@ -805,7 +805,7 @@ def _beta_axis(ax, length: float, micro: bool) -> None:
 
 def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title: str | None = None,  # noqa: PLR0913
                      path_lengths_mm: tuple[float, float] | None = None, dpi: int = 150,
-                     micro: bool = False) -> Path:
+                     micro: bool = False, published_label: str = "published (paper 000)") -> Path:
     """Two panels, Y_input (mm) against T1 and Y_output (mm) against T2 (N·m), written as a PNG.
 
     Y is the path's largest |u_y|, as published. Each panel gets a right-hand axis with
@@ -830,6 +830,8 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
     micro : bool
         Y in µm and β in µrad instead of mm and degrees (sub-µm values read as plain numbers, without a
         1e-4 offset on the axis).
+    published_label : str
+        The legend of the ``published`` points (the measured data's own name for a user's table).
 
     Returns
     -------
@@ -861,7 +863,7 @@ def plot_y_vs_torque(model_rows, path_png: str | Path, *, published=None, title:
                     label=label)
         if reference is not None:
             ax.plot(reference[torque], scale * reference[key], "o", mfc="none", mec="black", ms=7, mew=1.3,
-                    label="published (paper 000)", zorder=5)
+                    label=published_label, zorder=5)
         ax.set_xlabel(torque_label)
         ax.set_ylabel(f"Y_{shaft} (largest |u_y| on the {shaft} shaft) [{unit}]")
         if not micro:

@@ -43,17 +43,29 @@ ENGINEERING_DEFINITIONS = {
     "shafts": "beta_paper: paper 000's beta = arcsin(Y_max / L), not a tilt; tilt: slope of the least-squares line "
               "through u_y(x), the shaft's true tilt; end_slopes: cross-section rotation about z at the path's ends; "
               "end_offsets: u_y at the path's ends (all from the measured_from state)",
-    "couplings": "parallel offset and angular misalignment of the to-hub against the from-hub at the coupling centre, "
-                 "from the measured_from state (a rig is aligned at rest), with the installed misalignment the rig "
-                 "file declares (parallel_offset_um, angular_misalignment_mrad); use_percent: of the datasheet allowable "
-                 "(allowable_parallel_offset_mm, allowable_angular_misalignment_deg); grade: excellent / acceptable / "
-                 "out of tolerance against the alignment tolerance for speed_rpm",
+    "couplings": "offset_um / angle_urad / angularity_mm_per_100mm: parallel offset and angular misalignment of the "
+                 "to-hub against the from-hub at the coupling centre, from the measured_from state (a rig is aligned "
+                 "at rest: the change under load), with the installed misalignment the rig file declares "
+                 "(parallel_offset_um, angular_misalignment_mrad); offset_from_unloaded_um / angle_from_unloaded_urad: "
+                 "the same misalignment from the unloaded geometry (self-weight included), a different quantity; "
+                 "use_percent: offset_um and angle of the datasheet allowable (allowable_parallel_offset_mm, "
+                 "allowable_angular_misalignment_deg); grade: excellent / acceptable / out of tolerance against the "
+                 "alignment tolerance for speed_rpm",
     "alignment_tolerances": ALIGNMENT_TOLERANCE_SOURCE,
-    "bearings": "force the bearing exerts on its shaft (radial: total from the unloaded geometry, self-weight "
-                "included; change: since the rest state) and tilt of the inner ring against the outer "
-                "(total and change), against allowable_misalignment_arcmin",
-    "reactions": "force and moment (about the support point) each mount and each bearing housed in ground exerts on "
-                 "its part, total (self-weight included)",
+    "bearings": "force the bearing exerts on its shaft (force_radial_N: total from the unloaded geometry, self-weight "
+                "included; force_radial_change_N: since the rest state) and tilt of the inner ring against the outer "
+                "(total and change), against allowable_misalignment_arcmin; model: linear, clearance, or the model from "
+                "geometry (ball, angular_contact, cylindrical_roller, tapered_roller); "
+                "radial/axial/tilt_stiffness: the operating stiffness in the case (a linear bearing's typed-in spring, "
+                "the tangent of a clearance's or a bearing from geometry's force law; radial: mean of y and z); "
+                "loaded_elements, max_element_load_N: a bearing from geometry's balls or rollers in contact and its "
+                "largest rolling-element load",
+    "reactions": "force and moment (about the support point; a housing: the centre of its attachments) each mount, "
+                 "each bearing housed in ground and each condensed housing as a whole (kind) exerts on the rig, total "
+                 "(self-weight included) and change under load; components below 1e-9 of the case's largest support "
+                 "force are rounding and written as 0",
+    "applied": "applied_force_N: resultant of every load on the rig (weight and applied forces), which the reactions' "
+               "forces sum to minus; applied_torque_x_Nm: the applied loads' moment about the rig axis",
     "equilibrium_residual": "|applied loads + ground reactions| of the total state, force and moment about the origin",
 }
 

@@ -81,9 +81,10 @@ def write_sweep_files(out: Path, stem: str, header: dict, records: list[dict]) -
     ]
 
 
-RECORD_FORMAT = 3
-"""What a case record holds: 2 adds the engineering quantities (issue 15), 3 the bearing lives and reducer checks
-(issue 25). A journal line of another
+RECORD_FORMAT = 4
+"""What a case record holds: 2 adds the engineering quantities (issue 15); 3 the bearing lives and reducer checks
+(issue 25); 4 the coupling misalignment from the unloaded geometry under its own name, the bearings' operating
+stiffness and ball loads, the housings' reactions and the applied-load resultant (issue 24). A journal line of another
 format is not reused, even from the same rvcoax version (a development build)."""
 
 

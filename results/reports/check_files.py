@@ -14,7 +14,8 @@ __all__ = ["check_rows", "write_check"]
 
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,  # noqa: PLR0913
-                *, title: str | None = None) -> list[Path]:
+                *, title: str | None = None, table_label: str = "published (paper 000)",
+                tolerance: str | None = None, measured: bool = False) -> list[Path]:
     """Write the check's files in ``out``, atomically.
 
     Parameters
@@ -29,6 +30,13 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         With a name, also the PNG of Y against torque with the published points.
     title : str, optional
         The picture's title.
+    table_label : str
+        What the table compared with is called (the legend of its points; ``check_verdict.json``).
+    tolerance : str, optional
+        How values were judged (:attr:`rvcoax.results.studies.check.Tolerance.description`).
+    measured : bool
+        The table is the user's measured data: ``check.csv`` names its columns ``measured_*`` instead of
+        ``published_*``.
 
     Returns
     -------
@@ -38,9 +46,11 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
     result = run.calibrated_verdict
     written = [
         write_csv_atomic(out / "check.csv", check_rows(run.comparison_blind, run.comparison_calibrated,
-                                                               run.rows, run.calibration.fit_rows)),
+                                                       run.rows, run.calibration.fit_rows,
+                                                       "measured" if measured else "published")),
         write_json_atomic(out / "check_verdict.json", {
             "status": run.outcome.status, "verdict": run.outcome.text, "exit_code": run.outcome.exit_code,
+            **({"compared_with": table_label, "tolerance": tolerance} if measured else {}),
             "implausible_parameters": list(run.outcome.implausible),
             "held_out_values_outside_tolerance": result.failures,
             "held_out_worst_relative_error_percent": 100 * result.worst_relative_error}),
@@ -51,18 +61,20 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         from rvcoax.results.io.pictures import plot_y_vs_torque
 
         written.append(plot_y_vs_torque({"blind": run.blind, "calibrated": run.calibrated}, out / picture_name,
-                                        published=run.rows, title=title))
+                                        published=run.rows, title=title, micro=True, published_label=table_label))
     return written
 
 
-def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows) -> list[dict]:
-    """The columns of ``check.csv``: published, blind and calibrated values and errors per row."""
+def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows,
+               reference: str = "published") -> list[dict]:
+    """The columns of ``check.csv``: the table's values (``published_*`` for paper 000's table, ``measured_*``
+    for the user's data: ``reference``), blind and calibrated values and errors per row."""
     out = []
     for i, row in enumerate(rows):
         entry = {"T1_input_Nm": row.case.input_torque_Nm, "T2_output_Nm": row.case.output_torque_Nm,
                  "used_for_fit": i in fit_rows}
         for q in CHECK_QUANTITIES:
-            entry[f"published_{q}"] = float(comparison_blind.published[q][i])
+            entry[f"{reference}_{q}"] = float(comparison_blind.published[q][i])
             for label, comp in (("blind", comparison_blind), ("calibrated", comparison_calibrated)):
                 entry[f"{label}_{q}"] = float(comp.model[q][i])
                 entry[f"{label}_abs_error_{q}"] = float(comp.absolute_error[q][i])

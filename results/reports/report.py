@@ -8,11 +8,13 @@ to PDF (``chromium --headless --print-to-pdf``). Sections, each an ``<section id
 ``load-cases``     the torque pairs solved
 ``bending-lines``  the bending line of the whole rig, and the deformed rig of the largest case
 ``shafts``         Y and tilt of the measured shafts against torque (pictures and table)
+``decides``        what decides Y: each assumed ([A]) input halved and doubled, ranked by the change of Y
 ``misalignment``   couplings and bearings against their allowable values, with verdicts
 ``reactions``      the support reactions and the equilibrium residual
 ``check``          the model against a measured table (when one is given)
 ``discrepancy``    the result of ``rvcoax discrepancy`` (when its ``discrepancy.json`` is given)
 ``modes``          natural frequencies, interference diagram and mode shapes (:mod:`.modes_section`, when given)
+``inputs``         every input of the rig file, key by key, with its provenance tag (or "default")
 ``provenance``     rvcoax version, rig file and its SHA-256, model, solver, mesh, date
 """
 
@@ -31,16 +33,19 @@ import numpy as np
 
 from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results.engineering import bearing_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
 
-__all__ = ["REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
+__all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
 REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
-    "shafts": "Y and tilt against torque", "misalignment": "Couplings and bearings: misalignment",
+    "shafts": "Y and tilt against torque", "decides": "What decides Y",
+    "misalignment": "Couplings and bearings: misalignment",
     "reactions": "Support reactions and equilibrium", "check": "Check against measured data",
     "discrepancy": "Discrepancy between model and measurement", "modes": "Natural frequencies and interference",
+    "inputs": "Complete input listing",
     "provenance": "Provenance",
 }
 
@@ -51,6 +56,7 @@ h1 { font-size: 24px; margin: 28px 0 4px; }
 h2 { font-size: 19px; border-bottom: 2px solid #4c72b0; padding-bottom: 3px; margin-top: 34px; }
 h3 { font-size: 15px; margin: 18px 0 6px; }
 p.sub { color: #555; margin-top: 0; }
+p.sign { color: #333; font-size: 12px; margin: 0 0 6px; overflow-wrap: anywhere; }
 nav { background: #f3f5f9; padding: 8px 12px; border-radius: 4px; display: flex; flex-wrap: wrap; gap: 4px 14px; }
 nav a { color: #2a4f8f; text-decoration: none; white-space: nowrap; }
 table { border-collapse: collapse; margin: 6px 0 4px; font-size: 12.5px; }
@@ -65,7 +71,10 @@ img { max-width: 100%; border: 1px solid #e2e2e2; margin: 6px 0; }
 .missing { color: #8a5a00; background: #fff6e0; padding: 6px 10px; border-left: 3px solid #e0a000; }
 dl { display: grid; grid-template-columns: max-content auto; gap: 2px 16px; }
 dt { font-weight: bold; } dd { margin: 0; font-family: "DejaVu Sans Mono", monospace; font-size: 12.5px; }
-@media print { nav { display: none; } section { page-break-inside: avoid; } }
+@media print { nav { display: none; } section { page-break-inside: avoid; }
+  body { font-size: 10.5px; padding: 0; max-width: none; } h1 { font-size: 18px; } h2 { font-size: 14px; }
+  table { font-size: 8px; } th, td { padding: 1px 3px; } p.note, p.sign { font-size: 9px; }
+  img { max-width: 100%; page-break-inside: avoid; } tr { page-break-inside: avoid; } }
 """
 
 
@@ -83,6 +92,9 @@ class ReportInputs:
         The rig file's name and text (for the provenance tags and the hash).
     measured : MeasuredData, optional
         Measured Y (table or paths schema) to check the model against.
+    measured_tolerance : Tolerance, optional
+        Their measurement uncertainty (:func:`rvcoax.results.studies.check.measurement_tolerance`; by
+        default the file's own, else a stated assumption).
     discrepancy : dict, optional
         The document of ``rvcoax discrepancy`` (``discrepancy.json``), with ``discrepancy_source``.
     """
@@ -93,10 +105,14 @@ class ReportInputs:
     discrepancy: dict | None = None
     discrepancy_source: str = ""
     modes: object | None = None  # a ModalStudy (rvcoax.modes) for the section on natural frequencies
+    measured_tolerance: object | None = None
 
 
 def _png_uri(path: Path) -> str:
     return "data:image/png;base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+_VERDICT_CLASSES = {"within uncertainty": "fine", "EXCEEDS uncertainty": "exceeds"}
 
 
 def _table_html(table: tables.Table) -> str:
@@ -120,6 +136,8 @@ def _table_html(table: tables.Table) -> str:
 
 def _verdict_class(cell: str) -> str:
     """The colour class of a verdict cell: fine, within (near a limit) or exceeds."""
+    if cell in _VERDICT_CLASSES:
+        return _VERDICT_CLASSES[cell]
     if cell.startswith(("EXCEEDS", "BELOW")):
         return "exceeds"
     if cell in ("within rating", "above minimum load"):
@@ -445,20 +463,56 @@ def _modes_html(study, folder: Path) -> str:
     return modes_section_html(study, folder, _table_html, _png_uri)
 
 
-def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None) -> str:
-    """The report of ``sweep`` as one self-contained HTML document (see the module's docstring)."""
+PAPER_SIZES = {"a4": "A4", "letter": "letter"}
+"""The page sizes a report prints on (``--paper``), as its CSS ``@page`` rule names them; A4 by default."""
+
+
+def _signature_html(sweep, inputs: ReportInputs, created: str) -> str:
+    """The line under the title that signs the report: rig file, its SHA-256, rvcoax version, date."""
+    from rvcoax.results.io.records import rvcoax_version, text_sha256
+
+    items = (("rig file", inputs.rig_source), ("SHA-256", text_sha256(inputs.rig_text)),
+             ("rvcoax", rvcoax_version()), ("created", created))
+    return ('<p class="sign">' + " · ".join(f"{html.escape(k)}: <code>{html.escape(v)}</code>" for k, v in items)
+            + "</p>")
+
+
+def _decides_html(sweep, inputs: ReportInputs) -> str:
+    from rvcoax.results.studies.decides import what_decides_y
+
+    assumed = tables.assumed_inputs(sweep.rig, inputs.rig_text)
+    if not assumed:
+        return _missing("The rig file tags no numeric input [A] (an assumption): nothing to vary. Tag the values "
+                        "you assumed with a comment # [A] to see which of them decide Y.")
+    entries = [c.case for c in sweep.cases]
+    case = entries[max(range(len(entries)), key=lambda i: (abs(entries[i].output_torque_Nm),
+                                                           abs(entries[i].input_torque_Nm)))]
+    return _table_html(tables.decides_table(what_decides_y(sweep.rig, assumed, case, sweep.settings)))
+
+
+def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,  # noqa: PLR0913
+                paper: str = "a4", decides: bool = True) -> str:
+    """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
+
+    ``paper``: the page size it prints on (``a4``, the default, or ``letter``), set in its ``@page`` rule,
+    which headless Chromium's PDF follows. ``decides``: compute the "what decides Y" table (two more
+    solves per assumed input).
+    """
+    if paper not in PAPER_SIZES:
+        raise ReportError(f"paper size must be one of {', '.join(PAPER_SIZES)}, got {paper!r}")
     created = created or _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     with tempfile.TemporaryDirectory(prefix="rvcoax-report-") as folder:
         pictures, picture_note = _pictures(sweep, Path(folder), deformed_view)
         uris = {key: _png_uri(path) for key, path in pictures.items()}
         modes = _modes_html(inputs.modes, Path(folder))
     rig = sweep.rig
+    entries = tables.case_entries(sweep)
     body = []
     body.append(_section("rig", "".join(_table_html(t) for t in tables.rig_tables(sweep, inputs.rig_text))
                          + '<p class="note">Provenance tags of the rig file: '
                          + "; ".join(f"[{k}] {v}" for k, v in tables.PROVENANCE_TAGS.items())
                          + ". An untagged value has no stated source.</p>"))
-    body.append(_section("load-cases", _table_html(tables.load_case_table(sweep))))
+    body.append(_section("load-cases", _table_html(tables.load_case_table(sweep, entries))))
     bending = (f'<img alt="bending line of the whole rig" src="{uris["bending"]}">'
                '<p class="note">u_y, u_z and the section rotations of every part along the rig axis; the strip on '
                'top names the parts (shafts blue, housings hatched), bearings ▲ and couplings ◆.</p>')
@@ -469,16 +523,21 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("bending-lines", bending))
     body.append(_section("shafts", f'<img alt="Y against torque" src="{uris["y"]}">'
                                    f'<img alt="tilt against torque" src="{uris["tilt"]}">'
-                         + _table_html(tables.shaft_table(sweep))))
-    misalignment = tables.misalignment_tables(sweep) + tables.life_tables(sweep) + tables.gear_mesh_tables(sweep)
-    body.append(_section("misalignment", "".join(_table_html(t) for t in misalignment)
-                         or _missing("The rig has no couplings or bearings.")))
-    body.append(_section("reactions", _table_html(tables.reaction_table(sweep))))
+                         + _table_html(tables.shaft_table(sweep, entries))))
+    body.append(_section("decides", _decides_html(sweep, inputs) if decides else _missing(
+        "Not computed (rvcoax report --no-decides).")))
+    misalignment = (tables.misalignment_tables(sweep, entries) + tables.life_tables(sweep)
+                    + tables.gear_mesh_tables(sweep))
+    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
+                         + ("".join(_table_html(t) for t in misalignment)
+                            or _missing("The rig has no couplings or bearings."))))
+    body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep
 
         checked = run_sweep(rig, inputs.measured.cases, sweep.settings)
-        body.append(_section("check", _table_html(tables.check_table(inputs.measured, checked))))
+        body.append(_section("check", _table_html(tables.check_table(inputs.measured, checked,
+                                                                     inputs.measured_tolerance))))
     else:
         body.append(_section("check", _missing("No measured data given (rvcoax report --measured FILE, a table "
                                                "T1_input_Nm, T2_output_Nm, Y_input_mm, Y_output_mm or a paths "
@@ -489,13 +548,20 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         body.append(_section("discrepancy", _missing("No discrepancy result given (rvcoax report --discrepancy "
                                                      "OUT/discrepancy.json, written by rvcoax discrepancy --out).")))
     body.append(_section("modes", modes))
+    body.append(_section("inputs", "".join(_table_html(t) for t in tables.input_listing(rig, inputs.rig_text))
+                         + '<p class="note">Provenance: the tag of the key\'s comment in the rig file ([S] datasheet, '
+                           '[P] paper 000, [R] catalogue value from memory, [A] assumption, [D] derived); a tag on '
+                           'a line of its own counts for its whole entry; "default": the key is not in the file and '
+                           'takes its default; "untagged": in the file without a stated source.</p>'))
     body.append(_section("provenance", _provenance_html(sweep, inputs, created)))
     nav = "".join(f'<a href="#{k}">{html.escape(v)}</a>' for k, v in REPORT_SECTIONS.items())
     lengths = ", ".join(f"{s} {getattr(rig.paths, s).length_mm:g} mm" for s in MEASURED_SHAFTS)
     title = html.escape(rig.rig.name)
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-            f"<title>rvcoax report: {title}</title><style>{_STYLE}</style></head><body>\n"
-            f"<h1>rvcoax report: {title}</h1><p class=\"sub\">{html.escape(rig.rig.description)} — "
+            f"<title>rvcoax report: {title}</title><style>{_STYLE}"
+            f"@page {{ size: {PAPER_SIZES[paper]}; margin: 14mm 12mm; }}</style></head><body>\n"
+            f"<h1>rvcoax report: {title}</h1>{_signature_html(sweep, inputs, created)}"
+            f"<p class=\"sub\">{html.escape(rig.rig.description)} — "
             f"{len(sweep.cases)} load cases, {html.escape(sweep.settings.model)} model, measured shafts: "
             f"{html.escape(lengths)}. Units: µm, µrad, N, N·m unless a heading says otherwise.</p>\n"
             f"<nav>{nav}</nav>\n" + "\n".join(body) + "\n</body></html>\n")
@@ -503,7 +569,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
 
 def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, measured=None,  # noqa: PLR0913
                  discrepancy: str | Path | dict | None = None, discrepancy_source: str = "",
-                 deformed_view: bool = True, modes=None) -> Path:
+                 deformed_view: bool = True, modes=None, paper: str = "a4", decides: bool = True,
+                 measured_tolerance=None) -> Path:
     """Write the study report of ``sweep`` to ``path`` (one self-contained HTML file), atomically.
 
     Parameters
@@ -522,6 +589,14 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         unavailable the report says why instead).
     modes : ModalStudy, optional
         The rig's natural modes (:func:`rvcoax.modes`): the mode table, interference diagram and mode shapes.
+    paper : str
+        ``a4`` (default) or ``letter``: the page size the report prints on.
+    measured_tolerance : Tolerance, optional
+        The measurement uncertainty ``measured`` is judged with (by default its file's, else stated as
+        assumed).
+    decides : bool
+        Compute the "what decides Y" table: each [A] input of the rig file halved and doubled (two beam
+        solves each, seconds for a rig of tens of assumed inputs).
 
     Returns
     -------
@@ -536,5 +611,7 @@ def write_report(sweep, path: str | Path, *, rig_source: str, rig_text: str, mea
         source = str(discrepancy)
         discrepancy = read_discrepancy(discrepancy)
     inputs = ReportInputs(rig_source=rig_source, rig_text=rig_text, measured=data, discrepancy=discrepancy,
-                          discrepancy_source=source or "the discrepancy document given", modes=modes)
-    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view))
+                          discrepancy_source=source or "the discrepancy document given", modes=modes,
+                          measured_tolerance=measured_tolerance)
+    return write_text_atomic(path, report_html(sweep, inputs, deformed_view=deformed_view, paper=paper,
+                                                   decides=decides))

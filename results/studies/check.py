@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,7 +15,8 @@ from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stat
 from rvcoax.results.sweep import Sweep
 
 __all__ = ["CheckVerdict", "Comparison", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN", "MeasuredTableError",
-           "CHECK_QUANTITIES", "Tolerance", "Verdict", "check_verdict", "compare", "measured_rows", "published_values",
+           "CHECK_QUANTITIES", "Tolerance", "Verdict", "check_verdict", "compare", "measured_rows", "measurement_tolerance",
+           "published_values",
            "sweep_values", "verdict", "y_at_stations"]
 
 CHECK_QUANTITIES = ("Y_input_mm", "Y_output_mm", "beta_input_deg", "beta_output_deg")
@@ -31,10 +33,57 @@ class Tolerance:
 
     relative: float = 0.02
     absolute_y_mm: float = 1e-7
+    absolute_y_mm_by_shaft: tuple[tuple[str, float], ...] = ()  # overrides absolute_y_mm for a shaft
+    description: str = "2 % of each value (paper 000's rounding), at least 1e-7 mm"
 
     def limit(self, quantity: str, published: float, length_mm: float) -> float:
-        floor = self.absolute_y_mm if quantity.startswith("Y") else float(beta_from_y_deg(self.absolute_y_mm, length_mm))
+        shaft = "input" if "input" in quantity else "output"
+        absolute = dict(self.absolute_y_mm_by_shaft).get(shaft, self.absolute_y_mm)
+        floor = absolute if quantity.startswith("Y") else float(beta_from_y_deg(absolute, length_mm))
         return max(self.relative * abs(published), floor)
+
+
+def measurement_tolerance(data: MeasuredData, uncertainty_um: float | None = None,
+                          uncertainty_percent: float | None = None) -> Tolerance:
+    """The tolerance a measured table is judged with: its measurement uncertainty.
+
+    From the options (``uncertainty_um``, ``uncertainty_percent``) where given, else from the file's
+    ``# uncertainty_um`` / ``# uncertainty_percent`` lines; a value is within when |model − measured| ≤
+    max(relative · |measured|, absolute). Where neither gives one, 2 % of each value and, as the absolute
+    part, one unit of the last digit the file prints (a table's resolution: it cannot be known better),
+    and the description says that no uncertainty was given.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The measured data (:func:`rvcoax.read_measured`).
+    uncertainty_um, uncertainty_percent : float, optional
+        From the command line; each takes precedence over the file's.
+
+    Returns
+    -------
+    Tolerance
+        With its ``description`` (shown beside the verdict).
+    """
+    absolute = uncertainty_um if uncertainty_um is not None else data.uncertainty_um
+    relative = uncertainty_percent if uncertainty_percent is not None else data.uncertainty_percent
+    where = {k: ("the command line" if given is not None else "the file")
+             for k, given in (("um", uncertainty_um), ("percent", uncertainty_percent))}
+    if absolute is None and relative is None:
+        quantum = {s: q for s, q in (data.quantum_mm or {}).items() if math.isfinite(q)}
+        resolution = ", ".join(f"{s} {1e3 * q:g} µm" for s, q in quantum.items())
+        return Tolerance(0.02, 1e-7, tuple(quantum.items()),
+                         "no measurement uncertainty given (--uncertainty-um / --uncertainty-percent, or "
+                         "'# uncertainty_um = …' in the file): assumed 2 % of each value"
+                         + (f", at least the file's printed resolution ({resolution})" if resolution else ""))
+    parts = []
+    if absolute is not None:
+        parts.append(f"±{absolute:g} µm (from {where['um']})")
+    if relative is not None:
+        parts.append(f"±{relative:g} % of each value (from {where['percent']})")
+    return Tolerance((relative or 0.0) / 100.0, (absolute or 0.0) * 1e-3, (),
+                     "measurement uncertainty " + " or ".join(parts) + (", whichever is larger" if len(parts) > 1
+                                                                         else ""))
 
 
 def y_at_stations(station_mm, uy_mm, stations_mm) -> float:

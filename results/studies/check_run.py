@@ -16,7 +16,7 @@ from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table
 from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate
-from rvcoax.results.studies.check import CheckVerdict, Comparison, Verdict, check_verdict, compare, verdict
+from rvcoax.results.studies.check import CheckVerdict, Comparison, Tolerance, Verdict, check_verdict, compare, verdict
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
 __all__ = ["CalibrationError", "CheckRun", "MissingTableError", "NO_TABLE_HELP", "fit_output_torques", "held_out_mask", "run_check"]
@@ -106,9 +106,10 @@ def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
     return mask
 
 
-def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,
-              prepared: PreparedModel | None = None,
-              progress: Callable[[str, int, int], None] | None = None) -> CheckRun:
+def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,  # noqa: PLR0913
+              prepared: PreparedModel | None = None, *,
+              progress: Callable[[str, int, int], None] | None = None,
+              tolerance: Tolerance | None = None) -> CheckRun:
     """Compare ``rig`` with a published Y/β table, blind and calibrated.
 
     Parameters
@@ -125,6 +126,9 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     progress : callable, optional
         ``progress(stage, done, total)`` with stage ``"blind sweep"``, ``"calibrating"`` or
         ``"calibrated sweep"``.
+    tolerance : Tolerance, optional
+        What a value must be within: paper 000's 2 % by default; for measured data their measurement
+        uncertainty (:func:`rvcoax.results.studies.check.measurement_tolerance`).
 
     Returns
     -------
@@ -161,7 +165,8 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     if progress is not None:
         progress("calibrating", 1, 1)
     calibrated = sweep(calibration.rig, "calibrated sweep")
-    comparison_blind, comparison_calibrated = compare(rows, blind), compare(rows, calibrated)
+    tolerance = Tolerance() if tolerance is None else tolerance
+    comparison_blind, comparison_calibrated = compare(rows, blind, tolerance), compare(rows, calibrated, tolerance)
     held_out = held_out_mask(len(rows), calibration.fit_rows)
     calibrated_verdict = verdict(comparison_calibrated, held_out)
     blind_verdict = verdict(comparison_blind, np.ones(len(rows), dtype=bool))

@@ -104,10 +104,18 @@ def test_an_installed_coupling_misalignment_stays_in_the_coupling(rig):
                                       "speed_rpm = 15\nparallel_offset_um = 30.0", 1)
     misaligned = parse_rig_text(text)
     assert misaligned.couplings[1].parallel_offset_um == 30.0
-    coupling = engineering_tables(run_sweep(misaligned, default_cases(misaligned)[:1]))[0]["couplings"][1]
+    sweep = run_sweep(misaligned, default_cases(misaligned)[:1])
+    coupling = engineering_tables(sweep)[0]["couplings"][1]
     # aligned at rest, the load adds well under a µm (C2 at 82 N·m: 0.006 µm) to the installed 30 µm
     assert coupling["offset_um"] == pytest.approx(30.0, abs=0.1)
     assert coupling["offset_use_percent"] == pytest.approx(100 * 0.030 / 0.25, abs=0.1)
+    # issue 24: one name, one definition: the dynamics export's offsets are sweep.csv's, in both references
+    from rvcoax.results.export.dynamics import coupling_rows, dynamics_export
+
+    row = next(r for r in coupling_rows(dynamics_export(sweep)) if r["coupling"] == coupling["name"])
+    assert row["offset_radial_um"] == pytest.approx(coupling["offset_um"], rel=1e-12)
+    assert row["offset_radial_unloaded_ref_um"] == pytest.approx(coupling["offset_from_unloaded_um"], rel=1e-12)
+    assert row["angle_deg"] == pytest.approx(coupling["angle_deg"], rel=1e-12, abs=1e-15)
 
 
 def _invoke(*args):

@@ -10,11 +10,22 @@
 
 The schema is recognised from the columns. Every problem is reported with the file, the line and
 the column.
+
+Lines that start with ``#`` are comments. Three of them, before the header or anywhere, describe the
+data as a whole (``# key = value``):
+
+``# label = "dial gauges, bench 2, March run"``   what the data are called in tables and pictures
+``# uncertainty_um = 0.5``                        the measurement uncertainty, absolute (µm) …
+``# uncertainty_percent = 3``                     … and relative (% of each value)
+
+The check judges the model with the larger of the two (``rvcoax check --measured``); options given on
+the command line take precedence.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,7 +36,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.loadcases.cases import MAX_TORQUE_NM, LoadCase, separator_hint
 
-__all__ = ["LARGEST_PLAUSIBLE_Y_MM", "MAX_BYTES", "MeasuredData", "MeasuredDataError", "OPTIONAL_COLUMNS",
+__all__ = ["LARGEST_PLAUSIBLE_Y_MM", "MAX_BYTES", "METADATA_KEYS", "MeasuredData", "MeasuredDataError", "OPTIONAL_COLUMNS",
            "PATH_COLUMNS", "MEASURED_SHAFTS", "SHORTEST_PLAUSIBLE_PATH_MM", "TABLE_COLUMNS", "check_stations",
            "parse_measured", "printed_quantum", "read_measured"]
 
@@ -78,6 +89,9 @@ class MeasuredData:
     source: str
     quantum_mm: dict[str, float] | None = None
     line: np.ndarray | None = None  # (n,) the file's line of each observation, when read from a file
+    label: str | None = None  # the file's ``# label = …``
+    uncertainty_um: float | None = None  # the file's ``# uncertainty_um = …`` (absolute)
+    uncertainty_percent: float | None = None  # the file's ``# uncertainty_percent = …`` (relative)
 
     @property
     def n(self) -> int:
@@ -93,7 +107,13 @@ class MeasuredData:
             case_index=np.array([renumber[i] for i in self.case_index[keep]], dtype=int), shaft=self.shaft[keep],
             x_mm=self.x_mm[keep], value_mm=self.value_mm[keep], sigma_mm=None if self.sigma_mm is None else self.sigma_mm[keep],
             source=self.source, quantum_mm=self.quantum_mm, line=None if self.line is None else self.line[keep],
+            label=self.label, uncertainty_um=self.uncertainty_um, uncertainty_percent=self.uncertainty_percent,
         )
+
+    @property
+    def name(self) -> str:
+        """What the data are called: the file's ``# label``, else ``measured (<file>)``."""
+        return self.label or f"measured ({self.source})"
 
 
 def _number(text: str | None, source: str, line: int, column: str, unit: str) -> float:
@@ -125,13 +145,14 @@ def printed_quantum(text: str) -> float:
     return 10.0 ** (int(exponent or 0) - decimals)
 
 
-def _schema_of(columns: list[str], source: str) -> str:
-    """The schema (``paths`` or ``table``) a header line names; refuses an empty, repeated or unknown column."""
+def _schema_of(columns: list[str], source: str, header_line: int) -> str:
+    """The schema (``paths`` or ``table``) the header line (file line ``header_line``) names; refuses an empty, repeated or unknown column."""
     if not columns:
         raise MeasuredDataError(source, "the file is empty (expected a CSV header line)")
     repeated = sorted({c for c in columns if c and columns.count(c) > 1})
     if repeated:
-        raise MeasuredDataError(source, f"line 1: column(s) {', '.join(repeated)} appear more than once")
+        raise MeasuredDataError(source, f"line {header_line}: column(s) {', '.join(repeated)} appear more "
+                                "than once")
     if all(c in columns for c in PATH_COLUMNS):
         schema, needed = "paths", PATH_COLUMNS
     elif all(c in columns for c in TABLE_COLUMNS):
@@ -140,25 +161,57 @@ def _schema_of(columns: list[str], source: str) -> str:
         table_missing = [c for c in TABLE_COLUMNS if c not in columns]
         path_missing = [c for c in PATH_COLUMNS if c not in columns]
         raise MeasuredDataError(
-            source, "line 1: the columns fit neither schema: a table needs " + ", ".join(TABLE_COLUMNS)
+            source, f"line {header_line}: the columns fit neither schema: a table needs " + ", ".join(TABLE_COLUMNS)
             + f" (missing {', '.join(table_missing)}); paths need " + ", ".join(PATH_COLUMNS)
             + f" (missing {', '.join(path_missing)}); found: {', '.join(columns)}"
             + separator_hint(",".join(columns)))
     unknown = [c for c in columns if c not in needed and c not in OPTIONAL_COLUMNS]
     if unknown:
-        raise MeasuredDataError(source, f"line 1: unknown column(s) {', '.join(unknown)} for a {schema} file "
+        raise MeasuredDataError(source, f"line {header_line}: unknown column(s) {', '.join(unknown)} for a {schema} file "
                                 f"(allowed: {', '.join(needed + OPTIONAL_COLUMNS)})")
     return schema
 
 
+METADATA_KEYS = ("label", "uncertainty_um", "uncertainty_percent")
+_METADATA = re.compile(r"^\s*#\s*(?P<key>[A-Za-z_]+)\s*=\s*(?P<value>.*?)\s*$")
+
+
+def _metadata(text: str, source: str) -> dict:
+    """The ``# label``, ``# uncertainty_um`` and ``# uncertainty_percent`` comment lines of a measured file."""
+    found: dict = {}
+    for number, line in enumerate(text.replace("\r\n", "\n").replace("\r", "\n").split("\n"), start=1):
+        match = _METADATA.match(line)
+        if not match or match["key"] not in METADATA_KEYS:
+            continue
+        key, value = match["key"], match["value"]
+        if key in found:
+            raise MeasuredDataError(source, f"line {number}: a second '# {key} = …' line")
+        if key == "label":
+            value = value.strip().strip('"').strip("'").strip()
+            if not value or len(value) > 200 or not value.isprintable():
+                raise MeasuredDataError(source, f"line {number}, # label: give 1 … 200 printable characters")
+            found[key] = value
+            continue
+        try:
+            number_value = plain_number(value)
+        except ValueError as error:
+            raise MeasuredDataError(source, f"line {number}, # {key}: {error} (write the number only)") from None
+        limit = 1e4 if key == "uncertainty_um" else 100.0
+        if not 0.0 <= number_value <= limit:
+            raise MeasuredDataError(source, f"line {number}, # {key}: {number_value:g} must lie in 0 … {limit:g}")
+        found[key] = number_value
+    return found
+
+
 def parse_measured(text: str, source: str) -> MeasuredData:
-    """Parse measured data from CSV text (see the module docstring for the two schemas)."""
+    """Parse measured data from CSV text (see the module docstring for the two schemas and the ``#`` lines)."""
+    metadata = _metadata(text, source)
     try:
-        rows_of_file = list(csv_rows(text))
+        rows_of_file = [row for row in csv_rows(text, comment="#") if any(c.strip() for c in row[1])]
     except InputFileError as error:
         raise MeasuredDataError(source, str(error)) from None
     columns = [c.strip() for c in (rows_of_file[0][1] if rows_of_file else [])]
-    schema = _schema_of(columns, source)
+    schema = _schema_of(columns, source, rows_of_file[0][0] if rows_of_file else 1)
     has_sigma = "sigma_mm" in columns
     cases: dict[tuple[float, float], int] = {}
     rows: list[tuple[int, str, float, float, float, int]] = []  # case, shaft, x, value, sigma, line
@@ -206,7 +259,9 @@ def parse_measured(text: str, source: str) -> MeasuredData:
     case_index, shafts, x, values, sigmas, lines = (np.array(c) for c in zip(*rows))
     return MeasuredData(schema=schema, cases=tuple(LoadCase(a, b) for a, b in cases), case_index=case_index.astype(int), shaft=shafts.astype(str),
                         x_mm=x.astype(float), value_mm=values.astype(float), sigma_mm=sigmas.astype(float) if has_sigma else None,
-                        source=source, quantum_mm=quantum if schema == "table" else None, line=lines.astype(int))
+                        source=source, quantum_mm=quantum if schema == "table" else None, line=lines.astype(int),
+                        label=metadata.get("label"), uncertainty_um=metadata.get("uncertainty_um"),
+                        uncertainty_percent=metadata.get("uncertainty_percent"))
 
 
 LARGEST_PLAUSIBLE_Y_MM = 10.0  # a shaft of a running test rig displaced 10 mm would be wrecked

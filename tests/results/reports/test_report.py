@@ -38,10 +38,12 @@ def test_provenance_tags_are_read_per_entry_and_key():
 def test_support_reactions_carry_the_rig_weight(sweep):
     """From the unloaded geometry the vertical support forces sum to the weight of the rig as modelled."""
     table = report_tables.reaction_table(sweep)
-    total = float(table.rows[-1][1])
+    fy = table.columns.index("F_y [N]")
+    sums = {row[0]: row for row in table.rows[-2:]}
     weight = sum(sweep.frame.part_mass_kg.values()) * sweep.rig.gravity.acceleration_m_per_s2
-    assert table.rows[-1][0] == "sum"
-    assert total == pytest.approx(weight, rel=2e-3)  # the cell has 4 significant digits
+    assert float(sums["sum of the reactions"][fy]) == pytest.approx(weight, rel=2e-3)  # 4 significant digits
+    assert float(sums["− (weight and applied loads)"][fy]) == pytest.approx(weight, rel=2e-3)
+    assert "case 1: T1\u00a0=\u00a01.43, T2\u00a0=\u00a0200" in table.caption
 
 
 def test_verdicts_grade_value_against_allowable():
