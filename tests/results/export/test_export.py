@@ -529,7 +529,7 @@ def test_ross_rotor_carries_the_operating_stiffness_of_ball_bearings(ross):
 
     from rvcoax.results.export.ross import build_rotor, compare_modal, operating_supports, shaft_line
 
-    ball_rig = load_rig(Path(__file__).resolve().parents[2] / "geometry" / "data" / "reference_rig_ball_bearings.toml")
+    ball_rig = load_rig(Path(__file__).resolve().parents[3] / "geometry" / "data" / "reference_rig_ball_bearings.toml")
     sweep = run_sweep(ball_rig, (LoadCase(0.07, 10.0), LoadCase(1.43, 200.0)))
     light, heavy = operating_supports(sweep, 0), operating_supports(sweep, 1)
     balls = [b.name for b in ball_rig.bearings if b.model == "ball"]
