@@ -53,34 +53,13 @@ def check(
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
-    from rvcoax import is_reference_rig, paper_table, run_check, write_check
-    from rvcoax.results.studies import (
-        CHECK_QUANTITIES,
-        EXIT_OUTSIDE,
-        EXIT_WITHIN,
-        NO_TABLE_HELP,
-        CalibrationError,
-        fit_output_torques,
-        measurement_tolerance,
-    )
+    from rvcoax import run_check, write_check
+    from rvcoax.results.studies import CHECK_QUANTITIES, EXIT_OUTSIDE, EXIT_WITHIN, CalibrationError, fit_output_torques
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
-    tolerance = None
-    if measured is None and (uncertainty_um is not None or uncertainty_percent is not None):
-        raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data; paper 000's "
-                                "table is judged with its own 2 % (give --measured FILE)")
-    if measured is not None:
-        from rvcoax import measured_rows, read_measured
-
-        lengths = {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}
-        data = read_measured(measured)
-        rows, table_name = measured_rows(data, lengths), data.name
-        tolerance = measurement_tolerance(data, uncertainty_um, uncertainty_percent)
-    elif is_reference_rig(rig):
-        rows, table_name = paper_table(), "published (paper 000)"
-    else:
-        raise support.UserError(f"rig file {model_choice.rig_text()[0]}: nothing to compare with: {NO_TABLE_HELP}")
+    rows, table_name, tolerance = _table_to_compare(model_choice, rig, measured,
+                                                    uncertainty=(uncertainty_um, uncertainty_percent))
     prepared = support.prepare_with_status(rig, settings)
     with support.progress_bar() as progress:
         tasks = {}
@@ -122,6 +101,26 @@ def check(
                                            table_label=table_name, measured=measured is not None,
                                            tolerance=None if tolerance is None else tolerance.description))
     raise typer.Exit(code=outcome.exit_code)
+
+
+def _table_to_compare(model_choice, rig, measured: Path | None, *, uncertainty: tuple[float | None, float | None]):
+    """(rows, table name, measurement tolerance or None) of what ``check`` compares with: the --measured file
+    judged with its uncertainty, or paper 000's table for the built-in reference rig."""
+    from rvcoax import is_reference_rig, paper_table
+    from rvcoax.results.studies import NO_TABLE_HELP, measurement_tolerance
+
+    if measured is None and any(value is not None for value in uncertainty):
+        raise support.UserError("--uncertainty-um and --uncertainty-percent describe --measured data; paper 000's "
+                                "table is judged with its own 2 % (give --measured FILE)")
+    if measured is not None:
+        from rvcoax import measured_rows, read_measured
+
+        lengths = {s: getattr(rig.paths, s).length_mm for s in MEASURED_SHAFTS}
+        data = read_measured(measured)
+        return measured_rows(data, lengths), data.name, measurement_tolerance(data, *uncertainty)
+    if is_reference_rig(rig):
+        return paper_table(), "published (paper 000)", None
+    raise support.UserError(f"rig file {model_choice.rig_text()[0]}: nothing to compare with: {NO_TABLE_HELP}")
 
 
 def _print_calibration(calibration, fit) -> None:

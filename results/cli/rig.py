@@ -22,10 +22,8 @@ __all__ = ["COMMANDS", "rig_example", "rig_reference", "rig_show"]
 
 def rig_show(rig_file: RigOption = None) -> None:
     """A readable table of the rig: parts with their modelled mass, supports, couplings, torque paths."""
-    import numpy as np
-
     from rvcoax import load_rig
-    from rvcoax.geometry.model import build_rig_model, gear_mesh_forces
+    from rvcoax.geometry.model import build_rig_model
 
     rig = load_rig(rig_file)
     frame = build_rig_model(rig)
@@ -44,6 +42,26 @@ def rig_show(rig_file: RigOption = None) -> None:
     console.print(parts)
     console.print(f"total mass {sum(frame.part_mass_kg.values()):.2f} kg; beam model: {frame.structure.n_nodes} nodes, "
                   f"{frame.structure.n_dofs} DOF")
+    _print_springs(rig)
+    _print_seat_table(rig)
+    _print_torque_paths(rig)
+    if rig.thermal is not None:
+        from rvcoax.geometry import free_axial_growth_um, mount_lift_um
+
+        grows = [f"{name} {free_axial_growth_um(rig, name):.1f}" for name in rig.thermal.temperature_rise_K]
+        lifts = [f"{m.name} {mount_lift_um(rig, m):.1f}" for m in rig.mounts if mount_lift_um(rig, m)]
+        console.print(f"temperatures: free axial growth µm: {', '.join(grows) or 'none'}; support lifts µm: "
+                      f"{', '.join(lifts) or 'none'}")
+    console.print(f"gravity: {'on' if rig.gravity.enabled else 'off'}; paper force table applied: "
+                  f"{rig.force_table.apply}; Y measured from: {rig.paths.measured_from}; paths: input "
+                  f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
+                  f"output {rig.paths.output.part} {rig.paths.output.x_start_mm:g} + "
+                  f"{rig.paths.output.length_mm:g} mm")
+    _warn_as_a_solve_does(rig)
+
+
+def _print_springs(rig) -> None:
+    """The table of supports and connections: bearings, mounts, housings, couplings, joints."""
     springs = Table(title="Supports and connections", title_justify="left")
     for column in ("kind", "name", "between", "x mm", "stiffness"):
         springs.add_column(column)
@@ -84,7 +102,14 @@ def rig_show(rig_file: RigOption = None) -> None:
         add_text_row(springs, "joint", j.name, f"{j.from_.part} / {j.to.part}", f"{j.to.x_mm:g}",
                         f"{list(j.translational_stiffness_N_per_um)} N/µm, {list(j.rotational_stiffness_Nm_per_rad)} N·m/rad")
     console.print(springs)
-    _print_seat_table(rig)
+
+
+def _print_torque_paths(rig) -> None:
+    """The table of how torque becomes a lateral load: the torque-to-load table and the gear meshes."""
+    import numpy as np
+
+    from rvcoax.geometry.model import gear_mesh_forces
+
     paths = Table(title="How torque becomes a lateral load", title_justify="left")
     for column in ("name", "torque", "kind", "acts on", "N per N·m", "engaged force N", "direction °"):
         paths.add_column(column)
@@ -98,19 +123,6 @@ def rig_show(rig_file: RigOption = None) -> None:
                      f"{float(np.hypot(*lateral)):.4g}", f"{float(np.hypot(*engaged.force_N[1:])):.4g}",
                      f"{np.degrees(np.arctan2(lateral[1], lateral[0])):.4g}" if np.any(lateral) else "-")
     console.print(paths)
-    if rig.thermal is not None:
-        from rvcoax.geometry import free_axial_growth_um, mount_lift_um
-
-        grows = [f"{name} {free_axial_growth_um(rig, name):.1f}" for name in rig.thermal.temperature_rise_K]
-        lifts = [f"{m.name} {mount_lift_um(rig, m):.1f}" for m in rig.mounts if mount_lift_um(rig, m)]
-        console.print(f"temperatures: free axial growth µm: {', '.join(grows) or 'none'}; support lifts µm: "
-                      f"{', '.join(lifts) or 'none'}")
-    console.print(f"gravity: {'on' if rig.gravity.enabled else 'off'}; paper force table applied: "
-                  f"{rig.force_table.apply}; Y measured from: {rig.paths.measured_from}; paths: input "
-                  f"{rig.paths.input.part} {rig.paths.input.x_start_mm:g} + {rig.paths.input.length_mm:g} mm, "
-                  f"output {rig.paths.output.part} {rig.paths.output.x_start_mm:g} + "
-                  f"{rig.paths.output.length_mm:g} mm")
-    _warn_as_a_solve_does(rig)
 
 
 def _print_seat_table(rig) -> None:

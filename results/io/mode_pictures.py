@@ -51,6 +51,27 @@ def _view_of(kind: str) -> str:
     return "side"
 
 
+def _mode_geometry(mesh: FieldMesh, u: np.ndarray, twist, view_kind: str):
+    """(points, deformed points, scalar in 0 … 1, warp factor, rig length in m) of a mode drawn in ``view_kind``:
+    turned so that the mode's plane faces the camera, warped to a fixed share of the rig length."""
+    points = np.asarray(mesh.points, dtype=float)
+    if view_kind == "above":  # turned −90° about x: z is up in the picture
+        rotate = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+        points, u = points @ rotate.T, u @ rotate.T
+    length = mesh_length_m(mesh)
+    amplitude = np.linalg.norm(u, axis=1)
+    if view_kind == "twist":
+        scalar = np.abs(np.asarray(twist, dtype=float).ravel())
+        factor = 0.0
+    else:
+        scalar = amplitude
+        largest = float(amplitude.max())
+        factor = MODE_WARP_FRACTION * length / largest if largest > 0 else 0.0
+    scalar = scalar / scalar.max() if scalar.max() > 0 else scalar
+    deformed = points + factor * u
+    return points, deformed, scalar, factor, length
+
+
 def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, kind: str, *, title: str,  # noqa: PLR0913
                 path_png: str | Path, bearings_x_mm: Sequence[float] = (), window_size: tuple[int, int] = (1600, 600),
                 min_radius_fraction: float = 0.002) -> dict:
@@ -87,21 +108,7 @@ def render_mode(mesh: FieldMesh, displacement_m: np.ndarray, twist: np.ndarray, 
     if u.shape[0] != mesh.n_points:
         raise ValueError(f"the mode has {u.shape[0]} points, the mesh {mesh.n_points}")
     view_kind = _view_of(kind)
-    points = np.asarray(mesh.points, dtype=float)
-    if view_kind == "above":  # turned −90° about x: z is up in the picture
-        rotate = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
-        points, u = points @ rotate.T, u @ rotate.T
-    length = mesh_length_m(mesh)
-    amplitude = np.linalg.norm(u, axis=1)
-    if view_kind == "twist":
-        scalar = np.abs(np.asarray(twist, dtype=float).ravel())
-        factor = 0.0
-    else:
-        scalar = amplitude
-        largest = float(amplitude.max())
-        factor = MODE_WARP_FRACTION * length / largest if largest > 0 else 0.0
-    scalar = scalar / scalar.max() if scalar.max() > 0 else scalar
-    deformed = points + factor * u
+    points, deformed, scalar, factor, length = _mode_geometry(mesh, u, twist, view_kind)
     target = Path(path_png)
     target.parent.mkdir(parents=True, exist_ok=True)
     check_offscreen_rendering()

@@ -121,17 +121,22 @@ def _is_case_record(record) -> bool:
             and all(isinstance(k, str) for k in record["row"]))
 
 
-def _leaves(value):
-    """Every scalar of a JSON value (depth first)."""
-    stack = [value]
+UNBOUNDED_KEYS = ("L10_Mrev", "L10_h", "L10r_Mrev", "L10r_h", "Lnm_h", "static_safety")
+"""Keys (the end of a ``sweep.csv`` column or a ``sweep.json`` key) whose value is +inf where nothing loads the
+bearing: a life or a safety factor without load is unbounded, and is written as such."""
+
+
+def _leaves(value, key: str = ""):
+    """(key, scalar) of every scalar of a JSON value (depth first; a list's items carry the list's key)."""
+    stack = [(key, value)]
     while stack:
-        item = stack.pop()
+        name, item = stack.pop()
         if isinstance(item, dict):
-            stack.extend(item.values())
+            stack.extend((str(k), v) for k, v in item.items())
         elif isinstance(item, list):
-            stack.extend(item)
+            stack.extend((name, v) for v in item)
         else:
-            yield item
+            yield name, item
 
 
 def _number(value) -> bool:
@@ -143,7 +148,7 @@ def record_problem(record: dict, torques: tuple[float, float] | None = None) -> 
 
     Checked: the fields the result files are written from exist with the right types (``entry`` per
     measured shaft with its path, ``row`` with the torques and Y); every number is finite (None
-    stands for "not applicable"); |Y| ≤ :data:`MAX_Y_MM`, |β| ≤ 90°, residuals in 0 … 1; the torques
+    stands for "not applicable"; an unloaded bearing's life or static safety may be +inf); |Y| ≤ :data:`MAX_Y_MM`, |β| ≤ 90°, residuals in 0 … 1; the torques
     of ``row`` and ``entry`` are ``torques``; ``row`` and ``entry`` hold the same Y and β (``sweep.csv``
     and ``sweep.json`` are written from one record each).
 
@@ -162,11 +167,13 @@ def record_problem(record: dict, torques: tuple[float, float] | None = None) -> 
     from rvcoax.geometry import MEASURED_SHAFTS
 
     row, entry = record["row"], record["entry"]
-    for leaf in _leaves(record):
+    for name, leaf in _leaves(record):
         if leaf is not None and not isinstance(leaf, str | bool | int | float):
             return "a value of an unknown type"
-        if isinstance(leaf, float) and leaf != leaf or leaf in (float("inf"), float("-inf")):
+        if isinstance(leaf, float) and leaf != leaf or leaf == float("-inf"):
             return "a value that is not finite"
+        if leaf == float("inf") and not name.endswith(UNBOUNDED_KEYS):
+            return f"a value that is not finite ({name})"
     for key in ("T1_input_Nm", "T2_output_Nm"):
         if not (_number(row.get(key)) and _number(entry.get(key)) and row[key] == entry[key]):
             return f"{key} missing or different in its row and entry"

@@ -19,7 +19,7 @@ from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 E, NU, RHO = 2.1e11, 0.3, 7850.0
 L_MM, D_MM = 200.0, 20.0
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.subprocess]  # CalculiX runs as a process of its own
 
 
 @pytest.fixture(scope="module")

@@ -44,7 +44,9 @@ def _real_process(case, args: list[str]):
                            exception=None)
 
 
-@pytest.mark.parametrize("case", CORPUS, ids=[c.name for c in CORPUS])
+# a case that needs the real console script (its standard output on a full device) runs it as a process
+@pytest.mark.parametrize("case", [pytest.param(c, id=c.name, marks=pytest.mark.subprocess if c.stdout_to else ())
+                                  for c in CORPUS])
 def test_hostile_input(case, tmp_path, monkeypatch):
     for key, value in case.env.items():
         monkeypatch.setenv(key, value)
