@@ -145,8 +145,8 @@ def test_reference_variant_with_the_catalogue_rv20e():
 
 
 def test_the_reducer_is_checked_in_a_nonlinear_sweep_too():
-    """With ball bearings from geometry the sweep is solved case by case without engineering tables; the reducer
-    check still comes with each case (its joint is a linear spring)."""
+    """With ball bearings from geometry the sweep is solved case by case (keeping its engineering tables, issue 24);
+    the reducer check comes with each case (its joint is a linear spring)."""
     from rvcoax.results.engineering import sweep_reducer_checks
     from rvcoax.results.io.records import case_record
 
@@ -158,7 +158,7 @@ def test_the_reducer_is_checked_in_a_nonlinear_sweep_too():
             bearing.update(model="ball", designation="6208")
     rig = parse_rig(data, "ball example")
     sweep = run_sweep(rig, (LoadCase(4000.0 / (121 * 0.85), 4000.0),))
-    assert sweep.cases[0].engineering is None
+    assert sweep.cases[0].engineering is not None
     check = sweep_reducer_checks(sweep)[0][0]
     assert "EXCEEDS momentary maximum torque" in check.verdict
     record = case_record(sweep.cases[0])
