@@ -415,8 +415,10 @@ def guard(function):
 def condense_housings(rig) -> None:
     """Condense every ``[[housings]]`` entry the cache does not hold yet, one at a time, saying what is done and
     how long it took (the first condensation of a fine mesh takes about a minute; later runs read the cache)."""
-    from rvcoax.geometry.model import housing_condensation, seat_stiffness
+    from rvcoax.geometry.model import housing_condensation, housing_problem, seat_stiffness
 
+    if housing_problem(rig) is not None:  # too large to mesh: the model's preflight refuses it, naming the cause
+        return
     missing = [h for h in rig.housings if housing_condensation(rig, h, compute=False) is None]
     for k, housing in enumerate(missing, start=1):
         what = (f"condensing housing {k} of {len(missing)}, '{housing.name}' ({housing.shape}, {housing.material}, "
