@@ -120,7 +120,7 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
             def solve(indices: list[int], report=None):
                 def save(k: int, case_result) -> None:
                     i, record = indices[k], records.case_record(case_result)
-                    if i in done and not records_agree(done[i], record):
+                    if i in done and i not in disagreed and not records_agree(done[i], record):
                         disagreed.append(i)
                     if i not in done or i in disagreed:
                         store.save(i, case_hashes[i], record)
@@ -176,10 +176,13 @@ def records_agree(journalled: dict, recomputed: dict, relative: float = RELATIVE
     for key, value in theirs.items():
         if isinstance(value, float | int) and not isinstance(value, bool):
             field_name = key[1]
-            scale[field_name] = max(scale.get(field_name, 0.0), abs(value), abs(mine[key]) if
-                                    isinstance(mine[key], float | int) and not isinstance(mine[key], bool) else 0.0)
+            other = mine[key] if isinstance(mine[key], float | int) and not isinstance(mine[key], bool) else 0.0
+            # the field's scale from its finite values (an unloaded bearing's infinite life would excuse every other)
+            scale[field_name] = max([scale.get(field_name, 0.0)] + [abs(v) for v in (value, other) if math.isfinite(v)])
     for key, value in theirs.items():
         other = mine[key]
+        if other == value:  # (also an unloaded bearing's infinite life in both)
+            continue
         if isinstance(value, float | int) and not isinstance(value, bool):
             if not (isinstance(other, float | int) and not isinstance(other, bool) and math.isfinite(other)):
                 return False
