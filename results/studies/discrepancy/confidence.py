@@ -56,7 +56,9 @@ GRID_MAX = 801  # and at most
 GRID_CELLS = 2e6  # candidates × values × observations the grids may hold (a table's 40 rows: the finest grids)
 PAIR_GRID = 41  # values per candidate in the first look at a pair (then refined one at a time on the full grids)
 TRUTHS = {"none": 0.15, "single": 0.45, "pair": 0.2, "outside": 0.2}  # what a draw hides, and how often
-FRACTIONS = (0.02, 0.5)  # a hidden effect's size: RMS change over RMS signal on the shaft it changes most (log-uniform)
+# a hidden effect's size: RMS change over RMS signal on the shaft it changes most, log-uniform between half and twice
+# the file's own gap (measured − model, the same ratio), kept within these limits
+FRACTIONS = (0.02, 0.6)
 MAX_CELLS = 60e6  # candidates × grid × observations beyond which the replay is not run (memory)
 
 
@@ -529,6 +531,7 @@ class _Drawer:
         self.noise = np.array([seen.noise.noise_mm[s] for s in self.data.shaft]) \
             if self.data.sigma_mm is None else self.data.sigma_mm
         self.sigma_draws = self._sigma()
+        self.sizes = self._range()
         self.bend = self._bend()
         engine = observed.engine
         weights = engine.case_weights(self.data.cases, observed.from_rest)
@@ -569,8 +572,15 @@ class _Drawer:
             out[mask] = q / max(np.sqrt(np.mean(q ** 2)), 1e-12)
         return out
 
-    def _fraction(self) -> float:
+    def _range(self) -> tuple[float, float]:
+        """Half to twice the file's gap (RMS of measured − model over the model's RMS signal, on the shaft where it is
+        largest), within :data:`FRACTIONS`: draws with gaps like the file's."""
+        gap = self._ratio(self.data.value_mm - self.before)
         lo, hi = FRACTIONS
+        return float(np.clip(gap / 2, lo, hi / 2)), float(np.clip(2 * gap, 2 * lo, hi))
+
+    def _fraction(self) -> float:
+        lo, hi = self.sizes
         return float(np.exp(self.rng.uniform(np.log(lo), np.log(hi))))
 
     def _ratio(self, change: np.ndarray) -> float:
