@@ -59,6 +59,7 @@ TRUTHS = {"none": 0.15, "single": 0.45, "pair": 0.2, "outside": 0.2}  # what a d
 # a hidden effect's size: RMS change over RMS signal on the shaft it changes most, log-uniform between half and twice
 # the file's own gap (measured − model, the same ratio), kept within these limits
 FRACTIONS = (0.02, 0.6)
+BEND = 0.5  # a shaft's model-form bend, at most this share of the allowance (its scale: all of it)
 MAX_CELLS = 60e6  # candidates × grid × observations beyond which the replay is not run (memory)
 
 
@@ -430,13 +431,8 @@ class _Replay:
             grid = (float(target @ target) - 2 * (a[cw] @ target)[:, None] - 2 * (b[cc] @ target)[None, :]
                     + self.norms[w][cw][:, None] + self.norms[c][cc][None, :] + 2 * cross)
             i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
-            i, j = int(cw[i]), int(cc[j])
-            for _ in range(2):
-                j, chi2_c = _line_search(b, self.norms[c], target - a[i])
-                i, chi2_w = _line_search(a, self.norms[w], target - b[j])
-            vw, low_w = _refine_index(self.curves[w].values, chi2_w, i)
-            vc, low_c = _refine_index(curve.values, chi2_c, j)
-            chi2 = max(low_w - (float(chi2_c[j]) - low_c), 0.0)
+            chi2, vw, vc = self._pair_refined(w, c, target, float(self.curves[w].values[cw[i]]),
+                                              float(curve.values[cc[j]]), float(grid[i, j]))
             if self._physical(w, vw) and self._physical(c, vc):
                 fits[c] = (chi2, vw, vc)
         if not fits:
@@ -447,6 +443,38 @@ class _Replay:
             return None
         group = [best] + [c for c in fits if c != best and fits[c][0] - chi2 < settings.ambiguity_margin]
         return (best, fits[best][1], fits[best][2], chi2), group
+
+    def _point(self, c: int, value: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """Candidate ``c``'s scaled change on the fitted rows at ``value`` (linear between grid values), its slope
+        there, and the value kept within the grid."""
+        values, grid = self.curves[c].values, self.grids[c]
+        value = float(np.clip(value, values[0], values[-1]))
+        j = int(np.clip(np.searchsorted(values, value), 1, values.size - 1))
+        span = values[j] - values[j - 1]
+        w = 0.0 if span == 0 else (value - values[j - 1]) / span
+        slope = (grid[j] - grid[j - 1]) / span if span else np.zeros_like(grid[j])
+        return (1 - w) * grid[j - 1] + w * grid[j], slope, value
+
+    def _pair_refined(self, w: int, c: int, target: np.ndarray, vw: float, vc: float, start: float):  # noqa: PLR0913, PLR0917
+        """(χ², value of ``w``, value of ``c``): Gauss–Newton steps from the grid's best point on the two curves
+        (exact for linear effects on a paths file), the best point seen kept."""
+        best = (start, vw, vc)
+        for _ in range(4):
+            a, da, vw = self._point(w, vw)
+            b, db, vc = self._point(c, vc)
+            residual = target - a - b
+            chi2 = float(residual @ residual)
+            if chi2 < best[0]:
+                best = (chi2, vw, vc)
+            step, *_ = np.linalg.lstsq(np.column_stack([da, db]), residual, rcond=None)
+            if not np.all(np.isfinite(step)):
+                break
+            vw, vc = vw + float(step[0]), vc + float(step[1])
+        a, _, vw = self._point(w, vw)
+        b, _, vc = self._point(c, vc)
+        residual = target - a - b
+        chi2 = float(residual @ residual)
+        return (chi2, vw, vc) if chi2 < best[0] else best
 
     def _physical(self, c: int, value: float) -> bool:
         curve = self.curves[c]
@@ -587,6 +615,15 @@ class _Drawer:
         return max((float(np.sqrt(np.mean(change[self.data.shaft == s] ** 2))) / v if v > 0 else 0.0)
                    for s, v in self.signal.items())
 
+    def _ratios(self, changes: np.ndarray) -> np.ndarray:
+        """:meth:`_ratio` of every row of ``changes``."""
+        out = np.zeros(changes.shape[0])
+        for s, v in self.signal.items():
+            if v > 0:
+                mask = self.data.shaft == s
+                out = np.maximum(out, np.sqrt(np.mean(changes[:, mask] ** 2, axis=1)) / v)
+        return out
+
     def _sized(self, c: int) -> float:
         """A value of candidate ``c`` (within its physical bounds, a random side) changing the data by a drawn
         fraction of the signal; its bound when it cannot."""
@@ -597,7 +634,7 @@ class _Drawer:
         side = sides[int(self.rng.integers(len(sides)))]
         keep = np.flatnonzero(np.sign(values) == side)
         keep = keep[np.argsort(np.abs(values[keep]))]
-        ratios = np.array([self._ratio(changes[j]) for j in keep])
+        ratios = self._ratios(changes[keep])
         target = self._fraction()
         reach = np.flatnonzero(ratios >= target)
         if reach.size == 0:
@@ -635,7 +672,7 @@ class _Drawer:
         scale = np.ones(self.data.n)
         for s in self.signal:
             mask = self.data.shaft == s
-            e, b = self.rng.normal(size=2) * form / np.sqrt(2.0)
+            e, b = self.rng.uniform(-1.0, 1.0, size=2) * form * np.array([1.0, BEND])
             scale[mask] = 1.0 + e + b * self.bend[mask]
         values = true * scale + self.rng.normal(size=self.data.n) * self.noise
         if self.data.schema == "table":
