@@ -54,7 +54,7 @@ SEED = 28
 GRID = 41  # parameter values per candidate, at least
 GRID_MAX = 801  # and at most
 GRID_CELLS = 2e6  # candidates × values × observations the grids may hold (a table's 40 rows: the finest grids)
-PAIR_GRID = 41  # values per candidate in the first look at a pair (then refined one at a time on the full grids)
+PAIR_GRID = 41  # values per candidate in the first look at a pair (then refined by Gauss–Newton steps on the full grids)
 TRUTHS = {"none": 0.15, "single": 0.45, "pair": 0.2, "outside": 0.2}  # what a draw hides, and how often
 # a hidden effect's size: RMS change over RMS signal on the shaft it changes most, log-uniform between half and twice
 # the file's own gap (measured − model, the same ratio), kept within these limits
@@ -409,8 +409,8 @@ class _Replay:
         return min(linear, key=lambda c: bic[c]) if linear else w
 
     def _second(self, r: np.ndarray, w: int, fit_bic: float):
-        """The best second effect with ``w`` (both refitted: a coarse look at both grids, then each refined on its own
-        grid with the other held, twice), and its group; None when none gains the margin."""
+        """The best second effect with ``w`` (both refitted: a coarse look at both grids, then Gauss–Newton steps on the
+        full ones), and its group; None when none gains the margin."""
         settings = self.settings
         target = r[self.rows]
         if w not in self._cross:
@@ -422,8 +422,8 @@ class _Replay:
             self._cross[w] = (cw, pairs)
         cw, crosses = self._cross[w]
         a = self.grids[w]
-        fits = {}
-        for c, curve in enumerate(self.curves):
+        coarse = {}
+        for c in range(len(self.curves)):
             if c == w:
                 continue
             cc, cross = crosses[c]
@@ -431,8 +431,10 @@ class _Replay:
             grid = (float(target @ target) - 2 * (a[cw] @ target)[:, None] - 2 * (b[cc] @ target)[None, :]
                     + self.norms[w][cw][:, None] + self.norms[c][cc][None, :] + 2 * cross)
             i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
-            chi2, vw, vc = self._pair_refined(w, c, target, float(self.curves[w].values[cw[i]]),
-                                              float(curve.values[cc[j]]), float(grid[i, j]))
+            coarse[c] = (float(grid[i, j]), float(self.curves[w].values[cw[i]]), float(self.curves[c].values[cc[j]]))
+        fits = {}
+        for c, (start, vw, vc) in coarse.items():  # every one refined: a coarse look misses correlated pairs
+            chi2, vw, vc = self._pair_refined(w, c, target, vw, vc, start)
             if self._physical(w, vw) and self._physical(c, vc):
                 fits[c] = (chi2, vw, vc)
         if not fits:
@@ -570,7 +572,7 @@ class _Drawer:
         taken = set().union(*vocabulary.region_sites.values()) if vocabulary.region_sites else set()
         shafts = {p.name for p in engine.rig.parts if p.role == "shaft"}
         self.outside_sites = [i for i, s in enumerate(vocabulary.sites) if s[0] in shafts and i not in taken]
-        self.unit_loads = {family: engine.sentinel_paths([vocabulary.sites[i] for i in self.outside_sites], component)
+        self.unit_loads = {family: engine.sentinel_paths(vocabulary.sites, component)[self.outside_sites]
                            for family, (component, _) in FAMILIES.items()} if self.outside_sites else {}
 
     def _sigma(self) -> np.ndarray:
