@@ -388,6 +388,11 @@ def reliability_lines(calibration) -> list[tuple[str, str]]:
     reference = float(np.mean((y.mean() - y) ** 2))
     out.append(("Brier score of the stated confidence (0 best)", f"{brier:.3f} over {p.size} runs; stating the "
                 f"overall right rate {y.mean():.2f} for every run: {reference:.3f}"))
+    if y.all() or not y.any():
+        out.append(("stated confidence on right / wrong answers", f"mean {p.mean():.2f}; all {int(y.sum())} runs alike"))
+    else:
+        out.append(("stated confidence on right / wrong answers", f"mean {p[y == 1].mean():.2f} on the "
+                    f"{int(y.sum())} right, {p[y == 0].mean():.2f} on the {int((1 - y).sum())} wrong"))
     for key, index in (("verdict", 2), ("schema", 3)):
         for value in sorted({c[index] for c in calibration}):
             mask = np.array([c[index] == value for c in calibration])
