@@ -484,14 +484,15 @@ FIXTURES = (  # name, truth, load, datum, schema, noise, notation
 )
 
 
-def write_fixtures(responses: Responses, out: Path, log=print) -> None:
+def write_fixtures(responses: Responses, out: Path, log=print, fixtures=FIXTURES, model: str = "",
+                   generator: str = "benchmarks/blind_data.py") -> None:
     """Write the small committed fixture set and its ``manifest.json`` (truth and provenance of each file)."""
     effects = {e.name: e for e in candidate_effects(truth_rig())}
     cases = tuple(paper_cases()[i] for i in FIXTURE_CASES)
     out.mkdir(parents=True, exist_ok=True)
-    manifest = {"model": "hybrid (reference rig, self-weight off, Euler-Bernoulli beams; clearances: beam at "
-                         f"{FINE_BEAM_ELEMENT_MM:g} mm elements)", "generator": "benchmarks/blind_data.py", "sets": []}
-    for seed, (name, truth, load, datum, schema, noise, notation) in enumerate(FIXTURES):
+    manifest = {"model": model or "hybrid (reference rig, self-weight off, Euler-Bernoulli beams; clearances: beam at "
+                f"{FINE_BEAM_ELEMENT_MM:g} mm elements)", "generator": generator, "sets": []}
+    for seed, (name, truth, load, datum, schema, noise, notation) in enumerate(fixtures):
         group = ("out_of_vocabulary" if load else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary")
         dataset = DataSet(name, group, truth, load, datum, schema, noise, seed, notation, TARGET[0])
         paths, values = hidden_paths(responses, dataset, effects)
@@ -501,7 +502,7 @@ def write_fixtures(responses: Responses, out: Path, log=print) -> None:
         manifest["sets"].append(dict(dataset.__dict__, truth=list(truth), file=f"{name}.csv",
                                      values={k: round(float(v), 6) for k, v in values.items()}))
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
-    log(f"wrote {len(FIXTURES)} fixtures to {out}")
+    log(f"wrote {len(fixtures)} fixtures to {out}")
 
 
 def main() -> None:

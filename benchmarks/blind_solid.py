@@ -38,6 +38,16 @@ MODEL = (f"rvcoax all-solid model (every part P2 tetrahedra, {MESH_MM:g} mm on s
          "off, Euler-Bernoulli beams in the frame; see benchmarks/blind_solid.py")
 
 
+# the committed files (tests/results/studies/data/blind_solid): 7 of the paper's cases, 6 stations per shaft
+FIXTURES = (  # name, truth, load, datum, schema, noise, notation
+    ("none", (), "", "unloaded", "paths", 0.01, "e"),
+    ("torque_reaction", ("torque_reaction@output_bearing_block",), "", "unloaded", "paths", 0.01, "fixed"),
+    ("mesh_force_table", ("mesh_force@reducer_input",), "", "aligned_at_rest", "table", 0.01, "E"),
+    ("bearing_stiffness", ("bearing_stiffness@output_B2",), "", "aligned_at_rest", "paths", 0.05, "mixed"),
+    ("lateral_load", (), "lateral_T2@output_x80", "aligned_at_rest", "paths", 0.01, "e"),
+)
+
+
 class Budget:
     """Counts the solves that were not in the cache; stops the run after ``limit`` of them."""
 
@@ -82,6 +92,7 @@ def main() -> None:
     parser.add_argument("--out", default=str(blind_data.CACHE / "solid"))
     parser.add_argument("--max-solves", type=int, default=None, help="stop after this many new solves (cached)")
     parser.add_argument("--compare", action="store_true", help="the unmodified rig against the hybrid and beam models")
+    parser.add_argument("--fixtures", default="", help="also write the small committed set to this folder")
     args = parser.parse_args()
     if args.compare:
         compare()
@@ -93,6 +104,9 @@ def main() -> None:
     except SystemExit:
         print(f"stopped after {budget.solves} new solves ({time.process_time() - start:.0f} s CPU); run again")
         raise
+    if args.fixtures:
+        blind_data.write_fixtures(responses, Path(args.fixtures), fixtures=FIXTURES, model=MODEL,
+                                  generator="benchmarks/blind_solid.py")
     blind_data.write_sets(responses, Path(args.out), model=MODEL, out_of_bounds=True)
 
 
