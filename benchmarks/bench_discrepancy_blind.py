@@ -30,7 +30,8 @@ benchmarks/RESULTS.md with the machine, date and load average (``--no-record``: 
 
 Usage::
 
-    python benchmarks/bench_discrepancy_blind.py [--limit N] [--seed S] [--groups pair,none]
+    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|solid] [--limit N] [--seed S]
+        [--groups pair,none]
         [--max-minutes M] [--label NAME] [--no-record]
 
 ``--limit N`` runs a subset of N sets stratified over the classes, datums, schemas and noise levels,
@@ -60,11 +61,13 @@ from machine import record  # noqa: E402
 
 OUTCOMES = ("correct", "wrong", "confident_misname", "aborted")
 # where each source's data sets live by default (--source), and the command that makes them (all but the hybrid's
-# are made by hand: ccx and all-solid solves take a while; the all-solid ones are made in pieces)
+# are made by hand: ccx and all-solid solves take a while and can be made in pieces, --max-solves)
 SOURCES = {
     "hybrid": (blind_data.CACHE / "sets", "python benchmarks/blind_data.py"),
     "calculix": (blind_data.CACHE / "calculix", "python benchmarks/calculix_rig.py --full .blindcache/calculix"),
-    "solid": (blind_data.CACHE / "solid", "python benchmarks/blind_solid.py --max-solves 3 (repeat until done)"),
+    "calculix_solid": (blind_data.CACHE / "calculix_solid",
+                       "python benchmarks/calculix_solid.py --bench .blindcache/calculix_solid"),
+    "solid": (blind_data.CACHE / "solid", "python benchmarks/blind_solid.py"),
 }
 
 
