@@ -103,13 +103,15 @@ class ShaftStrength:
 
     peaks: tuple[ShaftStressPeak, ...]
     notches: tuple[NotchCheck, ...]
+    solid_shafts: tuple[str, ...] = ()  # shafts modelled as solids (hybrid model): no section forces, not checked
 
     def row(self) -> dict:
         """The columns of ``sweep.csv``: per shaft its largest von Mises stress and where; per notch its safeties."""
         return shaft_strength_columns(self.peaks, self.notches)
 
     def entry(self) -> dict:
-        return {"shafts": [p.entry() for p in self.peaks], "notches": [n.entry() for n in self.notches]}
+        return {"shafts": [p.entry() for p in self.peaks], "notches": [n.entry() for n in self.notches],
+                "shafts_modelled_as_solids": list(self.solid_shafts)}
 
 
 def _finite(value: float) -> float | None:
@@ -178,8 +180,10 @@ def shaft_strength(rig, frame, u_total: np.ndarray) -> ShaftStrength:
         The case's displacement from the unloaded geometry.
     """
     elements = frame.structure.beams
+    solid = tuple(p.name for p in rig.parts if p.role == "shaft" and not np.any(
+        frame.node_part[elements.connectivity[:, 0]] == p.name)) if elements.connectivity.size else ()
     if not elements.connectivity.size:
-        return ShaftStrength((), ())
+        return ShaftStrength((), (), tuple(p.name for p in rig.parts if p.role == "shaft"))
     forces = section_forces(_end_forces(rig, frame, u_total))
     outer, inner = _diameters(elements)
     stresses = [section_stresses(end, outer, inner) for end in forces]
@@ -210,7 +214,7 @@ def shaft_strength(rig, frame, u_total: np.ndarray) -> ShaftStrength:
                 forces, e, min(max((notch.x_mm - xa[e]) / (xb[e] - xa[e]), 0.0), 1.0)))
                 for e in holding if abs(outer[e] * 1e3 - target) <= closest + 1e-6]
             checks.append(min(candidates, key=lambda c: (c.fatigue_safety, c.static_safety)))
-    return ShaftStrength(tuple(peaks), tuple(checks))
+    return ShaftStrength(tuple(peaks), tuple(checks), solid)
 
 
 def _notch_check(rig, part, notch, at: SectionForces) -> NotchCheck:

@@ -207,6 +207,11 @@ def _print_shaft_strength(rig, records: list[dict]) -> tuple[list[dict], list[di
     from rvcoax.results.shaft_safety import strength_of_records
 
     shafts, notches = strength_of_records(rig, records)
+    solid = {name for r in records
+             for name in r["entry"].get("engineering", {}).get("shaft_strength", {}).get("shafts_modelled_as_solids", [])}
+    if solid:
+        support.console.print("Shafts modelled as solids have no beam section forces: no shaft stresses or DIN 743 "
+                              f"check for {escape(', '.join(sorted(solid)))} (run --model beam for them).")
     if shafts:
         support.console.print("Shaft stresses (von Mises, largest over the cases): " + "; ".join(
             f"{escape(s['shaft'])} {s['von_mises_max_MPa']:.3g} MPa at x = {s['x_mm']:g} mm ({escape(s['case'])})"
