@@ -178,6 +178,12 @@ def shaft_strength(rig, frame, u_total: np.ndarray) -> ShaftStrength:
         The sweep's frame (beam elements of every beam part; solid DOFs follow the frame's in ``u_total``).
     u_total : (n_dofs,) array
         The case's displacement from the unloaded geometry.
+
+    Returns
+    -------
+    ShaftStrength
+        One stress peak per beam shaft, one check per notch (in the rig file's order), and the shafts modelled as
+        solids (not judged).
     """
     elements = frame.structure.beams
     solid = tuple(p.name for p in rig.parts if p.role == "shaft" and not np.any(
@@ -269,6 +275,13 @@ def worst_notches(case_notches: list[tuple[str, list[dict]]]) -> list[dict]:
 
 def strength_of_records(rig, records: list[dict]) -> tuple[list[dict], list[dict]]:
     """The spectrum over a sweep's cases, from its records (``{"row", "entry"}``, as ``sweep.json`` holds them).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig the records come from (names its cases).
+    records : list of dict
+        The case records; only their ``entry`` is read.
 
     Returns
     -------

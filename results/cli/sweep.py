@@ -204,7 +204,7 @@ def _safety(value) -> str:
 def _print_shaft_strength(rig, records: list[dict]) -> tuple[list[dict], list[dict]]:
     """One line with each shaft's largest von Mises stress over the cases; the notches' DIN 743 safety, the
     smallest over the cases with the case named (the spectrum's simplification: the worst case as nominal load)."""
-    from rvcoax.results.shaft_safety import strength_of_records
+    from rvcoax.results import strength_of_records
 
     shafts, notches = strength_of_records(rig, records)
     solid = {name for r in records
