@@ -247,8 +247,8 @@ def notch_factors(notch: Notch, tensile_strength_MPa: float, yield_strength_MPa:
         gradients = {"tension": g[0] * (1.0 + phi) / r, "bending": g[0] * (1.0 + phi) / r, "torsion": g[1] / r}
         exponent = 0.7 if notch.hard_surface else 0.33 + yield_strength_MPa / 712.0
         betas = {k: alphas[k] / min(1.0 + math.sqrt(gradients[k]) * 10.0 ** (-exponent), alphas[k]) for k in alphas}
-        return NotchFactors(betas["tension"], betas["bending"], betas["torsion"],
-                            alphas["tension"], alphas["bending"], alphas["torsion"])
+        return NotchFactors(betas["tension"], betas["bending"], betas["torsion"], alpha_tension=alphas["tension"],
+                            alpha_bending=alphas["bending"], alpha_torsion=alphas["torsion"])
     strength = tensile_strength_MPa / 1000.0
     if notch.kind == "keyway":
         two = 1.15 if notch.keys == 2 else 1.0
