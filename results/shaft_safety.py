@@ -27,12 +27,14 @@ import numpy as np
 
 from rvcoax.fem import beam, din743
 from rvcoax.fem.shaft_stress import SectionForces, section_forces, section_stresses
-from rvcoax.geometry.model.loads import gravity_acceleration
+from rvcoax.geometry.gear_loads import gear_contact_torques
+from rvcoax.geometry.model.loads import UNIT_LOADS, gravity_acceleration, superpose
 from rvcoax.geometry.shaft_notches import notch_geometry, steel_of
 from rvcoax.geometry.thermal import part_strain
 
-__all__ = ["NotchCheck", "ShaftStrength", "ShaftStressPeak", "notch_label", "shaft_strength", "shaft_strength_columns",
-           "strength_of_records", "worst_notches"]
+__all__ = ["NotchCheck", "ShaftStrength", "ShaftStressPeak", "ShaftStressProfile", "case_stress_profiles",
+           "notch_label", "shaft_strength",
+           "shaft_strength_columns", "strength_of_records", "stress_profiles", "worst_notches"]
 
 
 @dataclass(frozen=True)
@@ -168,6 +170,95 @@ def _interpolate(forces: tuple[SectionForces, SectionForces], element: int, shar
                            for k in fields))
 
 
+@dataclass(frozen=True)
+class ShaftStressProfile:
+    """The nominal stresses along one shaft in one case, at both ends of each of its beam elements (so a diameter
+    step shows both sides): stations in the order of the elements, two per element (end a, end b)."""
+
+    shaft: str
+    x_mm: np.ndarray
+    diameter_mm: np.ndarray
+    bore_mm: np.ndarray
+    axial_MPa: np.ndarray
+    bending_MPa: np.ndarray
+    torsion_MPa: np.ndarray
+    transverse_shear_MPa: np.ndarray
+    von_mises_MPa: np.ndarray
+
+
+def stress_profiles(rig, frame, u_total: np.ndarray) -> dict[str, ShaftStressProfile]:
+    """The nominal stresses along every beam shaft of one case (see the module text).
+
+    Parameters
+    ----------
+    rig : Rig
+    frame : RigModel
+        The sweep's frame (``Sweep.frame``).
+    u_total : (n_dofs,) array
+        The case's displacement from the unloaded geometry (``Sweep.total_displacement`` of a nonlinear sweep;
+        of a linear one, the superposed unit responses with the rest loads).
+
+    Returns
+    -------
+    dict of str to ShaftStressProfile
+        One profile per shaft modelled as beams, in the rig file's order.
+    """
+    return _evaluated(rig, frame, u_total)[0]
+
+
+def case_stress_profiles(sweep, index: int) -> dict[str, ShaftStressProfile]:
+    """:func:`stress_profiles` of case ``index`` of a solved sweep (linear: its unit responses superposed with the
+    rest loads; nonlinear: the case's own displacement), from the unloaded geometry.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        A sweep that kept its states (one solved now, not rebuilt from files).
+    index : int
+        The case's position in ``sweep.cases``.
+
+    Returns
+    -------
+    dict of str to ShaftStressProfile
+    """
+    if sweep.states is None:
+        raise ValueError("this sweep kept no displacements (rebuilt from files): solve it again for stress profiles")
+    if sweep.case_displacements is not None:
+        u = sweep.total_displacement(index)
+    else:
+        unit = {k: sweep.unit_displacements[:, i] for i, k in enumerate(UNIT_LOADS)}
+        case = sweep.cases[index].case
+        u = superpose(unit, case.input_torque_Nm, case.output_torque_Nm, False, gear_contact_torques(sweep.rig))
+    return stress_profiles(sweep.rig, sweep.frame, u)
+
+
+def _evaluated(rig, frame, u_total: np.ndarray):
+    """(profiles, section forces at both ends, element end positions and outer diameters, element parts)."""
+    elements = frame.structure.beams
+    if not elements.connectivity.size:
+        return {}, None, None, None
+    forces = section_forces(_end_forces(rig, frame, u_total))
+    outer, inner = _diameters(elements)
+    stresses = [section_stresses(end, outer, inner) for end in forces]
+    first, second = elements.connectivity[:, 0], elements.connectivity[:, 1]
+    part = frame.node_part[first]
+    xa, xb = frame.node_x_mm[first], frame.node_x_mm[second]
+    profiles = {}
+    for p in rig.parts:
+        mine = np.flatnonzero(part == p.name)
+        if p.role != "shaft" or mine.size == 0:
+            continue
+
+        def both(a: np.ndarray, b: np.ndarray, mine=mine) -> np.ndarray:
+            return np.column_stack([a[mine], b[mine]]).ravel()
+
+        profiles[p.name] = ShaftStressProfile(
+            shaft=p.name, x_mm=both(xa, xb), diameter_mm=both(outer, outer) * 1e3, bore_mm=both(inner, inner) * 1e3,
+            **{f"{field}_MPa": both(getattr(stresses[0], f"{field}_MPa"), getattr(stresses[1], f"{field}_MPa"))
+               for field in ("axial", "bending", "torsion", "transverse_shear", "von_mises")})
+    return profiles, forces, (xa, xb, outer), part
+
+
 def shaft_strength(rig, frame, u_total: np.ndarray) -> ShaftStrength:
     """The shaft stresses and notch checks of one case.
 
@@ -185,31 +276,21 @@ def shaft_strength(rig, frame, u_total: np.ndarray) -> ShaftStrength:
         One stress peak per beam shaft, one check per notch (in the rig file's order), and the shafts modelled as
         solids (not judged).
     """
-    elements = frame.structure.beams
-    solid = tuple(p.name for p in rig.parts if p.role == "shaft" and not np.any(
-        frame.node_part[elements.connectivity[:, 0]] == p.name)) if elements.connectivity.size else ()
-    if not elements.connectivity.size:
-        return ShaftStrength((), (), tuple(p.name for p in rig.parts if p.role == "shaft"))
-    forces = section_forces(_end_forces(rig, frame, u_total))
-    outer, inner = _diameters(elements)
-    stresses = [section_stresses(end, outer, inner) for end in forces]
-    first, second = elements.connectivity[:, 0], elements.connectivity[:, 1]
-    part = frame.node_part[first]
-    xa, xb = frame.node_x_mm[first], frame.node_x_mm[second]
+    profiles, forces, ends, part = _evaluated(rig, frame, u_total)
+    solid = tuple(p.name for p in rig.parts if p.role == "shaft" and p.name not in profiles)
     peaks, checks = [], []
     for p in rig.parts:
-        mine = np.flatnonzero(part == p.name)
-        if p.role != "shaft" or mine.size == 0:
+        if p.name not in profiles:
             continue
-        vm = np.concatenate([stresses[0].von_mises_MPa[mine], stresses[1].von_mises_MPa[mine]])
-        top = int(np.argmax(vm))
-        element, at_b = mine[top % mine.size], top >= mine.size
+        profile = profiles[p.name]
+        top = int(np.argmax(profile.von_mises_MPa))
         peaks.append(ShaftStressPeak(
-            shaft=p.name, x_mm=float(xb[element] if at_b else xa[element]), diameter_mm=float(outer[element] * 1e3),
-            von_mises_MPa=float(vm[top]),
-            **{f"{name}_max_MPa": float(max(np.max(np.abs(getattr(s, f"{field}_MPa")[mine])) for s in stresses))
-               for name, field in (("bending", "bending"), ("torsion", "torsion"),
-                                   ("transverse_shear", "transverse_shear"), ("axial", "axial"))}))
+            shaft=p.name, x_mm=float(profile.x_mm[top]), diameter_mm=float(profile.diameter_mm[top]),
+            von_mises_MPa=float(profile.von_mises_MPa[top]),
+            **{f"{field}_max_MPa": float(np.max(np.abs(getattr(profile, f"{field}_MPa"))))
+               for field in ("bending", "torsion", "transverse_shear", "axial")}))
+        xa, xb, outer = ends
+        mine = np.flatnonzero(part == p.name)
         for notch in p.notches:
             geometry = notch_geometry(p, notch)
             target = geometry.outer_diameter_mm if notch.kind == "groove" else geometry.diameter_mm

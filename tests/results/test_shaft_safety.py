@@ -118,3 +118,20 @@ def test_report_tables_name_the_case_of_each_value(swept):
     shoulder = next(r for r in notches.rows if r[1] == "shoulder")
     assert shoulder[4] == shoulder[6] == "T1 = 120, T2 = 0 N·m" and shoulder[7] == "ok"
     assert notches.columns[notches.verdict_column] == "verdict"
+
+
+def test_stress_profile_along_the_shaft_is_the_closed_form(swept):
+    """σ_b(x) = M(x)/W_b(x) at every station, both sides of the step; τ_t = T/W_t; axial 0."""
+    import numpy as np
+
+    from rvcoax.results import case_stress_profiles
+
+    _, sweep = swept
+    profile = case_stress_profiles(sweep, 0)["s"]
+    x, d = profile.x_mm, profile.diameter_mm
+    moment = np.where(x <= LOAD_X, FORCE_N * (LENGTH - LOAD_X) * x / LENGTH,
+                      FORCE_N * LOAD_X * (LENGTH - x) / LENGTH) * 1e-3  # N·m
+    np.testing.assert_allclose(profile.bending_MPa, moment * 1e3 / (np.pi * d**3 / 32), rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(profile.torsion_MPa, 50.0e3 / (np.pi * d**3 / 16), rtol=1e-6)
+    assert np.max(np.abs(profile.axial_MPa)) < 1e-6
+    assert set(np.round(d, 9)) == {30.0, 40.0} and np.all(profile.bore_mm == 0.0)
