@@ -528,15 +528,23 @@ def compare(log=print) -> dict:
     out = {}
     for label, rig in (("Timoshenko", identification_rig()), ("Euler-Bernoulli", truth_rig())):
         beam = beam_paths(rig, cases).reshape(len(cases), -1)[1:]
-        for i, key in enumerate(MEASURED_SHAFTS):
-            columns = slice(sum(sizes[:i]), sum(sizes[:i + 1]))
-            a, b = ccx[:, columns], beam[:, columns]
-            rel = float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
-            ymax = np.abs(a).max(axis=1) / np.abs(b).max(axis=1) - 1.0
-            worst = float(ymax[np.argmax(np.abs(ymax))])
+        for key, (rel, worst) in path_differences(ccx, beam, sizes).items():
             out[f"{label} {key}"] = {"rms_relative": rel, "ymax_relative_worst": worst}
             log(f"{label:16s} {key:6s}: RMS(ccx - rvcoax)/RMS(rvcoax) = {100 * rel:.3f} %, "
                 f"Y_max relative difference, worst case: {100 * worst:+.3f} %")
+    return out
+
+
+def path_differences(paths: np.ndarray, reference: np.ndarray, sizes: list[int]) -> dict[str, tuple[float, float]]:
+    """Per measured shaft, of (cases, stations) paths against a reference: RMS(difference) / RMS(reference) and the
+    worst relative difference of Y_max = max |Y| along the shaft over the cases."""
+    out = {}
+    for i, key in enumerate(MEASURED_SHAFTS):
+        columns = slice(sum(sizes[:i]), sum(sizes[:i + 1]))
+        a, b = paths[:, columns], reference[:, columns]
+        ymax = np.abs(a).max(axis=1) / np.abs(b).max(axis=1) - 1.0
+        out[key] = (float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2))),
+                    float(ymax[np.argmax(np.abs(ymax))]))
     return out
 
 

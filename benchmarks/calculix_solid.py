@@ -283,12 +283,7 @@ def compare(solver: Solver, log=print) -> dict:
         other = ccx_beam if paths is None else paths.reshape(len(cases), -1)[1:]
         full = other.shape[1] // 2  # 41 stations per shaft; the solid deck reads every 4th (11)
         other = np.hstack([other[:, k * full:(k + 1) * full][:, ::(full - 1) // (sizes[k] - 1)] for k in range(2)])
-        for i, key in enumerate(MEASURED_SHAFTS):
-            columns = slice(sum(sizes[:i]), sum(sizes[:i + 1]))
-            a, b = ccx[:, columns], other[:, columns]
-            rel = float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
-            ymax = np.abs(a).max(axis=1) / np.abs(b).max(axis=1) - 1.0
-            worst = float(ymax[np.argmax(np.abs(ymax))])
+        for key, (rel, worst) in calculix_rig.path_differences(ccx, other, sizes).items():
             out[f"{label} {key}"] = {"rms_relative": rel, "ymax_relative_worst": worst}
             log(f"ccx solid vs {label:26s} {key:6s}: RMS difference {100 * rel:.2f} % of the signal, Y_max worst "
                 f"{100 * worst:+.2f} %")
