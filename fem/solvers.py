@@ -354,10 +354,10 @@ def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
     try:
         bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
     except SolverError:
-        factor.release()
+        factor.release(keep_analysis=False)
         raise
     if bound > SINGULAR_INVERSE_NORM:
-        factor.release()
+        factor.release(keep_analysis=False)
         raise SingularMatrixError(
             f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
             f"{equation}): the matrix is numerically singular"
@@ -371,6 +371,44 @@ def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
         return SingularMatrixError(f"PARDISO: numerical factorisation failed{where} (error {error.code}): "
                                    "the matrix is singular or not positive definite")
     return SolverError(str(error))
+
+
+class _RefusedOnReusedAnalysis(Exception):
+    """A saddle-point matrix refused on an analysis (matching, scaling) computed from another matrix's values."""
+
+
+def _factorise_saddle_point(operator, upper: pardiso.UpperStorage, d: int, *, reuse_analysis: bool):
+    """PARDISO's factor of the saddle-point matrix, its solve of A and the condition estimate, after the inertia
+    and the singularity test; a refusal on a reused analysis raises :class:`_RefusedOnReusedAnalysis` instead."""
+    m = operator.shape[0]
+    total = upper.n
+    try:
+        factor = pardiso.Factorization(upper, indefinite=True, reuse_analysis=reuse_analysis)
+    except pardiso.PardisoError as error:
+        raise _pardiso_singular(error) from error
+
+    # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
+    # A itself where a column's residual needs it (REFINE_ABOVE).
+    def solve(block):
+        padded = np.zeros((total, block.shape[1]))
+        padded[:m] = block
+        try:
+            return factor.solve(padded)[:m], (), ()
+        except pardiso.PardisoError as error:
+            raise SolverError(str(error)) from error
+
+    try:
+        positive, negative = factor.inertia
+        if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
+            factor.release(keep_analysis=False)
+            raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
+                                      f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
+        condition = _refuse_singular(operator, solve, factor)
+    except SingularMatrixError as error:
+        if factor.reused_analysis:
+            raise _RefusedOnReusedAnalysis() from error
+        raise
+    return factor, solve, condition
 
 
 def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStorage) -> PreparedSolver:
@@ -417,26 +455,9 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
                                   "the matrix is singular or not positive definite")
     del diagonal
     try:
-        factor = pardiso.Factorization(upper, indefinite=True)
-    except pardiso.PardisoError as error:
-        raise _pardiso_singular(error) from error
-
-    # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
-    # A itself where a column's residual needs it (REFINE_ABOVE).
-    def solve(block):
-        padded = np.zeros((total, block.shape[1]))
-        padded[:m] = block
-        try:
-            return factor.solve(padded)[:m], (), ()
-        except pardiso.PardisoError as error:
-            raise SolverError(str(error)) from error
-
-    positive, negative = factor.inertia
-    if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
-        factor.release()
-        raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
-                                  f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
-    condition = _refuse_singular(operator, solve, factor)
+        factor, solve, condition = _factorise_saddle_point(operator, upper, d, reuse_analysis=True)
+    except _RefusedOnReusedAnalysis:  # the pooled matching and scaling were another matrix's: judge on its own
+        factor, solve, condition = _factorise_saddle_point(operator, upper, d, reuse_analysis=False)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
                           release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
