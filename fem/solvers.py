@@ -98,6 +98,9 @@ class SolverReport:
         Nonzeros of the factor (PARDISO's L, SuperLU's L + U); 0 for AMG.
     factor_memory_MB : float
         The library's memory for the factor and its solves (PARDISO); 0 where unknown.
+    analysis_reused : bool
+        PARDISO: the numerical factorisation ran on the pooled analysis of an earlier matrix of the same
+        pattern (:mod:`rvcoax.fem.pardiso`), so the set-up time holds no ordering.
     """
 
     name: str
@@ -112,6 +115,7 @@ class SolverReport:
     matrix_nonzeros: int = 0
     factor_nonzeros: int = 0
     factor_memory_MB: float = 0.0
+    analysis_reused: bool = False
 
 
 def _peak_rss_mb() -> float:
@@ -164,7 +168,7 @@ class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
     def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,  # noqa: PLR0913
-                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None,
+                 *, release=None, factor: tuple = (0, 0.0), matrix_nonzeros: int | None = None,
                  condition: float | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
@@ -177,7 +181,8 @@ class PreparedSolver:
         self._report = SolverReport(name=name, n_dofs=matrix.shape[0], setup_seconds=setup_seconds, solve_seconds=0.0,
                                     peak_memory_MB=peak, peak_memory_increase_MB=max(0.0, peak - rss_before),
                                     matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros),
-                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]))
+                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]),
+                                    analysis_reused=bool(factor[2]) if len(factor) > 2 else False)
 
     def release(self) -> None:
         """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
@@ -343,7 +348,7 @@ def _setup_pardiso(a: sp.csr_matrix):
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
-            (factor.factor_nonzeros, factor.memory_MB), condition)
+            (factor.factor_nonzeros, factor.memory_MB, factor.reused_analysis), condition)
 
 
 def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
@@ -460,7 +465,8 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
         factor, solve, condition = _factorise_saddle_point(operator, upper, d, reuse_analysis=False)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
-                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
+                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB,
+                                                          factor.reused_analysis),
                           matrix_nonzeros=pardiso.stored_nonzeros(upper), condition=condition)
 
 
