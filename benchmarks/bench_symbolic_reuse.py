@@ -65,7 +65,6 @@ class PhaseClock:
 
 def cantilever(h: float, poisson: float, cache: str):
     import numpy as np
-
     from bench_solid_scaling import LENGTH_MM, SEGMENTS, TIP_FORCE_N, YOUNGS_PA
 
     from rvcoax.fem import solid

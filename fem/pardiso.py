@@ -23,7 +23,7 @@ in-core. The factor lives in MKL memory until :meth:`Factorization.release`.
 
 **The analysis is reused per sparsity pattern.** A released factor gives its numerical factor back to MKL
 (phase 0) but keeps its ordering and symbolic factorisation (phase 11) in a small pool keyed by the pattern
-(matrix type, size, block size and a digest of the index arrays), within :data:`ANALYSIS_POOL_BYTES` of MKL's
+(matrix type, size, block size and a digest of the index arrays), within :data:`ANALYSIS_POOL_BYTES` (512 MB) of MKL's
 permanent analysis memory. The next factorisation of a matrix with the same pattern (a Monte Carlo sample,
 a stiffness calibration's trial, a sensitivity's perturbed model, the factorisation that follows
 :func:`analyse`) runs the numerical phase only. In SPD mode the analysis depends on the pattern alone, so the
@@ -78,9 +78,11 @@ _ERRORS = {
     -13: "undocumented error (seen in the numerical factorisation of singular matrices in 3 × 3 blocks)",
 }
 ZERO_PIVOT = -4
-ANALYSIS_POOL_BYTES = 1 << 30
-"""MKL's permanent analysis memory (``iparm[15]``) that idle analyses may hold together; the oldest go first.
-The hybrid reference rig's analysis holds about 0.1 GB (benchmarks/RESULTS.md)."""
+ANALYSIS_POOL_BYTES = 512 << 20
+"""MKL's permanent analysis memory (``iparm[15]``) that idle analyses may hold together; the oldest go first, and an
+analysis larger than this is freed with its factor. The hybrid reference rig's holds 158 MB (a process keeps 130 MB
+more after the release than with everything freed; benchmarks/RESULTS.md): a pooled analysis must not raise the peak
+of a large model's later phases, so the cap is a few such models, not a large solid's."""
 RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
 """Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
 
