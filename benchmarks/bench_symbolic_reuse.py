@@ -14,7 +14,10 @@ the machine these figures come from is shared:
   after the nominal model, per-sample CPU and PARDISO phases, and the largest relative difference of Y and β
   between the two runs (the indefinite analysis' matching and scaling come from another sample's values).
 
-Appends the figures to benchmarks/RESULTS.md unless ``--no-record``.
+- with ``--cluster-samples N``: the same study on a local Dask cluster of 2 worker processes, each sample's CPU
+  time in its worker and whether it ran an analysis (a worker keeps its nominal model and its pool of analyses).
+
+``--h 0`` and ``--samples 0`` skip the first two. Appends the figures to benchmarks/RESULTS.md unless ``--no-record``.
 """
 
 from __future__ import annotations
@@ -151,10 +154,60 @@ def hybrid_rows(samples: int, clock: PhaseClock) -> list[tuple[str, str]]:
     return rows
 
 
+def timed_sample(study, row) -> tuple[float, int, int]:
+    """In a Dask worker: (CPU seconds, PARDISO analyses, numerical factorisations) of one sample."""
+    from rvcoax.fem import pardiso
+    from rvcoax.results.studies.montecarlo import evaluate_sample
+
+    if not hasattr(pardiso, "_bench_clock"):
+        pardiso._bench_clock = PhaseClock()
+    clock = pardiso._bench_clock
+    analyses, factorisations = clock.calls[11], clock.calls[22]
+    start = time.process_time()
+    evaluate_sample(study, row)
+    return time.process_time() - start, clock.calls[11] - analyses, clock.calls[22] - factorisations
+
+
+def cluster_rows(samples: int) -> list[tuple[str, str]]:
+    """The hybrid study on a local cluster of 2 worker processes: each keeps its nominal model and its analysis."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    from rvcoax.geometry.rigfile import load_rig
+    from rvcoax.results.studies.montecarlo import plan_study
+    from rvcoax.results.studies.sampling import sample_values
+    from rvcoax.results.studies.tolerances import load_tolerances
+    from rvcoax.results.sweep import SweepSettings
+
+    rig = load_rig()
+    tolerances = load_tolerances(EXAMPLE, rig)
+    study = plan_study(rig, tolerances, SweepSettings(model="hybrid"))
+    values = sample_values(tolerances.distributions, samples, "lhs", seed=3)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        start = time.perf_counter()
+        futures = [client.submit(timed_sample, study, row, pure=False) for row in values]
+        found = [(future.result(), next(iter(client.who_has(future)[future.key]))) for future in futures]
+        wall = time.perf_counter() - start
+    rows = []
+    for worker in sorted({w for _, w in found}):
+        mine = [r for r, w in found if w == worker]
+        text = "; ".join(f"{cpu:.2f} s CPU ({a} analysis, {f} factorisation)" for cpu, a, f in mine)
+        rows.append((f"hybrid Monte Carlo on a local cluster, 2 worker processes: worker {len(rows) + 1}, its samples in "
+                     "order (the first builds the memoised nominal model)", text))
+    later = [cpu for (cpu, a, _), _ in found if a == 0]
+    if later:
+        rows.append(("hybrid, cluster: CPU per sample on a reused analysis (worker processes)",
+                     f"{sum(later) / len(later):.2f} s over {len(later)} samples; {samples} samples in {wall:.0f} s wall"))
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--h", type=float, default=4.0, help="cantilever mesh size, mm (4.0: about 61 k DOF)")
     parser.add_argument("--samples", type=int, default=3)
+    parser.add_argument("--cluster-samples", type=int, default=0, help="also run this many on 2 Dask workers")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
     from rvcoax.fem import blas_threads, hugepages
@@ -164,11 +217,14 @@ def main() -> None:
     load_before = os.getloadavg()[0]
     clock = PhaseClock()
     rows = [("timer", "CPU = time.process_time() of this process (both MKL threads); wall beside it (shared machine)")]
-    rows += solid_rows(args.h, clock)
+    if args.h > 0:
+        rows += solid_rows(args.h, clock)
     for row in rows[-3:]:
         print(row)
     if args.samples > 0:
         rows += hybrid_rows(args.samples, clock)
+    if args.cluster_samples > 0:
+        rows += cluster_rows(args.cluster_samples)
     publish("bench_symbolic_reuse.py: PARDISO's analysis reused per sparsity pattern", rows, load_before,
             keep=not args.no_record)
 

@@ -127,16 +127,23 @@ def _paths(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return np.array([c.paths[shaft].uy_mm for c in sweep.cases])
 
 
+RIGS_PER_CALL = 2
+"""Trial rigs whose unit loads are solved in one call (each changes a few of them). A solve's memory grows with its
+columns (MKL's refinement: about 6 MB per column on the hybrid reference rig): 4 rigs in one call raised the hybrid
+check's peak by 0.14 GB, 2 rigs keep it (benchmarks/RESULTS.md)."""
+
+
 def _solve_together(prepared, rigs: list[Rig]) -> None:
-    """Solve the unit loads of all ``rigs`` on ``prepared`` in one call, into its cache of solutions.
+    """Solve the unit loads of ``rigs`` on ``prepared``, :data:`RIGS_PER_CALL` rigs a call, into its cache of solutions.
 
     Each solve call on a factor has a fixed cost (MKL's refinement on the hybrid saddle-point factor:
     0.25 s CPU for one column, 0.05 s per added column); the sweeps that follow find every column solved.
     """
     if check_clearance_model(rigs[0], prepared.system.kind):  # nonlinear: solved case by case, not by unit loads
         return
-    loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs]
-    prepared.solve_unit_loads(np.column_stack([load[k] for load in loads for k in UNIT_LOADS]))
+    for first in range(0, len(rigs), RIGS_PER_CALL):  # the load vectors of a few rigs at a time: 8 MB per rig
+        loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs[first:first + RIGS_PER_CALL]]
+        prepared.solve_unit_loads(np.column_stack([load[k] for load in loads for k in UNIT_LOADS]))
 
 
 def _row_y(rig: Rig, rows: list[PublishedRow], shaft: str, paths: np.ndarray) -> np.ndarray:
