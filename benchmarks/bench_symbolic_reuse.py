@@ -67,22 +67,11 @@ class PhaseClock:
 
 
 def cantilever(h: float, poisson: float, cache: str):
-    import numpy as np
-    from bench_solid_scaling import LENGTH_MM, SEGMENTS, TIP_FORCE_N, YOUNGS_PA
+    """bench_solver_choice.py's clamped cantilever with Poisson's ratio ``poisson``: (stiffness, tip load)."""
+    from bench_solver_choice import system
 
-    from rvcoax.fem import solid
-    from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
-
-    mesh = mesh_part(SolidPartGeometry(f"cantilever_{h}", SEGMENTS, (), h), cache_dir=Path(cache))
-    basis = solid.solid_basis(mesh)
-    stiffness = solid.stiffness_matrix(basis, YOUNGS_PA, poisson)
-    coordinates, dofs = solid.dof_locations(basis)
-    keep = np.ones(basis.N, dtype=bool)
-    keep[dofs[np.abs(coordinates[:, 0]) < 1e-9].ravel()] = False
-    free = np.flatnonzero(keep)
-    tip = mesh.facets_satisfying(lambda x: np.isclose(x[0], LENGTH_MM * 1e-3, rtol=0.0, atol=1e-9))
-    force = solid.force_traction_vector(mesh, tip, TIP_FORCE_N)[free]
-    return stiffness[free][:, free].tocsr(), force
+    stiffness, force, _ = system(h, cache, poisson)
+    return stiffness, force
 
 
 def solid_rows(h: float, clock: PhaseClock) -> list[tuple[str, str]]:
