@@ -39,10 +39,10 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
-           "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "ball_bearing_lives", "bearing_warnings",
+           "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "bearing_warnings",
            "case_engineering", "case_name", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
            "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
-           "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries",
+           "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries", "rolling_bearing_lives",
            "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
@@ -574,34 +574,40 @@ def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQ
         below_minimum_load=life.below_minimum_load)
 
 
-def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
-                       output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
-    """The lives of the deep-groove ball bearings from internal geometry at a nonlinear solution's condensed motion
-    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): L10 from the forces they carry, L10r
-    from their ball loads (ISO/TS 16281), s0 from the largest ball-raceway pressure (ISO 76: 4200 MPa)."""
-    from rvcoax.fem.rolling_bearing import bearing_force, rolling_element_loads
+def rolling_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
+                          output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
+    """The lives of the bearings from internal geometry at a nonlinear solution's condensed motion
+    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): deep-groove ball, angular-contact
+    (single or a set), cylindrical and tapered roller bearings.
+
+    L10 (ISO 281) from the forces the rows carry (the preload a single row's mounting takes included) through the
+    type's X/Y factors (:func:`rvcoax.geometry.bearing_ratings.equivalent_load`; a deep-groove bearing's from
+    ISO 281 table 3) and the set's C; L10r (ISO/TS 16281) from the element loads: ball loads with their contact
+    angles, roller lamina loads (:func:`rvcoax.fem.bearing_life.rows_reference_life`); s0 from the largest
+    contact pressure (ISO 76: 4200 MPa ball, 4000 MPa roller); the minimum load (0.01 C ball, 0.02 C roller)
+    on the larger of P and the load that gives L10r.
+    """
+    from rvcoax.fem.rolling_bearing import carried_force, rolling_element_loads
+    from rvcoax.geometry.bearing_ratings import equivalent_load
 
     speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
     name = case_name(rig, input_torque_Nm, output_torque_Nm)
     entries = {b.name: b for b in rig.bearings}
     motions = nonlinear.motions(motion)
     out = []
-    for model in nonlinear.balls:
+    for model in nonlinear.rolling:
         bearing = entries[model.name]
         ratings = load_ratings(bearing)
-        force, _ = bearing_force(model.bearing, motions[model.name])
         elements = rolling_element_loads(model.bearing, motions[model.name])
-        pressure = float(elements.max_contact_pressure_Pa.max(initial=0.0)) * 1e-6
-        reference = bearing_life.element_rating_life(
-            elements.load_n, *bearing_life.ring_contact_ratings(
-                model.geometry.ball_count, model.geometry.ball_diameter_m * 1e3, model.geometry.pitch_diameter_m * 1e3,
-                model.geometry.inner_conformity, model.geometry.outer_conformity,
-                contact_angle_rad=elements.contact_angle_rad))
+        force = carried_force(model.bearing, motions[model.name])
+        radial, axial = math.hypot(force[1], force[2]), float(force[0])
+        equivalent = None if model.model == "ball" else equivalent_load(bearing, model.geometry, ratings, radial,
+                                                                        axial)[0]
         life = bearing_life.life_from_forces(
-            math.hypot(force[1], force[2]), float(force[0]), ratings.dynamic_N, ratings.static_N, ratings.f0,
-            elements="ball", speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio,
-            contamination=bearing.contamination_factor, reference_life_Mrev=reference,
-            static_safety_value=bearing_life.static_safety_from_pressure(pressure))
+            radial, axial, ratings.dynamic_N, ratings.static_N, ratings.f0, elements=ratings.elements,
+            speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio, contamination=bearing.contamination_factor,
+            reference_life_Mrev=bearing_life.rows_reference_life(model.bearing, elements),
+            static_safety_value=bearing_life.rows_static_safety(elements), equivalent_load_N=equivalent)
         out.append(life_quantities(model.name, name, ratings, life))
     return tuple(out)
 

@@ -83,7 +83,9 @@ def test_ball_bearing_lives_from_their_ball_loads():
     preloaded = lives["output_B1"]  # 200 N axial preload: every ball loaded
     assert preloaded.L10r_Mrev is not None and math.isfinite(preloaded.L10r_Mrev)
     assert preloaded.static_safety < 1e3  # the preloaded balls press their raceways
-    assert preloaded.equivalent_load_N < 10.0  # while the bearing passes a few newtons on (the preload is internal)
+    # P counts the 200 N preload the rings carry axially (the mounting takes it; ISO 281 P = X F_r + Y F_a with
+    # Y between 1.0 and 2.30 at this f0 F_a / C0), though the bearing passes only a few newtons on to the housing
+    assert 200.0 <= preloaded.equivalent_load_N <= 2.30 * 200.0 + 50.0
     assert not preloaded.below_minimum_load  # the preload loads the balls: the minimum load counts the elements
     assert preloaded.rating_source.startswith("ISO 281")
     c, _ = bearing_life.dynamic_rating_ball(9, 9.525, 46.0), None
