@@ -40,7 +40,7 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
            "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "bearing_warnings",
-           "case_engineering", "case_name", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
+           "case_engineering", "case_name", "case_text", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
            "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
            "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries", "rolling_bearing_lives",
            "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
@@ -540,12 +540,17 @@ def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
     Returns
     -------
     str
-        The name, or ``"T1 = …, T2 = … N·m"``.
+        The name, or :func:`case_text` (``"T1 = 0.5 N·m, T2 = 40 N·m"``).
     """
     entry = rig_case_of(rig, input_torque_Nm, output_torque_Nm)
     if entry is not None and entry.name is not None:
         return entry.name
-    return f"T1 = {input_torque_Nm:g}, T2 = {output_torque_Nm:g} N·m"
+    return case_text(input_torque_Nm, output_torque_Nm)
+
+
+def case_text(input_torque_Nm: float, output_torque_Nm: float) -> str:
+    """A load case by its torques, as the report and the warnings write it: ``"T1 = 0.5 N·m, T2 = 40 N·m"``."""
+    return f"T1 = {input_torque_Nm:g} N·m, T2 = {output_torque_Nm:g} N·m"
 
 
 def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
@@ -669,14 +674,16 @@ def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, .
 
 
 def play_crossings(operating_points: dict) -> list[str]:
-    """Ball bearings whose shaft crosses its play between neighbouring cases of a nonlinear sweep: the radial
-    motion (y, z) changes by at least half the diametral operating clearance from one case to the next (the
-    shaft leaves the balls on one side for those on the other: the sweep's Y steps there).
+    """Bearings with a radial clearance (deep-groove ball, cylindrical roller) whose shaft crosses its play between
+    neighbouring cases of a nonlinear sweep: the radial motion (y, z) changes by at least half the diametral
+    operating clearance from one case to the next (the shaft leaves the elements on one side for those on the
+    other: the sweep's Y steps there).
 
     Parameters
     ----------
     operating_points : dict
-        ``sweep.json``'s ``model.ball_bearing_operating_points`` (per bearing, the rest state then every case).
+        ``sweep.json``'s ``model.ball_bearing_operating_points`` and/or ``model.rolling_bearing_operating_points``
+        (per bearing, the rest state then every case).
 
     Returns
     -------
@@ -690,10 +697,17 @@ def play_crossings(operating_points: dict) -> list[str]:
             jump = math.dist(before["displacement_yz_um"], after["displacement_yz_um"])
             clearance = after.get("operating_clearance_um", 0.0)
             if clearance > 0.0 and jump >= 0.5 * clearance:
-                found.append(f"ball bearing {name}: the shaft crosses its play between {before['case']} and "
-                             f"{after['case']} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
+                found.append(f"bearing {name} ({after.get('model', 'ball')}): the shaft crosses its play between {_point_case(before)} and "
+                             f"{_point_case(after)} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
                              f"{clearance:.3g} µm): Y steps there; a preload or a smaller clearance keeps it seated")
     return found
+
+
+def _point_case(point: dict) -> str:
+    """An operating point's case as the warnings name it (:func:`case_text`; a record without torques: its label)."""
+    if "T1_input_Nm" in point and "T2_output_Nm" in point:
+        return case_text(point["T1_input_Nm"], point["T2_output_Nm"])
+    return point["case"]
 
 
 def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
@@ -894,7 +908,7 @@ UNLOADED_SHARE = 0.01
 
 
 def _case_text(entry: dict) -> str:
-    return f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+    return case_text(entry["T1_input_Nm"], entry["T2_output_Nm"])
 
 
 def _carrying(entry: dict) -> dict[str, bool]:

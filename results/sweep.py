@@ -557,7 +557,8 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                   if rig.reducers else ())
         points = bearings.operating_points(solution.motion, every)
         for name, point in points.items():
-            operating[name].append({"case": case.label, **point})
+            operating[name].append({"case": case.label, "T1_input_Nm": case.input_torque_Nm,
+                                    "T2_output_Nm": case.output_torque_Nm, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law

@@ -156,7 +156,7 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
         for name, cases in below.items():
             minimum = next(life["minimum_load_N"] for life in lives if life["name"] == name)
             warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N: 0.01 C ball, "
-                            f"0.02 C roller) in {len(cases)} case(s) ({', '.join(cases)}): the rolling elements may "
+                            f"0.02 C roller) in {len(cases)} case(s) ({'; '.join(cases)}): the rolling elements may "
                             "skid (smearing); preload it or load it radially")
     if duty:
         table = Table(title="Bearing life over the duty cycle (Palmgren–Miner over the rig file's load cases)",
@@ -194,7 +194,7 @@ def _print_lives(rig, records: list[dict], duty: list) -> None:
     for table in tables:
         support.console.print(table)
     for line in warnings:
-        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
+        support.warn(line)
 
 
 def _print_engineering(records: list[dict]) -> None:
@@ -306,8 +306,9 @@ def sweep(
 
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
-    for line in play_crossings(model_section.get("ball_bearing_operating_points", {})):
-        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
+    for line in play_crossings({**model_section.get("ball_bearing_operating_points", {}),
+                                **model_section.get("rolling_bearing_operating_points", {})}):
+        support.warn(line)
     if model_section.get("nonlinear"):
         nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
                      + model_section.get("rolling_bearings", []))
