@@ -2,8 +2,10 @@
 
 Load ratings (:func:`load_ratings`): the keys ``dynamic_load_rating_kN`` / ``static_load_rating_kN`` when
 given (the catalogue's values); for a ``model = "ball"`` bearing otherwise from its internal geometry by
-ISO 281 (C) and ISO 76 (C0, f0) (:mod:`rvcoax.fem.bearing_life`). A typed-in (``model = "linear"``) bearing
-without C has no life. f0 of a typed-in bearing (ISO 281's X and Y under axial load) is
+ISO 281 (C) and ISO 76 (C0, f0) (:mod:`rvcoax.fem.bearing_life`); for an angular-contact, cylindrical or tapered
+roller bearing from its catalogue entry or geometry (:func:`rvcoax.geometry.rolling_model.load_ratings_N`), a set
+of two rows rating 2^0.7 C (ball) or 2^(7/9) C (roller) and 2 C0. A typed-in (``model = "linear"``) bearing
+without C has no life. :func:`equivalent_load` gives ISO 281's P of the angular-contact and roller types. f0 of a typed-in bearing (ISO 281's X and Y under axial load) is
 :data:`TYPED_IN_F0` unless its geometry is known.
 
 Speeds (:func:`bearing_speeds_rpm`): the shafts joined to T1's part by couplings turn at the input speed,

@@ -136,7 +136,8 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
     lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
              for case in lives_of_records(records) for life in case]
     if lives:
-        table = Table(title="Bearing life (ISO 281 L10; L10r ISO/TS 16281 where the elements are modelled), static "
+        table = Table(title="Bearing life (ISO 281 L10 with the X/Y of its type and set; L10r ISO/TS 16281 from the element "
+                            "loads where they are modelled), static "
                             "safety s0 and minimum load, per case", title_justify="left")
         for column in ("case", "bearing", "rpm", "P N", "L10 Mrev", "L10 h", "L10r h|Mrev", "Lnm h", "s0", "min load N",
                        "status"):
@@ -166,7 +167,7 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                              else "right")
         for d in duty:
             table.add_row(escape(d.name), d.shares, _life(d.L10_h), _life(d.L10_Mrev), _life(d.Lnm_h),
-                          _life(d.min_static_safety), escape(", ".join(d.cases_below_minimum_load)) or "none")
+                          _life(d.min_static_safety), escape("; ".join(d.cases_below_minimum_load)) or "none")
         tables.append(table)
     reducers = [(r["entry"], red) for r in records for red in r["entry"].get("engineering", {}).get("reducers", [])]
     if reducers:
