@@ -155,9 +155,10 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
             if life["below_minimum_load"]:
                 below.setdefault(life["name"], []).append(life["case"])
         for name, cases in below.items():
-            minimum = next(life["minimum_load_N"] for life in lives if life["name"] == name)
-            warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N: 0.01 C ball, "
-                            f"0.02 C roller) in {len(cases)} case(s) ({'; '.join(cases)}): the rolling elements may "
+            life = next(life for life in lives if life["name"] == name)
+            minimum, share = life["minimum_load_N"], life["minimum_load_N"] / life["dynamic_load_rating_N"]
+            warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N = {share:.2g} C, the "
+                            f"makers' rule) in {len(cases)} case(s) ({'; '.join(cases)}): the rolling elements may "
                             "skid (smearing); preload it or load it radially")
     if duty:
         table = Table(title="Bearing life over the duty cycle (Palmgren–Miner over the rig file's load cases)",
