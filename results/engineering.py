@@ -41,6 +41,7 @@ __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentToler
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
            "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "bearing_warnings",
            "case_engineering", "case_name", "case_text", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
+           "engineering_warnings", "minimum_load_warnings", "reducer_warnings",
            "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
            "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries", "rolling_bearing_lives",
            "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
@@ -966,3 +967,63 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
                 found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i])} and "
                              f"{_case_text(entries[j])}: Y is not proportional to torque across that step ({jumps})")
     return found
+
+
+def minimum_load_warnings(case_lives) -> list[str]:
+    """One sentence per bearing that carries less than its minimum load in some case (the cases named).
+
+    Parameters
+    ----------
+    case_lives : list of tuple of BearingLifeQuantities
+        Per case, every bearing's life (:func:`sweep_lives`, :func:`lives_of_records`).
+    """
+    below: dict[str, list[BearingLifeQuantities]] = {}
+    for lives in case_lives:
+        for life in lives:
+            if life.below_minimum_load:
+                below.setdefault(life.name, []).append(life)
+    found = []
+    for name, lives in below.items():
+        first = lives[0]
+        share = first.minimum_load_N / first.dynamic_load_rating_N
+        found.append(f"bearing {name} carries less than its minimum load ({first.minimum_load_N:.3g} N = {share:.2g} C, "
+                     f"the makers' rule) in {len(lives)} case(s) ({'; '.join(life.case for life in lives)}): the "
+                     "rolling elements may skid (smearing); preload it or load it radially")
+    return found
+
+
+def reducer_warnings(rig, entries: list[dict]) -> list[str]:
+    """One sentence per reducer and case beyond its rating table (:func:`rvcoax.geometry.reducers.reducer_check`),
+    from ``sweep.json`` case entries (their ``engineering.reducers``)."""
+    found = []
+    for entry in entries:
+        for red in entry.get("engineering", {}).get("reducers", []):
+            if red["verdict"] == "within rating":
+                continue
+            case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
+            found.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque "
+                         f"{red['torque_Nm']:.4g} N·m = {red['torque_rated_percent']:.3g} % of rated; moment "
+                         f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable)")
+    return found
+
+
+def engineering_warnings(rig, entries: list[dict], operating_points: dict | None = None) -> list[str]:
+    """Every warning a sweep gives about its bearings and reducers, one sentence each, in one form
+    (``bearing <name> (<model>) …``, ``reducer <name> (<designation>) …``, cases named as the tables name them):
+    bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
+    minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
+    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
+    with ``warning:``, the report in its misalignment section.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its case names).
+    entries : list of dict
+        The ``cases`` of ``sweep.json``.
+    operating_points : dict, optional
+        ``model.ball_bearing_operating_points`` and ``model.rolling_bearing_operating_points`` merged.
+    """
+    tables = [e for e in entries if "couplings" in e.get("engineering", {})]
+    return (bearing_warnings(tables) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
+            + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))

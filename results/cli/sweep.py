@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import bearing_warnings, reaction_sum
+from rvcoax.results import reaction_sum
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -127,12 +127,12 @@ def _life(value) -> str:
     return "> 1e9" if not value <= 1e9 else f"{value:.3g}"
 
 
-def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
+def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> list[Table]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
-    the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
+    the rating table; the duty-cycle lives (the warnings: :func:`rvcoax.results.engineering.engineering_warnings`)."""
     from rvcoax.results import case_name, lives_of_records
 
-    tables, warnings = [], []
+    tables = []
     lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
              for case in lives_of_records(records) for life in case]
     if lives:
@@ -150,16 +150,6 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                           _life(life["static_safety"]),
                           f"{life['minimum_load_N']:.3g}", life["minimum_load_status"])
         tables.append(table)
-        below: dict[str, list[str]] = {}
-        for life in lives:
-            if life["below_minimum_load"]:
-                below.setdefault(life["name"], []).append(life["case"])
-        for name, cases in below.items():
-            life = next(life for life in lives if life["name"] == name)
-            minimum, share = life["minimum_load_N"], life["minimum_load_N"] / life["dynamic_load_rating_N"]
-            warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N = {share:.2g} C, the "
-                            f"makers' rule) in {len(cases)} case(s) ({'; '.join(cases)}): the rolling elements may "
-                            "skid (smearing); preload it or load it radially")
     if duty:
         table = Table(title="Bearing life over the duty cycle (Palmgren–Miner over the rig file's load cases)",
                       title_justify="left")
@@ -183,20 +173,13 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                           _percent(red["torque_peak_percent"]), _percent(red["torque_momentary_percent"]),
                           f"{red['moment_Nm']:.3g}", _percent(red["moment_use_percent"]), f"{red['axial_force_N']:.3g}",
                           _percent(red["axial_use_percent"]), red["verdict"])
-            if red["verdict"] != "within rating":
-                warnings.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque {red['torque_Nm']:.4g} "
-                                f"N·m = {red['torque_rated_percent']:.3g} % of rated; moment {red['moment_Nm']:.3g} "
-                                f"N·m = {red['moment_use_percent']:.3g} % of allowable)")
         tables.append(table)
-    return tables, warnings
+    return tables
 
 
 def _print_lives(rig, records: list[dict], duty: list) -> None:
-    tables, warnings = lives_and_reducer_tables(rig, records, duty)
-    for table in tables:
+    for table in lives_and_reducer_tables(rig, records, duty):
         support.console.print(table)
-    for line in warnings:
-        support.warn(line)
 
 
 def _print_engineering(records: list[dict]) -> None:
@@ -210,8 +193,6 @@ def _print_engineering(records: list[dict]) -> None:
     residual = entry["engineering"]["equilibrium_residual"]
     support.console.print(f"Equilibrium residual (applied loads + reactions): {residual['force_N']:.2g} N, "
                           f"{residual['moment_Nm']:.2g} N·m. Every case's tables are in sweep.csv and sweep.json.")
-    for message in bearing_warnings(entries):
-        support.warn(message)
 
 
 def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
@@ -304,12 +285,13 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
-    from rvcoax.results import duty_cycle_of_records, play_crossings
+    from rvcoax.results import duty_cycle_of_records, engineering_warnings
 
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
-    for line in play_crossings({**model_section.get("ball_bearing_operating_points", {}),
-                                **model_section.get("rolling_bearing_operating_points", {})}):
+    for line in engineering_warnings(rig, [r["entry"] for r in records],
+                                     {**model_section.get("ball_bearing_operating_points", {}),
+                                      **model_section.get("rolling_bearing_operating_points", {})}):
         support.warn(line)
     if model_section.get("nonlinear"):
         nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
