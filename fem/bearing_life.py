@@ -447,8 +447,9 @@ def tapered_xy(radial_N: float, axial_N: float, contact_angle_rad: float, *, pai
 
 def cylindrical_xy(radial_N: float, axial_N: float) -> tuple[float, float, float]:
     """(X, Y, e) of a cylindrical roller bearing with ribs on both rings (NJ, NUP) carrying a thrust through them
-    (makers' rule for the 2 and 3 series: e = 0.2, F_a/F_r > e → P = 0.92 F_r + 0.6 F_a; SKF rolling bearings
-    catalogue, cylindrical roller bearings, "Equivalent dynamic bearing load"); P = F_r without thrust."""
+    (the makers' rule for the 10, 2, 3 and 4 series: e = 0.2, F_a/F_r > e → P = 0.92 F_r + 0.6 F_a, as a maker's
+    technical page prints it, honghui188.com "Radial Equivalent Dynamic Load"; SKF's double-row full-complement
+    pages give the same form with their own e, Y); P = F_r without thrust."""
     radial, axial = abs(radial_N), abs(axial_N)
     return (0.92, 0.6, 0.2) if axial > 0.2 * radial else (1.0, 0.0, 0.2)
 
