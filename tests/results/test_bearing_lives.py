@@ -174,4 +174,12 @@ def test_angular_contact_and_roller_bearing_lives_in_a_sweep():
     assert math.isfinite(lives["input_B2"].L10r_Mrev)  # the zero-clearance cylindrical bearing's rollers carry
     row = case_row(sweep.cases[0])
     assert "bearing_output_B1_L10r_Mrev" in row and "bearing_input_B2_static_safety" in row
+    # the one warning function the console and the report share names the case as the tables do
+    from rvcoax.results.engineering import engineering_warnings
+    from rvcoax.results.io.records import case_entry
+
+    said = engineering_warnings(sweep.rig, [case_entry(c) for c in sweep.cases],
+                                sweep.solver_report["rolling_bearing_operating_points"])
+    assert (f"bearing output_B1 carries less than its minimum load ({tapered.minimum_load_N:.3g} N = 0.02 C, the "
+            "makers' rule) in 1 case(s) (T1 = 1.43 N·m, T2 = 200 N·m)") in " ".join(said)
 
