@@ -500,7 +500,7 @@ def _life_text(value) -> str:
         return "–"
     if not math.isfinite(value) or value > 1e9:
         return "> 1e9"
-    return _g(value, 3)
+    return f"{value:.3g}" if value >= 1e5 else _g(value, 3)  # a life to three digits, not 5230017
 
 
 def life_tables(sweep) -> list[Table]:
