@@ -908,7 +908,9 @@ UNLOADED_SHARE = 0.01
 (nearly) nothing: a ball bearing hanging in its clearance, a shaft inside a radial play."""
 
 
-def _case_text(entry: dict) -> str:
+def _case_text(entry: dict, rig=None) -> str:
+    if rig is not None:
+        return case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
     return case_text(entry["T1_input_Nm"], entry["T2_output_Nm"])
 
 
@@ -920,7 +922,7 @@ def _carrying(entry: dict) -> dict[str, bool]:
             for b in bearings}
 
 
-def bearing_warnings(entries: list[dict]) -> list[str]:
+def bearing_warnings(entries: list[dict], rig=None) -> list[str]:
     """What a nonlinear sweep should say about its bearings, one sentence each, from the ``sweep.json`` case
     entries.
 
@@ -933,6 +935,8 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
     ----------
     entries : list of dict
         The ``cases`` of ``sweep.json`` (each with its ``engineering.bearings``).
+    rig : Rig, optional
+        With it, cases are named as the tables name them (:func:`case_name`), else by their torques.
 
     Returns
     -------
@@ -949,7 +953,7 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
         idle = [i for i, state in enumerate(carrying) if not state[name]]
         if idle:
             cases = (f"in all {len(entries)} cases" if len(idle) == len(entries) else
-                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i]) for i in idle[:3])}"
+                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i], rig) for i in idle[:3])}"
                      + (", …)" if len(idle) > 3 else ")"))
             found.append(f"bearing {name} ({b['model']}) carries (nearly) nothing {cases}: less than "
                          f"{100 * UNLOADED_SHARE:g} % of the largest bearing force"
@@ -964,8 +968,8 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
                 jumps = ", ".join(f"Y_{s} {shafts[s]['Y_max_um']:.3g} → "
                                   f"{entries[j]['engineering']['shafts'][s]['Y_max_um']:.3g} µm" for s in shafts)
                 what = "takes up its play" if carrying[j][name] else "lifts off into its play"
-                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i])} and "
-                             f"{_case_text(entries[j])}: Y is not proportional to torque across that step ({jumps})")
+                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i], rig)} and "
+                             f"{_case_text(entries[j], rig)}: Y is not proportional to torque across that step ({jumps})")
     return found
 
 
@@ -1025,5 +1029,5 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
         ``model.ball_bearing_operating_points`` and ``model.rolling_bearing_operating_points`` merged.
     """
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
-    return (bearing_warnings(tables) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
+    return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
             + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))
