@@ -980,6 +980,11 @@ def minimum_load_warnings(case_lives) -> list[str]:
     ----------
     case_lives : list of tuple of BearingLifeQuantities
         Per case, every bearing's life (:func:`sweep_lives`, :func:`lives_of_records`).
+
+    Returns
+    -------
+    list of str
+        One sentence per bearing below its minimum load in any case.
     """
     below: dict[str, list[BearingLifeQuantities]] = {}
     for lives in case_lives:
@@ -1027,6 +1032,11 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
         The ``cases`` of ``sweep.json``.
     operating_points : dict, optional
         ``model.ball_bearing_operating_points`` and ``model.rolling_bearing_operating_points`` merged.
+
+    Returns
+    -------
+    list of str
+        The sentences (empty when nothing is wrong).
     """
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
     return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
