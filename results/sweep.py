@@ -371,6 +371,13 @@ def _relative_residual(system: RigSystem, unbalance: np.ndarray, load: np.ndarra
     return float(np.linalg.norm(system.elimination.T @ unbalance) / scale) if scale > 0 else 0.0
 
 
+def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, dict, np.ndarray]:
+    """The solutions of every unit load (as columns and by name) and of the loads present at rest."""
+    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
+    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
+    return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
+
+
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
               prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
@@ -414,9 +421,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
                              on_case=on_case, engineering=engineering)
     loads = system.unit_loads
-    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
-    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
-    rest = sum(unit_by_name[k] for k in REST_LOADS)
+    unit, unit_by_name, rest = _unit_solutions(prepared, loads)
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None

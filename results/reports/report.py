@@ -492,6 +492,13 @@ def _decides_html(sweep, inputs: ReportInputs) -> str:
     return _table_html(tables.decides_table(what_decides_y(sweep.rig, assumed, case, sweep.settings)))
 
 
+def _shaft_strength_html(sweep, entries) -> str:
+    """The shaft stresses and DIN 743 notch safeties of the report, with the note on what is not judged."""
+    shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
+    return ("".join(_table_html(t) for t in shaft_tables) + (_missing(shaft_note) if shaft_note else "")
+            + ("" if shaft_tables else _missing("No beam shafts in this model.")))
+
+
 def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,  # noqa: PLR0913
                 paper: str = "a4", decides: bool = True) -> str:
     """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
@@ -536,10 +543,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
                                                  for w in engineering_warnings(rig, entries, points))
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
-    shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
-    body.append(_section("shaft-strength", "".join(_table_html(t) for t in shaft_tables)
-                         + (_missing(shaft_note) if shaft_note else "")
-                         + ("" if shaft_tables else _missing("No beam shafts in this model."))))
+    body.append(_section("shaft-strength", _shaft_strength_html(sweep, entries)))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep
