@@ -423,7 +423,6 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     loads = system.unit_loads
     unit, unit_by_name, rest = _unit_solutions(prepared, loads)
     from_rest = rig.paths.measured_from == "aligned_at_rest"
-    frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
@@ -433,7 +432,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
         u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
              if settings.method == "superposition" else solve(load))
-        check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
+        check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs)
         unbalance = system.stiffness @ u - load
         residual = _relative_residual(system, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)

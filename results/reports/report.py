@@ -165,6 +165,14 @@ def _missing(text: str) -> str:
     return f'<p class="missing">{html.escape(text)}</p>'
 
 
+def _warnings_html(sweep, entries: list[dict]) -> str:
+    """The sweep's bearing and reducer warnings (:func:`rvcoax.results.engineering.engineering_warnings`, the
+    console's sentences), one note each."""
+    points = {**sweep.solver_report.get("ball_bearing_operating_points", {}),
+              **sweep.solver_report.get("rolling_bearing_operating_points", {})}
+    return "".join(_missing(f"Warning: {w}") for w in engineering_warnings(sweep.rig, entries, points))
+
+
 def _tilt_figure(sweep, path: Path) -> Path:
     """β (paper 000) and the true tilt of both measured shafts against their torque, µrad."""
     from matplotlib.figure import Figure
@@ -537,10 +545,7 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         "Not computed (rvcoax report --no-decides).")))
     misalignment = (tables.misalignment_tables(sweep, entries) + tables.life_tables(sweep)
                     + tables.gear_mesh_tables(sweep))
-    points = {**sweep.solver_report.get("ball_bearing_operating_points", {}),
-              **sweep.solver_report.get("rolling_bearing_operating_points", {})}
-    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}")
-                                                 for w in engineering_warnings(rig, entries, points))
+    body.append(_section("misalignment", _warnings_html(sweep, entries)
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
     body.append(_section("shaft-strength", _shaft_strength_html(sweep, entries)))
