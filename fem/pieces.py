@@ -38,10 +38,6 @@ __all__ = ["AssembledSystem", "Contribution", "assemble", "assemble_frame", "bea
            "solid_mass_contribution"]
 
 
-def _no_dofs() -> np.ndarray:
-    return np.zeros(0, dtype=int)
-
-
 @dataclass(frozen=True, eq=False)
 class AssembledSystem:
     """The sum of a list of contributions.
@@ -91,7 +87,7 @@ def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSys
     equations: dict[int, Mapping[int, float]] = {}
     for c in contributions:
         equations.update(c.equations)
-    fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
+    fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [np.zeros(0, dtype=int)])
     return AssembledSystem(n_dofs=int(n_dofs), stiffness=stiffness, loads=load_vectors(n_dofs, contributions),
                            equations=equations, fixed_dofs=fixed, mass=mass)
 

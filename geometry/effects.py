@@ -459,24 +459,25 @@ def _adds_to(address: str) -> Callable:
     return change
 
 
+# ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; ISO grade 5–6 pitch and runout
+# errors of gears (base pitch deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
+_POSITION_ERROR = EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0)
+
+
 def _mesh_position_error(rig: Rig, name: str) -> Effect:
     change = _adds_to(f"torque_lateral_loads.{name}.position_error_um")
-
-    # ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; pitch and
-    # runout errors of ISO grade 5–6 gears reach 5–10 µm. The force k_eff·Δε acts while torque flows.
+    # The force k_eff·Δε acts while torque flows (bounds: _POSITION_ERROR).
     return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
-                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  parameters=(_POSITION_ERROR,), linear=True,
                   description=f"A position error of the two load-sharing meshes of {name}: a lateral force k_eff·Δε that "
                   "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change=change)
 
 
 def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
     change = _adds_to(f"gear_meshes.{name}.planet_position_errors_um[0]")
-
-    # ±10 µm, as for the typed-in load sharing: ISO grade 5–6 pitch and runout errors (base pitch
-    # deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
+    # ±10 µm, as for the typed-in load sharing (_POSITION_ERROR).
     return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
-                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  parameters=(_POSITION_ERROR,), linear=True,
                   description=f"The first planet mesh of gear mesh {name} engages this much later along its line of action "
                   "(a position error): the load sharing of its planets, and so the net force on the driving gear, "
                   "follow from the gear data.", change=change)
