@@ -32,8 +32,10 @@ class StructuralModel:
     ----------
     coordinates : (n_nodes, 3) array
         Node positions in m.
-    *groups : ElementGroup
+    *tables : ElementGroup
         Element tables, at most one of each type (:meth:`group` finds a table by its type).
+    groups : tuple of ElementGroup, optional
+        More tables, after ``tables`` (the field's name: ``dataclasses.replace`` works on a model).
     point_masses : PointMasses, optional
     rigid_links : RigidLinks, optional
     fixed_dofs : (k,) int array
@@ -47,10 +49,10 @@ class StructuralModel:
     fixed_dofs: np.ndarray
     node_group: np.ndarray | None
 
-    def __init__(self, coordinates: np.ndarray, *groups: ElementGroup,
+    def __init__(self, coordinates: np.ndarray, *tables: ElementGroup, groups: tuple[ElementGroup, ...] = (),  # noqa: PLR0913
                  point_masses: loads.PointMasses | None = None, rigid_links: RigidLinks | None = None,
                  fixed_dofs: np.ndarray | None = None, node_group: np.ndarray | None = None) -> None:
-        groups = (*groups, *(g for g in (point_masses, rigid_links) if g is not None))
+        groups = (*tables, *groups, *(g for g in (point_masses, rigid_links) if g is not None))
         for g in groups:
             if not isinstance(g, ElementGroup):
                 raise TypeError(f"{type(g).__name__} is not an element group (no contribution/mass_contribution)")

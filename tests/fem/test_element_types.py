@@ -6,6 +6,7 @@ names it, yet the one assembly path (:func:`rvcoax.fem.pieces.assemble_frame`,
 Checked against closed forms: a cantilever propped by a spring at its tip, and a mass on a spring.
 """
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,5 +103,7 @@ def test_a_model_takes_one_table_per_type_and_finds_it_by_type():
     replaced = structure.with_group(SprungMasses(np.array([0]), np.array([2.0]), np.array([1.0])))
     assert [type(g) for g in replaced.groups] == [type(g) for g in structure.groups]
     assert replaced.group(SprungMasses).stiffness_N_per_m[0] == 2.0
+    moved = dataclasses.replace(replaced, fixed_dofs=np.array([0, 1]))
+    assert moved.groups == replaced.groups and moved.fixed_dofs.tolist() == [0, 1]
     # the rig's own types read as empty tables where a model has none
     assert len(structure.bushings.node_b) == 0 and len(structure.point_masses.node) == 0
