@@ -24,9 +24,8 @@ __all__ = ["StructuralModel"]
 class StructuralModel:
     """Everything that makes the stiffness and mass of a frame model (SI units).
 
-    ``StructuralModel(coordinates, beams, bushings, point_masses=hubs, rigid_links=links, fixed_dofs=dofs)``:
-    the element groups are given in assembly order, positionally; ``point_masses`` and ``rigid_links`` are
-    appended after them (the order the rig's beam model has always had).
+    ``StructuralModel(coordinates, beams, bushings, links, fixed_dofs=dofs)``: the element groups in assembly
+    order; ``point_masses=hubs`` (the rig builder's form) is appended after them.
 
     Parameters
     ----------
@@ -37,7 +36,7 @@ class StructuralModel:
     groups : tuple of ElementGroup, optional
         More tables, after ``tables`` (the field's name: ``dataclasses.replace`` works on a model).
     point_masses : PointMasses, optional
-    rigid_links : RigidLinks, optional
+        One more table, after ``tables`` and ``groups``.
     fixed_dofs : (k,) int array
         DOFs held at zero.
     node_group : (n_nodes,) array of str
@@ -49,10 +48,10 @@ class StructuralModel:
     fixed_dofs: np.ndarray
     node_group: np.ndarray | None
 
-    def __init__(self, coordinates: np.ndarray, *tables: ElementGroup, groups: tuple[ElementGroup, ...] = (),  # noqa: PLR0913
-                 point_masses: loads.PointMasses | None = None, rigid_links: RigidLinks | None = None,
-                 fixed_dofs: np.ndarray | None = None, node_group: np.ndarray | None = None) -> None:
-        groups = (*tables, *groups, *(g for g in (point_masses, rigid_links) if g is not None))
+    def __init__(self, coordinates: np.ndarray, *tables: ElementGroup, groups: tuple[ElementGroup, ...] = (),
+                 point_masses: loads.PointMasses | None = None, fixed_dofs: np.ndarray | None = None,
+                 node_group: np.ndarray | None = None) -> None:
+        groups = (*tables, *groups, *(() if point_masses is None else (point_masses,)))
         for g in groups:
             if not isinstance(g, ElementGroup):
                 raise TypeError(f"{type(g).__name__} is not an element group (no contribution/mass_contribution)")
