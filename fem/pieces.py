@@ -177,12 +177,11 @@ def assemble_frame(model, gravity_direction=(0.0, 0.0, 0.0)) -> AssembledSystem:
     return assemble(model.n_dofs, frame_contributions(model, gravity_direction))
 
 
-def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,  # noqa: PLR0913
-                       *, gravity_direction) -> Contribution:
-    """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
-    weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
+def solid_contribution(basis, material: solid.ElasticMaterial, dof_offset: int, *, gravity_direction) -> Contribution:
+    """A solid part (P2 tetrahedra) of ``material`` whose DOFs start at ``dof_offset``: stiffness and body weight."""
+    weight = solid.body_force_vector(basis, material.density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
     return Contribution(loads={"gravity": dense_entries(weight, dof_offset)},
-                        block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_Pa, poisson)))
+                        block=(dof_offset, solid.stiffness_matrix(basis, material.youngs_modulus_Pa, material.poisson)))
 
 
 def beam_mass_contribution(model) -> Contribution:
