@@ -89,7 +89,9 @@ class StructuralModel:
         found = self.group(beam.BeamElements)
         if found is None:
             none = np.zeros(0)
-            return beam.BeamElements(np.zeros((0, 2), int), none, none, none, none, none, none, none, np.zeros((0, 3)))
+            return beam.BeamElements(connectivity=np.zeros((0, 2), int), area_m2=none, second_moment_m4=none,
+                                     polar_moment_m4=none, shear_coefficient=none, youngs_modulus_Pa=none,
+                                     shear_modulus_Pa=none, density_kg_per_m3=none, reference_vector=np.zeros((0, 3)))
         return found
 
     @property
