@@ -34,7 +34,8 @@ import scipy.sparse as sp
 from rvcoax.fem.condensation import StaticModes, static_modes
 from rvcoax.fem.modal import ModalError, block_lanczos
 
-__all__ = ["INTERFACE_FACTOR", "CraigBampton", "craig_bampton_reduction", "interface_modes_needed"]
+__all__ = ["INTERFACE_FACTOR", "AttachedModes", "CraigBampton", "append_interface_modes", "craig_bampton_reduction",
+           "interface_modes_needed"]
 
 INTERFACE_FACTOR = 3.0
 """Fixed-interface modes are kept up to this factor × the highest frequency asked of the assembled model; a
@@ -71,6 +72,13 @@ class CraigBampton:
         out[:k, :k] = self.stiffness
         out[k:, k:] = np.diag(self.interface_eigenvalues)
         return out
+
+    def truncated(self, n_modes: int) -> CraigBampton:
+        """The same reduction with only the lowest ``n_modes`` fixed-interface modes (exactly what a reduction with
+        that many would give: the modes are kept, not recomputed)."""
+        k = self.stiffness.shape[0]
+        keep = k + min(int(n_modes), self.n_modes)
+        return CraigBampton(self.stiffness, self.interface_eigenvalues[:keep - k], self.mass[:keep, :keep])
 
     def interface_frequencies_hz(self) -> np.ndarray:
         return np.sqrt(np.maximum(self.interface_eigenvalues, 0.0)) / (2.0 * np.pi)
@@ -147,3 +155,57 @@ def interface_modes_needed(interface_eigenvalues: np.ndarray, top_frequency_hz: 
     (0 when the lowest lies above it: Guyan's mass is then good to well within the band)."""
     hz = np.sqrt(np.maximum(np.asarray(interface_eigenvalues, dtype=float), 0.0)) / (2.0 * np.pi)
     return int(np.count_nonzero(hz < factor * top_frequency_hz))
+
+
+@dataclass(frozen=True, eq=False)
+class AttachedModes:
+    """A reduced structure's fixed-interface modes as r extra DOFs of a system: its master ``dofs`` (k,) in the
+    system, the modal stiffness (r,) and mass (r,) of each modal coordinate and the mass coupling (k × r) to the
+    masters (the system already holds the structure's K_c and Guyan mass on ``dofs``)."""
+
+    dofs: np.ndarray
+    stiffness: np.ndarray
+    mass: np.ndarray
+    coupling: np.ndarray
+
+    @classmethod
+    def of(cls, reduction: CraigBampton, dofs, *, density: float, stiffness_factor: float = 1.0) -> AttachedModes:
+        """From a reduction computed for a density of 1 (M_cb ∝ ρ, its modal stiffness ∝ the stiffness factor)."""
+        k = reduction.stiffness.shape[0]
+        return cls(np.asarray(dofs, dtype=int), stiffness_factor * reduction.interface_eigenvalues,
+                   density * np.diag(reduction.mass)[k:].copy(), density * reduction.mass[:k, k:])
+
+
+def append_interface_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix,  # noqa: PLR0913
+                           attached: list[AttachedModes], reduced_solve=None):
+    """(K', M', T', solve') of a system (n DOFs, u = T q) with the modal coordinates of ``attached`` appended as
+    DOFs n, n + 1, …: K' = blkdiag(K, Ω²), M' = M with the modal masses and the couplings, T' = blkdiag(T, I) and,
+    with ``reduced_solve`` (x → (Tᵀ K T)⁻¹ x), solve' = its inverse of T'ᵀ K' T' (the modal block is diagonal: no
+    new factorisation). ``solve'`` is None without ``reduced_solve``."""
+    n, m = elimination.shape
+    r = sum(a.stiffness.size for a in attached)
+    rows, cols, values = [], [], []
+    start = n
+    for a in attached:
+        modal = start + np.arange(a.stiffness.size)
+        block_rows = np.repeat(a.dofs, modal.size)
+        block_cols = np.tile(modal, a.dofs.size)
+        rows += [block_rows, block_cols, modal]
+        cols += [block_cols, block_rows, modal]
+        values += [a.coupling.ravel(), a.coupling.ravel(), a.mass]
+        start += modal.size
+    extra_mass = sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
+                               shape=(n + r, n + r)) if attached else sp.csr_matrix((n + r, n + r))
+    modal_stiffness = np.concatenate([a.stiffness for a in attached]) if attached else np.zeros(0)
+    k_aug = sp.block_diag([sp.csr_matrix(stiffness), sp.diags(modal_stiffness)], format="csr")
+    m_aug = (sp.block_diag([sp.csr_matrix(mass), sp.csr_matrix((r, r))], format="csr") + extra_mass).tocsr()
+    t_aug = sp.block_diag([sp.csr_matrix(elimination), sp.identity(r)], format="csr")
+    solve = None
+    if reduced_solve is not None:
+        def solve(x):
+            x = np.asarray(x, dtype=float)
+            out = np.empty_like(x)
+            out[:m] = np.asarray(reduced_solve(x[:m])).reshape(x[:m].shape)
+            out[m:] = x[m:] / modal_stiffness.reshape((r,) + (1,) * (x.ndim - 1))
+            return out
+    return k_aug, m_aug, t_aug, solve

@@ -172,3 +172,31 @@ def test_hybrid_lateral_modes_agree_with_the_beam_model():
             shaft_owned += 1
             assert -5e-3 < change < 5e-4, (mode.number, mode.owner, change)
     assert shaft_owned >= 2  # the band covers both kinds
+
+
+@pytest.mark.slow  # the housing's Craig–Bampton reduction (a 20 mm block mesh) and three beam-model solves
+def test_housing_mass_guyan_or_craig_bampton():
+    """The reference rig with its input bearing block from geometry (self_weight): for the lowest 20 modes (top
+    923 Hz) the block's lowest fixed-interface mode (10.4 kHz) is far above 3 × the band, so ``auto`` keeps Guyan.
+    Asked for over 60 modes, Craig–Bampton (a Ritz refinement) lowers no frequency below what it was by more than
+    1e-6 in the lowest 20 and lowers the modes the block owns (near 2 kHz) by a fraction of a percent: its own
+    inertia."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "geometry" / "model"))
+    from test_housings import reference_with_block
+
+    rig = reference_with_block(self_weight=True)
+    auto = rvcoax.modes(rig, n_modes=20)
+    assert any("Guyan" in n and "fixed-interface mode, 10" in n for n in auto.notes)
+    guyan = rvcoax.modes(rig, n_modes=60, housing_dynamics="guyan").cases[0].modes
+    asked = rvcoax.modes(rig, n_modes=60, housing_dynamics="craig-bampton")
+    assert any("Craig–Bampton with 2" in n for n in asked.notes)
+    cb = asked.cases[0].modes
+    low, refined = (np.array([m.frequency_hz for m in s]) for s in (guyan, cb))
+    assert np.all(refined <= low * (1 + 1e-12))
+    assert refined[:20] == pytest.approx(low[:20], rel=1e-6)
+    owned = [(g, c) for g, c in zip(guyan, cb) if g.owner == "housing:input_block"]
+    assert owned
+    for g, c in owned:
+        assert c.owner == "housing:input_block" and 0.98 * g.frequency_hz < c.frequency_hz < g.frequency_hz
