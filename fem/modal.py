@@ -239,7 +239,7 @@ def block_lanczos(apply_mass: Callable[[np.ndarray], np.ndarray], solve: Callabl
         massed.append(current_massed)
         w = np.asarray(solve(current_massed), dtype=float).reshape(m, -1)  # A V_j
         coefficients = np.concatenate([mv.T @ w for mv in massed], axis=0)  # Vᵀ M A V_j
-        w -= np.hstack(basis) @ coefficients
+        w -= _combine(basis, coefficients)
         k1 = k0 + current.shape[1]
         grown = np.zeros((k1, k1))
         grown[:k0, :k0] = projected
@@ -252,9 +252,20 @@ def block_lanczos(apply_mass: Callable[[np.ndarray], np.ndarray], solve: Callabl
         wanted = min(n_modes, int(np.count_nonzero(mu > 0.0)))
         residual = np.linalg.norm(coupling @ s[k0:, :wanted], axis=0)
         if wanted == n_modes and np.all(residual <= tolerance * mu[:wanted]):
-            vectors = np.hstack(basis) @ s[:, :n_modes]
+            vectors = _combine(basis, s[:, :n_modes])
             return 1.0 / mu[:n_modes], vectors
     raise ModalError(f"the block Lanczos did not converge to {n_modes} modes in {len(basis)} blocks of {b}")
+
+
+def _combine(blocks: list[np.ndarray], coefficients: np.ndarray) -> np.ndarray:
+    """[V_1 … V_j] C, block by block (the blocks are never joined into one array: at 108 k DOF and 150 columns that
+    copy alone is 130 MB)."""
+    out = np.zeros((blocks[0].shape[0], coefficients.shape[1]))
+    start = 0
+    for v in blocks:
+        out += v @ coefficients[start:start + v.shape[1]]
+        start += v.shape[1]
+    return out
 
 
 def _m_orthonormal(w: np.ndarray, basis: list[np.ndarray], massed: list[np.ndarray],
@@ -262,7 +273,7 @@ def _m_orthonormal(w: np.ndarray, basis: list[np.ndarray], massed: list[np.ndarr
     """(Q, M Q, C): W M-orthogonalised once more against ``basis`` (M V in ``massed``; the caller did it once) and
     M-orthonormalised, W ≈ Q C; directions below rounding (the Krylov space exhausted) are dropped."""
     if basis:
-        w = w - np.hstack(basis) @ np.concatenate([mv.T @ w for mv in massed], axis=0)
+        w = w - _combine(basis, np.concatenate([mv.T @ w for mv in massed], axis=0))
     mw = np.asarray(apply_mass(w), dtype=float).reshape(w.shape)
     gram = w.T @ mw
     values, vectors = np.linalg.eigh(0.5 * (gram + gram.T))
