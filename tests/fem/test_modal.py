@@ -191,13 +191,14 @@ def test_large_models_apply_the_reduced_matrices_as_operators(monkeypatch):
 
 def test_block_lanczos_finds_repeated_eigenvalues():
     """K = diag(1, 1, 2, 2, 3, 3, …) (pairs, as a round shaft's two bending planes), M = diag(2): every pair found
-    once per plane, to the rounding of the Rayleigh–Ritz (the block holds both members of a pair at once)."""
+    once per plane (the block holds both members of a pair at once), to the square of the residual limit 1e-5 over
+    the relative gap to the next pair (≥ 1/7 here)."""
     from rvcoax.fem.modal import block_lanczos
 
     stiffness = np.repeat(np.arange(1.0, 201.0), 2)
     mass = np.full(stiffness.size, 2.0)
     values, vectors = block_lanczos(lambda x: mass[:, None] * x, lambda x: x / stiffness[:, None], stiffness.size, 12)
-    assert values == pytest.approx(np.repeat(np.arange(1.0, 7.0), 2) / 2.0, rel=1e-10)
+    assert values == pytest.approx(np.repeat(np.arange(1.0, 7.0), 2) / 2.0, rel=1e-9)
     assert vectors.T @ (mass[:, None] * vectors) == pytest.approx(np.eye(12), abs=1e-10)
 
 
