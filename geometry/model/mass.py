@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.condensation import superelement_mass_contribution
-from rvcoax.fem.craig_bampton import AttachedModes, interface_modes_needed
+from rvcoax.fem.craig_bampton import INTERFACE_FACTOR, AttachedModes, interface_modes_needed
 from rvcoax.fem.pieces import Contribution, assemble, frame_mass_contributions, solid_mass_contribution
 from rvcoax.geometry.model.condensed_housing import housing_craig_bampton
 from rvcoax.geometry.model.housings import condensation_inputs, condensed_housing
@@ -73,6 +73,7 @@ class HousingModes:
     lowest_interface_hz: float
     kept: int
     attached: AttachedModes | None
+    free_interface_bound: bool = False  # lowest_interface_hz is the lowest mode with the attachments free (a bound)
 
 
 def housing_modes(system: RigSystem, top_frequency_hz: float, request: str = "auto", cache_dir=None) -> list[HousingModes]:
@@ -81,6 +82,9 @@ def housing_modes(system: RigSystem, top_frequency_hz: float, request: str = "au
 
     ``request``: ``"auto"`` keeps the fixed-interface modes below ``INTERFACE_FACTOR`` × ``top_frequency_hz``
     (none when the lowest is above: Guyan); ``"craig-bampton"`` the same, and at least 2; ``"guyan"`` none.
+    ``"auto"`` first looks at the housing's lowest mode with its attachments free (cached with its condensation):
+    holding the attachments can only raise the frequencies, so when that one is above the limit the
+    fixed-interface modes are not computed at all.
     """
     rig, frame = system.rig, system.frame
     out = []
@@ -89,10 +93,15 @@ def housing_modes(system: RigSystem, top_frequency_hz: float, request: str = "au
     for housing in rig.housings:
         if not housing.self_weight:
             continue
+        density = rig.materials[housing.material].density_kg_per_m3
+        if request == "auto":
+            free = np.sqrt(housing.stiffness_factor) * condensed_housing(rig, housing, cache_dir).lowest_frequency_hz(density)
+            if free >= INTERFACE_FACTOR * top_frequency_hz:
+                out.append(HousingModes(housing.name, free, 0, None, free_interface_bound=True))
+                continue
         geometry, youngs, poisson, references, feet, bed = condensation_inputs(rig, housing)
         reduction = housing_craig_bampton(geometry, youngs, poisson, references, feet, bed_stiffness_N_per_um_per_mm2=bed,
                                           cache_dir=cache_dir)
-        density = rig.materials[housing.material].density_kg_per_m3
         omega2 = housing.stiffness_factor * reduction.interface_eigenvalues / density
         kept = interface_modes_needed(omega2, top_frequency_hz)
         if request == "craig-bampton":

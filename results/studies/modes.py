@@ -255,7 +255,7 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
             results = _case_modes(system, mass, prepared, operating, analysis, settings.n_modes, chosen)
     seconds["eigen"] = time.perf_counter() - lap
     limits = housing_frequencies(system, cache_dir)
-    notes += _housing_notes(rig, chosen, limits, results)
+    notes += _housing_notes(rig, chosen, results)
     gamma = max((m.gyroscopic_ratio for c in results for m in c.modes), default=0.0)
     if rig.speeds is not None:
         verdict = "neglected rightly" if gamma <= GYROSCOPIC_LIMIT else "NOT negligible: treat these results with care"
@@ -317,7 +317,7 @@ class _Interface:
         return out
 
 
-def _housing_notes(rig: Rig, chosen: list, limits: dict, results: list) -> list[str]:
+def _housing_notes(rig: Rig, chosen: list, results: list) -> list[str]:
     """How each housing's mass entered: Guyan, or Craig–Bampton with how many fixed-interface modes, and why."""
     top = max((m.frequency_hz for c in results for m in c.modes), default=0.0)
     notes = []
@@ -334,7 +334,9 @@ def _housing_notes(rig: Rig, chosen: list, limits: dict, results: list) -> list[
             notes.append(f"housing {housing.name}: Craig–Bampton with {h.kept} fixed-interface mode(s) (the lowest "
                          f"{h.lowest_interface_hz:.0f} Hz, {why})")
         else:
-            notes.append(f"housing {housing.name}: Guyan (static-shape) mass; its lowest fixed-interface mode, "
+            which = ("lowest mode with its attachments free (a lower bound of the fixed-interface ones)"
+                     if h.free_interface_bound else "lowest fixed-interface mode")
+            notes.append(f"housing {housing.name}: Guyan (static-shape) mass; its {which}, "
                          f"{h.lowest_interface_hz:.0f} Hz, is above {INTERFACE_FACTOR:g} × the top rig frequency")
     return notes
 
