@@ -31,6 +31,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rvcoax.fem.errors import RvcoaxError
+from rvcoax.fem.memory import available_memory_bytes
 
 __all__ = ["BLOCK_TOLERANCE", "DENSE_LIMIT", "LARGE_LIMIT", "MAX_BLOCKS", "LowRankUpdate", "ModalError", "Modes",
            "block_lanczos", "block_size", "natural_modes"]
@@ -174,10 +175,12 @@ def _lanczos_on_operators(t, stiffness, m_r, n_modes, *, reduced_solve, update, 
     v_r, d = update
     inverse = _woodbury(reduced_solve, v_r, d)
     m = t.shape[1]
-    try:
-        return block_lanczos(lambda x: m_r @ x, inverse, m, n_modes)
-    except ModalError:
-        pass
+    room = available_memory_bytes()
+    if room is None or _block_basis_bytes(m, n_modes) < 0.25 * room:
+        try:
+            return block_lanczos(lambda x: m_r @ x, inverse, m, n_modes)
+        except ModalError:
+            pass
     k_plain = _reduced_operator(t, stiffness)
 
     def k_op(x):
@@ -197,8 +200,15 @@ is then accurate to about its square times μ over the gap to the next one. Meas
 model (108 k DOF, 20 modes): its frequencies agree with ARPACK's (40 modes at tol 1e-12) to 2.9e-9, the rounding of
 the saddle-point solves themselves (ARPACK at 1e-10 and at 1e-12 differ by as much), with 1e-5 and with 1e-4 alike
 (6 block solves each); 1e-3 left 1.8e-7 (5)."""
-MAX_BLOCKS = 30
-"""Krylov blocks after which an unconverged block Lanczos is abandoned (the modes are then found by ARPACK)."""
+MAX_BLOCKS = 12
+"""Krylov blocks after which an unconverged block Lanczos is abandoned (the modes are then found by ARPACK); 20 modes
+of the hybrid reference rig take 6."""
+
+
+def _block_basis_bytes(m: int, n_modes: int) -> float:
+    """Memory of a block Lanczos basis at :data:`MAX_BLOCKS` blocks (the blocks and their mass products): where it
+    would take more than a quarter of the memory available, ARPACK (a few dozen vectors) is used instead."""
+    return 2.0 * 8.0 * m * block_size(n_modes) * MAX_BLOCKS
 
 
 def block_size(n_modes: int) -> int:

@@ -105,7 +105,7 @@ def modes(
     if settings.solver == "amg":
         raise support.UserError("--solver amg: an eigensolver needs an exact factorisation; use auto, superlu "
                                 "or pardiso")
-    from rvcoax.results.studies.modes import HOUSING_DYNAMICS
+    from rvcoax.results.studies import HOUSING_DYNAMICS
 
     if housing_dynamics not in HOUSING_DYNAMICS:
         raise support.UserError(f"--housing-dynamics {housing_dynamics}: choose one of {', '.join(HOUSING_DYNAMICS)}")

@@ -52,6 +52,7 @@ __all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "HOU
            "mode_rows", "modes", "run_modes"]
 
 HOUSING_DYNAMICS = ("auto", "craig-bampton", "guyan")
+"""How a ``[[housings]]`` entry with ``self_weight`` moves in the modes (:class:`ModeSettings`)."""
 DIRECTIONS = ("axial", "lateral vertical", "lateral horizontal", "torsional")
 CLASS_SHARE = 0.6
 """A mode is of one direction when that direction holds at least this share of its kinetic energy."""

@@ -181,12 +181,16 @@ def test_housing_mass_guyan_or_craig_bampton():
     Asked for over 60 modes, Craig–Bampton (a Ritz refinement) lowers no frequency below what it was by more than
     1e-6 in the lowest 20 and lowers the modes the block owns (near 2 kHz) by a fraction of a percent: its own
     inertia."""
-    import sys
+    from rvcoax.geometry.rigfile import parse_rig
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "geometry" / "model"))
-    from test_housings import reference_with_block
-
-    rig = reference_with_block(self_weight=True)
+    data = reference_data()
+    data["mounts"] = [m for m in data["mounts"] if m["name"] != "input_block_base"]
+    data["housings"] = [{  # the reference rig's input bearing block from geometry (docs/rig-file.md)
+        "name": "input_block", "part": "input_bearing_block", "material": "HT200", "x_mm": [248.0, 320.0],
+        "width_mm": 90.0, "height_above_bed_mm": 100.0, "top_above_axis_mm": 45.0, "bore_diameter_mm": 47.0,
+        "foot_thickness_mm": 15.0, "foot_width_mm": 150.0, "attachments_x_mm": [255.0, 315.0],
+        "attachment_width_mm": 14.0, "mesh_size_mm": 20.0, "self_weight": True}]
+    rig = parse_rig(data, "test")
     auto = rvcoax.modes(rig, n_modes=20)
     assert any("Guyan" in n and "fixed-interface mode, 10" in n for n in auto.notes)
     guyan = rvcoax.modes(rig, n_modes=60, housing_dynamics="guyan").cases[0].modes
