@@ -43,7 +43,7 @@ from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.rolling_model import GEOMETRIC_MODELS
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering, reducer_checks
+from rvcoax.results.engineering import CaseEngineering, case_engineering, reducer_checks, rolling_bearing_lives
 from rvcoax.results.paths import ShaftPathResult
 from rvcoax.results.shaft_safety import ShaftStrength, shaft_strength
 
@@ -96,7 +96,7 @@ class CaseResult:
     equilibrium_error: float
     residual: float
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
-    ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
+    ball_lives: tuple = ()  # nonlinear sweeps: the lives of the bearings from geometry from their element loads
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
     shaft_strength: ShaftStrength | None = None  # shaft stresses and DIN 743 notch safety (results/shaft_safety.py)
 
@@ -555,12 +555,13 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                                contact_torques_Nm=contact)
         u, solution, check, residual, unbalance = solve_case(weights, case.label)
         iterations.append(solution.iterations)
-        lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
+        lives = rolling_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
         checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
                   if rig.reducers else ())
         points = bearings.operating_points(solution.motion, every)
         for name, point in points.items():
-            operating[name].append({"case": case.label, **point})
+            operating[name].append({"case": case.label, "T1_input_Nm": case.input_torque_Nm,
+                                    "T2_output_Nm": case.output_torque_Nm, **point})
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law

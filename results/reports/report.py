@@ -33,7 +33,7 @@ import numpy as np
 
 from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.engineering import bearing_warnings
+from rvcoax.results.engineering import engineering_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
 from rvcoax.results.reports.shaft_tables import shaft_strength_tables
@@ -530,7 +530,10 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         "Not computed (rvcoax report --no-decides).")))
     misalignment = (tables.misalignment_tables(sweep, entries) + tables.life_tables(sweep)
                     + tables.gear_mesh_tables(sweep))
-    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
+    points = {**sweep.solver_report.get("ball_bearing_operating_points", {}),
+              **sweep.solver_report.get("rolling_bearing_operating_points", {})}
+    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}")
+                                                 for w in engineering_warnings(rig, entries, points))
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
     shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
