@@ -540,6 +540,10 @@ class TorqueInput(StrictModel):
     part: str
     x_mm: Finite
     sign: Literal[1, -1] = 1
+    reacted_by: str | None = Field(None, description=(
+        "The spring meant to take this torque out of its shaft line (the reducer's gear mesh or output joint); "
+        "default: a [[reducers]] joint, else the line's torsional spring farthest from the torque. `rvcoax "
+        "sweep` warns when another spring carries more than 2 % of it."))
 
 
 class Torques(StrictModel):
@@ -1301,9 +1305,14 @@ class Rig(StrictModel):
 
     def _load_problems(self, parts: dict):
         """The torques, the torque-proportional lateral loads and the gear meshes: where they act."""
+        springs = {item.name for group in (self.bearings, self.mounts, self.couplings, self.joints) for item in group}
+        springs |= {r.name for r in self.reducers}
         for key in ("T1", "T2"):
             t = getattr(self.torques, key)
             yield from self._at(parts, f"torques.{key}", t.part, t.x_mm)
+            if t.reacted_by is not None and t.reacted_by not in springs:
+                yield (f"torques.{key}.reacted_by: no bearing, mount, coupling, joint or reducer named "
+                       f"'{t.reacted_by}'")
         yield from self._reducer_problems()
         for i, t in enumerate(self.torque_lateral_loads):
             yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)

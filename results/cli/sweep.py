@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import bearing_warnings, reaction_sum
+from rvcoax.results import bearing_warnings, reaction_sum, torque_path_warnings
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -234,7 +234,10 @@ def _print_shaft_strength(rig, records: list[dict]) -> tuple[list[dict], list[di
 
 
 def _print_engineering(records: list[dict]) -> None:
-    """The engineering tables of the case with the largest |T2| (the last such case)."""
+    """The engineering tables of the case with the largest |T2| (the last such case), and the torque-path
+    warnings of every case."""
+    for message in torque_path_warnings([r["entry"] for r in records]):
+        support.warn(message)
     entries = [r["entry"] for r in records if "couplings" in r["entry"].get("engineering", {})]
     if not entries:
         return

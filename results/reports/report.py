@@ -37,6 +37,7 @@ from rvcoax.results.engineering import bearing_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
 from rvcoax.results.reports.shaft_tables import shaft_strength_tables
+from rvcoax.results.torque_path import torque_path_warnings
 
 __all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
@@ -530,7 +531,8 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         "Not computed (rvcoax report --no-decides).")))
     misalignment = (tables.misalignment_tables(sweep, entries) + tables.life_tables(sweep)
                     + tables.gear_mesh_tables(sweep))
-    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
+    warnings = bearing_warnings(entries) + torque_path_warnings(entries)
+    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in warnings)
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
     shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
