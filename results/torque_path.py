@@ -12,7 +12,7 @@ them: a torsional spring between a brake's rotor and its stator is the usual one
 
 Which exit is the reaction, in this order:
 
-1. the spring that a torque on the line names with ``reacted_by`` (``[torques.T2] reacted_by = "…"``);
+1. the spring that a torque on the line names with ``reaction_spring`` (``[torques.T2] reaction_spring = "…"``);
 2. the joint of a ``[[reducers]]`` entry;
 3. the exit farthest along x from where the line's torque acts (a torque applied at one end of a line is
    meant to travel it to the far end).
@@ -68,7 +68,7 @@ class ShaftLineTorque:
     reaction : str or None
         The exit meant to take the torque out of the line (``"<kind>:<name>"``), None when the line has no exit.
     reaction_rule : str
-        Why it is the reaction: ``reacted_by``, ``reducer`` or ``far end``.
+        Why it is the reaction: ``reaction_spring``, ``reducer`` or ``far end``.
     carried_Nm : float
         The torque the reaction takes: what the line's couplings and sensors carry all the way to it.
     carried_percent : float or None
@@ -158,11 +158,11 @@ def _reaction(rig, torques: list[str], exits: list[tuple[str, str, float]], at_m
     if not exits:
         return None, "no exit"
     for key in torques:
-        named = getattr(rig.torques, key).reacted_by
+        named = getattr(rig.torques, key).reaction_spring
         if named is not None:
             match = [e for e in exits if e[1] == named]
             if match:
-                return f"{match[0][0]}:{match[0][1]}", "reacted_by"
+                return f"{match[0][0]}:{match[0][1]}", "reaction_spring"
     reducers = {r.name for r in rig.reducers}
     for kind, name, _ in exits:
         if kind == "joint" and name in reducers:
@@ -270,5 +270,5 @@ def torque_path_warnings(entries: list[dict], limit_percent: float = LEAK_PERCEN
                      f"the largest share at {_case_text(entry)}, where the reaction takes {abs(line['carried_Nm']):.4g} "
                      f"of {abs(line['applied_Nm']):.4g} N·m). A brake's rotor–stator spring counts the brake torque "
                      f"twice: give it no torsional stiffness, or name the intended reaction with "
-                     f"[torques.{label.split('_')[0]}] reacted_by")
+                     f"[torques.{label.split('_')[0]}] reaction_spring")
     return found

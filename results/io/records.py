@@ -78,7 +78,7 @@ ENGINEERING_DEFINITIONS = {
     "torque_paths": "per shaft line that a torque acts on (line: the torques on it): applied_Nm = Σ sign × T about +x; "
                     "exits: every spring with torsional stiffness from the line to another part or the ground, with "
                     "the torque it carries out of the line (N·m, in the sense of the applied torque) and its share of "
-                    "it (%); reaction: the exit meant to take the torque (reaction_rule: reacted_by, reducer or far "
+                    "it (%); reaction: the exit meant to take the torque (reaction_rule: reaction_spring, reducer or far "
                     "end); carried_Nm: the torque that reaches it, which the line's couplings and sensors carry",
 }
 

@@ -1,12 +1,12 @@
-"""The torque path check (results/torque_path.py) on the RV-40E example rig: with a torsional spring between the
+"""The torque path check (results/torque_path.py) and the stators' reactions on the RV-40E example rig: with a torsional spring between the
 brake's rotor and stator (the shipped rig had one, 1e4 N·m/rad, until the brake torque was recognised as that
 coupling) it warns and names the spring and its share; the shipped rig is silent, every shaft line carrying its
 whole torque to the reducer.
 
-The share is checked against the closed form of two torsional paths in parallel from the brake shaft's torque
-point to the ground: the spring to the brake housing on its feet, and the line itself (brake shaft, coupling C3,
-sensor shaft, C2, output shaft, the reducer's main bearings, the reducer body, its pedestal), each shaft section
-L / (G J) with J = π D⁴ / 32 and G = E / (2 (1 + ν)), each spring 1/k.
+The share is checked against the closed form of two torsional paths in parallel from the brake's rotor, where T2
+acts, to its stator, which takes the opposite torque: the spring, and the line (brake shaft, coupling C3, sensor
+shaft, C2, output shaft, the reducer's main bearings, the reducer body, its pedestal, the ground, the brake feet),
+each shaft section L / (G J) with J = π D⁴ / 32 and G = E / (2 (1 + ν)), each spring 1/k.
 """
 
 from __future__ import annotations
@@ -77,8 +77,10 @@ def test_a_brake_gap_spring_takes_its_closed_form_share_of_T2(old):
             + _compliance(rig, "output_sensor_shaft", 562.5, 717.5) + 1 / k["C2"]
             + _compliance(rig, "output_shaft", 275, 517.5) + 1 / joint.rotational_stiffness_Nm_per_rad[0]
             + _compliance(rig, "reducer", 230, 275) + 1 / pedestal.rotational_stiffness_Nm_per_rad[0])
-    gap = 1 / 1e4 + 1 / feet.rotational_stiffness_Nm_per_rad[0]
-    expected = 100 * line / (line + gap)  # parallel paths share the torque in proportion to their stiffness
+    # the brake's stator takes +T2 (reacted_on): from the rotor to the stator the torque has two parallel paths, the
+    # spring, and the line to the ground and back through the brake feet; they share it as their stiffnesses
+    loop = line + 1 / feet.rotational_stiffness_Nm_per_rad[0]
+    expected = 100 * loop / (loop + 1 / 1e4)
     t2 = _line(entries[0], "T2")  # T1 = 0: nothing else twists the reducer body
     assert t2["reaction"] == "joint:RV40E_main_bearings" and t2["reaction_rule"] == "reducer"
     assert t2["applied_Nm"] == -100.0  # the brake's sign -1
@@ -114,16 +116,16 @@ def test_the_shipped_rig_carries_every_torque_to_the_reducer_and_is_silent(fixed
     assert _line(entries[1], "T1")["reaction"] == "joint:input_gear_mesh"  # the line's far end from the motor
 
 
-def test_reacted_by_names_the_reaction_and_an_unknown_name_is_refused(tmp_path):
+def test_reaction_spring_names_the_reaction_and_an_unknown_name_is_refused(tmp_path):
     data = _with_gap()
-    data["torques"]["T2"]["reacted_by"] = "brake_hysteresis_gap"  # the user says the brake reacts T2
+    data["torques"]["T2"]["reaction_spring"] = "brake_hysteresis_gap"  # the user says the brake reacts T2
     rig = parse_rig(data, "marked.toml")
     entries = [case_record(c)["entry"] for c in run_sweep(rig, CASES[:1]).cases]
     t2 = _line(entries[0], "T2")
-    assert (t2["reaction"], t2["reaction_rule"]) == ("joint:brake_hysteresis_gap", "reacted_by")
+    assert (t2["reaction"], t2["reaction_rule"]) == ("joint:brake_hysteresis_gap", "reaction_spring")
     assert "joint 'RV40E_main_bearings' carries 76.9 % of T2" in torque_path_warnings(entries)[0]
-    data["torques"]["T2"]["reacted_by"] = "brake_gap"
-    with pytest.raises(RigFileError, match=r"torques.T2.reacted_by: no bearing, mount, coupling, joint or reducer "
+    data["torques"]["T2"]["reaction_spring"] = "brake_gap"
+    with pytest.raises(RigFileError, match=r"torques.T2.reaction_spring: no bearing, mount, coupling, joint or reducer "
                                            r"named 'brake_gap'"):
         parse_rig(data, "typo.toml")
 
@@ -139,5 +141,28 @@ def test_sweep_writes_the_carried_torque_and_warns_on_the_console(tmp_path):
     header, row = (tmp_path / "out" / "sweep.csv").read_text().splitlines()[:2]
     values = dict(zip(header.split(","), row.split(",")))
     assert float(values["torque_line_T2_applied_Nm"]) == -82.4
-    assert float(values["torque_line_T2_carried_Nm"]) == pytest.approx(-63.38, abs=0.01)
-    assert float(values["torque_line_T2_leak_joint_brake_hysteresis_gap_percent"]) == pytest.approx(23.08, abs=0.01)
+    assert float(values["torque_line_T2_carried_Nm"]) == pytest.approx(-63.34, abs=0.01)
+    assert float(values["torque_line_T2_leak_joint_brake_hysteresis_gap_percent"]) == pytest.approx(23.13, abs=0.01)
+
+
+def test_the_stators_take_the_opposite_torques_so_the_supports_carry_the_benchs(fixed):
+    """[torques.*] reacted_on: the motor bracket carries T1, the brake feet T2, the reducer pedestal T2 − T1, and
+    the applied torques sum to zero about x (Newton's third law between rotor and stator)."""
+    _, entries = fixed
+    for entry in entries:
+        t1, t2 = entry["T1_input_Nm"], entry["T2_output_Nm"]
+        mx = {r["name"]: r["moment_Nm"][0] for r in entry["engineering"]["reactions"]}
+        assert mx["motor_bracket"] == pytest.approx(t1, rel=1e-8)
+        assert mx["brake_feet"] == pytest.approx(-t2, rel=1e-8)
+        assert mx["reducer_pedestal"] == pytest.approx(t2 - t1, rel=1e-8)
+        assert abs(entry["engineering"]["applied_torque_x_Nm"]) < 1e-9 * t2
+
+
+def test_a_stator_off_the_rig_is_refused():
+    data = tomllib.loads(example_rig_text())
+    data["torques"]["T2"]["reacted_on"] = {"part": "brake_stator", "x_mm": 925}
+    with pytest.raises(RigFileError, match=r"torques.T2.reacted_on.*brake_stator"):
+        parse_rig(data, "stator.toml")
+    data["torques"]["T2"]["reacted_on"] = {"part": "brake_shaft", "x_mm": 925}
+    with pytest.raises(RigFileError, match=r"torques.T2: part and reacted_on are the same part 'brake_shaft'"):
+        parse_rig(data, "stator.toml")
