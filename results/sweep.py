@@ -439,14 +439,12 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             case=case,
             paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-            equilibrium_error=check.relative_error,
-            residual=residual,
+            equilibrium_error=check.relative_error, residual=residual,
             engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
                                          fixed_change=unbalance - rest_unbalance) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
-            torque_paths=torque_paths(rig, springs, u, case) if engineering else None,
-        ))
+            torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
