@@ -28,6 +28,16 @@ def discrepancy_rig(reference: Rig | None = None) -> Rig:
     return Rig.model_validate(data)
 
 
+
+def identification_rig() -> Rig:
+    """The beam model the workflow identifies CalculiX data with: Timoshenko shafts (CalculiX's elements deform in
+    shear), Y from the rig aligned at rest."""
+    data = discrepancy_rig().model_dump(by_alias=True)
+    data["paths"]["measured_from"] = "aligned_at_rest"
+    data["beam"]["shear_deformation"] = True
+    return Rig.model_validate(data)
+
+
 def finer(rig: Rig) -> Rig:
     """The same rig meshed with beam elements of at most 2 mm (the identifying model uses 5 mm)."""
     data = rig.model_dump(by_alias=True)

@@ -17,11 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from discrepancy_data import claims_what_the_data_carry, discrepancy_rig
+from discrepancy_data import claims_what_the_data_carry, identification_rig
 
 import rvcoax
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import paper_cases
 from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library
@@ -39,15 +38,6 @@ KNOWN_WRONG = {
     "pair_table_5": "a 5 % table with two hidden effects (detectability 3.0 σ) is 'ambiguous' with a group of 6 "
                     "torque reactions that holds neither (it was 'explained' before issue 28)",
 }
-
-
-def identification_rig() -> Rig:
-    """The beam model the workflow identifies with: Timoshenko shafts (CalculiX's bricks deform in shear), Y from
-    the rig aligned at rest."""
-    data = discrepancy_rig().model_dump(by_alias=True)
-    data["paths"]["measured_from"] = "aligned_at_rest"
-    data["beam"]["shear_deformation"] = True
-    return Rig.model_validate(data)
 
 
 @pytest.fixture(scope="module")

@@ -14,11 +14,10 @@ import json
 from pathlib import Path
 
 import numpy as np
-from discrepancy_data import claims_what_the_data_carry, discrepancy_rig
+from discrepancy_data import claims_what_the_data_carry, identification_rig
 
 import rvcoax
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.geometry.schema import Rig
 from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings
 from rvcoax.results.sweep import SweepSettings
@@ -26,13 +25,6 @@ from rvcoax.results.sweep import SweepSettings
 FOLDER = Path(__file__).parent / "data" / "calculix_solid"
 MANIFEST = json.loads((FOLDER / "manifest.json").read_text())
 SETS = {s["id"]: s for s in MANIFEST["sets"]}
-
-
-def identification_rig() -> Rig:
-    data = discrepancy_rig().model_dump(by_alias=True)
-    data["paths"]["measured_from"] = "aligned_at_rest"
-    data["beam"]["shear_deformation"] = True
-    return Rig.model_validate(data)
 
 
 def test_solid_files_come_from_calculix_solids_and_differ_from_the_beam_model_by_a_model_form_amount():

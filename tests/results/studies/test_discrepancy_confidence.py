@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_discrepancy_calculix import identification_rig
+from discrepancy_data import identification_rig
 
 import rvcoax
 from rvcoax.loadcases.cases import paper_cases
