@@ -97,6 +97,7 @@ class CaseResult:
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
     ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
+    operating_points: dict = field(default_factory=dict)  # nonlinear sweeps: bearing from geometry → its operating point
 
 
 @dataclass(frozen=True, eq=False)
@@ -568,7 +569,7 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
                                   equilibrium_error=check.relative_error, residual=residual, engineering=tables,
-                                  ball_lives=lives, reducer_checks=checks))
+                                  ball_lives=lives, reducer_checks=checks, operating_points=points))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

@@ -137,12 +137,31 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
                 checked = reused
                 to_solve = sorted(set(missing) | set(reused))
                 result = solve(to_solve)
-            model = records.model_section(result)
+            model = _with_every_case(records.model_section(result), done, cases)
             store.save_model(model_hash, model)
     else:
         to_solve = []
     return DurableSweep(records=[done[i] for i in range(len(cases))], model=model, sweep=result, reading=reading,
                         solved=tuple(to_solve), checked=tuple(checked), disagreed=tuple(sorted(disagreed)))
+
+
+OPERATING_POINT_KEYS = ("ball_bearing_operating_points", "rolling_bearing_operating_points")
+
+
+def _with_every_case(model: dict, done: dict[int, dict], cases: tuple[LoadCase, ...]) -> dict:
+    """``model`` whose bearings' operating points list the rest state and every case, in the order of the load
+    cases, as an uninterrupted run lists them: the sweep solved now holds only the cases it solved, the journal's
+    records (``bearing_operating_points``) hold the others. A record of an older rvcoax without them is left out."""
+    for key in OPERATING_POINT_KEYS:
+        section = model.get(key)
+        if not section:
+            continue
+        model[key] = {
+            name: [p for p in points if p["case"] == "at rest"]
+                  + [{"case": cases[i].label, **done[i]["bearing_operating_points"][name]} for i in range(len(cases))
+                     if name in done[i].get("bearing_operating_points", {})]
+            for name, points in section.items()}
+    return records.canonical(model)
 
 
 def _spread(indices: list[int], count: int) -> list[int]:
