@@ -17,7 +17,7 @@ import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
 
-__all__ = ["BeamElements", "element_dofs", "gravity_load", "local_mass",
+__all__ = ["BeamElements", "element_dofs", "end_forces", "gravity_load", "local_mass",
            "local_stiffness", "mass_triplets", "stiffness_triplets"]
 
 
@@ -227,6 +227,45 @@ def gravity_load(
     f_global = np.einsum("eji,ej->ei", _transformation(cosines), f)
     np.add.at(load, element_dofs(elements.connectivity).ravel(), f_global.ravel())
     return load
+
+
+def end_forces(coordinates: np.ndarray, elements: BeamElements, displacement: np.ndarray,
+               acceleration_m_per_s2=None) -> np.ndarray:
+    """Element end forces in local axes, f = k T u_e − f_line (N, N·m), shape (n, 12).
+
+    Row layout as the DOFs: the forces and moments the nodes exert on the element at end a (0…5) and
+    end b (6…11). The section forces follow: at end b N = f[6] (tension positive), Q_y = f[7], Q_z = f[8],
+    T = f[9], M_y = f[10], M_z = f[11]; at end a the same components of −f[0…5]. With
+    ``acceleration_m_per_s2`` the consistent self-weight load of the element (:func:`gravity_load`) is
+    subtracted, so that the end forces are those of the loaded element and equilibrium holds per element.
+
+    Parameters
+    ----------
+    coordinates : (n_nodes, 3) array
+        Node positions (m).
+    elements : BeamElements
+    displacement : (n_dofs,) array
+        The global displacement vector (only the beams' DOFs are read).
+    acceleration_m_per_s2 : (3,) array, optional
+        Gravity acting on the beams' mass, as in :func:`gravity_load`.
+    """
+    n = elements.connectivity.shape[0]
+    if n == 0:
+        return np.zeros((0, 12))
+    cosines, length = _rotations(coordinates, elements)
+    t = _transformation(cosines)
+    u_local = np.einsum("eij,ej->ei", t, np.asarray(displacement, float)[element_dofs(elements.connectivity)])
+    f = np.einsum("eij,ej->ei", local_stiffness(length, elements), u_local)
+    if acceleration_m_per_s2 is not None:
+        q_global = (elements.density_kg_per_m3 * elements.area_m2)[:, None] * np.asarray(acceleration_m_per_s2)
+        q = np.einsum("eij,ej->ei", cosines, q_global)
+        half, moment = length / 2.0, length**2 / 12.0
+        for node, sign in ((0, 1.0), (1, -1.0)):
+            o = 6 * node
+            f[:, o:o + 3] -= q * half[:, None]
+            f[:, o + 5] -= sign * q[:, 1] * moment
+            f[:, o + 4] += sign * q[:, 2] * moment
+    return f
 
 
 def _empty_triplets():

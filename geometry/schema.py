@@ -19,7 +19,7 @@ from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
-           "Part", "Path", "Paths", "Positive", "Reducer", "Rig", "RigInfo", "RigLoadCase", "Segment", "SingleForce", "SolidSettings",
+           "Part", "Path", "Paths", "Positive", "Reducer", "Rig", "RigInfo", "RigLoadCase", "Segment", "ShaftNotch", "ShaftStrength", "SingleForce", "SolidSettings",
            "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "TorqueRange", "Torques", "Triple"]
 
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
@@ -76,6 +76,36 @@ class Material(StrictModel):
     density_kg_per_m3: Positive
     # thermal growth ([thermal], issue 16 item 4): mean linear expansion coefficient, 1/K (≈ 1.1e-5 for steel)
     thermal_expansion_per_K: Annotated[float, Field(ge=0.0, le=1e-4, allow_inf_nan=False, strict=True)] | None = None
+    # shaft strength (DIN 743, issue 25 §5): needed by the shafts that carry [[parts.notches]]
+    steel_grade: str | None = Field(None, description=(
+        "DIN 743-3 steel of a shaft with notches: S235, S355, E335, C45, C50, 41Cr4, 34CrMo4, 42CrMo4, 50CrMo4, "
+        "34CrNiMo6, 16MnCr5, 20MnCr5 (tensile and yield strength at the reference diameter [R], see "
+        "docs/model.md); typed-in strengths take precedence."))
+    tensile_strength_MPa: Annotated[float, Field(gt=0.0, le=3000.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="σ_B(d_B): tensile strength at the steel's reference diameter (DIN 743-3), for the shaft "
+                          "strength check; with yield_strength_MPa.")
+    yield_strength_MPa: Annotated[float, Field(gt=0.0, le=3000.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="σ_S(d_B): yield strength at the steel's reference diameter (DIN 743-3); with "
+                          "tensile_strength_MPa.")
+    steel_group: Literal["quenched_tempered", "case_hardening", "structural", "nitriding"] | None = Field(
+        None, description="The steel's group, which sets how its strength falls with the heat-treatment diameter "
+                          "(K1(d_eff), DIN 743-3); default: the grade's, else quenched_tempered.")
+
+    @model_validator(mode="after")
+    def _strengths(self) -> Material:
+        typed = (self.tensile_strength_MPa is not None, self.yield_strength_MPa is not None)
+        if any(typed) and not all(typed):
+            missing = "yield_strength_MPa" if typed[0] else "tensile_strength_MPa"
+            raise ValueError(f"{missing}: give tensile_strength_MPa and yield_strength_MPa together")
+        if all(typed) and self.yield_strength_MPa > self.tensile_strength_MPa:
+            raise ValueError(f"yield_strength_MPa ({self.yield_strength_MPa:g}) exceeds tensile_strength_MPa "
+                             f"({self.tensile_strength_MPa:g})")
+        if self.steel_grade is not None:
+            from rvcoax.geometry.shaft_notches import DIN743_STEELS, unknown_grade
+
+            if self.steel_grade not in DIN743_STEELS:
+                raise ValueError(f"steel_grade: {unknown_grade(self.steel_grade)}")
+        return self
 
     @property
     def shear_modulus_MPa(self) -> float:
@@ -103,6 +133,44 @@ class Segment(StrictModel):
         return math.pi / 4 * (self.outer_diameter_mm**2 - self.inner_diameter_mm**2) * (self.x_mm[1] - self.x_mm[0])
 
 
+class ShaftNotch(StrictModel):
+    """A notch of a shaft for its DIN 743 strength check (issue 25 §5); its diameters come from the segments."""
+
+    x_mm: Finite = Field(description="Where the notch sits on the rig axis: a shoulder at the segment boundary "
+                                     "where the diameter steps, the others inside a segment.")
+    kind: Literal["shoulder", "groove", "keyway", "press_fit"] = Field(description=(
+        "shoulder (diameter step with a fillet), groove (round groove of depth_mm, fillet_radius_mm at its root), "
+        "keyway (feather-key slot, end-milled), press_fit (hub pressed on): notch factors per DIN 743-2."))
+    fillet_radius_mm: Annotated[float, Field(gt=0.0, le=1e4, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="shoulder: the fillet radius; groove: the root radius (required for both).")
+    depth_mm: Annotated[float, Field(gt=0.0, le=1e4, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="groove: its depth t (required); a shoulder's depth comes from its segments.")
+    keys: Literal[1, 2] = Field(1, description="keyway: one feather key, or two (β × 1.15).")
+    roughness_Rz_um: Annotated[float, Field(gt=0.0, le=200.0, allow_inf_nan=False, strict=True)] = Field(
+        6.3, description="Mean roughness depth Rz of the notch surface (K_Fσ, K_Fτ; keyways and press fits carry "
+                         "theirs in β).")
+    d_eff_mm: Annotated[float, Field(gt=0.0, le=500.0, allow_inf_nan=False, strict=True)] | None = Field(
+        None, description="Diameter that governed the heat treatment (K1(d_eff)); default: the larger diameter "
+                          "at the notch.")
+    hard_surface: Flag = Field(False, description="The notch has a hard surface layer (case-hardened, nitrided): "
+                                                 "no support from plasticity, K2F = 1.")
+
+    @model_validator(mode="after")
+    def _keys_of_kind(self) -> ShaftNotch:
+        if self.kind in ("shoulder", "groove") and self.fillet_radius_mm is None:
+            raise ValueError(f"fillet_radius_mm: required for a {self.kind}")
+        if self.kind == "groove" and self.depth_mm is None:
+            raise ValueError("depth_mm: required for a groove")
+        if self.kind == "shoulder" and self.depth_mm is not None:
+            raise ValueError("depth_mm: a shoulder's depth comes from the diameters of its two segments; leave it out")
+        if self.kind in ("keyway", "press_fit") and (self.fillet_radius_mm, self.depth_mm) != (None, None):
+            raise ValueError(f"fillet_radius_mm, depth_mm: a {self.kind}'s notch factor comes from DIN 743-2's "
+                             "measured values, not from a radius or depth")
+        if self.kind != "keyway" and self.keys != 1:
+            raise ValueError("keys: only a keyway has keys")
+        return self
+
+
 class Part(StrictModel):
     name: Name
     role: Literal["shaft", "body"]
@@ -110,6 +178,8 @@ class Part(StrictModel):
     mass_kg: Positive | None = None
     mesh_size_mm: Positive | None = None
     segments: list[Segment] = Field(min_length=1)
+    notches: list[ShaftNotch] = Field([], description="A shaft's notches for its DIN 743 static and fatigue safety "
+                                                      "(shaft stresses are computed without them too).")
 
     @model_validator(mode="after")
     def _check(self) -> Part:
@@ -928,6 +998,19 @@ class Path(StrictModel):
     stations: Annotated[int, Field(ge=25, le=2001, strict=True)] = 41
 
 
+class ShaftStrength(StrictModel):
+    """How the shafts' DIN 743 safety is judged (issue 25 §5)."""
+
+    overload_case: Literal[1, 2] = Field(2, description=(
+        "DIN 743-1 overload case: 2 (default) mean and amplitude stresses grow together as the load grows; 1 the "
+        "mean stress stays constant."))
+    minimum_safety: Annotated[float, Field(ge=1.0, le=10.0, allow_inf_nan=False, strict=True)] = Field(
+        1.2, description="Required safety S_min against fatigue fracture and permanent deformation (DIN 743-1: 1.2).")
+    peak_load_factor: Annotated[float, Field(ge=1.0, le=10.0, allow_inf_nan=False, strict=True)] = Field(
+        1.0, description="Maximum load of the static proof as a multiple of each case's load (start-up, braking, "
+                         "an application factor); 1: the case's own load.")
+
+
 class Paths(StrictModel):
     measured_from: Literal["aligned_at_rest", "unloaded"] = "aligned_at_rest"
     input: Path
@@ -962,6 +1045,8 @@ class Rig(StrictModel):
     sweep: TorqueRange | None = None
     # issue 26 (dynamics): running speeds for the interference diagram
     speeds: Speeds | None = None
+    # issue 25 §5: the shafts' DIN 743 strength check
+    shaft_strength: ShaftStrength = ShaftStrength()
 
     @field_validator("parts")
     @classmethod
@@ -1181,6 +1266,9 @@ class Rig(StrictModel):
             if name not in parts:
                 yield f"solid.hybrid_parts: unknown part '{name}' (parts: {', '.join(parts)})"
         yield from self._repeated_names()
+        from rvcoax.geometry.shaft_notches import notch_problems
+
+        yield from notch_problems(self)
 
     @staticmethod
     def _at(parts: dict, where: str, part: str, x: float, role: str | None = None):

@@ -2,7 +2,7 @@
 dynamics exports (:mod:`.export`), studies (:mod:`.studies`) and the command line (:mod:`.cli`).
 
 Public names (loaded on first use): a sweep, its settings and the prepared model it solves; bearing lives per
-case and over a duty cycle.
+case and over a duty cycle; shaft stresses and DIN 743 notch safety per case and over the cases.
 """
 
 if __name__ != "rvcoax.results":  # run from the repository root, the folder itself is on sys.path: not a package of its own
@@ -17,4 +17,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.connections": ("ConnectionsUnavailableError",),
     "rvcoax.results.engineering": ("bearing_warnings", "case_name", "duty_cycle_lives", "duty_cycle_of_records",
                                    "lives_of_records", "play_crossings", "reaction_sum", "sweep_lives"),
+    "rvcoax.results.shaft_safety": ("case_stress_profiles", "shaft_strength", "strength_of_records", "stress_profiles",
+                                    "worst_notches"),
 })

@@ -45,6 +45,7 @@ from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering, reducer_checks
 from rvcoax.results.paths import ShaftPathResult
+from rvcoax.results.shaft_safety import ShaftStrength, shaft_strength
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
            "ModelError", "NonlinearStates", "PreparedModel", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
@@ -97,6 +98,7 @@ class CaseResult:
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
     ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
+    shaft_strength: ShaftStrength | None = None  # shaft stresses and DIN 743 notch safety (results/shaft_safety.py)
     operating_points: dict = field(default_factory=dict)  # nonlinear sweeps: bearing from geometry → its operating point
 
 
@@ -441,6 +443,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
                                          fixed_change=unbalance - rest_unbalance) if engineering else None,
+            shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
         ))
         if on_case is not None:
             on_case(i, results[-1])
@@ -569,7 +572,8 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
                                   equilibrium_error=check.relative_error, residual=residual, engineering=tables,
-                                  ball_lives=lives, reducer_checks=checks, operating_points=points))
+                                  ball_lives=lives, reducer_checks=checks, operating_points=points,
+                                  shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

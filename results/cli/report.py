@@ -40,8 +40,8 @@ def report(
     network needed to open it).
 
     Sections: the rig with masses and the rig file's provenance tags, the load cases, the bending lines,
-    Y and tilt against torque, the coupling and bearing misalignment with verdicts, the support
-    reactions, the check against --measured, the --discrepancy result, the natural frequencies (mode table,
+    Y and tilt against torque, the coupling and bearing misalignment with verdicts, the shaft stresses and
+    DIN 743 safety at the notches, the support reactions, the check against --measured, the --discrepancy result, the natural frequencies (mode table,
     interference diagram, mode shapes; --modes), and the provenance (version, rig file SHA-256, model, solver,
     mesh, date).
     """

@@ -197,6 +197,42 @@ def _print_lives(rig, records: list[dict], duty: list) -> None:
         support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
 
 
+def _safety(value) -> str:
+    return "∞" if value is None else f"{value:.3g}"
+
+
+def _print_shaft_strength(rig, records: list[dict]) -> tuple[list[dict], list[dict]]:
+    """One line with each shaft's largest von Mises stress over the cases; the notches' DIN 743 safety, the
+    smallest over the cases with the case named (the spectrum's simplification: the worst case as nominal load)."""
+    from rvcoax.results import strength_of_records
+
+    shafts, notches = strength_of_records(rig, records)
+    solid = {name for r in records
+             for name in r["entry"].get("engineering", {}).get("shaft_strength", {}).get("shafts_modelled_as_solids", [])}
+    if solid:
+        support.console.print("Shafts modelled as solids have no beam section forces: no shaft stresses or DIN 743 "
+                              f"check for {escape(', '.join(sorted(solid)))} (run --model beam for them).")
+    if shafts:
+        support.console.print("Shaft stresses (von Mises, largest over the cases): " + "; ".join(
+            f"{escape(s['shaft'])} {s['von_mises_max_MPa']:.3g} MPa at x = {s['x_mm']:g} mm ({escape(s['case'])})"
+            for s in shafts))
+    if notches:
+        table = Table(title=f"Shaft notches, DIN 743 (S_min = {rig.shaft_strength.minimum_safety:g}; the smallest "
+                            "safety over the cases)", title_justify="left")
+        for column in ("shaft", "notch", "x mm", "S_D fatigue", "case", "S_F static", "case", "verdict"):
+            table.add_column(column, justify="right" if column in ("x mm", "S_D fatigue", "S_F static") else "left")
+        for n in notches:
+            table.add_row(escape(n["shaft"]), n["kind"], f"{n['x_mm']:g}", _safety(n["fatigue_safety"]),
+                          escape(n["fatigue_case"] or "–"), _safety(n["static_safety"]), escape(n["static_case"] or "–"),
+                          n["verdict"])
+            if n["verdict"] != "ok":
+                support.warn(f"shaft {n['shaft']}: the {n['kind']} at x = {n['x_mm']:g} mm is below S_min = "
+                             f"{n['minimum_safety']:g} (S_D {_safety(n['fatigue_safety'])} in {n['fatigue_case']}, "
+                             f"S_F {_safety(n['static_safety'])} in {n['static_case']}, DIN 743)")
+        support.console.print(table)
+    return shafts, notches
+
+
 def _print_engineering(records: list[dict]) -> None:
     """The engineering tables of the case with the largest |T2| (the last such case)."""
     entries = [r["entry"] for r in records if "couplings" in r["entry"].get("engineering", {})]
@@ -306,6 +342,7 @@ def sweep(
 
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
+    strength = _print_shaft_strength(rig, records)
     for line in play_crossings(model_section.get("ball_bearing_operating_points", {})):
         support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
     if model_section.get("nonlinear"):
@@ -322,6 +359,8 @@ def sweep(
     if duty:
         header = {**header, "bearing_duty_cycle": [{k: list(v) if isinstance(v, tuple) else v
                                                     for k, v in dataclasses.asdict(d).items()} for d in duty]}
+    if strength[1]:
+        header = {**header, "shaft_notches_worst_case": strength[1]}
     support.report_written(write_sweep_files(out, "sweep", header, records))
 
 

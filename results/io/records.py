@@ -35,7 +35,8 @@ UNITS = {
     # issue 15: keys ending in _um, _urad, _N, _Nm, _mm_per_100mm, _arcmin, _percent carry that unit
     "keys_ending_in": {"_mm": "mm", "_um": "µm", "_deg": "degree", "_urad": "µrad", "_arcmin": "arcminute",
                        "_mm_per_100mm": "mm per 100 mm (angularity: gap difference over 100 mm of coupling diameter)",
-                       "_N": "N", "_Nm": "N·m", "_rpm": "rev/min", "_percent": "% of the allowable value"},
+                       "_N": "N", "_Nm": "N·m", "_rpm": "rev/min", "_percent": "% of the allowable value",
+                       "_MPa": "MPa (N/mm²)", "_safety": "dimensionless safety factor (DIN 743)"},
 }
 
 
@@ -67,6 +68,13 @@ ENGINEERING_DEFINITIONS = {
     "applied": "applied_force_N: resultant of every load on the rig (weight and applied forces), which the reactions' "
                "forces sum to minus; applied_torque_x_Nm: the applied loads' moment about the rig axis",
     "equilibrium_residual": "|applied loads + ground reactions| of the total state, force and moment about the origin",
+    "shaft_strength": "shafts: per beam shaft the largest von Mises stress (outer fibre: |σ_ax| + σ_b with τ_t; neutral "
+                      "axis: σ_ax with τ_t + τ_q) and where, and the largest bending, torsional, transverse-shear and "
+                      "axial stress along it, from the section forces of the total state (self-weight included); "
+                      "notches: DIN 743 at each [[parts.notches]] entry, the shaft rotating (bending fully reversed: "
+                      "amplitude M/W_b; torque and axial force steady: means), static proof at the case's loads × "
+                      "[shaft_strength] peak_load_factor; fatigue_safety / static_safety null: no amplitude (infinite); "
+                      "the spectrum's safety is the smallest over the cases (no damage accumulation)",
 }
 
 
@@ -121,6 +129,8 @@ def case_row(case: CaseResult) -> dict:
         row.update(case.engineering.row())
     row.update(life_columns(getattr(case, "ball_lives", ())))
     row.update(reducer_columns(getattr(case, "reducer_checks", ())))
+    if getattr(case, "shaft_strength", None) is not None:
+        row.update(case.shaft_strength.row())
     return row
 
 
@@ -172,6 +182,8 @@ def case_entry(case: CaseResult) -> dict:
                                                  + life_entries(case.ball_lives))
     if getattr(case, "reducer_checks", ()):
         entry["engineering"]["reducers"] = reducer_entries(case.reducer_checks)
+    if getattr(case, "shaft_strength", None) is not None:
+        entry["engineering"]["shaft_strength"] = case.shaft_strength.entry()
     return entry
 
 

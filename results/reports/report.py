@@ -36,6 +36,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.engineering import bearing_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
+from rvcoax.results.reports.shaft_tables import shaft_strength_tables
 
 __all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
@@ -43,6 +44,7 @@ REPORT_SECTIONS = {
     "rig": "The rig", "load-cases": "Load cases", "bending-lines": "Bending lines",
     "shafts": "Y and tilt against torque", "decides": "What decides Y",
     "misalignment": "Couplings and bearings: misalignment",
+    "shaft-strength": "Shaft stresses and DIN 743 safety",
     "reactions": "Support reactions and equilibrium", "check": "Check against measured data",
     "discrepancy": "Discrepancy between model and measurement", "modes": "Natural frequencies and interference",
     "inputs": "Complete input listing",
@@ -531,6 +533,10 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
     body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
+    shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
+    body.append(_section("shaft-strength", "".join(_table_html(t) for t in shaft_tables)
+                         + (_missing(shaft_note) if shaft_note else "")
+                         + ("" if shaft_tables else _missing("No beam shafts in this model."))))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep

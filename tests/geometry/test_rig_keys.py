@@ -18,7 +18,9 @@ DIMENSIONLESS = {"beam.shear_flexibility_factor", "force_table.scale", "material
                  "bearings[].viscosity_ratio", "bearings[].contamination_factor", "load_cases[].time_share",
                  "load_cases[].revolution_share", "reducers[].ratio", "bearings[].roller_count",
                  "bearings[].slices_per_roller",
-                 "speeds.reduction_ratio", "speeds.input_gear_teeth"}
+                 "speeds.reduction_ratio", "speeds.input_gear_teeth",
+                 "parts[].notches[].keys", "shaft_strength.overload_case", "shaft_strength.minimum_safety",
+                 "shaft_strength.peak_load_factor"}
 
 
 def test_the_committed_key_reference_is_up_to_date():
