@@ -61,7 +61,7 @@ PYTEST_PARALLEL = -n $(TEST_WORKERS) --dist loadfile
 test: $(BIN)/rvcoax test-deps
 	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL)
 
-# The quick half (about 1 minute on 2 cores): everything but the tests marked slow, dask or render.
+# The quick half: everything but the tests marked slow, dask or render.
 test-fast: $(BIN)/rvcoax
 	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not dask and not render"
 
