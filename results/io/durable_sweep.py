@@ -150,17 +150,20 @@ OPERATING_POINT_KEYS = ("ball_bearing_operating_points", "rolling_bearing_operat
 
 def _with_every_case(model: dict, done: dict[int, dict], cases: tuple[LoadCase, ...]) -> dict:
     """``model`` whose bearings' operating points list the rest state and every case, in the order of the load
-    cases, as an uninterrupted run lists them: the sweep solved now holds only the cases it solved, the journal's
-    records (``bearing_operating_points``) hold the others. A record of an older rvcoax without them is left out."""
+    cases, as an uninterrupted run lists them: the sweep solved now holds the cases it solved, the journal's
+    records (``bearing_operating_points``) the others. A reused record of an older rvcoax without them is left out."""
     for key in OPERATING_POINT_KEYS:
         section = model.get(key)
         if not section:
             continue
-        model[key] = {
-            name: [p for p in points if p["case"] == "at rest"]
-                  + [{"case": cases[i].label, **done[i]["bearing_operating_points"][name]} for i in range(len(cases))
-                     if name in done[i].get("bearing_operating_points", {})]
-            for name, points in section.items()}
+        listed = {}
+        for name, points in section.items():
+            solved = {p["case"]: p for p in points}
+            journal = (({"case": case.label, **done[i]["bearing_operating_points"][name]}
+                        if name in done[i].get("bearing_operating_points", {}) else None) for i, case in enumerate(cases))
+            listed[name] = [p for p in [solved.get("at rest")]
+                            + [solved.get(case.label) or point for case, point in zip(cases, journal)] if p is not None]
+        model[key] = listed
     return records.canonical(model)
 
 
