@@ -41,7 +41,8 @@ from machine import publish  # noqa: E402
 SIZES_MM = (4.0, 2.8, 2.1)
 
 
-def system(h: float, cache: str):
+def system(h: float, cache: str, poisson: float = POISSON):
+    """Clamped cantilever at mesh size ``h`` mm: (reduced stiffness, tip load, rigid-body modes of the free DOFs)."""
     import numpy as np
 
     from rvcoax.fem import solid
@@ -50,7 +51,7 @@ def system(h: float, cache: str):
 
     mesh = mesh_part(SolidPartGeometry(f"cantilever_{h}", SEGMENTS, (), h), cache_dir=Path(cache))
     basis = solid.solid_basis(mesh)
-    stiffness = solid.stiffness_matrix(basis, YOUNGS_PA, POISSON)
+    stiffness = solid.stiffness_matrix(basis, YOUNGS_PA, poisson)
     coordinates, dofs = solid.dof_locations(basis)
     keep = np.ones(basis.N, dtype=bool)
     keep[dofs[np.abs(coordinates[:, 0]) < 1e-9].ravel()] = False

@@ -1,4 +1,4 @@
-"""Two-node 3D Timoshenko beam element (12 DOF), vectorised over elements.
+"""Two-node 3D Timoshenko beam element (12 DOF), vectorised over elements: an element type of a frame model.
 
 The stiffness is the exact one of a uniform Timoshenko beam (shear-flexibility factor
 Φ = 12 E I / (κ G A L²) in each bending plane), so nodal values are exact for end loads and
@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.contribution import Contribution, dense_entries
 
 __all__ = ["BeamElements", "element_dofs", "end_forces", "gravity_load", "local_mass",
            "local_stiffness", "mass_triplets", "stiffness_triplets"]
@@ -45,6 +46,15 @@ class BeamElements:
     shear_modulus_Pa: np.ndarray
     density_kg_per_m3: np.ndarray
     reference_vector: np.ndarray
+
+    def contribution(self, coordinates: np.ndarray, n_dofs: int, gravity_direction) -> Contribution:
+        """Stiffness (:func:`stiffness_triplets`) and consistent weight (:func:`gravity_load`) as load ``"gravity"``."""
+        weight = gravity_load(coordinates, self, np.asarray(gravity_direction, dtype=float), n_dofs)
+        return Contribution(stiffness_triplets(coordinates, self), {"gravity": dense_entries(weight)})
+
+    def mass_contribution(self, coordinates: np.ndarray) -> Contribution:
+        """The consistent mass (:func:`mass_triplets`)."""
+        return Contribution(mass=mass_triplets(coordinates, self))
 
 
 def _rotations(coordinates: np.ndarray, elements: BeamElements) -> tuple[np.ndarray, np.ndarray]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.contribution import Contribution
 from rvcoax.fem.errors import GapConvergenceError  # noqa: F401 (re-exported)
 
 __all__ = ["Bushings", "CondensedSolution", "GROUND", "GapSolution", "RadialGaps", "gap_forces", "motion_operator",
@@ -42,6 +43,14 @@ class Bushings:
     node_b: np.ndarray
     point_m: np.ndarray
     stiffness: np.ndarray
+
+    def contribution(self, coordinates: np.ndarray, n_dofs: int, gravity_direction) -> Contribution:
+        """The springs' stiffness (:func:`stiffness_triplets`); a spring has no weight."""
+        return Contribution(stiffness_triplets(coordinates, self))
+
+    def mass_contribution(self, coordinates: np.ndarray) -> None:
+        """None: a spring carries no mass (its parts' masses are elements of their own)."""
+        return None
 
 
 def _arm_matrix(arm: np.ndarray) -> np.ndarray:

@@ -35,8 +35,8 @@ from rvcoax.fem.errors import SingularModelError
 from rvcoax.fem.pieces import Contribution
 from rvcoax.fem.system import prepare_system
 
-__all__ = ["GuyanReduction", "condensed_stiffness", "condensed_stiffness_and_loads", "guyan_reduction",
-           "schur_complement", "superelement_contribution", "superelement_mass_contribution"]
+__all__ = ["GuyanReduction", "StaticModes", "condensed_stiffness", "condensed_stiffness_and_loads", "guyan_reduction",
+           "schur_complement", "static_modes", "superelement_contribution", "superelement_mass_contribution"]
 
 
 def condensed_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs,
@@ -88,17 +88,30 @@ class GuyanReduction:
     lowest_eigenvalue: float | None = None
 
 
-def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, *, mass=None,  # noqa: PLR0913
-                    method: str = "auto") -> GuyanReduction:
-    """K_c and f_c as :func:`condensed_stiffness_and_loads`, and with ``mass`` (M, n × n) Guyan's M_c = Ψᵀ M Ψ,
-    Ψ = U K_c the static modes (U: the displacements under unit master loads), from the same one solve."""
+@dataclass(frozen=True, eq=False)
+class StaticModes:
+    """One factorisation's static condensation: K_c (k × k), the equivalent master loads f_c (k × p), the displacements
+    U (m × k) of the independent DOFs q under unit master loads (Ψ = T U K_c), T, and the factorisation's
+    q-solve (x → (Tᵀ K T)⁻¹ x), kept for further solves (:mod:`rvcoax.fem.craig_bampton`)."""
+
+    stiffness: np.ndarray
+    loads: np.ndarray
+    reduced_displacements: np.ndarray
+    elimination: sp.csr_matrix
+    reduced_solve: object
+
+
+def static_modes(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, *,
+                 method: str = "auto") -> StaticModes:
+    """K_c and f_c as :func:`condensed_stiffness_and_loads`, with the unit-load displacements and the solve."""
     masters = np.asarray(master_dofs, dtype=int)
     n = stiffness.shape[0]
     loads = np.asarray(loads, dtype=float).reshape(n, -1)
-    unit = sp.csr_matrix((np.ones(masters.size), (masters, np.arange(masters.size))), shape=(n, masters.size))
-    system = prepare_system(stiffness, elimination, method, symmetrize=True)
-    displacement = system.solve(np.hstack([unit.toarray(), loads]))
-    flexibility = displacement[masters, : masters.size]
+    t = sp.csr_matrix(elimination)
+    system = prepare_system(stiffness, t, method, symmetrize=True)
+    reduced = system.solver.solve(np.hstack([t[masters].T.toarray(), t.T @ loads]))
+    displacement = t[masters] @ reduced  # the masters' displacements: unit master loads, then ``loads``
+    flexibility = displacement[:, : masters.size]
     flexibility = 0.5 * (flexibility + flexibility.T)
     condition = np.linalg.cond(flexibility)
     if not np.isfinite(condition) or condition > 1e14:
@@ -106,15 +119,24 @@ def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master
                                  "DOF does not move the structure (check the ties)")
     result = np.linalg.inv(flexibility)
     result = 0.5 * (result + result.T)
+    return StaticModes(result, result @ displacement[:, masters.size:], reduced[:, : masters.size], t,
+                       system.solver.solve)
+
+
+def guyan_reduction(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, master_dofs, loads, *, mass=None,  # noqa: PLR0913
+                    method: str = "auto") -> GuyanReduction:
+    """K_c and f_c as :func:`condensed_stiffness_and_loads`, and with ``mass`` (M, n × n) Guyan's M_c = Ψᵀ M Ψ,
+    Ψ = U K_c the static modes (U: the displacements under unit master loads), from the same one solve."""
+    statics = static_modes(stiffness, elimination, master_dofs, loads, method=method)
     condensed_mass = lowest = None
     if mass is not None:
         from rvcoax.fem.modal import natural_modes
 
-        shapes = displacement[:, : masters.size] @ result  # Ψ: unit master displacements
+        shapes = statics.elimination @ (statics.reduced_displacements @ statics.stiffness)  # Ψ: unit master displacements
         condensed_mass = shapes.T @ (sp.csr_matrix(mass) @ shapes)
         condensed_mass = 0.5 * (condensed_mass + condensed_mass.T)
-        lowest = float(natural_modes(stiffness, mass, elimination, 1, reduced_solve=system.solver.solve).eigenvalues[0])
-    return GuyanReduction(result, result @ displacement[masters, masters.size:], condensed_mass, lowest)
+        lowest = float(natural_modes(stiffness, mass, elimination, 1, reduced_solve=statics.reduced_solve).eigenvalues[0])
+    return GuyanReduction(statics.stiffness, statics.loads, condensed_mass, lowest)
 
 
 def schur_complement(stiffness: sp.csr_matrix, master_dofs, fixed_dofs=()) -> np.ndarray:

@@ -14,6 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.contribution import Contribution
 
 __all__ = ["RigidLinks", "elimination_matrix", "rigid_link_equations"]
 
@@ -24,6 +25,14 @@ class RigidLinks:
 
     master: np.ndarray
     slave: np.ndarray
+
+    def contribution(self, coordinates: np.ndarray, n_dofs: int, gravity_direction) -> Contribution:
+        """The links' constraint rows (:func:`rigid_link_equations`)."""
+        return Contribution(equations=rigid_link_equations(coordinates, self))
+
+    def mass_contribution(self, coordinates: np.ndarray) -> None:
+        """None: a rigid link carries no mass."""
+        return None
 
 
 def rigid_link_equations(coordinates: np.ndarray, links: RigidLinks) -> dict[int, dict[int, float]]:

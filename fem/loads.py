@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE
+from rvcoax.fem.contribution import Contribution, dense_entries
 
 __all__ = ["NodalLoads", "PointMasses", "nodal_load_vector", "point_mass_gravity", "point_mass_triplets"]
 
@@ -43,6 +44,15 @@ class PointMasses:
     node: np.ndarray
     mass_kg: np.ndarray
     rotary_inertia_kg_m2: np.ndarray  # (n, 3): Ixx, Iyy, Izz
+
+    def contribution(self, coordinates: np.ndarray, n_dofs: int, gravity_direction) -> Contribution:
+        """The masses' weight (:func:`point_mass_gravity`) as load ``"gravity"``; no stiffness."""
+        weight = point_mass_gravity(self, np.asarray(gravity_direction, dtype=float), n_dofs)
+        return Contribution(loads={"gravity": dense_entries(weight)})
+
+    def mass_contribution(self, coordinates: np.ndarray) -> Contribution:
+        """Mass and rotary inertia at their nodes (:func:`point_mass_triplets`)."""
+        return Contribution(mass=point_mass_triplets(self))
 
 
 def point_mass_gravity(masses: PointMasses, acceleration_m_per_s2: np.ndarray, n_dofs: int) -> np.ndarray:

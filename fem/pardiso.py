@@ -19,7 +19,21 @@ The library is MKL's single dynamic runtime ``libmkl_rt`` (pip package ``mkl``),
 process in the environment's ``lib`` folder and then by the dynamic loader. Settings: METIS nested
 dissection in its OpenMP version (``iparm[1] = 3``: 0.05 s faster than the serial one at 52 k DOF,
 0.25 s on the hybrid model), zero-based indices (``iparm[34] = 1``), no iterative refinement,
-in-core. The factor lives in MKL memory until :meth:`Factorization.release`. Repeated runs gave
+in-core. The factor lives in MKL memory until :meth:`Factorization.release`.
+
+**The analysis is reused per sparsity pattern.** A released factor gives its numerical factor back to MKL
+(phase 0) but keeps its ordering and symbolic factorisation (phase 11) in a small pool keyed by the pattern
+(matrix type, size, block size and a digest of the index arrays), within :data:`ANALYSIS_POOL_BYTES` (512 MB) of MKL's
+permanent analysis memory. The next factorisation of a matrix with the same pattern (a Monte Carlo sample,
+a stiffness calibration's trial, a sensitivity's perturbed model, the factorisation that follows
+:func:`analyse`) runs the numerical phase only. In SPD mode the analysis depends on the pattern alone, so the
+factor is the one a fresh analysis gives. In indefinite mode the weighted matching and scaling are computed
+from the values the pattern was first analysed with; the factor then differs from a fresh one by rounding
+(pivoting within a fixed order; MKL's refinement and :mod:`rvcoax.fem.solvers`' residual checks apply as
+always), and a factorisation that fails on a reused analysis is repeated with a fresh one.
+:func:`set_analysis_reuse` turns the pool off (measurements).
+
+Repeated runs gave
 bit-identical solutions on the 52 k-DOF solid (10 of 10) and the hybrid rig (6 of 6), equal to the
 serial ordering's; the threaded factorisation is not bitwise reproducible in general (a 3.9 k-DOF
 solid in scalar storage: 2 runs of 120 differed, by 4.4e-16 relative).
@@ -27,11 +41,14 @@ solid in scalar storage: 2 runs of 120 differed, by 4.4e-16 relative).
 
 from __future__ import annotations
 
+import collections
 import ctypes
 import ctypes.util
 import functools
 import glob
+import hashlib
 import sys
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,8 +56,9 @@ import scipy.sparse as sp
 
 from rvcoax.fem.errors import PardisoError
 
-__all__ = ["BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT", "analyse", "available",
-           "mkl_runtime_path", "stored_nonzeros", "upper_csr", "upper_saddle_point", "upper_storage"]
+__all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT",
+           "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
+           "set_analysis_reuse", "stored_nonzeros", "upper_csr", "upper_saddle_point", "upper_storage"]
 
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
@@ -60,6 +78,11 @@ _ERRORS = {
     -13: "undocumented error (seen in the numerical factorisation of singular matrices in 3 × 3 blocks)",
 }
 ZERO_PIVOT = -4
+ANALYSIS_POOL_BYTES = 512 << 20
+"""MKL's permanent analysis memory (``iparm[15]``) that idle analyses may hold together; the oldest go first, and an
+analysis larger than this is freed with its factor. The hybrid reference rig's holds 158 MB (a process keeps 130 MB
+more after the release than with everything freed; benchmarks/RESULTS.md): a pooled analysis must not raise the peak
+of a large model's later phases, so the cap is a few such models, not a large solid's."""
 RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
 """Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
 
@@ -220,6 +243,108 @@ def upper_storage(a: sp.csr_matrix) -> UpperStorage:
     return _upper_blocks(a, BLOCK_SIZE) or upper_csr(a)
 
 
+@dataclass(frozen=True, eq=False)
+class _Analysis:
+    """An idle PARDISO handle holding an ordering and symbolic factorisation (no numerical factor)."""
+
+    key: tuple
+    handle: np.ndarray
+    iparm: np.ndarray
+    nbytes: int
+
+
+_pool: collections.OrderedDict = collections.OrderedDict()
+_pool_lock = threading.Lock()
+_reuse = {"enabled": True}
+
+
+def pattern_key(storage: UpperStorage, indefinite: bool = False) -> tuple:
+    """What an analysis depends on: matrix type, size, block size, nonzeros and a digest of the index arrays."""
+    digest = hashlib.blake2b(digest_size=16)
+    digest.update(np.ascontiguousarray(storage.indptr, dtype=np.int32))
+    digest.update(np.ascontiguousarray(storage.indices, dtype=np.int32))
+    return (_INDEFINITE if indefinite else _SPD, storage.n, storage.block_size, int(storage.indices.size),
+            digest.hexdigest())
+
+
+def set_analysis_reuse(enabled: bool) -> bool:
+    """Turn the reuse of analyses on or off for this process (off also empties the pool); returns the old setting."""
+    previous = _reuse["enabled"]
+    _reuse["enabled"] = bool(enabled)
+    if not enabled:
+        clear_analysis_pool()
+    return previous
+
+
+def pooled_analyses() -> int:
+    """How many idle analyses the pool holds."""
+    with _pool_lock:
+        return len(_pool)
+
+
+def _free(handle: np.ndarray, iparm: np.ndarray, mtype: int) -> None:
+    """PARDISO phase −1 on a handle: all its memory (the matrix arguments are not read)."""
+    one = np.ones(1)
+    indptr = np.array([0, 1], dtype=np.int32)
+    indices = np.zeros(1, dtype=np.int32)
+    _phase(handle, iparm, mtype, -1, UpperStorage(1, 1, indptr, indices, one), np.zeros((1, 1), order="F"))
+
+
+def clear_analysis_pool() -> None:
+    """Free every idle analysis."""
+    with _pool_lock:
+        entries = list(_pool.values())
+        _pool.clear()
+    for entry in entries:
+        _free(entry.handle, entry.iparm, entry.key[0])
+
+
+def _take(key: tuple) -> _Analysis | None:
+    with _pool_lock:
+        return _pool.pop(key, None)
+
+
+def _give(entry: _Analysis) -> None:
+    """Keep ``entry`` idle for the next matrix of its pattern, within :data:`ANALYSIS_POOL_BYTES`."""
+    evicted = []
+    with _pool_lock:
+        if entry.key in _pool or entry.nbytes > ANALYSIS_POOL_BYTES:
+            evicted.append(entry)
+        else:
+            _pool[entry.key] = entry
+            while sum(e.nbytes for e in _pool.values()) > ANALYSIS_POOL_BYTES:
+                evicted.append(_pool.popitem(last=False)[1])
+    for old in evicted:
+        _free(old.handle, old.iparm, old.key[0])
+
+
+def _phase(handle: np.ndarray, iparm: np.ndarray, mtype: int, phase: int, s: UpperStorage,  # noqa: PLR0913, PLR0917
+           rhs: np.ndarray) -> tuple[np.ndarray, int]:
+    """One call of PARDISO; returns (solution, error code)."""
+    x = np.zeros_like(rhs, order="F")
+    error = ctypes.c_int32(0)
+    int_p = ctypes.POINTER(ctypes.c_int32)
+    _library()(
+        handle.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
+        ctypes.byref(ctypes.c_int32(1)),  # maxfct
+        ctypes.byref(ctypes.c_int32(1)),  # mnum
+        ctypes.byref(ctypes.c_int32(mtype)),
+        ctypes.byref(ctypes.c_int32(phase)),
+        ctypes.byref(ctypes.c_int32(s.n // s.block_size)),
+        s.data.ctypes.data,
+        s.indptr.ctypes.data_as(int_p),
+        s.indices.ctypes.data_as(int_p),
+        None,  # perm
+        ctypes.byref(ctypes.c_int32(rhs.shape[1])),
+        iparm.ctypes.data_as(int_p),
+        ctypes.byref(ctypes.c_int32(0)),  # msglvl
+        rhs.ctypes.data,
+        x.ctypes.data,
+        ctypes.byref(error),
+    )
+    return x, error.value
+
+
 class Factorization:
     """PARDISO's factor of an SPD matrix (its upper triangle :class:`UpperStorage`); solves any number of columns.
 
@@ -231,10 +356,27 @@ class Factorization:
     20 succeeded), so a caller that must know tests the factor (:mod:`rvcoax.fem.solvers` does).
     """
 
-    def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False):
+    def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False, *,
+                 reuse_analysis: bool = True):
         self._pardiso = _library()
         self.storage = storage
         self.mtype = _INDEFINITE if indefinite else _SPD
+        self._key = pattern_key(storage, indefinite) if reuse_analysis and _reuse["enabled"] else None
+        self._keep_analysis = False  # whether release() gives the analysis to the pool: after a good phase 22 or 11-only
+        self.reused_analysis = False
+        """Whether the numerical factorisation ran on a pooled analysis of an earlier matrix of the same pattern."""
+        self._alive = True
+        pooled = _take(self._key) if self._key is not None and not analysis_only else None
+        no_rhs = np.zeros((storage.n, 1), order="F")
+        if pooled is not None:
+            self._handle, self._iparm = pooled.handle, pooled.iparm
+            try:
+                self._call(22, no_rhs, "factorisation")
+                self.reused_analysis = True
+                self._keep_analysis = True
+                return
+            except PardisoError:  # the values do not suit the analysis of other values: start afresh
+                _free(pooled.handle, pooled.iparm, self.mtype)
         self._handle = np.zeros(64, dtype=np.int64)
         self._iparm = np.zeros(64, dtype=np.int32)
         iparm = self._iparm
@@ -249,12 +391,11 @@ class Factorization:
             iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
             iparm[12] = 1  # pivots perturbed to 1e-8 (iparm[9]) are made good by iterative refinement
             iparm[7] = 2  # two refinement steps on the saddle-point matrix (MKL stops earlier at rounding)
-        self._alive = True
         try:
-            no_rhs = np.zeros((storage.n, 1), order="F")
             self._call(11, no_rhs, "analysis")  # ordering and symbolic factorisation: the pattern only
             if not analysis_only:
                 self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
+            self._keep_analysis = True
         except PardisoError:
             self.release()
             raise
@@ -291,33 +432,12 @@ class Factorization:
 
     def _call(self, phase: int, rhs: np.ndarray, what: str) -> np.ndarray:
         s = self.storage
-        x = np.zeros_like(rhs, order="F")
-        error = ctypes.c_int32(0)
-        int_p = ctypes.POINTER(ctypes.c_int32)
-        block_rows = s.n // s.block_size
-        self._pardiso(
-            self._handle.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
-            ctypes.byref(ctypes.c_int32(1)),  # maxfct
-            ctypes.byref(ctypes.c_int32(1)),  # mnum
-            ctypes.byref(ctypes.c_int32(self.mtype)),
-            ctypes.byref(ctypes.c_int32(phase)),
-            ctypes.byref(ctypes.c_int32(block_rows)),
-            s.data.ctypes.data,
-            s.indptr.ctypes.data_as(int_p),
-            s.indices.ctypes.data_as(int_p),
-            None,  # perm
-            ctypes.byref(ctypes.c_int32(rhs.shape[1])),
-            self._iparm.ctypes.data_as(int_p),
-            ctypes.byref(ctypes.c_int32(0)),  # msglvl
-            rhs.ctypes.data,
-            x.ctypes.data,
-            ctypes.byref(error),
-        )
-        if error.value:
+        x, error = _phase(self._handle, self._iparm, self.mtype, phase, s, rhs)
+        if error:
             # iparm[29] names the unknown of a zero pivot in scalar storage (in blocks it is not one)
-            equation = int(self._iparm[29]) if error.value == ZERO_PIVOT and s.block_size == 1 else None
-            raise PardisoError(error.value, what, equation,
-                               f"PARDISO {what} failed with error {error.value}: {_ERRORS.get(error.value, 'unknown error')}")
+            equation = int(self._iparm[29]) if error == ZERO_PIVOT and s.block_size == 1 else None
+            raise PardisoError(error, what, equation,
+                               f"PARDISO {what} failed with error {error}: {_ERRORS.get(error, 'unknown error')}")
         return x
 
     def solve(self, block: np.ndarray) -> np.ndarray:
@@ -327,10 +447,20 @@ class Factorization:
         rhs = np.asfortranarray(block, dtype=float)
         return np.ascontiguousarray(self._call(33, rhs, "solve"))
 
-    def release(self) -> None:
-        """Free MKL's memory for this factor (idempotent); no solves afterwards."""
-        if self._alive:
-            self._alive = False
+    def release(self, keep_analysis: bool = True) -> None:
+        """Free MKL's memory for this factor (idempotent); no solves afterwards.
+
+        The ordering and symbolic factorisation go to the pool for the next matrix of the same pattern (module
+        docstring) unless ``keep_analysis`` is False (a matrix found singular: its values, which an indefinite
+        analysis depends on, are not worth keeping), reuse is off, or this factorisation failed.
+        """
+        if not self._alive:
+            return
+        self._alive = False
+        if keep_analysis and self._keep_analysis and self._key is not None and _reuse["enabled"]:
+            self._call(0, np.zeros((self.storage.n, 1), order="F"), "release")  # the numerical factor only
+            _give(_Analysis(self._key, self._handle, self._iparm, 1024 * int(self._iparm[15])))
+        else:
             self._call(-1, np.zeros((self.storage.n, 1), order="F"), "release")
 
 

@@ -1,11 +1,13 @@
 """One interface for every model piece: what it adds to the system, in global DOF numbers.
 
-A piece (beams, bushings, point masses, rigid links and fixed DOFs, a solid part, a tie between a
-reference node and a solid face) returns a :class:`Contribution`: stiffness triplets, load entries
-by load name, and constraint rows; its mass form (:func:`beam_mass_contribution`,
-:func:`point_mass_mass_contribution`, :func:`solid_mass_contribution`, a condensed housing's Guyan mass) is a
-Contribution too, carrying mass triplets or a mass block, summed by the same :func:`assemble`. :func:`assemble` sums any list of them into the system, in the
-order given (so that the result does not depend on how the pieces were grouped). The beam, hybrid
+A piece (a frame model's element groups and fixed DOFs, a solid part, a tie between a reference node and
+a solid face) returns a :class:`Contribution` (:mod:`rvcoax.fem.contribution`): stiffness triplets, load
+entries by load name, and constraint rows; its mass form (a frame's :func:`frame_mass_contributions`,
+:func:`solid_mass_contribution`, a condensed housing's Guyan mass) is a Contribution too, carrying mass
+triplets or a mass block, summed by the same :func:`assemble`. :func:`assemble` sums any list of them into
+the system, in the order given (so that the result does not depend on how the pieces were grouped).
+A frame's element types (beams, bushings, point masses, rigid links, or a new one) each say what they add
+(:class:`rvcoax.fem.contribution.ElementGroup`): nothing here enumerates them. The beam, hybrid
 and solid rig models, calibration and a Monte Carlo sample that swaps springs all go through it.
 
 Loads are pieces too: nodal forces (:func:`nodal_load_contribution`) and the springs' prestrain
@@ -19,56 +21,21 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import DOFS_PER_NODE, beam, bushing, loads, solid
+from rvcoax.fem import DOFS_PER_NODE, bushing, loads, solid
 from rvcoax.fem.assembly import assemble_matrix, block_diagonal
-from rvcoax.fem.constraints import elimination_matrix, rigid_link_equations
+from rvcoax.fem.constraints import elimination_matrix
+from rvcoax.fem.contribution import Contribution, dense_entries
 
 __all__ = ["AssembledSystem", "Contribution", "assemble", "assemble_frame", "beam_contribution", "bushing_contribution",
            "constraint_contribution", "dense_load_contribution", "frame_contributions", "load_vectors", "nodal_load_contribution",
            "point_mass_contribution", "prestrain_contribution", "solid_contribution", "tie_contribution",
            "beam_mass_contribution", "frame_mass_contributions", "point_mass_mass_contribution",
            "solid_mass_contribution"]
-
-
-def _no_dofs() -> np.ndarray:
-    return np.zeros(0, dtype=int)
-
-
-@dataclass(frozen=True, eq=False)
-class Contribution:
-    """What one model piece adds to the system.
-
-    Attributes
-    ----------
-    stiffness : (rows, cols, values) or None
-        Stiffness triplets in global DOF numbers (duplicates are summed).
-    loads : mapping
-        Load name → (dofs, values): entries added to that load vector (a DOF may repeat: every entry adds).
-    equations : mapping
-        Multi-point constraints u_dependent = Σ c u: dependent DOF → {DOF: coefficient}.
-    fixed_dofs : array of int
-        DOFs held at zero.
-    block : (offset, csr_matrix) or None
-        A square stiffness matrix (a solid's, assembled in place: :func:`rvcoax.fem.solid.stiffness_matrix`)
-        whose unknowns start at ``offset``; blocks of different pieces do not overlap.
-    mass : (rows, cols, values) or None
-        Mass triplets in global DOF numbers (kg, kg·m, kg·m²): the piece's mass form.
-    mass_block : (offset, csr_matrix) or None
-        A square mass matrix placed like ``block`` (a solid's, :func:`rvcoax.fem.solid.mass_matrix`).
-    """
-
-    stiffness: tuple | None = None
-    loads: Mapping[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
-    equations: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
-    fixed_dofs: np.ndarray = field(default_factory=_no_dofs)
-    block: tuple[int, sp.csr_matrix] | None = None
-    mass: tuple | None = None
-    mass_block: tuple[int, sp.csr_matrix] | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,7 +87,7 @@ def assemble(n_dofs: int, contributions: Iterable[Contribution]) -> AssembledSys
     equations: dict[int, Mapping[int, float]] = {}
     for c in contributions:
         equations.update(c.equations)
-    fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [_no_dofs()])
+    fixed = np.concatenate([np.asarray(c.fixed_dofs, dtype=int) for c in contributions] or [np.zeros(0, dtype=int)])
     return AssembledSystem(n_dofs=int(n_dofs), stiffness=stiffness, loads=load_vectors(n_dofs, contributions),
                            equations=equations, fixed_dofs=fixed, mass=mass)
 
@@ -153,26 +120,19 @@ def _summed(n_dofs: int, triplet_pieces: list, block_pieces: list) -> sp.csr_mat
     return (triplets + block_diagonal(n_dofs, blocks)).tocsr()
 
 
-def _dense(vector: np.ndarray, offset: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    return np.arange(offset, offset + vector.size), vector
-
-
 def beam_contribution(model, gravity_direction) -> Contribution:
     """The beams of a frame model (:class:`rvcoax.fem.model.StructuralModel`): stiffness and consistent weight."""
-    weight = beam.gravity_load(model.coordinates, model.beams, np.asarray(gravity_direction, dtype=float),
-                               model.n_dofs)
-    return Contribution(beam.stiffness_triplets(model.coordinates, model.beams), {"gravity": _dense(weight)})
+    return model.beams.contribution(model.coordinates, model.n_dofs, gravity_direction)
 
 
 def bushing_contribution(model) -> Contribution:
     """The six-component springs of a frame model."""
-    return Contribution(bushing.stiffness_triplets(model.coordinates, model.bushings))
+    return model.bushings.contribution(model.coordinates, model.n_dofs, (0.0, 0.0, 0.0))
 
 
 def point_mass_contribution(model, gravity_direction) -> Contribution:
     """The point masses of a frame model: their weight."""
-    weight = loads.point_mass_gravity(model.point_masses, np.asarray(gravity_direction, dtype=float), model.n_dofs)
-    return Contribution(loads={"gravity": _dense(weight)})
+    return model.point_masses.contribution(model.coordinates, model.n_dofs, gravity_direction)
 
 
 def nodal_load_contribution(name: str, nodal: loads.NodalLoads) -> Contribution:
@@ -184,7 +144,7 @@ def nodal_load_contribution(name: str, nodal: loads.NodalLoads) -> Contribution:
 
 def dense_load_contribution(name: str, vector: np.ndarray, offset: int = 0) -> Contribution:
     """A load given as a vector on the DOFs ``offset, offset + 1, …`` (a thermal initial strain, a face traction)."""
-    return Contribution(loads={name: _dense(np.asarray(vector, dtype=float), offset)})
+    return Contribution(loads={name: dense_entries(np.asarray(vector, dtype=float), offset)})
 
 
 def prestrain_contribution(model, stress_free: np.ndarray, name: str = "prestrain") -> Contribution:
@@ -194,20 +154,22 @@ def prestrain_contribution(model, stress_free: np.ndarray, name: str = "prestrai
 
 def constraint_contribution(model) -> Contribution:
     """The rigid links and fixed DOFs of a frame model."""
-    return Contribution(equations=rigid_link_equations(model.coordinates, model.rigid_links),
-                        fixed_dofs=np.asarray(model.fixed_dofs, dtype=int))
+    links = model.rigid_links.contribution(model.coordinates, model.n_dofs, (0.0, 0.0, 0.0))
+    return Contribution(equations=links.equations, fixed_dofs=np.asarray(model.fixed_dofs, dtype=int))
 
 
 def frame_contributions(model, gravity_direction) -> list[Contribution]:
-    """Every piece of a frame model, in assembly order: beams, bushings, point masses, constraints.
+    """Every piece of a frame model, in assembly order: each element group's, then the fixed DOFs.
 
-    The one list of a frame's element types: a new one (a field of :class:`rvcoax.fem.model.StructuralModel`)
-    is added here, and every frame model (the rig's, the checks before a solve, the exports) assembles it.
+    Each group (:class:`rvcoax.fem.contribution.ElementGroup`) says what it adds: a new element type is put
+    into the model (:class:`rvcoax.fem.model.StructuralModel`) and every frame model (the rig's, the checks
+    before a solve, the exports) assembles it, without a list of types here.
     ``gravity_direction`` scales the load ``"gravity"``: a unit vector gives the weight per m/s², an
     acceleration (m/s²) the weight itself.
     """
-    return [beam_contribution(model, gravity_direction), bushing_contribution(model),
-            point_mass_contribution(model, gravity_direction), constraint_contribution(model)]
+    direction = np.asarray(gravity_direction, dtype=float)
+    pieces = [g.contribution(model.coordinates, model.n_dofs, direction) for g in model.groups]
+    return [*pieces, Contribution(fixed_dofs=np.asarray(model.fixed_dofs, dtype=int))]
 
 
 def assemble_frame(model, gravity_direction=(0.0, 0.0, 0.0)) -> AssembledSystem:
@@ -215,27 +177,27 @@ def assemble_frame(model, gravity_direction=(0.0, 0.0, 0.0)) -> AssembledSystem:
     return assemble(model.n_dofs, frame_contributions(model, gravity_direction))
 
 
-def solid_contribution(basis, youngs_modulus_Pa: float, poisson: float, density_kg_per_m3: float, dof_offset: int,  # noqa: PLR0913
-                       *, gravity_direction) -> Contribution:
-    """A solid part (P2 tetrahedra) whose DOFs start at ``dof_offset``: stiffness and body weight."""
-    weight = solid.body_force_vector(basis, density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
-    return Contribution(loads={"gravity": _dense(weight, dof_offset)},
-                        block=(dof_offset, solid.stiffness_matrix(basis, youngs_modulus_Pa, poisson)))
+def solid_contribution(basis, material: solid.ElasticMaterial, dof_offset: int, *, gravity_direction) -> Contribution:
+    """A solid part (P2 tetrahedra) of ``material`` whose DOFs start at ``dof_offset``: stiffness and body weight."""
+    weight = solid.body_force_vector(basis, material.density_kg_per_m3, np.asarray(gravity_direction, dtype=float))
+    return Contribution(loads={"gravity": dense_entries(weight, dof_offset)},
+                        block=(dof_offset, solid.stiffness_matrix(basis, material.youngs_modulus_Pa, material.poisson)))
 
 
 def beam_mass_contribution(model) -> Contribution:
     """The beams of a frame model: their consistent mass (:func:`rvcoax.fem.beam.mass_triplets`)."""
-    return Contribution(mass=beam.mass_triplets(model.coordinates, model.beams))
+    return model.beams.mass_contribution(model.coordinates)
 
 
 def point_mass_mass_contribution(model) -> Contribution:
     """The point masses of a frame model (coupling hubs): mass and rotary inertia at their nodes."""
-    return Contribution(mass=loads.point_mass_triplets(model.point_masses))
+    return model.point_masses.mass_contribution(model.coordinates)
 
 
 def frame_mass_contributions(model) -> list[Contribution]:
-    """The mass forms of a frame model's pieces: beams and point masses (springs and links carry none)."""
-    return [beam_mass_contribution(model), point_mass_mass_contribution(model)]
+    """The mass forms of a frame model's element groups, in their order (springs and links carry none)."""
+    forms = (g.mass_contribution(model.coordinates) for g in model.groups)
+    return [form for form in forms if form is not None]
 
 
 def solid_mass_contribution(basis, density_kg_per_m3: float, dof_offset: int) -> Contribution:

@@ -33,8 +33,8 @@ import numpy as np
 from rvcoax.fem.ball_bearing import TILT_COMPONENTS, BallBearingGeometry, ball_loads
 from rvcoax.fem.roller_bearing import RollerBearingGeometry, roller_loads
 
-__all__ = ["BearingRow", "ElementLoads", "RollingBearing", "bearing_force", "released_force", "rolling_element_loads",
-           "row_states"]
+__all__ = ["BearingRow", "ElementLoads", "RollingBearing", "bearing_force", "carried_force", "released_force",
+           "rolling_element_loads", "row_states"]
 
 
 @dataclass(frozen=True)
@@ -146,6 +146,17 @@ def bearing_force(bearing: RollingBearing, relative_motion) -> tuple[np.ndarray,
     force[index] = five
     stiffness[np.ix_(index, index)] = tangent
     return force, stiffness
+
+
+def carried_force(bearing: RollingBearing, relative_motion) -> np.ndarray:
+    """What the bearing's rows (and its linear axial spring) carry at Δ, the preload its mounting takes
+    included: F(Δ) + F_rest (6,), N and N·m. A single row or a tandem pair set δ_r into contact carries its
+    preload axially though it passes none on; a DB/DF pair's preloads cancel (F_rest = 0). This is the load
+    ISO 281's equivalent load P is taken from."""
+    force, _ = bearing_force(bearing, relative_motion)
+    index = np.array(TILT_COMPONENTS)
+    force[index] += bearing.rest_force
+    return force
 
 
 def released_force(bearing: RollingBearing, reference_stiffness, relative_motion) -> tuple[np.ndarray, np.ndarray]:

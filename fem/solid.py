@@ -24,13 +24,14 @@ solid's DOF offset when placing them in a larger model.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 import skfem
 from scipy.spatial import cKDTree
 
-__all__ = ["DEFAULT_INTORDER", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
+__all__ = ["DEFAULT_INTORDER", "ElasticMaterial", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
            "facet_basis", "force_traction_vector", "lame_parameters", "logger", "mass_matrix", "MASS_INTORDER",
            "probe_matrix", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
@@ -42,6 +43,23 @@ MASS_INTORDER = 4  # ρ Nₐ N_b is of degree 4 on a straight P2 tet: the 4-poin
 FACET_INTORDER = 4  # surface integrals are cheap: integrate curved facets accurately
 _N_P2 = 10  # scalar P2 functions per tet
 _CHUNK_ELEMENTS = 512  # element matrices are computed in blocks of this many tets (~4 MB temporaries)
+
+
+@dataclass(frozen=True)
+class ElasticMaterial:
+    """An isotropic linear-elastic material (SI): what a solid part's stiffness, weight and mass need.
+
+    Attributes
+    ----------
+    youngs_modulus_Pa : float
+    poisson : float
+        Poisson's ratio.
+    density_kg_per_m3 : float
+    """
+
+    youngs_modulus_Pa: float
+    poisson: float
+    density_kg_per_m3: float
 
 
 def lame_parameters(youngs_modulus_Pa: float, poisson: float) -> tuple[float, float]:

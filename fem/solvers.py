@@ -98,6 +98,9 @@ class SolverReport:
         Nonzeros of the factor (PARDISO's L, SuperLU's L + U); 0 for AMG.
     factor_memory_MB : float
         The library's memory for the factor and its solves (PARDISO); 0 where unknown.
+    analysis_reused : bool
+        PARDISO: the numerical factorisation ran on the pooled analysis of an earlier matrix of the same
+        pattern (:mod:`rvcoax.fem.pardiso`), so the set-up time holds no ordering.
     """
 
     name: str
@@ -112,6 +115,7 @@ class SolverReport:
     matrix_nonzeros: int = 0
     factor_nonzeros: int = 0
     factor_memory_MB: float = 0.0
+    analysis_reused: bool = False
 
 
 def _peak_rss_mb() -> float:
@@ -164,7 +168,7 @@ class PreparedSolver:
     """A matrix set up for solving (factorised or with its AMG hierarchy). Use :func:`prepare`."""
 
     def __init__(self, matrix: sp.csr_matrix, name: str, solve_block, setup_seconds: float, rss_before: float,  # noqa: PLR0913
-                 *, release=None, factor: tuple[int, float] = (0, 0.0), matrix_nonzeros: int | None = None,
+                 *, release=None, factor: tuple = (0, 0.0), matrix_nonzeros: int | None = None,
                  condition: float | None = None):
         self.matrix = matrix
         self._solve_block = solve_block
@@ -177,7 +181,8 @@ class PreparedSolver:
         self._report = SolverReport(name=name, n_dofs=matrix.shape[0], setup_seconds=setup_seconds, solve_seconds=0.0,
                                     peak_memory_MB=peak, peak_memory_increase_MB=max(0.0, peak - rss_before),
                                     matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros),
-                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]))
+                                    factor_nonzeros=int(factor[0]), factor_memory_MB=float(factor[1]),
+                                    analysis_reused=bool(factor[2]) if len(factor) > 2 else False)
 
     def release(self) -> None:
         """Free the factorisation now (PARDISO keeps it in MKL memory until then); no solves afterwards."""
@@ -343,7 +348,7 @@ def _setup_pardiso(a: sp.csr_matrix):
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
-            (factor.factor_nonzeros, factor.memory_MB), condition)
+            (factor.factor_nonzeros, factor.memory_MB, factor.reused_analysis), condition)
 
 
 def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
@@ -354,10 +359,10 @@ def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
     try:
         bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
     except SolverError:
-        factor.release()
+        factor.release(keep_analysis=False)
         raise
     if bound > SINGULAR_INVERSE_NORM:
-        factor.release()
+        factor.release(keep_analysis=False)
         raise SingularMatrixError(
             f"PARDISO: the Jacobi-scaled matrix has 1/λ_min ≥ {bound:.1e} (largest motion at equation "
             f"{equation}): the matrix is numerically singular"
@@ -371,6 +376,44 @@ def _pardiso_singular(error: pardiso.PardisoError) -> SolverError:
         return SingularMatrixError(f"PARDISO: numerical factorisation failed{where} (error {error.code}): "
                                    "the matrix is singular or not positive definite")
     return SolverError(str(error))
+
+
+class _RefusedOnReusedAnalysis(Exception):
+    """A saddle-point matrix refused on an analysis (matching, scaling) computed from another matrix's values."""
+
+
+def _factorise_saddle_point(operator, upper: pardiso.UpperStorage, d: int, *, reuse_analysis: bool):
+    """PARDISO's factor of the saddle-point matrix, its solve of A and the condition estimate, after the inertia
+    and the singularity test; a refusal on a reused analysis raises :class:`_RefusedOnReusedAnalysis` instead."""
+    m = operator.shape[0]
+    total = upper.n
+    try:
+        factor = pardiso.Factorization(upper, indefinite=True, reuse_analysis=reuse_analysis)
+    except pardiso.PardisoError as error:
+        raise _pardiso_singular(error) from error
+
+    # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
+    # A itself where a column's residual needs it (REFINE_ABOVE).
+    def solve(block):
+        padded = np.zeros((total, block.shape[1]))
+        padded[:m] = block
+        try:
+            return factor.solve(padded)[:m], (), ()
+        except pardiso.PardisoError as error:
+            raise SolverError(str(error)) from error
+
+    try:
+        positive, negative = factor.inertia
+        if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
+            factor.release(keep_analysis=False)
+            raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
+                                      f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
+        condition = _refuse_singular(operator, solve, factor)
+    except SingularMatrixError as error:
+        if factor.reused_analysis:
+            raise _RefusedOnReusedAnalysis() from error
+        raise
+    return factor, solve, condition
 
 
 def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStorage) -> PreparedSolver:
@@ -417,29 +460,13 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
                                   "the matrix is singular or not positive definite")
     del diagonal
     try:
-        factor = pardiso.Factorization(upper, indefinite=True)
-    except pardiso.PardisoError as error:
-        raise _pardiso_singular(error) from error
-
-    # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
-    # A itself where a column's residual needs it (REFINE_ABOVE).
-    def solve(block):
-        padded = np.zeros((total, block.shape[1]))
-        padded[:m] = block
-        try:
-            return factor.solve(padded)[:m], (), ()
-        except pardiso.PardisoError as error:
-            raise SolverError(str(error)) from error
-
-    positive, negative = factor.inertia
-    if negative != d or positive != m + d:  # Sylvester: inertia = that of A plus (d, d), C having full rank
-        factor.release()
-        raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
-                                  f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
-    condition = _refuse_singular(operator, solve, factor)
+        factor, solve, condition = _factorise_saddle_point(operator, upper, d, reuse_analysis=True)
+    except _RefusedOnReusedAnalysis:  # the pooled matching and scaling were another matrix's: judge on its own
+        factor, solve, condition = _factorise_saddle_point(operator, upper, d, reuse_analysis=False)
     name = f"pardiso (MKL PARDISO, ties as {d} multipliers, symmetric indefinite, mtype=-2)"
     return PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start, rss_before=rss_before,
-                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB),
+                          release=factor.release, factor=(factor.factor_nonzeros, factor.memory_MB,
+                                                          factor.reused_analysis),
                           matrix_nonzeros=pardiso.stored_nonzeros(upper), condition=condition)
 
 

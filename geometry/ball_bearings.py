@@ -76,7 +76,8 @@ BALL_BEARINGS: dict[str, CatalogueBallBearing] = _read_catalogue()  # designatio
 CLEARANCE_CLASSES = ("C2", "CN", "C3", "C4")
 
 # ISO 5753-1:2009, radial internal clearance of radial ball bearings (µm): bore d over … incl,
-# then (min, max) for C2, CN, C3, C4
+# then (min, max) for C2, CN, C3, C4; checked against two makers' printed copies (tests/geometry/
+# test_published_tables.py: they differ from each other by 1–3 µm at two class edges, named there)
 _CLEARANCE_TABLE_UM = (
     (6.0, 10.0, ((0, 7), (2, 13), (8, 23), (14, 29))),
     (10.0, 18.0, ((0, 9), (3, 18), (11, 25), (18, 33))),
@@ -89,8 +90,8 @@ _CLEARANCE_TABLE_UM = (
 
 
 # ISO 5753-1, radial internal clearance of cylindrical roller bearings with a cylindrical bore (µm), the same
-# layout (as the makers' catalogue tables reproduce it; written from memory of those tables, not re-read against
-# the standard: check before relying on a class's edges)
+# layout (written from memory of the makers' catalogue tables, then checked against a maker's printed copy:
+# tests/geometry/test_published_tables.py, every entry equal)
 _CYLINDRICAL_CLEARANCE_TABLE_UM = (
     (10.0, 24.0, ((0, 25), (20, 45), (35, 60), (50, 75))),
     (24.0, 30.0, ((0, 25), (20, 45), (35, 60), (50, 75))),

@@ -349,32 +349,43 @@ def _mount_compliance(rig: Rig, part: str) -> Effect:
                   "bracket or bolted joint.", change=change)
 
 
-def _coupling(rig: Rig, name: str, key: str, kind: str, *, parameter: EffectParameter, what: str) -> Effect:  # noqa: PLR0913
-    address = f"couplings.{name}.{key}"
+@dataclass(frozen=True)
+class _Misalignment:
+    """A coupling misalignment effect: its kind, the coupling key it adds to, its parameter and its name in words."""
 
-    def change(r: Rig, v: tuple[float, ...]) -> RigChange:
-        return RigChange({address: get_parameter(r, address) + v[0]})
+    kind: str
+    key: str
+    parameter: EffectParameter
+    what: str
 
+
+# ±100 µm: allowed parallel offset of the C1/C3 bellows couplings 0.1 mm [S] (rig_reference.md);
+# 20 µm is a good dial-indicator alignment.
+_OFFSET = _Misalignment("coupling_offset", "parallel_offset_um", EffectParameter("offset_um", "µm", -100.0, 100.0, 20.0),
+                        "Parallel misalignment")
+# ±17.45 mrad: allowed angular misalignment 1° [S] (rig_reference.md); 0.5 mrad (0.05 mm per
+# 100 mm) is a good alignment.
+_ANGLE = _Misalignment("coupling_angle", "angular_misalignment_mrad",
+                       EffectParameter("angle_mrad", "mrad", -17.45, 17.45, 0.5), "Angular misalignment")
+
+
+def _coupling(rig: Rig, name: str, misalignment: _Misalignment) -> Effect:
     coupling = next(c for c in rig.couplings if c.name == name)
     plane = ("vertical" if math.isclose(math.cos(math.radians(coupling.misalignment_direction_deg)), 1.0)
              else f"at {coupling.misalignment_direction_deg:g}° from +Y")
-    return Effect(name=f"{kind}@{name}", kind=kind, location=name, parameters=(parameter,), linear=True,
-                  description=f"{what} of coupling {name} ({plane}, its misalignment_direction_deg), a prestrain present at "
-                  "rest and in every case.", change=change)
+    kind = misalignment.kind
+    return Effect(name=f"{kind}@{name}", kind=kind, location=name, parameters=(misalignment.parameter,), linear=True,
+                  description=f"{misalignment.what} of coupling {name} ({plane}, its misalignment_direction_deg), a "
+                  "prestrain present at rest and in every case.",
+                  change=_adds_to(f"couplings.{name}.{misalignment.key}"))
 
 
 def _coupling_offset(rig: Rig, name: str) -> Effect:
-    # ±100 µm: allowed parallel offset of the C1/C3 bellows couplings 0.1 mm [S] (rig_reference.md);
-    # 20 µm is a good dial-indicator alignment.
-    return _coupling(rig, name, "parallel_offset_um", "coupling_offset",
-                     parameter=EffectParameter("offset_um", "µm", -100.0, 100.0, 20.0), what="Parallel misalignment")
+    return _coupling(rig, name, _OFFSET)
 
 
 def _coupling_angle(rig: Rig, name: str) -> Effect:
-    # ±17.45 mrad: allowed angular misalignment 1° [S] (rig_reference.md); 0.5 mrad (0.05 mm per
-    # 100 mm) is a good alignment.
-    return _coupling(rig, name, "angular_misalignment_mrad", "coupling_angle",
-                     parameter=EffectParameter("angle_mrad", "mrad", -17.45, 17.45, 0.5), what="Angular misalignment")
+    return _coupling(rig, name, _ANGLE)
 
 
 def _proportional(rig: Rig, item: str, torque: str, on: dict, reacted_on: dict | None) -> Callable:
@@ -459,24 +470,25 @@ def _adds_to(address: str) -> Callable:
     return change
 
 
+# ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; ISO grade 5–6 pitch and runout
+# errors of gears (base pitch deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
+_POSITION_ERROR = EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0)
+
+
 def _mesh_position_error(rig: Rig, name: str) -> Effect:
     change = _adds_to(f"torque_lateral_loads.{name}.position_error_um")
-
-    # ±10 µm: the IT3 band of the reference rig is ±2 µm (input) / ±3 µm (output) [P]; pitch and
-    # runout errors of ISO grade 5–6 gears reach 5–10 µm. The force k_eff·Δε acts while torque flows.
+    # The force k_eff·Δε acts while torque flows (bounds: _POSITION_ERROR).
     return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
-                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  parameters=(_POSITION_ERROR,), linear=True,
                   description=f"A position error of the two load-sharing meshes of {name}: a lateral force k_eff·Δε that "
                   "appears as soon as torque flows, whatever its size (a constant offset of the loaded rig).", change=change)
 
 
 def _gear_mesh_position_error(rig: Rig, name: str) -> Effect:
     change = _adds_to(f"gear_meshes.{name}.planet_position_errors_um[0]")
-
-    # ±10 µm, as for the typed-in load sharing: ISO grade 5–6 pitch and runout errors (base pitch
-    # deviation f_pb, tooth-to-tooth; ISO 1328-1) reach 5–10 µm for modules of 1–2 mm.
+    # ±10 µm, as for the typed-in load sharing (_POSITION_ERROR).
     return Effect(name=f"mesh_position_error@{name}", kind="mesh_position_error", location=name,
-                  parameters=(EffectParameter("position_error_um", "µm", -10.0, 10.0, 1.0),), linear=True,
+                  parameters=(_POSITION_ERROR,), linear=True,
                   description=f"The first planet mesh of gear mesh {name} engages this much later along its line of action "
                   "(a position error): the load sharing of its planets, and so the net force on the driving gear, "
                   "follow from the gear data.", change=change)

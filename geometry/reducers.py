@@ -19,7 +19,11 @@ table is in Nabtesco's *Reducer for high precision control — RV series* techni
 
 Provenance, in ``source``: **[R]**: the value as recalled from that rating table; the table could not be
 retrieved while this catalogue was written, so every [R] value is to be checked against the maker's current
-catalogue before a design review relies on it. **[E]**: estimated here, with how:
+catalogue before a design review relies on it. **[S2]**: a recalled value that a public secondary transcription
+of the maker's data agrees with (RV-20E: 167, 412, 833 N·m, 4.7 kg; RV-40E: 412, 1029, 2058 N·m, 9.3 kg — a
+robotics knowledge base's component pages that cite Nabtesco's product pages and its *RV Series* catalogue,
+found by full-text search of public repositories); the maker's own table was still not retrieved, so [S2] is
+better than [R] but not a primary source. **[E]**: estimated here, with how:
 ``main_bearing_spread_mm``, the distance of the two main bearings' pressure centres, is not published; it is
 ℓ = 50 mm · (T_rated / 167 N·m)^(1/3), the RV-20E's 50 mm taken as 0.6 × its 85 mm case length and scaled
 with the size (the linear size of geometrically similar reducers grows with the cube root of the torque).

@@ -87,8 +87,10 @@ def _law(bearing, clearance_um: float = 0.0):
                          f"{', '.join(missing)}")
     try:
         if bearing.model == "angular_contact":
-            if not values["contact_angle_deg"] > 0:
-                raise ValueError("an angular-contact bearing needs contact_angle_deg > 0")
+            if not 15.0 <= values["contact_angle_deg"] <= 45.0:
+                raise ValueError(f"contact_angle_deg = {values['contact_angle_deg']:g}: an angular-contact bearing's "
+                                 "contact angle must lie in 15° … 45°, the range of ISO 281's X/Y table its life "
+                                 "is rated with (below 15°: model = \"ball\" with a clearance or preload)")
             return BallBearingGeometry(ball_count=int(values["ball_count"]),
                                        ball_diameter_m=values["ball_diameter_mm"] * 1e-3,
                                        pitch_diameter_m=values["pitch_diameter_mm"] * 1e-3,

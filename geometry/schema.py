@@ -341,10 +341,12 @@ class Bearing(StrictModel):
 
     # ---- life, static safety, minimum load (issue 25 item 3; rvcoax.fem.bearing_life) ---------------
     dynamic_load_rating_kN: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="Basic dynamic load rating C (catalogue); model = \"ball\": from the geometry (ISO 281) "
-                          "when not given. Without it (model = \"linear\") no life is computed.")
+        None, description="Basic dynamic load rating C (catalogue); a bearing from geometry: from the catalogue or "
+                          "the geometry (ISO 281) when not given; a DB/DF/DT set: the set's C (else 2^0.7 C ball, "
+                          "2^(7/9) C roller of one). Without it (model = \"linear\") no life is computed.")
     static_load_rating_kN: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="Basic static load rating C0 (catalogue); model = \"ball\": from the geometry (ISO 76).")
+        None, description="Basic static load rating C0 (catalogue); a bearing from geometry: from the catalogue or "
+                          "the geometry (ISO 76) when not given; a DB/DF/DT set: the set's C0 (else 2 C0 of one).")
     rolling_elements: Literal["ball", "roller"] = Field(
         "ball", description="model = \"linear\": what rolls (life exponent 3 or 10/3, minimum load 0.01 C or "
                             "0.02 C, s0 limit).")

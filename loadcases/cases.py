@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.errors import RvcoaxError
+from rvcoax.errors import InputFileProblems, RvcoaxError
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, parse_toml, plain_number, read_input_text
 from rvcoax.loadcases.limits import MAX_CASE_FILE_BYTES, MAX_TORQUE_NM
 
@@ -27,11 +27,14 @@ __all__ = ["LoadCase", "LoadCaseError", "NoLoadCasesError", "PAPER_TABLE", "defa
 PAPER_TABLE = "paper000_coaxiality_table.csv"
 
 
-class LoadCaseError(RvcoaxError, ValueError):
-    """Load cases that cannot be used; the message names the source and the reason."""
+class LoadCaseError(InputFileProblems):
+    """Load cases that cannot be used; the message (:func:`rvcoax.errors.problems_text`) names the source (a file,
+    ``command line``, ``grid``), the line, case or key, and the reason."""
+
+    what = "load cases"
 
     def __init__(self, source: str, problem: str):
-        super().__init__(f"load cases {source}: {problem}")
+        super().__init__(source, [problem])
 
 
 @dataclass(frozen=True)

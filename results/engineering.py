@@ -39,10 +39,11 @@ from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
-           "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "ball_bearing_lives", "bearing_warnings",
-           "case_engineering", "case_name", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
+           "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "bearing_warnings",
+           "case_engineering", "case_name", "case_text", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
+           "engineering_warnings", "minimum_load_warnings", "reducer_warnings",
            "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
-           "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries",
+           "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries", "rolling_bearing_lives",
            "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
 
 UM = 1e6  # m → µm
@@ -540,12 +541,17 @@ def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
     Returns
     -------
     str
-        The name, or ``"T1 = …, T2 = … N·m"``.
+        The name, or :func:`case_text` (``"T1 = 0.5 N·m, T2 = 40 N·m"``).
     """
     entry = rig_case_of(rig, input_torque_Nm, output_torque_Nm)
     if entry is not None and entry.name is not None:
         return entry.name
-    return f"T1 = {input_torque_Nm:g}, T2 = {output_torque_Nm:g} N·m"
+    return case_text(input_torque_Nm, output_torque_Nm)
+
+
+def case_text(input_torque_Nm: float, output_torque_Nm: float) -> str:
+    """A load case by its torques, as the report and the warnings write it: ``"T1 = 0.5 N·m, T2 = 40 N·m"``."""
+    return f"T1 = {input_torque_Nm:g} N·m, T2 = {output_torque_Nm:g} N·m"
 
 
 def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):
@@ -574,34 +580,40 @@ def life_quantities(bearing_name: str, case: str, ratings, life) -> BearingLifeQ
         below_minimum_load=life.below_minimum_load)
 
 
-def ball_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
-                       output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
-    """The lives of the deep-groove ball bearings from internal geometry at a nonlinear solution's condensed motion
-    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): L10 from the forces they carry, L10r
-    from their ball loads (ISO/TS 16281), s0 from the largest ball-raceway pressure (ISO 76: 4200 MPa)."""
-    from rvcoax.fem.rolling_bearing import bearing_force, rolling_element_loads
+def rolling_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: float,
+                          output_torque_Nm: float) -> tuple[BearingLifeQuantities, ...]:
+    """The lives of the bearings from internal geometry at a nonlinear solution's condensed motion
+    (:class:`rvcoax.geometry.model.nonlinear_bearings.NonlinearBearings`): deep-groove ball, angular-contact
+    (single or a set), cylindrical and tapered roller bearings.
+
+    L10 (ISO 281) from the forces the rows carry (the preload a single row's mounting takes included) through the
+    type's X/Y factors (:func:`rvcoax.geometry.bearing_ratings.equivalent_load`; a deep-groove bearing's from
+    ISO 281 table 3) and the set's C; L10r (ISO/TS 16281) from the element loads: ball loads with their contact
+    angles, roller lamina loads (:func:`rvcoax.fem.bearing_life.rows_reference_life`); s0 from the largest
+    contact pressure (ISO 76: 4200 MPa ball, 4000 MPa roller); the minimum load (0.01 C ball, 0.02 C roller)
+    on the larger of P and the load that gives L10r.
+    """
+    from rvcoax.fem.rolling_bearing import carried_force, rolling_element_loads
+    from rvcoax.geometry.bearing_ratings import equivalent_load
 
     speeds = bearing_speeds_rpm(rig, rig_case_of(rig, input_torque_Nm, output_torque_Nm))
     name = case_name(rig, input_torque_Nm, output_torque_Nm)
     entries = {b.name: b for b in rig.bearings}
     motions = nonlinear.motions(motion)
     out = []
-    for model in nonlinear.balls:
+    for model in nonlinear.rolling:
         bearing = entries[model.name]
         ratings = load_ratings(bearing)
-        force, _ = bearing_force(model.bearing, motions[model.name])
         elements = rolling_element_loads(model.bearing, motions[model.name])
-        pressure = float(elements.max_contact_pressure_Pa.max(initial=0.0)) * 1e-6
-        reference = bearing_life.element_rating_life(
-            elements.load_n, *bearing_life.ring_contact_ratings(
-                model.geometry.ball_count, model.geometry.ball_diameter_m * 1e3, model.geometry.pitch_diameter_m * 1e3,
-                model.geometry.inner_conformity, model.geometry.outer_conformity,
-                contact_angle_rad=elements.contact_angle_rad))
+        force = carried_force(model.bearing, motions[model.name])
+        radial, axial = math.hypot(force[1], force[2]), float(force[0])
+        equivalent = None if model.model == "ball" else equivalent_load(bearing, model.geometry, ratings, radial,
+                                                                        axial)[0]
         life = bearing_life.life_from_forces(
-            math.hypot(force[1], force[2]), float(force[0]), ratings.dynamic_N, ratings.static_N, ratings.f0,
-            elements="ball", speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio,
-            contamination=bearing.contamination_factor, reference_life_Mrev=reference,
-            static_safety_value=bearing_life.static_safety_from_pressure(pressure))
+            radial, axial, ratings.dynamic_N, ratings.static_N, ratings.f0, elements=ratings.elements,
+            speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio, contamination=bearing.contamination_factor,
+            reference_life_Mrev=bearing_life.rows_reference_life(model.bearing, elements),
+            static_safety_value=bearing_life.rows_static_safety(elements), equivalent_load_N=equivalent)
         out.append(life_quantities(model.name, name, ratings, life))
     return tuple(out)
 
@@ -663,14 +675,16 @@ def lives_of_records(records: list[dict]) -> list[tuple[BearingLifeQuantities, .
 
 
 def play_crossings(operating_points: dict) -> list[str]:
-    """Ball bearings whose shaft crosses its play between neighbouring cases of a nonlinear sweep: the radial
-    motion (y, z) changes by at least half the diametral operating clearance from one case to the next (the
-    shaft leaves the balls on one side for those on the other: the sweep's Y steps there).
+    """Bearings with a radial clearance (deep-groove ball, cylindrical roller) whose shaft crosses its play between
+    neighbouring cases of a nonlinear sweep: the radial motion (y, z) changes by at least half the diametral
+    operating clearance from one case to the next (the shaft leaves the elements on one side for those on the
+    other: the sweep's Y steps there).
 
     Parameters
     ----------
     operating_points : dict
-        ``sweep.json``'s ``model.ball_bearing_operating_points`` (per bearing, the rest state then every case).
+        ``sweep.json``'s ``model.ball_bearing_operating_points`` and/or ``model.rolling_bearing_operating_points``
+        (per bearing, the rest state then every case).
 
     Returns
     -------
@@ -684,10 +698,17 @@ def play_crossings(operating_points: dict) -> list[str]:
             jump = math.dist(before["displacement_yz_um"], after["displacement_yz_um"])
             clearance = after.get("operating_clearance_um", 0.0)
             if clearance > 0.0 and jump >= 0.5 * clearance:
-                found.append(f"ball bearing {name}: the shaft crosses its play between {before['case']} and "
-                             f"{after['case']} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
+                found.append(f"bearing {name} ({after.get('model', 'ball')}): the shaft crosses its play between {_point_case(before)} and "
+                             f"{_point_case(after)} (its radial motion changes by {jump:.3g} µm, the operating clearance is "
                              f"{clearance:.3g} µm): Y steps there; a preload or a smaller clearance keeps it seated")
     return found
+
+
+def _point_case(point: dict) -> str:
+    """An operating point's case as the warnings name it (:func:`case_text`; a record without torques: its label)."""
+    if "T1_input_Nm" in point and "T2_output_Nm" in point:
+        return case_text(point["T1_input_Nm"], point["T2_output_Nm"])
+    return point["case"]
 
 
 def duty_cycle_of_records(rig, records: list[dict]) -> list[DutyCycleLife]:
@@ -887,8 +908,10 @@ UNLOADED_SHARE = 0.01
 (nearly) nothing: a ball bearing hanging in its clearance, a shaft inside a radial play."""
 
 
-def _case_text(entry: dict) -> str:
-    return f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+def _case_text(entry: dict, rig=None) -> str:
+    if rig is not None:
+        return case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
+    return case_text(entry["T1_input_Nm"], entry["T2_output_Nm"])
 
 
 def _carrying(entry: dict) -> dict[str, bool]:
@@ -899,7 +922,7 @@ def _carrying(entry: dict) -> dict[str, bool]:
             for b in bearings}
 
 
-def bearing_warnings(entries: list[dict]) -> list[str]:
+def bearing_warnings(entries: list[dict], rig=None) -> list[str]:
     """What a nonlinear sweep should say about its bearings, one sentence each, from the ``sweep.json`` case
     entries.
 
@@ -912,6 +935,8 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
     ----------
     entries : list of dict
         The ``cases`` of ``sweep.json`` (each with its ``engineering.bearings``).
+    rig : Rig, optional
+        With it, cases are named as the tables name them (:func:`case_name`), else by their torques.
 
     Returns
     -------
@@ -928,7 +953,7 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
         idle = [i for i, state in enumerate(carrying) if not state[name]]
         if idle:
             cases = (f"in all {len(entries)} cases" if len(idle) == len(entries) else
-                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i]) for i in idle[:3])}"
+                     f"in {len(idle)} of {len(entries)} cases ({'; '.join(_case_text(entries[i], rig) for i in idle[:3])}"
                      + (", …)" if len(idle) > 3 else ")"))
             found.append(f"bearing {name} ({b['model']}) carries (nearly) nothing {cases}: less than "
                          f"{100 * UNLOADED_SHARE:g} % of the largest bearing force"
@@ -943,6 +968,76 @@ def bearing_warnings(entries: list[dict]) -> list[str]:
                 jumps = ", ".join(f"Y_{s} {shafts[s]['Y_max_um']:.3g} → "
                                   f"{entries[j]['engineering']['shafts'][s]['Y_max_um']:.3g} µm" for s in shafts)
                 what = "takes up its play" if carrying[j][name] else "lifts off into its play"
-                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i])} and "
-                             f"{_case_text(entries[j])}: Y is not proportional to torque across that step ({jumps})")
+                found.append(f"bearing {name} ({b['model']}) {what} between {_case_text(entries[i], rig)} and "
+                             f"{_case_text(entries[j], rig)}: Y is not proportional to torque across that step ({jumps})")
     return found
+
+
+def minimum_load_warnings(case_lives) -> list[str]:
+    """One sentence per bearing that carries less than its minimum load in some case (the cases named).
+
+    Parameters
+    ----------
+    case_lives : list of tuple of BearingLifeQuantities
+        Per case, every bearing's life (:func:`sweep_lives`, :func:`lives_of_records`).
+
+    Returns
+    -------
+    list of str
+        One sentence per bearing below its minimum load in any case.
+    """
+    below: dict[str, list[BearingLifeQuantities]] = {}
+    for lives in case_lives:
+        for life in lives:
+            if life.below_minimum_load:
+                below.setdefault(life.name, []).append(life)
+    found = []
+    for name, lives in below.items():
+        first = lives[0]
+        share = first.minimum_load_N / first.dynamic_load_rating_N
+        found.append(f"bearing {name} carries less than its minimum load ({first.minimum_load_N:.3g} N = {share:.2g} C, "
+                     f"the makers' rule) in {len(lives)} case(s) ({'; '.join(life.case for life in lives)}): the "
+                     "rolling elements may skid (smearing); preload it or load it radially")
+    return found
+
+
+def reducer_warnings(rig, entries: list[dict]) -> list[str]:
+    """One sentence per reducer and case beyond its rating table (:func:`rvcoax.geometry.reducers.reducer_check`),
+    from ``sweep.json`` case entries (their ``engineering.reducers``)."""
+    found = []
+    for entry in entries:
+        for red in entry.get("engineering", {}).get("reducers", []):
+            if red["verdict"] == "within rating":
+                continue
+            case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
+            found.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque "
+                         f"{red['torque_Nm']:.4g} N·m = {red['torque_rated_percent']:.3g} % of rated; moment "
+                         f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable)")
+    return found
+
+
+def engineering_warnings(rig, entries: list[dict], operating_points: dict | None = None) -> list[str]:
+    """Every warning a sweep gives about its bearings and reducers, one sentence each, in one form
+    (``bearing <name> (<model>) …``, ``reducer <name> (<designation>) …``, cases named as the tables name them):
+    bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
+    minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
+    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
+    with ``warning:``, the report in its misalignment section.
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig (its case names).
+    entries : list of dict
+        The ``cases`` of ``sweep.json``.
+    operating_points : dict, optional
+        ``model.ball_bearing_operating_points`` and ``model.rolling_bearing_operating_points`` merged.
+
+    Returns
+    -------
+    list of str
+        The sentences (empty when nothing is wrong).
+    """
+    tables = [e for e in entries if "couplings" in e.get("engineering", {})]
+    return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
+            + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))

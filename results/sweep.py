@@ -43,7 +43,7 @@ from rvcoax.geometry.model.system import RigSystem, assemble_beam
 from rvcoax.geometry.rolling_model import GEOMETRIC_MODELS
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.engineering import CaseEngineering, ball_bearing_lives, case_engineering, reducer_checks
+from rvcoax.results.engineering import CaseEngineering, case_engineering, reducer_checks, rolling_bearing_lives
 from rvcoax.results.paths import ShaftPathResult
 from rvcoax.results.shaft_safety import ShaftStrength, shaft_strength
 
@@ -96,10 +96,10 @@ class CaseResult:
     equilibrium_error: float
     residual: float
     engineering: CaseEngineering | None = None  # couplings, bearings, reactions (results/engineering.py)
-    ball_lives: tuple = ()  # nonlinear sweeps: the ball bearings' lives from their ball loads (BearingLifeQuantities)
+    ball_lives: tuple = ()  # nonlinear sweeps: the lives of the bearings from geometry from their element loads
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
     shaft_strength: ShaftStrength | None = None  # shaft stresses and DIN 743 notch safety (results/shaft_safety.py)
-    operating_points: dict = field(default_factory=dict)  # nonlinear sweeps: bearing from geometry → its operating point
+    operating_points: dict = field(default_factory=dict)  # nonlinear sweeps: bearing from geometry → its listed point
 
 
 @dataclass(frozen=True, eq=False)
@@ -372,6 +372,13 @@ def _relative_residual(system: RigSystem, unbalance: np.ndarray, load: np.ndarra
     return float(np.linalg.norm(system.elimination.T @ unbalance) / scale) if scale > 0 else 0.0
 
 
+def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, dict, np.ndarray]:
+    """The solutions of every unit load (as columns and by name) and of the loads present at rest."""
+    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
+    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
+    return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
+
+
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
               prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
@@ -415,11 +422,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
                              on_case=on_case, engineering=engineering)
     loads = system.unit_loads
-    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
-    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
-    rest = sum(unit_by_name[k] for k in REST_LOADS)
+    unit, unit_by_name, rest = _unit_solutions(prepared, loads)
     from_rest = rig.paths.measured_from == "aligned_at_rest"
-    frame = system.frame.structure
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
@@ -429,7 +433,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         load = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
         u = (superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
              if settings.method == "superposition" else solve(load))
-        check = equilibrium.check_equilibrium(frame, system.stiffness, u, load, system.dofs)
+        check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs)
         unbalance = system.stiffness @ u - load
         residual = _relative_residual(system, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)
@@ -556,12 +560,14 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                                contact_torques_Nm=contact)
         u, solution, check, residual, unbalance = solve_case(weights, case.label)
         iterations.append(solution.iterations)
-        lives = ball_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
+        lives = rolling_bearing_lives(rig, bearings, solution.motion, case.input_torque_Nm, case.output_torque_Nm)
         checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
                   if rig.reducers else ())
         points = bearings.operating_points(solution.motion, every)
-        for name, point in points.items():
-            operating[name].append({"case": case.label, **point})
+        listed = {name: {"case": case.label, "T1_input_Nm": case.input_torque_Nm,
+                         "T2_output_Nm": case.output_torque_Nm, **point} for name, point in points.items()}
+        for name, point in listed.items():
+            operating[name].append(point)
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law
@@ -572,7 +578,7 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
                                   equilibrium_error=check.relative_error, residual=residual, engineering=tables,
-                                  ball_lives=lives, reducer_checks=checks, operating_points=points,
+                                  ball_lives=lives, reducer_checks=checks, operating_points=listed,
                                   shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None))
         if on_case is not None:
             on_case(i, results[-1])

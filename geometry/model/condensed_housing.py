@@ -27,13 +27,18 @@ import skfem
 from rvcoax.fem import DOFS_PER_NODE, solid
 from rvcoax.fem.assembly import block_diagonal
 from rvcoax.fem.condensation import guyan_reduction
+from rvcoax.fem.craig_bampton import CraigBampton, craig_bampton_reduction
 from rvcoax.fem.pieces import Contribution, assemble, tie_contribution
 from rvcoax.fem.solvers import pardiso_available
 from rvcoax.fem.ties import distributing_tie_equations, face_nodes, rigid_tie_equations
 from rvcoax.geometry.housings import HousingGeometry, Reference, foot_facets, housing_faces
 from rvcoax.geometry.meshing import default_cache_dir, mesh_part
 
-__all__ = ["CondensedHousing", "HousingModel", "build_housing_model", "condense_housing", "solid_method"]
+__all__ = ["INTERFACE_CANDIDATES", "CondensedHousing", "HousingModel", "build_housing_model", "condense_housing",
+           "housing_craig_bampton", "solid_method"]
+
+INTERFACE_CANDIDATES = 12
+"""Fixed-interface modes computed (and cached) per housing: the automatic rule keeps those it needs of them."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -208,4 +213,46 @@ def condense_housing(geometry: HousingGeometry, youngs_modulus_Pa: float, poisso
             _save(path, result)
         except OSError:
             pass  # a read-only cache only costs the next run the condensation
+    return result
+
+
+def housing_craig_bampton(geometry: HousingGeometry, youngs_modulus_Pa: float, poisson: float,  # noqa: PLR0913
+                          references: list[Reference], feet: str = "clamped", *,
+                          bed_stiffness_N_per_um_per_mm2: tuple[float, float] | None = None,
+                          n_modes: int = INTERFACE_CANDIDATES, cache_dir: Path | None = None,
+                          use_cache: bool = True) -> CraigBampton:
+    """The housing's Craig–Bampton reduction (:func:`rvcoax.fem.craig_bampton.craig_bampton_reduction`) at its
+    references with ``n_modes`` fixed-interface modes, for a density of 1 kg/m³ (M_cb scales with the density, the
+    fixed-interface eigenvalues with its inverse); cached by everything it depends on. Fewer modes are its
+    truncation (:meth:`CraigBampton.truncated`)."""
+    key = {"geometry": geometry.cache_key(), "E": youngs_modulus_Pa, "nu": poisson, "feet": feet,
+           "bed": list(bed_stiffness_N_per_um_per_mm2 or ()),
+           "references": [[list(r.point_mm), list(r.face), r.tie] for r in references],
+           "craig_bampton_modes": int(n_modes)}
+    path = _cache_file(key, cache_dir)
+    if use_cache:
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                cached = CraigBampton(np.array(data["stiffness"]), np.array(data["interface_eigenvalues"]),
+                                      np.array(data["mass"]))
+            if cached.mass.shape == (cached.stiffness.shape[0] + cached.n_modes,) * 2:
+                return cached
+        except (OSError, KeyError, ValueError):
+            path.unlink(missing_ok=True)
+    model = build_housing_model(geometry, youngs_modulus_Pa, poisson, references, feet,
+                                bed_stiffness_N_per_um_per_mm2=bed_stiffness_N_per_um_per_mm2, cache_dir=cache_dir)
+    mass = block_diagonal(model.n_dofs, [(model.master_dofs.size, solid.mass_matrix(model.basis, 1.0))])
+    free = model.elimination.shape[1] - model.master_dofs.size
+    result = craig_bampton_reduction(model.stiffness, model.elimination, model.master_dofs, mass, min(n_modes, free),
+                                     method=solid_method())
+    if use_cache:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            handle = tempfile.NamedTemporaryFile(dir=path.parent, prefix=path.stem + ".", suffix=".tmp", delete=False)
+            with handle:
+                np.savez(handle, stiffness=result.stiffness, interface_eigenvalues=result.interface_eigenvalues,
+                         mass=result.mass)
+            os.replace(handle.name, path)
+        except OSError:
+            pass  # a read-only cache only costs the next run the reduction
     return result

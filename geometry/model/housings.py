@@ -20,7 +20,7 @@ from rvcoax.geometry.model.condensed_housing import CondensedHousing, condense_h
 from rvcoax.geometry.schema import Housing, Rig
 from rvcoax.geometry.thermal import bed_growth_mm
 
-__all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensed_housing", "housing_contributions", "housing_prestrain",
+__all__ = ["SEAT_DIRECTIONS", "SeatStiffness", "condensation_inputs", "condensed_housing", "housing_contributions", "housing_prestrain",
            "housing_condensation", "housing_weight", "seat_stiffness"]
 
 
@@ -43,14 +43,20 @@ def condensed_housing(rig: Rig, housing: Housing, cache_dir=None, compute: bool 
     CondensedHousing or None
         The matrix, the solid's DOF count, the weight load, volume and centroid.
     """
+    geometry, youngs, poisson, references, feet, bed = condensation_inputs(rig, housing)
+    return condense_housing(geometry, youngs, poisson, references, feet, bed_stiffness_N_per_um_per_mm2=bed,
+                            cache_dir=cache_dir, compute=compute)
+
+
+def condensation_inputs(rig: Rig, housing: Housing) -> tuple:
+    """(geometry, E in Pa, ν, references, feet, bed stiffness per area) of ``housing``'s solid model."""
     face = "bore" if housing.bore_diameter_mm > 0 else "top"
     references = [Reference((x, 0.0, 0.0), (face, *band), housing.tie)
                   for x, band in zip(housing.attachments_x_mm, housing.bands_mm())]
     material = rig.materials[housing.material]
     bed = housing.bed_stiffness_per_area()  # springs per bolt foot: the same law, per area of the foot
-    return condense_housing(housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
-                            "clamped" if bed is None else "bed", bed_stiffness_N_per_um_per_mm2=bed, cache_dir=cache_dir,
-                            compute=compute)
+    return (housing.geometry, material.youngs_modulus_MPa * 1e6, material.poisson_ratio, references,
+            "clamped" if bed is None else "bed", bed)
 
 
 def _dofs(nodes) -> np.ndarray:

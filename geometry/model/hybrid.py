@@ -84,6 +84,10 @@ class SolidPart:
     def n_dofs(self) -> int:
         return int(self.basis.N)
 
+    @property
+    def material(self) -> solid.ElasticMaterial:
+        return solid.ElasticMaterial(self.youngs_modulus_Pa, self.poisson, self.density_kg_per_m3)
+
 
 @dataclass(frozen=True)
 class Attachment:
@@ -334,8 +338,8 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         raise SolidModelError(f"housings {', '.join(housed)}: their part is a solid here; a condensed housing holds a "
                               "beam part's nodes (keep the part out of [solid] hybrid_parts)")
     pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
-    pieces += [solid_contribution(s.basis, s.youngs_modulus_Pa, s.poisson, s.density_kg_per_m3, s.offset,
-                                  gravity_direction=GRAVITY_DIRECTION) for s in solids.values()]
+    pieces += [solid_contribution(s.basis, s.material, s.offset, gravity_direction=GRAVITY_DIRECTION)
+               for s in solids.values()]
     for a in ties:
         s = solids[a.part]
         nodes = face_nodes(s, select_facets(s, a.face))

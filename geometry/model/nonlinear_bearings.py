@@ -165,6 +165,8 @@ class NonlinearBearings:
                              max_element_load_N=elements.max_load_n,
                              max_contact_pressure_MPa=elements.max_pressure_Pa * 1e-6,
                              contact_angle_min_deg=float(angles.min()), contact_angle_max_deg=float(angles.max()))
+                if model.model == "cylindrical_roller":
+                    point["operating_clearance_um"] = float(model.geometry.clearance_m * 1e6)
             out[model.name] = point
         return out
 

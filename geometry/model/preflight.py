@@ -335,13 +335,13 @@ def support_problem(rig: Rig) -> str | None:
     steel = dataclasses.replace(structure.beams, youngs_modulus_Pa=np.full_like(structure.beams.youngs_modulus_Pa,
                                                                                 TYPICAL_MODULI[0]),
                                 shear_modulus_Pa=np.full_like(structure.beams.shear_modulus_Pa, TYPICAL_MODULI[1]))
-    springless = dataclasses.replace(structure, beams=steel, bushings=dataclasses.replace(
+    springless = structure.with_group(steel).with_group(dataclasses.replace(
         structure.bushings, stiffness=np.zeros_like(structure.bushings.stiffness)))
     scale = float(np.abs(assemble_frame(springless).stiffness.diagonal()).max())
     length = max(float(np.ptp(structure.coordinates, axis=0).max()), 1e-3)
     typical = np.where(structure.bushings.stiffness > 0, scale * np.array([1, 1, 1, length**2, length**2, length**2]),
                        0.0)
-    topological = dataclasses.replace(springless, bushings=dataclasses.replace(structure.bushings, stiffness=typical))
+    topological = springless.with_group(dataclasses.replace(structure.bushings, stiffness=typical))
     if not motions:
         mechanism = _mechanism(frame, topological)
         return None if mechanism is None else _mechanism_text(rig, frame, *mechanism)

@@ -90,6 +90,11 @@ def modes(
     interference: Annotated[bool, typer.Option(
         "--interference/--no-interference",
         help="Require the interference diagram: fails when the rig file has no [speeds].")] = False,
+    housing_dynamics: Annotated[str, typer.Option(
+        "--housing-dynamics",
+        help="How a \\[\\[housings]] entry with self_weight moves: auto (Craig–Bampton where its lowest fixed-interface "
+             "mode is below 3 × the top rig frequency, else Guyan), craig-bampton, or guyan (static shapes).")]
+    = "auto",
 ) -> None:
     """Natural frequencies and mode shapes of the rig about each load case's operating point, each mode's class
     and the part or spring that owns it, and the interference (Campbell) diagram against the [speeds] of the
@@ -100,6 +105,10 @@ def modes(
     if settings.solver == "amg":
         raise support.UserError("--solver amg: an eigensolver needs an exact factorisation; use auto, superlu "
                                 "or pardiso")
+    from rvcoax.results.studies import HOUSING_DYNAMICS
+
+    if housing_dynamics not in HOUSING_DYNAMICS:
+        raise support.UserError(f"--housing-dynamics {housing_dynamics}: choose one of {', '.join(HOUSING_DYNAMICS)}")
     rig = model_choice.load_rig()
     if interference and rig.speeds is None:
         raise support.UserError("--interference: the rig file has no [speeds] (motor_rpm = [lowest, highest], "
@@ -107,7 +116,7 @@ def modes(
     load_cases = case_choice.load(rig) if case_choice.given else None
     with support.console.status(f"assembling the {settings.model} model and computing {count} modes"):
         study = run(rig, load_cases, n_modes=count, model=settings.model, solver=settings.solver,
-                    mesh_size_mm=settings.mesh_size_mm)
+                    mesh_size_mm=settings.mesh_size_mm, housing_dynamics=housing_dynamics)
     support.console.print(_table(study))
     for note in study.notes:
         support.console.print(f"note: {note}")

@@ -110,6 +110,27 @@ def _setup(model_choice: ModelChoice, tolerances_path: Path):
     return tolerances, study
 
 
+def _start(model_choice: ModelChoice, study_choice: StudyChoice, refusal: str | None):
+    """What every tolerance study checks first (the scheduler, ``refusal`` of a bad option, the workers), then
+    the tolerance file read and the study planned (:func:`_setup`)."""
+    from rvcoax.geometry.model import check_workers
+
+    scheduler_address(study_choice.scheduler)
+    if refusal is not None:
+        raise UserError(refusal)
+    check_workers(study_choice.workers if study_choice.scheduler in ("auto", "local") else None)
+    return _setup(model_choice, study_choice.tolerances)
+
+
+def _solved(study, values: np.ndarray, out: Path, choice: StudyChoice, *key) -> tuple:
+    """The nominal solve, then every sample's (:func:`_execute`) under a fingerprint of ``key``: records, run, nominal."""
+    begin = time.perf_counter()
+    nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
+    records, run = _execute(study, values, out, _fingerprint(study.key, *key), choice,
+                            setup_seconds=time.perf_counter() - begin)
+    return records, run, nominal
+
+
 def _nominal(study) -> dict:
     """Solve the nominal rig in this process first: a model error shows before any cluster starts."""
     from rvcoax.geometry import MEASURED_SHAFTS
@@ -185,7 +206,7 @@ def montecarlo(
     Writes montecarlo_samples.csv (every sample), montecarlo_distribution.csv, montecarlo_exceedance.csv,
     montecarlo.json and montecarlo_beta_histogram.png.
     """
-    from rvcoax.geometry.model import check_workers, count_text
+    from rvcoax.geometry.model import count_text
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import (
         SAMPLING_METHODS,
@@ -198,22 +219,15 @@ def montecarlo(
         study_document,
     )
 
-    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
-    scheduler_address(scheduler)
-    if sampling not in SAMPLING_METHODS:
-        raise UserError(f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
-    check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(model_choice, study_choice.tolerances)
+    seed = study_choice.seed
+    tol, study = _start(model_choice, study_choice, None if sampling in SAMPLING_METHODS else
+                        f"--sampling: must be one of {', '.join(SAMPLING_METHODS)}, got '{sampling}'")
     _check_size(samples, tol, study, "--samples", f"{count_text(samples)} samples")
     try:
         values = sample_values(tol.distributions, samples, sampling, seed)
     except ValueError as error:
         raise UserError(f"--samples/--sampling: {error}") from None
-    begin = time.perf_counter()
-    nominal = _nominal(study)  # the model's set-up (and one solve): what every cluster worker would repeat
-    fingerprint = _fingerprint(study.key, "montecarlo", sampling, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, study_choice,
-                            setup_seconds=time.perf_counter() - begin)
+    records, run, nominal = _solved(study, values, out, study_choice, "montecarlo", sampling, seed, samples)
     found = exceedances(study, tol, records)
     source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,
@@ -270,7 +284,7 @@ def sensitivity(
 
     Writes sensitivity_indices.csv, sensitivity_samples.csv, sensitivity.json and sensitivity_indices.png.
     """
-    from rvcoax.geometry.model import check_workers, count_text
+    from rvcoax.geometry.model import count_text
     from rvcoax.results.io import write_csv_atomic, write_json_atomic
     from rvcoax.results.studies import (
         SENSITIVITY_METHODS,
@@ -286,12 +300,9 @@ def sensitivity(
         to_values,
     )
 
-    scheduler, workers, seed = study_choice.scheduler, study_choice.workers, study_choice.seed
-    scheduler_address(scheduler)
-    if method not in SENSITIVITY_METHODS:
-        raise UserError(f"--method: must be sobol or morris, got '{method}'")
-    check_workers(workers if scheduler in ("auto", "local") else None)
-    tol, study = _setup(model_choice, study_choice.tolerances)
+    seed = study_choice.seed
+    tol, study = _start(model_choice, study_choice, None if method in SENSITIVITY_METHODS else
+                        f"--method: must be sobol or morris, got '{method}'")
     d = len(tol.parameters)
     _check_size(design_runs(method, samples, d), tol, study, "--samples",
                 f"{count_text(design_runs(method, samples, d))} solves ({method}: --samples {samples}, {d} parameters)")
@@ -302,11 +313,7 @@ def sensitivity(
     values = to_values(tol.distributions, points) if method == "sobol" else morris_values(tol.distributions, points)
     console.print(f"{method}: {samples} {'base samples' if method == 'sobol' else 'trajectories'} x "
                   f"({d} + {2 if method == 'sobol' else 1}) = {design_runs(method, samples, d)} solves")
-    begin = time.perf_counter()
-    nominal = _nominal(study)
-    fingerprint = _fingerprint(study.key, "sensitivity", method, seed, samples)
-    records, run = _execute(study, values, out, fingerprint, study_choice,
-                            setup_seconds=time.perf_counter() - begin)
+    records, run, nominal = _solved(study, values, out, study_choice, "sensitivity", method, seed, samples)
     found = _indices(stack_records(records, "beta_deg"), points, method, seed, tol)
     source, text = model_choice.rig_text()
     document = study_document(study, tol, source, text,

@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import bearing_warnings, reaction_sum
+from rvcoax.results import reaction_sum
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -127,16 +127,17 @@ def _life(value) -> str:
     return "> 1e9" if not value <= 1e9 else f"{value:.3g}"
 
 
-def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list[Table], list[str]]:
+def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> list[Table]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
-    the rating table; the duty-cycle lives; and one warning line per exceeded limit."""
+    the rating table; the duty-cycle lives (the warnings: :func:`rvcoax.results.engineering.engineering_warnings`)."""
     from rvcoax.results import case_name, lives_of_records
 
-    tables, warnings = [], []
+    tables = []
     lives = [{**dataclasses.asdict(life), "minimum_load_status": life.minimum_load_status}
              for case in lives_of_records(records) for life in case]
     if lives:
-        table = Table(title="Bearing life (ISO 281 L10; L10r ISO/TS 16281 where the elements are modelled), static "
+        table = Table(title="Bearing life (ISO 281 L10 with the X/Y of its type and set; L10r ISO/TS 16281 from the element "
+                            "loads where they are modelled), static "
                             "safety s0 and minimum load, per case", title_justify="left")
         for column in ("case", "bearing", "rpm", "P N", "L10 Mrev", "L10 h", "L10r h|Mrev", "Lnm h", "s0", "min load N",
                        "status"):
@@ -149,15 +150,6 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                           _life(life["static_safety"]),
                           f"{life['minimum_load_N']:.3g}", life["minimum_load_status"])
         tables.append(table)
-        below: dict[str, list[str]] = {}
-        for life in lives:
-            if life["below_minimum_load"]:
-                below.setdefault(life["name"], []).append(life["case"])
-        for name, cases in below.items():
-            minimum = next(life["minimum_load_N"] for life in lives if life["name"] == name)
-            warnings.append(f"bearing {name} carries less than its minimum load ({minimum:.3g} N: 0.01 C ball, "
-                            f"0.02 C roller) in {len(cases)} case(s) ({', '.join(cases)}): the rolling elements may "
-                            "skid (smearing); preload it or load it radially")
     if duty:
         table = Table(title="Bearing life over the duty cycle (Palmgren–Miner over the rig file's load cases)",
                       title_justify="left")
@@ -166,7 +158,7 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                              else "right")
         for d in duty:
             table.add_row(escape(d.name), d.shares, _life(d.L10_h), _life(d.L10_Mrev), _life(d.Lnm_h),
-                          _life(d.min_static_safety), escape(", ".join(d.cases_below_minimum_load)) or "none")
+                          _life(d.min_static_safety), escape("; ".join(d.cases_below_minimum_load)) or "none")
         tables.append(table)
     reducers = [(r["entry"], red) for r in records for red in r["entry"].get("engineering", {}).get("reducers", [])]
     if reducers:
@@ -181,20 +173,13 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> tuple[list
                           _percent(red["torque_peak_percent"]), _percent(red["torque_momentary_percent"]),
                           f"{red['moment_Nm']:.3g}", _percent(red["moment_use_percent"]), f"{red['axial_force_N']:.3g}",
                           _percent(red["axial_use_percent"]), red["verdict"])
-            if red["verdict"] != "within rating":
-                warnings.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque {red['torque_Nm']:.4g} "
-                                f"N·m = {red['torque_rated_percent']:.3g} % of rated; moment {red['moment_Nm']:.3g} "
-                                f"N·m = {red['moment_use_percent']:.3g} % of allowable)")
         tables.append(table)
-    return tables, warnings
+    return tables
 
 
 def _print_lives(rig, records: list[dict], duty: list) -> None:
-    tables, warnings = lives_and_reducer_tables(rig, records, duty)
-    for table in tables:
+    for table in lives_and_reducer_tables(rig, records, duty):
         support.console.print(table)
-    for line in warnings:
-        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
 
 
 def _safety(value) -> str:
@@ -244,8 +229,6 @@ def _print_engineering(records: list[dict]) -> None:
     residual = entry["engineering"]["equilibrium_residual"]
     support.console.print(f"Equilibrium residual (applied loads + reactions): {residual['force_N']:.2g} N, "
                           f"{residual['moment_Nm']:.2g} N·m. Every case's tables are in sweep.csv and sweep.json.")
-    for message in bearing_warnings(entries):
-        support.warn(message)
 
 
 def _solve_sweep(rig, load_cases, settings, text: str, store, *, resume: bool):
@@ -338,13 +321,15 @@ def sweep(
     support.console.print("β (paper) = arcsin(Y_max / L), paper 000's definition; tilt = slope of the least-squares "
                           "line through u_y(x), the shaft's true tilt.")
     _print_engineering(records)
-    from rvcoax.results import duty_cycle_of_records, play_crossings
+    from rvcoax.results import duty_cycle_of_records, engineering_warnings
 
     duty = duty_cycle_of_records(rig, records)
     _print_lives(rig, records, duty)
     strength = _print_shaft_strength(rig, records)
-    for line in play_crossings(model_section.get("ball_bearing_operating_points", {})):
-        support.console.print(f"[bold red]WARNING[/bold red]: {escape(line)}")
+    for line in engineering_warnings(rig, [r["entry"] for r in records],
+                                     {**model_section.get("ball_bearing_operating_points", {}),
+                                      **model_section.get("rolling_bearing_operating_points", {})}):
+        support.warn(line)
     if model_section.get("nonlinear"):
         nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])
                      + model_section.get("rolling_bearings", []))

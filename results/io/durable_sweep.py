@@ -159,8 +159,7 @@ def _with_every_case(model: dict, done: dict[int, dict], cases: tuple[LoadCase, 
         listed = {}
         for name, points in section.items():
             solved = {p["case"]: p for p in points}
-            journal = (({"case": case.label, **done[i]["bearing_operating_points"][name]}
-                        if name in done[i].get("bearing_operating_points", {}) else None) for i, case in enumerate(cases))
+            journal = (done[i].get("bearing_operating_points", {}).get(name) for i in range(len(cases)))
             listed[name] = [p for p in [solved.get("at rest")]
                             + [solved.get(case.label) or point for case, point in zip(cases, journal)] if p is not None]
         model[key] = listed

@@ -33,7 +33,7 @@ import numpy as np
 
 from rvcoax.errors import RvcoaxError
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results.engineering import bearing_warnings
+from rvcoax.results.engineering import engineering_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
 from rvcoax.results.reports.shaft_tables import shaft_strength_tables
@@ -163,6 +163,14 @@ def _section(key: str, body: str) -> str:
 
 def _missing(text: str) -> str:
     return f'<p class="missing">{html.escape(text)}</p>'
+
+
+def _warnings_html(sweep, entries: list[dict]) -> str:
+    """The sweep's bearing and reducer warnings (:func:`rvcoax.results.engineering.engineering_warnings`, the
+    console's sentences), one note each."""
+    points = {**sweep.solver_report.get("ball_bearing_operating_points", {}),
+              **sweep.solver_report.get("rolling_bearing_operating_points", {})}
+    return "".join(_missing(f"Warning: {w}") for w in engineering_warnings(sweep.rig, entries, points))
 
 
 def _tilt_figure(sweep, path: Path) -> Path:
@@ -492,6 +500,13 @@ def _decides_html(sweep, inputs: ReportInputs) -> str:
     return _table_html(tables.decides_table(what_decides_y(sweep.rig, assumed, case, sweep.settings)))
 
 
+def _shaft_strength_html(sweep, entries) -> str:
+    """The shaft stresses and DIN 743 notch safeties of the report, with the note on what is not judged."""
+    shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
+    return ("".join(_table_html(t) for t in shaft_tables) + (_missing(shaft_note) if shaft_note else "")
+            + ("" if shaft_tables else _missing("No beam shafts in this model.")))
+
+
 def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, created: str | None = None,  # noqa: PLR0913
                 paper: str = "a4", decides: bool = True) -> str:
     """The report of ``sweep`` as one self-contained HTML document (see the module's docstring).
@@ -530,13 +545,10 @@ def report_html(sweep, inputs: ReportInputs, *, deformed_view: bool = True, crea
         "Not computed (rvcoax report --no-decides).")))
     misalignment = (tables.misalignment_tables(sweep, entries) + tables.life_tables(sweep)
                     + tables.gear_mesh_tables(sweep))
-    body.append(_section("misalignment", "".join(_missing(f"Warning: {w}") for w in bearing_warnings(entries))
+    body.append(_section("misalignment", _warnings_html(sweep, entries)
                          + ("".join(_table_html(t) for t in misalignment)
                             or _missing("The rig has no couplings or bearings."))))
-    shaft_tables, shaft_note = shaft_strength_tables(sweep, entries)
-    body.append(_section("shaft-strength", "".join(_table_html(t) for t in shaft_tables)
-                         + (_missing(shaft_note) if shaft_note else "")
-                         + ("" if shaft_tables else _missing("No beam shafts in this model."))))
+    body.append(_section("shaft-strength", _shaft_strength_html(sweep, entries)))
     body.append(_section("reactions", _table_html(tables.reaction_table(sweep, entries))))
     if inputs.measured is not None:
         from rvcoax.results.sweep import run_sweep

@@ -500,7 +500,7 @@ def _life_text(value) -> str:
         return "–"
     if not math.isfinite(value) or value > 1e9:
         return "> 1e9"
-    return _g(value, 3)
+    return f"{value:.3g}" if value >= 1e5 else _g(value, 3)  # a life to three digits, not 5230017
 
 
 def life_tables(sweep) -> list[Table]:
@@ -536,19 +536,24 @@ def life_tables(sweep) -> list[Table]:
                          ("case", "bearing", "speed [1/min]", "equivalent load P [N]", "L10 [10⁶ rev]", "L10 [h]",
                           "L10r [h, or 10⁶ rev without a speed]", "L_nm = a_ISO L [h]", "static safety s0",
                           "minimum load [N]", "minimum load"), rows, verdict_column=10,
-                         note="L10: ISO 281 basic rating life from P = X F_r + Y F_a and the load rating C (rig key "
-                              "dynamic_load_rating_kN, or ISO 281 from the internal geometry). L10r: ISO/TS 16281 "
-                              "reference life from the ball loads (tilt, clearance and preload count); only for "
-                              "bearings from internal geometry. L_nm: with viscosity_ratio and contamination_factor. "
-                              "s0: C0/P0 (ISO 76), or (4200 MPa / p_max)³ from the ball loads. Minimum load: 0.01 C "
-                              "(ball), 0.02 C (roller), the makers' rule, on P or, from the ball loads, on the load "
-                              "that gives L10r (a preload counts)."))
+                         note="L10: ISO 281 basic rating life (C/P)^p, p = 3 ball, 10/3 roller, from P = X F_r + "
+                              "Y F_a with the X/Y of the bearing's type and set (deep groove, angular contact single/"
+                              "tandem or DB/DF pair, tapered single or pair, cylindrical NJ) and its load rating C "
+                              "(rig key dynamic_load_rating_kN, the catalogue, or ISO 281 from the internal geometry; "
+                              "a set of i rows: i^0.7 C ball, i^(7/9) C roller); a preload the rings carry counts in P. "
+                              "L10r: ISO/TS 16281 reference life from the element loads (ball loads with their contact "
+                              "angles; roller lamina loads, exponent 4 per contact — (C/P)^(2/3) above L10 for a roller "
+                              "bearing under C's load zone, equal at P = C); only for bearings from internal geometry. "
+                              "L_nm: with viscosity_ratio and contamination_factor (ball bearings). s0: C0/P0 (ISO 76), "
+                              "or from the largest contact pressure, (4200 MPa / p_max)³ ball, (4000 MPa / p_max)² "
+                              "roller. Minimum load: 0.01 C (ball), 0.02 C (roller), the makers' rule, on P or, from "
+                              "the element loads, on the load that gives L10r (a preload counts)."))
     duty = duty_cycle_of_lives(sweep.rig, per_case)
     if duty:
         out.append(Table(f"Bearings: life over the duty cycle ({duty[0].shares} shares of the rig file's load cases)",
                          ("bearing", "L10 [h]", "L10 [10⁶ rev]", "L_nm [h]", "smallest s0", "cases below minimum load"),
                          tuple((d.name, _life_text(d.L10_h), _life_text(d.L10_Mrev), _life_text(d.Lnm_h),
-                                _life_text(d.min_static_safety), ", ".join(d.cases_below_minimum_load) or "none")
+                                _life_text(d.min_static_safety), "; ".join(d.cases_below_minimum_load) or "none")
                                for d in duty),
                          note="Palmgren–Miner: L = 1 / Σ (share_k / L_k) over the cases; a case at standstill adds no "
                               "damage."))

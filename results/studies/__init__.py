@@ -25,6 +25,6 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
                                                 "plot_beta_histograms", "plot_indices", "ranking", "sample_rows",
                                                 "sensitivity_rows", "study_document"),
     "rvcoax.results.studies.distributed": ("ClusterError", "ResumeError", "SampleError", "run_samples"),
-    "rvcoax.results.studies.modes": ("ModalStudy", "ModeSettings", "ModesError", "crossing_rows", "mode_field",
-                                     "mode_rows", "run_modes"),
+    "rvcoax.results.studies.modes": ("HOUSING_DYNAMICS", "ModalStudy", "ModeSettings", "ModesError", "crossing_rows",
+                                     "mode_field", "mode_rows", "run_modes"),
 })

@@ -18,11 +18,12 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.studies.check import y_at_stations
-from rvcoax.results.sweep import SweepSettings, prepare_model, run_sweep
+from rvcoax.results.sweep import SweepSettings, check_clearance_model, prepare_model, run_sweep
 
 __all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate"]
 
@@ -126,6 +127,25 @@ def _paths(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return np.array([c.paths[shaft].uy_mm for c in sweep.cases])
 
 
+RIGS_PER_CALL = 2
+"""Trial rigs whose unit loads are solved in one call (each changes a few of them). A solve's memory grows with its
+columns (MKL's refinement: about 6 MB per column on the hybrid reference rig): 4 rigs in one call raised the hybrid
+check's peak by 0.14 GB, 2 rigs keep it (benchmarks/RESULTS.md)."""
+
+
+def _solve_together(prepared, rigs: list[Rig]) -> None:
+    """Solve the unit loads of ``rigs`` on ``prepared``, :data:`RIGS_PER_CALL` rigs a call, into its cache of solutions.
+
+    Each solve call on a factor has a fixed cost (MKL's refinement on the hybrid saddle-point factor:
+    0.25 s CPU for one column, 0.05 s per added column); the sweeps that follow find every column solved.
+    """
+    if check_clearance_model(rigs[0], prepared.system.kind):  # nonlinear: solved case by case, not by unit loads
+        return
+    for first in range(0, len(rigs), RIGS_PER_CALL):  # the load vectors of a few rigs at a time: 8 MB per rig
+        loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs[first:first + RIGS_PER_CALL]]
+        prepared.solve_unit_loads(np.column_stack([load[k] for load in loads for k in UNIT_LOADS]))
+
+
 def _row_y(rig: Rig, rows: list[PublishedRow], shaft: str, paths: np.ndarray) -> np.ndarray:
     """Y of each row from its u_y path: the maximum over the path, or over the row's measured stations."""
     path = getattr(rig.paths, shaft)
@@ -147,18 +167,21 @@ def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):  # noqa
     """
     reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
 
-    def solve(x):
-        trial = with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
-        return _paths(trial, rows, shaft, prepared)
+    def trial(x):
+        return with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
 
-    base = solve(reference)
-    slopes = [solve(reference + np.eye(len(parameters))[j]) - base for j in range(len(parameters))]
+    probe = reference + np.random.default_rng(0).uniform(-2.0, 2.0, len(parameters))
+    points = [reference, *(reference + np.eye(len(parameters))[j] for j in range(len(parameters))), probe]
+    rigs = [trial(x) for x in points]
+    _solve_together(prepared, rigs)  # 1 + n + 1 sweeps below, one solve call
+
+    base = _paths(rigs[0], rows, shaft, prepared)
+    slopes = [_paths(r, rows, shaft, prepared) - base for r in rigs[1:-1]]
 
     def surrogate(x):
         return base + sum((x[j] - reference[j]) * slopes[j] for j in range(len(parameters)))
 
-    probe = reference + np.random.default_rng(0).uniform(-2.0, 2.0, len(parameters))
-    exact = solve(probe)
+    exact = _paths(rigs[-1], rows, shaft, prepared)
     if np.abs(surrogate(probe) - exact).max() > 1e-6 * max(np.abs(exact).max(), 1e-300):
         return None
     return surrogate

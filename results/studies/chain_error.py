@@ -352,7 +352,7 @@ def rig_stages(part: Part) -> tuple[Stage, ...]:
 def _component(name: str, entry: _ComponentEntry, data: _StageFile, rig: Rig, source: str,  # noqa: PLR0913
                *, reducer: Reducer) -> Component:
     def problem(text: str) -> ChainDataError:
-        return ChainDataError(f"stage data {source}: components.{name}: {text}")
+        return ChainDataError(problems_text("stage data", source, [f"components.{name}: {text}"]))
 
     if (entry.rig_part is None) == (entry.stages is None):
         raise problem("give either rig_part (stages from the rig) or stages, not both or neither")
@@ -438,39 +438,43 @@ def read_stage_forces(path: str | Path, model: ChainModel) -> dict[str, np.ndarr
         Naming the file, the line and the reason.
     """
     source, text = read_data_text(path, "", ChainDataError, "forces file")
+
+    def problem(reason: str) -> ChainDataError:  # the one form of an input file's message
+        return ChainDataError(problems_text("forces file", source, [reason]))
+
     try:
         numbered = [(line, cells) for line, cells in csv_rows(text, comment="#") if any(c.strip() for c in cells)]
     except InputFileError as error:
-        raise ChainDataError(f"forces file {source}: {error}") from None
+        raise problem(str(error)) from None
     header = [h.strip() for h in numbered[0][1]] if numbered else []
     missing = [c for c in ("component", "stage", "force_N") if c not in header]
     if missing:
-        raise ChainDataError(f"forces file {source}: missing column(s) {', '.join(missing)} "
-                             "(columns: component, stage, force_N)")
+        raise problem(f"line {numbered[0][0] if numbered else 1}: missing column(s) {', '.join(missing)} "
+                      "(columns: component, stage, force_N)")
     forces = {c.name: np.zeros(len(c.stages)) for c in model.components}
     seen: set[tuple[str, int]] = set()
     for line, cells in numbered[1:]:
-        where = f"forces file {source}, line {line}"
+        where = f"line {line}"
         row = dict(zip(header, cells))
         if len(cells) < len(header):
-            raise ChainDataError(f"{where}: {len(cells)} values for {len(header)} columns")
+            raise problem(f"{where}: {len(cells)} values for {len(header)} columns")
         name = row["component"].strip()
         if name not in forces:
-            raise ChainDataError(f"{where}: unknown component '{name}' (known: {', '.join(forces)})")
+            raise problem(f"{where}: unknown component '{name}' (known: {', '.join(forces)})")
         stage_text = row["stage"].strip()
         if not stage_text.isascii() or not stage_text.isdigit():
-            raise ChainDataError(f"{where}: stage '{stage_text}' is not a whole number (digits 0-9)")
+            raise problem(f"{where}: stage '{stage_text}' is not a whole number (digits 0-9)")
         stage = int(stage_text)
         if not 1 <= stage <= forces[name].size:
-            raise ChainDataError(f"{where}: stage {stage} of {name} does not exist (1 … {forces[name].size})")
+            raise problem(f"{where}: stage {stage} of {name} does not exist (1 … {forces[name].size})")
         try:
             value = plain_number(row["force_N"])
         except ValueError as error:
-            raise ChainDataError(f"{where}: force_N: {error}") from None
+            raise problem(f"{where}: force_N: {error}") from None
         if (name, stage) in seen:
-            raise ChainDataError(f"{where}: stage {stage} of {name} is given twice")
+            raise problem(f"{where}: stage {stage} of {name} is given twice")
         seen.add((name, stage))
         forces[name][stage - 1] = value
     if not seen:
-        raise ChainDataError(f"forces file {source}: no forces")
+        raise problem("no forces")
     return forces

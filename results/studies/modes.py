@@ -37,19 +37,23 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE, beam, bushing
+from rvcoax.fem.craig_bampton import INTERFACE_FACTOR, append_interface_modes
 from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.modal import LowRankUpdate, ModalError, Modes, natural_modes
-from rvcoax.geometry.model.mass import housing_frequencies, part_masses, rig_mass_matrix
+from rvcoax.geometry.model.mass import housing_frequencies, housing_modes, part_masses, rig_mass_matrix
 from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
 from rvcoax.geometry.model.preflight import CLASS_SHARE, DIRECTIONS, free_body, motion_class
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
 
-__all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "CaseModes", "Crossing", "ModalStudy",
+__all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "HOUSING_DYNAMICS", "CaseModes", "Crossing",
+           "ModalStudy",
            "Mode", "ModeSettings", "ModesError", "crossing_rows", "crossings", "excitation_orders", "mode_field",
            "mode_rows", "modes", "run_modes"]
 
+HOUSING_DYNAMICS = ("auto", "craig-bampton", "guyan")
+"""How a ``[[housings]]`` entry with ``self_weight`` moves in the modes (:class:`ModeSettings`)."""
 GYROSCOPIC_LIMIT = 0.02
 """γ above this (a whirl split of 2 % or more of the frequency) makes the neglect of gyroscopic effects wrong."""
 FREE_BODY_HZ = 0.01
@@ -64,17 +68,24 @@ class ModesError(RvcoaxError, ValueError):
 
 @dataclass(frozen=True)
 class ModeSettings:
-    """How to compute the modes: how many, which model, solver and mesh (as :class:`SweepSettings`)."""
+    """How to compute the modes: how many, which model, solver and mesh (as :class:`SweepSettings`), and how the
+    mass of a ``[[housings]]`` entry with ``self_weight`` enters: ``housing_dynamics`` ``"auto"`` (Craig–Bampton
+    where its lowest fixed-interface mode is below 3 × the top rig frequency, else Guyan), ``"craig-bampton"``
+    (at least 2 fixed-interface modes) or ``"guyan"``."""
 
     n_modes: int = 20
     model: str = "beam"
     solver: str = "auto"
     mesh_size_mm: float | None = None
+    housing_dynamics: str = "auto"
 
     def __post_init__(self) -> None:
         if isinstance(self.n_modes, bool) or not isinstance(self.n_modes, int) or self.n_modes < 1:
             raise ModesError(f"the number of modes must be a whole number ≥ 1, got {self.n_modes!r}")
         SweepSettings(model=self.model, solver=self.solver, mesh_size_mm=self.mesh_size_mm)  # checks them
+        if self.housing_dynamics not in HOUSING_DYNAMICS:
+            raise ModesError(f"housing dynamics must be one of {', '.join(HOUSING_DYNAMICS)}, got "
+                             f"{self.housing_dynamics!r}")
 
     def sweep_settings(self) -> SweepSettings:
         # an eigensolver needs an exact inverse: a direct solver, never AMG's approximate one
@@ -233,24 +244,17 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
         notes.append(f"nonlinear bearings ({', '.join(nonlinear)}): each case's modes use their tangent stiffness "
                      "at that case's static solution")
     lap = time.perf_counter()
-    results = []
     analysis = _ModeAnalysis(system, mass, analysis_rows)
-    for label, case, update in operating:
-        try:
-            modes = natural_modes(system.stiffness, mass, system.elimination, settings.n_modes,
-                                  reduced_solve=prepared.reduced_solve, update=update)
-        except ModalError as error:
-            raise ModesError(str(error)) from None
-        _check_free_bodies(system, mass, modes, label)
-        described = tuple(analysis.describe(i + 1, modes, i, update) for i in range(modes.eigenvalues.size))
-        results.append(CaseModes(label, case, described, modes.shapes, modes.method))
+    results = _case_modes(system, mass, prepared, operating, analysis, settings.n_modes, [])
+    chosen = []
+    if any(h.self_weight for h in rig.housings) and settings.housing_dynamics != "guyan":
+        top = max((m.frequency_hz for c in results for m in c.modes), default=0.0)
+        chosen = housing_modes(system, top, settings.housing_dynamics, cache_dir)
+        if any(h.kept for h in chosen):  # solved again with the housings' fixed-interface modes as extra DOFs
+            results = _case_modes(system, mass, prepared, operating, analysis, settings.n_modes, chosen)
     seconds["eigen"] = time.perf_counter() - lap
     limits = housing_frequencies(system, cache_dir)
-    top = max((m.frequency_hz for c in results for m in c.modes), default=0.0)
-    for name, limit in limits.items():
-        if top > 0.5 * limit:
-            notes.append(f"housing {name}: its lowest mode on its bed is {limit:.0f} Hz; modes above {0.5 * limit:.0f} "
-                         "Hz see its Guyan (static-shape) mass only approximately")
+    notes += _housing_notes(rig, chosen, results)
     gamma = max((m.gyroscopic_ratio for c in results for m in c.modes), default=0.0)
     if rig.speeds is not None:
         verdict = "neglected rightly" if gamma <= GYROSCOPIC_LIMIT else "NOT negligible: treat these results with care"
@@ -261,6 +265,79 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
     return ModalStudy(rig=rig, settings=settings, system=system, mass=mass, cases=results,
                       part_mass_kg=part_masses(system, mass), crossings=crossings(rig, results),
                       orders=excitation_orders(rig), housing_limits_hz=limits, notes=tuple(notes), seconds=seconds)
+
+
+def _case_modes(system, mass, prepared, operating, analysis, n_modes: int, housings: list) -> list:  # noqa: PLR0913, PLR0917
+    """Each operating point's modes, described; ``housings`` (:class:`rvcoax.geometry.model.mass.HousingModes`) with
+    kept fixed-interface modes add them as extra DOFs (Craig–Bampton), whose strain energy is their housing's."""
+    attached = [h for h in housings if h.kept]
+    n = system.n_dofs
+    stiffness, full_mass, elimination, solve = system.stiffness, mass, system.elimination, prepared.reduced_solve
+    if attached:
+        stiffness, full_mass, elimination, solve = append_interface_modes(
+            stiffness, mass, elimination, [h.attached for h in attached], prepared.reduced_solve)
+    extra = stiffness.shape[0] - n
+    results = []
+    for label, case, update in operating:
+        if update is not None and extra:
+            update = LowRankUpdate(sp.hstack([update.operator, sp.csr_matrix((update.operator.shape[0], extra))]).tocsr(),
+                                   update.matrix)
+        try:
+            modes = natural_modes(stiffness, full_mass, elimination, n_modes, reduced_solve=solve, update=update)
+        except ModalError as error:
+            raise ModesError(str(error)) from None
+        interface = None
+        if extra:
+            interface = _Interface([(f"housing:{h.name}", h.attached.stiffness) for h in attached],
+                                   modes.shapes[n:], full_mass[:n, n:].tocsr())
+            modes = Modes(modes.eigenvalues, modes.shapes[:n], modes.method)
+            update = None if update is None else LowRankUpdate(update.operator[:, :n], update.matrix)
+        _check_free_bodies(system, mass, modes, label)
+        described = tuple(analysis.describe(i + 1, modes, i, update, interface) for i in range(modes.eigenvalues.size))
+        results.append(CaseModes(label, case, described, modes.shapes, modes.method))
+    return results
+
+
+@dataclass(frozen=True, eq=False)
+class _Interface:
+    """Fixed-interface (Craig–Bampton) coordinates of the modes: per housing (name, modal stiffness (r,)), their
+    values (R, k) and their mass coupling to the system's DOFs (n × R)."""
+
+    housings: list
+    values: np.ndarray
+    coupling: sp.csr_matrix
+
+    def energies(self, index: int) -> dict:
+        out, start = {}, 0
+        for name, stiffness in self.housings:
+            eta = self.values[start:start + stiffness.size, index]
+            out[name] = float(0.5 * np.sum(stiffness * eta * eta))
+            start += stiffness.size
+        return out
+
+
+def _housing_notes(rig: Rig, chosen: list, results: list) -> list[str]:
+    """How each housing's mass entered: Guyan, or Craig–Bampton with how many fixed-interface modes, and why."""
+    top = max((m.frequency_hz for c in results for m in c.modes), default=0.0)
+    notes = []
+    by_name = {h.name: h for h in chosen}
+    for housing in rig.housings:
+        h = by_name.get(housing.name)
+        if not housing.self_weight:
+            notes.append(f"housing {housing.name}: no self_weight, so no inertia of its own (its mass is its part's)")
+        elif h is None:
+            notes.append(f"housing {housing.name}: Guyan (static-shape) mass, as asked")
+        elif h.kept:
+            why = (f"below {INTERFACE_FACTOR:g} × the top rig frequency {top:.0f} Hz"
+                   if h.lowest_interface_hz < INTERFACE_FACTOR * top else "as asked")
+            notes.append(f"housing {housing.name}: Craig–Bampton with {h.kept} fixed-interface mode(s) (the lowest "
+                         f"{h.lowest_interface_hz:.0f} Hz, {why})")
+        else:
+            which = ("lowest mode with its attachments free (a lower bound of the fixed-interface ones)"
+                     if h.free_interface_bound else "lowest fixed-interface mode")
+            notes.append(f"housing {housing.name}: Guyan (static-shape) mass; its {which}, "
+                         f"{h.lowest_interface_hz:.0f} Hz, is above {INTERFACE_FACTOR:g} × the top rig frequency")
+    return notes
 
 
 def _operating_points(rig: Rig, cases, settings: ModeSettings, prepared, seconds: dict):
@@ -374,18 +451,24 @@ class _ModeAnalysis:
         self.node_polar = diagonal[3:self.frame_dofs:DOFS_PER_NODE]
         self.part_speed = {p.name: s for p, s in zip(rig.parts, _part_speeds(rig))}
 
-    def describe(self, number: int, modes: Modes, index: int, update: LowRankUpdate | None) -> Mode:
+    def describe(self, number: int, modes: Modes, index: int, update: LowRankUpdate | None,  # noqa: PLR0913
+                 interface: _Interface | None = None) -> Mode:
         phi = modes.shapes[:, index]
         omega2 = float(modes.eigenvalues[index])
         frequency = float(modes.frequencies_hz[index])
         directions = self._directions(phi)
         kind = motion_class(directions)
         energy = self._energies(phi, update)
+        if interface is not None:
+            for name, value in interface.energies(index).items():
+                energy[name] = energy.get(name, 0.0) + value
         total = sum(energy.values())
         scale = total if total > 0 else 1.0
         shares = {k: v / scale for k, v in sorted(energy.items(), key=lambda kv: -kv[1]) if v / scale >= 1e-4}
         gamma = self._gyroscopic(phi, omega2)
         participation = self.rigid.T @ (self.mass @ phi)
+        if interface is not None:  # the housings' modal coordinates carry mass coupled to the rig's DOFs
+            participation = participation + self.rigid.T @ (interface.coupling @ interface.values[:, index])
         effective = {"x_kg": float(participation[0] ** 2), "y_kg": float(participation[1] ** 2),
                      "z_kg": float(participation[2] ** 2), "torsion_kg_m2": float(participation[3] ** 2)}
         return Mode(number=number, frequency_hz=frequency, kind=kind, direction_share=directions, energy_share=shares,
@@ -636,7 +719,7 @@ def mode_field(study: ModalStudy, case_index: int, mode_index: int):
 
 
 def modes(rig=None, cases=None, *, n_modes: int = 20, model: str = "beam", solver: str = "auto",  # noqa: PLR0913
-          mesh_size_mm: float | None = None) -> ModalStudy:
+          mesh_size_mm: float | None = None, housing_dynamics: str = "auto") -> ModalStudy:
     """The rig's natural frequencies and modes about each load case's operating point (the API of ``rvcoax modes``).
 
     Parameters
@@ -652,6 +735,9 @@ def modes(rig=None, cases=None, *, n_modes: int = 20, model: str = "beam", solve
         A direct solver (AMG cannot serve an eigensolver; ``auto`` picks PARDISO where installed for solids).
     mesh_size_mm : float, optional
         Solid mesh size.
+    housing_dynamics : {"auto", "craig-bampton", "guyan"}
+        How a ``[[housings]]`` entry with ``self_weight`` moves: its Guyan (static-shape) mass, or with its
+        fixed-interface modes as extra DOFs (Craig–Bampton); ``auto`` adds the modes below 3 × the top rig frequency.
 
     Returns
     -------
@@ -663,4 +749,5 @@ def modes(rig=None, cases=None, *, n_modes: int = 20, model: str = "beam", solve
 
     if rig is None or not isinstance(rig, Rig):
         rig = load_rig(rig)
-    return run_modes(rig, cases, ModeSettings(n_modes=n_modes, model=model, solver=solver, mesh_size_mm=mesh_size_mm))
+    return run_modes(rig, cases, ModeSettings(n_modes=n_modes, model=model, solver=solver, mesh_size_mm=mesh_size_mm,
+                                                housing_dynamics=housing_dynamics))

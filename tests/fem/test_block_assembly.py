@@ -13,6 +13,8 @@ from rvcoax.fem.assembly import add_element_matrices, assemble_matrix, block_dia
 from rvcoax.fem.pieces import Contribution, assemble, solid_contribution
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
+STEEL = solid.ElasticMaterial(youngs_modulus_Pa=2.1e11, poisson=0.28, density_kg_per_m3=7850.0)
+
 
 @pytest.fixture(scope="module")
 def basis(tmp_path_factory):
@@ -75,12 +77,12 @@ def test_pieces_with_a_solid_block_equal_the_triplet_sum(basis):
     offset = 12
     n = offset + basis.N
     frame = Contribution(stiffness=(np.array([0, 5, 11]), np.array([0, 5, 11]), np.array([1.0, 2.0, 3.0])))
-    with_block = assemble(n, [frame, solid_contribution(basis, 2.1e11, 0.28, 7850.0, offset, gravity_direction=(0, -1, 0))])
+    with_block = assemble(n, [frame, solid_contribution(basis, STEEL, offset, gravity_direction=(0, -1, 0))])
     triplets = solid.stiffness_triplets(basis, 2.1e11, 0.28, dof_offset=offset)
     reference = assemble_matrix(n, [frame.stiffness, triplets])
     assert (with_block.stiffness != reference).nnz == 0
     # a triplet inside the block's range: added instead of placed side by side
     inside = Contribution(stiffness=(np.array([offset + 1]), np.array([offset + 1]), np.array([5.0])))
-    added = assemble(n, [inside, solid_contribution(basis, 2.1e11, 0.28, 7850.0, offset, gravity_direction=(0, -1, 0))])
+    added = assemble(n, [inside, solid_contribution(basis, STEEL, offset, gravity_direction=(0, -1, 0))])
     expected = assemble_matrix(n, [inside.stiffness, triplets])
     assert abs(added.stiffness - expected).max() <= 1e-15 * abs(expected).max()

@@ -187,3 +187,24 @@ def test_large_models_apply_the_reduced_matrices_as_operators(monkeypatch):
     applied = natural_modes(k, m, t, 10, reduced_solve=lu.solve, update=update)
     assert np.allclose(applied.eigenvalues, formed.eigenvalues, rtol=1e-9)
     assert np.allclose(np.abs(applied.shapes.T @ m @ formed.shapes).max(axis=0), 1.0, atol=1e-6)
+
+
+def test_block_lanczos_finds_repeated_eigenvalues():
+    """K = diag(1, 1, 2, 2, 3, 3, …) (pairs, as a round shaft's two bending planes), M = diag(2): every pair found
+    once per plane (the block holds both members of a pair at once), to the square of the residual limit 1e-5 over
+    the relative gap to the next pair (≥ 1/7 here)."""
+    from rvcoax.fem.modal import block_lanczos
+
+    stiffness = np.repeat(np.arange(1.0, 201.0), 2)
+    mass = np.full(stiffness.size, 2.0)
+    values, vectors = block_lanczos(lambda x: mass[:, None] * x, lambda x: x / stiffness[:, None], stiffness.size, 12)
+    assert values == pytest.approx(np.repeat(np.arange(1.0, 7.0), 2) / 2.0, rel=1e-9)
+    assert vectors.T @ (mass[:, None] * vectors) == pytest.approx(np.eye(12), abs=1e-10)
+
+
+def test_block_lanczos_refuses_more_modes_than_its_krylov_space_holds():
+    from rvcoax.fem.modal import block_lanczos
+
+    mass = np.r_[np.ones(5), np.zeros(45)]  # only 5 DOFs carry mass: 5 finite frequencies
+    with pytest.raises(ModalError, match="did not converge to 8 modes"):
+        block_lanczos(lambda x: mass[:, None] * x, lambda x: x / np.arange(1.0, 51.0)[:, None], 50, 8)

@@ -115,3 +115,78 @@ def test_indefinite_matrix_raises_a_zero_pivot_error_in_the_numerical_factorisat
         assert 0 <= raised.value.equation < shifted.shape[0]
     else:
         assert raised.value.equation is None
+
+
+@pytest.fixture()
+def empty_pool():
+    pardiso.clear_analysis_pool()
+    yield
+    pardiso.set_analysis_reuse(True)
+    pardiso.clear_analysis_pool()
+
+
+def perturbed(a: sp.csr_matrix, seed: int) -> sp.csr_matrix:
+    """The same pattern, other (symmetric, still diagonally dominant) values."""
+    b = a.copy()
+    b.data *= 1.0 + 0.2 * np.random.default_rng(seed).random(b.nnz)
+    b = sp.csr_matrix((b + b.T) * 0.5)
+    b.sort_indices()
+    return b
+
+
+def test_a_released_factor_leaves_its_analysis_for_the_next_matrix_of_the_same_pattern(empty_pool):
+    a = spd_block_matrix(80, seed=6)
+    b = perturbed(a, 7)
+    rhs = np.random.default_rng(8).normal(size=(a.shape[0], 2))
+    first = pardiso.Factorization(pardiso.upper_storage(a))
+    assert not first.reused_analysis and pardiso.pooled_analyses() == 0
+    first.release()
+    assert pardiso.pooled_analyses() == 1
+    second = pardiso.Factorization(pardiso.upper_storage(b))
+    assert second.reused_analysis and pardiso.pooled_analyses() == 0
+    x = second.solve(rhs)
+    second.release()
+    pardiso.set_analysis_reuse(False)  # SPD: the analysis is the pattern's alone, so the factor is a fresh one's
+    fresh = pardiso.Factorization(pardiso.upper_storage(b))
+    assert not fresh.reused_analysis
+    reference = fresh.solve(rhs)
+    fresh.release()
+    assert pardiso.pooled_analyses() == 0
+    assert np.abs(x - reference).max() <= 1e-12 * np.abs(reference).max()
+    assert np.abs(x - spla.spsolve(b.tocsc(), rhs)).max() < 1e-10 * np.abs(reference).max()
+
+
+def test_other_patterns_kept_analyses_and_the_memory_cap(empty_pool, monkeypatch):
+    a = spd_block_matrix(50, seed=9)
+    pardiso.Factorization(pardiso.upper_storage(a)).release()
+    other = pardiso.Factorization(pardiso.upper_csr(a))  # same matrix, scalar storage: another pattern
+    assert not other.reused_analysis
+    other.release(keep_analysis=False)  # e.g. a matrix found singular
+    assert pardiso.pooled_analyses() == 1
+    monkeypatch.setattr(pardiso, "ANALYSIS_POOL_BYTES", 0)  # nothing fits: freed at release
+    again = pardiso.Factorization(pardiso.upper_storage(a))
+    assert again.reused_analysis
+    again.release()
+    assert pardiso.pooled_analyses() == 0
+
+
+def test_indefinite_saddle_point_on_a_reused_analysis_agrees_with_a_fresh_one(empty_pool):
+    a = spd_block_matrix(80, seed=10)
+    k, d = a.shape[0], 4
+    rng = np.random.default_rng(11)
+    columns = rng.permutation(k)[:d * 12]  # each constraint row ties 12 unknowns of its own: full rank
+    constraint = sp.csr_matrix((rng.normal(size=d * 12), (np.repeat(np.arange(d), 12), columns)), shape=(d, k))
+    rhs = np.zeros((k + d, 1))
+    rhs[:k, 0] = rng.normal(size=k)
+    pardiso.Factorization(pardiso.upper_saddle_point(a.copy(), constraint), indefinite=True).release()
+    b = perturbed(a, 12)
+    reused = pardiso.Factorization(pardiso.upper_saddle_point(b.copy(), constraint), indefinite=True)
+    fresh = pardiso.Factorization(pardiso.upper_saddle_point(b.copy(), constraint), indefinite=True,
+                                  reuse_analysis=False)
+    assert reused.reused_analysis and not fresh.reused_analysis
+    assert reused.inertia == fresh.inertia == (k, d)
+    x, reference = reused.solve(rhs), fresh.solve(rhs)
+    reused.release()
+    fresh.release()
+    # the matching and scaling are those of the first matrix: the same solution to rounding
+    assert np.abs(x - reference).max() <= 1e-10 * np.abs(reference).max()

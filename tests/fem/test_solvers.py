@@ -254,3 +254,29 @@ def test_release_frees_the_solver(cantilever, method):
     with pytest.raises(SolverError, match="released"):
         solver.solve(loads[:, 0])
     solver.release()  # twice is harmless
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
+def test_a_new_stiffness_of_the_same_mesh_is_factorised_on_the_pooled_analysis(cantilever):
+    """A Monte Carlo sample or a stiffness calibration's trial: another matrix, the same pattern."""
+    from rvcoax.fem import pardiso
+
+    k, loads, _, _ = cantilever
+    pardiso.clear_analysis_pool()
+    scale = 1.0 + 0.3 * np.random.default_rng(0).random(k.shape[0])
+    stiffer = sp.csr_matrix(k, copy=True)  # D K D: SPD, the same stored pattern, other values
+    stiffer.data *= scale[np.repeat(np.arange(k.shape[0]), np.diff(stiffer.indptr))] * scale[stiffer.indices]
+    with prepare(k, "pardiso") as first:
+        assert not first.report.analysis_reused
+        first.solve(loads)
+    with prepare(stiffer, "pardiso") as second:  # the first one's analysis, released into the pool
+        assert second.report.analysis_reused
+        x = second.solve(loads)
+    pardiso.set_analysis_reuse(False)
+    try:
+        with prepare(stiffer, "pardiso") as fresh:
+            assert not fresh.report.analysis_reused
+            reference = fresh.solve(loads)
+    finally:
+        pardiso.set_analysis_reuse(True)
+    assert np.abs(x - reference).max() <= 1e-12 * np.abs(reference).max()

@@ -152,3 +152,28 @@ def test_a_factor_of_a_nearby_matrix_is_refined_to_the_operators_accuracy(tied_b
     once = solvers.prepare_saddle_point(operator, nearby)
     with pytest.raises(SingularMatrixError, match="relative residual"):  # as a 10 mm solid rig once did
         once.solve(rhs)
+
+
+@needs_pardiso
+@pytest.mark.slow  # the tied bar's three factorisations, like the test above
+def test_a_refusal_on_a_reused_analysis_is_judged_again_on_a_fresh_one(tied_bar, monkeypatch):
+    """The pooled matching and scaling are another matrix's: a refusal must not rest on them."""
+    from rvcoax.fem import solvers
+
+    k, t, loads, _ = tied_bar
+    pardiso.clear_analysis_pool()
+    prepare_system(k, t, "pardiso").solver.release()  # leaves its analysis in the pool
+    original = solvers._refuse_singular
+    judged = []
+
+    def refuse_on_reused(matrix, solve, factor):
+        judged.append(factor.reused_analysis)
+        if factor.reused_analysis:
+            raise SingularMatrixError("refused on the reused analysis (made up for the test)")
+        return original(matrix, solve, factor)
+
+    monkeypatch.setattr(solvers, "_refuse_singular", refuse_on_reused)
+    system = prepare_system(k, t, "pardiso")
+    assert judged == [True, False]
+    assert not system.solver.report.analysis_reused
+    assert system.relative_residual(system.solve(loads), loads).max() < 1e-10

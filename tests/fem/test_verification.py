@@ -303,8 +303,8 @@ def test_rigid_link_offset_load():
     coordinates, beams = straight(length, n, section)
     coordinates = np.vstack([coordinates, [length + ex, ey, 0.0]])
     offset = n + 1
-    structure = frames.model(coordinates, beams, fixed_dofs=np.array(node_dofs(0)),
-                             rigid_links=RigidLinks(np.array([n]), np.array([offset])))
+    structure = frames.model(coordinates, beams, fixed_dofs=np.array(node_dofs(0))).with_group(
+        RigidLinks(np.array([n]), np.array([offset])))
     u = frames.solve(structure, frames.point_load(structure.n_dofs, offset, [0.0, 0.0, force, 0.0, 0.0, 0.0]))
 
     w_tip = force * length**3 / (3 * r.EI) + force * length / r.kGA + ex * force * length**2 / (2 * r.EI)

@@ -217,6 +217,8 @@ def test_bad_keys_are_refused_with_the_key_and_the_reason():
         'model = "angular_contact"\nball_count = 10\nball_diameter_mm = 8': "missing: pitch_diameter_mm",
         'radial_stiffness_N_per_um = 50\narrangement = "DB"': "arrangement only apply to model = \"angular_contact\"",
         'model = "tapered_roller"\ndesignation = "30206"\nradial_clearance_um = 5': "axial_offset_um < 0",
+        'model = "angular_contact"\ndesignation = "7204B"\ncontact_angle_deg = 10':
+            "contact angle must lie in 15° … 45°, the range of ISO 281's X/Y table",
     }
     assert_input_b1_refused(_with_input_b1, cases)
     assert nearest_designations("7207")[:3] == ["7207C", "7207B", "7207AC"]

@@ -201,17 +201,19 @@ def test_directory(tmp_path):
 def test_mismatched_list_lengths():
     with pytest.raises(LoadCaseError) as caught:
         paired_cases([0.5, 1.0, 1.5], [70, 140])
-    assert str(caught.value) == "load cases command line: 3 T1 values but 2 T2 values"
-    with pytest.raises(LoadCaseError, match=r"^load cases my list: 1 T1 values but 2 T2 values$"):
+    # the one form of an input's problems (rvcoax.errors.problems_text): the source, then each problem
+    assert str(caught.value) == "load cases command line: 1 problem(s):\n  - 3 T1 values but 2 T2 values"
+    assert caught.value.source == "command line" and caught.value.problems == ["3 T1 values but 2 T2 values"]
+    with pytest.raises(LoadCaseError, match=r"^load cases my list: 1 problem\(s\):\n  - 1 T1 values but 2 T2 values$"):
         paired_cases([0.5], [70, 140], source="my list")
 
 
 def test_grid_and_paired_errors_name_their_source():
-    with pytest.raises(LoadCaseError, match=r"^load cases grid: no load cases$"):
+    with pytest.raises(LoadCaseError, match=r"^load cases grid: 1 problem\(s\):\n  - no load cases$"):
         grid_cases([], [70])
-    with pytest.raises(LoadCaseError, match=r"^load cases grid: case 1: T2_output_Nm = nan is not a finite number$"):
+    with pytest.raises(LoadCaseError, match=r"^load cases grid: .*\n  - case 1: T2_output_Nm = nan is not a finite number$"):
         grid_cases([1.0], [math.nan])
-    with pytest.raises(LoadCaseError, match=r"^load cases command line: case 2: duplicated load case"):
+    with pytest.raises(LoadCaseError, match=r"^load cases command line: .*\n  - case 2: duplicated load case"):
         paired_cases([1.0, 1.0], [70, 70])
 
 

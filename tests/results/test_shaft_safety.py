@@ -79,10 +79,10 @@ def test_columns_entries_and_the_worst_case_over_the_spectrum(swept):
     assert {"shaft_s_von_mises_max_MPa", "shaft_s_von_mises_max_x_mm"} <= set(rows[0])
     records = [{"row": r, "entry": case_entry(c)} for r, c in zip(rows, sweep.cases)]
     shafts, notches = strength_of_records(rig, records)
-    assert shafts[0]["case"] == "T1 = 120, T2 = 0 N·m"  # the larger torque: the larger von Mises stress
+    assert shafts[0]["case"] == "T1 = 120 N·m, T2 = 0 N·m"  # the larger torque: the larger von Mises stress
     worst = {n["kind"]: n for n in notches}
     assert worst["shoulder"]["fatigue_safety"] == pytest.approx(rows[1]["notch_s_shoulder_at_120mm_fatigue_safety"])
-    assert worst["shoulder"]["fatigue_case"] == "T1 = 120, T2 = 0 N·m"
+    assert worst["shoulder"]["fatigue_case"] == "T1 = 120 N·m, T2 = 0 N·m"
 
 
 def test_notches_that_do_not_fit_the_shaft_are_refused_with_their_key():
@@ -114,9 +114,9 @@ def test_report_tables_name_the_case_of_each_value(swept):
     tables, note = shaft_strength_tables(sweep, case_entries(sweep))
     stresses, notches = tables
     assert note == ""
-    assert stresses.rows[0][:2] == ("s", "T1 = 120, T2 = 0 N·m")
+    assert stresses.rows[0][:2] == ("s", "T1 = 120 N·m, T2 = 0 N·m")
     shoulder = next(r for r in notches.rows if r[1] == "shoulder")
-    assert shoulder[4] == shoulder[6] == "T1 = 120, T2 = 0 N·m" and shoulder[7] == "ok"
+    assert shoulder[4] == shoulder[6] == "T1 = 120 N·m, T2 = 0 N·m" and shoulder[7] == "ok"
     assert notches.columns[notches.verdict_column] == "verdict"
 
 

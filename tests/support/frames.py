@@ -141,9 +141,9 @@ def no_bushings() -> Bushings:
 def model(coordinates, beams, bushing_table=None, group: str = "shaft", **kwargs) -> StructuralModel:
     """A StructuralModel whose nodes all belong to one part ``group``; kwargs go to the model."""
     return StructuralModel(
-        coordinates=np.asarray(coordinates, float),
-        beams=beams,
-        bushings=no_bushings() if bushing_table is None else bushing_table,
+        np.asarray(coordinates, float),
+        beams,
+        no_bushings() if bushing_table is None else bushing_table,
         node_group=kwargs.pop("node_group", np.full(len(coordinates), group)),
         **kwargs,
     )

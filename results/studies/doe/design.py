@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcoax.errors import RvcoaxError
+from rvcoax.errors import RvcoaxError, problems_text
 from rvcoax.geometry.inputfiles import InputFileError, csv_rows, plain_number, read_input_text
 from rvcoax.results.studies.doe.orthogonal import orthogonality_problems
 
@@ -105,30 +105,36 @@ def build_sources(factors: tuple[Factor, ...], columns: list[str]) -> tuple[Sour
     return tuple(sources)
 
 
+def _file_error(what: str, path: Path, problem: str) -> DesignError:
+    """A design or levels file's problem in the one form of an input file's message (:func:`rvcoax.errors.problems_text`)."""
+    return DesignError(problems_text(what, str(path), [problem]))
+
+
 def _rows(path: Path, what: str) -> tuple[list[str], list[tuple[int, dict]]]:
     try:
         text = read_input_text(path, MAX_TABLE_BYTES, f"a {what}")
         numbered = [(line, cells) for line, cells in csv_rows(text, comment="#") if any(c.strip() for c in cells)]
     except InputFileError as error:
-        raise DesignError(f"{what} {path}: {error}") from None
+        raise _file_error(what, path, str(error)) from None
     if not numbered:
-        raise DesignError(f"{what} {path}: empty")
+        raise _file_error(what, path, "empty")
     header = [h.strip() for h in numbered[0][1]]
     rows = []
     for number, values in numbered[1:]:
         if len(values) != len(header):
-            raise DesignError(f"{what} {path}, line {number}: {len(values)} values for {len(header)} columns")
+            raise _file_error(what, path, f"line {number}: {len(values)} values for {len(header)} columns")
         rows.append((number, dict(zip(header, (v.strip() for v in values)))))
     if not rows:
-        raise DesignError(f"{what} {path}: no rows after the header")
+        raise _file_error(what, path, "no rows after the header")
     return header, rows
 
 
-def _number(text: str, where: str, column: str) -> float:
+def _number(text: str, column: str) -> float:
+    """``text`` as a plain number; a ValueError naming ``column`` and the reason when it is not one."""
     try:
         return plain_number(text)
     except ValueError as error:
-        raise DesignError(f"{where}: column {column}: {error}") from None
+        raise ValueError(f"column {column}: {error}") from None
 
 
 def read_levels(path: str | Path) -> tuple[Factor, ...]:
@@ -153,19 +159,22 @@ def read_levels(path: str | Path) -> tuple[Factor, ...]:
     header, rows = _rows(path, "levels file")
     level_columns = sorted((h for h in header if re.fullmatch(r"level_\d+", h)), key=lambda h: int(h[6:]))
     if "factor" not in header or not level_columns:
-        raise DesignError(f"levels file {path}: needs columns factor and level_1, level_2, … (got {', '.join(header)})")
+        raise _file_error("levels file", path, f"needs columns factor and level_1, level_2, … (got {', '.join(header)})")
     factors, seen = [], set()
     for number, row in rows:
-        where = f"levels file {path}, line {number}"
+        where = f"line {number}"
         key = row["factor"]
         if not re.fullmatch(r"[A-Za-z][A-Za-z0-9]*", key):
-            raise DesignError(f"{where}: factor '{key}' must be a letter followed by letters or digits")
+            raise _file_error("levels file", path, f"{where}: factor '{key}' must be a letter followed by letters or digits")
         if key in seen:
-            raise DesignError(f"{where}: factor {key} is listed twice")
+            raise _file_error("levels file", path, f"{where}: factor {key} is listed twice")
         seen.add(key)
-        values = tuple(_number(row[c], where, c) for c in level_columns if row[c] != "")
+        try:
+            values = tuple(_number(row[c], c) for c in level_columns if row[c] != "")
+        except ValueError as error:
+            raise _file_error("levels file", path, f"{where}: {error}") from None
         if len(values) < 2 or len(set(values)) != len(values):
-            raise DesignError(f"{where}: factor {key} needs at least two distinct level values")
+            raise _file_error("levels file", path, f"{where}: factor {key} needs at least two distinct level values")
         factors.append(Factor(key, row.get("name", key) or key, row.get("unit", ""), values))
     return tuple(factors)
 
@@ -198,33 +207,36 @@ def read_design(path: str | Path, factors: tuple[Factor, ...], response: str | N
     keys = {f.key for f in factors}
     missing = [f.key for f in factors if f.key not in header]
     if missing:
-        raise DesignError(f"design file {path}: no column for factor(s) {', '.join(missing)} of the levels file")
+        raise _file_error("design file", path, f"no column for factor(s) {', '.join(missing)} of the levels file")
     run_column = next((c for c in header if c.lower() in RUN_COLUMNS), None)
     sources = build_sources(factors, header)
     coded = [c for s in sources for c in s.columns]
     others = [c for c in header if c not in coded and c != run_column]
     if response is None:
         if len(others) != 1:
-            raise DesignError(f"design file {path}: cannot tell the response column among {', '.join(others) or 'none'}"
+            raise _file_error("design file", path, f"cannot tell the response column among {', '.join(others) or 'none'}"
                               " (give --response NAME)")
         response = others[0]
     elif response not in others:
-        raise DesignError(f"design file {path}: no response column '{response}' (candidates: {', '.join(others)})")
+        raise _file_error("design file", path, f"no response column '{response}' (candidates: {', '.join(others)})")
     levels_of = {f.key: len(f.values) for f in factors}
     codes = {c: np.zeros(len(rows), dtype=int) for c in coded}
     y = np.zeros(len(rows))
     for i, (number, row) in enumerate(rows):
-        where = f"design file {path}, line {number}"
+        where = f"line {number}"
         for column in coded:
             text = row[column]
             allowed = levels_of.get(column) or max(levels_of.get(k, 0) for k in keys)
             if not re.fullmatch(r"[0-9]+", text) or not 1 <= int(text) <= allowed:
-                raise DesignError(f"{where}: column {column}: level '{text}' is not one of 1 … {allowed}")
+                raise _file_error("design file", path, f"{where}: column {column}: level '{text}' is not one of 1 … {allowed}")
             codes[column][i] = int(text)
-        y[i] = _number(row[response], where, response)
+        try:
+            y[i] = _number(row[response], response)
+        except ValueError as error:
+            raise _file_error("design file", path, f"{where}: {error}") from None
     runs = tuple(row[run_column] if run_column else str(i + 1) for i, (_, row) in enumerate(rows))
     try:
         return Design(runs=runs, codes=codes, factors=tuple(f for f in factors if f.key in keys), sources=sources,
                       response=y, response_name=response)
     except DesignError as error:
-        raise DesignError(f"design file {path}: {error}") from None
+        raise _file_error("design file", path, str(error)) from None

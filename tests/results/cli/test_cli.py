@@ -269,7 +269,7 @@ def test_non_numeric_torque(tmp_path):
     (("--t1", "1"), "--t1 and --t2 go together"),
     (("--t1", "1", "--t2", "1", "--cases", "cases.csv"), "either --cases FILE or --t1/--t2"),
     (("--t1", "nan", "--t2", "1"), "--t1 'nan', item 1 of 1: 'nan' is not a finite number"),
-    (("--cases", "missing.csv"), "load cases missing.csv: file not found"),
+    (("--cases", "missing.csv"), "load cases missing.csv: 1 problem(s): - file not found"),
 ], ids=["unequal lists", "t1 alone", "cases and t1", "nan", "missing cases file"])
 @pytest.mark.subprocess
 def test_bad_load_cases(tmp_path, args, expected):
@@ -280,7 +280,7 @@ def test_bad_load_cases(tmp_path, args, expected):
 def test_cases_file_with_a_short_row(tmp_path):
     (tmp_path / "short.csv").write_text("T1_input_Nm,T2_output_Nm\n1.0,100\n0.5\n", encoding="utf-8")
     message = _user_error(tmp_path, "sweep", "--cases", "short.csv", "--out", str(tmp_path / "out"))
-    assert "load cases short.csv: line 3, T2_output_Nm: value is missing" in message
+    assert "load cases short.csv: 1 problem(s): - line 3, T2_output_Nm: value is missing" in message
 
 
 @pytest.mark.subprocess

@@ -43,24 +43,24 @@ for cell, words in (("1_00", "'_' digit separators"), ("٧٠", "not ASCII"), ("�
 # chain-error forces CSV: force_N and the stage number
 CASES.append(_case("forces.csv force_N '1_0'", lambda f: [
     "chain-error", "--forces", write(f, "forces.csv", "component,stage,force_N\npin_shaft,1,1_0\n")],
-    "forces.csv, line 2: force_N", "'_' digit separators"))
+    "forces.csv: 1 problem(s): - line 2: force_N", "'_' digit separators"))
 CASES.append(_case("forces.csv stage '٢'", lambda f: [
     "chain-error", "--forces", write(f, "forces.csv", "component,stage,force_N\ninput_shaft,٢,10\n")],
-    "forces.csv, line 2: stage '٢' is not a whole number"))
+    "forces.csv: 1 problem(s): - line 2: stage '٢' is not a whole number"))
 CASES.append(_case("forces.csv force_N '７'", lambda f: [
     "chain-error", "--forces", write(f, "forces.csv", edited(FORCES, "406.38116", "７", 1))],
-    "forces.csv, line", "force_N", "not ASCII"))
+    "forces.csv: 1 problem(s): - line", "force_N", "not ASCII"))
 
 # doe analyze: the response, the level codes, the level values, published coefficients
 CASES.append(_case("design response '８.８５１'", lambda f: [
     "doe", "analyze", write(f, "design.csv", edited(DESIGN, "8.851", "８.８５１")), "--levels", str(LEVELS)],
-    "design.csv, line 3: column transmission_error_arcsec", "not ASCII"))
+    "design.csv: 1 problem(s): - line 3: column transmission_error_arcsec", "not ASCII"))
 CASES.append(_case("design level code '٢'", lambda f: [
     "doe", "analyze", write(f, "design.csv", edited(DESIGN, "2,1,1,1,1,2,2,2,8.851", "2,1,1,1,1,٢,2,2,8.851")),
-    "--levels", str(LEVELS)], "design.csv, line 3: column C: level '٢' is not one of 1 … 3"))
+    "--levels", str(LEVELS)], "design.csv: 1 problem(s): - line 3: column C: level '٢' is not one of 1 … 3"))
 CASES.append(_case("design response '1_0'", lambda f: [
     "doe", "analyze", write(f, "design.csv", edited(DESIGN, "8.851", "1_0")), "--levels", str(LEVELS)],
-    "design.csv, line 3", "'_' digit separators"))
+    "design.csv: 1 problem(s): - line 3", "'_' digit separators"))
 
 
 def _levels_with(old_new):
@@ -73,9 +73,9 @@ def _levels_with(old_new):
     return argv
 
 
-CASES.append(_case("levels value 'nan'", _levels_with("nan"), "levels.csv, line 2: column level_1",
+CASES.append(_case("levels value 'nan'", _levels_with("nan"), "levels.csv: 1 problem(s): - line 2: column level_1",
                    "'nan' is not a finite number"))
-CASES.append(_case("levels value '٣'", _levels_with("٣"), "levels.csv, line 2: column level_1", "not ASCII"))
+CASES.append(_case("levels value '٣'", _levels_with("٣"), "levels.csv: 1 problem(s): - line 2: column level_1", "not ASCII"))
 CASES.append(_case("terms coefficient '٧٠'", lambda f: [
     "doe", "analyze", str(DESIGN), "--levels", str(LEVELS), "--terms",
     write(f, "terms.csv", edited(TERMS, "-96.8567", "٧٠"))],
