@@ -51,12 +51,19 @@ run: $(BIN)/rvcoax
 	case $$status in 0|1|3) echo "make run: check finished with verdict exit status $$status (see $(OUT)/check_verdict.json)";; \
 	  *) exit $$status;; esac
 
-test: $(BIN)/rvcoax test-deps
-	$(BIN)/python -m pytest -q
+# The suite runs in parallel (pytest-xdist): one worker per core this process may use (its CPU affinity; not
+# `nproc`, which follows OMP_NUM_THREADS), at most 4 (each worker holds its own meshes and module fixtures,
+# about 1 GB); on one core, no workers. `--dist loadfile` keeps each test file on one worker: its module
+# fixtures are built once and the Dask cluster's tests keep their order. TEST_WORKERS=0 runs it serially.
+TEST_WORKERS ?= $(shell $(PYTHON) -c "import os; n = len(os.sched_getaffinity(0)); print(min(n, 4) if n > 1 else 0)" 2>/dev/null || echo 0)
+PYTEST_PARALLEL = -n $(TEST_WORKERS) --dist loadfile
 
-# The quick half (about 2 minutes on 2 cores): everything but the tests marked slow, dask or render.
+test: $(BIN)/rvcoax test-deps
+	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL)
+
+# The quick half: everything but the tests marked slow, dask or render.
 test-fast: $(BIN)/rvcoax
-	$(BIN)/python -m pytest -q -m "not slow and not dask and not render"
+	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL) -m "not slow and not dask and not render"
 
 lint: $(BIN)/rvcoax
 	$(BIN)/ruff check .

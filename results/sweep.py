@@ -101,6 +101,7 @@ class CaseResult:
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
     shaft_strength: ShaftStrength | None = None  # shaft stresses and DIN 743 notch safety (results/shaft_safety.py)
     torque_paths: TorquePaths | None = None  # where each applied torque leaves its shaft line (results/torque_path.py)
+    operating_points: dict = field(default_factory=dict)  # nonlinear sweeps: bearing from geometry → its listed point
 
 
 @dataclass(frozen=True, eq=False)
@@ -564,9 +565,10 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         checks = (reducer_checks(rig, springs.states(u, from_rest=False), case.input_torque_Nm, case.output_torque_Nm)
                   if rig.reducers else ())
         points = bearings.operating_points(solution.motion, every)
-        for name, point in points.items():
-            operating[name].append({"case": case.label, "T1_input_Nm": case.input_torque_Nm,
-                                    "T2_output_Nm": case.output_torque_Nm, **point})
+        listed = {name: {"case": case.label, "T1_input_Nm": case.input_torque_Nm,
+                         "T2_output_Nm": case.output_torque_Nm, **point} for name, point in points.items()}
+        for name, point in listed.items():
+            operating[name].append(point)
         measured = u - rest_u if from_rest else u
         measured_all.append(measured)
         # the engineering tables with every nonlinear bearing's force and operating stiffness from its own law
@@ -577,7 +579,7 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
         results.append(CaseResult(case=case, paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
                                   equilibrium_error=check.relative_error, residual=residual, engineering=tables,
-                                  ball_lives=lives, reducer_checks=checks,
+                                  ball_lives=lives, reducer_checks=checks, operating_points=listed,
                                   shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
                                   torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         if on_case is not None:

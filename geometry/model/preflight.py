@@ -3,8 +3,10 @@
 - :func:`support_problem`: a beam model too large for this machine (counted from the geometry
   before anything is built: :func:`rvcoax.geometry.model.workload.rig_problem`); a part (or a set of parts) that
   can move without deforming anything, with its free directions and the springs whose zero
-  stiffness leaves it free; or stiffness values so far apart that the solve would lose every digit
-  (named: the stiffest and softest springs).
+  stiffness leaves it free; a mechanism of several parts that only move together (a shaft line free to
+  turn about the axis when a joint has no torsional stiffness), named by :func:`free_body` as ``rvcoax modes``
+  names a zero-frequency mode, with the rig keys whose zero leaves it free; or stiffness values so far apart
+  that the solve would lose every digit (named: the stiffest and softest springs).
 - :func:`sag_warnings`: a part that hangs only on couplings, or sags absurdly under its own weight
   (not singular, but not a test rig either).
 - :func:`estimate_memory`: DOFs and memory of a solid or hybrid model from the rig alone, before
@@ -21,18 +23,20 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from rvcoax.fem import DOFS_PER_NODE, bushing, diagnostics
 from rvcoax.fem.errors import SingularModelError
-from rvcoax.fem.pieces import AssembledSystem, assemble, assemble_frame
+from rvcoax.fem.pieces import AssembledSystem, assemble, assemble_frame, frame_mass_contributions
 from rvcoax.fem.system import factorize
 from rvcoax.geometry.model.beam import SpringId, build_rig_model
 from rvcoax.geometry.model.system import beam_contributions
 from rvcoax.geometry.schema import Rig
 
-__all__ = ["BASE_BYTES", "BYTES_PER_DOF", "COMPONENT_NAMES", "CONDITION_LIMIT", "MemoryEstimate", "SAG_WARNING_MM",
+__all__ = ["BASE_BYTES", "BYTES_PER_DOF", "CLASS_SHARE", "COMPONENT_NAMES", "CONDITION_LIMIT", "DIRECTIONS",
+           "FREE_BODY_SHARE", "MECHANISM_BOUND", "FreeBody", "MemoryEstimate", "SAG_WARNING_MM",
            "SHORT_ELEMENT_FRACTION", "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
-           "memory_problem", "sag_warnings", "short_segment_note", "support_problem"]
+           "free_body", "memory_problem", "motion_class", "sag_warnings", "short_segment_note", "support_problem"]
 
 # A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
 # as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
@@ -50,6 +54,17 @@ BYTES_PER_DOF = {"pardiso": 13.5e3, "amg": 11.0e3, "superlu": 47.0e3}
 BASE_BYTES = 0.3e9
 COMPONENT_NAMES = diagnostics.MOTION_NAMES
 SPRING_KINDS = {"bearing": "bearing", "mount": "mount", "coupling": "coupling", "joint": "joint"}
+DIRECTIONS = ("axial", "lateral vertical", "lateral horizontal", "torsional")
+"""The classes of a motion, by the frame DOFs that carry it: u_x; u_y, θ_z; u_z, θ_y; θ_x (the axis is x)."""
+DIRECTION_COMPONENTS = ((0,), (1, 5), (2, 4), (3,))
+CLASS_SHARE = 0.6
+"""A motion is of one direction when that direction holds at least this share of its kinetic energy."""
+FREE_BODY_SHARE = 0.05
+"""A part moves in a free-body motion when it holds more than this share of the motion's kinetic energy."""
+MECHANISM_BOUND = 1e14
+"""A lower bound of 1/λ_min of the Jacobi-scaled stiffness above which the topological copy (see
+:func:`support_problem`) has a motion without energy: a mechanism gives 1.6e16, the held reference rig 1.1e10,
+the same rig with 0.5 mm beam elements 1.1e11 (λ_min falls as the elements shrink)."""
 
 
 def _assembled(frame, structure=None) -> AssembledSystem:
@@ -161,6 +176,127 @@ def short_segment_note(rig: Rig) -> str:
               "them into longer ones (a shoulder shorter than a few tenths of a mm does not change a shaft's bending)")
 
 
+def motion_class(shares: dict[str, float]) -> str:
+    """The class of a motion from its kinetic energy share per :data:`DIRECTIONS`: the direction holding at least
+    :data:`CLASS_SHARE`, else ``mixed (…)`` with the two largest shares."""
+    ranked = sorted(shares.items(), key=lambda kv: -kv[1])
+    name, value = ranked[0]
+    if value >= CLASS_SHARE:
+        return name
+    return f"mixed ({ranked[0][0]} {100 * ranked[0][1]:.0f} %, {ranked[1][0]} {100 * ranked[1][1]:.0f} %)"
+
+
+@dataclass(frozen=True)
+class FreeBody:
+    """A motion without strain energy: the parts that carry it (largest kinetic energy first) and its class."""
+
+    parts: tuple[str, ...]
+    kind: str
+
+    def named(self) -> str:
+        return ", ".join(repr(p) for p in self.parts)
+
+
+def free_body(kinetic: np.ndarray, owner: np.ndarray, direction_shares: dict[str, float]) -> FreeBody:
+    """Name a zero-energy motion (a zero-frequency mode, a null vector of the stiffness) as ``rvcoax modes`` and the
+    preflight show it.
+
+    Parameters
+    ----------
+    kinetic : array (n_dofs,)
+        φ ⊙ (M φ): the motion's kinetic energy per DOF.
+    owner : array of str (n_dofs,)
+        The part each DOF belongs to ('' for none).
+    direction_shares : dict
+        The kinetic energy share of each of :data:`DIRECTIONS`.
+
+    Returns
+    -------
+    FreeBody
+        The parts holding more than :data:`FREE_BODY_SHARE` of the kinetic energy, and :func:`motion_class`.
+    """
+    total = float(kinetic.sum()) or 1.0
+    shares = {str(name): float(kinetic[owner == name].sum()) / total for name in np.unique(owner) if name}
+    moving = tuple(n for n, v in sorted(shares.items(), key=lambda kv: -kv[1]) if v > FREE_BODY_SHARE)
+    return FreeBody(moving, motion_class(direction_shares))
+
+
+def _frame_direction_shares(kinetic: np.ndarray) -> dict[str, float]:
+    component = np.arange(kinetic.size) % DOFS_PER_NODE
+    sums = np.array([max(float(kinetic[np.isin(component, c)].sum()), 0.0) for c in DIRECTION_COMPONENTS])
+    total = sums.sum() or 1.0
+    return {name: float(v / total) for name, v in zip(DIRECTIONS, sums)}
+
+
+def _mechanism(frame, topological) -> tuple[FreeBody, np.ndarray] | None:
+    """A motion of the ``topological`` copy's beam model without energy that the part-by-part test missed (parts
+    that move only together), or None: two steps of inverse iteration bound 1/λ_min of the Jacobi-scaled reduced
+    stiffness (milliseconds); only beyond :data:`MECHANISM_BOUND` is the null vector computed, named by
+    :func:`free_body` with the frame's mass, and returned with its kinetic energy share per DOF component."""
+    import scipy.sparse.linalg as spla
+
+    system = _assembled(frame, topological)
+    t = system.elimination
+    reduced = (t.T @ system.stiffness @ t).tocsc()
+    if reduced.shape[0] < 3:
+        return None
+    try:
+        factor = spla.splu(reduced)
+        bound, _ = diagnostics.scaled_inverse_norm_bound(reduced, factor.solve)
+    except RuntimeError:  # an exactly singular factor
+        bound = math.inf
+    if bound < MECHANISM_BOUND:
+        return None
+    root = np.sqrt(np.maximum(reduced.diagonal(), np.finfo(float).tiny))
+    scaled = (sp.diags(1.0 / root) @ reduced @ sp.diags(1.0 / root)).tocsc()
+    values, vectors = spla.eigsh(scaled, k=1, sigma=-1.0 / MECHANISM_BOUND, which="LM")
+    phi = t @ (vectors[:, 0] / root)
+    kinetic = phi * (assemble(frame.structure.n_dofs, frame_mass_contributions(frame.structure)).mass @ phi)
+    owner = np.repeat(np.asarray(frame.structure.node_group, dtype=object), DOFS_PER_NODE)
+    component_share = np.array([kinetic[c::DOFS_PER_NODE].sum() for c in range(DOFS_PER_NODE)])
+    return free_body(kinetic, owner, _frame_direction_shares(kinetic)), component_share / (component_share.sum() or 1)
+
+
+def _spring_key(rig: Rig, spring, component: int) -> str:
+    """The rig key of ``spring``'s stiffness in ``component`` (0-5: x, y, z, about x, y, z), as the rig file names it."""
+    entries = getattr(rig, f"{spring.kind}s", [])
+    index = next((i for i, e in enumerate(entries) if e.name == spring.name), None)
+    where = f"{spring.kind}s[{index}] ('{spring.name}')" if index is not None else _spring_label(spring)
+    if spring.kind in ("mount", "joint"):
+        key = "translational_stiffness_N_per_um" if component < 3 else "rotational_stiffness_Nm_per_rad"
+        return f"{where}.{key}[{component % 3}]"
+    return f"{where} ({COMPONENT_NAMES[component]})"
+
+
+def _motion_name(component: int) -> str:
+    return "rotation about x, the axis" if component == 3 else COMPONENT_NAMES[component]
+
+
+def _mechanism_text(rig: Rig, frame, body: FreeBody, component_share: np.ndarray) -> str:
+    """The singular-model message for a mechanism: its parts and motion, and the zero stiffness keys of the springs
+    that join its parts to the rest of the rig (mounts and joints; bearings are free in torsion by design)."""
+    free = [c for c in range(DOFS_PER_NODE) if component_share[c] > FREE_BODY_SHARE]
+    moving = set(body.parts)
+    keys, bearings = [], []
+    for k, (spring, touched) in enumerate(zip(frame.bushing_names, _spring_parts(frame))):
+        if not touched & moving or (len(touched) == 2 and touched <= moving):
+            continue  # not on the mechanism, or inside it
+        zero = [c for c in free if frame.structure.bushings.stiffness[k, c] == 0.0]
+        if spring.kind == "bearing":
+            bearings.extend([_spring_label(spring)] if zero else [])
+        else:
+            keys.extend(f"{_spring_key(rig, spring, c)} = 0" for c in zero)
+    text = (f"the model is singular: part(s) {body.named()} move together as a free body ({body.kind} motion: "
+            f"{', '.join(_motion_name(c) for c in free)}), though each of them is held on its own: a support or a "
+            "stiffness component is missing.")
+    if keys:
+        text += (f" The zero stiffness that leaves them free: {'; '.join(dict.fromkeys(keys))} (give it a value, or "
+                 "add a mount or joint with stiffness in that direction).")
+    if bearings:
+        text += f" Bearings free in that direction, as bearings are: {', '.join(dict.fromkeys(bearings))}."
+    return text
+
+
 def _beam_condition(system: AssembledSystem) -> float:
     """Estimated condition number of the beam model's reduced stiffness (inf when SuperLU finds it singular)."""
     from rvcoax.fem.solvers import SingularMatrixError, prepare
@@ -195,8 +331,6 @@ def support_problem(rig: Rig) -> str | None:
                 "length or modulus is too small or too large to compute with (e.g. 1e-300 mm); check their "
                 "segments' *_diameter_mm, x_mm and their material's youngs_modulus_MPa")
     motions = _free_motions(frame.structure, system)
-    if not motions:
-        return None
     structure = frame.structure
     steel = dataclasses.replace(structure.beams, youngs_modulus_Pa=np.full_like(structure.beams.youngs_modulus_Pa,
                                                                                 TYPICAL_MODULI[0]),
@@ -208,6 +342,9 @@ def support_problem(rig: Rig) -> str | None:
     typical = np.where(structure.bushings.stiffness > 0, scale * np.array([1, 1, 1, length**2, length**2, length**2]),
                        0.0)
     topological = springless.with_group(dataclasses.replace(structure.bushings, stiffness=typical))
+    if not motions:
+        mechanism = _mechanism(frame, topological)
+        return None if mechanism is None else _mechanism_text(rig, frame, *mechanism)
     if _free_motions(topological, _assembled(frame, topological)):
         return ("the model is singular: " + "; ".join(m.describe() for m in motions)
                 + ". Add a bearing, mount or joint with stiffness in those directions." + _zero_springs_note(frame,

@@ -37,7 +37,7 @@ from rvcoax.geometry.model.springs import ConnectionStates
 from rvcoax.geometry.schema import Rig
 from rvcoax.results.connections import connection_states
 from rvcoax.results.io.records import rvcoax_version, text_sha256
-from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
+from rvcoax.results.io.writers import read_csv_cell, write_csv_atomic, write_json_atomic
 from rvcoax.results.sweep import Sweep
 
 __all__ = ["CSV_TABLES", "DynamicsExport", "IT3_RADIAL_DISPLACEMENT_MM", "ShaftStage", "UNITS", "UNLOADED",
@@ -371,7 +371,7 @@ def read_csv_table(path: str | Path) -> list[dict]:
                 return kind(text)
             except ValueError:
                 pass
-        return text
+        return read_csv_cell(text)
 
     with open(path, encoding="utf-8", newline="") as stream:
-        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(stream)]
+        return [{read_csv_cell(k): value(v) for k, v in row.items()} for row in csv.DictReader(stream)]

@@ -79,19 +79,40 @@ class RossUnavailableError(RvcoaxError, RuntimeError):
 
 
 @contextlib.contextmanager
-def _quiet_output():
-    """Silence stdout/stderr at the file-descriptor level (ROSS's dependencies print on import)."""
+def _quiet_output(printed: list[str]):
+    """Catch what is printed inside: at the file-descriptor level (CoolProp's C library: "Good news: It is possible to
+    use REFPROP on your system! However, the library could not be loaded …", which ccp triggers on import) and from
+    Python (``sys.stdout`` may be no file descriptor: a notebook, a test runner), into ``printed`` (one text), so that
+    an import that fails can still show it. Buffers are flushed before the descriptors are given back, so nothing
+    printed inside comes out later."""
+    import ctypes
+    import io
+    import sys
+    import tempfile
+
+    python = io.StringIO()
     saved = [os.dup(1), os.dup(2)]
-    with open(os.devnull, "w") as null:
+    with tempfile.TemporaryFile() as sink:
         try:
-            os.dup2(null.fileno(), 1)
-            os.dup2(null.fileno(), 2)
-            yield
+            for stream in (sys.stdout, sys.stderr, sys.__stdout__, sys.__stderr__):
+                with contextlib.suppress(Exception):
+                    stream.flush()
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            with contextlib.redirect_stdout(python), contextlib.redirect_stderr(python):
+                yield
         finally:
+            for stream in (sys.__stdout__, sys.__stderr__):
+                with contextlib.suppress(Exception):
+                    stream.flush()
+            with contextlib.suppress(Exception):
+                ctypes.CDLL(None).fflush(None)  # C's stdout buffer, when it is a file or a pipe
             os.dup2(saved[0], 1)
             os.dup2(saved[1], 2)
             for fd in saved:
                 os.close(fd)
+            sink.seek(0)
+            printed.append(sink.read().decode("utf-8", "replace") + python.getvalue())
 
 
 def import_ross():
@@ -100,19 +121,29 @@ def import_ross():
     Returns
     -------
     module
-        ``ross``, imported with its start-up output and warnings silenced.
+        ``ross``, imported with its start-up output (ccp's REFPROP notices) and warnings silenced.
 
     Raises
     ------
     RossUnavailableError
-        ROSS is not installed (the message says how to install it).
+        ROSS is not installed (the message says how to install it, and shows what the import printed).
+    Exception
+        Whatever else the import raises, after what it printed is written to stderr.
     """
+    import sys
+
+    printed: list[str] = []
     try:
-        with _quiet_output(), warnings.catch_warnings():
+        with _quiet_output(printed), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             import ross
     except ImportError as error:
-        raise RossUnavailableError(f"the ROSS export needs ROSS: {INSTALL_HINT} ({error})") from None
+        said = " ".join("".join(printed).split())
+        raise RossUnavailableError(f"the ROSS export needs ROSS: {INSTALL_HINT} ({error})"
+                                   + (f"; the import printed: {said}" if said else "")) from None
+    except BaseException:
+        sys.stderr.write("".join(printed))
+        raise
     return ross
 
 

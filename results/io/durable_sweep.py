@@ -137,12 +137,33 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
                 checked = reused
                 to_solve = sorted(set(missing) | set(reused))
                 result = solve(to_solve)
-            model = records.model_section(result)
+            model = _with_every_case(records.model_section(result), done, cases)
             store.save_model(model_hash, model)
     else:
         to_solve = []
     return DurableSweep(records=[done[i] for i in range(len(cases))], model=model, sweep=result, reading=reading,
                         solved=tuple(to_solve), checked=tuple(checked), disagreed=tuple(sorted(disagreed)))
+
+
+OPERATING_POINT_KEYS = ("ball_bearing_operating_points", "rolling_bearing_operating_points")
+
+
+def _with_every_case(model: dict, done: dict[int, dict], cases: tuple[LoadCase, ...]) -> dict:
+    """``model`` whose bearings' operating points list the rest state and every case, in the order of the load
+    cases, as an uninterrupted run lists them: the sweep solved now holds the cases it solved, the journal's
+    records (``bearing_operating_points``) the others. A reused record of an older rvcoax without them is left out."""
+    for key in OPERATING_POINT_KEYS:
+        section = model.get(key)
+        if not section:
+            continue
+        listed = {}
+        for name, points in section.items():
+            solved = {p["case"]: p for p in points}
+            journal = (done[i].get("bearing_operating_points", {}).get(name) for i in range(len(cases)))
+            listed[name] = [p for p in [solved.get("at rest")]
+                            + [solved.get(case.label) or point for case, point in zip(cases, journal)] if p is not None]
+        model[key] = listed
+    return records.canonical(model)
 
 
 def _spread(indices: list[int], count: int) -> list[int]:

@@ -197,8 +197,14 @@ def case_entry(case: CaseResult) -> dict:
 
 
 def case_record(case: CaseResult) -> dict:
-    """Everything the result files hold about one case, as plain JSON data (see :func:`canonical`)."""
-    return canonical({"row": case_row(case), "entry": case_entry(case)})
+    """Everything the result files hold about one case, as plain JSON data (see :func:`canonical`): its ``row``
+    of ``sweep.csv``, its ``entry`` of ``sweep.json``'s cases and, in a nonlinear sweep with bearings from
+    geometry, their ``bearing_operating_points`` (bearing → point), from which a resumed sweep lists every
+    case's operating points in ``model`` (:func:`rvcoax.results.io.durable_sweep.run_durable_sweep`)."""
+    record = {"row": case_row(case), "entry": case_entry(case)}
+    if getattr(case, "operating_points", None):
+        record["bearing_operating_points"] = case.operating_points
+    return canonical(record)
 
 
 def canonical(data):

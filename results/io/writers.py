@@ -17,8 +17,11 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["format_number", "naming_errors", "write_csv_atomic", "write_json_atomic", "write_png_atomic",
-           "write_text_atomic"]
+__all__ = ["csv_cell", "format_number", "naming_errors", "read_csv_cell", "write_csv_atomic", "write_json_atomic",
+           "write_png_atomic", "write_text_atomic"]
+
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+"""First characters that make a spreadsheet read a CSV cell as a formula (OWASP, "CSV Injection")."""
 
 
 def _umask() -> int:
@@ -99,6 +102,36 @@ def format_number(value) -> str:
     return str(value)
 
 
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def csv_cell(value) -> str:
+    """One CSV cell: a number as :func:`format_number` writes it; text that a spreadsheet would run as a
+    formula (a part, label or case name starting with ``=``, ``+``, ``-``, ``@``, a tab or a carriage
+    return) with a ``'`` in front, as OWASP advises against CSV injection.
+
+    Numbers are never escaped, nor is text that reads as one (``-0.5``, ``-inf``): they stay numbers. A
+    lone ``-`` (a unit-less column's unit) is no formula and stays as it is. Text that starts with ``'``
+    gets one more, so that :func:`read_csv_cell` gives every text back exactly.
+    """
+    text = format_number(value)
+    if not isinstance(value, str) or text == "-":
+        return text
+    if text.startswith("'") or (text.startswith(FORMULA_STARTS) and not _is_number(text)):
+        return "'" + text
+    return text
+
+
+def read_csv_cell(text: str) -> str:
+    """The text :func:`csv_cell` was given (its ``'`` in front taken away): for readers of our own CSV files."""
+    return text[1:] if text.startswith("'") else text
+
+
 def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
     """Write a list of dicts (same keys, in order) as CSV.
 
@@ -107,7 +140,8 @@ def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
     path : str or Path
         The file; its folder is created if needed.
     rows : list of dict
-        The header is the first row's keys.
+        The header is the first row's keys; each cell is written by :func:`csv_cell` (text that a
+        spreadsheet would run as a formula is escaped).
 
     Returns
     -------
@@ -117,9 +151,9 @@ def write_csv_atomic(path: str | Path, rows: list[dict]) -> Path:
     buffer = io.StringIO()
     if rows:
         writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(list(rows[0]))
+        writer.writerow([csv_cell(key) for key in rows[0]])
         for row in rows:
-            writer.writerow([format_number(v) for v in row.values()])
+            writer.writerow([csv_cell(v) for v in row.values()])
     return write_text_atomic(path, buffer.getvalue())
 
 

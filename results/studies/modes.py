@@ -42,6 +42,7 @@ from rvcoax.fem.errors import RvcoaxError
 from rvcoax.fem.modal import LowRankUpdate, ModalError, Modes, natural_modes
 from rvcoax.geometry.model.mass import housing_frequencies, housing_modes, part_masses, rig_mass_matrix
 from rvcoax.geometry.model.nonlinear_bearings import nonlinear_bearing_names
+from rvcoax.geometry.model.preflight import CLASS_SHARE, DIRECTIONS, free_body, motion_class
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.sweep import ModelError, SweepSettings, prepare_model, run_sweep
@@ -53,9 +54,6 @@ __all__ = ["CLASS_SHARE", "DIRECTIONS", "FREE_BODY_HZ", "GYROSCOPIC_LIMIT", "HOU
 
 HOUSING_DYNAMICS = ("auto", "craig-bampton", "guyan")
 """How a ``[[housings]]`` entry with ``self_weight`` moves in the modes (:class:`ModeSettings`)."""
-DIRECTIONS = ("axial", "lateral vertical", "lateral horizontal", "torsional")
-CLASS_SHARE = 0.6
-"""A mode is of one direction when that direction holds at least this share of its kinetic energy."""
 GYROSCOPIC_LIMIT = 0.02
 """γ above this (a whirl split of 2 % or more of the frequency) makes the neglect of gyroscopic effects wrong."""
 FREE_BODY_HZ = 0.01
@@ -386,16 +384,9 @@ def _check_free_bodies(system, mass, modes: Modes, label: str) -> None:
     if not low.size:
         return
     phi = modes.shapes[:, low[0]]
-    kinetic = phi * (mass @ phi)
-    owner = _dof_owners(system)
-    shares: dict[str, float] = {}
-    for name in np.unique(owner):
-        if name:
-            shares[name] = float(kinetic[owner == name].sum())
-    moving = [n for n, v in sorted(shares.items(), key=lambda kv: -kv[1]) if v > 0.05]
-    kind = _classify(_ModeAnalysis(system, mass)._directions(phi))
-    raise ModesError(f"{label}: {low.size} mode(s) at zero frequency ({kind} motion of mode {low[0] + 1}): part(s) "
-                     f"{', '.join(moving)} move as a free body — a support or a stiffness component is missing")
+    body = free_body(phi * (mass @ phi), _dof_owners(system), _ModeAnalysis(system, mass)._directions(phi))
+    raise ModesError(f"{label}: {low.size} mode(s) at zero frequency ({body.kind} motion of mode {low[0] + 1}): part(s) "
+                     f"{', '.join(body.parts)} move as a free body — a support or a stiffness component is missing")
 
 
 def _dof_owners(system) -> np.ndarray:
@@ -466,7 +457,7 @@ class _ModeAnalysis:
         omega2 = float(modes.eigenvalues[index])
         frequency = float(modes.frequencies_hz[index])
         directions = self._directions(phi)
-        kind = _classify(directions)
+        kind = motion_class(directions)
         energy = self._energies(phi, update)
         if interface is not None:
             for name, value in interface.energies(index).items():
@@ -629,14 +620,6 @@ class _SolidSlices:
     def gyroscopic(self, phi: np.ndarray) -> float:
         _, _, theta = self._fit(phi)
         return float(np.sum(self.inertia[:, 0, 0] * (theta[:, 1] ** 2 + theta[:, 2] ** 2)))
-
-
-def _classify(shares: dict) -> str:
-    ranked = sorted(shares.items(), key=lambda kv: -kv[1])
-    name, value = ranked[0]
-    if value >= CLASS_SHARE:
-        return name
-    return f"mixed ({ranked[0][0]} {100 * ranked[0][1]:.0f} %, {ranked[1][0]} {100 * ranked[1][1]:.0f} %)"
 
 
 def mode_rows(study: ModalStudy) -> list[dict]:

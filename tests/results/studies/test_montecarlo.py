@@ -35,7 +35,7 @@ from rvcoax.results.studies.sensitivity import morris_design, morris_indices, mo
 from rvcoax.results.studies.tolerances import ToleranceFileError, load_tolerances, parse_tolerances
 
 # cost, for `make test-fast` (-m "not slow and not dask and not render")
-pytestmark = [pytest.mark.dask, pytest.mark.slow]
+pytestmark = [pytest.mark.dask, pytest.mark.slow, pytest.mark.xdist_group("dask-cluster")]  # one worker, one cluster, in order
 
 EXAMPLE = Path(__file__).resolve().parents[3] / "loadcases" / "data" / "example_tolerances.toml"
 RIG = load_rig()
