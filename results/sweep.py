@@ -381,6 +381,14 @@ def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, d
     return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
 
 
+def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
+    """Hand case ``i`` of ``n`` to ``on_case`` (to save it at once) and report the progress, where asked."""
+    if on_case is not None:
+        on_case(i, result)
+    if progress is not None:
+        progress(i + 1, n)
+
+
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
               prepared: PreparedModel | None = None, *, on_case=None, engineering: bool = True) -> Sweep:
     """Solve every load case of ``cases`` on ``rig``.
@@ -450,10 +458,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
                                          fixed_change=unbalance - rest_unbalance) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
             torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
-        if on_case is not None:
-            on_case(i, results[-1])
-        if progress is not None:
-            progress(i + 1, len(cases))
+        _announce(i, len(cases), results[-1], on_case, progress)
     unit_paths = {k: {s: read_path(system, unit_by_name[k], s) for s in MEASURED_SHAFTS} for k in UNIT_LOADS}
     return Sweep(rig=rig, frame=system.frame, settings=settings, cases=tuple(results), unit_paths=unit_paths,
                  solver=solver_name, n_dofs=system.n_dofs, system=system, states=LinearStates(unit),
@@ -582,10 +587,7 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                                   ball_lives=lives, reducer_checks=checks, operating_points=listed,
                                   shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
                                   torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
-        if on_case is not None:
-            on_case(i, results[-1])
-        if progress is not None:
-            progress(i + 1, len(cases))
+        _announce(i, len(cases), results[-1], on_case, progress)
     summary = _nonlinear_summary(prepared.report, bearings, iterations, operating)
     states = NonlinearStates(np.column_stack(measured_all) if measured_all else np.zeros((system.n_dofs, 0)),
                              rest_u, bearings)
