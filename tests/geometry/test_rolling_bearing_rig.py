@@ -296,8 +296,9 @@ def test_catalogue_is_built_on_first_use_with_the_eagerly_built_values():
 
     from rvcoax.geometry import rolling_catalogue
 
-    # importing the module builds nothing and leaves scipy.optimize (~0.9 s) to the commands that need it
-    probe = ("import sys, rvcoax.geometry.rolling_catalogue as c; "
+    # importing the module (and a sweep's, which reaches it) builds nothing and leaves scipy.optimize to the
+    # commands that need it (calibration, bearing preload)
+    probe = ("import sys, rvcoax.geometry.rolling_catalogue as c, rvcoax.results.sweep; "
              "print('scipy.optimize' in sys.modules, c.rolling_bearings.cache_info().currsize)")
     assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                           check=True).stdout.split() == ["False", "0"]
