@@ -30,7 +30,8 @@ benchmarks/RESULTS.md with the machine, date and load average (``--no-record``: 
 
 Usage::
 
-    python benchmarks/bench_discrepancy_blind.py [--limit N] [--seed S] [--groups pair,none]
+    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|solid] [--limit N] [--seed S]
+        [--groups pair,none]
         [--max-minutes M] [--label NAME] [--no-record]
 
 ``--limit N`` runs a subset of N sets stratified over the classes, datums, schemas and noise levels,
@@ -59,6 +60,15 @@ import blind_data  # noqa: E402
 from machine import record  # noqa: E402
 
 OUTCOMES = ("correct", "wrong", "confident_misname", "aborted")
+# where each source's data sets live by default (--source), and the command that makes them (all but the hybrid's
+# are made by hand: ccx and all-solid solves take a while and can be made in pieces, --max-solves)
+SOURCES = {
+    "hybrid": (blind_data.CACHE / "sets", "python benchmarks/blind_data.py"),
+    "calculix": (blind_data.CACHE / "calculix", "python benchmarks/calculix_rig.py --full .blindcache/calculix"),
+    "calculix_solid": (blind_data.CACHE / "calculix_solid",
+                       "python benchmarks/calculix_solid.py --bench .blindcache/calculix_solid"),
+    "solid": (blind_data.CACHE / "solid", "python benchmarks/blind_solid.py"),
+}
 
 
 def load_sets(folder: Path) -> tuple[list[dict], dict]:
@@ -192,7 +202,9 @@ def kind_of(dataset: dict) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--sets", default=str(blind_data.CACHE / "sets"), help="folder with manifest.json")
+    parser.add_argument("--source", choices=tuple(SOURCES), default="hybrid",
+                        help="which model made the data (its default folder; hybrid: made on the first run)")
+    parser.add_argument("--sets", default="", help="folder with manifest.json (default: the source's folder)")
     parser.add_argument("--limit", type=int, default=None, help="run a stratified subset of this many sets")
     parser.add_argument("--seed", type=int, default=0, help="seed of the subset")
     parser.add_argument("--groups", default="", help="only these classes (vocabulary,faint,none,pair,out_of_vocabulary)")
@@ -210,7 +222,9 @@ def main() -> None:
     import rvcoax
     from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library
 
-    folder = Path(args.sets)
+    folder = Path(args.sets or SOURCES[args.source][0])
+    if args.source != "hybrid" and not (folder / "manifest.json").exists():
+        raise SystemExit(f"no data sets in {folder}: make them with {SOURCES[args.source][1]}")
     sets, superposition = load_sets(folder)
     if args.groups:
         sets = [s for s in sets if s["group"] in args.groups.split(",")]
@@ -307,7 +321,7 @@ def main() -> None:
     print("\nconfusion matrix (hidden kind → what the workflow reported first):")
     print(confusion_text(confusion))
     if not args.no_record and runs:
-        record(f"bench_discrepancy_blind.py: discrepancy workflow on independent (hybrid-model) data, {label}",
+        record(f"bench_discrepancy_blind.py: discrepancy workflow on independent ({args.source}-model) data, {label}",
                lines + [("confusion (hidden kind: reported × count)", "; ".join(
                    f"{k}: " + ", ".join(f"{r} {n}" for r, n in v.most_common()) for k, v in sorted(confusion.items())))])
 

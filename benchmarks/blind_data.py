@@ -17,6 +17,8 @@ What is generated (:func:`design`):
 - no effect; pairs of effects;
 - loads outside the vocabulary: a lateral force proportional to T2 at three stations of the output
   shaft, a moment proportional to T2 (a couple of such forces 30 mm apart), a constant lateral force;
+- optionally (``write_sets(..., out_of_bounds=True)``, used by ``blind_solid.py``) every linear effect at twice its
+  physical bound: a truth the workflow must never call ``explained``;
 - both schemas (paths file and table), both datums (Y from the unloaded geometry and from the rig
   aligned at rest), 1 % and 5 % noise, several seeds, numbers in fixed, e, E and mixed notation.
 
@@ -184,6 +186,7 @@ class Responses:
     layout: PathLayout
     deltas: dict = field(default_factory=dict)  # name → (value, delta paths, linear)
     direct_pairs: dict = field(default_factory=dict)  # (a, b) → (values, delta paths) of a direct solve
+    pairs: tuple = PAIRS  # the pairs of the design
 
 
 def _observe(paths: np.ndarray, layout: PathLayout, datum: str, schema: str,
@@ -210,18 +213,19 @@ def _relative_change(delta_obs, base_obs, shaft) -> float:
                for s in MEASURED_SHAFTS)
 
 
-def build_responses(log=print) -> Responses:
-    """Solve (or read from the cache) every hybrid response the design needs."""
+def build_responses(log=print, settings: SweepSettings = HYBRID, vocabulary=VOCABULARY, loads=OUT_OF_VOCABULARY,
+                    pairs=PAIRS, direct_pairs: bool = True) -> Responses:
+    """Solve (or read from the cache) every response the design needs, with the model of ``settings`` (default the
+    hybrid model); ``vocabulary``, ``loads`` and ``pairs`` choose a subset of the design (``direct_pairs`` false: every
+    pair of linear effects is superposed, none solved directly as a check)."""
     from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout
 
     rig = truth_rig("unloaded")
     effects = {e.name: e for e in candidate_effects(rig)}
-    base, layout = absolute_paths(rig, HYBRID, log=log)
-    fine_base, _ = absolute_paths(fine_beam(rig), SweepSettings(), log=log)
+    base, layout = absolute_paths(rig, settings, log=log)
     out = Responses(base, layout)
     template = observation_layout(paper_cases(), STATIONS, LENGTHS, "paths")
-    _, base_obs = _observe(base, layout, "unloaded", "paths")
-    for name in VOCABULARY:
+    for name in vocabulary:
         effect = effects[name]
         log(f"{name}:")
         if effect.linear:
@@ -229,23 +233,24 @@ def build_responses(log=print) -> Responses:
         else:
             value = effect_size_for(effect, rig, paper_cases(), template, TARGET[0])
         changed = effect.apply(rig, [value])
-        if name.startswith("bearing_clearance"):
+        if name.startswith("bearing_clearance"):  # neither the hybrid nor the solid model takes a clearance
             paths, _ = absolute_paths(fine_beam(changed), SweepSettings(), log=log)
-            delta = paths - fine_base
+            delta = paths - absolute_paths(fine_beam(rig), SweepSettings(), log=log)[0]
         else:
-            paths, _ = absolute_paths(changed, HYBRID, log=log)
+            paths, _ = absolute_paths(changed, settings, log=log)
             delta = paths - base
         out.deltas[name] = (value, delta, effect.linear)
-    for load in OUT_OF_VOCABULARY:
+    for load in loads:
         log(f"{load[0]}:")
-        paths, _ = absolute_paths(_load_rig(rig, load), HYBRID, log=log)
+        paths, _ = absolute_paths(_load_rig(rig, load), settings, log=log)
         out.deltas[load[0]] = (1.0, paths - base, True)
-    for a, b in PAIRS:
-        if not (effects[a].linear and effects[b].linear) or (a, b) == PAIRS[1]:  # PAIRS[1]: the superposition check
+    out.pairs = tuple(pairs)
+    for a, b in pairs:
+        if not (effects[a].linear and effects[b].linear) or (direct_pairs and (a, b) == PAIRS[1]):  # the check
             log(f"{a} + {b} (direct):")
             values = {n: bounded_delta(out, n, "unloaded", TARGET[0], effects)[1] for n in (a, b)}
             rig_ab = effects[b].apply(effects[a].apply(rig, [values[a]]), [values[b]])
-            paths, _ = absolute_paths(rig_ab, HYBRID, log=log)
+            paths, _ = absolute_paths(rig_ab, settings, log=log)
             out.direct_pairs[(a, b)] = (values, paths - base)
     return out
 
@@ -320,25 +325,32 @@ def visible_fraction(responses: Responses, name: str, datum: str, effects: dict)
     return _relative_change(obs - base_obs, base_obs, _observe_template_shaft())
 
 
-def design(responses: Responses) -> list[DataSet]:
-    """The data sets (about 250), each with its truth; notations rotate over the sets."""
+OUT_OF_BOUNDS = 2.0  # an out-of-bounds truth: a linear effect at this multiple of its bound (the larger in size)
+
+
+def design(responses: Responses, out_of_bounds: bool = False) -> list[DataSet]:
+    """The data sets (about 250), each with its truth; notations rotate over the sets. ``out_of_bounds``: also every
+    linear effect at :data:`OUT_OF_BOUNDS` times its physical bound (Y from the unloaded geometry, seed 0)."""
     effects = {e.name: e for e in candidate_effects(truth_rig())}
     sets: list[tuple] = []
     for datum in DATUMS:
-        for name in VOCABULARY:
+        for name in [n for n in VOCABULARY if n in responses.deltas]:
             reach = visible_fraction(responses, name, datum, effects)
             if reach < 1e-6:  # e.g. a load-independent effect on the aligned datum: invisible by construction
                 continue
             group = "vocabulary" if reach >= FAINT else "faint"
             seeds = (0, 1) if datum == "unloaded" else (0,)
             sets += [(group, (name,), "", datum, seed) for seed in seeds]
-        for pair in PAIRS:
+        for pair in responses.pairs:
             if all(visible_fraction(responses, n, datum, effects) >= FAINT for n in pair):
                 sets.append(("pair", pair, "", datum, 0))
-        for load in OUT_OF_VOCABULARY:
+        for load in [ld for ld in OUT_OF_VOCABULARY if ld[0] in responses.deltas]:
             if datum == "unloaded" or not load[3]:
                 sets.append(("out_of_vocabulary", (), load[0], datum, 0))
         sets += [("none", (), "", datum, seed) for seed in (0, 1, 2)]
+        if out_of_bounds and datum == "unloaded":
+            sets += [("out_of_bounds", (name,), "", datum, 0) for name in VOCABULARY
+                     if name in responses.deltas and responses.deltas[name][2]]
     out = []
     for group, truth, load, datum, seed in sets:
         for schema in SCHEMAS:
@@ -359,6 +371,12 @@ def hidden_paths(responses: Responses, dataset: DataSet, effects: dict) -> tuple
     if len(dataset.truth) == 2 and tuple(dataset.truth) in responses.direct_pairs:
         values, delta = responses.direct_pairs[tuple(dataset.truth)]
         return paths + delta, dict(values)
+    if dataset.group == "out_of_bounds":
+        name = dataset.truth[0]
+        value, delta, _ = responses.deltas[name]
+        p = effects[name].parameters[0]
+        beyond = OUT_OF_BOUNDS * (p.upper if abs(p.upper) >= abs(p.lower) else p.lower)
+        return paths + delta * beyond / value, {name: beyond}
     for name in dataset.truth:
         fraction = dataset.fraction if len(dataset.truth) == 1 else TARGET[0]
         delta, values[name] = bounded_delta(responses, name, dataset.datum, fraction, effects)
@@ -429,12 +447,12 @@ def detectability(paths: np.ndarray, responses: Responses, dataset: DataSet) -> 
     return float(np.sqrt(np.mean(((hidden - plain) / np.maximum(sigma, 1e-300)) ** 2)))
 
 
-def write_sets(responses: Responses, out: Path, log=print) -> list[dict]:
+def write_sets(responses: Responses, out: Path, log=print, model: str = "", out_of_bounds: bool = False) -> list[dict]:
     """Write every data set of :func:`design` as ``<id>.csv`` under ``out`` and ``manifest.json``."""
     effects = {e.name: e for e in candidate_effects(truth_rig())}
     out.mkdir(parents=True, exist_ok=True)
     manifest = []
-    for dataset in design(responses):
+    for dataset in design(responses, out_of_bounds):
         paths, values = hidden_paths(responses, dataset, effects)
         template, noisy = noisy_observations(paths, responses.layout, dataset.datum, dataset.schema, dataset.noise,
                                              dataset.seed)
@@ -444,8 +462,8 @@ def write_sets(responses: Responses, out: Path, log=print) -> list[dict]:
                      values={k: float(v) for k, v in values.items()}, detectability=round(detect, 4),
                      detectable=dataset.group == "none" or detect >= 1.0)
         manifest.append(entry)
-    (out / "manifest.json").write_text(json.dumps({"superposition_check": superposition_check(responses),
-                                                   "sets": manifest}, indent=1))
+    (out / "manifest.json").write_text(json.dumps({"model": model or "hybrid", "superposition_check":
+                                                   superposition_check(responses), "sets": manifest}, indent=1))
     log(f"wrote {len(manifest)} data sets to {out}")
     return manifest
 
@@ -466,14 +484,15 @@ FIXTURES = (  # name, truth, load, datum, schema, noise, notation
 )
 
 
-def write_fixtures(responses: Responses, out: Path, log=print) -> None:
+def write_fixtures(responses: Responses, out: Path, log=print, fixtures=FIXTURES, model: str = "",
+                   generator: str = "benchmarks/blind_data.py") -> None:
     """Write the small committed fixture set and its ``manifest.json`` (truth and provenance of each file)."""
     effects = {e.name: e for e in candidate_effects(truth_rig())}
     cases = tuple(paper_cases()[i] for i in FIXTURE_CASES)
     out.mkdir(parents=True, exist_ok=True)
-    manifest = {"model": "hybrid (reference rig, self-weight off, Euler-Bernoulli beams; clearances: beam at "
-                         f"{FINE_BEAM_ELEMENT_MM:g} mm elements)", "generator": "benchmarks/blind_data.py", "sets": []}
-    for seed, (name, truth, load, datum, schema, noise, notation) in enumerate(FIXTURES):
+    manifest = {"model": model or "hybrid (reference rig, self-weight off, Euler-Bernoulli beams; clearances: beam at "
+                f"{FINE_BEAM_ELEMENT_MM:g} mm elements)", "generator": generator, "sets": []}
+    for seed, (name, truth, load, datum, schema, noise, notation) in enumerate(fixtures):
         group = ("out_of_vocabulary" if load else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary")
         dataset = DataSet(name, group, truth, load, datum, schema, noise, seed, notation, TARGET[0])
         paths, values = hidden_paths(responses, dataset, effects)
@@ -483,7 +502,7 @@ def write_fixtures(responses: Responses, out: Path, log=print) -> None:
         manifest["sets"].append(dict(dataset.__dict__, truth=list(truth), file=f"{name}.csv",
                                      values={k: round(float(v), 6) for k, v in values.items()}))
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n")
-    log(f"wrote {len(FIXTURES)} fixtures to {out}")
+    log(f"wrote {len(fixtures)} fixtures to {out}")
 
 
 def main() -> None:

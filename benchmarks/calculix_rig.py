@@ -107,9 +107,10 @@ class Deck:
     """A CalculiX input deck and where to read the measured paths in its output."""
 
     text: str
-    path_nodes: dict  # shaft key → node numbers at the path stations
+    path_nodes: dict  # shaft key → node numbers printed for the path
     stations_mm: dict  # shaft key → station positions from the path start (mm)
     lengths_mm: dict
+    sections: dict  # shaft key → per station (node numbers, weights summing to 1): u_y there is their weighted mean
 
 
 def _referenced(rig: Rig) -> dict[str, list[float]]:
@@ -144,20 +145,43 @@ def _refuse(rig: Rig) -> None:
         raise ValueError("calculix_rig: coupling misalignment and raised mounts (prestrain) are not modelled")
 
 
-def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
-    """The CalculiX deck of ``rig``'s shaft line: four steps (T1, T2, engaged T1, engaged T2)."""
+def build_deck(rig: Rig, element_mm: float = ELEMENT_MM, solids: dict | None = None, read_stations: int | None = None) -> Deck:
+    """The CalculiX deck of ``rig``'s shaft line: four steps (T1, T2, engaged T1, engaged T2).
+
+    ``solids``: part name → a solid model of that part (``calculix_solid.SolidShaft``): its C3D10 elements replace the
+    part's beams; whatever attaches to it acts on points that follow the rigid motion of the attachment's face.
+    ``read_stations``: read this many stations per path (default the rig's ``[paths]`` stations)."""
     _refuse(rig)
+    solids = solids or {}
     refs = _referenced(rig)
-    nodes: list[tuple[int, float]] = []  # (number, x mm)
+    nodes: list[tuple[int, float, float, float]] = []  # (number, x, y, z mm)
     node_of: dict[tuple[str, float], int] = {}
     lines_elements = []
     materials = {}
     counter = {"node": 0, "element": 0}
 
-    def new_node(x_mm: float, y_mm: float = 0.0) -> int:
+    def new_node(x_mm: float, y_mm: float = 0.0, z_mm: float = 0.0) -> int:
         counter["node"] += 1
-        nodes.append((counter["node"], x_mm, y_mm))
+        nodes.append((counter["node"], x_mm, y_mm, z_mm))
         return counter["node"]
+
+    solid_first = {}  # part → number of its first solid node (node k of the solid is first + k)
+    for name, shaft in solids.items():
+        solid_first[name] = counter["node"] + 1
+        for x, y, z in shaft.nodes_mm:
+            new_node(x, y, z)
+    owner: dict[int, tuple[str, float]] = {}  # a point moving rigidly with a solid's face → (part, face x)
+    points: dict[tuple, int] = {}
+    rigid: dict[tuple[str, float], list[int]] = {}  # (part, face x) → its points, the first the rigid body's reference
+
+    def solid_point(part: str, x_face: float, x_mm: float, y_mm: float = 0.0) -> int:
+        """A node at (x_mm, y_mm, 0) in the rigid body of ``part``'s face at ``x_face``."""
+        key = (part, round(x_face, 6), round(x_mm, 6), round(y_mm, 6))
+        if key not in points:
+            points[key] = new_node(x_mm, y_mm)
+            owner[points[key]] = (part, x_face)
+            rigid.setdefault((part, x_face), []).append(points[key])
+        return points[key]
 
     def new_element() -> int:
         counter["element"] += 1
@@ -179,6 +203,8 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
 
     part_nodes: dict[str, tuple[np.ndarray, list[int]]] = {}
     for part in rig.parts:
+        if part.name in solids:
+            continue
         xs = _positions(part, refs[part.name], element_mm)
         diameters = []
         for a, b in zip(xs[:-1], xs[1:]):
@@ -191,6 +217,8 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
             node_of[(part.name, round(float(x), 6))] = n
 
     def at(part: str, x_mm: float) -> int:
+        if part in solids:
+            return solid_point(part, x_mm, x_mm)
         xs, corners = part_nodes[part]
         k = int(np.argmin(np.abs(xs - x_mm)))
         if abs(xs[k] - x_mm) > 1e-3:
@@ -208,7 +236,11 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
             springs.setdefault((dof, 0 if a is None else dof), []).append((b, a, k))
 
     def arm(node: int, x_mm: float, d_mm: float, material: str) -> tuple[int, int]:
-        """Two stiff beam arms (E × ARM_STIFFENING, Ø40 mm) from ``node`` to x − d and x + d; their ends."""
+        """Two stiff beam arms (E × ARM_STIFFENING, Ø40 mm) from ``node`` to x − d and x + d; their ends (on a solid
+        part: two points that follow the rigid motion of the node's face)."""
+        if node in owner:
+            part, x_fit = owner[node]
+            return solid_point(part, x_fit, x_mm - d_mm), solid_point(part, x_fit, x_mm + d_mm)
         minus = new_node(x_mm - d_mm)
         beam_elements("arm", [x_mm - d_mm, x_mm], [(40.0, 0.0)], material, ARM_STIFFENING, own_first=minus,
                       own_last=node)
@@ -220,6 +252,8 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
         at its centre); the node itself when they coincide."""
         if abs(centre_mm - x_mm) < 1e-6:
             return node
+        if node in owner:
+            return solid_point(owner[node][0], owner[node][1], centre_mm)
         return beam_elements("link", [x_mm, centre_mm], [(40.0, 0.0)], material, ARM_STIFFENING, own_first=node)[-1]
 
     def connect(kind, name, a_part, a_x, b_part, b_x, x_centre, k_trans, k_rot, k_axial):
@@ -279,20 +313,28 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
         elset = materials.setdefault(key, f"S{len(materials) + 1}")
         lines_elements.append((elset, f"{number}, {corners[0]}, {mid}, {tip}"))
         spring(3, None, tip, TORSION_HOLD_NM_PER_RAD / (TORSION_ARM_MM * MM) ** 2)
+    for name in solids:  # the same on a solid: the arm is a point on the first attachment's rigid motion
+        x0 = min(x for (part, x) in owner.values() if part == name)
+        spring(3, None, solid_point(name, x0, x0, TORSION_ARM_MM), TORSION_HOLD_NM_PER_RAD / (TORSION_ARM_MM * MM) ** 2)
     axially_held = {n for (dof, _), rows in springs.items() if dof == 1 for row in rows for n in row[:2] if n}
     for _, (_, corners) in part_nodes.items():
         if not axially_held & set(corners):
             fixed.append((corners[0], 1, 1))
+    for name, shaft in solids.items():
+        if not axially_held & {n for n, (part, _) in owner.items() if part == name}:
+            x0 = min(x for (part, x) in owner.values() if part == name)
+            local, _ = shaft.face_nodes(shaft.face(x0))
+            fixed.append((solid_first[name] + int(local[0]), 1, 1))
 
     # every node a spring or a load acts on gets a short stiff radial stub: ccx then makes the node a knot (a rigid
     # section), so the force enters the whole section as in beam theory, not one expanded node (a local dent)
     for step in STEPS:
         for load in loads[step]:
-            if load.band_mm is None:
+            if load.band_mm is None and load.part not in solids:
                 knots.add(at(load.part, load.x_mm))
     for node in sorted(knots):
-        x0, y0 = next((x, y) for n, x, y in nodes if n == node)
-        if y0 != 0.0:  # the torsion arm's tip: not on the line
+        x0, y0 = next((x, y) for n, x, y, _ in nodes if n == node)
+        if y0 != 0.0 or node in owner:  # the torsion arm's tip (not on the line), or a point on a solid's face
             continue
         mid, tip = new_node(x0, -0.5 * KNOT_STUB_MM), new_node(x0, -KNOT_STUB_MM)
         number = new_element()
@@ -300,13 +342,22 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
         elset = materials.setdefault(key, f"S{len(materials) + 1}")
         lines_elements.append((elset, f"{number}, {node}, {mid}, {tip}"))
     out = ["** rvcoax rig as a CalculiX beam model (benchmarks/calculix_rig.py)", "*NODE, NSET=NALL"]
-    out += [f"{n}, {x * MM:.12e}, {y * MM:.12e}, 0.0" for n, x, y in nodes]
+    out += [f"{n}, {x * MM:.12e}, {y * MM:.12e}, {z * MM:.12e}" for n, x, y, z in nodes]
     by_elset: dict[str, list[str]] = {}
     for elset, text in lines_elements:
         by_elset.setdefault(elset, []).append(text)
     for elset, rows in by_elset.items():
         out.append(f"*ELEMENT, TYPE=B32R, ELSET={elset}")
         out += rows
+    for name, shaft in solids.items():
+        out.append(f"*ELEMENT, TYPE=C3D10, ELSET=SOLID_{name.upper()}")
+        for e in shaft.elements:
+            number = new_element()
+            out.append(f"{number}, " + ", ".join(str(solid_first[name] + int(k)) for k in e))
+        mat = rig.materials[shaft.material]
+        out += [f"*MATERIAL, NAME=MSOLID_{name.upper()}", "*ELASTIC",
+                f"{mat.youngs_modulus_MPa * 1e6:.12e}, {mat.poisson_ratio:.6f}",
+                f"*SOLID SECTION, ELSET=SOLID_{name.upper()}, MATERIAL=MSOLID_{name.upper()}"]
     for (material, stiffen, outer, inner), elset in materials.items():
         mat = rig.materials[material]
         out += [f"*MATERIAL, NAME=M{elset}", "*ELASTIC",
@@ -326,11 +377,25 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
             else:
                 out += [f"*ELEMENT, TYPE=SPRING2, ELSET=K{i}_{j}", f"{number}, {a}, {b}",
                         f"*SPRING, ELSET=K{i}_{j}", f"{dof}, {dof}", f"{k:.12e}"]
-    path_nodes, stations, lengths = {}, {}, {}
+    for i, ((part, x_face), members) in enumerate(rigid.items()):  # each face with its points: one rigid body
+        local, _ = solids[part].face_nodes(solids[part].face(x_face))
+        x, y, z = next((x, y, z) for n, x, y, z in nodes if n == members[0])
+        rotation = new_node(x, y, z)
+        out += ["*NODE, NSET=NALL", f"{rotation}, {x * MM:.12e}, {y * MM:.12e}, {z * MM:.12e}"]
+        out += [f"*NSET, NSET=RB{i}"] + [f"{solid_first[part] + int(n)}," for n in local] + [f"{n}," for n in members[1:]]
+        out += [f"*RIGID BODY, NSET=RB{i}, REF NODE={members[0]}, ROT NODE={rotation}"]
+    path_nodes, stations, lengths, sections = {}, {}, {}, {}
     for key in MEASURED_SHAFTS:
         path = getattr(rig.paths, key)
-        xs = np.linspace(path.x_start_mm, path.x_start_mm + path.length_mm, path.stations)
-        path_nodes[key] = [at(path.part, x) for x in xs]
+        xs = np.linspace(path.x_start_mm, path.x_start_mm + path.length_mm, read_stations or path.stations)
+        if path.part in solids:
+            sections[key] = []
+            for x in xs:
+                local, weights = solids[path.part].section(x)
+                sections[key].append((solid_first[path.part] + local, weights / weights.sum()))
+        else:
+            sections[key] = [(np.array([at(path.part, x)]), np.ones(1)) for x in xs]
+        path_nodes[key] = sorted({int(n) for nodes_, _ in sections[key] for n in nodes_})
         stations[key] = xs - path.x_start_mm
         lengths[key] = float(path.length_mm)
         out += [f"*NSET, NSET=P{key.upper()}"] + [f"{n}," for n in path_nodes[key]]
@@ -342,7 +407,11 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
         for load in loads[step]:
             if any(abs(v) > 0 for v in load.moment_Nm[1:]):
                 raise ValueError("calculix_rig: lateral moments are not modelled")
-            if load.band_mm is None:
+            if load.part in solids:
+                shaft = solids[load.part]
+                local, w = shaft.face_nodes(shaft.load_face(load.x_mm, load.band_mm))
+                targets = [(solid_first[load.part] + int(n), wi / w.sum()) for n, wi in zip(local, w)]
+            elif load.band_mm is None:
                 targets = [(at(load.part, load.x_mm), 1.0)]
             else:
                 xs, corners = part_nodes[load.part]
@@ -362,13 +431,22 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM) -> Deck:
         for key in MEASURED_SHAFTS:
             out += [f"*NODE PRINT, NSET=P{key.upper()}", "U"]
         out.append("*END STEP")
-    return Deck("\n".join(out) + "\n", path_nodes, stations, lengths)
+    return Deck("\n".join(out) + "\n", path_nodes, stations, lengths, sections)
 
 
 def solve_units(rig: Rig, work: Path | None = None, element_mm: float = ELEMENT_MM) -> tuple[dict, Deck]:
     """Run ccx once: u_y (mm) along both paths for each unit load of :data:`STEPS`."""
-    ccx = require_ccx()
     deck = build_deck(rig, element_mm)
+    return run_deck(deck, work), deck
+
+
+LAST_RUN: dict = {}
+
+
+def run_deck(deck: Deck, work: Path | None = None) -> dict:
+    """Run ccx on ``deck``: u_y (mm) at the path stations for each unit load of :data:`STEPS`."""
+    ccx = require_ccx()
+    start = os.times()
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(work) if work else Path(tmp)
         folder.mkdir(parents=True, exist_ok=True)
@@ -378,13 +456,16 @@ def solve_units(rig: Rig, work: Path | None = None, element_mm: float = ELEMENT_
         dat = (folder / "rig.dat").read_text() if (folder / "rig.dat").exists() else ""
         if run.returncode != 0 or "displacements" not in dat:
             raise RuntimeError(f"ccx failed (status {run.returncode}): {run.stdout[-2000:]}")
+    end = os.times()
+    LAST_RUN["cpu_s"] = end.children_user + end.children_system - start.children_user - start.children_system
     # the .dat lists PINPUT then POUTPUT per step
     blocks = _blocks(dat)
     units = {}
     for s, step in enumerate(STEPS):
-        units[step] = {key: np.array([blocks[2 * s + k][n][1] for n in deck.path_nodes[key]]) / MM
+        units[step] = {key: np.array([sum(w * blocks[2 * s + k][int(n)][1] for n, w in zip(*section))
+                                      for section in deck.sections[key]]) / MM
                        for k, key in enumerate(MEASURED_SHAFTS)}
-    return units, deck
+    return units
 
 
 def _blocks(dat: str) -> list[dict[int, np.ndarray]]:
@@ -442,20 +523,28 @@ def compare(log=print) -> dict:
     relative difference of Y_max = max |Y| along the shaft over the cases."""
     cases = (blind_data.REST, *paper_cases())
     units, deck = solve_units(truth_rig())
-    sizes = [len(deck.path_nodes[k]) for k in MEASURED_SHAFTS]
+    sizes = [len(deck.sections[k]) for k in MEASURED_SHAFTS]
     ccx = case_paths(units, cases).reshape(len(cases), -1)[1:]
     out = {}
     for label, rig in (("Timoshenko", identification_rig()), ("Euler-Bernoulli", truth_rig())):
         beam = beam_paths(rig, cases).reshape(len(cases), -1)[1:]
-        for i, key in enumerate(MEASURED_SHAFTS):
-            columns = slice(sum(sizes[:i]), sum(sizes[:i + 1]))
-            a, b = ccx[:, columns], beam[:, columns]
-            rel = float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
-            ymax = np.abs(a).max(axis=1) / np.abs(b).max(axis=1) - 1.0
-            worst = float(ymax[np.argmax(np.abs(ymax))])
+        for key, (rel, worst) in path_differences(ccx, beam, sizes).items():
             out[f"{label} {key}"] = {"rms_relative": rel, "ymax_relative_worst": worst}
             log(f"{label:16s} {key:6s}: RMS(ccx - rvcoax)/RMS(rvcoax) = {100 * rel:.3f} %, "
                 f"Y_max relative difference, worst case: {100 * worst:+.3f} %")
+    return out
+
+
+def path_differences(paths: np.ndarray, reference: np.ndarray, sizes: list[int]) -> dict[str, tuple[float, float]]:
+    """Per measured shaft, of (cases, stations) paths against a reference: RMS(difference) / RMS(reference) and the
+    worst relative difference of Y_max = max |Y| along the shaft over the cases."""
+    out = {}
+    for i, key in enumerate(MEASURED_SHAFTS):
+        columns = slice(sum(sizes[:i]), sum(sizes[:i + 1]))
+        a, b = paths[:, columns], reference[:, columns]
+        ymax = np.abs(a).max(axis=1) / np.abs(b).max(axis=1) - 1.0
+        out[key] = (float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2))),
+                    float(ymax[np.argmax(np.abs(ymax))]))
     return out
 
 
@@ -519,9 +608,10 @@ def detectability(paths: np.ndarray, base: np.ndarray, layout, schema: str, nois
     return float(np.sqrt(np.mean(((hidden - plain) / np.maximum(sigma, 1e-300)) ** 2)))
 
 
-def _hidden_change(rig: Rig, effects: dict, name: str, value: float, base, solve, sizes, log) -> tuple:
+def _hidden_change(rig: Rig, effects: dict, name: str, value: float, base, solve, sizes, log,
+                   solver=None) -> tuple:
     """ccx change of the paths by vocabulary effect ``name`` (a linear one scaled to :data:`TARGET`), its value."""
-    units, _ = solve_units(effects[name].apply(rig, [value]))
+    units, _ = (solver or solve_units)(effects[name].apply(rig, [value]))
     delta = case_paths(units, solve) - base
     if effects[name].linear:
         p = effects[name].parameters[0]
@@ -532,12 +622,14 @@ def _hidden_change(rig: Rig, effects: dict, name: str, value: float, base, solve
 
 
 def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_CASES, stations=FILE_STATIONS,
-               log=print) -> list[dict]:
+               log=print, solve_with=None, model: str = "") -> list[dict]:
     """Solve the hidden effects with ccx and write every data set and ``manifest.json``.
 
     ``sets``: (name, truth, out-of-vocabulary load name or "", schema, noise, notation, datum, seed) rows (default the
     committed :data:`SETS`); ``hidden``: effect name → the value it is first solved at (default :data:`HIDDEN`);
-    ``loads``: out-of-vocabulary load name → (kind, x mm) (``proportional`` ∝ T2, or a ``couple`` 30 mm apart)."""
+    ``loads``: out-of-vocabulary load name → (kind, x mm) (``proportional`` ∝ T2, or a ``couple`` 30 mm apart);
+    ``solve_with``: the solver of a rig (default :func:`solve_units`, the beam deck), ``model`` its description."""
+    solve_units_ = solve_with or solve_units
     sets = sets or [(name, truth, OOV if oov else "", schema, noise, notation, "aligned_at_rest", seed)
                     for seed, (name, truth, oov, schema, noise, notation) in enumerate(SETS)]
     hidden = hidden or HIDDEN
@@ -546,15 +638,15 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
     solve = (blind_data.REST, *paper_cases())  # blind_data picks the files' cases from all of paper 000's
     rig = truth_rig()
     effects = {e.name: e for e in candidate_effects(rig)}
-    units, deck = solve_units(rig)
-    sizes = [len(deck.path_nodes[k]) for k in MEASURED_SHAFTS]
+    units, deck = solve_units_(rig)
+    sizes = [len(deck.sections[k]) for k in MEASURED_SHAFTS]
     base = case_paths(units, solve)
     layout = layout_for(deck, len(solve))
     deltas, values = {}, {}
     for name, value in hidden.items():
-        deltas[name], values[name] = _hidden_change(rig, effects, name, value, base, solve, sizes, log)
+        deltas[name], values[name] = _hidden_change(rig, effects, name, value, base, solve, sizes, log, solve_units_)
     for load, (kind, x_mm) in loads.items():
-        units, _ = solve_units(_with_oov(rig, 1.0, kind, x_mm))
+        units, _ = solve_units_(_with_oov(rig, 1.0, kind, x_mm))
         delta = case_paths(units, solve) - base
         values[load] = TARGET / _relative_change(delta, base, sizes)
         deltas[load] = delta * values[load]
@@ -565,7 +657,7 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
             both = rig
             for member in truth:
                 both = effects[member].apply(both, [values[member]])
-            units, _ = solve_units(both)
+            units, _ = solve_units_(both)
             deltas[truth] = case_paths(units, solve) - base
     out.mkdir(parents=True, exist_ok=True)
     manifest = []
@@ -583,9 +675,9 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
                          "values": {n: round(values[n], 6) for n in ((load,) if load else truth)},
                          "detectability": round(detect, 3), "detectable": not truth and not load or detect >= 1.0})
     (out / "manifest.json").write_text(json.dumps({
-        "model": "CalculiX ccx: B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs built from the reference "
-                 "rig's geometry (self-weight off), see benchmarks/calculix_rig.py",
-        "generator": "benchmarks/calculix_rig.py", "oov_x_mm": OOV_X_MM, "cases": list(case_indices),
+        "model": model or "CalculiX ccx: B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs built from the "
+                          "reference rig's geometry (self-weight off), see benchmarks/calculix_rig.py",
+        "generator": "benchmarks/calculix_solid.py" if solve_with else "benchmarks/calculix_rig.py", "oov_x_mm": OOV_X_MM, "cases": list(case_indices),
         "stations": stations, "sets": manifest}, indent=1) + "\n")
     log(f"wrote {len(manifest)} data sets to {out}")
     return manifest
