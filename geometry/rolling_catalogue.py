@@ -48,7 +48,7 @@ from rvcoax.fem.ball_bearing import BallBearingGeometry
 from rvcoax.fem.roller_bearing import RollerBearingGeometry
 
 __all__ = ["ANGULAR_CONTACT_SUFFIXES", "BALL_FC", "CYLINDRICAL_VARIANTS", "CatalogueRollingBearing",
-           "ROLLER_FC", "ROLLING_BEARINGS", "ROLLING_CATALOGUE_FILE", "TAPERED_E", "ball_dynamic_rating_N",  # noqa: F822  (module __getattr__)
+           "ROLLER_FC", "ROLLING_BEARINGS", "ROLLING_CATALOGUE_FILE", "TAPERED_E", "ball_dynamic_rating_N",
            "ball_static_rating_N", "catalogue_entry", "nearest_designations", "normalise_designation",
            "roller_dynamic_rating_N", "roller_static_rating_N", "rolling_bearings"]
 
@@ -222,8 +222,13 @@ def rolling_bearings() -> dict[str, CatalogueRollingBearing]:
     return _read_catalogue()
 
 
+ROLLING_BEARINGS: dict[str, CatalogueRollingBearing]  # declared only: module __getattr__ builds it when first read
+"""Designation → catalogue entry (:func:`rolling_bearings`, built on first use): 70xx/72xx/73xx with suffix B, AC
+or C; NU/N/NJ 2xx and 3xx (04–10); 302xx, 320xx X and 322xx (04–10)."""
+
+
 def __getattr__(name: str):
-    if name == "ROLLING_BEARINGS":  # the catalogue as a module constant, built when first read
+    if name == "ROLLING_BEARINGS":
         return rolling_bearings()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

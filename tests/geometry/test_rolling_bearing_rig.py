@@ -290,6 +290,7 @@ def test_load_ratings_of_an_entry():
     assert c == pytest.approx(13500.0, rel=0.10) and c0 == pytest.approx(6550.0, rel=0.05)
 
 
+@pytest.mark.subprocess  # a fresh interpreter, to see what an import loads
 def test_catalogue_is_built_on_first_use_with_the_eagerly_built_values():
     import subprocess
     import sys
