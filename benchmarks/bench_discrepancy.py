@@ -28,6 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the tests' rig and data helpers
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "results"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "support"))  # (the helpers moved there)
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from discrepancy_data import LENGTHS, STATIONS, discrepancy_rig, finer  # noqa: E402
@@ -38,6 +39,14 @@ from rvcoax.loadcases.cases import paper_cases  # noqa: E402
 from rvcoax.results.studies.discrepancy.synthetic import effect_size_for, observation_layout, synthetic_data  # noqa: E402
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library, run_discrepancy  # noqa: E402
 from rvcoax.results.sweep import SweepSettings  # noqa: E402
+
+
+def _timed(start: float, cpu: float, result, load: float) -> str:
+    """Wall and CPU seconds since ``start``/``cpu``, with the confidence estimate's share (issue 28 item 6)."""
+    c = result.confidence
+    share = "" if c is None else f"; confidence estimate {c.seconds:.2f} s wall, {c.total_draws} draws"
+    return (f"{time.perf_counter() - start:.2f} s wall, {time.process_time() - cpu:.2f} s CPU (verdict "
+            f"{result.verdict}{share}; load average {load:.2f})")
 
 
 def timing(record_it: bool) -> None:
@@ -51,20 +60,18 @@ def timing(record_it: bool) -> None:
     table = read_measured(Path(__file__).resolve().parents[1] / "loadcases/data/paper000_coaxiality_table.csv")
     rig = load_rig()
     for label, run_rig, data in (("paper table, 20 cases, 40 observations", rig, table),):
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         result = run_discrepancy(run_rig, data, DiscrepancySettings())
-        rows.append((f"{label}: end to end", f"{time.perf_counter() - start:.2f} s (verdict {result.verdict}, "
-                     f"load average {os.getloadavg()[0]:.2f})"))
+        rows.append((f"{label}: end to end", _timed(start, cpu, result, os.getloadavg()[0])))
     rig = discrepancy_rig()
     effect = {e.name: e for e in candidate_effects(rig)}["bearing_stiffness@output_B2"]
     template = observation_layout(paper_cases(), 9, LENGTHS, "paths")
     truth = effect.apply(rig, [effect_size_for(effect, rig, paper_cases(), template, 0.3)])
     data = synthetic_data(finer(truth), template, 0.01, 1)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     result = run_discrepancy(rig, data, DiscrepancySettings())
     rows.append((f"paths file, {data.n} rows, hidden bearing_stiffness@output_B2: end to end",
-                 f"{time.perf_counter() - start:.2f} s (verdict {result.verdict}, load average "
-                 f"{os.getloadavg()[0]:.2f})"))
+                 _timed(start, cpu, result, os.getloadavg()[0])))
     for label, value in rows:
         print(f"{label}: {value}")
     if record_it:

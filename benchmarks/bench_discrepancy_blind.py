@@ -246,6 +246,7 @@ def main() -> None:
     readings: dict = collections.defaultdict(collections.Counter)
     confusion: dict = collections.defaultdict(collections.Counter)
     seconds, runs, misnames, aborts, truth_among_unexplained = [], [], [], [], []
+    calibration: list[tuple[float, bool, str, str]] = []  # (stated probability, honest, verdict, schema) per run
     start = time.perf_counter()
     for dataset in chosen:
         if args.max_minutes is not None and time.perf_counter() - start > 60 * args.max_minutes:
@@ -291,6 +292,10 @@ def main() -> None:
         group = dataset["group"]
         if "error" not in document:
             reading = criteria(document, dataset)
+            stated = document.get("confidence") or {}
+            if isinstance(stated.get("probability"), (int, float)):
+                calibration.append((float(stated["probability"]), bool(reading["honest"]),
+                                    str(document.get("verdict")), dataset["schema"]))
             for key in (group, f"{group} {dataset['schema']}", f"all {dataset['schema']}", "all"):
                 readings[key]["runs"] += 1
                 readings[key].update(k for k, v in reading.items() if v)
@@ -311,6 +316,7 @@ def main() -> None:
     lines = summary(runs, outcomes, confusion, seconds, misnames, aborts, library_seconds, superposition, len(sets),
                     label, bool(args.rescore))
     lines += readings_lines(readings)
+    lines += reliability_lines(calibration)
     if args.note:
         lines.insert(1, ("note", args.note))
     lines.insert(8 if args.note else 7, ("vocabulary/pair runs scored wrong for an 'unexplained' verdict although the truth is among "
@@ -366,6 +372,46 @@ def readings_lines(readings) -> list[tuple[str, str]]:
         out.append((f"issue-28 reading, {key}", f"honest {c['honest']}/{n} ({100 * c['honest'] / n:.0f} %), "
                     f"informative {c['informative']}/{n} ({100 * c['informative'] / n:.0f} %), "
                     f"explained excluding the truth {c['explained_wrong']}"))
+    return out
+
+
+RELIABILITY_BINS = (0.0, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0000001)
+
+
+def reliability_lines(calibration) -> list[tuple[str, str]]:
+    """Is the stated confidence calibrated? Per bin of the stated probability that the verdict is right: runs, the
+    mean stated probability, the observed rate of honest answers (Wilson 95 % interval); the Brier score, against
+    that of stating the overall honest rate for every run (a probability that knows nothing of the run)."""
+    from rvcoax.results.studies.discrepancy.confidence import wilson
+
+    if not calibration:
+        return []
+    p = np.array([c[0] for c in calibration])
+    y = np.array([c[1] for c in calibration], dtype=float)
+    out = []
+    for lo, hi in zip(RELIABILITY_BINS[:-1], RELIABILITY_BINS[1:]):
+        inside = (p >= lo) & (p < hi)
+        n = int(inside.sum())
+        if n:
+            k = int(y[inside].sum())
+            low, high = wilson(k, n)
+            out.append((f"reliability, stated {lo:.2f}–{min(hi, 1.0):.2f}",
+                        f"{n} runs, stated mean {p[inside].mean():.2f}, observed right {k}/{n} = {k / n:.2f} "
+                        f"(95 % {low:.2f}–{high:.2f})"))
+    brier = float(np.mean((p - y) ** 2))
+    reference = float(np.mean((y.mean() - y) ** 2))
+    out.append(("Brier score of the stated confidence (0 best)", f"{brier:.3f} over {p.size} runs; stating the "
+                f"overall right rate {y.mean():.2f} for every run: {reference:.3f}"))
+    if y.all() or not y.any():
+        out.append(("stated confidence on right / wrong answers", f"mean {p.mean():.2f}; all {int(y.sum())} runs alike"))
+    else:
+        out.append(("stated confidence on right / wrong answers", f"mean {p[y == 1].mean():.2f} on the "
+                    f"{int(y.sum())} right, {p[y == 0].mean():.2f} on the {int((1 - y).sum())} wrong"))
+    for key, index in (("verdict", 2), ("schema", 3)):
+        for value in sorted({c[index] for c in calibration}):
+            mask = np.array([c[index] == value for c in calibration])
+            out.append((f"calibration by {key}, {value}", f"{int(mask.sum())} runs, stated mean {p[mask].mean():.2f}, "
+                        f"observed right {y[mask].mean():.2f}, Brier {np.mean((p[mask] - y[mask]) ** 2):.3f}"))
     return out
 
 

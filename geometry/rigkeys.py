@@ -144,6 +144,12 @@ MEANINGS = {
     "torques.T2.part": "Where the output torque T2 is reacted (the brake shaft).",
     "torques.T2.x_mm": "Position of the output torque.",
     "torques.T2.sign": "+1 or −1: the direction of T2 on that part.",
+    **{f"torques.{key}.reacted_on.{item}": text for key in ("T1", "T2") for item, text in (
+        ("part", f"The stator of the motor or brake that applies {key} (its housing): takes the opposite torque, so "
+                 "the support under it carries it as on the bench; none: the rig's torsional springs take it."),
+        ("x_mm", "Where the opposite torque acts."),
+        ("band_mm", "On a solid part: the band of its surface loaded [start, end]."),
+        ("tie", "How a solid face is loaded: distributing or rigid."))},
     "torque_lateral_loads[].name": "Unique name of the load.",
     "torque_lateral_loads[].torque": "The torque that drives the load: T1 or T2.",
     "torque_lateral_loads[].kind": "gear_mesh_load_sharing, crank_load_sharing, torque_arm or proportional "

@@ -542,6 +542,14 @@ class TorqueInput(StrictModel):
     part: str
     x_mm: Finite
     sign: Literal[1, -1] = 1
+    reacted_on: Location | None = Field(None, description=(
+        "Where the torque's reaction acts: the stator of the motor or brake that applies it (its housing). The "
+        "opposite torque is applied there, so the support under it carries it as the real one does; none: the "
+        "rig's torsional springs take it to the ground (the supports' Mx then do not show the real ones)."))
+    reaction_spring: str | None = Field(None, description=(
+        "The spring meant to take this torque out of its shaft line (the reducer's gear mesh or output joint); "
+        "default: a [[reducers]] joint, else the line's torsional spring farthest from the torque. `rvcoax "
+        "sweep` warns when another spring carries more than 2 % of it."))
 
 
 class Torques(StrictModel):
@@ -1303,9 +1311,18 @@ class Rig(StrictModel):
 
     def _load_problems(self, parts: dict):
         """The torques, the torque-proportional lateral loads and the gear meshes: where they act."""
+        springs = {item.name for group in (self.bearings, self.mounts, self.couplings, self.joints) for item in group}
+        springs |= {r.name for r in self.reducers}
         for key in ("T1", "T2"):
             t = getattr(self.torques, key)
             yield from self._at(parts, f"torques.{key}", t.part, t.x_mm)
+            if t.reacted_on is not None:
+                yield from self._at(parts, f"torques.{key}.reacted_on", t.reacted_on.part, t.reacted_on.x_mm)
+                if t.reacted_on.part == t.part:
+                    yield f"torques.{key}: part and reacted_on are the same part '{t.part}'"
+            if t.reaction_spring is not None and t.reaction_spring not in springs:
+                yield (f"torques.{key}.reaction_spring: no bearing, mount, coupling, joint or reducer named "
+                       f"'{t.reaction_spring}'")
         yield from self._reducer_problems()
         for i, t in enumerate(self.torque_lateral_loads):
             yield from self._at(parts, f"torque_lateral_loads[{i}] ('{t.name}').on", t.on.part, t.on.x_mm)

@@ -2,7 +2,7 @@
 dynamics exports (:mod:`.export`), studies (:mod:`.studies`) and the command line (:mod:`.cli`).
 
 Public names (loaded on first use): a sweep, its settings and the prepared model it solves; bearing lives per
-case and over a duty cycle; shaft stresses and DIN 743 notch safety per case and over the cases.
+case and over a duty cycle; shaft stresses and DIN 743 notch safety per case and over the cases; the torque path of each shaft line.
 """
 
 if __name__ != "rvcoax.results":  # run from the repository root, the folder itself is on sys.path: not a package of its own
@@ -20,4 +20,5 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
                                    "sweep_lives"),
     "rvcoax.results.shaft_safety": ("case_stress_profiles", "shaft_strength", "strength_of_records", "stress_profiles",
                                     "worst_notches"),
+    "rvcoax.results.torque_path": ("torque_path_warnings", "torque_paths"),
 })

@@ -46,6 +46,7 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.engineering import CaseEngineering, case_engineering, reducer_checks, rolling_bearing_lives
 from rvcoax.results.paths import ShaftPathResult
 from rvcoax.results.shaft_safety import ShaftStrength, shaft_strength
+from rvcoax.results.torque_path import TorquePaths, torque_paths
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
            "ModelError", "NonlinearStates", "PreparedModel", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
@@ -99,6 +100,7 @@ class CaseResult:
     ball_lives: tuple = ()  # nonlinear sweeps: the lives of the bearings from geometry from their element loads
     reducer_checks: tuple = ()  # nonlinear sweeps: each reducer against its rating table (ReducerCheck)
     shaft_strength: ShaftStrength | None = None  # shaft stresses and DIN 743 notch safety (results/shaft_safety.py)
+    torque_paths: TorquePaths | None = None  # where each applied torque leaves its shaft line (results/torque_path.py)
 
 
 @dataclass(frozen=True, eq=False)
@@ -441,13 +443,12 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             case=case,
             paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
-            equilibrium_error=check.relative_error,
-            residual=residual,
+            equilibrium_error=check.relative_error, residual=residual,
             engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
                                          fixed_change=unbalance - rest_unbalance) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
-        ))
+            torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:
@@ -577,7 +578,8 @@ def run_gap_sweep(cases, settings: SweepSettings, prepared: PreparedModel, *, pr
                                   absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
                                   equilibrium_error=check.relative_error, residual=residual, engineering=tables,
                                   ball_lives=lives, reducer_checks=checks,
-                                  shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None))
+                                  shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
+                                  torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         if on_case is not None:
             on_case(i, results[-1])
         if progress is not None:

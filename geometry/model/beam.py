@@ -110,6 +110,8 @@ def _referenced_positions(rig: Rig) -> dict[str, list[float]]:
     refs = attachment_positions(rig)
     for t in (rig.torques.T1, rig.torques.T2):
         refs[t.part].append(t.x_mm)
+        if t.reacted_on is not None:
+            refs[t.reacted_on.part].append(t.reacted_on.x_mm)
     for t in rig.torque_lateral_loads:
         refs[t.on.part].append(t.on.x_mm)
         if t.reacted_on is not None:

@@ -102,10 +102,15 @@ def _gear_mesh_loads(rig: Rig, which: str, part: str) -> list[LocatedLoad]:
 
 
 def torque_loads(rig: Rig, which: str) -> list[LocatedLoad]:
-    """A unit torque (1 N·m) T1 or T2 about +x (times its sign), with its proportional lateral loads."""
+    """A unit torque (1 N·m) T1 or T2 about +x (times its sign), the opposite one on its ``reacted_on`` stator
+    where given, with its proportional lateral loads."""
     torque = getattr(rig.torques, which)
-    return [LocatedLoad(torque.part, torque.x_mm, (0.0, 0.0, 0.0), (float(torque.sign), 0.0, 0.0)),
-            *_lateral_loads(rig, which, "proportional")]
+    loads = [LocatedLoad(torque.part, torque.x_mm, (0.0, 0.0, 0.0), (float(torque.sign), 0.0, 0.0))]
+    if torque.reacted_on is not None:  # the stator's reaction: the opposite torque on the motor's or brake's housing
+        stator = torque.reacted_on
+        loads.append(LocatedLoad(stator.part, stator.x_mm, (0.0, 0.0, 0.0), (-float(torque.sign), 0.0, 0.0),
+                                 band_mm=stator.band_mm))
+    return [*loads, *_lateral_loads(rig, which, "proportional")]
 
 
 def force_table_loads(rig: Rig) -> list[LocatedLoad]:

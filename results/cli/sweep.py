@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import reaction_sum
+from rvcoax.results import reaction_sum, torque_path_warnings
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -329,6 +329,8 @@ def sweep(
     for line in engineering_warnings(rig, [r["entry"] for r in records],
                                      {**model_section.get("ball_bearing_operating_points", {}),
                                       **model_section.get("rolling_bearing_operating_points", {})}):
+        support.warn(line)
+    for line in torque_path_warnings([r["entry"] for r in records]):
         support.warn(line)
     if model_section.get("nonlinear"):
         nonlinear = (model_section["gapped_bearings"] + model_section.get("ball_bearings", [])

@@ -75,6 +75,11 @@ ENGINEERING_DEFINITIONS = {
                       "amplitude M/W_b; torque and axial force steady: means), static proof at the case's loads × "
                       "[shaft_strength] peak_load_factor; fatigue_safety / static_safety null: no amplitude (infinite); "
                       "the spectrum's safety is the smallest over the cases (no damage accumulation)",
+    "torque_paths": "per shaft line that a torque acts on (line: the torques on it): applied_Nm = Σ sign × T about +x; "
+                    "exits: every spring with torsional stiffness from the line to another part or the ground, with "
+                    "the torque it carries out of the line (N·m, in the sense of the applied torque) and its share of "
+                    "it (%); reaction: the exit meant to take the torque (reaction_rule: reaction_spring, reducer or far "
+                    "end); carried_Nm: the torque that reaches it, which the line's couplings and sensors carry",
 }
 
 
@@ -131,6 +136,8 @@ def case_row(case: CaseResult) -> dict:
     row.update(reducer_columns(getattr(case, "reducer_checks", ())))
     if getattr(case, "shaft_strength", None) is not None:
         row.update(case.shaft_strength.row())
+    if getattr(case, "torque_paths", None) is not None:
+        row.update(case.torque_paths.row())
     return row
 
 
@@ -184,6 +191,8 @@ def case_entry(case: CaseResult) -> dict:
         entry["engineering"]["reducers"] = reducer_entries(case.reducer_checks)
     if getattr(case, "shaft_strength", None) is not None:
         entry["engineering"]["shaft_strength"] = case.shaft_strength.entry()
+    if getattr(case, "torque_paths", None) is not None:
+        entry["engineering"]["torque_paths"] = case.torque_paths.entry()
     return entry
 
 

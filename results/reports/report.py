@@ -37,6 +37,7 @@ from rvcoax.results.engineering import engineering_warnings
 from rvcoax.results.io.writers import write_text_atomic
 from rvcoax.results.reports import report_tables as tables
 from rvcoax.results.reports.shaft_tables import shaft_strength_tables
+from rvcoax.results.torque_path import torque_path_warnings
 
 __all__ = ["PAPER_SIZES", "REPORT_SECTIONS", "ReportError", "ReportInputs", "read_discrepancy", "report_html", "write_report"]
 
@@ -167,10 +168,12 @@ def _missing(text: str) -> str:
 
 def _warnings_html(sweep, entries: list[dict]) -> str:
     """The sweep's bearing and reducer warnings (:func:`rvcoax.results.engineering.engineering_warnings`, the
-    console's sentences), one note each."""
+    console's sentences) and its torque-path warnings (:func:`rvcoax.results.torque_path.torque_path_warnings`),
+    one note each."""
     points = {**sweep.solver_report.get("ball_bearing_operating_points", {}),
               **sweep.solver_report.get("rolling_bearing_operating_points", {})}
-    return "".join(_missing(f"Warning: {w}") for w in engineering_warnings(sweep.rig, entries, points))
+    warnings = engineering_warnings(sweep.rig, entries, points) + torque_path_warnings(entries)
+    return "".join(_missing(f"Warning: {w}") for w in warnings)
 
 
 def _tilt_figure(sweep, path: Path) -> Path:

@@ -42,7 +42,8 @@ def test_a_bearing_stiffness_in_n_per_m_is_named_with_key_range_and_slip():
 
 
 @pytest.mark.parametrize(("edit", "words"), [
-    (lambda d: d["torques"]["T1"].update(part="motor_housing"), "torques.T1.part = 'motor_housing' is a housing"),
+    (lambda d: (d["torques"]["T1"].update(part="motor_housing"), d["torques"]["T1"].pop("reacted_on")),
+     "torques.T1.part = 'motor_housing' is a housing"),
     (lambda d: d["bearings"][4].update(shaft="input_bearing_block", housing="input_shaft"), "swapped?"),
     (lambda d: d["torque_lateral_loads"][1]["reacted_on"].update(part="output_shaft", x_mm=420),
      "on.part and reacted_on.part are both 'output_shaft'"),

@@ -90,7 +90,7 @@ def test_bad_reducer_input_is_refused_with_key_and_reason():
     data["joints"].append({"name": "old_flange", "from": {"part": "reducer", "x_mm": 275},
                            "to": {"part": "output_shaft", "x_mm": 275}, "translational_stiffness_N_per_um": [1, 1, 1],
                            "rotational_stiffness_Nm_per_rad": [1, 1, 1]})
-    with pytest.raises(RigFileError, match=r"joints\[2\] \('old_flange'\).*would count twice"):
+    with pytest.raises(RigFileError, match=r"joints\[1\] \('old_flange'\).*would count twice"):
         parse_rig(data, "x")
 
 

@@ -21,7 +21,7 @@ FLOORS = (
     ("geometry, load cases", ("rvcoax.geometry.*", "rvcoax.loadcases.*")),
     ("geometry/model", ("rvcoax.geometry.model.*",)),
     ("results core", ("rvcoax.results", "rvcoax.results.paths", "rvcoax.results.engineering", "rvcoax.results.sweep",
-                      "rvcoax.results.connections", "rvcoax.results.shaft_safety")),
+                      "rvcoax.results.connections", "rvcoax.results.shaft_safety", "rvcoax.results.torque_path")),
     ("results/io", ("rvcoax.results.io.*",)),
     ("results/studies", ("rvcoax.results.studies.*",)),
     ("results/reports, results/export", ("rvcoax.results.reports.*", "rvcoax.results.export.*")),

@@ -86,9 +86,13 @@ def test_engineering_tables_of_the_example_rig(rig, sweep):
     mass_kg = sum(sweep.frame.part_mass_kg.values())  # coupling masses are in their hubs' parts
     assert weight == pytest.approx(mass_kg * 9.80665, rel=1e-9)
     assert last["equilibrium_residual"]["force_N"] < 1e-6 * weight
-    # torque flows: the output-side reactions about x together carry T2 − T1 (the line's external torques)
-    torque = sum(r["moment_Nm"][0] for r in last["reactions"])
-    assert torque == pytest.approx(last["T2_output_Nm"] - last["T1_input_Nm"], rel=1e-6)
+    # torque flows: the stators take the opposite torques (reacted_on), so the reactions about x sum to zero and the
+    # reducer's pedestal carries T2 − T1, the brake's feet T2 and the motor's bracket T1
+    moments = {r["name"]: r["moment_Nm"][0] for r in last["reactions"]}
+    assert abs(sum(moments.values())) < 1e-9 * last["T2_output_Nm"]
+    assert moments["reducer_pedestal"] == pytest.approx(last["T2_output_Nm"] - last["T1_input_Nm"], rel=1e-6)
+    assert moments["brake_feet"] == pytest.approx(-last["T2_output_Nm"], rel=1e-6)
+    assert moments["motor_bracket"] == pytest.approx(last["T1_input_Nm"], rel=1e-6)
     output = last["shafts"]["output"]
     assert output["Y_max_um"] == pytest.approx(sweep.cases[-1].paths["output"].y_max_mm * 1e3)
     assert output["beta_paper_urad"] == pytest.approx(np.radians(output["beta_paper_deg"]) * 1e6)

@@ -259,12 +259,17 @@ class Engine:
     def sentinel_paths(self, sites, component: int) -> np.ndarray:
         """Paths (n_sites, n_path) in mm of a unit force along Y (``component`` 1, N) or a unit moment about Z
         (``component`` 5, N·m) at each site."""
-        n = self.system.n_dofs
-        load = np.zeros((n, len(sites)))
-        for j, (_, _, node) in enumerate(sites):
-            load[DOFS_PER_NODE * node + component, j] = 1.0
-        u = self.prepared.solve(load)
-        return np.asarray(self.path_operator @ u).T
+        key = (tuple(int(s[2]) for s in sites), int(component))
+        cache = self.__dict__.setdefault("_sentinel_paths", {})  # the scan asks for the same sites several times
+        if key not in cache:
+            n = self.system.n_dofs
+            load = np.zeros((n, len(sites)))
+            for j, (_, _, node) in enumerate(sites):
+                load[DOFS_PER_NODE * node + component, j] = 1.0
+            u = self.prepared.solve(load)
+            cache[key] = np.asarray(self.path_operator @ u).T
+            cache[key].setflags(write=False)
+        return cache[key]
 
     # -- fallbacks -----------------------------------------------------------------------------------------
     def swept_unit_paths(self, rig) -> np.ndarray:

@@ -23,7 +23,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.studies.discrepancy.measured import MeasuredData
 
 __all__ = ["GapTest", "NoiseEstimate", "StructureFinding", "curvature_beyond_allowance", "estimate_noise", "gap_test",
-           "residual_structure"]
+           "group_rms", "residual_structure"]
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,7 @@ class NoiseEstimate:
     method: dict[str, str]
 
 
-def _group_rms(data: MeasuredData) -> np.ndarray:
+def group_rms(data: MeasuredData) -> np.ndarray:
     """RMS of the measured values of the same (case, shaft) as each observation."""
     rms = np.zeros(data.n)
     for case in np.unique(data.case_index):
@@ -100,7 +100,7 @@ def estimate_noise(data: MeasuredData, model_form_fraction: float) -> NoiseEstim
         else:
             noise[shaft], method[shaft] = _table_noise(data, shaft)
     base = data.sigma_mm if data.sigma_mm is not None else np.array([noise[s] for s in data.shaft])
-    sigma = np.sqrt(base ** 2 + (model_form_fraction * _group_rms(data)) ** 2)
+    sigma = np.sqrt(base ** 2 + (model_form_fraction * group_rms(data)) ** 2)
     positive = sigma[sigma > 0]
     sigma = np.where(sigma > 0, sigma, positive.min() if positive.size else 1e-9)
     return NoiseEstimate(sigma, noise, method)
@@ -221,7 +221,7 @@ def curvature_beyond_allowance(data: MeasuredData, residual_mm: np.ndarray, sigm
     than the allowance is what the fit already tolerates as model form, however many points see it.
     """
     mask = data.shaft == shaft
-    scale = _group_rms(data)
+    scale = group_rms(data)
     keep = mask & (scale > 0) & (sigma_mm > 0)
     if keep.sum() < 4 or np.ptp(data.x_mm[keep]) <= 0:
         return None

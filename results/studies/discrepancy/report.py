@@ -81,7 +81,7 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
                      f"{1e3 * after[shaft]:.3g} µm after{tilt}")
     if result.verdict == "no_gap":
         lines.append("the model agrees with the measurement within the noise and the model-form allowance")
-        return lines
+        return lines + _confidence_line(result)
     for s in result.selected:
         effect = result.effects[s.name]
         text = meaning(effect, s.values) + _bound_note(effect, s.values)
@@ -111,7 +111,13 @@ def engineering_summary(result: DiscrepancyResult, lengths_mm: dict[str, float])
                          "it" if any("generic load" in r or "cancel" in r for r in result.reasons) else
                          f"closest generic load: {shown.describe()}")
         lines.append("not explained: " + "; ".join(result.reasons))
-    return lines
+    return lines + _confidence_line(result)
+
+
+def _confidence_line(result: DiscrepancyResult) -> list[str]:
+    """The verdict's probability of being right (:mod:`confidence`), as one sentence; none when not estimated."""
+    c = getattr(result, "confidence", None)
+    return [] if c is None else [c.sentence(result.verdict)]
 
 
 def _bound_note(effect, values) -> str:
@@ -226,6 +232,7 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
         "headline": "; ".join(summary),
         "summary": summary,
         "reasons": list(result.reasons),
+        "confidence": None if getattr(result, "confidence", None) is None else result.confidence.as_dict(),
         "named": [{"effect": s.name, "meaning": meaning(effects[s.name], s.values), "group": list(s.group),
                    "confident": s.confident} for s in result.selected],
         "observability": observability_document(result),
@@ -262,7 +269,7 @@ def discrepancy_document(result: DiscrepancyResult, lengths_mm: dict[str, float]
         "rms_before_mm": _rounded(result.rms_mm("before")),
         "rms_after_mm": _rounded(result.rms_mm("after")),
         "rms": rms_table(result, lengths_mm),
-        "structure_before": [{"shaft": f.shaft, "test": f.test, "significant": f.significant, "detail": f.detail}
+        "structure_before": [{"shaft": f.shaft, "test": f.test, "significant": bool(f.significant), "detail": f.detail}
                              for f in result.structure],
         "steps": [{"added": s.added, "delta_bic": s.delta_bic, "group": list(s.group), "pruned": list(s.pruned),
                    "ranking_delta_bic": {n: float(f"{g:.6g}") for n, g in s.ranking}} for s in result.steps],

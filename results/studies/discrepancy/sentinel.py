@@ -199,6 +199,71 @@ def fit_sentinel(observed, exclude: tuple[tuple[str, float, float], ...] = ()) -
                        change=np.asarray(change))
 
 
+@dataclass(frozen=True)
+class SentinelScan:
+    """The sentinel's scan for many targets at once: per entry (family × site) and target, the best subset's
+    ``chi2`` and ``bic`` (``inf`` where no subset is usable), its parameter count ``k`` (fitted parts + the
+    location), and each entry's ``family`` and ``site``."""
+
+    chi2: np.ndarray  # (targets, entries)
+    bic: np.ndarray
+    k: np.ndarray
+    family: tuple[str, ...]
+    site: tuple[tuple, ...]
+
+
+def sentinel_scan(observed, targets: np.ndarray) -> SentinelScan | None:
+    """:func:`fit_sentinel`'s scan for every row of ``targets`` (scaled residuals of every observation, (m, n)) at
+    once, with the σ and rows of ``observed``: the normal equations' matrices depend on σ and the sites only, so
+    many data sets on the same observations cost one scan and a few products (the confidence estimate's draws)."""
+    engine, data, base_paths, observe = observed.engine, observed.data, observed.base_paths, observed.observe
+    sigma, rows = observed.sigma, observed.rows
+    operator = linear_observation(observe, base_paths)
+    picked = np.flatnonzero(rows)
+    n = picked.size
+    scaled_targets = np.asarray(targets)[:, picked]
+    total = np.einsum("mi,mi->m", scaled_targets, scaled_targets)
+    sites = engine.sentinel_sites()
+    chi2_all, bic_all, k_all, families, entries = [], [], [], [], []
+    for family, (component, _) in FAMILIES.items():
+        shapes_of, factors = _observed_blocks(engine, sites, component, data.cases, from_rest=observed.from_rest,
+                                              operator=operator)
+        parts = list(factors)
+        if not parts:
+            continue
+        shapes = shapes_of(picked)  # (n, sites)
+        scaled = np.stack([factors[p][picked] / sigma[picked] for p in parts], axis=1)  # (n, k)
+        gram_full = np.einsum("ns,ni,nj->sij", shapes * shapes, scaled, scaled)
+        rhs_full = np.einsum("ns,ni,nm->sim", shapes, scaled, scaled_targets.T)  # (sites, k, m)
+        best_bic = np.full((len(sites), total.size), np.inf)
+        best_chi2 = np.full_like(best_bic, np.inf)
+        best_k = np.zeros(best_bic.shape, dtype=int)
+        for size in range(1, len(parts) + 1):
+            for subset in itertools.combinations(parts, size):
+                index = [parts.index(p) for p in subset]
+                gram = gram_full[:, index][:, :, index]
+                rhs = rhs_full[:, index, :]
+                usable = np.linalg.det(gram) > 1e-12 * np.prod(np.diagonal(gram, axis1=1, axis2=2), axis=1)
+                if not usable.any():
+                    continue
+                coefficients = np.zeros_like(rhs)
+                coefficients[usable] = np.linalg.solve(gram[usable], rhs[usable])
+                chi2 = total[None, :] - np.einsum("sim,sim->sm", rhs, coefficients)
+                limits = np.array([LIMITS[family][0 if p == "constant" else 1] for p in subset])
+                ok = usable[:, None] & np.all(np.abs(coefficients) <= limits[None, :, None], axis=1)
+                bic = np.where(ok, chi2 + (size + 1) * np.log(max(n, 2)), np.inf)
+                better = bic < best_bic
+                best_bic = np.where(better, bic, best_bic)
+                best_chi2 = np.where(better, np.maximum(chi2, 0.0), best_chi2)
+                best_k = np.where(better, size + 1, best_k)
+        chi2_all.append(best_chi2.T), bic_all.append(best_bic.T), k_all.append(best_k.T)
+        families += [family] * len(sites)
+        entries += list(sites)
+    if not entries:
+        return None
+    return SentinelScan(np.hstack(chi2_all), np.hstack(bic_all), np.hstack(k_all), tuple(families), tuple(entries))
+
+
 def sentinel_columns(fit: SentinelFit, observed) -> np.ndarray:
     """The observed change per unit of each fitted part of ``fit`` (n_obs, k − 1), for refits on other rows."""
     engine = observed.engine

@@ -28,6 +28,7 @@ from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguity
+from rvcoax.results.studies.discrepancy.confidence import Confidence, verdict_confidence
 from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
 from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, look_alike_places, verdict
@@ -107,6 +108,7 @@ class DiscrepancySettings:
     max_effects: int = 4
     max_rounds: int = 1  # kept for callers: one round on the factorised base model
     candidates: tuple[str, ...] | None = None  # effect names or kinds; None: the whole library
+    confidence_draws: int = 160  # synthetic data sets of the confidence estimate (:mod:`confidence`); 0: none
 
 
 @dataclass(frozen=True)
@@ -275,6 +277,7 @@ class DiscrepancyResult:
     ambiguities: tuple[Ambiguity, ...] = ()
     pair_search: PairSearch | None = None
     beyond_bounds: tuple[str, ...] = ()
+    confidence: Confidence | None = None
 
     @property
     def verdict_sentinel(self) -> SentinelFit | None:
@@ -821,7 +824,8 @@ def run_discrepancy(rig, data: MeasuredData, settings: DiscrepancySettings = Dis
     seen = _observe(rig, data, settings, library, progress)
     located = _locate(seen, settings)
     named = _name(seen, located, settings)
-    return _judge(seen, located, named, settings)
+    result = _judge(seen, located, named, settings)
+    return replace(result, confidence=verdict_confidence(seen, result, settings, settings.confidence_draws))
 
 
 def _observation_factory(data):

@@ -61,9 +61,13 @@ CASES: list[Hostile] = [
               "materials.40Cr.poisson_ratio = 0.49", "(0.1 … 0.45)"),
     _rig_case("housing mass in g", "mass_kg = 2.5                       # [R] 750 W class servo motor",
               "mass_kg = 2500", "parts[0] ('motor_housing').mass_kg = 2500 kg", "(a mass in g, or segments in m?)"),
-    _rig_case("drive torque on a housing", '[torques.T1]\npart = "motor_shaft"', '[torques.T1]\npart = "motor_housing"',
+    # (the stator's reaction, reacted_on, is dropped with it: a torque and its reaction on one part is refused)
+    _rig_case("drive torque on a housing", '[torques.T1]\npart = "motor_shaft"\nx_mm = 0\nsign = 1                            # +x\n'
+              'reacted_on = { part = "motor_housing", x_mm = 0 }', '[torques.T1]\npart = "motor_housing"\nx_mm = 0\nsign = 1',
               "torques.T1.part = 'motor_housing' is a housing (role body)"),
-    _rig_case("brake torque on a housing", '[torques.T2]\npart = "brake_shaft"', '[torques.T2]\npart = "brake_housing"',
+    _rig_case("brake torque on a housing", '[torques.T2]\npart = "brake_shaft"\nx_mm = 1000\nsign = -1                           '
+              '# the brake opposes the output rotation\nreacted_on = { part = "brake_housing", x_mm = 1000 }',
+              '[torques.T2]\npart = "brake_housing"\nx_mm = 1000\nsign = -1',
               "torques.T2.part = 'brake_housing' is a housing"),
     _rig_case("bearing shaft and housing swapped", 'shaft = "input_shaft"\nhousing = "input_bearing_block"',
               'shaft = "input_bearing_block"\nhousing = "input_shaft"',

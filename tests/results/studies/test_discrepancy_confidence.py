@@ -1,0 +1,100 @@
+"""The verdict's calibrated confidence (issue 28 item 6): a Monte Carlo of the workflow's own decisions.
+
+Checked on CalculiX data (``data/calculix``, made by another code from the rig's geometry; see
+``test_discrepancy_calculix.py``): the replay of the decisions used for the draws reproduces the sentinel's scan and
+the workflow's verdict on the files themselves; the estimate is seeded (the same file, the same probability), lies in
+its Wilson interval, and is reported in the summary and the JSON. Whether the probability is calibrated is measured
+on the blind benchmark (``benchmarks/bench_discrepancy_blind.py``, reliability table in ``benchmarks/RESULTS.md``),
+not here.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_discrepancy_calculix import identification_rig
+
+import rvcoax
+from rvcoax.loadcases.cases import paper_cases
+from rvcoax.results.studies.discrepancy import confidence, workflow
+from rvcoax.results.studies.discrepancy.report import discrepancy_document, engineering_summary
+from rvcoax.results.studies.discrepancy.sentinel import fit_sentinel, sentinel_scan
+from rvcoax.results.sweep import SweepSettings
+
+FOLDER = Path(__file__).parent / "data" / "calculix"
+SETS = {s["id"]: s for s in json.loads((FOLDER / "manifest.json").read_text())["sets"]}
+DRAWS = 60  # fewer than the workflow's default: enough for the checks below, cheap
+LENGTHS = {"input": 120.0, "output": 160.0}
+
+
+@pytest.fixture(scope="module")
+def library():
+    rig = identification_rig()
+    return rig, workflow.build_library(rig, paper_cases(), SweepSettings())
+
+
+def _run(library, name, draws=DRAWS):
+    rig, built = library
+    data = rvcoax.read_measured(FOLDER / SETS[name]["file"])
+    settings = workflow.DiscrepancySettings(confidence_draws=draws)
+    library = built if built.cases == tuple(data.cases) else None
+    return rig, data, settings, workflow.run_discrepancy(rig, data, settings, library=library)
+
+
+def test_wilson_interval_matches_its_closed_form():
+    """Wilson's 95 % score interval (Wilson 1927; e.g. Newcombe 1998, Stat. Med. 17, table I: 0/10 → 0–0.278,
+    5/10 → 0.237–0.763, 10/10 → 0.722–1)."""
+    assert confidence.wilson(0, 10) == pytest.approx((0.0, 0.2775), abs=5e-4)
+    assert confidence.wilson(5, 10) == pytest.approx((0.2366, 0.7634), abs=5e-4)
+    assert confidence.wilson(10, 10) == pytest.approx((0.7225, 1.0), abs=5e-4)
+    assert confidence.wilson(0, 0) == (0.0, 1.0)
+
+
+@pytest.mark.parametrize("name", ["oov_paths_1", "oov_table_1"])
+def test_the_batched_sentinel_scan_is_the_sentinel_fit(library, name):
+    """The draws' sentinel (every data set at once) finds the same best generic load as the workflow's own scan."""
+    rig, built = library
+    data = rvcoax.read_measured(FOLDER / SETS[name]["file"])
+    settings = workflow.DiscrepancySettings(confidence_draws=0)
+    observed = workflow._observe(rig, data, settings, built, None).observed
+    fit = fit_sentinel(observed)
+    scan = sentinel_scan(observed, np.vstack([observed.scaled_before, 2.0 * observed.scaled_before]))
+    best = int(np.argmin(scan.bic[0]))
+    assert scan.bic[0, best] == pytest.approx(fit.bic, rel=1e-9)
+    assert (scan.site[best][0], scan.family[best]) == (fit.part, fit.family)  # (on a housing, sites may tie in x)
+    assert np.min(scan.bic[1]) > np.min(scan.bic[0])  # a larger gap leaves more χ²
+
+
+@pytest.mark.parametrize("name", ["position_error_paths_5", "oov_paths_1", "pair_table_5"])
+def test_the_replay_gives_the_workflows_verdict_on_the_file_itself(library, name):
+    """The draws are judged by a replay of the decision rules on the file's responses; on the file's own data it
+    reaches the workflow's verdict (no gap, explained, unexplained for a load outside the vocabulary, ambiguous)."""
+    _, _, _, result = _run(library, name)
+    assert result.confidence is not None
+    assert result.confidence.replay_verdict == result.verdict
+
+
+def test_the_confidence_is_seeded_reported_and_within_its_interval(library):
+    rig, data, settings, result = _run(library, "mesh_force_paths_5")
+    c = result.confidence
+    assert 0.0 <= c.low <= c.probability <= c.high <= 1.0
+    assert c.total_draws == DRAWS and 0 < c.draws <= DRAWS and c.right <= c.draws
+    assert sum(n for _, _, n in c.rates) == DRAWS
+    seen = workflow._observe(rig, data, settings, workflow.build_library(rig, data.cases, settings.sweep), None)
+    again = confidence.verdict_confidence(seen, result, settings, DRAWS)
+    assert (again.probability, again.draws, again.bin) == (c.probability, c.draws, c.bin)
+    summary = engineering_summary(result, LENGTHS)
+    assert summary[-1].startswith(f"confidence: the verdict '{result.verdict}' is right in")
+    document = discrepancy_document(result, LENGTHS, None, "test")
+    assert document["confidence"]["probability"] == pytest.approx(c.probability, abs=1e-4)
+    assert document["confidence"]["draws"] == DRAWS
+    assert json.loads(json.dumps(document))["confidence"]["interval_95"][0] <= c.probability
+
+
+def test_no_confidence_when_asked_for_none(library):
+    _, _, _, result = _run(library, "none_paths_1", draws=0)
+    assert result.confidence is None
+    assert not any(line.startswith("confidence") for line in engineering_summary(result, LENGTHS))
