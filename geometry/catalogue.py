@@ -209,7 +209,7 @@ def _ball_bore_warnings(rig: Rig) -> list[str]:
     """A catalogue bearing (``model = "ball"`` or another model from geometry, ``designation``) whose bore is not
     the shaft's Ø at it."""
     from rvcoax.geometry.ball_bearings import BALL_BEARINGS
-    from rvcoax.geometry.rolling_catalogue import ROLLING_BEARINGS, normalise_designation
+    from rvcoax.geometry.rolling_catalogue import normalise_designation, rolling_bearings
 
     found = []
     for i, bearing in enumerate(rig.bearings):
@@ -218,7 +218,7 @@ def _ball_bore_warnings(rig: Rig) -> list[str]:
         if bearing.designation and bearing.model == "ball":
             entry = BALL_BEARINGS.get(bearing.designation)
         elif bearing.designation and bearing.model != "linear":
-            entry = ROLLING_BEARINGS.get(normalise_designation(bearing.designation))
+            entry = rolling_bearings().get(normalise_designation(bearing.designation))
         if entry is not None and bore is not None and abs(entry.bore_mm - bore) > 0.05 * entry.bore_mm:
             found.append(f"bearings[{i}] ('{bearing.name}').designation = {bearing.designation}: its bore is "
                          f"{entry.bore_mm:g} mm, but the shaft's Ø at x = {bearing.x_mm:g} mm is {bore:g} mm: "

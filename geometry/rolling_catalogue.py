@@ -36,13 +36,13 @@ from __future__ import annotations
 
 import csv
 import difflib
+import functools
 import io
 import math
 from dataclasses import dataclass, field
 from importlib import resources
 
 import numpy as np
-from scipy.optimize import brentq
 
 from rvcoax.fem.ball_bearing import BallBearingGeometry
 from rvcoax.fem.roller_bearing import RollerBearingGeometry
@@ -50,7 +50,7 @@ from rvcoax.fem.roller_bearing import RollerBearingGeometry
 __all__ = ["ANGULAR_CONTACT_SUFFIXES", "BALL_FC", "CYLINDRICAL_VARIANTS", "CatalogueRollingBearing",
            "ROLLER_FC", "ROLLING_BEARINGS", "ROLLING_CATALOGUE_FILE", "TAPERED_E", "ball_dynamic_rating_N",
            "ball_static_rating_N", "catalogue_entry", "nearest_designations", "normalise_designation",
-           "roller_dynamic_rating_N", "roller_static_rating_N"]
+           "roller_dynamic_rating_N", "roller_static_rating_N", "rolling_bearings"]
 
 ROLLING_CATALOGUE_FILE = "rolling_bearings.csv"
 ANGULAR_CONTACT_SUFFIXES = {"B": 40.0, "AC": 25.0, "C": 15.0}
@@ -100,6 +100,8 @@ def roller_dynamic_rating_N(roller_count: int, roller_diameter_mm: float, roller
 
 
 def _static_rating(pressure_of, limit_pa: float, count: int, contact_angle_deg: float, factor: float) -> float:
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs every command ~0.9 s
+
     element = brentq(lambda q: float(pressure_of(q)) - limit_pa, 1e-3, 1e8, xtol=1e-6)
     return count * math.cos(math.radians(contact_angle_deg)) * element / factor
 
@@ -209,9 +211,26 @@ def _read_catalogue() -> dict[str, CatalogueRollingBearing]:
     return out
 
 
-ROLLING_BEARINGS: dict[str, CatalogueRollingBearing] = _read_catalogue()
-"""Designation → catalogue entry: 70xx/72xx/73xx with suffix B, AC or C; NU/N/NJ 2xx and 3xx (04–10);
-302xx, 320xx X and 322xx (04–10)."""
+@functools.cache
+def rolling_bearings() -> dict[str, CatalogueRollingBearing]:
+    """Designation → catalogue entry: 70xx/72xx/73xx with suffix B, AC or C; NU/N/NJ 2xx and 3xx (04–10);
+    302xx, 320xx X and 322xx (04–10).
+
+    Built on first use (162 entries, each C0 by a root search) and kept: a command that meets no catalogue
+    bearing does not pay for it. The module attribute ``ROLLING_BEARINGS`` is this same dict.
+    """
+    return _read_catalogue()
+
+
+ROLLING_BEARINGS: dict[str, CatalogueRollingBearing]  # declared only: module __getattr__ builds it when first read
+"""Designation → catalogue entry (:func:`rolling_bearings`, built on first use): 70xx/72xx/73xx with suffix B, AC
+or C; NU/N/NJ 2xx and 3xx (04–10); 302xx, 320xx X and 322xx (04–10)."""
+
+
+def __getattr__(name: str):
+    if name == "ROLLING_BEARINGS":
+        return rolling_bearings()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def normalise_designation(designation: str) -> str:
@@ -221,7 +240,7 @@ def normalise_designation(designation: str) -> str:
 
 def nearest_designations(designation: str, kind: str | None = None, count: int = 5) -> list[str]:
     """The catalogue designations (of ``kind`` when given) closest in spelling to ``designation``."""
-    names = [n for n, e in ROLLING_BEARINGS.items() if kind is None or e.kind == kind]
+    names = [n for n, e in rolling_bearings().items() if kind is None or e.kind == kind]
     return difflib.get_close_matches(normalise_designation(designation), names, n=count, cutoff=0.0)
 
 
@@ -233,7 +252,7 @@ def catalogue_entry(designation: str, kind: str) -> CatalogueRollingBearing:
     ValueError
         Unknown designation (the message names the nearest ones) or one of another kind.
     """
-    entry = ROLLING_BEARINGS.get(normalise_designation(designation))
+    entry = rolling_bearings().get(normalise_designation(designation))
     if entry is None or entry.kind != kind:
         other = f" (it is a designation of model = \"{entry.kind}\")" if entry is not None else ""
         raise ValueError(f"designation: unknown {kind.replace('_', ' ')} bearing {designation!r}{other}; nearest: "

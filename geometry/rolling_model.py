@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from rvcoax.fem.ball_bearing import BallBearingGeometry
 from rvcoax.fem.roller_bearing import RollerBearingGeometry
@@ -149,6 +148,8 @@ def _offset_for_axial_load(law, load_n: float) -> float:
 
     def carried(offset):
         return row._carried(np.array([offset, 0.0, 0.0, 0.0, 0.0]))[0][0]
+
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs every sweep ~0.9 s
 
     upper = 1e-6
     while carried(upper) < load_n:

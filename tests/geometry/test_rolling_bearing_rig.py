@@ -288,3 +288,26 @@ def test_load_ratings_of_an_entry():
     ball = parse_rig_text(reference_rig_text("ball_bearings"), "ball")
     c, c0 = load_ratings_N(next(b for b in ball.bearings if b.name == "input_B1"))
     assert c == pytest.approx(13500.0, rel=0.10) and c0 == pytest.approx(6550.0, rel=0.05)
+
+
+@pytest.mark.subprocess  # a fresh interpreter, to see what an import loads
+def test_catalogue_is_built_on_first_use_with_the_eagerly_built_values():
+    import subprocess
+    import sys
+
+    from rvcoax.geometry import rolling_catalogue
+
+    # importing the module (and a sweep's, which reaches it) builds nothing and leaves scipy.optimize to the
+    # commands that need it (calibration, bearing preload)
+    probe = ("import sys, rvcoax.geometry.rolling_catalogue as c, rvcoax.results.sweep; "
+             "print('scipy.optimize' in sys.modules, c.rolling_bearings.cache_info().currsize)")
+    assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          check=True).stdout.split() == ["False", "0"]
+    assert ROLLING_BEARINGS is rolling_catalogue.rolling_bearings()  # one catalogue, however it is reached
+    assert len(ROLLING_BEARINGS) == 162
+    # bit for bit the values the catalogue had when it was built at import (recorded before the change)
+    pinned = {"7206B": (12295.251746448308, 19754.767431054304, 12), "NU306": (53422.37394412075, 54175.597842449126, 10),
+              "32006X": (43602.527005118754, 34675.35643878906, 17)}
+    for name, (c0, c, count) in pinned.items():
+        entry = ROLLING_BEARINGS[name]
+        assert (entry.static_rating_N, entry.dynamic_rating_N, entry.element_count) == (c0, c, count), name
