@@ -41,7 +41,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
                            "output shafts) from a sweep of the rig."),
     "modes": ("modes", "Natural frequencies and mode shapes of the rig about each load case's operating point, each "
                        "mode's class and the part or spring that owns it, and the interference (Campbell) diagram "
-                       "against the [speeds] of the rig file."),
+                       "against the motor speeds of the rig file's speeds section."),
     "report": ("report", "Write OUT/report.html: one self-contained HTML file for a design review (pictures "
                          "embedded, no network needed to open it)."),
     "rig": ("rig", "Inspect rig files."),
@@ -101,7 +101,7 @@ class LazyCommands(TyperGroup):
 app = typer.Typer(
     cls=LazyCommands, add_completion=False, no_args_is_help=True, rich_markup_mode="rich",
     help=(
-        "rvcoax: static coaxiality of an RV-reducer test rig (beam finite elements).\n\n"
+        "rvcoax: static coaxiality and modes of an RV-reducer test rig (beam, hybrid and solid finite elements).\n\n"
         "Units: torques T1 (input) and T2 (output) in N·m; positions, diameters and Y displacements in mm; "
         "tilt angles in degrees. Y is vertical (+ up); beta = arcsin(Y_max / L) with L = the measured shaft "
         "path length (input 120 mm, output 160 mm). Without --rig, the built-in reference RV-20E rig is used."

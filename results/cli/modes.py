@@ -97,8 +97,8 @@ def modes(
     = "auto",
 ) -> None:
     """Natural frequencies and mode shapes of the rig about each load case's operating point, each mode's class
-    and the part or spring that owns it, and the interference (Campbell) diagram against the [speeds] of the
-    rig file."""
+    and the part or spring that owns it, and the interference (Campbell) diagram against the motor speeds
+    of the rig file's speeds section."""
     from rvcoax import modes as run
 
     settings = model_choice.settings()  # checks the options
