@@ -664,6 +664,7 @@ def crossing_rows(study: ModalStudy) -> list[dict]:
     Parameters
     ----------
     study : ModalStudy
+        A modal study; its crossings were computed with it (none where the rig has no ``[speeds]`` section).
 
     Returns
     -------
