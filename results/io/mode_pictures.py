@@ -14,6 +14,7 @@ as rays from the origin, the speed range shaded and the crossings inside it mark
 
 from __future__ import annotations
 
+import textwrap
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -226,7 +227,7 @@ def plot_interference(frequencies_hz: dict, orders: Sequence[tuple[str, float]],
         axes.set_ylim(0.0, f_top)
         axes.set_xlabel("motor speed n [rpm]")
         axes.set_ylabel("frequency f [Hz]")
-        axes.set_title(title or "interference diagram: natural frequencies and excitation orders")
+        axes.set_title(textwrap.fill(title or "interference diagram: natural frequencies and excitation orders", 95))
         axes.grid(True, color="0.85")
         axes.legend(loc="upper left", fontsize=8, framealpha=0.95)
         figure.tight_layout()
