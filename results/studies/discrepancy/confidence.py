@@ -23,8 +23,10 @@ A draw is *right* as the blind benchmark scores honesty: nothing hidden → ``no
 or ``ambiguous`` with the truth in a named group; a load outside the vocabulary → ``unexplained`` or ``ambiguous``; a
 hidden change below 1 σ RMS → nothing added is right too. P(right | verdict, group size, fit quality) is the rate
 of right draws among those with the file's verdict, group-size class and fit-quality class (χ²/n after the fit on
-the fitted rows at most 1, or above), backing off to fewer features while fewer than :data:`MIN_BIN` draws share
-them; its uncertainty is the Wilson 95 % interval of that rate.
+the fitted rows at most 1, or above; for ``unexplained``: whether the generic load of the sentinel fits better than
+the best named fit by the BIC margin, which marks a load outside the vocabulary), backing off to fewer features while fewer than :data:`MIN_BIN` draws share
+them; its uncertainty is the Wilson 95 % interval of that rate. Where fewer than :data:`SAME_VERDICT` of the
+draws share the file's verdict, more are drawn from the same prior (up to :data:`MAX_DRAWS`).
 """
 
 from __future__ import annotations
@@ -49,6 +51,8 @@ from rvcoax.results.studies.discrepancy.sentinel import FAMILIES, SLOTS, sentine
 __all__ = ["DRAWS", "MIN_BIN", "TRUTHS", "Confidence", "verdict_confidence", "wilson"]
 
 DRAWS = 160  # the paper's table: about 1 s on a loaded 2-core machine (benchmarks/RESULTS.md)
+SAME_VERDICT = 40  # draws with the file's verdict wanted: more are drawn (in half batches) until this many share it
+MAX_DRAWS = 480  # ... up to this many in all (per DRAWS asked for)
 MIN_BIN = 15  # draws a bin needs before its rate is used
 SEED = 28
 GRID = 41  # parameter values per candidate, at least
@@ -286,6 +290,7 @@ class _Answer:
     group: int  # the largest named group
     quality: float  # χ²/n on the fitted rows after (before, when nothing is added)
     why: str = ""  # the rule that decided
+    generic_gain: float = 0.0  # BIC of the named fit (of no effect, when none is named) − BIC of the best generic load
 
 
 @dataclass(frozen=True, eq=False)
@@ -353,12 +358,14 @@ class _Replay:
         settings, rows = self.settings, self.rows
         r_fit = r[rows]
         chi2_0 = float(r_fit @ r_fit)
+        generic = float(scan.bic[d].min()) if scan is not None and np.isfinite(scan.bic[d]).any() else np.inf
         if not self._gap(r_fit):
-            return _Answer("no_gap", (), 0, chi2_0 / max(self.n_fit, 1))
+            return _Answer("no_gap", (), 0, chi2_0 / max(self.n_fit, 1), "", chi2_0 - generic)
         bic = singles.chi2[d] + self.ln_n
         valid = singles.physical[d]
         if not valid.any() or chi2_0 - bic[valid].min() < settings.bic_margin:
-            return _Answer("unexplained", (), 0, chi2_0 / max(self.n_fit, 1), "no effect gains the margin")
+            return _Answer("unexplained", (), 0, chi2_0 / max(self.n_fit, 1), "no effect gains the margin",
+                           chi2_0 - generic)
         order = np.flatnonzero(valid)[np.argsort(bic[valid])]
         w = int(order[0])
         group = self._group(w, order, bic, singles, d, chi2_0)
@@ -383,7 +390,7 @@ class _Replay:
         named = tuple(dict.fromkeys(self.names[i] for g in groups for i in g))
         quality = fit_chi2 / max(self.n_fit, 1)
         verdict, why = self._verdict(r, model, selected, groups, fit_bic, fit_chi2, singles, d, scan, entry_site)
-        return _Answer(verdict, named, max(len(g) for g in groups), quality, why)
+        return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic)
 
     def _group(self, w: int, order, bic, singles: _Single, d: int, chi2_0: float) -> list[int]:  # noqa: PLR0913, PLR0917
         settings = self.settings
@@ -720,6 +727,22 @@ def _quality_class(quality: float) -> str:
     return "χ²/n ≤ 1 after" if quality <= 1.0 else "χ²/n > 1 after"
 
 
+def _fit_class(verdict: str, quality: float, generic_gain: float, settings) -> str:
+    """The fit-quality feature of a bin. For ``unexplained``: whether a generic load (the sentinel) fits better than
+    the best named fit by the workflow's own BIC margin, which tells a load outside the vocabulary (the generic load
+    fits it) from effects of the vocabulary that the rules refused (a pair that cancels, a fit beyond a bound), where
+    the generic load does no better; for the other verdicts χ²/n after the fit."""
+    if verdict == "unexplained":
+        return "a generic load fits better by the BIC margin" if generic_gain >= settings.bic_margin else \
+            "no generic load fits clearly better"
+    return _quality_class(quality)
+
+
+def draw_limit(draws: int) -> int:
+    """The most draws made when ``draws`` are asked for: :data:`MAX_DRAWS` per :data:`DRAWS` (at most MAX_DRAWS)."""
+    return max(draws, min(MAX_DRAWS, MAX_DRAWS * draws // DRAWS))
+
+
 def verdict_confidence(seen, result, settings, draws: int | None = None, seed: int = SEED) -> Confidence | None:
     """The probability that ``result``'s verdict is right (see the module docstring); None when the rig is not
     solved on one factorisation (a nonlinear rig), or the file is too large for the replay."""
@@ -737,21 +760,29 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         vocabulary = _vocabulary(seen)
         drawer = _Drawer(seen, vocabulary, settings, np.random.default_rng(seed))
         sigma = drawer.sigma_draws
-        made = [drawer.draw() for _ in range(draws)]
-        values = np.array([v for v, _ in made])
-        answers = _Replay(vocabulary, replace(observed, sigma=sigma), settings).answers(
-            (values - observed.before[None, :]) / sigma[None, :])
+        replay = _Replay(vocabulary, replace(observed, sigma=sigma), settings)
         own = _Replay(vocabulary, observed, settings).answers(
             ((observed.data.value_mm - observed.before) / observed.sigma)[None, :])[0]
+        made, answers = [], []
+        limit = draw_limit(draws)
+        while True:  # the first batch, then more while too few draws share the file's verdict (same prior: unbiased)
+            batch = [drawer.draw() for _ in range(draws if not made else min(draws // 2 or 1, limit - len(made)))]
+            values = np.array([v for v, _ in batch])
+            answers += replay.answers((values - observed.before[None, :]) / sigma[None, :])
+            made += batch
+            if sum(a.verdict == result.verdict for a in answers) >= SAME_VERDICT or len(made) >= limit:
+                break
     except CANDIDATE_FAILURES:
         return None
+    draws = len(made)
     right = np.array([_right(a, t) for a, (_, t) in zip(answers, made)])
     verdict = result.verdict
     group = max((len(s.group) for s in result.selected), default=0) if verdict != "no_gap" else 0
     quality = (result.vocabulary_chi2 / max(int(result.fit_mask.sum()), 1)) if result.vocabulary_chi2 is not None \
         else result.test_before.chi2 / max(result.test_before.n, 1)
-    keys = [(a.verdict, _size_class(a.group), _quality_class(a.quality)) for a in answers]
-    mine = (verdict, _size_class(group), _quality_class(quality))
+    keys = [(a.verdict, _size_class(a.group), _fit_class(a.verdict, a.quality, a.generic_gain, settings))
+            for a in answers]
+    mine = (verdict, _size_class(group), _fit_class(verdict, quality, own.generic_gain, settings))
     chosen = None
     for depth in (3, 2, 1):
         hits = np.array([k[:depth] == mine[:depth] for k in keys], dtype=bool)
