@@ -69,20 +69,26 @@ class FaceSpec:
 
 @dataclass(frozen=True, eq=False)
 class SolidPart:
-    """A meshed solid part and where its DOFs sit in the global vector."""
+    """A meshed solid part and where its DOFs sit in the global vector.
+
+    The part holds its mesh, not its P2 basis: a basis (quadrature-point values and gradients of every shape
+    function) is several times the mesh, and a solve needs none once the system is assembled. :attr:`basis`
+    builds one on demand for field output, mass matrices and thermal loads (the same basis each time).
+    """
 
     name: str
     geometry: SolidPartGeometry
     mesh: object
-    basis: object
     offset: int
+    n_dofs: int
     youngs_modulus_Pa: float
     poisson: float
     density_kg_per_m3: float
 
     @property
-    def n_dofs(self) -> int:
-        return int(self.basis.N)
+    def basis(self) -> object:
+        """The vector P2 basis of :attr:`mesh`, built anew on each call (keep it only as long as it is used)."""
+        return solid.solid_basis(self.mesh)
 
     @property
     def material(self) -> solid.ElasticMaterial:
@@ -220,13 +226,20 @@ def _radii(geometry: SolidPartGeometry, x_mm: np.ndarray) -> tuple[np.ndarray, n
     return outer, inner
 
 
-def face_nodes(part: SolidPart, facets: np.ndarray) -> FaceNodes:
-    """The P2 nodes of a set of facets with global DOFs and area weights (area / 6 per facet node)."""
-    return ties.face_nodes(part.mesh, part.basis, facets, part.offset)
+def face_nodes(part: SolidPart, facets: np.ndarray, basis=None) -> FaceNodes:
+    """The P2 nodes of a set of facets with global DOFs and area weights (area / 6 per facet node).
+
+    ``basis`` is the part's basis where the caller holds one already (else it is built).
+    """
+    return ties.face_nodes(part.mesh, part.basis if basis is None else basis, facets, part.offset)
 
 
-def ring_probe(part: SolidPart, stations_x_mm: np.ndarray, n_dofs: int) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """Operators (n_st × n_dofs) for the mean u_y and the section rotation about z at each station."""
+def ring_probe(part: SolidPart, stations_x_mm: np.ndarray, n_dofs: int,
+               basis=None) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Operators (n_st × n_dofs) for the mean u_y and the section rotation about z at each station.
+
+    ``basis`` is the part's basis where the caller holds one already (else it is built).
+    """
     outer, inner = _radii(part.geometry, np.asarray(stations_x_mm, float))
     lo, hi = part.geometry.segments[0][0], part.geometry.segments[-1][1]
     angles = 2 * np.pi * (np.arange(RING_POINTS) + 0.5) / RING_POINTS
@@ -237,7 +250,7 @@ def ring_probe(part: SolidPart, stations_x_mm: np.ndarray, n_dofs: int) -> tuple
         rings.append(np.vstack([np.full(RING_POINTS, xs), r * np.cos(angles), r * np.sin(angles)]))
     # every ring located in one vectorised Newton iteration, each ring stopping on its own convergence
     stations = np.repeat(np.arange(len(rings)), RING_POINTS)
-    probe_all = solid.probe_matrix(part.basis, np.hstack(rings).T, groups=stations) if rings else None
+    probe_all = solid.probe_matrix(part.basis if basis is None else basis, np.hstack(rings).T, groups=stations) if rings else None
     rows_y, rows_r = [], []
     for k, points in enumerate(rings):
         probe = probe_all[3 * RING_POINTS * k:3 * RING_POINTS * (k + 1)]  # (3 * points, N): ux, uy, uz per point
@@ -302,6 +315,17 @@ class SolidLoads:
         return pieces
 
 
+def _dof_table(structure, solids: dict[str, SolidPart], bases: dict) -> DofTable:
+    """Where each DOF sits and which component it is: the frame's, then each solid part's in order."""
+    frame_table = frame_dof_table(structure.coordinates)
+    positions = [frame_table.position]
+    components = [frame_table.component]
+    for s in solids.values():
+        positions.append(bases[s.name].doflocs.T)  # (N, 3), one row per DOF
+        components.append(solid.dof_components(bases[s.name]))
+    return DofTable(np.vstack(positions), np.concatenate(components))
+
+
 def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None, cache_dir=None) -> RigSystem:
     """Assemble the hybrid (``kind="hybrid"``) or all-solid (``kind="solid"``) model of ``rig``."""
     solid_names = rig.hybrid_solid_parts() if kind == "hybrid" else tuple(p.name for p in rig.parts)
@@ -318,16 +342,17 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
                 load_faces[load.part].append(_load_face(rig, parts[load.part], load))
 
     solids: dict[str, SolidPart] = {}
+    bases = {}  # held while the system is assembled only: see SolidPart
     offset = structure.n_dofs
     for name in solid_names:
         part = parts[name]
         faces = [a.face for a in ties if a.part == name] + load_faces[name]
         geometry = solid_geometry(rig, part, faces, global_size)
         mesh = mesh_part(geometry, cache_dir=cache_dir)
-        basis = solid.solid_basis(mesh)
+        basis = bases[name] = solid.solid_basis(mesh)
         material = rig.materials[part.material]
         density = (part.mass_kg / (part.volume_mm3 * MM**3)) if part.role == "body" else material.density_kg_per_m3
-        solids[name] = SolidPart(name=name, geometry=geometry, mesh=mesh, basis=basis, offset=offset,
+        solids[name] = SolidPart(name=name, geometry=geometry, mesh=mesh, offset=offset, n_dofs=int(basis.N),
                                  youngs_modulus_Pa=material.youngs_modulus_MPa * 1e6, poisson=material.poisson_ratio,
                                  density_kg_per_m3=density)
         offset += int(basis.N)
@@ -338,11 +363,11 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         raise SolidModelError(f"housings {', '.join(housed)}: their part is a solid here; a condensed housing holds a "
                               "beam part's nodes (keep the part out of [solid] hybrid_parts)")
     pieces = frame_contributions(structure, GRAVITY_DIRECTION) + housing_contributions(rig, frame, cache_dir)
-    pieces += [solid_contribution(s.basis, s.material, s.offset, gravity_direction=GRAVITY_DIRECTION)
+    pieces += [solid_contribution(bases[s.name], s.material, s.offset, gravity_direction=GRAVITY_DIRECTION)
                for s in solids.values()]
     for a in ties:
         s = solids[a.part]
-        nodes = face_nodes(s, select_facets(s, a.face))
+        nodes = face_nodes(s, select_facets(s, a.face), bases[s.name])
         reference = frame.node(a.part, a.x_mm)
         tie = rigid_tie_equations if a.tie == "rigid" else distributing_tie_equations
         pieces.append(tie_contribution(tie(reference, structure.coordinates[reference], nodes)))
@@ -354,18 +379,11 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
         path = getattr(rig.paths, which)
         if path.part in solids:
             stations = np.linspace(0.0, path.length_mm, path.stations)
-            uy, rz = ring_probe(solids[path.part], path.x_start_mm + stations, n)
+            uy, rz = ring_probe(solids[path.part], path.x_start_mm + stations, n, bases[path.part])
             probes[which] = PathProbe(stations, path.length_mm, uy, rz)
         else:
             probes[which] = frame_path_probe(frame, which, n)
 
-    frame_table = frame_dof_table(structure.coordinates)
-    positions = [frame_table.position]
-    components = [frame_table.component]
-    for s in solids.values():
-        locations = s.basis.doflocs.T  # (N, 3), one row per DOF
-        positions.append(locations)
-        components.append(solid.dof_components(s.basis))
-    table = DofTable(np.vstack(positions), np.concatenate(components))
+    table = _dof_table(structure, solids, bases)
     return RigSystem(rig=rig, kind=kind, frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
                      unit_loads=loads(rig), probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)

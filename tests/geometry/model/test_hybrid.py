@@ -162,3 +162,19 @@ def test_cli_check_hybrid_and_solid_models(tmp_path):
         assert run.returncode == 3, run.stdout[-2000:] + run.stderr[-2000:]
         assert "VERDICT: within tolerance, but fits only with implausible parameter(s)" in " ".join(run.stdout.split())
         assert (out / "check.csv").exists() and (out / f"check_{model}.png").exists()
+
+
+def test_solid_parts_hold_meshes_not_bases(prepared):
+    """A solved model keeps no P2 basis (they are several times their meshes; issue 27): each part builds
+    its basis on demand, with the DOF count and numbering the system was assembled with."""
+    import skfem
+
+    for part in prepared.system.solids:
+        held = [name for name, value in vars(part).items() if isinstance(value, skfem.AbstractBasis)]
+        assert held == [], f"{part.name} holds {held}"
+        basis = part.basis
+        assert basis.N == part.n_dofs
+        rows = slice(part.offset, part.offset + part.n_dofs)
+        np.testing.assert_array_equal(basis.doflocs.T, prepared.system.dofs.position[rows])
+    first, second = prepared.system.solids[:2]
+    assert second.offset == first.offset + first.n_dofs
