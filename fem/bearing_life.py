@@ -460,8 +460,8 @@ def pair_dynamic_rating(rating_N: float, rows: int, elements: str) -> float:
     return rating_N * rows ** (0.7 if elements == "ball" else 7.0 / 9.0)
 
 
-def lamina_contact_ratings(rollers: int, roller_diameter_mm: float, length_mm: float, pitch_diameter_mm: float,  # noqa: PLR0913, PLR0917
-                           contact_angle_rad: float, slices: int) -> tuple[float, float]:
+def lamina_contact_ratings(rollers: int, roller_diameter_mm: float, length_mm: float, pitch_diameter_mm: float,  # noqa: PLR0913
+                           *, contact_angle_rad: float, slices: int) -> tuple[float, float]:
     """q_ci and q_ce (N): the basic dynamic ratings of one lamina's inner and outer line contact (ISO/TS 16281,
     Lundberg–Palmgren's line contact with ISO 281's b_m and λν):
 
@@ -539,7 +539,7 @@ def rows_reference_life(bearing, elements, rotating: str = "inner") -> float:
             slope = 9.0 / 8.0
             inner, outer = lamina_contact_ratings(law.roller_count, law.roller_diameter_m * 1e3,
                                                   law.roller_length_m * 1e3, law.pitch_diameter_m * 1e3,
-                                                  law.contact_angle_rad, law.slices)
+                                                  contact_angle_rad=law.contact_angle_rad, slices=law.slices)
             lives.append(line_contact_life(elements.lamina_load_n[r], inner, outer, rotating=rotating))
     return system_life(lives, slope)
 

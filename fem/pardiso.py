@@ -287,7 +287,7 @@ def _free(handle: np.ndarray, iparm: np.ndarray, mtype: int) -> None:
     one = np.ones(1)
     indptr = np.array([0, 1], dtype=np.int32)
     indices = np.zeros(1, dtype=np.int32)
-    _phase(handle, iparm, mtype, -1, UpperStorage(1, 1, indptr, indices, one), np.zeros((1, 1), order="F"))
+    _phase(handle, iparm, mtype, -1, UpperStorage(1, 1, indptr, indices, one), rhs=np.zeros((1, 1), order="F"))
 
 
 def clear_analysis_pool() -> None:
@@ -318,8 +318,8 @@ def _give(entry: _Analysis) -> None:
         _free(old.handle, old.iparm, old.key[0])
 
 
-def _phase(handle: np.ndarray, iparm: np.ndarray, mtype: int, phase: int, s: UpperStorage,  # noqa: PLR0913, PLR0917
-           rhs: np.ndarray) -> tuple[np.ndarray, int]:
+def _phase(handle: np.ndarray, iparm: np.ndarray, mtype: int, phase: int, s: UpperStorage,  # noqa: PLR0913
+           *, rhs: np.ndarray) -> tuple[np.ndarray, int]:
     """One call of PARDISO; returns (solution, error code)."""
     x = np.zeros_like(rhs, order="F")
     error = ctypes.c_int32(0)
@@ -432,7 +432,7 @@ class Factorization:
 
     def _call(self, phase: int, rhs: np.ndarray, what: str) -> np.ndarray:
         s = self.storage
-        x, error = _phase(self._handle, self._iparm, self.mtype, phase, s, rhs)
+        x, error = _phase(self._handle, self._iparm, self.mtype, phase, s, rhs=rhs)
         if error:
             # iparm[29] names the unknown of a zero pivot in scalar storage (in blocks it is not one)
             equation = int(self._iparm[29]) if error == ZERO_PIVOT and s.block_size == 1 else None

@@ -245,13 +245,14 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
                      "at that case's static solution")
     lap = time.perf_counter()
     analysis = _ModeAnalysis(system, mass, analysis_rows)
-    results = _case_modes(system, mass, prepared, operating, analysis, settings.n_modes, [])
+    results = _case_modes(system, mass, prepared, operating, analysis, n_modes=settings.n_modes, housings=[])
     chosen = []
     if any(h.self_weight for h in rig.housings) and settings.housing_dynamics != "guyan":
         top = max((m.frequency_hz for c in results for m in c.modes), default=0.0)
         chosen = housing_modes(system, top, settings.housing_dynamics, cache_dir)
         if any(h.kept for h in chosen):  # solved again with the housings' fixed-interface modes as extra DOFs
-            results = _case_modes(system, mass, prepared, operating, analysis, settings.n_modes, chosen)
+            results = _case_modes(system, mass, prepared, operating, analysis, n_modes=settings.n_modes,
+                                  housings=chosen)
     seconds["eigen"] = time.perf_counter() - lap
     limits = housing_frequencies(system, cache_dir)
     notes += _housing_notes(rig, chosen, results)
@@ -267,7 +268,7 @@ def run_modes(rig: Rig, cases: tuple[LoadCase, ...] | None = None, settings: Mod
                       orders=excitation_orders(rig), housing_limits_hz=limits, notes=tuple(notes), seconds=seconds)
 
 
-def _case_modes(system, mass, prepared, operating, analysis, n_modes: int, housings: list) -> list:  # noqa: PLR0913, PLR0917
+def _case_modes(system, mass, prepared, operating, analysis, *, n_modes: int, housings: list) -> list:  # noqa: PLR0913
     """Each operating point's modes, described; ``housings`` (:class:`rvcoax.geometry.model.mass.HousingModes`) with
     kept fixed-interface modes add them as extra DOFs (Craig–Bampton), whose strain energy is their housing's."""
     attached = [h for h in housings if h.kept]

@@ -120,7 +120,7 @@ def test_roller_reference_life_against_iso281_and_its_known_ratio(designation, k
     law = RollerBearingGeometry(entry.element_count, entry.element_diameter_mm * 1e-3, entry.element_length_mm * 1e-3,
                                 entry.pitch_diameter_mm * 1e-3, alpha, crowning="none", slices=10)
     inner, outer = bl.lamina_contact_ratings(entry.element_count, entry.element_diameter_mm, entry.element_length_mm,
-                                             entry.pitch_diameter_mm, alpha, 10)
+                                             entry.pitch_diameter_mm, contact_angle_rad=alpha, slices=10)
     c = entry.dynamic_rating_N
     for share in (0.05, 0.3, 1.0):
         state = _radial_state(law, share * c)

@@ -368,7 +368,7 @@ class _Replay:
                            chi2_0 - generic)
         order = np.flatnonzero(valid)[np.argsort(bic[valid])]
         w = int(order[0])
-        group = self._group(w, order, bic, singles, d, chi2_0)
+        group = self._group(w, order, bic, singles=singles, d=d, chi2_0=chi2_0)
         w = self._representative(w, group, bic)
         selected = [(w, float(singles.value[d, w]))]
         fit_bic, fit_chi2 = float(bic[w]), float(singles.chi2[d, w])
@@ -389,10 +389,11 @@ class _Replay:
                 model = sum(_at(self.curves[i], v) for i, v in selected) / self.sigma
         named = tuple(dict.fromkeys(self.names[i] for g in groups for i in g))
         quality = fit_chi2 / max(self.n_fit, 1)
-        verdict, why = self._verdict(r, model, selected, groups, fit_bic, fit_chi2, singles, d, scan, entry_site)
+        verdict, why = self._verdict(r, model, selected, groups, bic=fit_bic, chi2=fit_chi2, singles=singles, d=d, scan=scan,
+                                     entry_site=entry_site)
         return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic)
 
-    def _group(self, w: int, order, bic, singles: _Single, d: int, chi2_0: float) -> list[int]:  # noqa: PLR0913, PLR0917
+    def _group(self, w: int, order, bic, *, singles: _Single, d: int, chi2_0: float) -> list[int]:  # noqa: PLR0913
         settings = self.settings
         best = float(bic[w])
         sw = _at(self.curves[w], singles.value[d, w])[self.rows] / self.sigma[self.rows]
@@ -441,7 +442,7 @@ class _Replay:
             coarse[c] = (float(grid[i, j]), float(self.curves[w].values[cw[i]]), float(self.curves[c].values[cc[j]]))
         fits = {}
         for c, (start, vw, vc) in coarse.items():  # every one refined: a coarse look misses correlated pairs
-            chi2, vw, vc = self._pair_refined(w, c, target, vw, vc, start)
+            chi2, vw, vc = self._pair_refined(w, c, target, vw=vw, vc=vc, start=start)
             if self._physical(w, vw) and self._physical(c, vc):
                 fits[c] = (chi2, vw, vc)
         if not fits:
@@ -464,7 +465,7 @@ class _Replay:
         slope = (grid[j] - grid[j - 1]) / span if span else np.zeros_like(grid[j])
         return (1 - w) * grid[j - 1] + w * grid[j], slope, value
 
-    def _pair_refined(self, w: int, c: int, target: np.ndarray, vw: float, vc: float, start: float):  # noqa: PLR0913, PLR0917
+    def _pair_refined(self, w: int, c: int, target: np.ndarray, *, vw: float, vc: float, start: float):  # noqa: PLR0913
         """(χ², value of ``w``, value of ``c``): Gauss–Newton steps from the grid's best point on the two curves
         (exact for linear effects on a paths file), the best point seen kept."""
         best = (start, vw, vc)
@@ -490,7 +491,7 @@ class _Replay:
         lo, hi = curve.values[curve.physical][[0, -1]]
         return lo - 1e-9 * max(1.0, abs(lo)) <= value <= hi + 1e-9 * max(1.0, abs(hi))
 
-    def _verdict(self, r, model, selected, groups, bic, chi2, singles: _Single, d, scan, entry_site) -> str:  # noqa: PLR0913, PLR0917
+    def _verdict(self, r, model, selected, groups, *, bic, chi2, singles: _Single, d, scan, entry_site) -> str:  # noqa: PLR0913
         settings = self.settings
         if self._gap(r - model):
             return "unexplained", "gap left"
