@@ -82,6 +82,13 @@ class Modes:
         return np.sign(self.eigenvalues) * np.sqrt(np.abs(self.eigenvalues)) / (2.0 * np.pi)
 
 
+
+def _start_vector(size: int) -> np.ndarray:
+    """ARPACK's start vector, the same in every call: without one, ARPACK draws it from a seed it keeps between
+    calls, so the digits beyond the tolerance would depend on what the process solved before (a solve is a pure
+    function of its inputs)."""
+    return np.random.default_rng(20261126).standard_normal(size)
+
 def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spmatrix, n_modes: int, *,  # noqa: PLR0913
                   reduced_solve: Callable[[np.ndarray], np.ndarray] | None = None,
                   update: LowRankUpdate | None = None, tolerance: float = 1e-10, shift: float = 0.0) -> Modes:
@@ -147,7 +154,7 @@ def natural_modes(stiffness: sp.spmatrix, mass: sp.spmatrix, elimination: sp.spm
             inverse = _woodbury(base, v_used, d_used)
             operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
             values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=sigma, which="LM", OPinv=operator,
-                                         tol=tolerance)
+                                         tol=tolerance, v0=_start_vector(m))
             order = np.argsort(values)
             values, vectors = values[order], vectors[:, order]
             method = "shift-invert Lanczos"
@@ -189,7 +196,8 @@ def _lanczos_on_operators(t, stiffness, m_r, n_modes, *, reduced_solve, update, 
 
     k_r = spla.LinearOperator((m, m), matvec=k_op, dtype=float)
     operator = spla.LinearOperator((m, m), matvec=lambda x: inverse(np.ravel(x)), dtype=float)
-    values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance)
+    values, vectors = spla.eigsh(k_r, k=n_modes, M=m_r, sigma=0.0, which="LM", OPinv=operator, tol=tolerance,
+                                 v0=_start_vector(m))
     order = np.argsort(values)
     return values[order], vectors[:, order]
 
