@@ -81,3 +81,29 @@ def claims_what_the_data_carry(result) -> bool:
         return bool(result.reasons) and all(s.name in described for s in result.selected
                                             if len(s.group) > AMBIGUOUS_GROUP)
     return False
+
+
+def relative_gap_to_the_model(rig: Rig, data) -> dict[str, float]:
+    """Per measured shaft, RMS(measured − model) / RMS(model) of ``data`` against ``rig``'s beam model: how far a
+    file made by another code or discretisation sits from the identification model."""
+    import numpy as np
+
+    from rvcoax.geometry import MEASURED_SHAFTS
+    from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
+    from rvcoax.results.sweep import SweepSettings
+
+    paths, layout = solve_full_paths(rig, data.cases, SweepSettings())
+    model = Observation(data, layout)(paths)
+    out = {}
+    for shaft in MEASURED_SHAFTS:
+        mask = data.shaft == shaft
+        out[shaft] = float(np.sqrt(np.mean((data.value_mm - model)[mask] ** 2)) / np.sqrt(np.mean(model[mask] ** 2)))
+    return out
+
+
+def assert_honest_answer(result, truth: set[str]) -> None:
+    """The answer covers ``truth``, claims no more than the data carry, and names nothing else with confidence."""
+    named = {n for s in result.selected for n in (s.name, *s.group)}
+    misnamed = [s.name for s in result.selected if s.confident and len(s.group) <= 1 and s.name not in truth]
+    assert not misnamed, misnamed
+    assert claims_what_the_data_carry(result) and truth <= named, (result.verdict, result.reasons, named)

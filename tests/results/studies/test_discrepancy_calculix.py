@@ -15,14 +15,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
 import pytest
-from discrepancy_data import claims_what_the_data_carry, identification_rig
+from discrepancy_data import claims_what_the_data_carry, identification_rig, relative_gap_to_the_model
 
 import rvcoax
-from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.loadcases.cases import paper_cases
-from rvcoax.results.studies.discrepancy.responses import Observation, solve_full_paths
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, build_library
 from rvcoax.results.sweep import SweepSettings
 
@@ -56,11 +53,7 @@ def test_calculix_files_read_and_differ_from_the_beam_model_by_a_model_form_amou
             assert all(q < 1e-6 for q in (data.quantum_mm or {"paths": 0.0}).values()), name
     assert {e["notation"] for e in SETS.values()} >= {"fixed", "e", "E", "mixed"}
     data = rvcoax.read_measured(FOLDER / SETS["none_paths_1"]["file"])
-    paths, layout = solve_full_paths(identification_rig(), data.cases, SweepSettings())
-    beam = Observation(data, layout)(paths)
-    for shaft in MEASURED_SHAFTS:
-        mask = data.shaft == shaft
-        relative = np.sqrt(np.mean((data.value_mm - beam)[mask] ** 2)) / np.sqrt(np.mean(beam[mask] ** 2))
+    for shaft, relative in relative_gap_to_the_model(identification_rig(), data).items():
         assert 0.005 < relative < 0.05, shaft
 
 
