@@ -17,7 +17,8 @@ Both codes then start from that mesh:
   chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (slicing out
   the clamped DOFs), solver set-up and solve with the method ``"auto"`` picks (the measured cost
   model of ``rvcoax.fem.solver_cost``: PARDISO or AMG-CG with the rigid-body modes, for one
-  right-hand side), tip-face displacements; run in a fresh Python process that loads the cached
+  right-hand side; PARDISO with its singularity test but no condition estimate, which ccx does
+  not make either: ``estimate_condition=False``), tip-face displacements; run in a fresh Python process that loads the cached
   mesh first, so its peak memory is its own.
 
 Node order: scikit-fem's curved P2 tet (like VTK's quadratic tetra and meshio's tetra10) lists its
@@ -274,7 +275,9 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
     reduced = stiffness[free][:, free]
     del stiffness
     lap("constraint elimination")
-    solver = prepare(reduced, method="auto", near_null_space=rigid_body_modes(basis.doflocs.T)[free])
+    # no condition estimate (ccx makes none; rvcoax's sweep asks for one); the singularity test stays on
+    solver = prepare(reduced, method="auto", near_null_space=rigid_body_modes(basis.doflocs.T)[free],
+                     estimate_condition=False)
     lap("solver set-up")
     q = solver.solve(force[free])
     lap("solve")

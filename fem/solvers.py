@@ -37,7 +37,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rvcoax.fem import pardiso
-from rvcoax.fem.diagnostics import singularity_and_condition
+from rvcoax.fem.diagnostics import scaled_inverse_norm_bound, singularity_and_condition
 from rvcoax.fem.errors import SingularMatrixError, SolverError
 from rvcoax.fem.memory import available_memory_bytes
 from rvcoax.fem.solver_cost import COST_MODEL, NONZEROS_PER_ROW, SolverCostModel
@@ -209,7 +209,8 @@ class PreparedSolver:
         """Estimated condition number of the Jacobi-scaled matrix (:func:`rvcoax.fem.diagnostics.scaled_condition_estimate`).
 
         SuperLU: four solves with the factorisation, computed on the first call. PARDISO: computed at set-up
-        in the singularity test's solves (:func:`rvcoax.fem.diagnostics.singularity_and_condition`). None for AMG, where every solve is a full CG run (a preconditioned solve that converges is its own
+        in the singularity test's solves (:func:`rvcoax.fem.diagnostics.singularity_and_condition`), or on the
+        first call when :func:`prepare` was told not to (``estimate_condition=False``). None for AMG, where every solve is a full CG run (a preconditioned solve that converges is its own
         evidence of conditioning).
         """
         if not self._direct:
@@ -321,7 +322,7 @@ def _setup_superlu(a: sp.csr_matrix):
     return "superlu (scipy SuperLU, symmetric mode)", solve, None, (lu.L.nnz + lu.U.nnz, 0.0)
 
 
-def _setup_pardiso(a: sp.csr_matrix):
+def _setup_pardiso(a: sp.csr_matrix, estimate_condition: bool = True):
     if not pardiso.available():
         raise SolverError("method 'pardiso' needs Intel MKL (x86-64 only): pip install mkl")
     diagonal = a.diagonal()
@@ -344,20 +345,24 @@ def _setup_pardiso(a: sp.csr_matrix):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
-    condition = _refuse_singular(a, solve, factor)
+    condition = _refuse_singular(a, solve, factor, estimate_condition=estimate_condition)
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
             (factor.factor_nonzeros, factor.memory_MB, factor.reused_analysis), condition)
 
 
-def _refuse_singular(matrix, solve, factor: pardiso.Factorization) -> float:
+def _refuse_singular(matrix, solve, factor: pardiso.Factorization, *, estimate_condition: bool = True) -> float | None:
     """Release ``factor`` and raise :class:`SingularMatrixError` when inverse iteration finds 1/λ_min of the
     Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`rvcoax.fem.diagnostics.scaled_inverse_norm_bound`);
     else return the condition estimate, whose solves carry the iteration's steps as one more column
-    (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: two solve calls fewer than apart)."""
+    (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: two solve calls fewer than apart), or None
+    without ``estimate_condition`` (the iteration's two solves alone; the estimate is then made on request)."""
     try:
-        bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
+        if estimate_condition:
+            bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
+        else:
+            (bound, equation), condition = scaled_inverse_norm_bound(matrix, lambda b: solve(b[:, None])[0]), None
     except SolverError:
         factor.release(keep_analysis=False)
         raise
@@ -581,6 +586,7 @@ def prepare(  # noqa: PLR0913
     available_bytes: float | None = None,
     accuracy: float = AMG_ACCURACY,
     maxiter: int | None = None,
+    estimate_condition: bool = True,
 ) -> PreparedSolver:
     """Set up a symmetric positive definite matrix for solving.
 
@@ -599,6 +605,13 @@ def prepare(  # noqa: PLR0913
     available_bytes : float, optional
         ``"auto"``: memory to plan with; the machine's available memory when None.
     accuracy, maxiter : AMG-preconditioned CG stopping rule (:func:`conjugate_gradients`).
+    estimate_condition : bool
+        PARDISO: make the condition estimate at set-up, its solves carrying the singularity test's
+        (:func:`rvcoax.fem.diagnostics.singularity_and_condition`). False: the singularity test alone (two
+        single-column solves, the same refusal of a singular matrix); :meth:`PreparedSolver.condition_estimate`
+        then makes the estimate when it is asked for (about four solve calls more than at set-up). Set it False
+        where the estimate is not wanted (a single solve: 0.25 s of CPU time at 62 k DOF,
+        benchmarks/RESULTS.md); SuperLU always estimates on request, AMG never.
 
     Raises
     ------
@@ -618,7 +631,7 @@ def prepare(  # noqa: PLR0913
     if chosen == "superlu":
         name, solve, release, factor = _setup_superlu(a)
     elif chosen == "pardiso":
-        name, solve, release, factor, condition = _setup_pardiso(a)
+        name, solve, release, factor, condition = _setup_pardiso(a, estimate_condition)
     elif chosen == "amg":
         name, solve, release, factor = _setup_amg(a, near_null_space, accuracy, maxiter)
     else:

@@ -280,3 +280,17 @@ def test_a_new_stiffness_of_the_same_mesh_is_factorised_on_the_pooled_analysis(c
     finally:
         pardiso.set_analysis_reuse(True)
     assert np.abs(x - reference).max() <= 1e-12 * np.abs(reference).max()
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
+def test_pardiso_condition_estimate_on_request_is_the_one_made_at_set_up(cantilever):
+    """``estimate_condition=False`` leaves the estimate for later: the same number when it is asked for, the same
+    solution, and a singular matrix refused as before (the inverse iteration still runs at set-up)."""
+    k, loads, _, unconstrained = cantilever
+    with prepare(k, "pardiso") as eager, prepare(k, "pardiso", estimate_condition=False) as lazy:
+        assert lazy._condition is None
+        np.testing.assert_allclose(lazy.solve(loads), eager.solve(loads), rtol=0.0, atol=1e-12 * np.abs(eager.solve(loads)).max())
+        assert lazy.condition_estimate() == pytest.approx(eager.condition_estimate(), rel=1e-9)
+    for _ in range(6):
+        with pytest.raises(SingularMatrixError, match="singular"):
+            prepare(unconstrained, "pardiso", estimate_condition=False)
