@@ -2,6 +2,12 @@
 
 Run: ``.venv/bin/python benchmarks/bench_direct_solvers.py [--h 4.0] [--other-python PATH] [--no-record]``.
 
+``--variants``: instead, PARDISO's settings on the cantilever alone (:data:`VARIANTS`: orderings, scalar against
+3 × 3-block storage, the parallel factorisation algorithms, a single-precision factor refined in double
+precision against the matrix), each in a fresh process, and the set-up as :func:`rvcoax.fem.solvers.prepare`
+runs it split into its parts (checks and upper storage, analysis, factorisation, singularity test, condition
+estimate).
+
 Matrices (written once to a temporary folder, then each (matrix, solver) runs in a fresh process so that its
 peak resident memory is its own):
 
@@ -122,6 +128,158 @@ def pardiso_child(matrix_file: str, rhs_file: str, indefinite: bool) -> dict:
             "peak_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
 
 
+VARIANTS = {  # name: (iparm entries set on top of rvcoax's, storage, single precision)
+    "rvcoax's settings (METIS nested dissection, OpenMP; 3 × 3 blocks)": ({}, "blocks", False),
+    "METIS, serial (iparm[1] = 2)": ({1: 2}, "blocks", False),
+    "minimum degree (iparm[1] = 0)": ({1: 0}, "blocks", False),
+    "scalar CSR storage": ({}, "scalar", False),
+    "two-level parallel factorisation (iparm[23] = 1)": ({23: 1}, "blocks", False),
+    "parallel forward/backward solve (iparm[24] = 1)": ({24: 1}, "blocks", False),
+    "single-precision factor (iparm[27] = 1), refined in double": ({27: 1}, "blocks", True),
+}
+REFINEMENT_STEPS = 8
+
+
+def variant_child(matrix_file: str, rhs_file: str, name: str) -> dict:
+    """One PARDISO setting on the SPD matrix: each phase's CPU and wall time, factor size, residual."""
+    import dataclasses
+
+    import numpy as np
+    import scipy.sparse as sp
+
+    from rvcoax.fem import pardiso
+
+    sets, kind, single = VARIANTS[name]
+    a = sp.load_npz(matrix_file).tocsr()
+    b = np.load(rhs_file).reshape(a.shape[0], -1)[:, :1]
+    storage = pardiso.upper_storage(a) if kind == "blocks" else pardiso.upper_csr(a)
+    dtype = np.float32 if single else float
+    storage = dataclasses.replace(storage, data=storage.data.astype(dtype))
+    handle, iparm = np.zeros(64, dtype=np.int64), np.zeros(64, dtype=np.int32)
+    iparm[[0, 1, 9, 17, 18, 34]] = [1, 3, 8, -1, -1, 1]  # as rvcoax.fem.pardiso.Factorization (with the flop count)
+    iparm[36] = storage.block_size if storage.block_size > 1 else 0
+    for key, value in sets.items():
+        iparm[key] = value
+    out, errors = {}, []
+
+    def phase(number, rhs):
+        start = time.process_time(), time.perf_counter()
+        x, error = pardiso._phase(handle, iparm, 2, number, storage, rhs=np.asfortranarray(rhs, dtype=dtype))
+        errors.append(error)
+        return x.astype(float), (time.process_time() - start[0], time.perf_counter() - start[1])
+
+    _, out["analysis"] = phase(11, np.zeros((a.shape[0], 1)))
+    _, out["factorisation"] = phase(22, np.zeros((a.shape[0], 1)))
+    x, out["solve"] = phase(33, b)
+    residuals = [float(np.linalg.norm(b - a @ x) / np.linalg.norm(b))]
+    if single:  # x += A_single⁻¹ (b − A x), the residual in double precision
+        for _ in range(REFINEMENT_STEPS):
+            x += phase(33, b - a @ x)[0]
+            residuals.append(float(np.linalg.norm(b - a @ x) / np.linalg.norm(b)))
+    np.save(matrix_file + f".variant{list(VARIANTS).index(name)}.npy", x)
+    found = {**out, "errors": errors, "gflop": int(iparm[18]) / 1e3, "factor_nonzeros": int(iparm[17]),
+             "memory_MB": (int(iparm[15]) + int(iparm[16])) / 1024, "residuals": residuals}
+    phase(-1, np.zeros((a.shape[0], 1)))
+    return found
+
+
+def setup_parts_child(matrix_file: str) -> dict:
+    """:func:`rvcoax.fem.solvers.prepare`'s PARDISO set-up, with and without the condition estimate, by parts."""
+    import scipy.sparse as sp
+
+    from rvcoax.fem import diagnostics, pardiso, solvers
+
+    pardiso.set_analysis_reuse(False)
+    a = sp.load_npz(matrix_file).tocsr()
+    parts: dict[str, list[float]] = {}
+    clocks = {}
+
+    def timed(module, name, label):
+        original = getattr(module, name)
+
+        def wrapper(*args, **kwargs):
+            start = time.process_time(), time.perf_counter()
+            try:
+                return original(*args, **kwargs)
+            finally:
+                spent = parts.setdefault(label, [0.0, 0.0])
+                spent[0] += time.process_time() - start[0]
+                spent[1] += time.perf_counter() - start[1]
+        clocks[label] = wrapper
+        setattr(module, name, wrapper)
+
+    original_phase = pardiso._phase
+
+    def phase(handle, iparm, mtype, number, storage, *, rhs):
+        label = {11: "analysis", 22: "factorisation", 33: "solves"}.get(number, "release")
+        start = time.process_time(), time.perf_counter()
+        try:
+            return original_phase(handle, iparm, mtype, number, storage, rhs=rhs)
+        finally:
+            spent = parts.setdefault(label, [0.0, 0.0])
+            spent[0] += time.process_time() - start[0]
+            spent[1] += time.perf_counter() - start[1]
+
+    pardiso._phase = phase
+    timed(pardiso, "upper_storage", "upper storage")
+    timed(solvers, "singularity_and_condition", "singularity test + condition estimate")
+    timed(solvers, "scaled_inverse_norm_bound", "singularity test")
+    timed(diagnostics, "_scaled_one_norm", "scaled one-norm")
+    out = {}
+    for eager in (True, False):
+        parts.clear()
+        start = time.process_time(), time.perf_counter()
+        solver = solvers.prepare(a, "pardiso", estimate_condition=eager)
+        total = (time.process_time() - start[0], time.perf_counter() - start[1])
+        solver.release()
+        out["with" if eager else "without"] = {"total": total, **{k: tuple(v) for k, v in parts.items()}}
+    return out
+
+
+def variant_rows(folder: Path, h: float) -> list[tuple[str, str]]:
+    import numpy as np
+    from bench_symbolic_reuse import cantilever
+
+    k, force = cantilever(h, 0.3, str(folder))
+    import scipy.sparse as sp
+
+    matrix, rhs = str(folder / "cantilever.npz"), str(folder / "cantilever_rhs.npy")
+    sp.save_npz(matrix, k)
+    np.save(rhs, force)
+    tag = f"cantilever ({k.shape[0]:,} DOF, SPD)"
+    rows, reference = [], None
+    for index, name in enumerate(VARIANTS):
+        found = run_child([sys.executable, __file__, "--variant-child", matrix, rhs, name])
+        if isinstance(found, str):
+            rows.append((f"{tag}: {name}", f"failed: {found}"))
+            continue
+        x = np.load(matrix + f".variant{index}.npy")
+        reference = x if reference is None else reference
+        difference = float(np.abs(x - reference).max() / np.abs(reference).max())
+        residuals = found["residuals"]
+        refined = (f"; residual after {len(residuals) - 1} double-precision refinement steps "
+                   f"{' → '.join(f'{r:.0e}' for r in residuals)}" if len(residuals) > 1 else "")
+        rows.append((f"{tag}: {name}", "analysis {:.3f} s CPU ({:.3f} s wall), factorisation {:.3f} s CPU ({:.3f} s), "
+                     "solve {:.3f} s CPU ({:.3f} s)".format(*found["analysis"], *found["factorisation"], *found["solve"])
+                     + f"; factor {found['factor_nonzeros'] / 1e6:.1f} M nonzeros (blocks or scalars as stored), "
+                       f"{found['gflop']:.1f} GFLOP as MKL reports it, MKL memory {found['memory_MB']:.0f} MB; "
+                       f"errors {found['errors']}; residual {residuals[-1]:.1e}{refined}; vs the first row "
+                       f"{difference:.1e}"))
+        print(rows[-1], flush=True)
+    found = run_child([sys.executable, __file__, "--setup-parts-child", matrix])
+    for which in ("with", "without"):
+        if isinstance(found, str):
+            rows.append((f"{tag}: prepare(), set-up by parts", f"failed: {found}"))
+            break
+        parts = found[which]
+        text = ", ".join(f"{k} {v[0]:.3f} s CPU ({v[1]:.3f} s)" for k, v in parts.items() if k != "total")
+        rows.append((f"{tag}: prepare(\"pardiso\", estimate_condition={which == 'with'}), set-up by parts",
+                     "total {:.3f} s CPU ({:.3f} s wall); parts, nested (the tests hold solves and the one-norm): "
+                     .format(*parts["total"]) + text))
+        print(rows[-1], flush=True)
+    return rows
+
+
 def write_matrices(folder: Path, h: float) -> dict:
     import numpy as np
     import scipy.sparse as sp
@@ -162,8 +320,28 @@ def main() -> None:
     parser.add_argument("--h", type=float, default=4.0, help="cantilever mesh size, mm (4.0: about 61 k DOF)")
     parser.add_argument("--other-python", default=None, help="interpreter with python-mumps and/or scikit-sparse")
     parser.add_argument("--no-record", action="store_true")
+    parser.add_argument("--variants", action="store_true",
+                        help="PARDISO's settings and the set-up's parts on the cantilever instead (no MUMPS/CHOLMOD)")
     parser.add_argument("--pardiso-child", nargs=3, help=argparse.SUPPRESS)
+    parser.add_argument("--variant-child", nargs=3, help=argparse.SUPPRESS)
+    parser.add_argument("--setup-parts-child", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.variant_child:
+        print(json.dumps(variant_child(*args.variant_child)))
+        return
+    if args.setup_parts_child:
+        print(json.dumps(setup_parts_child(args.setup_parts_child)))
+        return
+    if args.variants:
+        from machine import publish
+
+        load_before = os.getloadavg()[0]
+        with tempfile.TemporaryDirectory() as temporary:
+            rows = variant_rows(Path(temporary), args.h)
+        publish("bench_direct_solvers.py --variants: PARDISO's settings and set-up parts, solid cantilever",
+                [("timer", "CPU = time.process_time() of the child process (MKL on 2 threads); wall beside it"),
+                 *rows], load_before, keep=not args.no_record)
+        return
     if args.pardiso_child:
         print(json.dumps(pardiso_child(args.pardiso_child[0], args.pardiso_child[1], args.pardiso_child[2] == "upper")))
         return
