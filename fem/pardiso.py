@@ -19,7 +19,9 @@ The library is MKL's single dynamic runtime ``libmkl_rt`` (pip package ``mkl``),
 process in the environment's ``lib`` folder and then by the dynamic loader. Settings: METIS nested
 dissection in its OpenMP version (``iparm[1] = 3``: 0.05 s faster than the serial one at 52 k DOF,
 0.25 s on the hybrid model), zero-based indices (``iparm[34] = 1``), no iterative refinement,
-in-core. The factor lives in MKL memory until :meth:`Factorization.release`.
+in-core. The factor lives in MKL memory until :meth:`Factorization.release`. Before each numerical
+factorisation the C heap's free pages go back to the operating system (:func:`rvcoax.fem.memory.return_free_heap`):
+MKL maps the factor apart from the heap, so what an assembly left free there would otherwise add to the peak.
 
 **The analysis is reused per sparsity pattern.** A released factor gives its numerical factor back to MKL
 (phase 0) but keeps its ordering and symbolic factorisation (phase 11) in a small pool keyed by the pattern
@@ -55,6 +57,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.fem.errors import PardisoError
+from rvcoax.fem.memory import return_free_heap
 
 __all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT",
            "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
@@ -371,6 +374,7 @@ class Factorization:
         if pooled is not None:
             self._handle, self._iparm = pooled.handle, pooled.iparm
             try:
+                return_free_heap()  # the factor is mapped apart from the heap: give back what the heap holds free
                 self._call(22, no_rhs, "factorisation")
                 self.reused_analysis = True
                 self._keep_analysis = True
@@ -394,6 +398,7 @@ class Factorization:
         try:
             self._call(11, no_rhs, "analysis")  # ordering and symbolic factorisation: the pattern only
             if not analysis_only:
+                return_free_heap()  # what the assembly and the analysis left free on the heap (fem.memory)
                 self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
             self._keep_analysis = True
         except PardisoError:

@@ -294,3 +294,34 @@ def test_pardiso_condition_estimate_on_request_is_the_one_made_at_set_up(cantile
     for _ in range(6):
         with pytest.raises(SingularMatrixError, match="singular"):
             prepare(unconstrained, "pardiso", estimate_condition=False)
+
+
+def test_free_heap_memory_goes_back_to_the_system():
+    """What freed arrays below the mmap threshold leave resident is given back, and nothing in use is touched."""
+    import sys
+
+    from rvcoax.fem.memory import return_free_heap
+
+    if not sys.platform.startswith("linux"):
+        assert return_free_heap() in (True, False)
+        return
+
+    def resident_mb() -> float:
+        with open("/proc/self/status", encoding="ascii") as status:
+            return next(int(line.split()[1]) / 1024 for line in status if line.startswith("VmRSS:"))
+
+    kept = np.arange(1000.0)
+    warm = np.ones(1_000_000)  # an 8 MB mapped block freed: glibc's mmap threshold rises to its size
+    del warm
+    baseline = resident_mb()
+    # 2 MB arrays (on the heap now), interleaved with 96 kB survivors so that the heap cannot shrink from its top
+    blocks, survivors = [], []
+    for _ in range(150):
+        blocks.append(np.ones(250_000))
+        survivors.append(np.ones(12_000))
+    del blocks
+    retained = resident_mb() - baseline  # ~300 MB with glibc's default thresholds (none when MALLOC_ options map all)
+    assert return_free_heap()
+    if retained > 200.0:
+        assert resident_mb() - baseline < retained - 200.0
+    assert kept.sum() == 499_500.0 and all(s.sum() == 12_000.0 for s in survivors)
