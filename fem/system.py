@@ -23,10 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import pardiso, solvers
+from rvcoax.fem import pardiso, solvers, woodbury
 
 __all__ = ["LONG_ROW", "ConstrainedStiffness", "ReducedSystem", "UpperTriangleOperator", "constrained_stiffness",
-           "factorize", "long_rows", "prepare_system", "reduced_stiffness"]
+           "factorize", "independent_modes", "long_rows", "prepare_system", "reduced_stiffness", "tied_rows"]
 
 LONG_ROW = 64
 """A row of T with more nonzeros than this (a distributing tie's reference DOF over a face of 22 or more
@@ -37,6 +37,37 @@ def long_rows(elimination: sp.csr_matrix, longer_than: int = LONG_ROW) -> np.nda
     """The rows of T (DOFs) with more than ``longer_than`` nonzeros."""
     t = sp.csr_matrix(elimination)
     return np.flatnonzero(np.diff(t.indptr) > longer_than)
+
+
+def tied_rows(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, longer_than: int = LONG_ROW) -> np.ndarray:
+    """The long rows of T (:func:`long_rows`) whose DOF has stiffness (a nonzero in its row of K).
+
+    A DOF that no element or spring touches adds nothing to Tᵀ K T, however long its row of T: a reference
+    node's rotations where only a force acts, its axial DOF where a bearing is radial only. Kept as unknowns
+    with multipliers, each such DOF is a 2 × 2 block [[0, c], [c, 0]] that PARDISO's 1 × 1 pivots perturb (20 of
+    the 21 perturbed pivots of the reference rig's hybrid model); left in T, it is only an output (u = T q).
+    """
+    long = long_rows(elimination, longer_than)
+    k = sp.csr_matrix(stiffness)
+    touched = np.asarray(abs(k[long]).sum(axis=1)).reshape(-1) > 0.0
+    return long[touched]
+
+
+def independent_modes(elimination: sp.csr_matrix, modes: np.ndarray) -> np.ndarray | None:
+    """Rigid-body modes (n × k, all DOFs) restricted to the independent DOFs q (m × k), or None.
+
+    An independent DOF's row of T is a single 1 in its own column (u_i = q_j); a dependent DOF may have such a
+    row too (a rigid link's rotation, θ_s = θ_m), and under constraints that keep rigid motions it carries the
+    same value. None when some column of T has no such row.
+    """
+    t = sp.csr_matrix(elimination)
+    count = np.diff(t.indptr)
+    rows = np.flatnonzero(count == 1)
+    rows = rows[t.data[t.indptr[rows]] == 1.0]
+    columns, first = np.unique(t.indices[t.indptr[rows]], return_index=True)
+    if columns.size != t.shape[1]:
+        return None
+    return np.asarray(modes, dtype=float).reshape(t.shape[0], -1)[rows[first]]
 
 
 class UpperTriangleOperator:
@@ -281,9 +312,13 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
         A direct factorisation found Tᵀ K T singular.
     """
     chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
-    long = long_rows(elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
+    long = tied_rows(stiffness, elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
         operator = constrained_stiffness(stiffness, elimination, long)
+        modes = independent_modes(elimination, near_null_space()) if near_null_space is not None else None
+        updated = woodbury.prepare_tied(operator, modes)
+        if updated is not None:
+            return ReducedSystem(stiffness, elimination, updated)
         upper = operator.saddle_point_upper()
         operator = operator.served_from(upper)  # K' itself is freed here, before PARDISO allocates its factor
         return ReducedSystem(stiffness, elimination, solvers.prepare_saddle_point(operator, upper))
