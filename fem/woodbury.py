@@ -136,7 +136,7 @@ def prepare_tied(operator, modes: np.ndarray | None) -> solvers.PreparedSolver |
     storage, stored = pardiso.upper_storage(b), b.nnz
     del b
     try:
-        factor = pardiso.Factorization(storage)
+        factor = pardiso.Factorization(storage, two_level=True)
     except PardisoError:
         return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
     v = sp.hstack([dependent.T, kept[:m, m:], sp.csr_matrix((np.ones(ground.size), (ground, np.arange(ground.size))),
@@ -145,22 +145,25 @@ def prepare_tied(operator, modes: np.ndarray | None) -> solvers.PreparedSolver |
     core_inverse[:d, d:2 * d] = core_inverse[d:2 * d, :d] = np.eye(d)
     core_inverse[d:2 * d, d:2 * d] = -kept[m:, m:].toarray()
     core_inverse[2 * d:, 2 * d:] = -np.diag(1.0 / springs)
-    y = factor.solve(v.toarray())
+    probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
+    y = factor.solve(np.column_stack([v.toarray(), probe]))
+    y, probe_x0 = y[:, :rank], y[:, rank:]
     lu, root = _capacitance(core_inverse, v, y)
     if lu is None:
         factor.release(keep_analysis=False)
         return None
 
+    def update(x):
+        x -= y @ (root[:, None] * la.lu_solve(lu, root[:, None] * (v.T @ x), check_finite=False))
+        return x
+
     def solve(block):
         try:
-            x = factor.solve(block)
+            return update(factor.solve(block)), (), ()
         except PardisoError as error:
             raise SolverError(str(error)) from error
-        x -= y @ (root[:, None] * la.lu_solve(lu, root[:, None] * (v.T @ x), check_finite=False))
-        return x, (), ()
 
-    probe = np.random.default_rng(0).standard_normal((m, 1))
-    residual = np.linalg.norm(probe - operator @ solve(probe)[0]) / np.linalg.norm(probe)
+    residual = np.linalg.norm(probe - operator @ update(probe_x0)) / np.linalg.norm(probe)
     if not residual <= solvers.REFINE_ABOVE:
         factor.release(keep_analysis=False)
         return None
