@@ -95,7 +95,7 @@ def _capacitance(core_inverse: np.ndarray, v: sp.csc_matrix, y: np.ndarray):
     return lu, root
 
 
-def prepare_tied(operator, modes: np.ndarray | None) -> solvers.PreparedSolver | None:  # noqa: PLR0915
+def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.PreparedSolver | None:  # noqa: PLR0915
     """Set up A = Sᵀ K' S (``operator``) by Cholesky of the tie-released K_qq plus a low-rank update.
 
     Parameters
@@ -104,6 +104,10 @@ def prepare_tied(operator, modes: np.ndarray | None) -> solvers.PreparedSolver |
         A, with K' whole (``kept`` a csr matrix) and Q (``dependent``).
     modes : (m, k) array, optional
         Rigid-body modes of the independent DOFs q; without them only a K_qq that holds every part is used.
+    serve : callable, optional
+        ``serve(operator, storage, ground, springs)`` → the same A with K' applied from B's upper triangle
+        ``storage`` (:func:`rvcoax.fem.system._serve`), so that the whole K' is freed before PARDISO's factor is
+        allocated (a caller that keeps no reference of its own to ``operator``).
 
     Returns
     -------
@@ -135,16 +139,19 @@ def prepare_tied(operator, modes: np.ndarray | None) -> solvers.PreparedSolver |
     del k_qq
     storage, stored = pardiso.upper_storage(b), b.nnz
     del b
-    try:
-        factor = pardiso.Factorization(storage, two_level=True)
-    except PardisoError:
-        return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
     v = sp.hstack([dependent.T, kept[:m, m:], sp.csr_matrix((np.ones(ground.size), (ground, np.arange(ground.size))),
                                                             shape=(m, ground.size))]).tocsc()
     core_inverse = np.zeros((rank, rank))
     core_inverse[:d, d:2 * d] = core_inverse[d:2 * d, :d] = np.eye(d)
     core_inverse[d:2 * d, d:2 * d] = -kept[m:, m:].toarray()
     core_inverse[2 * d:, 2 * d:] = -np.diag(1.0 / springs)
+    if serve is not None:
+        operator = serve(operator, storage, ground, springs)
+    del kept, dependent  # with ``serve``, the whole K' goes here
+    try:
+        factor = pardiso.Factorization(storage, two_level=True)
+    except PardisoError:
+        return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
     probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
     y = factor.solve(np.column_stack([v.toarray(), probe]))
     y, probe_x0 = y[:, :rank], y[:, rank:]

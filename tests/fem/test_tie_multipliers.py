@@ -13,6 +13,7 @@ from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.solvers import SingularMatrixError, pardiso_available
 from rvcoax.fem.system import (
     LONG_ROW,
+    ReleasedStiffness,
     constrained_stiffness,
     independent_modes,
     long_rows,
@@ -243,3 +244,22 @@ def test_a_singular_tied_stiffness_is_refused_with_modes_too(tied_bar_and_modes)
     free = k - sp.csr_matrix((ground, (np.arange(6), np.arange(6))), shape=k.shape)  # nothing grounded
     with pytest.raises(SingularMatrixError, match="singular"):
         prepare_system(free.tocsr(), t, "pardiso", near_null_space=lambda: modes)
+
+
+@needs_pardiso
+def test_the_cholesky_path_serves_the_tied_stiffness_from_its_own_arrays(tied_bar_and_modes):
+    """K' applied from B's upper triangle less the grounding (ReleasedStiffness) is K', dense and sparse, and gives
+    the same 1-norm; the whole K' is not kept."""
+    k, t, _, _, modes = tied_bar_and_modes
+    served = prepare_system(k, t, "pardiso", near_null_space=lambda: modes).solver.matrix
+    whole = constrained_stiffness(k, t, tied_rows(k, t))
+    assert isinstance(served.kept, ReleasedStiffness)
+    x = np.random.default_rng(5).standard_normal((t.shape[1], 2))
+    scale = abs(whole.kept).max() * np.abs(x).max()
+    assert np.allclose(served @ x, whole @ x, rtol=0, atol=1e-13 * scale)
+    assert np.allclose(served @ x[:, 0], whole @ x[:, 0], rtol=0, atol=1e-13 * scale)
+    assert np.array_equal(served.diagonal(), whole.diagonal())
+    sparse = sp.random(whole.kept.shape[0], 5, density=0.01, random_state=6, format="csc")
+    assert abs(served.kept @ sparse - whole.kept @ sparse).max() <= 1e-13 * abs(whole.kept).max()
+    root = np.sqrt(whole.diagonal())
+    assert served.scaled_one_norm(root, 97) == pytest.approx(whole.scaled_one_norm(root, 97), rel=1e-12)
