@@ -550,7 +550,18 @@ def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
 
 
 def case_text(input_torque_Nm: float, output_torque_Nm: float) -> str:
-    """A load case by its torques, as the report and the warnings write it: ``"T1 = 0.5 N·m, T2 = 40 N·m"``."""
+    """A load case by its torques, as the console, the report and the warnings write it.
+
+    Parameters
+    ----------
+    input_torque_Nm, output_torque_Nm : float
+        The case's input torque T1 and output torque T2, N·m.
+
+    Returns
+    -------
+    str
+        ``"T1 = 0.5 N·m, T2 = 40 N·m"`` (``:g`` format).
+    """
     return f"T1 = {input_torque_Nm:g} N·m, T2 = {output_torque_Nm:g} N·m"
 
 
