@@ -36,6 +36,7 @@ from rvcoax.fem import DOFS_PER_NODE, bearing_life
 from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
+from rvcoax.results.torque_path import torque_rating_warnings
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
@@ -1021,6 +1022,8 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     (``bearing <name> (<model>) …``, ``reducer <name> (<designation>) …``, cases named as the tables name them):
     bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
     minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
+    couplings and shafts (torque sensors) above their rated torque
+    (:func:`rvcoax.results.torque_path.torque_rating_warnings`),
     shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
     with ``warning:``, the report in its misalignment section.
 
@@ -1040,4 +1043,5 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     """
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
     return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
-            + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))
+            + reducer_warnings(rig, entries) + torque_rating_warnings(rig, entries)
+            + play_crossings(operating_points or {}))
