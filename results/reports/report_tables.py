@@ -578,8 +578,8 @@ def life_tables(sweep) -> list[Table]:
                          ("case", "coupling or shaft", "torque carried [N·m]", "rated torque [N·m]", "of rated",
                           "peak torque [N·m]", "of peak", "verdict"),
                          tuple((case_name(sweep.rig, case.input_torque_Nm, case.output_torque_Nm), f"{r.kind} {r.name}",
-                                _g(r.torque_Nm), _g(r.rated_torque_Nm), f"{r.rated_use_percent:.3g} %",
-                                "–" if r.peak_torque_Nm is None else _g(r.peak_torque_Nm),
+                                _g(r.torque_Nm), f"{r.rated_torque_Nm:g}", f"{r.rated_use_percent:.3g} %",
+                                "–" if r.peak_torque_Nm is None else f"{r.peak_torque_Nm:g}",
                                 "–" if r.peak_use_percent is None else f"{r.peak_use_percent:.3g} %", r.verdict)
                                for case, r in rated),
                          verdict_column=7,
