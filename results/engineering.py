@@ -1013,7 +1013,8 @@ def reducer_warnings(rig, entries: list[dict]) -> list[str]:
             case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
             found.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque "
                          f"{red['torque_Nm']:.4g} N·m = {red['torque_rated_percent']:.3g} % of rated; moment "
-                         f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable)")
+                         f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable; axial force "
+                         f"{red['axial_force_N']:.3g} N = {red['axial_use_percent']:.3g} % of the maximum)")
     return found
 
 
