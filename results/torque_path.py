@@ -28,7 +28,7 @@ exit other than the reaction carries more than :data:`LEAK_PERCENT` of the appli
 it carries: a coupling, the moment about x its spring transmits; a shaft, the largest torque that enters or leaves
 it through one spring with torsional stiffness (its couplings, joints) or is applied to it (T1, T2) — for a shaft
 held between two couplings, as a torque sensor's is, the torque through its measuring section.
-:func:`torque_rating_warnings` names every case above a rating.
+:func:`rvcoax.results.engineering.torque_rating_warnings` names every case above a rating.
 """
 
 from __future__ import annotations
@@ -38,8 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LEAK_PERCENT", "ShaftLineTorque", "TorqueExit", "TorquePaths", "TorqueRating", "shaft_lines",
-           "torque_path_warnings", "torque_paths", "torque_rating_warnings", "torque_ratings"]
+__all__ = ["LEAK_PERCENT", "ShaftLineTorque", "TorqueExit", "TorquePaths", "TorqueRating", "rating_sentence",
+           "shaft_lines", "torque_path_warnings", "torque_paths", "torque_ratings"]
 
 LEAK_PERCENT = 2.0
 """Share of a line's applied torque (%) above which an exit other than the reaction is warned about."""
@@ -366,34 +366,12 @@ def torque_path_warnings(entries: list[dict], limit_percent: float = LEAK_PERCEN
     return found
 
 
-def torque_rating_warnings(rig, entries: list[dict]) -> list[str]:
-    """One sentence per rated coupling or shaft and case above its rated torque, from the ``sweep.json`` case
-    entries (their ``engineering.torque_ratings``), in the form of
-    :func:`rvcoax.results.engineering.engineering_warnings`.
-
-    Parameters
-    ----------
-    rig : Rig
-        The rig (its case names).
-    entries : list of dict
-        The ``cases`` of ``sweep.json``.
-
-    Returns
-    -------
-    list of str
-        ``coupling C3 (rated 240 N·m) in case T1 = 1.43 N·m, T2 = 300 N·m: EXCEEDS rated torque (carries 300 N·m =
-        125 % of rated)``; empty when every case is within every rating.
-    """
-    from rvcoax.results.engineering import case_name  # the one naming of cases (engineering imports this module)
-
-    found = []
-    for entry in entries:
-        for r in entry.get("engineering", {}).get("torque_ratings", []):
-            if r["verdict"] == "within rating":
-                continue
-            case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
-            peak = "" if r["peak_torque_Nm"] is None else (
-                f", {r['peak_use_percent']:.3g} % of the peak {r['peak_torque_Nm']:.4g} N·m")
-            found.append(f"{r['kind']} {r['name']} (rated {r['rated_torque_Nm']:.4g} N·m) in case {case}: {r['verdict']} "
-                         f"(carries {r['torque_Nm']:.4g} N·m = {r['rated_use_percent']:.3g} % of rated{peak})")
-    return found
+def rating_sentence(rating: dict, case: str) -> str:
+    """The warning for a rated coupling or shaft above its rated torque in ``case``, from its ``sweep.json`` entry
+    (:meth:`TorquePaths.rating_entries`); :func:`rvcoax.results.engineering.torque_rating_warnings` gives one per
+    case."""
+    peak = "" if rating["peak_torque_Nm"] is None else (
+        f", {rating['peak_use_percent']:.3g} % of the peak {rating['peak_torque_Nm']:.4g} N·m")
+    return (f"{rating['kind']} {rating['name']} (rated {rating['rated_torque_Nm']:.4g} N·m) in case {case}: "
+            f"{rating['verdict']} (carries {rating['torque_Nm']:.4g} N·m = {rating['rated_use_percent']:.3g} % of "
+            f"rated{peak})")

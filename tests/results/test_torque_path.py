@@ -212,8 +212,7 @@ def test_rated_couplings_and_sensor_carry_the_hand_computed_torque_against_their
 
 
 def test_a_torque_above_a_rating_warns_once_per_case_in_the_one_form(old):
-    from rvcoax.results.engineering import engineering_warnings
-    from rvcoax.results.torque_path import torque_rating_warnings
+    from rvcoax.results.engineering import engineering_warnings, torque_rating_warnings
 
     rig, entries = old
     warnings = torque_rating_warnings(rig, entries)
