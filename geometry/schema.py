@@ -198,7 +198,8 @@ class Part(StrictModel):
                                                       "(shaft stresses are computed without them too).")
     rated_torque_Nm: RatedTorque | None = Field(None, description=(
         "A shaft's rated torque: a torque sensor's nominal (rated) torque on its measuring shaft (datasheet). Each "
-        "case's torque through the shaft is checked against it (warning above it; sweep.csv/json, the report)."))
+        "case's torque through the shaft is checked against it (warning above it; sweep.csv/json, the report). A "
+        "rating that shears the shaft's thinnest section outside 0.5 … 2000 MPa is warned about (a unit slip)."))
     peak_torque_Nm: RatedTorque | None = Field(None, description=(
         "The torque the shaft's maker allows above the rated one (a torque sensor's limit torque), when the "
         "datasheet gives one; needs rated_torque_Nm."))
@@ -521,7 +522,8 @@ class Coupling(Connection):
     # --- rating (issue 25): the torque each case carries through the coupling against its maker's rating ---
     rated_torque_Nm: RatedTorque | None = Field(None, description=(
         "The coupling's rated (nominal) torque from its datasheet. Each case's torque through the coupling is checked "
-        "against it (warning above it; sweep.csv/json, the report)."))
+        "against it (warning above it; sweep.csv/json, the report). A rating that twists the coupling outside "
+        "1e-5 … 0.3 rad (T / torsional_stiffness_Nm_per_rad) is warned about (a unit slip)."))
     peak_torque_Nm: RatedTorque | None = Field(None, description=(
         "The maximum torque the coupling's maker allows above the rated one (peaks, start and stop), when the "
         "datasheet gives one; needs rated_torque_Nm."))

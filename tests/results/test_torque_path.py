@@ -327,3 +327,28 @@ def test_the_report_lists_every_rated_coupling_and_shaft_per_case(old):
     c3 = table.rows[1]
     assert c3[2:] == ("76.87", "70", "110 %", "90", "85.4 %", "above rated torque (within peak)")
     assert table.verdict_column == 7
+
+
+def test_a_rating_in_the_wrong_unit_is_warned_about_before_solving():
+    """A kN·m or N·mm slip: C2's 500 N·m written as 0.5 twists it 0.5 / 3.2e5 = 1.6e-6 rad at its 'rating' (couplings
+    twist 1e-5 … 0.3 rad at theirs); the sensor shaft's (Ø40, W_t = π 40³ / 16 = 12 566 mm³) 0.5 N·m shears it at
+    0.04 MPa (0.5 … 2000 MPa); 500 000 'N·m' on C3 twists it 1.6 rad. The shipped rigs are silent."""
+    from rvcoax.geometry.catalogue import plausibility_warnings
+    from rvcoax.geometry.rigfile import REFERENCE_VARIANTS, load_rig, parse_rig_text, reference_rig_text
+
+    data = tomllib.loads(example_rig_text())
+    data["couplings"][1]["rated_torque_Nm"] = 0.5
+    data["couplings"][2]["rated_torque_Nm"] = 5e5
+    next(p for p in data["parts"] if p["name"] == "output_sensor_shaft")["rated_torque_Nm"] = 0.5
+    next(p for p in data["parts"] if p["name"] == "brake_shaft")["rated_torque_Nm"] = 500.0  # Ø45: 28 MPa, plausible
+    warnings = plausibility_warnings(parse_rig(data, "slips.toml"))
+    assert warnings == [
+        "couplings[1] ('C2').rated_torque_Nm = 0.5 N·m twists the coupling 1.6e-06 rad (torsional_stiffness_Nm_per_rad "
+        "= 320000); couplings twist 1e-05 … 0.3 rad at their rating: written in kN·m?",
+        "couplings[2] ('C3').rated_torque_Nm = 500000 N·m twists the coupling 1.6 rad (torsional_stiffness_Nm_per_rad "
+        "= 320000); couplings twist 1e-05 … 0.3 rad at their rating: written in N·mm?",
+        "parts[8] ('output_sensor_shaft').rated_torque_Nm = 0.5 N·m shears the shaft's thinnest section at 0.04 MPa; a "
+        "measuring shaft sees 0.5 … 2000 MPa at its rating: written in kN·m?"]
+    assert 0.5e3 / (math.pi * 40**3 / 16) == pytest.approx(0.0398, abs=1e-4)
+    assert plausibility_warnings(load_rig()) == []
+    assert all(plausibility_warnings(parse_rig_text(reference_rig_text(v))) == [] for v in REFERENCE_VARIANTS)
