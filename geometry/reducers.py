@@ -38,7 +38,7 @@ are not part of the model and not in the file.
 ``main_bearing_spread_mm``, the distance of the two main bearings' pressure centres, is not published; it is
 ℓ = 50 mm · (T_rated / 167 N·m)^(1/3), the RV-20E's 50 mm taken as 0.6 × its 85 mm case length and scaled
 with the size (the linear size of geometrically similar reducers grows with the cube root of the torque).
-The maker publishes no permitted radial load: a radial load W at a distance ℓ_W from the main bearings'
+The rating table (as recalled, [R]) gives no permitted radial load: a radial load W at a distance ℓ_W from the main bearings'
 centre loads them with the moment W·ℓ_W, which the model's moment at the bearings includes (checked against
 the allowable moment).
 
