@@ -256,6 +256,8 @@ def test_sweep_files_and_console_carry_the_ratings(tmp_path):
             "= 136 % of rated, 106 % of the peak 90 N·m)") in said
     assert "shaft output_sensor_shaft (rated 80 N·m) in case T1 = 0 N·m, T2 = 95 N·m: EXCEEDS rated torque" in said
     assert "coupling C2 (rated" not in said  # 95 % of its 100 N·m: within
+    assert "Couplings and torque sensors against their rated torque, per case" in said  # the console's table
+    assert "coupling C2 95 100 95 % within rating" in " ".join(said.replace("│", " ").split())
     header, row = (tmp_path / "out" / "sweep.csv").read_text().splitlines()[:2]
     values = dict(zip(header.split(","), row.split(",")))
     assert float(values["coupling_C3_torque_Nm"]) == pytest.approx(95.0, rel=1e-8)  # no gap: the line carries T2
