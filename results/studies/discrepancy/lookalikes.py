@@ -8,9 +8,10 @@ a fraction of a micrometre — the spline blends "no change" and "bearing remove
 softening that the clearance cannot make. Such a member would join a stiffness change's group of look-alikes at a
 ΔBIC of 0 although, solved exactly, it fits worse by thousands.
 
-:func:`exact_fit` re-fits a one-parameter member with the exact change where the factorised engine gives it cheaply
-(a clearance by its condensed 2-D law, a spring by the Woodbury identity): the χ² profile over its physical range, the
-other selected effects held at their values. Where no exact solve is cheap (effects solved by real sweeps) it returns
+:func:`exact_fit` re-fits a clearance member with its exact change on the factorised engine (its condensed 2-D law):
+the χ² profile over its physical range, the other selected effects held at their values (:func:`exact_change` gives a
+load's or spring's exact change too, by the Woodbury identity; their splines through 11 exact solves of a smooth law
+need no confirmation). Where no exact solve is cheap (effects solved by real sweeps) it returns
 None and the screen's fit stands.
 """
 
@@ -43,11 +44,12 @@ def exact_fit(problem, trial, member: str, *, effect, observed) -> tuple[float, 
     :class:`~identify.Fit` on the screening responses) with ``member``'s interpolated response replaced by its exact
     change, its parameter fitted again over its physical range (the response's grid values and the screen's value as
     starts, then a bounded 1-D search between the neighbours of the best), the other effects held at their fitted
-    values (``observed``: the factorised engine and the data's cases). None when ``member`` is not an interpolated
-    one-parameter response or has no cheap exact solve."""
+    values (``observed``: the factorised engine and the data's cases). None when ``member`` is not a clearance read off
+    its interpolated response or has no cheap exact solve."""
     response = problem.responses[member]
-    if response.kind != "grid" or len(effect.parameters) != 1 or member not in trial.names:
-        return None
+    if response.kind != "grid" or effect.response != "clearance" or len(effect.parameters) != 1 \
+            or member not in trial.names:
+        return None  # a stiffness's spline through 11 exact solves of a smooth law is exact enough; a gap's is not
     others = problem.base_paths.copy()
     for name, values in zip(trial.names, trial.values):
         if name != member:
