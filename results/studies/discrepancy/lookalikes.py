@@ -11,8 +11,7 @@ softening that the clearance cannot make. Such a member would join a stiffness c
 :func:`exact_fit` re-fits a clearance member with its exact change on the factorised engine (its condensed 2-D law):
 the χ² profile over its physical range, the other selected effects held at their values (:func:`exact_change` gives a
 load's or spring's exact change too, by the Woodbury identity; their splines through 11 exact solves of a smooth law
-need no confirmation). Where no exact solve is cheap (effects solved by real sweeps) it returns
-None and the screen's fit stands.
+need no confirmation). On a rig that is not linear (no factorisation) it returns None and the screen's fit stands.
 """
 
 from __future__ import annotations

@@ -638,8 +638,8 @@ def _as_discrimination(pair, found: Suggestion) -> Discrimination:
 
 
 def _confirmed(problem: Problem, fit: Fit, name: str, seen: Seen) -> tuple[float, np.ndarray]:
-    """(BIC, predicted observations) of ``fit``, with ``name`` solved exactly when the screen read it off an
-    interpolated response (:func:`lookalikes.exact_fit`)."""
+    """(BIC, predicted observations) of ``fit``, with ``name`` solved exactly when it is a clearance the screen read off
+    its interpolated response (:func:`lookalikes.exact_fit`)."""
     exact = exact_fit(problem, fit, name, effect=seen.effects[name], observed=seen.observed)
     if exact is None:
         return fit.bic, problem.observe(problem.paths(fit.names, fit.values))
@@ -652,9 +652,8 @@ def _fits_as_well(seen: Seen, named: Named, name: str, member: str, settings: Di
     model-form allowance of the selection's (RMS of their difference at most that fraction of the RMS signal on the
     rows used to fit: the identification model itself is trusted no closer, so a difference smaller than that does not
     tell them apart, whatever the χ² says). A look-alike that the data tell apart by more than both is not in the
-    group, however parallel its signature. Fits read off an interpolated response are confirmed with the exact change
-    where the factorisation gives it (:func:`lookalikes.exact_fit`: a clearance's sharp law, not the spline between
-    its grid values)."""
+    group, however parallel its signature. A clearance read off its interpolated response is confirmed with its exact
+    law on the factorisation (:func:`lookalikes.exact_fit`), not the spline between its grid values."""
     problem, names = named.problem, tuple(n for n, _ in named.fitted)
     start = dict(named.fitted)
     try:
