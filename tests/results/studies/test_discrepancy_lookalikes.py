@@ -62,7 +62,6 @@ def test_a_clearance_read_off_its_spline_is_confirmed_by_its_exact_law(library):
     assert np.allclose(spring, seen.responses[stiffness].delta([-2.0]), rtol=1e-6, atol=1e-12)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("name", ["bearing_stiffness_paths_1", "torque_reaction_paths_1"])
 def test_the_hidden_effect_is_named_in_a_group_of_at_most_three(library, name):
     """The group holds the truth and at most three members, no clearance read off its spline among them; what may still
