@@ -20,13 +20,16 @@ _STEEL_GROUPS = {"quenched_tempered": "quenched and tempered", "case_hardening":
 
 
 def _geometry(notch) -> str:
-    """The notch as DIN 743-2 sees it, in mm: Ø d/D and r (shoulder, groove with its depth), Ø d (keyway, press fit)."""
+    """The notch as DIN 743-2 sees it, in mm: Ø d/D and r (shoulder, groove with its depth), Ø d (keyway, press fit);
+    no-break spaces inside each item, so that a narrow column wraps only after a comma."""
+    nb = "\u00a0"
     if notch.kind == "shoulder":
-        return f"Ø{notch.diameter_mm:g}/{notch.outer_diameter_mm:g}, r {notch.radius_mm:g}"
+        return f"Ø{notch.diameter_mm:g}/{notch.outer_diameter_mm:g}, r{nb}{notch.radius_mm:g}"
     if notch.kind == "groove":
-        return f"Ø{notch.diameter_mm:g}/{notch.outer_diameter_mm:g}, t {notch.depth_mm:g}, r {notch.radius_mm:g}"
+        return (f"Ø{notch.diameter_mm:g}/{notch.outer_diameter_mm:g}, t{nb}{notch.depth_mm:g}, "
+                f"r{nb}{notch.radius_mm:g}")
     if notch.kind == "keyway":
-        return f"Ø{notch.diameter_mm:g}, {notch.keys} key" + ("s" if notch.keys > 1 else "")
+        return f"Ø{notch.diameter_mm:g}, {notch.keys}{nb}key" + ("s" if notch.keys > 1 else "")
     return f"Ø{notch.diameter_mm:g}"
 
 

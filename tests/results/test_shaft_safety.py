@@ -131,7 +131,7 @@ def test_report_tables_name_the_case_of_each_value(swept):
         for n in entry["engineering"]["shaft_strength"]["notches"]:
             assert n["sigma_bADK_MPa"] / n["bending_amplitude_MPa"] == pytest.approx(n["fatigue_safety"], rel=1e-12)
     shoulder, keyway = details.rows
-    assert shoulder[3] == "Ø30/40, r 2" and keyway[3] == "Ø30, 1 key"
+    assert shoulder[3] == "Ø30/40, r\u00a02" and keyway[3] == "Ø30, 1\u00a0key"
     assert "42CrMo4 σ_B 1100, σ_S 900 MPa" in details.note and "overload case 2" in details.note
 
 
