@@ -26,7 +26,6 @@ a semicircular edge notch, as quoted in Peterson's Stress Concentration Factors 
 from __future__ import annotations
 
 import math
-import threading
 
 import numpy as np
 import pytest
@@ -34,6 +33,7 @@ import skfem
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis, LinearForm, asm, condense, solve
 
 from rvcoax.fem import din743
+from rvcoax.geometry.meshing import gmsh_session
 
 E_MPA, NU = 210e3, 0.3
 LAME, SHEAR = E_MPA * NU / ((1 + NU) * (1 - 2 * NU)), E_MPA / (2 * (1 + NU))
@@ -43,17 +43,9 @@ def meridian_mesh(kind: str, d: float, t: float, r: float, per_radius: float = 1
     """Triangles of the meridian half-section (x = z along the axis, y = radius) of a shaft with one shoulder
     (Ø d → Ø d + 2t, fillet r) or one U-groove (Ø d + 2t, depth t ≥ r, root radius r); mm. Returns the mesh, the
     centre of the notch radius and the shaft's length."""
-    import gmsh
-
     a, big = d / 2.0, d / 2.0 + t
     fine, coarse = r / per_radius, a / 6.0
-    owner = not gmsh.isInitialized()
-    if owner:
-        gmsh.initialize(readConfigFiles=False, interruptible=threading.current_thread() is threading.main_thread())
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setNumber("General.NumThreads", 1)
-        gmsh.model.add("din743_notch")
+    with gmsh_session("din743_notch") as gmsh:
         geo = gmsh.model.geo
 
         def point(z, y):
@@ -100,11 +92,6 @@ def meridian_mesh(kind: str, d: float, t: float, r: float, per_radius: float = 1
         gmsh.model.mesh.generate(2)
         tags, xyz, _ = gmsh.model.mesh.getNodes()
         _, nodes = gmsh.model.mesh.getElementsByType(2)
-    finally:
-        if owner:
-            gmsh.finalize()
-        elif gmsh.isInitialized():
-            gmsh.model.remove()
     order = np.argsort(tags)
     index = np.empty(int(tags.max()) + 1, dtype=np.int64)
     index[tags[order]] = np.arange(tags.size)[order]
