@@ -218,6 +218,13 @@ class Location(StrictModel):
         return self
 
 
+class _PositiveUpTo:
+    """``_PositiveUpTo[upper]``: a finite float in (0, upper]."""
+
+    def __class_getitem__(cls, upper: float):
+        return Annotated[float, Field(gt=0.0, le=upper, allow_inf_nan=False, strict=True)]
+
+
 class Bearing(StrictModel):
     """A bearing between a shaft and its housing (or the ground).
 
@@ -355,17 +362,18 @@ class Bearing(StrictModel):
                           "ISO 281's a_ISO.")
     contamination_factor: Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)] | None = Field(
         None, description="e_C of ISO 281 (1: extreme cleanliness … 0: severe contamination).")
-    oil_viscosity_mm2_per_s: Annotated[float, Field(gt=0.0, le=1e5, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="A bearing from geometry: the lubricant's kinematic viscosity ν at operating temperature; "
-                          "gives κ = ν/ν1 per case (ISO 281's ν1 at the case's speed) instead of viscosity_ratio, "
-                          "and the ball bearings' speed-dependent minimum load.")
-    minimum_load_factor: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="The maker's minimum load factor k_r (SKF product tables): ball and angular_contact "
-                          "F_rm = k_r (ν n/1000)^(2/3) (d_m/100)² kN (needs oil_viscosity_mm2_per_s), "
-                          "cylindrical_roller F_rm = k_r (6 + 4 n/n_r) (d_m/100)² kN (needs reference_speed_rpm); "
-                          "without it the rule of thumb 0.01 C (ball) / 0.02 C (roller).")
-    reference_speed_rpm: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False, strict=True)] | None = Field(
-        None, description="cylindrical_roller: the catalogue's reference speed n_r (minimum load).")
+    # the maker's minimum load and κ from the oil (rvcoax.geometry.bearing_ratings.life_options)
+    oil_viscosity_mm2_per_s: _PositiveUpTo[1e5] | None = Field(None, description=(
+        "A bearing from geometry: the lubricant's kinematic viscosity ν at operating temperature; gives κ = ν/ν1 "
+        "per case (ISO 281's ν1 at the case's speed) instead of viscosity_ratio, and the ball bearings' "
+        "speed-dependent minimum load."))
+    minimum_load_factor: _PositiveUpTo[10.0] | None = Field(None, description=(
+        "The maker's minimum load factor k_r (SKF product tables): ball and angular_contact F_rm = k_r "
+        "(ν n/1000)^(2/3) (d_m/100)² kN (needs oil_viscosity_mm2_per_s), cylindrical_roller F_rm = k_r "
+        "(6 + 4 n/n_r) (d_m/100)² kN (needs reference_speed_rpm); without it the rule of thumb 0.01 C (ball) / "
+        "0.02 C (roller)."))
+    reference_speed_rpm: _PositiveUpTo[1e6] | None = Field(None, description=(
+        "cylindrical_roller: the catalogue's reference speed n_r (minimum load)."))
 
     @model_validator(mode="after")
     def _check_life_keys(self) -> Bearing:
