@@ -32,7 +32,7 @@ Life modification factor a_ISO (ISO 281:2007, 9.3.3)
     The constants as ISO 281 prints them, quoted in two independent open implementations: Dessia-tech/
     MechanicalComponents, mechanical_components/bearings.py (RadialRollerBearing.AIso, and the ball form;
     its ball code mistypes 0.19087 as 0.019087, which our continuity test at κ = 0.4 would catch), and a
-    Korean ISO 281/16281 Rust solver indexed by the search corpus (eqs. (31)–(36) named in its comments).
+    Korean ISO 281/16281 Rust solver in a public code index (its file `a_iso_ball`, eqs. (31)–(36) named in its comments; the index does not name its repository).
     Fatigue load limit C_u (ISO 281 annex B, simplified): C0/22 for ball, C0/8.2 for roller bearings of
     D_pw ≤ 100 mm, times (100/D_pw)^0.5 (ball) or (100/D_pw)^0.3 (roller) above (same two sources).
     Viscosity ratio κ = ν/ν1, ν1 = 45000 n^(−0.83) D_pw^(−0.5) (n < 1000 r/min), 4500 n^(−0.5) D_pw^(−0.5)
