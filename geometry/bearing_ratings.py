@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 from rvcoax.fem import bearing_life
 
-__all__ = ["LIFE_KEYS", "LoadRatings", "TYPED_IN_F0", "bearing_speeds_rpm", "check_life_keys", "equivalent_load",
+__all__ = ["LIFE_KEYS", "LoadRatings", "RIB_THRUST_SHARE", "TYPED_IN_F0", "rib_thrust_warnings", "bearing_speeds_rpm", "check_life_keys", "equivalent_load",
            "life_options", "load_ratings", "rig_case_of", "set_rows", "shaft_sides"]
 
 TYPED_IN_F0 = 13.0
@@ -237,3 +237,26 @@ def life_options(bearing, ratings: LoadRatings, speed_rpm: float | None) -> dict
             if bearing.model == "cylindrical_roller" else
             bearing_life.ball_minimum_load_N(factor, viscosity, speed_rpm, mean))
     return options
+
+
+RIB_THRUST_SHARE = 0.5
+"""SKF's limit on the thrust of a locating single-row cylindrical roller bearing (NJ, NUP): F_a ≤ 0.5 F_r (SKF Rolling
+bearings 17000 EN p. 509, "F_a must not exceed 0,5 F_r")."""
+
+
+def rib_thrust_warnings(rig, entries: list[dict], name_of) -> list[str]:
+    """One sentence per NJ or NUP bearing whose ribs carry more thrust than :data:`RIB_THRUST_SHARE` of its radial load
+    in some case (cases named by ``name_of(entry)``), from the ``sweep.json`` case entries' bearing forces."""
+    if rig is None:
+        return []
+    ribbed = {b.name: _cylindrical_variant(b) for b in rig.bearings if b.model == "cylindrical_roller"
+              and _cylindrical_variant(b) in ("NJ", "NUP")}
+    found = []
+    for name, variant in ribbed.items():
+        over = [name_of(e) for e in entries for b in e.get("engineering", {}).get("bearings", ())
+                if b["name"] == name and abs(b["force_axial_N"]) > max(RIB_THRUST_SHARE * b["force_radial_N"], 1.0)]
+        if over:
+            found.append(f"bearing {name} ({variant}) carries more thrust on its ribs than {RIB_THRUST_SHARE:g} F_r, the "
+                         f"limit for a locating cylindrical roller bearing (SKF), in {len(over)} case(s) ("
+                         + "; ".join(over[:3]) + (", …)" if len(over) > 3 else ")"))
+    return found

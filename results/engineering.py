@@ -33,7 +33,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE, bearing_life
-from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, life_options, load_ratings, rig_case_of
+from rvcoax.geometry.bearing_ratings import (
+    bearing_speeds_rpm,
+    life_options,
+    load_ratings,
+    rib_thrust_warnings,
+    rig_case_of,
+)
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 
@@ -1021,7 +1027,8 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     (``bearing <name> (<model>) …``, ``reducer <name> (<designation>) …``, cases named as the tables name them):
     bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
     minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
-    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
+    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`), NJ/NUP ribs carrying more
+    thrust than SKF allows (:func:`rvcoax.geometry.bearing_ratings.rib_thrust_warnings`). The console prints them
     with ``warning:``, the report in its misalignment section.
 
     Parameters
@@ -1040,4 +1047,5 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     """
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
     return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
-            + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))
+            + reducer_warnings(rig, entries) + play_crossings(operating_points or {})
+            + rib_thrust_warnings(rig, tables, lambda entry: _case_text(entry, rig)))

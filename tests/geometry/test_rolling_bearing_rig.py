@@ -392,3 +392,22 @@ def test_life_options_from_the_rig_keys():
     tapered = entry('model = "tapered_roller"\ndesignation = "30205"')
     assert life_options(tapered, load_ratings(tapered), None)["minimum_load_N"] == pytest.approx(
         0.02 * load_ratings(tapered).dynamic_N)
+
+
+def test_rib_thrust_beyond_skfs_limit_is_named_per_case():
+    """SKF (Rolling bearings 17000 EN p. 509): a locating cylindrical roller bearing's F_a must not exceed 0.5 F_r; an
+    NJ whose ribs carry more in a case is named with the case; an NU (no ribs to carry it) is never."""
+    from rvcoax.geometry.bearing_ratings import rib_thrust_warnings
+
+    rig = parse_rig_text(_with_input_b1('model = "cylindrical_roller"\ndesignation = "NJ204"'))
+
+    def entry(name, axial, radial):
+        return {"name": name, "engineering": {"bearings": [{"name": "input_B1", "force_axial_N": axial,
+                                                            "force_radial_N": radial},
+                                                           {"name": "input_B2", "force_axial_N": 900.0,
+                                                            "force_radial_N": 100.0}]}}
+
+    entries = [entry("light", 40.0, 100.0), entry("heavy", -60.0, 100.0), entry("tiny", 0.8, 0.1)]
+    said = rib_thrust_warnings(rig, entries, lambda e: e["name"])
+    assert said == ["bearing input_B1 (NJ) carries more thrust on its ribs than 0.5 F_r, the limit for a locating "
+                    "cylindrical roller bearing (SKF), in 1 case(s) (heavy)"]
