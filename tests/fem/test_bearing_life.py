@@ -119,6 +119,24 @@ def test_skf_bearing_calculator_report_for_a_6309_with_axial_load():
         assert result.basic_life_h == pytest.approx(24500.0, rel=0.002)
 
 
+def test_hours_against_a_makers_speed_and_life_factor_table():
+    """The makers' ball-bearing factor charts (as HCH Bearing prints them, hchbearing.com "Basic rating life and basic
+    dynamic load rating", table "Correlation of bearing basic rating life, life factor and speed factor (Ball
+    bearing)"): speed factor f_n by n and life factor f_h by L10h, with f_h = f_n C/P. Those charts encode
+    L10h = 500 f_h³, f_n = (33.3/n)^(1/3), i.e. L10h = 10⁶/(60 n) (C/P)³ — our hours() — to their three digits."""
+    speed_factor = {10: 1.49, 12: 1.41, 14: 1.34, 600: 0.382, 700: 0.362, 800: 0.347, 1000: 0.322, 2000: 0.255,
+                    10000: 0.149}
+    life_factor = {100: 0.585, 500: 1.0, 1000: 1.26, 10000: 2.71, 20000: 3.42, 28000: 3.83}
+    load_ratio = 5.0
+    for speed, fn in speed_factor.items():
+        life_h = bl.hours(bl.basic_rating_life(load_ratio, 1.0), float(speed))
+        assert (life_h / 500.0) ** (1.0 / 3.0) == pytest.approx(fn * load_ratio, rel=0.004), speed
+    for life_h, fh in life_factor.items():
+        # the speed at which C/P = 5 gives this life, and its speed factor times C/P: the chart's f_h
+        speed = bl.basic_rating_life(load_ratio, 1.0) * 1e6 / (60.0 * life_h)
+        assert (1e6 / (500.0 * 60.0 * speed)) ** (1.0 / 3.0) * load_ratio == pytest.approx(fh, rel=0.004), life_h
+
+
 def test_roller_exponent_and_bad_kind():
     assert bl.basic_rating_life(20.0, 10.0, "roller") == pytest.approx(2.0 ** (10.0 / 3.0))
     with pytest.raises(ValueError, match="ball' or 'roller"):
