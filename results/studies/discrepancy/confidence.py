@@ -65,6 +65,13 @@ TRUTHS = {"none": 0.15, "single": 0.45, "pair": 0.2, "outside": 0.2}  # what a d
 FRACTIONS = (0.02, 0.6)
 BEND = 0.5  # a shaft's model-form bend, at most this share of the allowance (its scale: all of it)
 MAX_CELLS = 60e6  # candidates × grid × observations beyond which the replay is not run (memory)
+# the probability model: a logistic regression of "right" on features of each draw's own answer, fitted on the draws
+# that share the file's verdict (never on benchmark outcomes)
+FEATURES = ("log χ²/n before (the gap)", "log χ²/n after", "generic load's BIC gain / 10", "log group size",
+            "margin to the next candidate (ΔBIC) / 10")
+MARGIN_CAP = 60.0  # ΔBIC: a margin or a generic load's gain beyond this says nothing more (the features are capped)
+RIDGE = 1.0  # L2 penalty on the standardised slopes: a unit-variance Gaussian prior on each (a standard default)
+BOOTSTRAP = 60  # resamples of the draws for the 95 % interval of the logistic probability
 
 
 @dataclass(frozen=True)
@@ -86,10 +93,18 @@ class Confidence:
     seed: int
     seconds: float
     rates: tuple[tuple[str, int, int], ...]
+    binned: float | None = None  # the rate of right draws in the bin (the estimate before the logistic model)
+    features: tuple[float, ...] = ()  # the file's own features (:data:`FEATURES`), when the logistic model is used
 
     def sentence(self, verdict: str) -> str:
         agree = "" if self.replay_verdict == verdict else \
             f"; the replay of the decisions said {self.replay_verdict} on these data, so the estimate is rough"
+        if self.features:
+            return (f"confidence: the verdict '{verdict}' is right with probability {100 * self.probability:.0f} % "
+                    f"(95 % interval {100 * self.low:.0f}–{100 * self.high:.0f} %): a logistic model of how often it "
+                    f"was right on the {self.draws} synthetic data sets like these with the same verdict ({self.right} "
+                    f"right), by their gap, fit, generic load's gain, group size and margin "
+                    f"({self.total_draws} drawn, seed {self.seed}){agree}")
         return (f"confidence: the verdict '{verdict}' is right in {100 * self.probability:.0f} % "
                 f"(95 % interval {100 * self.low:.0f}–{100 * self.high:.0f} %) of {self.draws} synthetic data sets "
                 f"like these with the same answer ({self.bin}; {self.total_draws} drawn, seed {self.seed}){agree}")
@@ -100,7 +115,9 @@ class Confidence:
                 "replay_verdict": self.replay_verdict, "seed": self.seed, "seconds": round(self.seconds, 3),
                 "method": "Monte Carlo of the workflow's decisions on synthetic data of this file's rig, observations "
                           "and noise (docs/discrepancy.md, 'Confidence')",
-                "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates]}
+                "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates],
+                "binned_probability": None if self.binned is None else round(self.binned, 4),
+                "features": {name: round(v, 4) for name, v in zip(FEATURES, self.features)}}
 
 
 def wilson(right: int, n: int, z: float = 1.959964) -> tuple[float, float]:
@@ -291,6 +308,8 @@ class _Answer:
     quality: float  # χ²/n on the fitted rows after (before, when nothing is added)
     why: str = ""  # the rule that decided
     generic_gain: float = 0.0  # BIC of the named fit (of no effect, when none is named) − BIC of the best generic load
+    gap: float = 0.0  # χ²/n on the fitted rows before any effect: the size of the gap, in σ²
+    margin: float = 0.0  # BIC of the best single effect outside the winner's group − BIC of the winner (0: none won)
 
 
 @dataclass(frozen=True, eq=False)
@@ -359,16 +378,18 @@ class _Replay:
         r_fit = r[rows]
         chi2_0 = float(r_fit @ r_fit)
         generic = float(scan.bic[d].min()) if scan is not None and np.isfinite(scan.bic[d]).any() else np.inf
+        gap = chi2_0 / max(self.n_fit, 1)
         if not self._gap(r_fit):
-            return _Answer("no_gap", (), 0, chi2_0 / max(self.n_fit, 1), "", chi2_0 - generic)
+            return _Answer("no_gap", (), 0, gap, "", chi2_0 - generic, gap)
         bic = singles.chi2[d] + self.ln_n
         valid = singles.physical[d]
         if not valid.any() or chi2_0 - bic[valid].min() < settings.bic_margin:
-            return _Answer("unexplained", (), 0, chi2_0 / max(self.n_fit, 1), "no effect gains the margin",
-                           chi2_0 - generic)
+            return _Answer("unexplained", (), 0, gap, "no effect gains the margin", chi2_0 - generic, gap)
         order = np.flatnonzero(valid)[np.argsort(bic[valid])]
         w = int(order[0])
         group = self._group(w, order, bic, singles=singles, d=d, chi2_0=chi2_0)
+        outside = [float(bic[c]) for c in order if int(c) not in group]
+        margin = (min(outside) - float(bic[w])) if outside else MARGIN_CAP
         w = self._representative(w, group, bic)
         selected = [(w, float(singles.value[d, w]))]
         fit_bic, fit_chi2 = float(bic[w]), float(singles.chi2[d, w])
@@ -391,7 +412,7 @@ class _Replay:
         quality = fit_chi2 / max(self.n_fit, 1)
         verdict, why = self._verdict(r, model, selected, groups, bic=fit_bic, chi2=fit_chi2, singles=singles, d=d, scan=scan,
                                      entry_site=entry_site)
-        return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic)
+        return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic, gap, margin)
 
     def _group(self, w: int, order, bic, *, singles: _Single, d: int, chi2_0: float) -> list[int]:  # noqa: PLR0913
         settings = self.settings
@@ -739,6 +760,66 @@ def _fit_class(verdict: str, quality: float, generic_gain: float, settings) -> s
     return _quality_class(quality)
 
 
+def _features(answers, groups=None, qualities=None) -> np.ndarray:
+    """(answers, :data:`FEATURES`) of the replay's answers; ``groups``/``qualities`` in place of theirs (the file's
+    own answer takes these from the workflow's result)."""
+    groups = [a.group for a in answers] if groups is None else groups
+    qualities = [a.quality for a in answers] if qualities is None else qualities
+    return np.array([[np.log(max(a.gap, 1e-3)), np.log(max(q, 1e-3)),
+                      np.clip(a.generic_gain, -MARGIN_CAP, MARGIN_CAP) / 10.0, np.log(max(g, 1)),
+                      np.clip(a.margin, 0.0, MARGIN_CAP) / 10.0]
+                     for a, g, q in zip(answers, groups, qualities)], dtype=float).reshape(-1, len(FEATURES))
+
+
+@dataclass(frozen=True)
+class _Logistic:
+    intercept: float
+    slopes: np.ndarray
+    mean: np.ndarray
+    scale: np.ndarray
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        z = self.intercept + ((np.atleast_2d(x) - self.mean) / self.scale) @ self.slopes
+        return 1.0 / (1.0 + np.exp(-np.clip(z, -30.0, 30.0)))
+
+
+def _logistic(x: np.ndarray, y: np.ndarray) -> _Logistic:
+    """P(right | x) by penalised maximum likelihood (Newton steps): standardised features, slopes with a unit Gaussian
+    prior (:data:`RIDGE`), the intercept pulled weakly towards the Laplace-smoothed rate, so that a class of draws that
+    is all right (or all wrong) gives a finite, cautious answer."""
+    mean = x.mean(axis=0)
+    scale = x.std(axis=0)
+    scale = np.where(scale > 1e-9, scale, np.inf)  # a feature that does not vary says nothing: its column is zero
+    z = (x - mean) / scale
+    prior = (y.sum() + 1.0) / (y.size + 2.0)
+    centre = np.log(prior / (1.0 - prior))
+    design = np.column_stack([np.ones(y.size), z])
+    penalty = np.full(design.shape[1], RIDGE)
+    penalty[0] = 1e-2
+    target = np.zeros(design.shape[1])
+    target[0] = centre
+    beta = target.copy()
+    for _ in range(25):
+        p = 1.0 / (1.0 + np.exp(-np.clip(design @ beta, -30.0, 30.0)))
+        gradient = design.T @ (p - y) + penalty * (beta - target)
+        hessian = (design * (p * (1 - p))[:, None]).T @ design + np.diag(penalty)
+        step = np.linalg.solve(hessian, gradient)
+        beta -= step
+        if np.max(np.abs(step)) < 1e-8:
+            break
+    return _Logistic(float(beta[0]), beta[1:], mean, scale)
+
+
+def _logistic_estimate(x: np.ndarray, y: np.ndarray, mine: np.ndarray, seed: int) -> tuple[float, float, float]:
+    """P(right) at the file's features ``mine`` from the draws (x, y), and its 95 % interval from
+    :data:`BOOTSTRAP` resamples of the draws (seeded)."""
+    probability = float(_logistic(x, y)(mine)[0])
+    rng = np.random.default_rng(seed + 1)
+    resampled = [_logistic(x[i], y[i])(mine)[0] for i in (rng.integers(0, y.size, y.size) for _ in range(BOOTSTRAP))]
+    low, high = (float(v) for v in np.quantile(resampled, [0.025, 0.975]))
+    return probability, min(low, probability), max(high, probability)
+
+
 def draw_limit(draws: int) -> int:
     """The most draws made when ``draws`` are asked for: :data:`MAX_DRAWS` per :data:`DRAWS` (at most MAX_DRAWS)."""
     return max(draws, min(MAX_DRAWS, MAX_DRAWS * draws // DRAWS))
@@ -796,9 +877,16 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         probability, (low, high) = 0.5, (0.0, 1.0)
     else:
         probability, (low, high) = k / n, wilson(k, n)
-    label = ", ".join(mine[:depth])
+    binned, label, features = probability, ", ".join(mine[:depth]), ()
+    same = np.array([a.verdict == verdict for a in answers], dtype=bool)
+    if same.sum() >= MIN_BIN:  # the logistic model on the draws with this verdict
+        mine_x = _features([own], [group], [quality])
+        probability, low, high = _logistic_estimate(_features([a for a, s in zip(answers, same) if s]),
+                                                    right[same].astype(float), mine_x, seed)
+        n, k, label = int(same.sum()), int(right[same].sum()), f"{verdict}: logistic in {', '.join(FEATURES)}"
+        features = tuple(float(v) for v in mine_x[0])
     rates = tuple((v, int(right[[a.verdict == v for a in answers]].sum()), sum(a.verdict == v for a in answers))
                   for v in ("no_gap", "explained", "ambiguous", "unexplained"))
     return Confidence(probability=float(probability), low=low, high=high, right=k, draws=n, total_draws=draws,
                       bin=label, replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
-                      rates=rates)
+                      rates=rates, binned=float(binned), features=features)
