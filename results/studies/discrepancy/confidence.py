@@ -557,6 +557,8 @@ class _Replay:
             return "ambiguous", "generic load within the noise"
         if any(len(g) > AMBIGUOUS_GROUP for g in groups):
             return "ambiguous", "group of more than three"
+        if np.any(beyond < bic + settings.ambiguity_margin):
+            return "ambiguous", "beyond a bound as well"
         return "explained", ""
 
     def _opposite(self, selected) -> bool:
