@@ -99,6 +99,7 @@ class Confidence:
     rates: tuple[tuple[str, int, int], ...]
     binned: float | None = None  # the rate of right draws in the bin (the estimate before the logistic model)
     features: tuple[float, ...] = ()  # the file's own features (:data:`FEATURES`), when the logistic model is used
+    nearest: float | None = None  # the rate among the nearest draws in those features (:func:`_nearest_rate`)
 
     def sentence(self, verdict: str) -> str:
         agree = "" if self.replay_verdict == verdict else \
@@ -121,6 +122,7 @@ class Confidence:
                           "and noise (docs/discrepancy.md, 'Confidence')",
                 "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates],
                 "binned_probability": None if self.binned is None else round(self.binned, 4),
+                "nearest_draws_probability": None if self.nearest is None else round(self.nearest, 4),
                 "features": {name: round(v, 4) for name, v in zip(FEATURES, self.features)}}
 
 
@@ -847,6 +849,17 @@ def _logistic_estimate(x: np.ndarray, y: np.ndarray, mine: np.ndarray, seed: int
     return probability, min(low, probability), max(high, probability)
 
 
+def _nearest_rate(x: np.ndarray, y: np.ndarray, mine: np.ndarray) -> float:
+    """The rate of right draws among the nearest third of the draws (at least :data:`MIN_BIN`) to the file's features
+    (standardised over the draws), Jeffreys-smoothed ((right + ½)/(k + 1)): a local rate that cannot extrapolate."""
+    scale = x.std(axis=0)
+    scale = np.where(scale > 1e-9, scale, np.inf)
+    distance = np.linalg.norm((x - np.atleast_2d(mine)) / scale, axis=1)
+    k = int(min(y.size, max(MIN_BIN, int(np.ceil(y.size / 3)))))
+    nearest = np.argsort(distance, kind="stable")[:k]
+    return float((y[nearest].sum() + 0.5) / (k + 1.0))
+
+
 def draw_limit(draws: int) -> int:
     """The most draws made when ``draws`` are asked for: :data:`MAX_DRAWS` per :data:`DRAWS` (at most MAX_DRAWS)."""
     return max(draws, min(MAX_DRAWS, MAX_DRAWS * draws // DRAWS))
@@ -904,16 +917,16 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         probability, (low, high) = 0.5, (0.0, 1.0)
     else:
         probability, (low, high) = k / n, wilson(k, n)
-    binned, label, features = probability, ", ".join(mine[:depth]), ()
+    binned, label, features, nearest = probability, ", ".join(mine[:depth]), (), None
     same = np.array([a.verdict == verdict for a in answers], dtype=bool)
     if same.sum() >= MIN_BIN:  # the logistic model on the draws with this verdict
-        mine_x = _features([own], [group], [quality])
-        probability, low, high = _logistic_estimate(_features([a for a, s in zip(answers, same) if s]),
-                                                    right[same].astype(float), mine_x, seed)
+        mine_x, x, y = _features([own], [group], [quality]), _features([a for a, s in zip(answers, same) if s]), \
+            right[same].astype(float)
+        probability, low, high = _logistic_estimate(x, y, mine_x, seed)
         n, k, label = int(same.sum()), int(right[same].sum()), f"{verdict}: logistic in {', '.join(FEATURES)}"
-        features = tuple(float(v) for v in mine_x[0])
+        features, nearest = tuple(float(v) for v in mine_x[0]), _nearest_rate(x, y, mine_x)
     rates = tuple((v, int(right[[a.verdict == v for a in answers]].sum()), sum(a.verdict == v for a in answers))
                   for v in ("no_gap", "explained", "ambiguous", "unexplained"))
     return Confidence(probability=float(probability), low=low, high=high, right=k, draws=n, total_draws=draws,
                       bin=label, replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
-                      rates=rates, binned=float(binned), features=features)
+                      rates=rates, binned=float(binned), features=features, nearest=nearest)
