@@ -787,7 +787,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", action="store_true", help="compare ccx with rvcoax on the unmodified rig")
     parser.add_argument("--out", default="", help="write the hidden-effect data sets to this folder")
-    parser.add_argument("--full", default="", help="write the larger benchmark set (about 200 files) to this folder")
+    parser.add_argument("--full", default="", help="write the larger benchmark set (288 files) to this folder")
     parser.add_argument("--no-record", action="store_true", help="print only (no RESULTS.md block)")
     parser.add_argument("--keep", default="", help="keep the unmodified rig's deck and ccx output in this folder")
     args = parser.parse_args()
