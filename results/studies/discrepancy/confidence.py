@@ -75,7 +75,6 @@ FEATURES = ("log χ²/n before (the gap)", "log χ²/n after", "generic load's B
             "margin to the next candidate (ΔBIC) / 10")
 MARGIN_CAP = 60.0  # ΔBIC: a margin or a generic load's gain beyond this says nothing more (the features are capped)
 RIDGE = 1.0  # L2 penalty on the standardised slopes: a unit-variance Gaussian prior on each (a standard default)
-BOOTSTRAP = 60  # resamples of the draws for the 95 % interval of the logistic probability
 
 
 @dataclass(frozen=True)
@@ -97,15 +96,14 @@ class Confidence:
     seed: int
     seconds: float
     rates: tuple[tuple[str, int, int], ...]
-    binned: float | None = None  # the rate of right draws in the bin (the estimate before the logistic model)
-    features: tuple[float, ...] = ()  # the file's own features (:data:`FEATURES`), when the logistic model is used
-    nearest: float | None = None  # the rate among the nearest draws in those features (:func:`_nearest_rate`)
+    logistic: float | None = None  # P(right) of a logistic model in :data:`FEATURES` on the draws with the verdict
+    nearest: float | None = None  # the rate among the nearest of those draws in the same features
+    features: tuple[float, ...] = ()  # the file's own features (:data:`FEATURES`)
 
     def sentence(self, verdict: str) -> str:
         agree = "" if self.replay_verdict == verdict else \
             f"; the replay of the decisions said {self.replay_verdict} on these data, so the estimate is rough"
-        if self.features:
-            return (f"confidence: the verdict '{verdict}' is right with probability {100 * self.probability:.0f} % "
+        return (f"confidence: the verdict '{verdict}' is right with probability {100 * self.probability:.0f} % "
                     f"(95 % interval {100 * self.low:.0f}–{100 * self.high:.0f} %): a logistic model of how often it "
                     f"was right on the {self.draws} synthetic data sets like these with the same verdict ({self.right} "
                     f"right), by their gap, fit, generic load's gain, group size and margin "
@@ -121,7 +119,7 @@ class Confidence:
                 "method": "Monte Carlo of the workflow's decisions on synthetic data of this file's rig, observations "
                           "and noise (docs/discrepancy.md, 'Confidence')",
                 "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates],
-                "binned_probability": None if self.binned is None else round(self.binned, 4),
+                "logistic_probability": None if self.logistic is None else round(self.logistic, 4),
                 "nearest_draws_probability": None if self.nearest is None else round(self.nearest, 4),
                 "features": {name: round(v, 4) for name, v in zip(FEATURES, self.features)}}
 
@@ -836,19 +834,6 @@ def _logistic(x: np.ndarray, y: np.ndarray) -> _Logistic:
     return _Logistic(float(beta[0]), beta[1:], mean, scale)
 
 
-def _logistic_estimate(x: np.ndarray, y: np.ndarray, mine: np.ndarray, seed: int) -> tuple[float, float, float]:
-    """P(right) at the file's features ``mine`` from the draws (x, y), and its 95 % interval from
-    :data:`BOOTSTRAP` resamples of the draws (seeded). The file's features are held within the range the draws span:
-    the model is not extrapolated (a file whose gap is far beyond the draws', as the paper's table with 24 times the
-    model's output-shaft Y, is judged as the draws at the edge of that range)."""
-    mine = np.clip(mine, x.min(axis=0), x.max(axis=0))
-    probability = float(_logistic(x, y)(mine)[0])
-    rng = np.random.default_rng(seed + 1)
-    resampled = [_logistic(x[i], y[i])(mine)[0] for i in (rng.integers(0, y.size, y.size) for _ in range(BOOTSTRAP))]
-    low, high = (float(v) for v in np.quantile(resampled, [0.025, 0.975]))
-    return probability, min(low, probability), max(high, probability)
-
-
 def _nearest_rate(x: np.ndarray, y: np.ndarray, mine: np.ndarray) -> float:
     """The rate of right draws among the nearest third of the draws (at least :data:`MIN_BIN`) to the file's features
     (standardised over the draws), Jeffreys-smoothed ((right + ½)/(k + 1)): a local rate that cannot extrapolate."""
@@ -858,6 +843,21 @@ def _nearest_rate(x: np.ndarray, y: np.ndarray, mine: np.ndarray) -> float:
     k = int(min(y.size, max(MIN_BIN, int(np.ceil(y.size / 3)))))
     nearest = np.argsort(distance, kind="stable")[:k]
     return float((y[nearest].sum() + 0.5) / (k + 1.0))
+
+
+def _finer_models(answers, right: np.ndarray, own: _Answer, mine: tuple[str, int, float]):
+    """(logistic, nearest, features): P(right) of the logistic model and of the nearest draws in :data:`FEATURES`,
+    fitted on the draws that share the file's verdict, at the file's own features (held within the draws' range:
+    never extrapolated; ``mine``: the workflow's verdict, largest group and χ²/n after, the replay's answer ``own``
+    for the rest); (None, None, ()) while fewer than :data:`MIN_BIN` draws share the verdict."""
+    verdict, group, quality = mine
+    same = np.array([a.verdict == verdict for a in answers], dtype=bool)
+    if same.sum() < MIN_BIN:
+        return None, None, ()
+    mine = _features([own], [group], [quality])
+    x, y = _features([a for a, s in zip(answers, same) if s]), right[same].astype(float)
+    logistic = float(_logistic(x, y)(np.clip(mine, x.min(axis=0), x.max(axis=0)))[0])
+    return logistic, _nearest_rate(x, y, mine), tuple(float(v) for v in mine[0])
 
 
 def draw_limit(draws: int) -> int:
@@ -917,16 +917,9 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         probability, (low, high) = 0.5, (0.0, 1.0)
     else:
         probability, (low, high) = k / n, wilson(k, n)
-    binned, label, features, nearest = probability, ", ".join(mine[:depth]), (), None
-    same = np.array([a.verdict == verdict for a in answers], dtype=bool)
-    if same.sum() >= MIN_BIN:  # the logistic model on the draws with this verdict
-        mine_x, x, y = _features([own], [group], [quality]), _features([a for a, s in zip(answers, same) if s]), \
-            right[same].astype(float)
-        probability, low, high = _logistic_estimate(x, y, mine_x, seed)
-        n, k, label = int(same.sum()), int(right[same].sum()), f"{verdict}: logistic in {', '.join(FEATURES)}"
-        features, nearest = tuple(float(v) for v in mine_x[0]), _nearest_rate(x, y, mine_x)
+    logistic, nearest, features = _finer_models(answers, right, own, mine=(verdict, group, quality))
     rates = tuple((v, int(right[[a.verdict == v for a in answers]].sum()), sum(a.verdict == v for a in answers))
                   for v in ("no_gap", "explained", "ambiguous", "unexplained"))
     return Confidence(probability=float(probability), low=low, high=high, right=k, draws=n, total_draws=draws,
-                      bin=label, replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
-                      rates=rates, binned=float(binned), features=features, nearest=nearest)
+                      bin=", ".join(mine[:depth]), replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
+                      rates=rates, logistic=logistic, nearest=nearest, features=features)
