@@ -103,11 +103,6 @@ class Confidence:
     def sentence(self, verdict: str) -> str:
         agree = "" if self.replay_verdict == verdict else \
             f"; the replay of the decisions said {self.replay_verdict} on these data, so the estimate is rough"
-        return (f"confidence: the verdict '{verdict}' is right with probability {100 * self.probability:.0f} % "
-                    f"(95 % interval {100 * self.low:.0f}–{100 * self.high:.0f} %): a logistic model of how often it "
-                    f"was right on the {self.draws} synthetic data sets like these with the same verdict ({self.right} "
-                    f"right), by their gap, fit, generic load's gain, group size and margin "
-                    f"({self.total_draws} drawn, seed {self.seed}){agree}")
         return (f"confidence: the verdict '{verdict}' is right in {100 * self.probability:.0f} % "
                 f"(95 % interval {100 * self.low:.0f}–{100 * self.high:.0f} %) of {self.draws} synthetic data sets "
                 f"like these with the same answer ({self.bin}; {self.total_draws} drawn, seed {self.seed}){agree}")
