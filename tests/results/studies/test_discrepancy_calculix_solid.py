@@ -52,5 +52,6 @@ def test_an_effect_beyond_its_bound_in_calculix_solid_data_is_never_explained():
     entry = SETS["beyond_bound_paths_1"]
     assert entry["group"] == "out_of_bounds"
     rig = identification_rig()
-    result = rvcoax.run_discrepancy(rig, rvcoax.read_measured(FOLDER / entry["file"]), DiscrepancySettings())
+    result = rvcoax.run_discrepancy(rig, rvcoax.read_measured(FOLDER / entry["file"]),
+                                    DiscrepancySettings(confidence_draws=0))  # the verdict only: no estimate needed
     assert result.verdict in ("unexplained", "ambiguous"), (result.verdict, result.reasons)
