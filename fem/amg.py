@@ -9,7 +9,7 @@ before. The V-cycle is this module's, built for speed at a million unknowns:
   needs only products with A, where pyamg's default symmetric Gauss–Seidel is a sequential sweep on one
   core that cost 15 products' worth of time per cycle (benchmarks/RESULTS.md).
 - **Products through MKL's threaded sparse BLAS** (:mod:`rvcoax.fem.mkl_sparse`): each level's A as its
-  upper triangle in 3 × 3 blocks where it has them, P as CSR (Pᵀ by MKL's transposed product, not stored).
+  upper triangle in 3 × 3 blocks where it has them (MKL-optimised for the product), P and Pᵀ as CSR.
 - **Single precision inside the cycle** (:data:`PRECISION`): the preconditioner only has to be a fixed
   symmetric positive definite operator close to A⁻¹; its values and vectors in float32 halve the bytes
   every product reads. The conjugate-gradient iteration around it (:func:`rvcoax.fem.solvers.conjugate_gradients`)
@@ -75,6 +75,7 @@ class _Level:
     theta: float  # centre of the smoothing interval
     delta: float  # half its width
     prolongation: SparseOperator
+    restriction: SparseOperator  # Pᵀ, stored: MKL's product with a stored CSR matrix beats its transposed product
 
     def smooth(self, b: np.ndarray, x: np.ndarray | None) -> np.ndarray:
         """Chebyshev iteration of CHEBYSHEV_DEGREE steps on D⁻¹A x = D⁻¹b, from x (zero when None)."""
@@ -119,7 +120,7 @@ class Hierarchy:
         lvl = self._levels[level]
         x = lvl.smooth(b, None)
         r = lvl.a.matvec(x, b.copy(), alpha=-1.0, beta=1.0)
-        coarse = self._cycle(level + 1, lvl.prolongation.matvec(r, transpose=True))
+        coarse = self._cycle(level + 1, lvl.restriction.matvec(r))
         lvl.prolongation.matvec(coarse, x, alpha=1.0, beta=1.0)
         return lvl.smooth(b, x)
 
@@ -134,6 +135,7 @@ class Hierarchy:
         for lvl in self._levels:
             lvl.a.release()
             lvl.prolongation.release()
+            lvl.restriction.release()
         self._levels = []
 
 
@@ -170,11 +172,11 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
                               "entries: it is not positive definite")
         if i == 0 and mkl_sparse.available():
             upper = pardiso.upper_storage(matrix)  # once for both precisions
-            fine = SparseOperator.from_upper(upper, np.float64)
-            operator = SparseOperator.from_upper(upper, dtype)
+            fine = SparseOperator.from_upper(upper, np.float64)  # CG's product: not optimised (no MKL copy)
+            operator = SparseOperator.from_upper(upper, dtype, optimize=True)
             del upper
         else:
-            operator = SparseOperator.symmetric(matrix, dtype)
+            operator = SparseOperator.symmetric(matrix, dtype, optimize=True)
             if i == 0:
                 fine = SparseOperator.symmetric(matrix, np.float64)
         del matrix
@@ -182,7 +184,7 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
         lam = _largest_eigenvalue(operator, np.sqrt(inverse_diagonal)) * LAMBDA_MARGIN
         low = lam / SMOOTHING_RANGE
         levels.append(_Level(operator, inverse_diagonal, 0.5 * (lam + low), 0.5 * (lam - low),
-                             SparseOperator.general(level.P, dtype)))
+                             SparseOperator.general(level.P, dtype), SparseOperator.general(level.R, dtype)))
         level.P = level.R = None
         if i > 0:
             level.A = None

@@ -87,7 +87,8 @@ class SparseOperator:
     precision; the caller may drop the matrix it came from.
     """
 
-    def __init__(self, shape, dtype, *, symmetric: bool, block_size: int, arrays=None, fallback=None) -> None:  # noqa: PLR0913
+    def __init__(self, shape, dtype, *, symmetric: bool, block_size: int, arrays=None, fallback=None,  # noqa: PLR0913
+                 optimize: bool = False) -> None:
         self.shape = tuple(shape)
         self.dtype = np.dtype(dtype)
         self.block_size = block_size
@@ -119,31 +120,34 @@ class SparseOperator:
         self._handle = handle
         self._descr = _Descr(_SYMMETRIC if symmetric else _GENERAL, _UPPER, _NON_UNIT)
         self._mv = getattr(lib, f"mkl_sparse_{prefix}_mv")
-        operations = (_NON_TRANSPOSE,) if symmetric else (_NON_TRANSPOSE, _TRANSPOSE)
-        for operation in operations:
-            _check(lib.mkl_sparse_set_mv_hint(handle, operation, self._descr, _EXPECTED_CALLS), "hint")
-        _check(lib.mkl_sparse_optimize(handle), "optimisation")
+        if optimize:
+            _check(lib.mkl_sparse_set_mv_hint(handle, _NON_TRANSPOSE, self._descr, _EXPECTED_CALLS), "hint")
+            _check(lib.mkl_sparse_optimize(handle), "optimisation")
 
     @classmethod
-    def symmetric(cls, matrix, dtype=np.float64) -> SparseOperator:
+    def symmetric(cls, matrix, dtype=np.float64, *, optimize: bool = False) -> SparseOperator:
         """A symmetric matrix: its upper (block) triangle in 3 × 3 blocks where it is made of them.
 
         ``matrix``: CSR with sorted indices and no duplicates (:func:`rvcoax.fem.pardiso.upper_storage`).
+        ``optimize``: let MKL's inspector prepare the product (``mkl_sparse_optimize``): faster products
+        (float32 upper 3 × 3 blocks at 341 k DOF: 8.3 ms CPU against 13.9 ms), for an internal copy that
+        MKL keeps (about the size of the stored values; benchmarks/RESULTS.md).
         """
         if not available():
             return cls(matrix.shape, dtype, symmetric=True, block_size=1,
                        fallback=sp.csr_matrix(matrix).astype(dtype))
-        return cls.from_upper(pardiso.upper_storage(matrix), dtype)
+        return cls.from_upper(pardiso.upper_storage(matrix), dtype, optimize=optimize)
 
     @classmethod
-    def from_upper(cls, upper: pardiso.UpperStorage, dtype=np.float64) -> SparseOperator:
+    def from_upper(cls, upper: pardiso.UpperStorage, dtype=np.float64, *, optimize: bool = False) -> SparseOperator:
         """A symmetric matrix from its upper triangle as PARDISO stores it (MKL required)."""
         return cls((upper.n, upper.n), dtype, symmetric=True, block_size=upper.block_size,
-                   arrays=(upper.indptr, upper.indices, upper.data.reshape(-1)))
+                   arrays=(upper.indptr, upper.indices, upper.data.reshape(-1)), optimize=optimize)
 
     @classmethod
     def general(cls, matrix, dtype=np.float64) -> SparseOperator:
-        """Any sparse matrix, scalar CSR; products with it and with its transpose."""
+        """Any sparse matrix, scalar CSR, not optimised (a transposed product works, but is slower than a
+        product with the stored transpose)."""
         a = sp.csr_matrix(matrix)
         if not available():
             return cls(a.shape, dtype, symmetric=False, block_size=1, fallback=a.astype(dtype))
