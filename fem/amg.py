@@ -66,6 +66,35 @@ def _largest_eigenvalue(operator: SparseOperator, inverse_sqrt_diagonal: np.ndar
     return float(ritz[-1])
 
 
+def _checked_diagonal(matrix: sp.csr_matrix, level: int) -> np.ndarray:
+    """The diagonal of a level's matrix; :class:`SolverError` where one is negative.
+
+    A zero diagonal entry is an unknown that the level does not use: an aggregate with fewer nodes than
+    near-null-space vectors gets a zero column in its prolongator (pyamg's QR of the rigid-body modes
+    restricted to it is rank deficient), so its row and column of PᵀAP are zero. The smoother and the
+    coarse solve leave it at zero.
+    """
+    diagonal = matrix.diagonal()
+    if np.any(diagonal < 0.0) or not np.all(np.isfinite(diagonal)):
+        raise SolverError(f"AMG level {level}: the matrix has {int(np.sum(~(diagonal >= 0.0)))} negative or "
+                          "non-finite diagonal entries: it is not positive definite")
+    return diagonal
+
+
+@dataclass(frozen=True)
+class _CoarseFactor:
+    """Dense Cholesky factor of the coarsest matrix on its unknowns with a nonzero diagonal."""
+
+    active: np.ndarray
+    factor: tuple
+    n: int
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        x = np.zeros(self.n, dtype=b.dtype)
+        x[self.active] = scipy.linalg.cho_solve(self.factor, b[self.active].astype(float))
+        return x
+
+
 @dataclass(eq=False)
 class _Level:
     """One level above the coarsest: its matrix, Jacobi scaling, Chebyshev interval and prolongator."""
@@ -116,7 +145,7 @@ class Hierarchy:
 
     def _cycle(self, level: int, b: np.ndarray) -> np.ndarray:
         if level == len(self._levels):
-            return scipy.linalg.cho_solve(self._coarse, b.astype(float)).astype(b.dtype)
+            return self._coarse.solve(b)
         lvl = self._levels[level]
         x = lvl.smooth(b, None)
         r = lvl.a.matvec(x, b.copy(), alpha=-1.0, beta=1.0)
@@ -166,10 +195,7 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
         matrix = a if i == 0 else sp.csr_matrix(level.A)
         matrix.sum_duplicates()
         matrix.sort_indices()
-        diagonal = matrix.diagonal()
-        if not np.all(diagonal > 0.0):
-            raise SolverError(f"AMG level {i}: the matrix has {int(np.sum(diagonal <= 0.0))} non-positive diagonal "
-                              "entries: it is not positive definite")
+        diagonal = _checked_diagonal(matrix, i)
         if i == 0 and mkl_sparse.available():
             upper = pardiso.upper_storage(matrix)  # once for both precisions
             fine = SparseOperator.from_upper(upper, np.float64)  # CG's product: not optimised (no MKL copy)
@@ -180,7 +206,7 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
             if i == 0:
                 fine = SparseOperator.symmetric(matrix, np.float64)
         del matrix
-        inverse_diagonal = (1.0 / diagonal).astype(dtype)
+        inverse_diagonal = np.divide(1.0, diagonal, out=np.zeros_like(diagonal), where=diagonal > 0.0).astype(dtype)
         lam = _largest_eigenvalue(operator, np.sqrt(inverse_diagonal)) * LAMBDA_MARGIN
         low = lam / SMOOTHING_RANGE
         levels.append(_Level(operator, inverse_diagonal, 0.5 * (lam + low), 0.5 * (lam - low),
@@ -189,8 +215,9 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
         if i > 0:
             level.A = None
     coarse = hierarchy.levels[-1].A.toarray()
+    active = np.flatnonzero(_checked_diagonal(sp.csr_matrix(coarse), len(hierarchy.levels) - 1) > 0.0)
     try:
-        factor = scipy.linalg.cho_factor(coarse)
+        factor = _CoarseFactor(active, scipy.linalg.cho_factor(coarse[np.ix_(active, active)]), coarse.shape[0])
     except np.linalg.LinAlgError as error:
         raise SolverError(f"AMG coarsest level ({coarse.shape[0]} unknowns) is not positive definite: {error}") from error
     if fine is None:  # a single level: the whole matrix is the coarsest

@@ -123,3 +123,18 @@ def test_amg_solver_matches_the_direct_solution(bar, exact):
     assert np.sqrt((x - exact) @ (a @ (x - exact)) / (exact @ (a @ exact))) < 1e-6
     np.testing.assert_array_equal(solver.solve(load), x)  # a repeated solve gives the same bits
     solver.release()
+
+
+def test_an_unknown_with_a_zero_diagonal_is_left_at_zero_by_the_coarse_solve():
+    """An aggregate with fewer nodes than rigid-body modes gives PᵀAP a zero row and column (pyamg's rank-deficient QR)."""
+    spd = np.array([[4.0, 1.0, 0.0], [1.0, 3.0, 0.0], [0.0, 0.0, 0.0]])
+    diagonal = amg._checked_diagonal(sp.csr_matrix(spd), 1)
+    active = np.flatnonzero(diagonal > 0)
+    import scipy.linalg
+
+    coarse = amg._CoarseFactor(active, scipy.linalg.cho_factor(spd[np.ix_(active, active)]), 3)
+    x = coarse.solve(np.array([1.0, 2.0, 5.0], dtype=np.float32))
+    assert x.dtype == np.float32 and x[2] == 0.0
+    assert np.allclose(spd[:2, :2] @ x[:2], [1.0, 2.0], rtol=1e-6)
+    with pytest.raises(amg.SolverError, match="not positive definite"):
+        amg._checked_diagonal(sp.csr_matrix(np.diag([1.0, -1.0])), 0)
