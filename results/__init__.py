@@ -15,7 +15,7 @@ from rvcoax._lazy import lazy_names
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.sweep": ("PreparedModel", "Sweep", "SweepSettings", "prepare_model", "run_sweep"),
     "rvcoax.results.connections": ("ConnectionsUnavailableError",),
-    "rvcoax.results.engineering": ("bearing_warnings", "case_name", "duty_cycle_lives", "duty_cycle_of_records",
+    "rvcoax.results.engineering": ("bearing_warnings", "case_name", "case_text", "duty_cycle_lives", "duty_cycle_of_records",
                                    "engineering_warnings", "lives_of_records", "play_crossings", "reaction_sum",
                                    "sweep_lives"),
     "rvcoax.results.shaft_safety": ("case_stress_profiles", "shaft_strength", "strength_of_records", "stress_profiles",

@@ -10,6 +10,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.results import case_text
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "check"]
@@ -86,8 +87,8 @@ def check(
     worst = rows[result.worst_row].case
     support.console.print(
         f"Calibrated, on the {int(held_out.sum())} rows not used to fit: worst relative error "
-        f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, T1 = {worst.input_torque_Nm:g}, "
-        f"T2 = {worst.output_torque_Nm:g} N·m); {result.failures} values outside tolerance."
+        f"{100 * result.worst_relative_error:.3f} % ({result.worst_quantity}, "
+        f"{case_text(worst.input_torque_Nm, worst.output_torque_Nm)}); {result.failures} values outside tolerance."
     )
     if tolerance is not None:
         support.console.print(f"Judged with: {escape(tolerance.description)}.")

@@ -11,7 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from rvcoax.geometry import MEASURED_SHAFTS
-from rvcoax.results import reaction_sum, torque_path_warnings
+from rvcoax.results import case_text, reaction_sum, torque_path_warnings
 from rvcoax.results.cli import support
 
 __all__ = ["COMMANDS", "TABLE_ROWS", "sweep"]
@@ -70,7 +70,7 @@ def _operating_table(where: str, bearings: list[dict]) -> Table:
 def _engineering_tables(entry: dict) -> list[Table]:
     """The coupling, bearing and reaction tables of one case (from its ``sweep.json`` entry)."""
     tables = []
-    where = f"T1 = {entry['T1_input_Nm']:g}, T2 = {entry['T2_output_Nm']:g} N·m"
+    where = case_text(entry["T1_input_Nm"], entry["T2_output_Nm"])
     couplings = entry["engineering"].get("couplings", [])
     if couplings:
         table = Table(title=escape(f"Couplings at {where}: misalignment of the to-hub against the from-hub "

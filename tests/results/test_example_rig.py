@@ -136,7 +136,7 @@ def test_sweep_command_on_the_example_rig(rig_file, tmp_path):
     result = _invoke("sweep", "--rig", str(rig_file), "--out", str(tmp_path))
     assert result.exit_code == 0, result.output
     assert "5 load cases" in result.output and "β_in (paper)" in result.output
-    for title in ("Couplings at T1 = 4.006, T2 = 412", "Bearings at", "Support reactions at", "Equilibrium residual"):
+    for title in ("Couplings at T1 = 4.006 N·m, T2 = 412 N·m", "Bearings at", "Support reactions at", "Equilibrium residual"):
         assert title in result.output
     with (tmp_path / "sweep.csv").open(newline="", encoding="utf-8") as stream:
         rows = list(csv.DictReader(stream))
