@@ -138,8 +138,9 @@ def _split(samples: list[dict]) -> str:
             f"peak RSS {last['peak_rss_mb']:.0f} MB")
 
 
-def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_mm: float | None) -> list[tuple[str, str]]:
-    """Per-sample cost of ``model`` serially (this process) and per worker of a local 2-process cluster."""
+def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_mm: float | None) -> list[tuple[str, str]]:  # noqa: PLR0913
+    """Per-sample cost of ``model`` serially (this process) and per worker of a local 2-process cluster
+    (``n_cluster`` = 0: serially only)."""
     import logging
 
     from distributed import Client, LocalCluster
@@ -155,6 +156,8 @@ def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_
     serial = [timed_sample(study, row) for row in values[:n_serial]]
     rows = [(f"per sample, {tag}, serial in process", _split(serial))]
     print(rows[-1], flush=True)
+    if n_cluster == 0:
+        return rows
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                       dashboard_address=None, silence_logs=logging.ERROR) as cluster, Client(cluster):
         with tempfile.TemporaryDirectory() as folder:
@@ -208,6 +211,7 @@ def main() -> None:
     parser.add_argument("--per-sample", default="", help="comma-separated models (beam, hybrid, solid) whose "
                         "per-sample cost to measure serially and per worker of a 2-process cluster")
     parser.add_argument("--per-sample-n", type=int, default=6, help="samples per cluster run (serial: half)")
+    parser.add_argument("--serial-only", action="store_true", help="per-sample cost: no cluster run")
     parser.add_argument("--solid-mesh-mm", type=float, default=12.0, help="mesh size of the solid model's parts")
     parser.add_argument("--only-per-sample", action="store_true", help="skip the throughput figures")
     args = parser.parse_args()
@@ -227,8 +231,8 @@ def main() -> None:
                                                          f"{len(tolerances.cases)} load cases per sample")]
 
     for model in [m.strip() for m in args.per_sample.split(",") if m.strip()]:
-        figures += per_sample(model, RIG, tolerances, max(2, args.per_sample_n // 2), args.per_sample_n,
-                              args.solid_mesh_mm if model == "solid" else None)
+        figures += per_sample(model, RIG, tolerances, max(2, args.per_sample_n // 2),
+                              0 if args.serial_only else args.per_sample_n, args.solid_mesh_mm if model == "solid" else None)
     if args.only_per_sample:
         figures.append(("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}"))
         record("bench_montecarlo.py: Monte Carlo cost per sample, serial and per worker of a 2-process cluster", figures)
