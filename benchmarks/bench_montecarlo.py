@@ -126,7 +126,7 @@ def timed_sample(study, values) -> dict:
     return result
 
 
-def _split(samples: list[dict]) -> str:
+def _split(samples: list[dict], memory: bool = True) -> str:
     """'first … s CPU (… s wall), later … s CPU (… s wall) per sample' of one process's samples in order."""
     first, later = samples[0], samples[1:]
     text = f"first {first['cpu_s']:.2f} s CPU ({first['wall_s']:.2f} s wall)"
@@ -134,8 +134,9 @@ def _split(samples: list[dict]) -> str:
         text += (f", later {np.mean([r['cpu_s'] for r in later]):.3f} s CPU "
                  f"({np.mean([r['wall_s'] for r in later]):.3f} s wall) per sample over {len(later)}")
     last = samples[-1]
-    return (text + f"; PARDISO analyses fresh {last['fresh_analyses']}, reused {last['reused_analyses']}; "
-            f"peak RSS {last['peak_rss_mb']:.0f} MB")
+    text += f"; PARDISO analyses fresh {last['fresh_analyses']}, reused {last['reused_analyses']} (process total)"
+    # a worker's ru_maxrss starts at its parent's when the worker is forked: only this process's is its own
+    return text + (f"; peak RSS {last['peak_rss_mb']:.0f} MB" if memory else "")
 
 
 def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_mm: float | None) -> list[tuple[str, str]]:  # noqa: PLR0913
@@ -169,12 +170,12 @@ def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_
     for result in sorted(results, key=lambda r: r["sequence"]):
         by_worker.setdefault(result["pid"], []).append(result)
     for k, samples in enumerate(by_worker.values()):
-        rows.append((f"per sample, {tag}, local cluster of 2 workers: worker {k + 1}", _split(samples)))
+        rows.append((f"per sample, {tag}, local cluster of 2 workers: worker {k + 1}", _split(samples, memory=False)))
     rows.append((f"per sample, {tag}, local cluster of 2 workers: {n_cluster} samples",
                  f"{total:.1f} s wall end to end (cluster start included)"))
     serial_y = np.array([r["Y_max_mm"] for r in serial])
     cluster_y = np.array([r["Y_max_mm"] for r in results[:n_serial]])
-    rows.append((f"per sample, {tag}: cluster vs serial, largest |ΔY| / largest Y",
+    rows.append((f"per sample, {tag}: cluster vs serial, largest ΔY / largest Y",
                  f"{np.abs(serial_y - cluster_y).max() / np.abs(serial_y).max():.1e}"))
     for row in rows[1:]:
         print(row, flush=True)
