@@ -23,6 +23,11 @@ are deliberately wide — a warning means "probably a mistake", not "unusual":
   thermal expansion 4e-6 … 3e-5 1/K (metals);
 - a body's mass against its segments' volume × density: 0.05 … 20 times (a housing is a hollow or
   finned body drawn as an equivalent round one).
+- rated torques (``rated_torque_Nm``, ``peak_torque_Nm``), judged by what they do to the part rated: a coupling
+  twists 1e-5 … 0.3 rad at its rated torque, T / k_t (disc and bellows couplings about 1e-4 … 2e-3 rad, e.g.
+  RINGFEDER GWB AKN 30: 36 N·m / 35e3 N·m/rad = 1.0e-3; elastomer and tyre couplings a few degrees); a shaft (a torque
+  sensor's measuring shaft) sees a nominal torsional shear 16 T D / (π (D⁴ − d⁴)) of 0.5 … 2000 MPa at its thinnest
+  section (a 10 N·m sensor's Ø15 shaft about 15 MPa): a torque in kN·m or N·mm lands outside by 1000 ×.
 
 Topology that solves but means something else than intended is warned about too: a torque applied
 on a housing (a ``body``), a bearing whose shaft and housing roles are swapped, and a torque-driven
@@ -31,6 +36,7 @@ lateral load that is reacted on the part it acts on (it cancels itself).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from rvcoax.geometry.gear_loads import gear_contact_torques, gear_mesh_full_contact_torque
@@ -240,6 +246,51 @@ def _mass_warnings(rig: Rig) -> list[str]:
     return found
 
 
+COUPLING_TWIST_AT_RATING_RAD = (1e-5, 0.3)
+SHAFT_SHEAR_AT_RATING_MPA = (0.5, 2000.0)
+_TORQUE_SLIPS = ((1e3, "written in kN·m?"), (1e-3, "written in N·mm?"))
+
+
+def _rating_warning(stated: str, effect: float, band: tuple[float, float], said: str) -> str | None:
+    """``stated`` (``"<where>.<key> = <torque> N·m"``) when ``effect`` (proportional to the torque) lies outside
+    ``band``; ``said`` phrases the effect."""
+    low, high = band
+    if low <= effect <= high:
+        return None
+    hint = next((h for factor, h in _TORQUE_SLIPS if low <= effect * factor <= high), None)
+    return f"{stated} {said.format(effect)}" + (f": {hint}" if hint else "")
+
+
+def _torque_rating_warnings(rig: Rig) -> list[str]:
+    """Rated and peak torques of couplings and shafts whose effect at that torque is implausible (a unit slip)."""
+    found = []
+    low, high = COUPLING_TWIST_AT_RATING_RAD
+    for i, c in enumerate(rig.couplings):
+        for key in ("rated_torque_Nm", "peak_torque_Nm"):
+            torque = getattr(c, key)
+            if torque is not None:
+                message = _rating_warning(f"couplings[{i}] ('{c.name}').{key} = {torque:g} N·m",
+                                          torque / c.torsional_stiffness_Nm_per_rad, COUPLING_TWIST_AT_RATING_RAD,
+                                          f"twists the coupling {{:.2g}} rad (torsional_stiffness_Nm_per_rad = "
+                                          f"{c.torsional_stiffness_Nm_per_rad:g}); couplings twist {low:g} … {high:g} "
+                                          "rad at their rating")
+                found += [message] if message else []
+    low, high = SHAFT_SHEAR_AT_RATING_MPA
+    for i, part in enumerate(rig.parts):
+        # the smallest torsional section modulus W_t = π (D⁴ − d⁴) / (16 D) of its segments, mm³
+        modulus = min(math.pi * (s.outer_diameter_mm**4 - (s.inner_diameter_mm or 0.0) ** 4) / (16 * s.outer_diameter_mm)
+                      for s in part.segments)
+        for key in ("rated_torque_Nm", "peak_torque_Nm"):
+            torque = getattr(part, key)
+            if torque is not None:
+                message = _rating_warning(f"parts[{i}] ('{part.name}').{key} = {torque:g} N·m", torque * 1e3 / modulus,
+                                          SHAFT_SHEAR_AT_RATING_MPA,
+                                          f"shears the shaft's thinnest section at {{:.2g}} MPa; a measuring shaft "
+                                          f"sees {low:g} … {high:g} MPa at its rating")
+                found += [message] if message else []
+    return found
+
+
 def _topology_warnings(rig: Rig) -> list[str]:
     roles = {p.name: p.role for p in rig.parts}
     found = []
@@ -280,7 +331,7 @@ def plausibility_warnings(rig: Rig) -> list[str]:
     components = _component_warnings(rig)
     return (components + _bore_warnings(rig, components) + _ball_bore_warnings(rig) + _ball_input_warnings(rig)
             + _rolling_preload_warnings(rig) + _mass_warnings(rig) + _topology_warnings(rig)
-            + _gear_contact_warnings(rig) + _gear_shape_warnings(rig) + _fit_warnings(rig))
+            + _gear_contact_warnings(rig) + _gear_shape_warnings(rig) + _fit_warnings(rig) + _torque_rating_warnings(rig))
 
 
 BALL_IGNORED_KEYS = ("radial_stiffness_N_per_um", "axial_stiffness_N_per_um", "tilt_stiffness_Nm_per_rad")

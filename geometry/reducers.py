@@ -17,17 +17,28 @@ table is in Nabtesco's *Reducer for high precision control — RV series* techni
   twist (between the knees of the hysteresis curve) and against tilt (main bearings with the case);
 - ``mass_kg``.
 
-Provenance, in ``source``: **[R]**: the value as recalled from that rating table; the table could not be
-retrieved while this catalogue was written, so every [R] value is to be checked against the maker's current
-catalogue before a design review relies on it. **[S2]**: a recalled value that a public secondary transcription
-of the maker's data agrees with (RV-20E: 167, 412, 833 N·m, 4.7 kg; RV-40E: 412, 1029, 2058 N·m, 9.3 kg — a
-robotics knowledge base's component pages that cite Nabtesco's product pages and its *RV Series* catalogue,
-found by full-text search of public repositories); the maker's own table was still not retrieved, so [S2] is
-better than [R] but not a primary source. **[E]**: estimated here, with how:
+Provenance, in ``source``: **[R]**: the value as recalled from that rating table; the table itself could not be
+retrieved (public transcriptions of the catalogue exist, but none whose rating-table pages could be read while this
+catalogue was checked), so every [R] value is to be checked against the maker's current catalogue before a design
+review relies on it. **[S2]**: a value that a public secondary source quoting the maker gives too:
+RV-20E 167 / 412 / 833 N·m (rated, acceleration/deceleration, momentary maximum), 4.7 kg, and RV-40E
+412 / 1029 / 2058 N·m, 9.3 kg (a robotics knowledge base's RV-20E-81 and RV-40E-105 component pages, which cite
+Nabtesco's product pages and its *RV Series* catalogue); 167 N·m and 4.7 kg at 15 rpm once more in a project's
+primary-source review that cites Nabtesco's RV-E product page (precision.nabtesco.com/…/products/detail/RV-E), in a
+row that names the RV-20E together with a competitor's equivalent.
+Not a primary source, so [S2], not [S1]. Also seen and **not** used: an uncited reducer-selection tool (public
+code) lists the rated torques of RV-6E, RV-80E, RV-110E, RV-160E and RV-320E as 58, 784, 1078, 1568, 3136 N·m —
+the table's values, noted in ``source`` but not enough to upgrade [R] — and gives RV-20E 196 and RV-40E 392 N·m
+against the 167 and 412 N·m kept here: two sources quoting the maker agree on 167 / 412, the tool cites nothing
+and its other columns are generic (one 5 × peak factor and 20 000 h life for every size, where the maker rates
+6000 h), so its two values are taken for a slip. A Chinese maker's ZKRV-E table (own ratings of its RV-E-like
+sizes) is a different product and is not used. Lost motion and backlash (≤ 1 arcmin in the secondary sources)
+are not part of the model and not in the file.
+**[E]**: estimated here, with how:
 ``main_bearing_spread_mm``, the distance of the two main bearings' pressure centres, is not published; it is
 ℓ = 50 mm · (T_rated / 167 N·m)^(1/3), the RV-20E's 50 mm taken as 0.6 × its 85 mm case length and scaled
 with the size (the linear size of geometrically similar reducers grows with the cube root of the torque).
-The maker publishes no permitted radial load: a radial load W at a distance ℓ_W from the main bearings'
+The rating table (as recalled, [R]) gives no permitted radial load: a radial load W at a distance ℓ_W from the main bearings'
 centre loads them with the moment W·ℓ_W, which the model's moment at the bearings includes (checked against
 the allowable moment).
 

@@ -19,7 +19,7 @@ from rvcoax.geometry.validation import StrictModel
 
 __all__ = ["BeamSettings", "Bearing", "Connection", "Coupling", "Diameter", "Finite", "Flag", "ForcePair",
            "ForceTable", "GearMesh", "Gravity", "Housing", "Joint", "Location", "Material", "MeshSettings", "Mount", "Name", "NonNegative",
-           "Part", "Path", "Paths", "Positive", "Reducer", "Rig", "RigInfo", "RigLoadCase", "Segment", "ShaftNotch", "ShaftStrength", "SingleForce", "SolidSettings",
+           "Part", "Path", "Paths", "Positive", "RatedTorque", "Reducer", "Rig", "RigInfo", "RigLoadCase", "Segment", "ShaftNotch", "ShaftStrength", "SingleForce", "SolidSettings",
            "Strict", "Thermal", "TorqueInput", "TorqueLateralLoad", "TorqueRange", "Torques", "Triple"]
 
 # strict: a number must be written as a number ("40" or true are rejected, 40 is fine)
@@ -30,6 +30,22 @@ Finite = Annotated[float, Field(allow_inf_nan=False, strict=True)]
 Diameter = Annotated[float, Field(ge=0.01, le=1e5, allow_inf_nan=False, strict=True)]
 Name = Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
 Flag = Annotated[bool, Field(strict=True)]  # true or false only: "yes", 1 or "on" are rejected
+
+
+# a rated torque (a coupling's nominal torque, a torque sensor's nominal torque) and the peak its maker allows
+# above it (a coupling's maximum torque, a sensor's limit torque): N·m, 1 mN·m … 10 MN·m
+RatedTorque = Annotated[float, Field(ge=1e-3, le=1e7, allow_inf_nan=False, strict=True)]
+
+
+def _check_torque_rating(rated: float | None, peak: float | None) -> None:
+    """A peak torque needs the rated torque it lies above; ValueError naming the key and the reason."""
+    if peak is None:
+        return
+    if rated is None:
+        raise ValueError("peak_torque_Nm needs rated_torque_Nm (the peak is the maker's allowance above the rated torque)")
+    if peak < rated:
+        raise ValueError(f"peak_torque_Nm = {peak:g} N·m is below rated_torque_Nm = {rated:g} N·m: the peak (maximum, "
+                         "limit) torque a maker allows is at least the rated one")
 
 
 Strict = StrictModel  # the name the rig schema had for it (rvcoax.geometry.validation.StrictModel)
@@ -180,6 +196,13 @@ class Part(StrictModel):
     segments: list[Segment] = Field(min_length=1)
     notches: list[ShaftNotch] = Field([], description="A shaft's notches for its DIN 743 static and fatigue safety "
                                                       "(shaft stresses are computed without them too).")
+    rated_torque_Nm: RatedTorque | None = Field(None, description=(
+        "A shaft's rated torque: a torque sensor's nominal (rated) torque on its measuring shaft (datasheet). Each "
+        "case's torque through the shaft is checked against it (warning above it; sweep.csv/json, the report). A "
+        "rating that shears the shaft's thinnest section outside 0.5 … 2000 MPa is warned about (a unit slip)."))
+    peak_torque_Nm: RatedTorque | None = Field(None, description=(
+        "The torque the shaft's maker allows above the rated one (a torque sensor's limit torque), when the "
+        "datasheet gives one; needs rated_torque_Nm."))
 
     @model_validator(mode="after")
     def _check(self) -> Part:
@@ -191,6 +214,10 @@ class Part(StrictModel):
                 raise ValueError(f"gap between segments {list(a.x_mm)} and {list(b.x_mm)} mm")
         if self.role == "body" and self.mass_kg is None:
             raise ValueError("a body needs mass_kg (its density is set so that its mass equals mass_kg)")
+        if self.role == "body" and self.rated_torque_Nm is not None:
+            raise ValueError("rated_torque_Nm: a body (housing) carries no shaft torque; give a torque sensor's rating "
+                             "on its measuring shaft (role = \"shaft\")")
+        _check_torque_rating(self.rated_torque_Nm, self.peak_torque_Nm)
         return self
 
     @property
@@ -492,6 +519,19 @@ class Coupling(Connection):
     # --- dynamics (issue 26): the coupling's polar mass moment, half on each hub (each hub a disc: its
     # diametral moment half its polar one); without it the hubs are point masses ---
     polar_inertia_kg_m2: Annotated[float, Field(ge=0.0, le=1e3, allow_inf_nan=False, strict=True)] | None = None
+    # --- rating (issue 25): the torque each case carries through the coupling against its maker's rating ---
+    rated_torque_Nm: RatedTorque | None = Field(None, description=(
+        "The coupling's rated (nominal) torque from its datasheet. Each case's torque through the coupling is checked "
+        "against it (warning above it; sweep.csv/json, the report). A rating that twists the coupling outside "
+        "1e-5 … 0.3 rad (T / torsional_stiffness_Nm_per_rad) is warned about (a unit slip)."))
+    peak_torque_Nm: RatedTorque | None = Field(None, description=(
+        "The maximum torque the coupling's maker allows above the rated one (peaks, start and stop), when the "
+        "datasheet gives one; needs rated_torque_Nm."))
+
+    @model_validator(mode="after")
+    def _check_rating(self) -> Coupling:
+        _check_torque_rating(self.rated_torque_Nm, self.peak_torque_Nm)
+        return self
 
 
 class Joint(Connection):

@@ -36,12 +36,13 @@ from rvcoax.fem import DOFS_PER_NODE, bearing_life
 from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
+from rvcoax.results.torque_path import rating_sentence
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
            "BearingQuantities", "CaseEngineering", "CouplingQuantities", "DutyCycleLife", "GearMeshMisalignment",
            "NOISE", "Reaction", "alignment_grade", "alignment_tolerance", "bearing_warnings",
            "case_engineering", "case_name", "case_text", "duty_cycle_lives", "duty_cycle_of_lives", "duty_cycle_of_records",
-           "engineering_warnings", "minimum_load_warnings", "reducer_warnings",
+           "engineering_warnings", "minimum_load_warnings", "reducer_warnings", "torque_rating_warnings",
            "engineering_tables", "life_columns", "life_entries", "lives_of_records", "mesh_misalignment",
            "play_crossings", "reaction_sum", "reducer_checks", "reducer_columns", "reducer_entries", "rolling_bearing_lives",
            "shaft_quantities", "sweep_lives", "sweep_reducer_checks"]
@@ -550,7 +551,18 @@ def case_name(rig, input_torque_Nm: float, output_torque_Nm: float) -> str:
 
 
 def case_text(input_torque_Nm: float, output_torque_Nm: float) -> str:
-    """A load case by its torques, as the report and the warnings write it: ``"T1 = 0.5 N·m, T2 = 40 N·m"``."""
+    """A load case by its torques, as the console, the report and the warnings write it.
+
+    Parameters
+    ----------
+    input_torque_Nm, output_torque_Nm : float
+        The case's input torque T1 and output torque T2, N·m.
+
+    Returns
+    -------
+    str
+        ``"T1 = 0.5 N·m, T2 = 40 N·m"`` (``:g`` format).
+    """
     return f"T1 = {input_torque_Nm:g} N·m, T2 = {output_torque_Nm:g} N·m"
 
 
@@ -1001,19 +1013,31 @@ def minimum_load_warnings(case_lives) -> list[str]:
     return found
 
 
+def _beyond_rating(rig, entries: list[dict], group: str):
+    """(case name, item) of every ``engineering.<group>`` item of the ``sweep.json`` case entries whose verdict is
+    not ``within rating``."""
+    for entry in entries:
+        for item in entry.get("engineering", {}).get(group, []):
+            if item["verdict"] != "within rating":
+                yield case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"]), item
+
+
 def reducer_warnings(rig, entries: list[dict]) -> list[str]:
     """One sentence per reducer and case beyond its rating table (:func:`rvcoax.geometry.reducers.reducer_check`),
     from ``sweep.json`` case entries (their ``engineering.reducers``)."""
-    found = []
-    for entry in entries:
-        for red in entry.get("engineering", {}).get("reducers", []):
-            if red["verdict"] == "within rating":
-                continue
-            case = case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])
-            found.append(f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque "
-                         f"{red['torque_Nm']:.4g} N·m = {red['torque_rated_percent']:.3g} % of rated; moment "
-                         f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable)")
-    return found
+    return [f"reducer {red['name']} ({red['designation']}) in case {case}: {red['verdict']} (torque "
+            f"{red['torque_Nm']:.4g} N·m = {red['torque_rated_percent']:.3g} % of rated; moment "
+            f"{red['moment_Nm']:.3g} N·m = {red['moment_use_percent']:.3g} % of allowable; axial force "
+            f"{red['axial_force_N']:.3g} N = {red['axial_use_percent']:.3g} % of the maximum)"
+            for case, red in _beyond_rating(rig, entries, "reducers")]
+
+
+def torque_rating_warnings(rig, entries: list[dict]) -> list[str]:
+    """One sentence per rated coupling or shaft (torque sensor) and case above its rated torque
+    (:func:`rvcoax.results.torque_path.torque_ratings`), from ``sweep.json`` case entries (their
+    ``engineering.torque_ratings``): ``coupling C3 (rated 240 N·m) in case T1 = 1.43 N·m, T2 = 300 N·m: EXCEEDS rated
+    torque (carries 300 N·m = 125 % of rated)``."""
+    return [rating_sentence(r, case) for case, r in _beyond_rating(rig, entries, "torque_ratings")]
 
 
 def engineering_warnings(rig, entries: list[dict], operating_points: dict | None = None) -> list[str]:
@@ -1021,6 +1045,7 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     (``bearing <name> (<model>) …``, ``reducer <name> (<designation>) …``, cases named as the tables name them):
     bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
     minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
+    couplings and shafts (torque sensors) above their rated torque (:func:`torque_rating_warnings`),
     shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
     with ``warning:``, the report in its misalignment section.
 
@@ -1040,4 +1065,5 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     """
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
     return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
-            + reducer_warnings(rig, entries) + play_crossings(operating_points or {}))
+            + reducer_warnings(rig, entries) + torque_rating_warnings(rig, entries)
+            + play_crossings(operating_points or {}))

@@ -22,6 +22,13 @@ case (from the unloaded geometry; torque flows only under load): positive in the
 torque, and the exits' torques sum to the applied torque up to torque passed on by loads (gear meshes
 given as ``[[gear_meshes]]`` forces). :func:`torque_path_warnings` says, in one line per spring, when an
 exit other than the reaction carries more than :data:`LEAK_PERCENT` of the applied torque.
+
+**Rated torques** (:class:`TorqueRating`): a coupling or a shaft (a torque sensor's measuring shaft) with
+``rated_torque_Nm`` (and ``peak_torque_Nm`` where its maker gives one) is checked in every case against the torque
+it carries: a coupling, the moment about x its spring transmits; a shaft, the largest torque that enters or leaves
+it through one spring with torsional stiffness (its couplings, joints) or is applied to it (T1, T2) — for a shaft
+held between two couplings, as a torque sensor's is, the torque through its measuring section.
+:func:`rvcoax.results.engineering.torque_rating_warnings` names every case above a rating.
 """
 
 from __future__ import annotations
@@ -31,13 +38,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LEAK_PERCENT", "ShaftLineTorque", "TorqueExit", "TorquePaths", "shaft_lines", "torque_path_warnings",
-           "torque_paths"]
+__all__ = ["LEAK_PERCENT", "ShaftLineTorque", "TorqueExit", "TorquePaths", "TorqueRating", "rating_sentence",
+           "shaft_lines", "torque_path_warnings", "torque_paths", "torque_ratings"]
 
 LEAK_PERCENT = 2.0
 """Share of a line's applied torque (%) above which an exit other than the reaction is warned about."""
 
 _ZERO = 1e-9  # relative to the case's torques: an applied torque below this is no torque (no share)
+_AT_RATING = 100.0 * (1.0 + 1e-9)  # % of a rating: a torque equal to it up to the solve's rounding is within it
 
 
 @dataclass(frozen=True)
@@ -93,10 +101,42 @@ class ShaftLineTorque:
 
 
 @dataclass(frozen=True)
+class TorqueRating:
+    """A coupling or shaft with a rated torque, in one case: the torque it carries against its rating.
+
+    ``kind``: ``coupling`` or ``shaft``; ``torque_Nm``: |torque| it carries (N·m); ``rated_use_percent``: of
+    ``rated_torque_Nm``; ``peak_use_percent``: of ``peak_torque_Nm`` (None without one)."""
+
+    kind: str
+    name: str
+    torque_Nm: float
+    rated_torque_Nm: float
+    peak_torque_Nm: float | None
+    rated_use_percent: float
+    peak_use_percent: float | None
+
+    @property
+    def verdict(self) -> str:
+        """``within rating``; ``above rated torque (within peak)``; ``EXCEEDS rated torque`` (no peak given) or
+        ``EXCEEDS peak torque``."""
+        if self.rated_use_percent <= _AT_RATING:
+            return "within rating"
+        if self.peak_use_percent is None:
+            return "EXCEEDS rated torque"
+        return "EXCEEDS peak torque" if self.peak_use_percent > _AT_RATING else "above rated torque (within peak)"
+
+    @property
+    def column(self) -> str:
+        """The ``sweep.csv`` column stem: ``coupling_<name>`` or ``shaft_<name>``."""
+        return f"{self.kind}_{self.name}"
+
+
+@dataclass(frozen=True)
 class TorquePaths:
-    """Every shaft line that carries an applied torque, in one case."""
+    """Every shaft line that carries an applied torque, in one case, and every rated coupling and shaft."""
 
     lines: tuple[ShaftLineTorque, ...]
+    ratings: tuple[TorqueRating, ...] = ()
 
     def row(self) -> dict:
         """The columns this case adds to ``sweep.csv``."""
@@ -108,6 +148,12 @@ class TorquePaths:
             row[f"{key}_carried_percent"] = line.carried_percent
             for leak in line.leaks:
                 row[f"{key}_leak_{leak.spring.replace(':', '_')}_percent"] = leak.share_percent
+        for r in self.ratings:
+            row[f"{r.column}_torque_Nm"] = r.torque_Nm
+            row[f"{r.column}_torque_rated_percent"] = r.rated_use_percent
+            if r.peak_use_percent is not None:
+                row[f"{r.column}_torque_peak_percent"] = r.peak_use_percent
+            row[f"{r.column}_torque_verdict"] = r.verdict
         return row
 
     def entry(self) -> list[dict]:
@@ -117,6 +163,11 @@ class TorquePaths:
                  "carried_percent": line.carried_percent,
                  "exits": [{"spring": e.spring, "torque_Nm": e.torque_Nm, "share_percent": e.share_percent}
                            for e in line.exits]} for line in self.lines]
+
+    def rating_entries(self) -> list[dict]:
+        """The list this case adds to its ``sweep.json`` entry (``engineering.torque_ratings``)."""
+        return [{**{k: getattr(r, k) for k in TorqueRating.__dataclass_fields__}, "verdict": r.verdict}
+                for r in self.ratings]
 
 
 def _spring_sides(rig) -> dict[tuple[str, str], tuple[str | None, str, float]]:
@@ -175,6 +226,46 @@ def _share(torque_Nm: float, applied_Nm: float, scale_Nm: float) -> float | None
     return None if abs(applied_Nm) <= _ZERO * scale_Nm else 100.0 * torque_Nm / applied_Nm
 
 
+def _rating(kind: str, name: str, torque_Nm: float, rated: float, peak: float | None) -> TorqueRating:
+    torque = abs(float(torque_Nm)) + 0.0
+    return TorqueRating(kind=kind, name=name, torque_Nm=torque, rated_torque_Nm=rated, peak_torque_Nm=peak,
+                        rated_use_percent=100.0 * torque / rated,
+                        peak_use_percent=None if peak is None else 100.0 * torque / peak)
+
+
+def torque_ratings(rig, states, case) -> tuple[TorqueRating, ...]:
+    """Every coupling and shaft with ``rated_torque_Nm``: the torque it carries in one case against its rating.
+
+    Parameters
+    ----------
+    rig : Rig
+    states : ConnectionStates
+        The case's spring states from the unloaded geometry (one case).
+    case : LoadCase
+        The case (its T1 and T2, for a shaft that a torque acts on).
+
+    Returns
+    -------
+    tuple of TorqueRating
+        The couplings first, then the shafts, each in the rig file's order (empty when nothing is rated).
+    """
+    moment = states.force_on_b[0, :, 3]  # about x, on side b; side a gets the opposite
+    row_of = {(n.kind, n.name): k for k, n in enumerate(states.names)}
+    torsional = states.stiffness[0, :, 3] > 0.0
+    out = [_rating("coupling", c.name, moment[row_of[("coupling", c.name)]], c.rated_torque_Nm, c.peak_torque_Nm)
+           for c in rig.couplings if c.rated_torque_Nm is not None]
+    applied = {"T1": case.input_torque_Nm, "T2": case.output_torque_Nm}
+    sides = _spring_sides(rig)
+    for p in rig.parts:
+        if p.rated_torque_Nm is None:
+            continue
+        carried = [abs(float(moment[row_of[key]])) for key, (a, b, _) in sides.items()
+                   if p.name in (a, b) and key in row_of and torsional[row_of[key]]]
+        carried += [abs(applied[k]) for k in ("T1", "T2") if getattr(rig.torques, k).part == p.name]
+        out.append(_rating("shaft", p.name, max(carried, default=0.0), p.rated_torque_Nm, p.peak_torque_Nm))
+    return tuple(out)
+
+
 def torque_paths(rig, springs, u_total: np.ndarray, case, *, states=None) -> TorquePaths:
     """The torque path of every shaft line that a torque acts on, in one case.
 
@@ -194,6 +285,7 @@ def torque_paths(rig, springs, u_total: np.ndarray, case, *, states=None) -> Tor
     Returns
     -------
     TorquePaths
+        The lines, and the rated couplings and shafts (:func:`torque_ratings`).
     """
     states = springs.states(u_total, from_rest=False) if states is None else states
     moment = states.force_on_b[0, :, 3]  # about x, at the spring's point on the axis, on side b
@@ -223,7 +315,7 @@ def torque_paths(rig, springs, u_total: np.ndarray, case, *, states=None) -> Tor
             label="_".join(torques), parts=parts, applied_Nm=applied, reaction=reaction, reaction_rule=rule,
             carried_Nm=reached, carried_percent=_share(reached, applied, scale),
             exits=tuple(TorqueExit(s, carried[s], _share(carried[s], applied, scale)) for s in listed)))
-    return TorquePaths(tuple(out))
+    return TorquePaths(tuple(out), torque_ratings(rig, states, case))
 
 
 def _case_text(entry: dict) -> str:
@@ -272,3 +364,14 @@ def torque_path_warnings(entries: list[dict], limit_percent: float = LEAK_PERCEN
                      f"twice: give it no torsional stiffness, or name the intended reaction with "
                      f"[torques.{label.split('_')[0]}] reaction_spring")
     return found
+
+
+def rating_sentence(rating: dict, case: str) -> str:
+    """The warning for a rated coupling or shaft above its rated torque in ``case``, from its ``sweep.json`` entry
+    (:meth:`TorquePaths.rating_entries`); :func:`rvcoax.results.engineering.torque_rating_warnings` gives one per
+    case."""
+    peak = "" if rating["peak_torque_Nm"] is None else (
+        f", {rating['peak_use_percent']:.3g} % of the peak {rating['peak_torque_Nm']:.4g} N·m")
+    return (f"{rating['kind']} {rating['name']} (rated {rating['rated_torque_Nm']:.4g} N·m) in case {case}: "
+            f"{rating['verdict']} (carries {rating['torque_Nm']:.4g} N·m = {rating['rated_use_percent']:.3g} % of "
+            f"rated{peak})")

@@ -129,7 +129,8 @@ def _life(value) -> str:
 
 def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> list[Table]:
     """Per case and bearing: life, static safety and minimum-load status; per case and reducer: its check against
-    the rating table; the duty-cycle lives (the warnings: :func:`rvcoax.results.engineering.engineering_warnings`)."""
+    the rating table; the duty-cycle lives; per case and rated coupling or shaft: its torque against its rating (the
+    warnings: :func:`rvcoax.results.engineering.engineering_warnings`)."""
     from rvcoax.results import case_name, lives_of_records
 
     tables = []
@@ -173,6 +174,18 @@ def lives_and_reducer_tables(rig, records: list[dict], duty: list) -> list[Table
                           _percent(red["torque_peak_percent"]), _percent(red["torque_momentary_percent"]),
                           f"{red['moment_Nm']:.3g}", _percent(red["moment_use_percent"]), f"{red['axial_force_N']:.3g}",
                           _percent(red["axial_use_percent"]), red["verdict"])
+        tables.append(table)
+    rated = [(r["entry"], t) for r in records for t in r["entry"].get("engineering", {}).get("torque_ratings", [])]
+    if rated:
+        table = Table(title="Couplings and torque sensors against their rated torque, per case", title_justify="left")
+        for column in ("case", "coupling or shaft", "torque N·m", "rated N·m", "of rated", "peak N·m", "of peak",
+                       "verdict"):
+            table.add_column(column, justify="left" if column in ("case", "coupling or shaft", "verdict") else "right")
+        for entry, t in rated[:TABLE_ROWS]:
+            table.add_row(escape(case_name(rig, entry["T1_input_Nm"], entry["T2_output_Nm"])),
+                          escape(f"{t['kind']} {t['name']}"), f"{t['torque_Nm']:.4g}", f"{t['rated_torque_Nm']:g}",
+                          _percent(t["rated_use_percent"]), "" if t["peak_torque_Nm"] is None
+                          else f"{t['peak_torque_Nm']:g}", _percent(t["peak_use_percent"]), t["verdict"])
         tables.append(table)
     return tables
 

@@ -80,6 +80,10 @@ ENGINEERING_DEFINITIONS = {
                     "the torque it carries out of the line (N·m, in the sense of the applied torque) and its share of "
                     "it (%); reaction: the exit meant to take the torque (reaction_rule: reaction_spring, reducer or far "
                     "end); carried_Nm: the torque that reaches it, which the line's couplings and sensors carry",
+    "torque_ratings": "per coupling and shaft with rated_torque_Nm in the rig file (kind coupling or shaft): torque_Nm = "
+                      "|torque| it carries (a coupling: through its spring; a shaft: the largest torque entering or "
+                      "leaving it through one torsional spring or applied to it), rated_use_percent and "
+                      "peak_use_percent (null without peak_torque_Nm) of the datasheet values, and the verdict",
 }
 
 
@@ -193,6 +197,8 @@ def case_entry(case: CaseResult) -> dict:
         entry["engineering"]["shaft_strength"] = case.shaft_strength.entry()
     if getattr(case, "torque_paths", None) is not None:
         entry["engineering"]["torque_paths"] = case.torque_paths.entry()
+        if case.torque_paths.ratings:
+            entry["engineering"]["torque_ratings"] = case.torque_paths.rating_entries()
     return entry
 
 

@@ -572,7 +572,29 @@ def life_tables(sweep) -> list[Table]:
                               "allowable moment and maximum axial load from the reducer's rating table "
                               "(geometry/data/rv_reducers.csv, tagged values); the moment is the one the model's "
                               "reducer joint carries at the main bearings' centre."))
+    out.extend(torque_rating_tables(sweep))
     return out
+
+
+def torque_rating_tables(sweep) -> list[Table]:
+    """Each coupling and shaft (torque sensor) with a rated torque against it, per case (none without ratings)."""
+    from rvcoax.results.engineering import case_name
+
+    rated = [(c.case, r) for c in sweep.cases if c.torque_paths is not None for r in c.torque_paths.ratings]
+    if not rated:
+        return []
+    rows = tuple((case_name(sweep.rig, case.input_torque_Nm, case.output_torque_Nm), f"{r.kind} {r.name}",
+                  _g(r.torque_Nm), f"{r.rated_torque_Nm:g}", f"{r.rated_use_percent:.3g} %",
+                  "–" if r.peak_torque_Nm is None else f"{r.peak_torque_Nm:g}",
+                  "–" if r.peak_use_percent is None else f"{r.peak_use_percent:.3g} %", r.verdict)
+                 for case, r in rated)
+    return [Table("Couplings and torque sensors against their rated torque, per case",
+                  ("case", "coupling or shaft", "torque carried [N·m]", "rated torque [N·m]", "of rated",
+                   "peak torque [N·m]", "of peak", "verdict"), rows, verdict_column=7,
+                  note="Rated (and peak) torque from the rig file's rated_torque_Nm / peak_torque_Nm (the coupling's "
+                       "or torque sensor's datasheet). A coupling carries the torque about the axis its spring "
+                       "transmits; a shaft (a torque sensor's measuring shaft) the largest torque entering or leaving "
+                       "it through one coupling or joint, or applied to it.")]
 
 
 def gear_mesh_tables(sweep) -> list[Table]:

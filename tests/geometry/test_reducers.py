@@ -14,13 +14,16 @@ from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.cli.app import app
 from rvcoax.results.sweep import run_sweep
 
-# Nabtesco RV-E series rating table (Precision Reduction Gear RV, E series catalogue): rated torque, allowable
-# acceleration/deceleration torque, momentary maximum torque, allowable moment, momentary maximum moment, maximum
-# axial load, torsional and moment rigidity, mass. Every value is tagged [R] in the catalogue file (recalled, to be
-# checked against the maker's current table); this test pins the file to them. The RV-20E's and RV-40E's torques
-# (rated, acceleration/deceleration, momentary maximum) and masses are [S2]: a public secondary transcription of
-# Nabtesco's product data (a robotics knowledge base's RV-20E-81 and RV-40E-105 pages, citing Nabtesco's RV Series
-# catalogue) gives 167 / 412 / 833 N·m, 4.7 kg and 412 / 1029 / 2058 N·m, 9.3 kg — the same numbers.
+# Nabtesco RV-E series rating table (Precision Reduction Gear RV, E series catalogue, "Rating table"): rated torque,
+# allowable acceleration/deceleration torque, momentary maximum torque, allowable moment, momentary maximum moment,
+# maximum axial load, torsional and moment rigidity, mass. No copy of the maker's table could be read ([S1]: none);
+# the values this test pins are tagged in the catalogue file:
+# [S2] a public secondary source quoting the maker gives them: RV-20E 167 / 412 / 833 N·m at 15 rpm, 4.7 kg and
+#      RV-40E 412 / 1029 / 2058 N·m, 9.3 kg (a robotics knowledge base's RV-20E-81 and RV-40E-105 component pages,
+#      citing Nabtesco's product pages and RV Series catalogue; RV-20E 167 N·m, 4.7 kg at 15 rpm also in a project's
+#      review citing Nabtesco's RV-E product page);
+# [R]  recalled from the maker's table: every moment, axial load and rigidity below.
+# Contradiction kept out: an uncited selection tool's RV-20E 196 and RV-40E 392 N·m (see geometry/reducers.py).
 TABLE = {
     "RV-20E": (167, 412, 833, 882, 1764, 3920, 49, 372, 4.7),
     "RV-40E": (412, 1029, 2058, 1666, 3332, 5194, 108, 931, 9.3),
@@ -37,6 +40,21 @@ def test_catalogue_reproduces_the_rating_table(designation):
     assert "[R]" in entry.source and "[E]" in entry.source and "[S2]" in entry.source
     assert (entry.rated_torque_Nm, entry.acceleration_torque_Nm, entry.momentary_max_torque_Nm, entry.mass_kg) == {
         "RV-20E": (167, 412, 833, 4.7), "RV-40E": (412, 1029, 2058, 9.3)}[designation]  # the [S2] values
+    s2, r = entry.source.split("; [R]")[0], entry.source.split("; [R]")[1]  # what each tag covers, in the file
+    assert "rated" in s2 and "acceleration and momentary maximum torque" in s2 and "mass" in s2
+    assert "moments" in r and "axial load" in r and "rigidities" in r
+
+
+def test_every_size_says_the_quality_of_its_values():
+    """No size is better than its sources: [S2] only where a source quoting the maker was found (RV-20E, RV-40E);
+    the other sizes are [R] throughout, a matching but uncited tool noted but not counted."""
+    for entry in RV_REDUCERS.values():
+        tags = {t for t in ("[S1]", "[S2]", "[R]", "[E]") if t in entry.source}
+        assert tags == ({"[S2]", "[R]", "[E]"} if entry.designation in TABLE else {"[R]", "[E]"}), entry.designation
+    assert "15 rpm" in RV_REDUCERS["RV-20E"].source.split("; [R]")[0]  # the RV-20E's rated speed is [S2] too
+    assert "rated output speed" in RV_REDUCERS["RV-40E"].source.split("; [R]")[1]  # the RV-40E's is not
+    assert all("uncited third-party" in RV_REDUCERS[d].source for d in ("RV-6E", "RV-80E", "RV-110E", "RV-160E",
+                                                                         "RV-320E"))
 
 
 def test_catalogue_covers_rv6e_to_rv320e_and_grows_with_size():
@@ -170,3 +188,23 @@ def test_the_reducer_is_checked_in_a_nonlinear_sweep_too():
     record = case_record(sweep.cases[0])
     assert record["entry"]["engineering"]["reducers"][0]["verdict"] == check.verdict
     assert record["row"]["reducer_RV40E_main_bearings_verdict"] == check.verdict
+
+
+def test_moment_and_axial_overloads_warn_in_the_one_form():
+    """The RV-40E's allowable moment 1666 N·m and maximum axial load 5194 N [R]: a case above either is a warning
+    naming the reducer, the case and the numbers (engineering_warnings' form), like the torque at T2 = 4000 N·m."""
+    from rvcoax.results.engineering import engineering_warnings, reducer_entries
+
+    rig = load_example_rig()
+    reducer = rig.reducers[0]
+    moment = reducer_check(reducer, 100.0, (0, 0, 0), (0, 1200.0, 1200.0))  # |M| = 1697 N·m: 102 % of 1666
+    axial = reducer_check(reducer, 100.0, (6000.0, 0, 0), (0, 0, 0))  # 6000 N: 116 % of 5194
+    entries = [{"T1_input_Nm": 1.0, "T2_output_Nm": 100.0, "engineering": {"reducers": reducer_entries([moment])}},
+               {"T1_input_Nm": 1.0, "T2_output_Nm": 101.0, "engineering": {"reducers": reducer_entries([axial])}}]
+    warnings = engineering_warnings(rig, entries)
+    assert [w for w in warnings if w.startswith("reducer")] == [
+        "reducer RV40E_main_bearings (RV-40E) in case T1 = 1 N·m, T2 = 100 N·m: EXCEEDS allowable moment (torque "
+        "100 N·m = 24.3 % of rated; moment 1.7e+03 N·m = 102 % of allowable; axial force 0 N = 0 % of the maximum)",
+        "reducer RV40E_main_bearings (RV-40E) in case T1 = 1 N·m, T2 = 101 N·m: EXCEEDS maximum axial load (torque "
+        "100 N·m = 24.3 % of rated; moment 0 N·m = 0 % of allowable; axial force 6e+03 N = 116 % of the maximum)"]
+    assert axial.axial_use_percent == pytest.approx(100 * 6000 / 5194)
