@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from rvcoax.fem import pardiso
 from rvcoax.fem.errors import SolverError
 
-__all__ = ["SparseOperator", "available"]
+__all__ = ["THREADED_FROM", "SparseOperator", "available"]
 
 # mkl_spblas.h enumerations
 _ZERO_BASED = 0
@@ -38,7 +38,12 @@ _NON_UNIT = 50
 _ROW_MAJOR = 101
 _STATUS = {1: "not initialised", 2: "allocation failed", 3: "invalid value", 4: "execution failed",
            5: "internal error", 6: "not supported"}
-_EXPECTED_CALLS = 1000  # hint to the inspector: the operator is applied many times (a multigrid cycle)
+_EXPECTED_CALLS = 1000
+THREADED_FROM = 2_000_000
+"""Stored values from which a product runs on MKL's threads; a smaller one runs on one thread. Each threaded
+call wakes and joins MKL's OpenMP threads: on a small matrix that costs more than it saves, and on a loaded
+machine (a test suite on two cores with two pytest workers) it cost 20 × (an AMG solve of a few thousand
+unknowns: 13.2 s on two threads, 0.64 s on one; benchmarks/RESULTS.md)."""  # hint to the inspector: the operator is applied many times (a multigrid cycle)
 
 
 class _Descr(ctypes.Structure):
@@ -63,6 +68,8 @@ def _library():
     lib.mkl_sparse_set_mv_hint.argtypes = [ctypes.c_void_p, ctypes.c_int, _Descr, ctypes.c_int32]
     lib.mkl_sparse_optimize.argtypes = [ctypes.c_void_p]
     lib.mkl_sparse_destroy.argtypes = [ctypes.c_void_p]
+    lib.MKL_Set_Num_Threads_Local.argtypes = [ctypes.c_int]
+    lib.MKL_Set_Num_Threads_Local.restype = ctypes.c_int
     return lib
 
 
@@ -118,6 +125,8 @@ class SparseOperator:
                 self._data.ctypes.data)
         _check(status, "matrix creation")
         self._handle = handle
+        self._one_thread = self._data.size < THREADED_FROM
+        self._lib = lib
         self._descr = _Descr(_SYMMETRIC if symmetric else _GENERAL, _UPPER, _NON_UNIT)
         self._mv = getattr(lib, f"mkl_sparse_{prefix}_mv")
         if optimize:
@@ -183,8 +192,14 @@ class SparseOperator:
             return out
         if transpose and self._symmetric:
             transpose = False
-        _check(self._mv(_TRANSPOSE if transpose else _NON_TRANSPOSE, alpha, self._handle, self._descr,
-                        x.ctypes.data, beta, out.ctypes.data), "product")
+        previous = self._lib.MKL_Set_Num_Threads_Local(1) if self._one_thread else None
+        try:
+            status = self._mv(_TRANSPOSE if transpose else _NON_TRANSPOSE, alpha, self._handle, self._descr,
+                              x.ctypes.data, beta, out.ctypes.data)
+        finally:
+            if previous is not None:
+                self._lib.MKL_Set_Num_Threads_Local(previous)
+        _check(status, "product")
         return out
 
     def __matmul__(self, x: np.ndarray) -> np.ndarray:

@@ -138,3 +138,13 @@ def test_an_unknown_with_a_zero_diagonal_is_left_at_zero_by_the_coarse_solve():
     assert np.allclose(spd[:2, :2] @ x[:2], [1.0, 2.0], rtol=1e-6)
     with pytest.raises(amg.SolverError, match="not positive definite"):
         amg._checked_diagonal(sp.csr_matrix(np.diag([1.0, -1.0])), 0)
+
+
+def test_threaded_and_single_thread_products_agree(bar, monkeypatch):
+    """Small operators run on one MKL thread (mkl_sparse.THREADED_FROM); the threaded path gives the same product."""
+    a, _, _ = bar
+    x = np.random.default_rng(4).standard_normal(a.shape[0])
+    single = SparseOperator.symmetric(a, np.float64) @ x
+    monkeypatch.setattr(mkl_sparse, "THREADED_FROM", 0)
+    threaded = SparseOperator.symmetric(a, np.float64) @ x
+    assert np.linalg.norm(threaded - single) < 1e-13 * np.linalg.norm(single)
