@@ -24,14 +24,31 @@ Modified reference rating life (ISO/TS 16281:2008)
     L10r = (L_i^(−10/9) + L_e^(−10/9))^(−9/10). Tilt, clearance and preload enter through the element
     loads. For the load case behind C (zero clearance, pure radial load, no tilt) it agrees with
     ISO 281's L10 (tested: within 3 % in load).
-Life modification factor a_ISO (ISO 281:2007, 9.3, radial ball bearings)
-    a_ISO = 0.1 [1 − (2.5671 − c1/κ^c2)^0.83 (e_C C_u / P)^(1/3)]^(−9.3), (c1, c2) = (2.2649, 0.054381) for
-    0.1 ≤ κ < 0.4, (1.9987, 0.19087) for 0.4 ≤ κ < 1, (1.9987, 0.071739) for 1 ≤ κ ≤ 4 (κ > 4: 4);
-    a_ISO ≤ 50; fatigue load limit C_u ≈ C0/22 for ball bearings of D_pw ≤ 100 mm (ISO 281 annex B).
-Minimum load (maker's rule)
-    A rolling bearing needs a minimum load to roll rather than skid: 0.01 C for ball bearings, 0.02 C for
-    roller bearings (SKF rolling bearings catalogue, "Requisite minimum load", rule of thumb); checked on P, or,
-    with element loads, on the larger of P and C L10r^(−1/p) (a preload loads the elements).
+Life modification factor a_ISO (ISO 281:2007, 9.3.3)
+    Radial ball bearings: a_ISO = 0.1 [1 − (2.5671 − c1/κ^c2)^0.83 (e_C C_u / P)^(1/3)]^(−9.3), (c1, c2) =
+    (2.2649, 0.054381) for 0.1 ≤ κ < 0.4, (1.9987, 0.19087) for 0.4 ≤ κ < 1, (1.9987, 0.071739) for 1 ≤ κ ≤ 4;
+    radial roller bearings: a_ISO = 0.1 [1 − (1.5859 − c1/κ^c2) (e_C C_u / P)^0.4]^(−9.185), (c1, c2) =
+    (1.3993, 0.054381), (1.2348, 0.19087), (1.2348, 0.071739) over the same ranges (κ > 4: 4; a_ISO ≤ 50).
+    The constants as ISO 281 prints them, quoted in two independent open implementations: Dessia-tech/
+    MechanicalComponents, mechanical_components/bearings.py (RadialRollerBearing.AIso, and the ball form;
+    its ball code mistypes 0.19087 as 0.019087, which our continuity test at κ = 0.4 would catch), and a
+    Korean ISO 281/16281 Rust solver in a public code index (its file `a_iso_ball`, eqs. (31)–(36) named in its comments; the index does not name its repository).
+    Fatigue load limit C_u (ISO 281 annex B, simplified): C0/22 for ball, C0/8.2 for roller bearings of
+    D_pw ≤ 100 mm, times (100/D_pw)^0.5 (ball) or (100/D_pw)^0.3 (roller) above (same two sources).
+    Viscosity ratio κ = ν/ν1, ν1 = 45000 n^(−0.83) D_pw^(−0.5) (n < 1000 r/min), 4500 n^(−0.5) D_pw^(−0.5)
+    (n ≥ 1000) in mm²/s (ISO 281 eqs. (28)/(29), same two sources).
+Minimum load (the makers' rules; SKF's, as its catalogue prints them)
+    Rule of thumb: 0.01 C for ball, 0.02 C for roller bearings (SKF, "Requisite minimum load",
+    skf.com .../requisite-minimum-load). With the bearing's minimum load factor k_r (a maker's product-table
+    value, a rig key) the speed-dependent forms, F in kN, d_m = (d + D)/2 in mm:
+    deep-groove and angular-contact ball bearings F_rm = k_r (ν n / 1000)^(2/3) (d_m / 100)² (ν the operating
+    viscosity, mm²/s; SKF Rolling bearings catalogue, deep groove ball bearings "Loads", as quoted with its
+    page in MYCELA784/MYCELA784.github.io js/dgbb_calc.js; SKF's angular-contact "Loads" page lists the same
+    symbols k_r, ν, n, d_m); cylindrical roller bearings F_rm = k_r (6 + 4 n / n_r) (d_m / 100)² (n_r the
+    reference speed; SKF Rolling bearings 17000 EN, printed page 509, tpsbearing.com/catalog/Rollingbearings
+    page511); tapered roller bearings F_rm = 0.02 C (SKF tapered roller bearings "Loads"; 0.017 C for SKF
+    Explorer). Checked on P, or, with element loads, on the larger of P and C L10r^(−1/p) (a preload loads
+    the elements).
 Duty cycle (Palmgren–Miner)
     With time shares t_k of the load cases at speeds n_k: L_h = 1 / Σ (t_k / L_h,k); with revolution shares
     r_k: L = 1 / Σ (r_k / L_k) (revolutions).
@@ -50,7 +67,9 @@ __all__ = ["ANGULAR_XY", "ANGULAR_XY_15", "BALL_CONTACT_LIMIT_MPA", "B_M_BALL", 
            "equivalent_static_load", "hours", "angular_contact_xy", "cylindrical_xy", "lamina_contact_ratings",
            "line_contact_life", "pair_dynamic_rating", "rows_reference_life", "rows_static_safety", "system_life",
            "tapered_xy", "life_exponent", "life_from_forces", "miner_life", "minimum_load", "ring_contact_ratings",
-           "static_rating_ball", "static_safety", "static_safety_from_pressure"]
+           "static_rating_ball", "static_safety", "static_safety_from_pressure", "A_ISO_CONSTANTS",
+           "TAPERED_MINIMUM_LOAD_SHARE", "ball_minimum_load_N", "cylindrical_minimum_load_N", "fatigue_load_limit",
+           "reference_viscosity_mm2_s"]
 
 B_M_BALL = 1.3
 """ISO 281:2007 table 1: rating factor b_m for contemporary bearing steel, radial ball bearings."""
@@ -149,8 +168,17 @@ def hours(life_million_rev: float, speed_rpm: float | None) -> float | None:
     return life_million_rev * 1e6 / (60.0 * speed_rpm)
 
 
-def a_iso(kappa: float, contamination: float, fatigue_limit_N: float, equivalent_load_N: float) -> float:
-    """ISO 281's life modification factor for radial ball bearings (0.1 … 50).
+A_ISO_CONSTANTS = {
+    "ball": ((2.2649, 0.054381), (1.9987, 0.19087), (1.9987, 0.071739), 2.5671, 0.83, 1.0 / 3.0, 9.3),
+    "roller": ((1.3993, 0.054381), (1.2348, 0.19087), (1.2348, 0.071739), 1.5859, 1.0, 0.4, 9.185),
+}
+"""ISO 281:2007 9.3.3, radial bearings: per kind the (c1, c2) of κ in [0.1, 0.4), [0.4, 1), [1, 4], then the
+bracket's constant, its power, the power of e_C C_u/P and the outer exponent (sources in the module docstring)."""
+
+
+def a_iso(kappa: float, contamination: float, fatigue_limit_N: float, equivalent_load_N: float,  # noqa: PLR0913
+          elements: str = "ball") -> float:
+    """ISO 281's life modification factor a_ISO of a radial ball or roller bearing (0.1 … 50).
 
     Parameters
     ----------
@@ -160,7 +188,10 @@ def a_iso(kappa: float, contamination: float, fatigue_limit_N: float, equivalent
         e_C (0 … 1).
     fatigue_limit_N, equivalent_load_N : float
         C_u and P.
+    elements : str
+        ``ball`` or ``roller`` (:data:`A_ISO_CONSTANTS`).
     """
+    life_exponent(elements)  # validates the kind
     if not 0.1 <= kappa:
         raise ValueError(f"viscosity ratio κ = {kappa:g} is below 0.1, where ISO 281's a_ISO does not apply")
     if not 0.0 <= contamination <= 1.0:
@@ -168,12 +199,54 @@ def a_iso(kappa: float, contamination: float, fatigue_limit_N: float, equivalent
     if equivalent_load_N <= 0.0:
         return 50.0
     kappa = min(kappa, 4.0)
-    c1, c2 = (2.2649, 0.054381) if kappa < 0.4 else (1.9987, 0.19087) if kappa < 1.0 else (1.9987, 0.071739)
-    base = 2.5671 - c1 / kappa**c2
-    inner = 1.0 - base**0.83 * (contamination * fatigue_limit_N / equivalent_load_N) ** (1.0 / 3.0)
+    low, middle, high, constant, power, load_power, exponent = A_ISO_CONSTANTS[elements]
+    c1, c2 = low if kappa < 0.4 else middle if kappa < 1.0 else high
+    base = max(constant - c1 / kappa**c2, 0.0)
+    inner = 1.0 - base**power * (contamination * fatigue_limit_N / equivalent_load_N) ** load_power
     if inner <= 0.0:
         return 50.0
-    return float(min(max(0.1 * inner ** (-9.3), 0.1), 50.0))
+    return float(min(max(0.1 * inner ** (-exponent), 0.1), 50.0))
+
+
+def fatigue_load_limit(static_rating_N: float, pitch_diameter_mm: float | None = None, elements: str = "ball") -> float:
+    """C_u (N) by ISO 281 annex B's simplified rule: C0/22 (ball) or C0/8.2 (roller) for D_pw ≤ 100 mm, times
+    (100/D_pw)^0.5 (ball) or (100/D_pw)^0.3 (roller) above; without D_pw the small-bearing form."""
+    life_exponent(elements)
+    divisor, power = (22.0, 0.5) if elements == "ball" else (8.2, 0.3)
+    limit = static_rating_N / divisor
+    if pitch_diameter_mm is not None and pitch_diameter_mm > 100.0:
+        limit *= (100.0 / pitch_diameter_mm) ** power
+    return limit
+
+
+def reference_viscosity_mm2_s(speed_rpm: float, pitch_diameter_mm: float) -> float:
+    """ν1 (mm²/s), ISO 281 eqs. (28)/(29): the viscosity a bearing of D_pw at n needs for κ = 1."""
+    if speed_rpm <= 0.0 or pitch_diameter_mm <= 0.0:
+        raise ValueError("the reference viscosity ν1 needs a speed and a pitch diameter > 0")
+    if speed_rpm < 1000.0:
+        return 45000.0 * speed_rpm ** (-0.83) * pitch_diameter_mm ** (-0.5)
+    return 4500.0 * speed_rpm ** (-0.5) * pitch_diameter_mm ** (-0.5)
+
+
+TAPERED_MINIMUM_LOAD_SHARE = 0.02
+"""SKF's minimum radial load of a tapered roller bearing, F_rm = 0.02 C (0.017 C for SKF Explorer)."""
+
+
+def ball_minimum_load_N(factor: float, viscosity_mm2_s: float, speed_rpm: float, mean_diameter_mm: float) -> float:
+    """SKF's minimum radial load of a deep-groove or angular-contact ball bearing (N):
+    F_rm = k_r (ν n / 1000)^(2/3) (d_m / 100)² kN (sources in the module docstring)."""
+    if factor <= 0.0 or viscosity_mm2_s <= 0.0 or mean_diameter_mm <= 0.0:
+        raise ValueError("the minimum load needs k_r, ν and d_m > 0")
+    return 1e3 * factor * (viscosity_mm2_s * max(speed_rpm, 0.0) / 1000.0) ** (2.0 / 3.0) * (mean_diameter_mm / 100.0) ** 2
+
+
+def cylindrical_minimum_load_N(factor: float, speed_rpm: float, reference_speed_rpm: float,
+                               mean_diameter_mm: float) -> float:
+    """SKF's minimum radial load of a cylindrical roller bearing (N): F_rm = k_r (6 + 4 n / n_r) (d_m / 100)² kN
+    (SKF Rolling bearings 17000 EN, p. 509)."""
+    if factor <= 0.0 or reference_speed_rpm <= 0.0 or mean_diameter_mm <= 0.0:
+        raise ValueError("the minimum load needs k_r, n_r and d_m > 0")
+    return 1e3 * factor * (6.0 + 4.0 * max(speed_rpm, 0.0) / reference_speed_rpm) * (mean_diameter_mm / 100.0) ** 2
 
 
 def equivalent_static_load(radial_N: float, axial_N: float) -> float:
@@ -316,14 +389,18 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
                      f0: float | None, *, elements: str = "ball", speed_rpm: float | None = None,
                      kappa: float | None = None, contamination: float | None = None,
                      reference_life_Mrev: float | None = None, static_safety_value: float | None = None,
-                     equivalent_load_N: float | None = None) -> LifeResult:
+                     equivalent_load_N: float | None = None, minimum_load_N: float | None = None,
+                     fatigue_limit_N: float | None = None) -> LifeResult:
     """Life, static safety and minimum-load status of a bearing from the forces it carries.
 
     ``reference_life_Mrev`` (L10r from the element loads) and ``static_safety_value`` (s0 from the largest
     contact pressure) replace nothing: they are reported beside L10 and, where given, s0 is taken from the
     pressure rather than from C0/P0. ``equivalent_load_N`` replaces the deep-groove/radial-roller P (an
-    angular-contact or tapered bearing's from :func:`angular_contact_xy` / :func:`tapered_xy`). a_ISO (ball bearings) needs κ, e_C and C0 (C_u = C0/22). The minimum load is
-    checked on the larger of P and the load that gives L10r by ISO 281 (so a preload the elements carry counts).
+    angular-contact or tapered bearing's from :func:`angular_contact_xy` / :func:`tapered_xy`). a_ISO (ball and
+    roller bearings) needs κ, e_C and C_u (``fatigue_limit_N``; else :func:`fatigue_load_limit` of C0).
+    ``minimum_load_N`` is the maker's minimum load where the caller knows it (:func:`ball_minimum_load_N`,
+    :func:`cylindrical_minimum_load_N`), else the rule of thumb :func:`minimum_load`. It is checked on the larger
+    of P and the load that gives L10r by ISO 281 (so a preload the elements carry counts).
     """
     if equivalent_load_N is not None:
         load = equivalent_load_N
@@ -335,8 +412,10 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
         load = abs(radial_N)  # radial roller bearings carry no axial load in this model
     basic = basic_rating_life(dynamic_rating_N, load, elements)
     factor = None
-    if kappa is not None and contamination is not None and static_rating_N is not None and elements == "ball":
-        factor = a_iso(kappa, contamination, static_rating_N / 22.0, load)
+    if fatigue_limit_N is None and static_rating_N is not None:
+        fatigue_limit_N = fatigue_load_limit(static_rating_N, elements=elements)
+    if kappa is not None and contamination is not None and fatigue_limit_N is not None:
+        factor = a_iso(kappa, contamination, fatigue_limit_N, load, elements)
     base = reference_life_Mrev if reference_life_Mrev is not None else basic
     modified = None if factor is None else factor * base
     if static_safety_value is not None:
@@ -345,7 +424,7 @@ def life_from_forces(radial_N: float, axial_N: float, dynamic_rating_N: float, s
         safety = static_safety(static_rating_N, equivalent_static_load(radial_N, axial_N))
     else:
         safety = math.nan
-    minimum = minimum_load(dynamic_rating_N, elements)
+    minimum = minimum_load(dynamic_rating_N, elements) if minimum_load_N is None else minimum_load_N
     # the rolling elements' own load: with a reference life, the load that gives it by ISO 281 (C L10r^(−1/p));
     # a preload loads the elements though the bearing passes little force on
     carried = load

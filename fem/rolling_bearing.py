@@ -86,16 +86,22 @@ class BearingRow:
 class RollingBearing:
     """A rolling bearing of one or more rows at one node (see the module docstring).
 
-    ``linear_axial_stiffness`` (N/m) is a linear axial spring beside the rows: what locates a cylindrical
-    roller bearing axially (its ribs, a locating element), whose rollers carry no thrust.
+    ``linear_axial_stiffness`` (N/m) is an axial spring beside the rows: the ribs that locate a cylindrical
+    roller bearing axially, whose rollers carry no thrust on their raceways. ``axial_spring_direction`` 0: it
+    acts both ways (ribs on both sides of both rings, as an NUP bearing); +1 or −1: only while the inner ring
+    moves that way against the outer ring (an NJ bearing: the outer ring's rib and the inner ring's one rib
+    meet the roller ends one way; the other way the rings part), a contact, F_x = k max(f δx, 0) f.
     """
 
     rows: tuple[BearingRow, ...]
     linear_axial_stiffness: float = 0.0
+    axial_spring_direction: int = 0
 
     def __post_init__(self) -> None:
         if not self.rows:
             raise ValueError("a rolling bearing needs at least one row")
+        if self.axial_spring_direction not in (0, 1, -1):
+            raise ValueError(f"axial_spring_direction must be 0, +1 or -1, got {self.axial_spring_direction!r}")
 
     def _carried(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         force = np.zeros(5)
@@ -116,7 +122,7 @@ class RollingBearing:
         q = np.asarray(q, dtype=float)
         force, stiffness = self._carried(q)
         force = force - self.rest_force
-        if self.linear_axial_stiffness:
+        if self.linear_axial_stiffness and (self.axial_spring_direction == 0 or self.axial_spring_direction * q[0] > 0):
             force[0] += self.linear_axial_stiffness * q[0]
             stiffness[0, 0] += self.linear_axial_stiffness
         return force, stiffness

@@ -8,6 +8,12 @@ of two rows rating 2^0.7 C (ball) or 2^(7/9) C (roller) and 2 C0. A typed-in (``
 without C has no life. :func:`equivalent_load` gives ISO 281's P of the angular-contact and roller types. f0 of a typed-in bearing (ISO 281's X and Y under axial load) is
 :data:`TYPED_IN_F0` unless its geometry is known.
 
+Life options (:func:`life_options`): κ from ``viscosity_ratio``, or from ``oil_viscosity_mm2_per_s`` and the
+case's speed (κ = ν/ν1, ISO 281's ν1 at the pitch diameter); C_u by ISO 281 annex B from C0 and the pitch
+diameter; the maker's minimum load from ``minimum_load_factor`` (SKF's k_r: with ν and n for ball and
+angular-contact bearings, with n and ``reference_speed_rpm`` for cylindrical roller bearings; 0.02 C for tapered
+roller bearings), else the rule of thumb 0.01 C / 0.02 C (:mod:`rvcoax.fem.bearing_life`).
+
 Speeds (:func:`bearing_speeds_rpm`): the shafts joined to T1's part by couplings turn at the input speed,
 those joined to T2's part at the output speed; a ``[[load_cases]]`` entry gives ``output_speed_rpm`` and
 ``input_speed_rpm`` (default: the output speed × a reducer's ``ratio``). A bearing's inner ring turns with its
@@ -20,8 +26,8 @@ from dataclasses import dataclass
 
 from rvcoax.fem import bearing_life
 
-__all__ = ["LoadRatings", "TYPED_IN_F0", "bearing_speeds_rpm", "equivalent_load", "load_ratings", "rig_case_of",
-           "set_rows", "shaft_sides"]
+__all__ = ["LIFE_KEYS", "LoadRatings", "RIB_THRUST_SHARE", "TYPED_IN_F0", "rib_thrust_warnings", "bearing_speeds_rpm", "check_life_keys", "equivalent_load",
+           "life_options", "load_ratings", "rig_case_of", "set_rows", "shaft_sides"]
 
 TYPED_IN_F0 = 13.0
 """f0 (ISO 76) taken for a typed-in ball bearing: the table's value at D_w/D_pw ≈ 0.23, the middle of the 62 and
@@ -82,9 +88,9 @@ def equivalent_load(bearing, law, ratings: LoadRatings, radial_N: float, axial_N
 
     Angular-contact: ISO 281 table 3 by the nominal contact angle (a DB/DF pair with the pair's factors, a tandem
     set and a single bearing with the single-row ones; below 20° by i F_a / C0, C0 of one bearing); tapered:
-    e = 1.5 tan α, X/Y of the single row or the pair; cylindrical: an NJ bearing (or one from explicit geometry)
-    carries its thrust through the ribs (e = 0.2, P = 0.92 F_r + 0.6 F_a above), an NU or N bearing none (P = F_r:
-    the axial spring of the entry stands for a locating element elsewhere).
+    e = 1.5 tan α, X/Y of the single row or the pair; cylindrical: an NJ or NUP bearing (or one from explicit
+    geometry) carries its thrust through the ribs (e = 0.2, P = 0.92 F_r + 0.6 F_a above: SKF Rolling bearings
+    17000 EN p. 509 for the 10, 2, 3 and 4 series), an NU or N bearing none (P = F_r).
 
     Parameters
     ----------
@@ -107,7 +113,7 @@ def equivalent_load(bearing, law, ratings: LoadRatings, radial_N: float, axial_N
                                                   static_rating_N=c0_one, rows=rows)
     elif bearing.model == "tapered_roller":
         x, y, _ = bearing_life.tapered_xy(radial_N, axial_N, law.contact_angle_rad, pair=pair)
-    elif bearing.designation is None or bearing.designation.strip().upper().startswith("NJ"):
+    elif bearing.designation is None or _cylindrical_variant(bearing) in ("NJ", "NUP"):
         x, y, _ = bearing_life.cylindrical_xy(radial_N, axial_N)
     else:
         x, y = 1.0, 0.0
@@ -151,3 +157,106 @@ def bearing_speeds_rpm(rig, rig_case) -> dict[str, float | None]:
     speed = {"input": inputs, "output": output}
     sides = shaft_sides(rig)
     return {b.name: speed.get(sides.get(b.shaft)) for b in rig.bearings}
+
+
+def _cylindrical_variant(bearing) -> str | None:
+    from rvcoax.geometry.rolling_model import cylindrical_variant
+
+    return cylindrical_variant(bearing)
+
+
+LIFE_KEYS = ("minimum_load_factor", "oil_viscosity_mm2_per_s", "reference_speed_rpm")
+"""The rig keys of the maker's minimum load and of κ from the oil (:func:`life_options`)."""
+
+
+def check_life_keys(bearing) -> None:
+    """ValueError (naming the key) where a bearing entry's minimum-load and lubricant keys do not fit its model."""
+    factor, viscosity, reference = (getattr(bearing, key) for key in LIFE_KEYS)
+    if viscosity is not None and bearing.viscosity_ratio is not None:
+        raise ValueError("oil_viscosity_mm2_per_s and viscosity_ratio both give κ: give one (the oil's viscosity at "
+                         "operating temperature lets κ follow each case's speed)")
+    if bearing.model == "linear":
+        given = [key for key in LIFE_KEYS if getattr(bearing, key) is not None]
+        if given:
+            raise ValueError(f"{', '.join(given)}: need the bearing's mean diameter, known for a bearing from "
+                             "geometry (model = \"ball\", \"angular_contact\", \"cylindrical_roller\", "
+                             "\"tapered_roller\"); a typed-in bearing takes viscosity_ratio")
+        return
+    if reference is not None and bearing.model != "cylindrical_roller":
+        raise ValueError("reference_speed_rpm: the maker's reference speed enters the minimum load of a cylindrical "
+                         f"roller bearing only (this bearing is model = \"{bearing.model}\")")
+    if factor is None:
+        return
+    if bearing.model == "tapered_roller":
+        raise ValueError("minimum_load_factor: a tapered roller bearing's minimum load is 0.02 C (SKF), no factor")
+    if bearing.model == "cylindrical_roller" and reference is None:
+        raise ValueError("minimum_load_factor: a cylindrical roller bearing's minimum load F_rm = k_r (6 + 4 n/n_r) "
+                         "(d_m/100)² kN also needs reference_speed_rpm (n_r, the catalogue's reference speed)")
+    if bearing.model in ("ball", "angular_contact") and viscosity is None:
+        raise ValueError("minimum_load_factor: a ball bearing's minimum load F_rm = k_r (ν n/1000)^(2/3) (d_m/100)² kN "
+                         "also needs oil_viscosity_mm2_per_s (ν, the oil at operating temperature)")
+
+
+def _diameters_mm(bearing) -> tuple[float, float]:
+    """(pitch diameter, mean diameter (d + D)/2) in mm of a bearing from geometry (the mean: the catalogue's
+    bore and outside diameter, else the pitch diameter)."""
+    if bearing.model == "ball":
+        from rvcoax.geometry.ball_model import BALL_BEARINGS, geometry_of
+
+        pitch = geometry_of(bearing).pitch_diameter_m * 1e3
+        entry = None if bearing.designation is None else BALL_BEARINGS.get(bearing.designation)
+    else:
+        from rvcoax.geometry.rolling_model import _law, entry_of
+
+        pitch = _law(bearing).pitch_diameter_m * 1e3
+        entry = entry_of(bearing)
+    mean = pitch if entry is None else 0.5 * (entry.bore_mm + entry.outside_diameter_mm)
+    return pitch, mean
+
+
+def life_options(bearing, ratings: LoadRatings, speed_rpm: float | None) -> dict:
+    """The keyword arguments of :func:`rvcoax.fem.bearing_life.life_from_forces` a rig bearing's keys give in a
+    case at ``speed_rpm``: ``kappa``, ``contamination``, ``fatigue_limit_N`` and ``minimum_load_N`` (None: the
+    rule of thumb)."""
+    options = {"kappa": bearing.viscosity_ratio, "contamination": bearing.contamination_factor,
+               "fatigue_limit_N": None, "minimum_load_N": None}
+    if bearing.model == "linear":
+        return options
+    pitch, mean = _diameters_mm(bearing)
+    if ratings.static_N is not None:
+        options["fatigue_limit_N"] = bearing_life.fatigue_load_limit(ratings.static_N, pitch, ratings.elements)
+    viscosity = bearing.oil_viscosity_mm2_per_s
+    if viscosity is not None and speed_rpm is not None and speed_rpm > 0.0:
+        options["kappa"] = viscosity / bearing_life.reference_viscosity_mm2_s(speed_rpm, pitch)
+    factor = bearing.minimum_load_factor
+    if bearing.model == "tapered_roller":
+        options["minimum_load_N"] = bearing_life.TAPERED_MINIMUM_LOAD_SHARE * ratings.dynamic_N
+    elif factor is not None and speed_rpm is not None:
+        options["minimum_load_N"] = (
+            bearing_life.cylindrical_minimum_load_N(factor, speed_rpm, bearing.reference_speed_rpm, mean)
+            if bearing.model == "cylindrical_roller" else
+            bearing_life.ball_minimum_load_N(factor, viscosity, speed_rpm, mean))
+    return options
+
+
+RIB_THRUST_SHARE = 0.5
+"""SKF's limit on the thrust of a locating single-row cylindrical roller bearing (NJ, NUP): F_a ≤ 0.5 F_r (SKF Rolling
+bearings 17000 EN p. 509, "F_a must not exceed 0,5 F_r")."""
+
+
+def rib_thrust_warnings(rig, entries: list[dict], name_of) -> list[str]:
+    """One sentence per NJ or NUP bearing whose ribs carry more thrust than :data:`RIB_THRUST_SHARE` of its radial load
+    in some case (cases named by ``name_of(entry)``), from the ``sweep.json`` case entries' bearing forces."""
+    if rig is None:
+        return []
+    ribbed = {b.name: _cylindrical_variant(b) for b in rig.bearings if b.model == "cylindrical_roller"
+              and _cylindrical_variant(b) in ("NJ", "NUP")}
+    found = []
+    for name, variant in ribbed.items():
+        over = [name_of(e) for e in entries for b in e.get("engineering", {}).get("bearings", ())
+                if b["name"] == name and abs(b["force_axial_N"]) > max(RIB_THRUST_SHARE * b["force_radial_N"], 1.0)]
+        if over:
+            found.append(f"bearing {name} ({variant}) carries more thrust on its ribs than {RIB_THRUST_SHARE:g} F_r, the "
+                         f"limit for a locating cylindrical roller bearing (SKF), in {len(over)} case(s) ("
+                         + "; ".join(over[:3]) + (", …)" if len(over) > 3 else ")"))
+    return found

@@ -21,6 +21,7 @@ is detected, deleted and rebuilt. Coordinates of the returned mesh are in metres
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import logging
@@ -38,7 +39,7 @@ from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.units import MM
 
 __all__ = ["MESHER_VERSION", "MIN_SHAPE_QUALITY", "MeshingError", "SolidPartGeometry", "cache_path",
-           "check_mesh", "default_cache_dir", "estimate_dofs", "logger", "mesh_part", "shape_quality"]
+           "check_mesh", "default_cache_dir", "estimate_dofs", "gmsh_session", "logger", "mesh_part", "shape_quality"]
 
 logger = logging.getLogger(__name__)
 
@@ -310,10 +311,13 @@ def check_mesh(mesh: skfem.MeshTet2, name: str) -> None:
                            "part's mesh_size_mm)")
 
 
-def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
-    """Mesh with gmsh. gmsh is a process-wide singleton: if someone else has initialised it, mesh in
-    a model of our own and remove it afterwards (our options stay set); otherwise initialise and
-    always finalise."""
+@contextlib.contextmanager
+def gmsh_session(model: str):
+    """gmsh with a model of our own, quiet and on one thread (two threads give different node counts per run).
+
+    gmsh is a process-wide singleton: if someone else has initialised it, work in a model of our own and remove it
+    afterwards (our options stay set); otherwise initialise and always finalise. Yields the ``gmsh`` module.
+    """
     import gmsh
 
     owner = not gmsh.isInitialized()
@@ -323,43 +327,50 @@ def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.Verbosity", 2)
-        gmsh.option.setNumber("General.NumThreads", 1)  # 2 threads give different node counts per run
-        gmsh.model.add(geometry.name or "part")
-        # a geometry that is not a round part (a housing) builds its own, whole OpenCASCADE model; a
-        # round part is built as its quarter y ≥ 0, z ≥ 0 and mirrored twice once meshed
-        own_model = getattr(geometry, "build_occ_model", None)
-        if own_model is not None:
-            own_model(gmsh)
-        else:
-            _build_occ_model(gmsh, geometry)
-
-        def whole(coordinates_mm, t):
-            return (coordinates_mm, t) if own_model is not None else _symmetric(coordinates_mm, t)
-
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        # at least ~8 elements around every circle: a small bore under a coarse size would otherwise
-        # give intersecting facets (gmsh "PLC Error") or inverted curved tets
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", _ELEMENTS_PER_CIRCLE)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", geometry.mesh_size_mm)
-        gmsh.option.setNumber("Mesh.ElementOrder", 2)
-        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-edge nodes on the curved geometry
-        gmsh.model.mesh.generate(3)
-        mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
-        if _inverted_elements(mesh).size:
-            # curving boundary edges of coarse tets can invert them; gmsh's high-order optimiser
-            # moves the interior high-order nodes (cheap, deterministic, only needed when coarse)
-            gmsh.model.mesh.optimize("HighOrder")
-            mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
-    except MeshingError:
-        raise
-    except Exception as error:
-        raise MeshingError(f"gmsh failed to mesh part '{geometry.name}': {error}") from error
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.model.add(model)
+        yield gmsh
     finally:
         if owner:
             gmsh.finalize()
         elif gmsh.isInitialized():
             gmsh.model.remove()
+
+
+def _run_gmsh(geometry: SolidPartGeometry) -> skfem.MeshTet2:
+    """Mesh with gmsh (in a :func:`gmsh_session` of its own)."""
+    try:
+        with gmsh_session(geometry.name or "part") as gmsh:
+            # a geometry that is not a round part (a housing) builds its own, whole OpenCASCADE model; a
+            # round part is built as its quarter y ≥ 0, z ≥ 0 and mirrored twice once meshed
+            own_model = getattr(geometry, "build_occ_model", None)
+            if own_model is not None:
+                own_model(gmsh)
+            else:
+                _build_occ_model(gmsh, geometry)
+
+            def whole(coordinates_mm, t):
+                return (coordinates_mm, t) if own_model is not None else _symmetric(coordinates_mm, t)
+
+            gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+            # at least ~8 elements around every circle: a small bore under a coarse size would otherwise
+            # give intersecting facets (gmsh "PLC Error") or inverted curved tets
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", _ELEMENTS_PER_CIRCLE)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", geometry.mesh_size_mm)
+            gmsh.option.setNumber("Mesh.ElementOrder", 2)
+            gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-edge nodes on the curved geometry
+            gmsh.model.mesh.generate(3)
+            mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
+            if _inverted_elements(mesh).size:
+                # curving boundary edges of coarse tets can invert them; gmsh's high-order optimiser
+                # moves the interior high-order nodes (cheap, deterministic, only needed when coarse)
+                gmsh.model.mesh.optimize("HighOrder")
+                mesh = _to_skfem(*whole(*_gmsh_tet10(gmsh)))
+    except MeshingError:
+        raise
+    except Exception as error:
+        raise MeshingError(f"gmsh failed to mesh part '{geometry.name}': {error}") from error
     check_mesh(mesh, geometry.name)
     return mesh
 

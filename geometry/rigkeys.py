@@ -32,7 +32,7 @@ UNIT_SUFFIXES = {
     "_kg_per_m3": "kg/m³", "_kg_m2": "kg·m²", "_m_per_s2": "m/s²", "_MPa": "MPa", "_mm": "mm", "_um": "µm", "_kg": "kg",
     "_deg": "°", "_mrad": "mrad", "_arcmin": "′ (arcminute)", "_rpm": "1/min", "_Nm": "N·m", "_N": "N",
     "_N_per_mm_per_um": "N/(mm·µm)", "_N_per_um_per_mm2": "N/(µm·mm²)", "_per_K": "1/K",
-    "_K": "K (= °C of difference)",
+    "_K": "K (= °C of difference)", "_mm2_per_s": "mm²/s",
 }
 
 # where a key's meaning is not in the schema itself (dotted path; [] = any entry of a list,
@@ -70,7 +70,9 @@ MEANINGS = {
     "bearings[].radial_stiffness_N_per_um": "Radial stiffness (datasheet rigidity, or Palmgren's law at the "
                                             "expected load): one of the numbers that matter most.",
     "bearings[].axial_stiffness_N_per_um": ("Axial stiffness (0: the bearing floats axially); on a cylindrical_roller "
-                                            "bearing the linear axial spring beside its rollers (an NJ's rib)."),
+                                            "bearing its ribs' contact: NJ one way (axial_direction), NUP both, "
+                                            "NU/N none (refused); default for NJ/NUP the radial reference stiffness "
+                                            "(estimated)."),
     "bearings[].tilt_stiffness_Nm_per_rad": "Moment stiffness against tilting the rings (0 for a single "
                                             "deep-groove ball bearing).",
     "bearings[].width_mm": "Bearing width (catalogue), for drawing and solid attachment bands.",

@@ -14,7 +14,7 @@ load ratings follow here from rules, and every number says where it comes from (
     0.29–0.31 of it), Z = ⌊π d_m / (1.2 D_w)⌋ (filled through the low shoulder: a ball pitch of 1.2 D_w,
     more balls than a Conrad deep-groove bearing), groove conformities f_i = 0.52, f_o = 0.53 (the
     loosest ISO 281 assumes); contact angle by suffix: B 40°, AC 25°, C 15° (the suffix's definition);
-  * cylindrical roller bearings (NU, N, NJ): d_m = (d + D)/2, D_w = 0.28 (D − d), l_we = 0.65 B,
+  * cylindrical roller bearings (NU, N, NJ, NUP): d_m = (d + D)/2, D_w = 0.28 (D − d), l_we = 0.65 B,
     Z = ⌊π d_m / (1.25 D_w)⌋, logarithmic crowning;
   * tapered roller bearings: d_m = (d + D)/2, mean roller diameter D_w = 0.25 (D − d),
     l_we = 0.8 C, Z = ⌊π d_m / (1.2 D_w)⌋, contact angle from the catalogue's calculation factor e:
@@ -55,7 +55,9 @@ __all__ = ["ANGULAR_CONTACT_SUFFIXES", "BALL_FC", "CYLINDRICAL_VARIANTS", "Catal
 ROLLING_CATALOGUE_FILE = "rolling_bearings.csv"
 ANGULAR_CONTACT_SUFFIXES = {"B": 40.0, "AC": 25.0, "C": 15.0}
 """Contact angle (°) of an angular-contact ball bearing by its designation's suffix."""
-CYLINDRICAL_VARIANTS = ("NU", "N", "NJ")
+CYLINDRICAL_VARIANTS = ("NU", "N", "NJ", "NUP")
+"""NU and N: ribs on one ring only (no thrust); NJ: one rib on the inner ring (thrust one way); NUP: a loose rib
+washer too (thrust both ways)."""
 TAPERED_E = {"302": 0.37, "320": 0.43, "322": 0.37}
 """ESTIMATED calculation factor e of a tapered roller bearing series (tan α = e / 1.5)."""
 
@@ -213,10 +215,10 @@ def _read_catalogue() -> dict[str, CatalogueRollingBearing]:
 
 @functools.cache
 def rolling_bearings() -> dict[str, CatalogueRollingBearing]:
-    """Designation → catalogue entry: 70xx/72xx/73xx with suffix B, AC or C; NU/N/NJ 2xx and 3xx (04–10);
+    """Designation → catalogue entry: 70xx/72xx/73xx with suffix B, AC or C; NU/N/NJ/NUP 2xx and 3xx (04–10);
     302xx, 320xx X and 322xx (04–10).
 
-    Built on first use (162 entries, each C0 by a root search) and kept: a command that meets no catalogue
+    Built on first use (176 entries, each C0 by a root search) and kept: a command that meets no catalogue
     bearing does not pay for it. The module attribute ``ROLLING_BEARINGS`` is this same dict.
     """
     return _read_catalogue()
@@ -224,7 +226,7 @@ def rolling_bearings() -> dict[str, CatalogueRollingBearing]:
 
 ROLLING_BEARINGS: dict[str, CatalogueRollingBearing]  # declared only: module __getattr__ builds it when first read
 """Designation → catalogue entry (:func:`rolling_bearings`, built on first use): 70xx/72xx/73xx with suffix B, AC
-or C; NU/N/NJ 2xx and 3xx (04–10); 302xx, 320xx X and 322xx (04–10)."""
+or C; NU/N/NJ/NUP 2xx and 3xx (04–10); 302xx, 320xx X and 322xx (04–10)."""
 
 
 def __getattr__(name: str):

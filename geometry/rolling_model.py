@@ -16,6 +16,15 @@ thrust in ``axial_direction``) or matched pairs: ``DB`` (back-to-back), ``DF`` (
   a preload; < 0 apart, an axial play); a DB/DF pair's total (stand-out), split evenly over its rows;
 
 none of them: the rings just touch (zero play, no preload).
+
+A cylindrical roller bearing's rollers carry no thrust on their raceways; its ribs do, by the variant of its
+designation (:func:`cylindrical_variant`): NU and N have ribs on one ring only, carry no thrust, and refuse an
+``axial_stiffness_N_per_um`` (the shaft is located by another bearing); NJ carries thrust one way, the
+``axial_direction`` the shaft moves against the housing (+1: +x), through the contact of the roller ends with
+its ribs: a spring of ``axial_stiffness_N_per_um`` that acts only that way; NUP (and a bearing from explicit
+geometry) carries it both ways. The rib stiffness, where not given, is the bearing's radial reference stiffness
+(ESTIMATED: roller end and rib are an elastic contact of the same size class as roller and raceway; makers
+publish no value).
 """
 
 from __future__ import annotations
@@ -32,6 +41,7 @@ from rvcoax.geometry.ball_model import clearance_from_keys, operating_clearance_
 from rvcoax.geometry.rolling_catalogue import CatalogueRollingBearing, catalogue_entry
 
 __all__ = ["GEOMETRIC_MODELS", "MODEL_KEYS", "PRELOAD_CLASS_SHARE", "RollingBearingModel", "clearance_um_of",
+           "cylindrical_variant", "rib_stiffness_N_per_um",
            "clearance_upper_um", "entry_of", "heavy_setting", "load_ratings_N", "reference_stiffness",
            "rolling_bearing_model", "rolling_bearing_of"]
 
@@ -45,7 +55,8 @@ _ROLLER_KEYS = ("roller_count", "roller_diameter_mm", "roller_length_mm", "crown
 MODEL_KEYS = {
     "angular_contact": _ANGULAR_KEYS + ("ball_count", "ball_diameter_mm", "inner_conformity", "outer_conformity"),
     "tapered_roller": _ANGULAR_KEYS + _ROLLER_KEYS,
-    "cylindrical_roller": ("designation", "clearance_class", "clearance_um", "pitch_diameter_mm") + _ROLLER_KEYS,
+    "cylindrical_roller": ("designation", "clearance_class", "clearance_um", "pitch_diameter_mm", "axial_direction")
+    + _ROLLER_KEYS,
 }
 """The rig-file keys each model takes (beyond name, shaft, housing, x_mm, the stiffness keys and width)."""
 
@@ -206,9 +217,10 @@ def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     """
     if bearing.model == "cylindrical_roller":
         law = _law(bearing, clearance_um_of(bearing))
+        rib, direction = _ribs(bearing, law)
         if rig is not None:
             law = law.with_clearance(operating_clearance_m(rig, bearing, law))
-        return RollingBearing((BearingRow(law),), linear_axial_stiffness=bearing.axial_stiffness_N_per_um * 1e6)
+        return RollingBearing((BearingRow(law),), linear_axial_stiffness=rib * 1e6, axial_spring_direction=direction)
     law = _law(bearing)
     offset = _row_offset_m(bearing, law, _rated(bearing, law))
     change = thermal_clearance_change_um(rig, bearing, law.pitch_diameter_m)
@@ -219,6 +231,46 @@ def rolling_bearing_of(bearing, rig=None) -> RollingBearing:
     half = 0.5 * _row_width_m(bearing)
     facings = {"DB": (1, -1), "DF": (-1, 1), "DT": (bearing.axial_direction,) * 2}[bearing.arrangement]
     return RollingBearing((BearingRow(law, -half, facings[0], offset), BearingRow(law, half, facings[1], offset)))
+
+
+def cylindrical_variant(bearing) -> str | None:
+    """NU, N, NJ or NUP: the rib arrangement of a cylindrical roller entry's designation (None without one)."""
+    if bearing.designation is None:
+        return None
+    return entry_of(bearing).designation.rstrip("0123456789")
+
+
+def _touching_radial_N_per_um(law: RollerBearingGeometry) -> float:
+    """The radial tangent (N/µm) of a roller row without clearance at the reference deflection."""
+    _, stiffness = RollingBearing((BearingRow(law.with_clearance(0.0)),)).force(
+        np.array([0.0, REFERENCE_DEFLECTION_UM * 1e-6, 0.0, 0.0, 0.0]))
+    return float(stiffness[1, 1]) * 1e-6
+
+
+def rib_stiffness_N_per_um(bearing) -> float:
+    """The axial stiffness of a cylindrical roller entry's ribs (N/µm): ``axial_stiffness_N_per_um``, else for an
+    NJ or NUP bearing the radial reference stiffness (ESTIMATED, see the module docstring), else 0."""
+    return _ribs(bearing, _law(bearing))[0]
+
+
+def _ribs(bearing, law) -> tuple[float, int]:
+    """(rib stiffness N/µm, direction: 0 both ways, ±1 one way) of a cylindrical roller entry; ValueError where
+    the keys contradict the designation's ribs."""
+    variant = cylindrical_variant(bearing)
+    given = bearing.axial_stiffness_N_per_um
+    if variant in ("NU", "N"):
+        if given:
+            raise ValueError(f"axial_stiffness_N_per_um = {given:g}: an {variant} bearing ({bearing.designation}) has "
+                             f"ribs on {'its outer' if variant == 'NU' else 'its inner'} ring only, its rollers slide "
+                             "axially and it carries no thrust; locate the shaft with another bearing (an NJ or NUP "
+                             "designation carries thrust through its ribs)")
+        if bearing.axial_direction != 1:
+            raise ValueError(f"axial_direction: an {variant} bearing carries no thrust either way")
+        return 0.0, 0
+    if variant == "NUP" and bearing.axial_direction != 1:
+        raise ValueError("axial_direction: an NUP bearing carries thrust both ways (ribs on both sides)")
+    stiffness = given if given else (_touching_radial_N_per_um(law) if variant is not None else 0.0)
+    return stiffness, (bearing.axial_direction if variant == "NJ" else 0)
 
 
 def load_ratings_N(bearing) -> tuple[float, float]:
@@ -269,7 +321,8 @@ def reference_stiffness(bearing) -> dict[str, float]:
     """The linear reference springs of an angular-contact or roller bearing entry (rig-file keys and units):
     the radial tangent of the rings just touching (no clearance, no offset) at a 5 µm radial deflection; the
     axial the same (a cylindrical roller bearing: its typed-in axial stiffness, 0 = free); tilt
-    radial × ((d_m/2)²/2 + x_r²) (a ring of springs on the pitch circle, the rows x_r from the node).
+    radial × ((d_m/2)²/2 + x_r²) (a ring of springs on the pitch circle, the rows x_r from the node); an NJ or NUP
+    bearing's axial: its rib stiffness (:func:`rib_stiffness_N_per_um`).
     Only the linear model the nonlinear solve is condensed on: the solution does not depend on them."""
     law = _law(bearing)
     if isinstance(law, RollerBearingGeometry):
@@ -282,6 +335,8 @@ def reference_stiffness(bearing) -> dict[str, float]:
     out = {"radial_stiffness_N_per_um": radial * 1e-6, "tilt_stiffness_Nm_per_rad": radial * lever}
     if bearing.model != "cylindrical_roller":
         out["axial_stiffness_N_per_um"] = radial * 1e-6
+    elif cylindrical_variant(bearing) in ("NJ", "NUP"):
+        out["axial_stiffness_N_per_um"] = rib_stiffness_N_per_um(bearing)
     return out
 
 

@@ -245,6 +245,13 @@ class Location(StrictModel):
         return self
 
 
+class _PositiveUpTo:
+    """``_PositiveUpTo[upper]``: a finite float in (0, upper]."""
+
+    def __class_getitem__(cls, upper: float):
+        return Annotated[float, Field(gt=0.0, le=upper, allow_inf_nan=False, strict=True)]
+
+
 class Bearing(StrictModel):
     """A bearing between a shaft and its housing (or the ground).
 
@@ -283,7 +290,7 @@ class Bearing(StrictModel):
     designation: str | None = Field(None, description=(
         "Catalogue bearing: model = \"ball\" 6200 … 6210, 6300 … 6310 (geometry/data/ball_bearings.csv); "
         "angular_contact 7000 … 7010, 7200 … 7210, 7300 … 7310 with suffix B (40°), AC (25°) or C (15°); "
-        "cylindrical_roller NU, N or NJ 204 … 210, 304 … 310; tapered_roller 30204 … 30210, 32004X … 32010X, "
+        "cylindrical_roller NU, N, NJ or NUP 204 … 210, 304 … 310; tapered_roller 30204 … 30210, 32004X … 32010X, "
         "32204 … 32210 (geometry/data/rolling_bearings.csv; internal geometry estimated, see docs/model.md)."))
     clearance_class: Literal["C2", "CN", "C3", "C4"] | None = Field(None, description=(
         "model = \"ball\" or \"cylindrical_roller\": ISO 5753-1 radial internal clearance class; the middle of "
@@ -315,8 +322,8 @@ class Bearing(StrictModel):
         "angular_contact, tapered_roller: a single bearing, or a matched pair back-to-back (DB), face-to-face "
         "(DF) or in tandem (DT), its two rows a bearing width apart around x_mm."))
     axial_direction: Literal[1, -1] = Field(1, description=(
-        "angular_contact, tapered_roller, single or DT: the direction (+1: +x, −1: −x) of the shaft's axial "
-        "motion against the housing that the bearing carries."))
+        "angular_contact, tapered_roller, single or DT, and an NJ cylindrical_roller: the direction (+1: +x, "
+        "−1: −x) of the shaft's axial motion against the housing that the bearing carries."))
     preload_class: Literal["light", "medium", "heavy"] | None = Field(None, description=(
         "angular_contact, tapered_roller, DB or DF pair: each row carries 1 %, 2 % or 4 % of its C axially at "
         "rest (estimated: makers' classes differ). Not for a single bearing (nothing to preload against)."))
@@ -382,6 +389,25 @@ class Bearing(StrictModel):
                           "ISO 281's a_ISO.")
     contamination_factor: Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False, strict=True)] | None = Field(
         None, description="e_C of ISO 281 (1: extreme cleanliness … 0: severe contamination).")
+    # the maker's minimum load and κ from the oil (rvcoax.geometry.bearing_ratings.life_options)
+    oil_viscosity_mm2_per_s: _PositiveUpTo[1e5] | None = Field(None, description=(
+        "A bearing from geometry: the lubricant's kinematic viscosity ν at operating temperature; gives κ = ν/ν1 "
+        "per case (ISO 281's ν1 at the case's speed) instead of viscosity_ratio, and the ball bearings' "
+        "speed-dependent minimum load."))
+    minimum_load_factor: _PositiveUpTo[10.0] | None = Field(None, description=(
+        "The maker's minimum load factor k_r (SKF product tables): ball and angular_contact F_rm = k_r "
+        "(ν n/1000)^(2/3) (d_m/100)² kN (needs oil_viscosity_mm2_per_s), cylindrical_roller F_rm = k_r "
+        "(6 + 4 n/n_r) (d_m/100)² kN (needs reference_speed_rpm); without it the rule of thumb 0.01 C (ball) / "
+        "0.02 C (roller)."))
+    reference_speed_rpm: _PositiveUpTo[1e6] | None = Field(None, description=(
+        "cylindrical_roller: the catalogue's reference speed n_r (minimum load)."))
+
+    @model_validator(mode="after")
+    def _check_life_keys(self) -> Bearing:
+        from rvcoax.geometry.bearing_ratings import check_life_keys
+
+        check_life_keys(self)
+        return self
 
     @field_validator("radial_stiffness_N_per_um")
     @classmethod

@@ -33,7 +33,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from rvcoax.fem import DOFS_PER_NODE, bearing_life
-from rvcoax.geometry.bearing_ratings import bearing_speeds_rpm, load_ratings, rig_case_of
+from rvcoax.geometry.bearing_ratings import (
+    bearing_speeds_rpm,
+    life_options,
+    load_ratings,
+    rib_thrust_warnings,
+    rig_case_of,
+)
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
 from rvcoax.results.torque_path import rating_sentence
@@ -192,7 +198,7 @@ class BearingLifeQuantities:
     the equivalent load ``equivalent_load_N``; ``L10r_*``: ISO/TS 16281 reference life from the element loads
     (bearings from internal geometry only); ``a_iso`` and ``Lnm_h``: with the rig keys viscosity_ratio and
     contamination_factor. Lives in million revolutions (``_Mrev``) and hours (``_h``, at ``speed_rpm``; None
-    without a speed). ``static_safety``: s0; ``minimum_load_N``: the maker's rule (0.01 C ball, 0.02 C roller).
+    without a speed). ``static_safety``: s0; ``minimum_load_N``: the maker's rule (SKF's k_r forms where the rig gives k_r, else 0.01 C ball, 0.02 C roller).
     """
 
     name: str
@@ -577,7 +583,7 @@ def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_N
         f = total.force_on_b[0, total.index("bearing", b.name)]
         life = bearing_life.life_from_forces(math.hypot(f[1], f[2]), float(f[0]), ratings.dynamic_N, ratings.static_N,
                                              ratings.f0, elements=ratings.elements, speed_rpm=speeds[b.name],
-                                             kappa=b.viscosity_ratio, contamination=b.contamination_factor)
+                                             **life_options(b, ratings, speeds[b.name]))
         out.append(life_quantities(b.name, name, ratings, life))
     return tuple(out)
 
@@ -602,8 +608,8 @@ def rolling_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: f
     type's X/Y factors (:func:`rvcoax.geometry.bearing_ratings.equivalent_load`; a deep-groove bearing's from
     ISO 281 table 3) and the set's C; L10r (ISO/TS 16281) from the element loads: ball loads with their contact
     angles, roller lamina loads (:func:`rvcoax.fem.bearing_life.rows_reference_life`); s0 from the largest
-    contact pressure (ISO 76: 4200 MPa ball, 4000 MPa roller); the minimum load (0.01 C ball, 0.02 C roller)
-    on the larger of P and the load that gives L10r.
+    contact pressure (ISO 76: 4200 MPa ball, 4000 MPa roller); the minimum load (the maker's rule,
+    :func:`rvcoax.geometry.bearing_ratings.life_options`) on the larger of P and the load that gives L10r.
     """
     from rvcoax.fem.rolling_bearing import carried_force, rolling_element_loads
     from rvcoax.geometry.bearing_ratings import equivalent_load
@@ -623,7 +629,7 @@ def rolling_bearing_lives(rig, nonlinear, motion: np.ndarray, input_torque_Nm: f
                                                                         axial)[0]
         life = bearing_life.life_from_forces(
             radial, axial, ratings.dynamic_N, ratings.static_N, ratings.f0, elements=ratings.elements,
-            speed_rpm=speeds[model.name], kappa=bearing.viscosity_ratio, contamination=bearing.contamination_factor,
+            speed_rpm=speeds[model.name], **life_options(bearing, ratings, speeds[model.name]),
             reference_life_Mrev=bearing_life.rows_reference_life(model.bearing, elements),
             static_safety_value=bearing_life.rows_static_safety(elements), equivalent_load_N=equivalent)
         out.append(life_quantities(model.name, name, ratings, life))
@@ -1046,7 +1052,8 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     bearings that carry (nearly) nothing or take up their play (:func:`bearing_warnings`), bearings below their
     minimum load (:func:`minimum_load_warnings`), reducers beyond their rating table (:func:`reducer_warnings`),
     couplings and shafts (torque sensors) above their rated torque (:func:`torque_rating_warnings`),
-    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`). The console prints them
+    shafts crossing a bearing's play between neighbouring cases (:func:`play_crossings`), NJ/NUP ribs carrying more
+    thrust than SKF allows (:func:`rvcoax.geometry.bearing_ratings.rib_thrust_warnings`). The console prints them
     with ``warning:``, the report in its misalignment section.
 
     Parameters
@@ -1066,4 +1073,5 @@ def engineering_warnings(rig, entries: list[dict], operating_points: dict | None
     tables = [e for e in entries if "couplings" in e.get("engineering", {})]
     return (bearing_warnings(tables, rig) + minimum_load_warnings(lives_of_records([{"entry": e} for e in entries]))
             + reducer_warnings(rig, entries) + torque_rating_warnings(rig, entries)
-            + play_crossings(operating_points or {}))
+            + play_crossings(operating_points or {})
+            + rib_thrust_warnings(rig, tables, lambda entry: _case_text(entry, rig)))

@@ -79,6 +79,10 @@ class NotchCheck:
     fatigue_safety: float
     static_safety: float
     minimum_safety: float
+    bending_allowed_amplitude_MPa: float  # σ_bADK
+    torsion_allowed_amplitude_MPa: float  # τ_tADK
+    bending_yield_MPa: float  # σ_bFK
+    torsion_yield_MPa: float  # τ_tFK
 
     @property
     def label(self) -> str:
@@ -95,6 +99,8 @@ class NotchCheck:
                 "torsion_mean_MPa": self.torsion_mean_MPa, "axial_mean_MPa": self.axial_mean_MPa,
                 "beta_bending": self.beta_bending, "beta_torsion": self.beta_torsion,
                 "K_sigma_bending": self.K_sigma_bending, "K_tau": self.K_tau,
+                "sigma_bADK_MPa": self.bending_allowed_amplitude_MPa, "tau_tADK_MPa": self.torsion_allowed_amplitude_MPa,
+                "sigma_bFK_MPa": self.bending_yield_MPa, "tau_tFK_MPa": self.torsion_yield_MPa,
                 "fatigue_safety": _finite(self.fatigue_safety), "static_safety": _finite(self.static_safety),
                 "minimum_safety": self.minimum_safety, "verdict": self.verdict}
 
@@ -319,7 +325,9 @@ def _notch_check(rig, part, notch, at: SectionForces) -> NotchCheck:
                       torsion_mean_MPa=tau_t, axial_mean_MPa=sigma_zd, beta_bending=result.factors.beta_bending,
                       beta_torsion=result.factors.beta_torsion, K_sigma_bending=result.K_sigma_bending,
                       K_tau=result.K_tau, fatigue_safety=result.fatigue_safety, static_safety=result.static_safety,
-                      minimum_safety=settings.minimum_safety)
+                      minimum_safety=settings.minimum_safety, bending_allowed_amplitude_MPa=result.sigma_bADK,
+                      torsion_allowed_amplitude_MPa=result.tau_tADK, bending_yield_MPa=result.sigma_bFK,
+                      torsion_yield_MPa=result.tau_tFK)
 
 
 def worst_notches(case_notches: list[tuple[str, list[dict]]]) -> list[dict]:

@@ -215,9 +215,9 @@ def _print_shaft_strength(rig, records: list[dict]) -> tuple[list[dict], list[di
             f"{escape(s['shaft'])} {s['von_mises_max_MPa']:.3g} MPa at x = {s['x_mm']:g} mm ({escape(s['case'])})"
             for s in shafts))
     if notches:
-        table = Table(title=f"Shaft notches, DIN 743 (S_min = {rig.shaft_strength.minimum_safety:g}; the smallest "
-                            "safety over the cases)", title_justify="left")
-        for column in ("shaft", "notch", "x mm", "S_D fatigue", "case", "S_F static", "case", "verdict"):
+        table = Table(title="Shaft notches, DIN 743: the smallest safety over the cases (required S_min = "
+                            f"{rig.shaft_strength.minimum_safety:g})", title_justify="left")
+        for column in ("shaft", "notch", "x mm", "S_D fatigue", "S_D case", "S_F static", "S_F case", "verdict"):
             table.add_column(column, justify="right" if column in ("x mm", "S_D fatigue", "S_F static") else "left")
         for n in notches:
             table.add_row(escape(n["shaft"]), n["kind"], f"{n['x_mm']:g}", _safety(n["fatigue_safety"]),

@@ -544,9 +544,11 @@ def life_tables(sweep) -> list[Table]:
                               "L10r: ISO/TS 16281 reference life from the element loads (ball loads with their contact "
                               "angles; roller lamina loads, exponent 4 per contact — (C/P)^(2/3) above L10 for a roller "
                               "bearing under C's load zone, equal at P = C); only for bearings from internal geometry. "
-                              "L_nm: with viscosity_ratio and contamination_factor (ball bearings). s0: C0/P0 (ISO 76), "
+                              "L_nm: ISO 281's a_ISO (ball and roller) with contamination_factor and viscosity_ratio or "
+                              "oil_viscosity_mm2_per_s. s0: C0/P0 (ISO 76), "
                               "or from the largest contact pressure, (4200 MPa / p_max)³ ball, (4000 MPa / p_max)² "
-                              "roller. Minimum load: 0.01 C (ball), 0.02 C (roller), the makers' rule, on P or, from "
+                              "roller. Minimum load: SKF's speed-dependent rule with the rig's minimum_load_factor "
+                              "(0.02 C tapered), else 0.01 C (ball), 0.02 C (roller), on P or, from "
                               "the element loads, on the load that gives L10r (a preload counts)."))
     duty = duty_cycle_of_lives(sweep.rig, per_case)
     if duty:

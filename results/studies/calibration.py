@@ -127,17 +127,18 @@ def _paths(rig: Rig, rows: list[PublishedRow], shaft: str, prepared=None) -> np.
     return np.array([c.paths[shaft].uy_mm for c in sweep.cases])
 
 
-RIGS_PER_CALL = 2
-"""Trial rigs whose unit loads are solved in one call (each changes a few of them). A solve's memory grows with its
-columns (MKL's refinement: about 6 MB per column on the hybrid reference rig): 4 rigs in one call raised the hybrid
-check's peak by 0.14 GB, 2 rigs keep it (benchmarks/RESULTS.md)."""
+RIGS_PER_CALL = 4
+"""Trial rigs whose unit loads are solved in one call (each changes a few of them): the 1 + 2 + 1 of a shaft's fit.
+A solve's memory grows with its columns: with MKL's refinement of the indefinite tie form about 6 MB per column on
+the hybrid reference rig (4 rigs raised the check's peak by 0.14 GB, so it was 2); the Cholesky form
+(:mod:`rvcoax.fem.woodbury`) refines nothing, and 4 rigs a call leave the peak where it was (benchmarks/RESULTS.md)."""
 
 
 def _solve_together(prepared, rigs: list[Rig]) -> None:
     """Solve the unit loads of ``rigs`` on ``prepared``, :data:`RIGS_PER_CALL` rigs a call, into its cache of solutions.
 
-    Each solve call on a factor has a fixed cost (MKL's refinement on the hybrid saddle-point factor:
-    0.25 s CPU for one column, 0.05 s per added column); the sweeps that follow find every column solved.
+    Each solve call on a factor has a fixed cost, a pass over the whole factor (the hybrid reference rig's Cholesky:
+    about 0.09 s CPU for one column, 0.02 s per added column); the sweeps that follow find every column solved.
     """
     if check_clearance_model(rigs[0], prepared.system.kind):  # nonlinear: solved case by case, not by unit loads
         return

@@ -18,8 +18,10 @@ pages of its public copies were reachable, so its numbers are *not* in these tes
 
   Agreement with these two is to all four digits asserted. That checks the whole chain (α, n, β, K1, K2,
   K3, K_F, ψ, σ_ADK, σ_FK, γF, K2F) against someone else's reading of the standard, not against the DIN.
+* DIN 743-2's α of shoulders and grooves in tension, bending and torsion against an axisymmetric FE model of the
+  notch, itself checked against closed forms: tests/fem/test_din743_notch_fe.py.
 * Properties the standard states: K2 = 1 at 7.5 mm and 0.8 from 150 mm, K1 = 1 up to the reference diameter,
-  γF steps, overload case 1 ≥ case 2 for a mean stress, β falling with the fillet radius.
+  γF steps, overload case 2 below case 1 for a mean stress when safe, β falling with the fillet radius.
 """
 
 from __future__ import annotations
@@ -89,11 +91,20 @@ def test_notch_factor_falls_with_the_fillet_radius_and_exceeds_one():
     assert two.beta_bending == pytest.approx(3.0 * 1.15)
 
 
-def test_overload_case_one_is_the_harder_for_a_mean_stress():
+def test_overload_case_two_is_the_more_cautious_for_a_mean_stress_when_safe():
+    """On their fatigue lines σ_ADK,1 (1 + ψ σ_mv/σ_a) − σ_WK = (ψ σ_mv/σ_a)(σ_ADK,1 − σ_a): case 1 (mean stress
+    fixed) allows more amplitude than case 2 (mean and amplitude grow together) when the amplitude is below
+    σ_ADK,1; case 2's yield line can only lower it further."""
     steel, notch, stresses = _case_1()
     one = d.safety(steel, notch, stresses, d_eff_mm=100.0, overload_case=1)
     two = d.safety(steel, notch, stresses, d_eff_mm=100.0, overload_case=2)
-    assert one.fatigue_safety != two.fatigue_safety
+    assert stresses.bending_amplitude < one.sigma_bADK
+    assert two.sigma_bADK < one.sigma_bADK and two.fatigue_safety < one.fatigue_safety
+    psi = one.sigma_bWK / (2.0 * one.K1_tensile * steel.tensile_strength_MPa - one.sigma_bWK)
+    ratio = one.sigma_mv / stresses.bending_amplitude
+    # case 2 is the lower of its fatigue line and its yield line (they cross where DIN 743-1 switches)
+    assert two.sigma_bADK == pytest.approx(min(one.sigma_bWK / (1.0 + psi * ratio), one.sigma_bFK / (1.0 + ratio)),
+                                           rel=1e-12)
     assert one.static_safety == two.static_safety
 
 

@@ -9,9 +9,20 @@ import scipy.sparse as sp
 from rvcoax.fem import pardiso, solid
 from rvcoax.fem.assembly import assemble_matrix
 from rvcoax.fem.constraints import elimination_matrix
+from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.solvers import SingularMatrixError, pardiso_available
-from rvcoax.fem.system import LONG_ROW, constrained_stiffness, long_rows, prepare_system, reduced_stiffness
+from rvcoax.fem.system import (
+    LONG_ROW,
+    ReleasedStiffness,
+    constrained_stiffness,
+    independent_modes,
+    long_rows,
+    prepare_system,
+    reduced_stiffness,
+    tied_rows,
+)
 from rvcoax.fem.ties import FaceNodes, distributing_tie_equations
+from rvcoax.fem.woodbury import grounded_dofs
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
 needs_pardiso = pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
@@ -26,8 +37,9 @@ def end_face(basis, x_m: float) -> FaceNodes:
 
 
 @pytest.fixture(scope="module")
-def tied_bar(tmp_path_factory):
-    """A solid bar, each end face tied (RBE3) to a reference node; node 0 on springs to ground, load on node 1."""
+def tied_bar_and_modes(tmp_path_factory):
+    """A solid bar, each end face tied (RBE3) to a reference node; node 0 on springs to ground, load on node 1;
+    with the rigid-body modes of all its DOFs."""
     mesh = mesh_part(SolidPartGeometry("bar", ((0.0, 50.0, 40.0, 0.0),), (), 8.0),
                      cache_dir=tmp_path_factory.mktemp("meshes"))
     basis = solid.solid_basis(mesh)
@@ -42,7 +54,14 @@ def tied_bar(tmp_path_factory):
     loads[6 + 1, 0] = -500.0  # lateral force
     loads[6 + 3, 1] = 20.0  # torque
     loads[6 + 0, 2], loads[6 + 5, 2] = 300.0, 7.0  # axial force and bending moment
-    return k, t, loads, ground
+    position = np.vstack([np.zeros((6, 3)), np.tile([0.05, 0.0, 0.0], (6, 1)), basis.doflocs.T])
+    component = np.concatenate([np.arange(12) % 6, solid.dof_components(basis)])
+    return k, t, loads, ground, rigid_body_modes(position, component)
+
+
+@pytest.fixture(scope="module")
+def tied_bar(tied_bar_and_modes):
+    return tied_bar_and_modes[:4]
 
 
 def test_long_rows_are_the_distributing_ties(tied_bar):
@@ -177,3 +196,70 @@ def test_a_refusal_on_a_reused_analysis_is_judged_again_on_a_fresh_one(tied_bar,
     assert judged == [True, False]
     assert not system.solver.report.analysis_reused
     assert system.relative_residual(system.solve(loads), loads).max() < 1e-10
+
+
+def test_tied_rows_leave_out_the_reference_dofs_nothing_is_attached_to(tied_bar):
+    """Node 1 carries only loads: its six long rows add nothing to Tᵀ K T and are no unknowns of the solve."""
+    k, t, _, _ = tied_bar
+    assert np.array_equal(tied_rows(k, t), np.arange(6))
+    x = np.random.default_rng(4).standard_normal(t.shape[1])
+    assert np.allclose(constrained_stiffness(k, t, tied_rows(k, t)) @ x, reduced_stiffness(k, t) @ x, rtol=0,
+                       atol=1e-12 * abs(k).max() * np.abs(x).max())
+
+
+def test_the_released_bar_floats_and_six_grounded_dofs_hold_it(tied_bar_and_modes):
+    """With its ties released the bar is free (six rigid modes); six grounded DOFs hold all six."""
+    k, t, _, _, modes = tied_bar_and_modes
+    operator = constrained_stiffness(k, t, tied_rows(k, t))
+    m = operator.shape[0]
+    k_qq = operator.kept[:m, :m].tocsr()
+    q_modes = independent_modes(t, modes)
+    assert q_modes.shape == (m, 6)
+    assert np.abs(k_qq @ q_modes).max() < 1e-8 * abs(k_qq).max() * np.abs(q_modes).max()  # it floats
+    ground = grounded_dofs(k_qq, q_modes)
+    assert ground.size == 6 and ground.min() >= 0
+    # no rigid motion of the bar leaves all six grounded DOFs at rest: K_qq + G is positive definite
+    assert np.linalg.matrix_rank(q_modes[ground] / np.abs(q_modes[ground]).max(axis=0)) == 6
+
+
+@needs_pardiso
+@pytest.mark.slow  # the SuperLU reference of the dense tie blocks, as the multiplier test above
+def test_cholesky_with_the_ties_as_a_low_rank_update_equals_the_eliminated_solve(tied_bar_and_modes):
+    """The SPD path (Cholesky of the released, grounded stiffness; Woodbury update) gives Tᵀ K T's solution."""
+    k, t, loads, _, modes = tied_bar_and_modes
+    updated = prepare_system(k, t, "pardiso", near_null_space=lambda: modes)
+    assert "mtype=2" in updated.solver_name and "rank-18 update" in updated.solver_name  # 2 × 6 ties + 6 grounded
+    eliminated = prepare_system(k, t, "superlu", symmetrize=True)
+    u, reference = updated.solve(loads), eliminated.solve(loads)
+    assert np.all(np.abs(u - reference).max(axis=0) <= 1e-10 * np.abs(reference).max(axis=0))
+    assert updated.relative_residual(u, loads).max() < 1e-10
+    assert updated.condition_estimate() == pytest.approx(eliminated.condition_estimate(), rel=1e-6)
+    without_modes = prepare_system(k, t, "pardiso")  # the released bar floats: the multiplier form instead
+    assert "multipliers" in without_modes.solver_name
+
+
+@needs_pardiso
+def test_a_singular_tied_stiffness_is_refused_with_modes_too(tied_bar_and_modes):
+    k, t, _, ground, modes = tied_bar_and_modes
+    free = k - sp.csr_matrix((ground, (np.arange(6), np.arange(6))), shape=k.shape)  # nothing grounded
+    with pytest.raises(SingularMatrixError, match="singular"):
+        prepare_system(free.tocsr(), t, "pardiso", near_null_space=lambda: modes)
+
+
+@needs_pardiso
+def test_the_cholesky_path_serves_the_tied_stiffness_from_its_own_arrays(tied_bar_and_modes):
+    """K' applied from B's upper triangle less the grounding (ReleasedStiffness) is K', dense and sparse, and gives
+    the same 1-norm; the whole K' is not kept."""
+    k, t, _, _, modes = tied_bar_and_modes
+    served = prepare_system(k, t, "pardiso", near_null_space=lambda: modes).solver.matrix
+    whole = constrained_stiffness(k, t, tied_rows(k, t))
+    assert isinstance(served.kept, ReleasedStiffness)
+    x = np.random.default_rng(5).standard_normal((t.shape[1], 2))
+    scale = abs(whole.kept).max() * np.abs(x).max()
+    assert np.allclose(served @ x, whole @ x, rtol=0, atol=1e-13 * scale)
+    assert np.allclose(served @ x[:, 0], whole @ x[:, 0], rtol=0, atol=1e-13 * scale)
+    assert np.array_equal(served.diagonal(), whole.diagonal())
+    sparse = sp.random(whole.kept.shape[0], 5, density=0.01, random_state=6, format="csc")
+    assert abs(served.kept @ sparse - whole.kept @ sparse).max() <= 1e-13 * abs(whole.kept).max()
+    root = np.sqrt(whole.diagonal())
+    assert served.scaled_one_norm(root, 97) == pytest.approx(whole.scaled_one_norm(root, 97), rel=1e-12)

@@ -17,7 +17,7 @@ DIMENSIONLESS = {"beam.shear_flexibility_factor", "force_table.scale", "material
                  "bearings[].ball_count", "bearings[].inner_conformity", "bearings[].outer_conformity",
                  "bearings[].viscosity_ratio", "bearings[].contamination_factor", "load_cases[].time_share",
                  "load_cases[].revolution_share", "reducers[].ratio", "bearings[].roller_count",
-                 "bearings[].slices_per_roller",
+                 "bearings[].slices_per_roller", "bearings[].minimum_load_factor",
                  "speeds.reduction_ratio", "speeds.input_gear_teeth",
                  "parts[].notches[].keys", "shaft_strength.overload_case", "shaft_strength.minimum_safety",
                  "shaft_strength.peak_load_factor"}

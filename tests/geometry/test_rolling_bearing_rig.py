@@ -219,6 +219,23 @@ def test_bad_keys_are_refused_with_the_key_and_the_reason():
         'model = "tapered_roller"\ndesignation = "30206"\nradial_clearance_um = 5': "axial_offset_um < 0",
         'model = "angular_contact"\ndesignation = "7204B"\ncontact_angle_deg = 10':
             "contact angle must lie in 15° … 45°, the range of ISO 281's X/Y table",
+        'model = "cylindrical_roller"\ndesignation = "NU204"\naxial_stiffness_N_per_um = 100':
+            "an NU bearing (NU204) has ribs on its outer ring only, its rollers slide axially",
+        'model = "cylindrical_roller"\ndesignation = "N204"\naxial_direction = -1':
+            "axial_direction: an N bearing carries no thrust either way",
+        'model = "cylindrical_roller"\ndesignation = "NUP204"\naxial_direction = -1':
+            "an NUP bearing carries thrust both ways",
+        'model = "cylindrical_roller"\ndesignation = "NU204"\nminimum_load_factor = 0.1':
+            "also needs reference_speed_rpm",
+        'model = "angular_contact"\ndesignation = "7204B"\nminimum_load_factor = 0.02':
+            "also needs oil_viscosity_mm2_per_s",
+        'model = "tapered_roller"\ndesignation = "30204"\nminimum_load_factor = 0.02':
+            "a tapered roller bearing's minimum load is 0.02 C (SKF), no factor",
+        'model = "angular_contact"\ndesignation = "7204B"\nreference_speed_rpm = 9000':
+            "reference_speed_rpm: the maker's reference speed enters the minimum load of a cylindrical",
+        'model = "angular_contact"\ndesignation = "7204B"\noil_viscosity_mm2_per_s = 20\nviscosity_ratio = 2':
+            "oil_viscosity_mm2_per_s and viscosity_ratio both give κ",
+        'radial_stiffness_N_per_um = 50\noil_viscosity_mm2_per_s = 20': "need the bearing's mean diameter",
     }
     assert_input_b1_refused(_with_input_b1, cases)
     assert nearest_designations("7207")[:3] == ["7207C", "7207B", "7207AC"]
@@ -304,10 +321,93 @@ def test_catalogue_is_built_on_first_use_with_the_eagerly_built_values():
     assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                           check=True).stdout.split() == ["False", "0"]
     assert ROLLING_BEARINGS is rolling_catalogue.rolling_bearings()  # one catalogue, however it is reached
-    assert len(ROLLING_BEARINGS) == 162
+    assert len(ROLLING_BEARINGS) == 176  # 14 NUP entries with the NJ rib change
     # bit for bit the values the catalogue had when it was built at import (recorded before the change)
     pinned = {"7206B": (12295.251746448308, 19754.767431054304, 12), "NU306": (53422.37394412075, 54175.597842449126, 10),
               "32006X": (43602.527005118754, 34675.35643878906, 17)}
     for name, (c0, c, count) in pinned.items():
         entry = ROLLING_BEARINGS[name]
         assert (entry.static_rating_N, entry.dynamic_rating_N, entry.element_count) == (c0, c, count), name
+
+
+def test_cylindrical_ribs_by_designation():
+    """An NJ bearing carries the shaft's thrust one way through its ribs (the roller ends against the outer ring's rib
+    and the inner ring's one rib), NUP both ways, NU and N none (SKF Rolling bearings 17000 EN p. 509: NJ, NUP
+    "locating bearings" P = 0.92 F_r + 0.6 F_a above e = 0.2; NU, N "non-locating" P = F_r)."""
+    from rvcoax.geometry.bearing_ratings import equivalent_load, load_ratings
+    from rvcoax.geometry.rolling_model import cylindrical_variant, rib_stiffness_N_per_um
+
+    def entry(keys):
+        rig = parse_rig_text(_with_input_b1('model = "cylindrical_roller"\n' + keys))
+        return next(b for b in rig.bearings if b.name == "input_B1")
+
+    nj, nj_minus, nup, nu = (entry('designation = "NJ204"'), entry('designation = "NJ204"\naxial_direction = -1'),
+                             entry('designation = "NUP204"'), entry('designation = "NU204"'))
+    assert [cylindrical_variant(b) for b in (nj, nup, nu)] == ["NJ", "NUP", "NU"]
+    # the rib stiffness defaults to the radial reference stiffness (ESTIMATED), and is the linear reference's axial
+    assert nj.axial_stiffness_N_per_um == pytest.approx(nj.radial_stiffness_N_per_um, rel=1e-9)
+    assert nj.axial_stiffness_N_per_um == pytest.approx(rib_stiffness_N_per_um(nj))
+    assert nu.axial_stiffness_N_per_um == 0.0
+    step = 2e-6
+    for bearing, pushed, pulled in ((nj, True, False), (nj_minus, False, True), (nup, True, True), (nu, False, False)):
+        rows = rolling_bearing_of(bearing)
+        for sign, carries in ((1.0, pushed), (-1.0, pulled)):
+            force, stiffness = rows.force(np.array([sign * step, 0.0, 0.0, 0.0, 0.0]))
+            expected = sign * step * bearing.axial_stiffness_N_per_um * 1e6 if carries else 0.0
+            assert force[0] == pytest.approx(expected, abs=1e-9), (bearing.designation, sign)
+            assert stiffness[0, 0] == pytest.approx(bearing.axial_stiffness_N_per_um * 1e6 if carries else 0.0)
+    given = entry('designation = "NJ204"\naxial_stiffness_N_per_um = 40')
+    assert rolling_bearing_of(given).force(np.array([step, 0, 0, 0, 0]))[0][0] == pytest.approx(40e6 * step)
+    ratings = load_ratings(nj)
+    law = rolling_bearing_of(nj).rows[0].law
+    assert equivalent_load(nj, law, ratings, 1000.0, 500.0)[0] == pytest.approx(0.92 * 1000.0 + 0.6 * 500.0)
+    assert equivalent_load(nu, law, ratings, 1000.0, 500.0)[0] == pytest.approx(1000.0)
+
+
+def test_life_options_from_the_rig_keys():
+    """κ from the oil's viscosity and the case's speed (ISO 281's ν1 at the pitch diameter), C_u from C0 and the
+    pitch diameter (ISO 281 annex B), and SKF's minimum loads by type, from the rig keys; without k_r the rule of thumb
+    (life_options gives None and life_from_forces takes 0.01 C / 0.02 C)."""
+    from rvcoax.fem import bearing_life as bl
+    from rvcoax.geometry.bearing_ratings import life_options, load_ratings
+
+    def entry(keys):
+        rig = parse_rig_text(_with_input_b1(keys))
+        return next(b for b in rig.bearings if b.name == "input_B1")
+
+    cylindrical = entry('model = "cylindrical_roller"\ndesignation = "NU205"\nminimum_load_factor = 0.1\n'
+                        'reference_speed_rpm = 12000\noil_viscosity_mm2_per_s = 20\ncontamination_factor = 0.5')
+    options = life_options(cylindrical, load_ratings(cylindrical), 3000.0)
+    pitch = rolling_bearing_of(cylindrical).rows[0].law.pitch_diameter_m * 1e3
+    assert options["minimum_load_N"] == pytest.approx(bl.cylindrical_minimum_load_N(0.1, 3000.0, 12000.0, 38.5))
+    assert options["kappa"] == pytest.approx(20.0 / bl.reference_viscosity_mm2_s(3000.0, pitch))
+    assert options["fatigue_limit_N"] == pytest.approx(load_ratings(cylindrical).static_N / 8.2)
+    assert options["contamination"] == 0.5
+    angular = entry('model = "angular_contact"\ndesignation = "7205B"\nminimum_load_factor = 0.02\n'
+                    'oil_viscosity_mm2_per_s = 20')
+    assert life_options(angular, load_ratings(angular), 3000.0)["minimum_load_N"] == pytest.approx(
+        bl.ball_minimum_load_N(0.02, 20.0, 3000.0, 38.5))
+    assert life_options(angular, load_ratings(angular), None)["minimum_load_N"] is None  # no speed: rule of thumb
+    assert life_options(angular, load_ratings(angular), None)["kappa"] is None
+    tapered = entry('model = "tapered_roller"\ndesignation = "30205"')
+    assert life_options(tapered, load_ratings(tapered), None)["minimum_load_N"] == pytest.approx(
+        0.02 * load_ratings(tapered).dynamic_N)
+
+
+def test_rib_thrust_beyond_skfs_limit_is_named_per_case():
+    """SKF (Rolling bearings 17000 EN p. 509): a locating cylindrical roller bearing's F_a must not exceed 0.5 F_r; an
+    NJ whose ribs carry more in a case is named with the case; an NU (no ribs to carry it) is never."""
+    from rvcoax.geometry.bearing_ratings import rib_thrust_warnings
+
+    rig = parse_rig_text(_with_input_b1('model = "cylindrical_roller"\ndesignation = "NJ204"'))
+
+    def entry(name, axial, radial):
+        return {"name": name, "engineering": {"bearings": [{"name": "input_B1", "force_axial_N": axial,
+                                                            "force_radial_N": radial},
+                                                           {"name": "input_B2", "force_axial_N": 900.0,
+                                                            "force_radial_N": 100.0}]}}
+
+    entries = [entry("light", 40.0, 100.0), entry("heavy", -60.0, 100.0), entry("tiny", 0.8, 0.1)]
+    said = rib_thrust_warnings(rig, entries, lambda e: e["name"])
+    assert said == ["bearing input_B1 (NJ) carries more thrust on its ribs than 0.5 F_r, the limit for a locating "
+                    "cylindrical roller bearing (SKF), in 1 case(s) (heavy)"]

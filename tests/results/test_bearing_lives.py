@@ -183,3 +183,29 @@ def test_angular_contact_and_roller_bearing_lives_in_a_sweep():
     assert (f"bearing output_B1 carries less than its minimum load ({tapered.minimum_load_N:.3g} N = 0.02 C, the "
             "makers' rule) in 1 case(s) (T1 = 1.43 N·m, T2 = 200 N·m)") in " ".join(said)
 
+
+
+def test_makers_minimum_load_and_a_iso_of_a_roller_bearing_per_case():
+    """The NU 204 of the rolling-bearing variant with SKF's k_r, n_r and the oil's viscosity, in a rig load case with
+    its speeds: its minimum load is SKF's F_rm = k_r (6 + 4 n/n_r) (d_m/100)² at the input speed (d_m = (20 + 47)/2),
+    κ = ν/ν1 at that speed and pitch diameter, a_ISO the roller form with C_u = C0/8.2, L_nm = a_ISO L10r."""
+    from rvcoax.geometry.bearing_ratings import load_ratings
+    from rvcoax.geometry.rolling_model import rolling_bearing_of
+
+    text = reference_rig_text("rolling_bearings").replace(
+        'clearance_class = "C2"              # ISO 5753-1, middle of 0-25 µm',
+        "clearance_um = 0\nminimum_load_factor = 0.1\nreference_speed_rpm = 13000\noil_viscosity_mm2_per_s = 20\n"
+        "contamination_factor = 0.5") + (
+        '\n[[load_cases]]\nT1_input_Nm = 1.43\nT2_output_Nm = 200\nname = "rated"\noutput_speed_rpm = 15\n'
+        "input_speed_rpm = 2115\n")
+    rig = parse_rig_text(text)
+    sweep = run_sweep(rig, (LoadCase(1.43, 200.0),))
+    life = next(b for b in sweep_lives(sweep)[0] if b.name == "input_B2")
+    assert life.case == "rated" and life.speed_rpm == 2115.0
+    assert life.minimum_load_N == pytest.approx(bearing_life.cylindrical_minimum_load_N(0.1, 2115.0, 13000.0, 33.5))
+    entry = next(b for b in rig.bearings if b.name == "input_B2")
+    pitch = rolling_bearing_of(entry).rows[0].law.pitch_diameter_m * 1e3
+    kappa = 20.0 / bearing_life.reference_viscosity_mm2_s(2115.0, pitch)
+    expected = bearing_life.a_iso(kappa, 0.5, load_ratings(entry).static_N / 8.2, life.equivalent_load_N, "roller")
+    assert life.a_iso == pytest.approx(expected)
+    assert life.Lnm_h == pytest.approx(expected * life.L10r_h)

@@ -112,12 +112,27 @@ def test_report_tables_name_the_case_of_each_value(swept):
 
     _, sweep = swept
     tables, note = shaft_strength_tables(sweep, case_entries(sweep))
-    stresses, notches = tables
+    stresses, notches, details = tables
     assert note == ""
     assert stresses.rows[0][:2] == ("s", "T1 = 120 N·m, T2 = 0 N·m")
     shoulder = next(r for r in notches.rows if r[1] == "shoulder")
     assert shoulder[4] == shoulder[6] == "T1 = 120 N·m, T2 = 0 N·m" and shoulder[7] == "ok"
     assert notches.columns[notches.verdict_column] == "verdict"
+    assert "required S_min = 1.2" in notches.caption
+    # the chain behind each S_D, in the same case: only the bending alternates, so S_D = σ_bADK/σ_ba
+    columns = details.columns
+    for row in details.rows:
+        summary = next(r for r in notches.rows if r[:3] == row[:3])
+        assert row[columns.index("case")] == summary[4]
+        assert row[columns.index("S_D fatigue")] == summary[3]
+        ratio = float(row[columns.index("σ_bADK [MPa]")]) / float(row[columns.index("σ_ba [MPa]")])
+        assert ratio == pytest.approx(float(summary[3]), rel=0.015)  # three printed digits each
+    for entry in case_entries(sweep):
+        for n in entry["engineering"]["shaft_strength"]["notches"]:
+            assert n["sigma_bADK_MPa"] / n["bending_amplitude_MPa"] == pytest.approx(n["fatigue_safety"], rel=1e-12)
+    shoulder, keyway = details.rows
+    assert shoulder[3] == "Ø30/40, r\u00a02" and keyway[3] == "Ø30, 1\u00a0key"
+    assert "42CrMo4 σ_B 1100, σ_S 900 MPa" in details.note and "overload case 2" in details.note
 
 
 def test_stress_profile_along_the_shaft_is_the_closed_form(swept):
