@@ -336,6 +336,7 @@ class _Replay:
         self.grids = [(c.change[:, self.rows] if c.column is None else c.values[:, None] * c.column[self.rows][None, :])
                       / s_fit[None, :] for c in self.curves]
         self.norms = [np.einsum("ji,ji->j", g, g) for g in self.grids]
+        self.model_form_norm = settings.model_form_fraction * float(np.linalg.norm(observed.before[self.rows]))
         self._cross: dict[int, list[np.ndarray]] = {}
 
     # -- one data set ----------------------------------------------------------------------------------------
@@ -405,7 +406,9 @@ class _Replay:
             elif chi2_0 - bic[c] >= settings.bic_margin:
                 sc = _at(self.curves[c], singles.value[d, c])[self.rows] / self.sigma[self.rows]
                 norm = np.linalg.norm(sw) * np.linalg.norm(sc)
-                if norm > 0 and abs(float(sw @ sc)) / norm > settings.parallel_cosine:
+                # a parallel look-alike stays only within the model-form allowance of the winner (the workflow's rule)
+                if norm > 0 and abs(float(sw @ sc)) / norm > settings.parallel_cosine \
+                        and np.linalg.norm((sc - sw) * self.sigma[self.rows]) <= self.model_form_norm:
                     group.append(c)
         return group
 

@@ -39,6 +39,7 @@ from rvcoax.results.studies.discrepancy.locate import (
     gap_test,
     residual_structure,
 )
+from rvcoax.results.studies.discrepancy.lookalikes import exact_fit
 from rvcoax.results.studies.discrepancy.measured import MeasuredData, check_stations
 from rvcoax.results.studies.discrepancy.observability import (
     VISIBLE_NORM,
@@ -636,10 +637,23 @@ def _as_discrimination(pair, found: Suggestion) -> Discrimination:
                           new_case=found.new_case, other_datum=found.other_datum)
 
 
-def _fits_as_well(named: Named, name: str, member: str, margin: float) -> bool:
-    """Whether ``member`` in place of ``name`` (with the other effects added) fits within ``margin`` of the BIC of the
-    selection, within its physical bounds: a signature look-alike that the data, at their noise, still tell apart is
-    not in the group."""
+def _confirmed(problem: Problem, fit: Fit, name: str, seen: Seen) -> tuple[float, np.ndarray]:
+    """(BIC, predicted observations) of ``fit``, with ``name`` solved exactly when it is a clearance the screen read off
+    its interpolated response (:func:`lookalikes.exact_fit`)."""
+    exact = exact_fit(problem, fit, name, effect=seen.effects[name], observed=seen.observed)
+    if exact is None:
+        return fit.bic, problem.observe(problem.paths(fit.names, fit.values))
+    return exact[0] + fit.k * np.log(max(fit.n, 2)), exact[1]
+
+
+def _fits_as_well(seen: Seen, named: Named, name: str, member: str, settings: DiscrepancySettings) -> bool:
+    """Whether ``member`` in place of ``name`` (with the other effects added, within its physical bounds) explains the
+    data as well as the selection: its BIC within the ambiguity margin of the selection's, or its predictions within the
+    model-form allowance of the selection's (RMS of their difference at most that fraction of the RMS signal on the
+    rows used to fit: the identification model itself is trusted no closer, so a difference smaller than that does not
+    tell them apart, whatever the χ² says). A look-alike that the data tell apart by more than both is not in the
+    group, however parallel its signature. A clearance read off its interpolated response is confirmed with its exact
+    law on the factorisation (:func:`lookalikes.exact_fit`), not the spline between its grid values."""
     problem, names = named.problem, tuple(n for n, _ in named.fitted)
     start = dict(named.fitted)
     try:
@@ -647,31 +661,41 @@ def _fits_as_well(named: Named, name: str, member: str, margin: float) -> bool:
         trial = problem.fit(tuple(n for n in names if n != name) + (member,), start)
     except CANDIDATE_FAILURES:
         return True  # cannot tell: keep it in the group
-    return trial.rejected is None and trial.bic - current.bic < margin
+    if trial.rejected is not None:
+        return False
+    current_bic, current_predicted = _confirmed(problem, current, name, seen)
+    trial_bic, trial_predicted = _confirmed(problem, trial, member, seen)
+    if trial_bic - current_bic < settings.ambiguity_margin:
+        return True
+    rows = problem.rows
+    signal = seen.observed.before[rows]
+    return bool(np.linalg.norm((trial_predicted - current_predicted)[rows]) <= settings.model_form_fraction * np.linalg.norm(signal))
 
 
-def _groups(seen: Seen, named: Named, margin: float) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
-    """Each effect added with its group (the step's look-alikes, and the members of its signature group that fit
-    within ``margin`` of it), and the measurements that tell the members apart, the closest look-alikes first, each
-    pair once."""
-    fitted = dict(named.fitted)
-    pairs = [(next(iter(step.group_fits)), other) for step in named.steps if step.added in fitted
-             for other in list(step.group_fits)[1:]]
+def _groups(seen: Seen, named: Named, settings: DiscrepancySettings) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
+    """Each effect added with its group: the candidates of its step (within the ambiguity margin of the winner there,
+    or with a nearly parallel signature) and of its signature group, each kept only when, in place of the effect with
+    the other effects added, it explains the data as well (:func:`_fits_as_well`; a step's candidates are kept whole
+    when the selection was pruned since that step); and the measurements that tell the members apart, the closest
+    look-alikes first, each pair once."""
     gains = {step.added: step for step in named.steps}
+    # a step's look-alikes are judged again in the final selection only when it is the steps' own (nothing pruned): a
+    # member of a step whose companions were pruned since was a look-alike in a context that no longer exists
+    same = not any(step.pruned for step in named.steps) and \
+        {n for n, _ in named.fitted} == {step.added for step in named.steps}
     selected = []
     for name, values in named.fitted:
         step = gains.get(name)
-        group = list(step.group) if step is not None else [name]
-        for members in seen.groups:  # nearly parallel signatures on these data, fitting as well: the group
+        group = list(step.group) if step is not None and not same else [name]
+        considered = list(step.group) if step is not None and same else []
+        for members in seen.groups:  # nearly parallel signatures on these data
             if name in members:
-                group += [m for m in members if m not in group and m in seen.responses
-                          and _fits_as_well(named, name, m, margin)]
+                considered += [m for m in members if m not in considered and m not in group and m in seen.responses]
+        group += [m for m in considered if m not in group and m in seen.responses
+                  and _fits_as_well(seen, named, name, m, settings)]
         selected.append(SelectedEffect(name, tuple(float(v) for v in values),
                                        step.delta_bic if step is not None else 0.0, tuple(group), 1))
-    for name, _ in named.fitted:  # a parallel look-alike that is not in the step's group still needs telling apart
-        step = gains.get(name)
-        kept = next(s.group for s in selected if s.name == name)
-        pairs += [(name, m) for m in kept if m != name and (step is None or m not in step.group_fits)]
+    pairs = [(s.name, m) for s in selected for m in s.group[1:]]
     unique, seen_pairs = [], set()
     for d in sorted(_discriminations(pairs, seen), key=lambda d: d.in_sigma):
         if frozenset(d.effects) not in seen_pairs:
@@ -699,12 +723,16 @@ def _sentinel_away(seen: Seen, located: Located, named: Named, set_aside: dict):
 
 
 def _generic_elsewhere(seen: Seen, sentinel: SentinelFit | None, selected) -> SentinelFit | None:
-    """``sentinel``, unless it acts where a named effect or one of its look-alikes acts (:func:`look_alike_places`):
-    there it is that look-alike, which the group already holds, not a load outside the vocabulary."""
+    """``sentinel``, unless it acts where a named effect or one of its look-alikes that is itself a load acts
+    (:func:`look_alike_places`): there it is that look-alike, which the group already holds, not a load outside the
+    vocabulary. A stiffness, a clearance or another change of the rig's springs is not a load: the force it adds
+    (Δk times the deflection there) follows the deflection, a generic load there follows the torques, and when the
+    data cannot tell the two apart the answer is not ``explained``."""
     engine = seen.library.engine
     if sentinel is None or engine is None:
         return sentinel
-    names = list(dict.fromkeys(m for s in selected for m in s.group if m in seen.effects))
+    names = list(dict.fromkeys(m for s in selected for m in s.group
+                               if m in seen.effects and seen.effects[m].response == "load"))
     places = look_alike_places(seen.effects, seen.rig, names, engine.sentinel_sites())
     return None if any(site_in((sentinel.part, sentinel.x_mm), r) for r in places.values()) else sentinel
 
@@ -735,7 +763,7 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
     rejected = {}
     for step in named.steps:
         rejected.update(step.rejected)
-    selected, discriminations = _groups(seen, named, settings.ambiguity_margin)
+    selected, discriminations = _groups(seen, named, settings)
     scaled_after = (data.value_mm - after) / sigma
     test_after = gap_test(scaled_after, settings.alpha)
     held = ~observed.rows
@@ -751,7 +779,8 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
                                sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
                                settings=settings, effects=seen.effects, places=places,
                                groups=[s.group for s in selected], beyond=beyond,
-                               generic=_generic_elsewhere(seen, elsewhere if at else located.sentinel, selected))
+                               generic=_generic_elsewhere(seen, located.sentinel, selected)
+                               or _generic_elsewhere(seen, elsewhere if at else None, selected))
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
     ambiguities = tuple(ambiguity(s, seen, after) for s in final if len(s.group) > 1) \
         if outcome in ("explained", "ambiguous") else ()
