@@ -22,7 +22,8 @@ Each run is scored from its ``discrepancy.json`` document (``report.discrepancy_
   truth and one confident spurious effect is a mis-name;
 - **aborted**: the run raised;
 - **wrong**: everything else (e.g. one of a pair missed, the truth not in any group, a load outside the
-  vocabulary reported as ``explained`` by groups only).
+  vocabulary reported as ``explained`` by groups only); an effect beyond its physical bound (``out_of_bounds``) is
+  correct when ``unexplained`` or ``ambiguous``, never ``explained``.
 
 Prints every run, the outcome per class of data set, a confusion matrix of hidden kind against
 reported kind, the count of confident mis-names and the time per data set, and appends them to
@@ -129,6 +130,8 @@ def score(document: dict, dataset: dict) -> tuple[str, str]:
     nothing = not selected and not unexplained
     if group == "out_of_vocabulary":
         ok = unexplained
+    elif group == "out_of_bounds":  # beyond what the vocabulary allows: never explained, nor nothing found
+        ok = verdict in ("unexplained", "ambiguous")
     elif group == "none":
         ok = nothing
     elif group == "faint":
@@ -197,6 +200,8 @@ def kind_of(dataset: dict) -> str:
         return "none"
     if dataset["group"] == "pair":
         return "pair"
+    if dataset["group"] == "out_of_bounds":
+        return dataset["truth"][0].split("@")[0] + " (beyond its bound)"
     return dataset["truth"][0].split("@")[0] + (" (faint)" if dataset["group"] == "faint" else "")
 
 
@@ -207,7 +212,7 @@ def main() -> None:
     parser.add_argument("--sets", default="", help="folder with manifest.json (default: the source's folder)")
     parser.add_argument("--limit", type=int, default=None, help="run a stratified subset of this many sets")
     parser.add_argument("--seed", type=int, default=0, help="seed of the subset")
-    parser.add_argument("--groups", default="", help="only these classes (vocabulary,faint,none,pair,out_of_vocabulary)")
+    parser.add_argument("--groups", default="", help="only these classes (vocabulary,faint,none,pair,out_of_vocabulary,out_of_bounds)")
     parser.add_argument("--ids", default="", help="only these set ids (comma-separated)")
     parser.add_argument("--max-minutes", type=float, default=None, help="start no run after this many minutes")
     parser.add_argument("--label", default="", help="what is benchmarked (e.g. the branch), for RESULTS.md")
@@ -346,7 +351,7 @@ def summary(runs, outcomes, confusion, seconds, misnames, aborts, library_second
              ("confident mis-names", f"{all_['confident_misname']}" + (f": {'; '.join(misnames)}" if misnames else "")),
              ("wrong", str(all_["wrong"])),
              ("aborted", f"{all_['aborted']}" + (f": {'; '.join(aborts)}" if aborts else ""))]
-    for group in ("vocabulary", "faint", "none", "pair", "out_of_vocabulary"):
+    for group in ("vocabulary", "faint", "none", "pair", "out_of_vocabulary", "out_of_bounds"):
         c = outcomes.get(group)
         if c:
             runs_g = sum(c.values())

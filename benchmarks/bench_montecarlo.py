@@ -14,7 +14,13 @@ parameters, 2 load cases) on the reference rig:
   last result);
 - hybrid model (default 4 mm mesh), ``frame`` strategy: nominal set-up and per-sample time
   serially, a local cluster of 2 workers, the peak memory of a worker, and the largest difference
-  between a sample on the reused model and the same sample assembled from scratch.
+  between a sample on the reused model and the same sample assembled from scratch;
+- ``--per-sample beam,hybrid,solid`` (alone with ``--only-per-sample``): the cost of each sample, wall
+  and CPU time, serially in this process and in each worker of a local cluster of 2 processes, first
+  sample (the worker's nominal model: meshing, assembly, PARDISO's analysis) apart from the later
+  ones, with how many of each worker's factorisations ran on a pooled PARDISO analysis (the
+  symbolic factorisation kept per sparsity pattern, rvcoax.fem.pardiso) and the worker's peak memory.
+  The solid model runs on a coarse mesh (``--solid-mesh-mm``, default 12 mm).
 """
 
 from __future__ import annotations
@@ -27,6 +33,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
@@ -80,6 +88,100 @@ def cluster_run(study, values, scheduler: str, workers: int | None) -> dict:
             "workers": report.workers}
 
 
+def _process_counts() -> dict:
+    """This process's counts of samples and of PARDISO factorisations on a pooled analysis or a fresh one.
+
+    Kept on the imported pardiso module's class, so that they last across the tasks a worker runs (this
+    function reaches the workers by value, with its globals).
+    """
+    from rvcoax.fem import pardiso
+
+    counts = getattr(pardiso.Factorization, "_bench_counts", None)
+    if counts is None:
+        counts = {"fresh": 0, "reused": 0, "samples": 0}
+        original = pardiso.Factorization.__init__
+
+        def counted(self, *args, **kwargs):
+            original(self, *args, **kwargs)
+            if not kwargs.get("analysis_only", False):
+                counts["reused" if self.reused_analysis else "fresh"] += 1
+
+        pardiso.Factorization.__init__ = counted
+        pardiso.Factorization._bench_counts = counts
+    return counts
+
+
+def timed_sample(study, values) -> dict:
+    """:func:`evaluate_sample` with its wall and CPU time, the process and its PARDISO analyses so far."""
+    from rvcoax.results.studies.montecarlo import evaluate_sample
+
+    counts = _process_counts()
+    before, start = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+    result = evaluate_sample(study, values)
+    after = resource.getrusage(resource.RUSAGE_SELF)
+    result.update(wall_s=time.perf_counter() - start, pid=os.getpid(), peak_rss_mb=peak_rss_mb(),
+                  cpu_s=after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime,
+                  fresh_analyses=counts["fresh"], reused_analyses=counts["reused"], sequence=counts["samples"])
+    counts["samples"] += 1
+    return result
+
+
+def _split(samples: list[dict], memory: bool = True) -> str:
+    """'first … s CPU (… s wall), later … s CPU (… s wall) per sample' of one process's samples in order."""
+    first, later = samples[0], samples[1:]
+    text = f"first {first['cpu_s']:.2f} s CPU ({first['wall_s']:.2f} s wall)"
+    if later:
+        text += (f", later {np.mean([r['cpu_s'] for r in later]):.3f} s CPU "
+                 f"({np.mean([r['wall_s'] for r in later]):.3f} s wall) per sample over {len(later)}")
+    last = samples[-1]
+    text += f"; PARDISO analyses fresh {last['fresh_analyses']}, reused {last['reused_analyses']} (process total)"
+    # a worker's ru_maxrss starts at its parent's when the worker is forked: only this process's is its own
+    return text + (f"; peak RSS {last['peak_rss_mb']:.0f} MB" if memory else "")
+
+
+def per_sample(model: str, rig, tolerances, n_serial: int, n_cluster: int, mesh_mm: float | None) -> list[tuple[str, str]]:  # noqa: PLR0913
+    """Per-sample cost of ``model`` serially (this process) and per worker of a local 2-process cluster
+    (``n_cluster`` = 0: serially only)."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    from rvcoax.results.studies.distributed import run_samples
+    from rvcoax.results.studies.montecarlo import plan_study
+    from rvcoax.results.studies.sampling import sample_values
+    from rvcoax.results.sweep import SweepSettings
+
+    study = plan_study(rig, tolerances, SweepSettings(model=model, mesh_size_mm=mesh_mm))
+    tag = f"{model}{f' ({mesh_mm:g} mm)' if mesh_mm else ''}, strategy {study.strategy}"
+    values = sample_values(tolerances.distributions, max(n_serial, n_cluster), "lhs", seed=3)
+    serial = [timed_sample(study, row) for row in values[:n_serial]]
+    rows = [(f"per sample, {tag}, serial in process", _split(serial))]
+    print(rows[-1], flush=True)
+    if n_cluster == 0:
+        return rows
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, Client(cluster):
+        with tempfile.TemporaryDirectory() as folder:
+            start = time.perf_counter()
+            results, _ = run_samples(timed_sample, study, values[:n_cluster], folder, f"bench-{model}",
+                                     scheduler=cluster.scheduler_address)
+            total = time.perf_counter() - start
+    by_worker: dict[int, list[dict]] = {}
+    for result in sorted(results, key=lambda r: r["sequence"]):
+        by_worker.setdefault(result["pid"], []).append(result)
+    for k, samples in enumerate(by_worker.values()):
+        rows.append((f"per sample, {tag}, local cluster of 2 workers: worker {k + 1}", _split(samples, memory=False)))
+    rows.append((f"per sample, {tag}, local cluster of 2 workers: {n_cluster} samples",
+                 f"{total:.1f} s wall end to end (cluster start included)"))
+    serial_y = np.array([r["Y_max_mm"] for r in serial])
+    cluster_y = np.array([r["Y_max_mm"] for r in results[:n_serial]])
+    rows.append((f"per sample, {tag}: cluster vs serial, largest ΔY / largest Y",
+                 f"{np.abs(serial_y - cluster_y).max() / np.abs(serial_y).max():.1e}"))
+    for row in rows[1:]:
+        print(row, flush=True)
+    return rows
+
+
 def worker_memory(study, values, workers: int) -> tuple[dict, list[float]]:
     """Run on a local cluster and read every worker's peak memory (MB) before it closes."""
     import logging
@@ -107,6 +209,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--beam-samples", type=int, default=400)
     parser.add_argument("--hybrid-samples", type=int, default=8)
+    parser.add_argument("--per-sample", default="", help="comma-separated models (beam, hybrid, solid) whose "
+                        "per-sample cost to measure serially and per worker of a 2-process cluster")
+    parser.add_argument("--per-sample-n", type=int, default=6, help="samples per cluster run (serial: half)")
+    parser.add_argument("--serial-only", action="store_true", help="per-sample cost: no cluster run")
+    parser.add_argument("--solid-mesh-mm", type=float, default=12.0, help="mesh size of the solid model's parts")
+    parser.add_argument("--only-per-sample", action="store_true", help="skip the throughput figures")
     args = parser.parse_args()
 
     import numpy as np
@@ -122,6 +230,14 @@ def main() -> None:
     values = sample_values(tolerances.distributions, args.beam_samples, "lhs", seed=1)
     figures: list[tuple[str, str]] = [("tolerance file", f"{EXAMPLE.name}: {len(tolerances.parameters)} parameters, "
                                                          f"{len(tolerances.cases)} load cases per sample")]
+
+    for model in [m.strip() for m in args.per_sample.split(",") if m.strip()]:
+        figures += per_sample(model, RIG, tolerances, max(2, args.per_sample_n // 2),
+                              0 if args.serial_only else args.per_sample_n, args.solid_mesh_mm if model == "solid" else None)
+    if args.only_per_sample:
+        figures.append(("load average (1 min) before / after", f"{load_before:.2f} / {os.getloadavg()[0]:.2f}"))
+        record("bench_montecarlo.py: Monte Carlo cost per sample, serial and per worker of a 2-process cluster", figures)
+        return
 
     loads_file = load_only(tolerances)
     loads_study = plan_study(RIG, loads_file)

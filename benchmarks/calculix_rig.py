@@ -145,12 +145,16 @@ def _refuse(rig: Rig) -> None:
         raise ValueError("calculix_rig: coupling misalignment and raised mounts (prestrain) are not modelled")
 
 
-def build_deck(rig: Rig, element_mm: float = ELEMENT_MM, solids: dict | None = None, read_stations: int | None = None) -> Deck:
+def build_deck(rig: Rig, element_mm: float = ELEMENT_MM, solids: dict | None = None, read_stations: int | None = None,
+               solid_ties: str = "rig") -> Deck:
     """The CalculiX deck of ``rig``'s shaft line: four steps (T1, T2, engaged T1, engaged T2).
 
     ``solids``: part name → a solid model of that part (``calculix_solid.SolidShaft``): its C3D10 elements replace the
     part's beams; whatever attaches to it acts on points that follow the rigid motion of the attachment's face.
-    ``read_stations``: read this many stations per path (default the rig's ``[paths]`` stations)."""
+    ``read_stations``: read this many stations per path (default the rig's ``[paths]`` stations).
+    ``solid_ties``: how those points follow a solid's face: ``rig``, as the rig file says (rvcoax's hybrid model:
+    distributing, RBE3-like, unless a location says ``tie = "rigid"``), or ``rigid`` (every face a rigid ring, RBE2-like:
+    the deck before issue 28's check, kept to reproduce it)."""
     _refuse(rig)
     solids = solids or {}
     refs = _referenced(rig)
@@ -377,13 +381,19 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM, solids: dict | None = N
             else:
                 out += [f"*ELEMENT, TYPE=SPRING2, ELSET=K{i}_{j}", f"{number}, {a}, {b}",
                         f"*SPRING, ELSET=K{i}_{j}", f"{dof}, {dof}", f"{k:.12e}"]
-    for i, ((part, x_face), members) in enumerate(rigid.items()):  # each face with its points: one rigid body
-        local, _ = solids[part].face_nodes(solids[part].face(x_face))
-        x, y, z = next((x, y, z) for n, x, y, z in nodes if n == members[0])
-        rotation = new_node(x, y, z)
-        out += ["*NODE, NSET=NALL", f"{rotation}, {x * MM:.12e}, {y * MM:.12e}, {z * MM:.12e}"]
-        out += [f"*NSET, NSET=RB{i}"] + [f"{solid_first[part] + int(n)}," for n in local] + [f"{n}," for n in members[1:]]
-        out += [f"*RIGID BODY, NSET=RB{i}, REF NODE={members[0]}, ROT NODE={rotation}"]
+    position = {n: (x, y, z) for n, x, y, z in nodes}
+    for i, ((part, x_face), members) in enumerate(rigid.items()):  # each face with its points
+        shaft = solids[part]
+        if solid_ties == "rigid" or shaft.tie(x_face) == "rigid":  # one rigid body (RBE2-like)
+            local, _ = shaft.face_nodes(shaft.face(x_face))
+            x, y, z = position[members[0]]
+            rotation = new_node(x, y, z)
+            out += ["*NODE, NSET=NALL", f"{rotation}, {x * MM:.12e}, {y * MM:.12e}, {z * MM:.12e}"]
+            out += [f"*NSET, NSET=RB{i}"] + [f"{solid_first[part] + int(n)}," for n in local]
+            out += [f"{n}," for n in members[1:]]
+            out += [f"*RIGID BODY, NSET=RB{i}, REF NODE={members[0]}, ROT NODE={rotation}"]
+        else:  # distributing (RBE3-like): each point follows the face's weighted mean motion
+            out += _distributing_equations(shaft, x_face, members, position, solid_first[part])
     path_nodes, stations, lengths, sections = {}, {}, {}, {}
     for key in MEASURED_SHAFTS:
         path = getattr(rig.paths, key)
@@ -432,6 +442,27 @@ def build_deck(rig: Rig, element_mm: float = ELEMENT_MM, solids: dict | None = N
             out += [f"*NODE PRINT, NSET=P{key.upper()}", "U"]
         out.append("*END STEP")
     return Deck("\n".join(out) + "\n", path_nodes, stations, lengths, sections)
+
+
+def _distributing_equations(shaft, x_face: float, members: list[int], position: dict, first: int) -> list[str]:
+    """``*EQUATION`` lines making each point of ``members`` follow the weighted mean motion of the face at ``x_face``
+    (rvcoax's distributing tie, ``fem.ties.distributing_tie_operator``, with its weights: a sixth of each facet's area
+    on each of its six nodes): u_P = ū + θ × (x_P − x̄). Each point is the dependent term of its own three equations
+    and of no other; the face nodes are independent in all of them."""
+    from rvcoax.fem.ties import FaceNodes, distributing_tie_operator
+
+    local, weights = shaft.face_nodes(shaft.face(x_face), every_node=True)
+    face = FaceNodes(shaft.nodes_mm[local], np.arange(3 * local.size).reshape(-1, 3), weights)
+    out = []
+    for point in members:
+        operator = distributing_tie_operator(np.asarray(position[point], float), face)
+        for k in range(3):
+            row = operator[k]
+            keep = np.flatnonzero(np.abs(row) > 1e-12 * np.abs(row).max())
+            terms = [(point, k + 1, 1.0)] + [(first + int(local[j // 3]), j % 3 + 1, -float(row[j])) for j in keep]
+            out += ["*EQUATION", f"{len(terms)}"]
+            out += [", ".join(f"{n}, {d}, {c:.12e}" for n, d, c in terms[i:i + 4]) for i in range(0, len(terms), 4)]
+    return out
 
 
 def solve_units(rig: Rig, work: Path | None = None, element_mm: float = ELEMENT_MM) -> tuple[dict, Deck]:
@@ -558,8 +589,9 @@ HIDDEN = {
 }
 OOV = "lateral_T2@output_x80"  # a lateral load ∝ T2 on the output shaft, 80 mm along its path (x = 485 mm)
 OOV_X_MM = 485.0
+BEYOND = "beyond_bound"  # a set's truth is its effect at blind_data.OUT_OF_BOUNDS times its physical bound
 TARGET = 0.3  # size of a hidden change: RMS over the paths, of the signal, on the shaft it changes most
-SETS = (  # name, truth, out-of-vocabulary, schema, noise, notation
+SETS = (  # name, truth, out-of-vocabulary (True) or BEYOND (the truth beyond its bound), schema, noise, notation
     ("none_paths_1", (), False, "paths", 0.01, "e"),
     ("none_table_5", (), False, "table", 0.05, "E"),
     ("bearing_stiffness_paths_1", ("bearing_stiffness@output_B2",), False, "paths", 0.01, "fixed"),
@@ -573,9 +605,16 @@ SETS = (  # name, truth, out-of-vocabulary, schema, noise, notation
     ("oov_paths_1", (), True, "paths", 0.01, "e"),
     ("oov_paths_5", (), True, "paths", 0.05, "E"),
     ("oov_table_1", (), True, "table", 0.01, "fixed"),
+    ("beyond_bound_paths_1", ("torque_reaction@output_bearing_block",), BEYOND, "paths", 0.01, "e"),
+    ("beyond_bound_table_1", ("mesh_force@reducer_input",), BEYOND, "table", 0.01, "fixed"),
 )
 FILE_CASES = (0, 3, 6, 9, 12, 15, 19)  # 7 of paper 000's cases
 FILE_STATIONS = 6
+
+
+def committed_load(oov) -> str:
+    """The load field of a committed set's row (:data:`SETS`): :data:`OOV`, :data:`BEYOND` or none."""
+    return OOV if oov is True else oov or ""
 
 
 def _with_oov(rig: Rig, size: float, kind: str = "proportional", x_mm: float = OOV_X_MM) -> Rig:
@@ -630,7 +669,7 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
     ``loads``: out-of-vocabulary load name → (kind, x mm) (``proportional`` ∝ T2, or a ``couple`` 30 mm apart);
     ``solve_with``: the solver of a rig (default :func:`solve_units`, the beam deck), ``model`` its description."""
     solve_units_ = solve_with or solve_units
-    sets = sets or [(name, truth, OOV if oov else "", schema, noise, notation, "aligned_at_rest", seed)
+    sets = sets or [(name, truth, committed_load(oov), schema, noise, notation, "aligned_at_rest", seed)
                     for seed, (name, truth, oov, schema, noise, notation) in enumerate(SETS)]
     hidden = hidden or HIDDEN
     loads = loads or {OOV: ("proportional", OOV_X_MM)}
@@ -651,6 +690,15 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
         values[load] = TARGET / _relative_change(delta, base, sizes)
         deltas[load] = delta * values[load]
         log(f"  ccx: {load}: {values[load]:.4g} N per N·m of T2")
+    for name in {tuple(row[1])[0] for row in sets if row[2] == BEYOND}:  # a linear effect beyond its bound: scaled
+        p = effects[name].parameters[0]
+        if not effects[name].linear:
+            raise ValueError(f"calculix_rig: an out-of-bounds truth must be a linear effect; '{name}' is not")
+        beyond = blind_data.OUT_OF_BOUNDS * (p.upper if abs(p.upper) >= abs(p.lower) else p.lower)
+        deltas[(BEYOND, name)] = deltas[name] * beyond / values[name]
+        values[(BEYOND, name)] = beyond
+        log(f"  ccx: {name} = {beyond:.4g} ({blind_data.OUT_OF_BOUNDS:g} × its bound): "
+            f"{100 * _relative_change(deltas[(BEYOND, name)], base, sizes):.1f} % of the signal")
     for row in sets:  # a pair is solved directly (a bearing stiffness is not linear), not superposed
         truth = tuple(row[1])
         if len(truth) == 2 and truth not in deltas:
@@ -663,16 +711,20 @@ def write_sets(out: Path, sets=None, hidden=None, loads=None, case_indices=FILE_
     manifest = []
     for name, truth, load, schema, noise, notation, datum, seed in sets:
         truth = tuple(truth)
-        key = load if load else truth if len(truth) == 2 else truth[0] if truth else None
+        beyond = load == BEYOND
+        key = (BEYOND, truth[0]) if beyond else load if load else truth if len(truth) == 2 else \
+            truth[0] if truth else None
         paths = base + (deltas[key] if key is not None else 0.0)
         template, noisy = blind_data.noisy_observations(paths, layout, datum, schema, noise, seed, cases, stations)
         (out / f"{name}.csv").write_text(blind_data.csv_text(template, noisy, notation, seed))
         detect = detectability(paths, base, layout, schema, noise, cases, stations)
-        group = "out_of_vocabulary" if load else "none" if not truth else "pair" if len(truth) == 2 else "vocabulary"
+        group = "out_of_bounds" if beyond else "out_of_vocabulary" if load else "none" if not truth else \
+            "pair" if len(truth) == 2 else "vocabulary"
         manifest.append({"id": name, "file": f"{name}.csv", "group": group, "truth": list(truth),
-                         "load": load, "datum": datum, "schema": schema, "noise": noise,
+                         "load": "" if beyond else load, "datum": datum, "schema": schema, "noise": noise,
                          "seed": seed, "notation": notation,
-                         "values": {n: round(values[n], 6) for n in ((load,) if load else truth)},
+                         "values": {truth[0]: round(values[key], 6)} if beyond else
+                         {n: round(values[n], 6) for n in ((load,) if load else truth)},
                          "detectability": round(detect, 3), "detectable": not truth and not load or detect >= 1.0})
     (out / "manifest.json").write_text(json.dumps({
         "model": model or "CalculiX ccx: B32R beams (expanded to C3D20R) and SPRING1/SPRING2 springs built from the "
@@ -699,9 +751,18 @@ FULL_LOADS = {"lateral_T2@output_x35": ("proportional", 440.0), "lateral_T2@outp
               "lateral_T2@output_x135": ("proportional", 540.0), "moment_T2@output_x80": ("couple", 485.0)}
 
 
+# out-of-bounds truths (the ``load`` field of a row says BEYOND): each linear effect of FULL_HIDDEN at
+# blind_data.OUT_OF_BOUNDS times its physical bound (the larger in size), scaled from its ccx solve (no solve more)
+FULL_OUT_OF_BOUNDS = ("torque_reaction@input_bearing_block", "torque_reaction@reducer",
+                      "torque_reaction@output_bearing_block", "mesh_force@reducer_input",
+                      "mesh_position_error@sun_gear_load_sharing", "mesh_position_error@crankshaft_load_sharing")
+
+
 def full_design() -> list[tuple]:
     """Every kind above, none, pairs and out-of-vocabulary loads; both schemas, both datums, 1 % and 5 % noise;
-    paper 000's 20 cases, 11 stations per shaft; notations rotate."""
+    paper 000's 20 cases, 11 stations per shaft; notations rotate. Then the out-of-bounds truths
+    (:data:`FULL_OUT_OF_BOUNDS`): both schemas and noises, the datums alternating over the effects (24 sets; the
+    rows before them keep their ids and seeds)."""
     items = [((name,), "", seed) for name in FULL_HIDDEN for seed in (0, 1)]
     items += [(pair, "", 0) for pair in FULL_PAIRS] + [((), load, 0) for load in FULL_LOADS]
     items += [((), "", seed) for seed in (0, 1, 2)]
@@ -713,6 +774,12 @@ def full_design() -> list[tuple]:
                 for noise in blind_data.NOISES:
                     k = len(rows)
                     rows.append((f"{k:03d}", truth, load, schema, noise, notations[k % 4], datum, 100 * seed + k))
+    for i, name in enumerate(FULL_OUT_OF_BOUNDS):
+        datum = blind_data.DATUMS[i % len(blind_data.DATUMS)]
+        for schema in blind_data.SCHEMAS:
+            for noise in blind_data.NOISES:
+                k = len(rows)
+                rows.append((f"{k:03d}", (name,), BEYOND, schema, noise, notations[k % 4], datum, k))
     return rows
 
 
@@ -720,7 +787,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", action="store_true", help="compare ccx with rvcoax on the unmodified rig")
     parser.add_argument("--out", default="", help="write the hidden-effect data sets to this folder")
-    parser.add_argument("--full", default="", help="write the larger benchmark set (about 200 files) to this folder")
+    parser.add_argument("--full", default="", help="write the larger benchmark set (288 files) to this folder")
     parser.add_argument("--no-record", action="store_true", help="print only (no RESULTS.md block)")
     parser.add_argument("--keep", default="", help="keep the unmodified rig's deck and ccx output in this folder")
     args = parser.parse_args()

@@ -11,17 +11,23 @@ quadratic tetrahedra (``C3D10``) in CalculiX, the rest of the shaft line stays t
   *and at the 11 stations the files use*, so that each station is a plane of nodes. The P2 nodes are
   written as ``C3D10`` elements (corner nodes, then the mid-edge nodes 1-2, 2-3, 3-1, 1-4, 2-4, 3-4, each element
   oriented to a positive volume).
-- **Attachments** (bearings, couplings, the joint to the reducer flange): the attachment's face (a bearing's width or
-  the attachment band, outer surface; an end face at a part's end; the faces of rvcoax's hybrid model,
-  ``hybrid.attachments``) is a CalculiX ``*RIGID BODY`` together with the points the springs of ``calculix_rig`` act on
-  (the point on the axis, the ends of the tilt-spring arms at x ± d, a torsion arm): an RBE2-like rigid ring, where
-  rvcoax's hybrid model ties the reference node to the face by a distributing (RBE3-like) tie. A least-squares
-  rigid-motion coupling written as ``*EQUATION`` lines was tried first: ccx 2.20 returned solutions that violate those
-  equations (the coupling points moved about 100 times their faces' mean), so it was replaced.
-- **Cost**: 26 k solid nodes on the reference rig; one ccx run (4 steps) 12 s CPU.
-- **Against rvcoax** (``--compare``, unmodified rig): 3.7 % (input) and 6.0 % (output shaft) RMS from the hybrid model,
-  2.7 % and 5.0 % from the beam model the workflow identifies with; Y_max within 5 % and 0.8 % (the rigid rings
-  stiffen each bearing seat; the output signal crosses zero along the path).
+- **Attachments** (bearings, couplings, the joint to the reducer flange): the points the springs of ``calculix_rig``
+  act on (the point on the axis, the ends of the tilt-spring arms at x ± d, a torsion arm) follow the attachment's face
+  (a bearing's width or the attachment band, outer surface; an end face at a part's end: the faces of rvcoax's hybrid
+  model, ``hybrid.attachments``) with **the tie the rig file gives it**, as rvcoax's hybrid model does: distributing
+  (RBE3-like, every bearing and mount, and couplings and joints unless their location says ``tie = "rigid"``), written
+  as ``*EQUATION`` lines, u_P = ū + θ × (x_P − x̄) with rvcoax's own operator (``fem.ties.distributing_tie_operator``,
+  weights a sixth of each facet's area on each of its six nodes; each point is the dependent term of its own three
+  equations and of no other, coefficients printed in at most 20 characters, the field width ccx reads); a rigid tie as
+  a ``*RIGID BODY`` of the face and the points (RBE2-like). ``--ties rigid`` makes every face a rigid ring, as the deck
+  did before issue 28's check: the rings stiffened every bearing seat over its width, which the rig file does not say,
+  and made this model differ from rvcoax's by 3.7 % and 6.0 % of the signal (``benchmarks/RESULTS.md``).
+- **Cost**: 26 k solid nodes on the reference rig; one ccx run (4 steps) 64 s CPU with the distributing ties (13 s with
+  rigid rings: the equations couple each face's nodes densely).
+- **Against rvcoax** (``--compare``, unmodified rig, 20 cases): 0.30 % (input) and 0.09 % (output shaft) RMS from the
+  hybrid model, 1.5 % and 1.1 % from the beam model the workflow identifies with (Y_max within 1.6 %). With every face
+  a rigid ring (``--ties rigid``) it is 3.7 % and 6.0 % from the hybrid model, and 0.25 % and 0.25 % from the hybrid
+  model with every tie made rigid: the two codes agree when they model the same ties.
 - **Loads** on a measured shaft (a hidden lateral load): nodal forces on the load's face (the attachment band around
   x, or its ``band_mm``) in proportion to the same area weights.
 - **Read-out**: u_y at a station is the area-weighted mean u_y over the section's nodes (the plane x = station).
@@ -35,7 +41,7 @@ Usage::
 
     python benchmarks/calculix_solid.py --compare                 # the unmodified rig: ccx solid against rvcoax
     python benchmarks/calculix_solid.py --bench .blindcache/calculix_solid --max-solves 1   # repeat until done
-    python benchmarks/calculix_solid.py --full DIR --max-solves 1   # calculix_rig's whole design (20 solves)
+    python benchmarks/calculix_solid.py --full DIR --max-solves 1   # calculix_rig's whole design (288 sets, 20 solves)
     python benchmarks/calculix_solid.py --out tests/results/studies/data/calculix_solid    # the committed files
     python benchmarks/bench_discrepancy_blind.py --source calculix_solid
 
@@ -83,6 +89,7 @@ class SolidShaft:
         self.material = part.material
         faces = [a.face for a in attachments(rig, (name,)) if a.part == name]
         self._faces = {round(a.x_mm, 6): a.face for a in attachments(rig, (name,)) if a.part == name}
+        self._ties = {round(a.x_mm, 6): a.tie for a in attachments(rig, (name,)) if a.part == name}
         for loads in located_unit_loads(rig).values():
             faces += [self.load_face(ld.x_mm, ld.band_mm) for ld in loads if ld.part == name]
         lo, hi = part.x_range_mm
@@ -157,22 +164,33 @@ class SolidShaft:
     def face(self, x_mm: float) -> FaceSpec:
         return self._faces.get(round(x_mm, 6)) or self.load_face(x_mm)
 
-    def _triangles(self, facets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Node numbers (0-based) and consistent nodal areas (mm²) of quadratic triangles (corner indices)."""
+    def tie(self, x_mm: float) -> str:
+        """The rig's tie of the attachment at ``x_mm``: ``distributing`` (bearings, mounts, and couplings and joints
+        unless their location says ``tie = "rigid"``), as rvcoax's hybrid model reads it."""
+        return self._ties.get(round(x_mm, 6), "distributing")
+
+    def _triangles(self, facets: np.ndarray, every_node: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Node numbers (0-based) and consistent nodal areas (mm²) of quadratic triangles (corner indices): the
+        mid-edge nodes carry a third of the area each; ``every_node``: a sixth on each of the six nodes (the weights
+        of rvcoax's distributing tie, ``fem.ties.face_nodes``)."""
         p = self.nodes_mm
         area = 0.5 * np.linalg.norm(np.cross(p[facets[:, 1]] - p[facets[:, 0]], p[facets[:, 2]] - p[facets[:, 0]]),
                                     axis=1)
         nodes, weights = [], []
         for (a, b) in ((0, 1), (1, 2), (0, 2)):
             nodes += [self._midside[(min(u, v), max(u, v))] for u, v in zip(facets[:, a], facets[:, b])]
-            weights.append(area / 3.0)
+            weights.append(area / (6.0 if every_node else 3.0))
+        if every_node:
+            for a in range(3):
+                nodes += list(facets[:, a])
+                weights.append(area / 6.0)
         nodes = np.array(nodes)
         weights = np.concatenate(weights)
         unique, inverse = np.unique(nodes, return_inverse=True)
         return unique, np.bincount(inverse, weights)
 
-    def face_nodes(self, face: FaceSpec) -> tuple[np.ndarray, np.ndarray]:
-        """The nodes of ``face`` (0-based) and their area weights (mm²)."""
+    def face_nodes(self, face: FaceSpec, every_node: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """The nodes of ``face`` (0-based) and their area weights (mm², see :meth:`_triangles`)."""
         mesh = self.mesh
         boundary = mesh.boundary_facets()
         corners = mesh.facets[:, boundary].T  # vertex numbers are the first DOFs of the P2 basis
@@ -190,7 +208,7 @@ class SolidShaft:
                     & (np.abs(normal[:, 0]) < 0.5) & side)
         if not keep.any():
             raise ValueError(f"calculix_solid: no facets of '{self.name}' on {face}")
-        return self._triangles(corners[keep])
+        return self._triangles(corners[keep], every_node)
 
     def _radii(self, x_mm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         outer, inner = np.zeros_like(x_mm), np.zeros_like(x_mm)
@@ -232,11 +250,13 @@ class Solver:
     mesh_mm: float = MESH_MM
     solves: int = 0  # ccx runs made (not read from the cache)
     max_solves: int | None = None
+    ties: str = "rig"  # "rig": the rig file's ties (distributing unless it says rigid); "rigid": every face a ring
 
     def __call__(self, rig: Rig, work: Path | None = None, element_mm: float = calculix_rig.ELEMENT_MM):
         shafts = {getattr(rig.paths, k).part: solid_shaft(rig, getattr(rig.paths, k).part, self.mesh_mm)
                   for k in MEASURED_SHAFTS}
-        deck = calculix_rig.build_deck(rig, element_mm, solids=shafts, read_stations=blind_data.STATIONS)
+        deck = calculix_rig.build_deck(rig, element_mm, solids=shafts, read_stations=blind_data.STATIONS,
+                                     solid_ties=self.ties)
         key = hashlib.sha1(deck.text.encode()).hexdigest()[:20]
         path = CACHE / f"{key}.npz"
         if path.exists():
@@ -295,7 +315,7 @@ COMMITTED_HIDDEN = {k: calculix_rig.HIDDEN[k] for k in ("torque_reaction@output_
 
 
 def committed_sets() -> list[tuple]:
-    return [(name, truth, calculix_rig.OOV if oov else "", schema, noise, notation, "aligned_at_rest", seed)
+    return [(name, truth, calculix_rig.committed_load(oov), schema, noise, notation, "aligned_at_rest", seed)
             for seed, (name, truth, oov, schema, noise, notation) in enumerate(calculix_rig.SETS)
             if set(truth) <= set(COMMITTED_HIDDEN)]
 
@@ -303,7 +323,7 @@ def committed_sets() -> list[tuple]:
 def bench_design() -> list[tuple]:
     """The benchmark set these solves afford: ``calculix_rig.full_design`` (both datums and schemas, 1 % and 5 %
     noise, 20 cases, 11 stations) restricted to the committed effects, the load outside the vocabulary at x = 485 mm
-    and no effect (64 files from four ccx solves)."""
+    and no effect, and the two effects at twice their bound (72 files from four ccx solves)."""
     return [row for row in calculix_rig.full_design()
             if (len(row[1]) == 1 and set(row[1]) <= set(COMMITTED_HIDDEN)) or row[2] == calculix_rig.OOV
             or (not row[1] and not row[2])]
@@ -312,16 +332,19 @@ def bench_design() -> list[tuple]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", action="store_true", help="compare with rvcoax on the unmodified rig")
-    parser.add_argument("--out", default="", help="write the small committed set (8 files) to this folder")
-    parser.add_argument("--bench", default="", help="write the benchmark set of the committed effects (64 files)")
-    parser.add_argument("--full", default="", help="write calculix_rig's whole benchmark design (264 files; 20 solves)")
+    parser.add_argument("--out", default="", help="write the small committed set (10 files) to this folder")
+    parser.add_argument("--bench", default="", help="write the benchmark set of the committed effects (72 files)")
+    parser.add_argument("--full", default="", help="write calculix_rig's whole benchmark design (288 files; 20 solves)")
     parser.add_argument("--max-solves", type=int, default=None, help="stop after this many new ccx solves")
     parser.add_argument("--mesh-mm", type=float, default=MESH_MM)
+    parser.add_argument("--ties", choices=("rig", "rigid"), default="rig",
+                        help="faces of the solid shafts: as the rig file says (default: distributing, RBE3-like, unless "
+                             "a location says tie = \"rigid\") or every one a rigid ring (the data before issue 28)")
     parser.add_argument("--keep", default="", help="keep the unmodified rig's deck and ccx output here")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
     calculix_rig.require_ccx()
-    solver = Solver(args.mesh_mm, max_solves=args.max_solves)
+    solver = Solver(args.mesh_mm, max_solves=args.max_solves, ties=args.ties)
     try:
         if args.keep:
             solver(calculix_rig.truth_rig(), Path(args.keep))
@@ -351,8 +374,9 @@ def main() -> None:
 
 
 MODEL = (f"CalculiX ccx: the measured shafts as C3D10 tetrahedra ({MESH_MM:g} mm, rvcoax's gmsh meshing, a plane of "
-         "nodes at every station, Y the section's area-weighted mean), attachments as *RIGID BODY rings of their "
-         "faces; the rest B32R beams and SPRING1/SPRING2 springs as calculix_rig.py; "
+         "nodes at every station, Y the section's area-weighted mean), attachments tied to their faces as the rig "
+         "says (distributing *EQUATION ties, rigid *RIGID BODY where the rig says tie = rigid); the rest B32R "
+         "beams and SPRING1/SPRING2 springs as calculix_rig.py; "
          "reference rig, self-weight off; see benchmarks/calculix_solid.py")
 
 

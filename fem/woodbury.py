@@ -27,6 +27,7 @@ than needed costs columns of Y, never accuracy: the update removes every added s
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as la
@@ -95,7 +96,48 @@ def _capacitance(core_inverse: np.ndarray, v: sp.csc_matrix, y: np.ndarray):
     return lu, root
 
 
-def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.PreparedSolver | None:  # noqa: PLR0915
+@dataclass(frozen=True)
+class _Released:
+    """B = K_qq + G in PARDISO's upper storage (``stored`` values), V, N⁻¹ and the grounding G (DOFs, springs)."""
+
+    storage: pardiso.UpperStorage
+    stored: int
+    v: sp.csc_matrix
+    core_inverse: np.ndarray
+    ground: np.ndarray
+    springs: np.ndarray
+
+
+def _released(operator, modes: np.ndarray | None) -> _Released | None:
+    """The pieces of A = B + V N Vᵀ from K' and Q; None where Y would exceed :data:`UPDATE_BYTES` or K_qq has an
+    empty row. K' and Q are this function's locals only: they are gone when it returns."""
+    kept, dependent = sp.csr_matrix(operator.kept), sp.csr_matrix(operator.dependent)
+    m, d = operator.shape[0], dependent.shape[0]
+    k_qq = kept[:m, :m].tocsr()
+    ground = grounded_dofs(k_qq, modes) if modes is not None else np.zeros(0, dtype=int)
+    rank = 2 * d + ground.size
+    if d == 0 or 8.0 * m * rank > UPDATE_BYTES:
+        return None
+    diagonal = k_qq.diagonal()
+    if np.any(diagonal <= 0.0):  # PARDISO may crash on an empty row
+        return None
+    springs = diagonal[ground]
+    b = (k_qq + sp.csr_matrix((springs, (ground, ground)), shape=(m, m))).tocsr()
+    b.sum_duplicates()
+    b.sort_indices()
+    del k_qq
+    storage, stored = pardiso.upper_storage(b), b.nnz
+    del b
+    v = sp.hstack([dependent.T, kept[:m, m:], sp.csr_matrix((np.ones(ground.size), (ground, np.arange(ground.size))),
+                                                            shape=(m, ground.size))]).tocsc()
+    core_inverse = np.zeros((rank, rank))
+    core_inverse[:d, d:2 * d] = core_inverse[d:2 * d, :d] = np.eye(d)
+    core_inverse[d:2 * d, d:2 * d] = -kept[m:, m:].toarray()
+    core_inverse[2 * d:, 2 * d:] = -np.diag(1.0 / springs)
+    return _Released(storage, stored, v, core_inverse, ground, springs)
+
+
+def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.PreparedSolver | None:
     """Set up A = Sᵀ K' S (``operator``) by Cholesky of the tie-released K_qq plus a low-rank update.
 
     Parameters
@@ -122,32 +164,14 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     """
     rss_before = solvers._peak_rss_mb()
     start = time.perf_counter()
-    kept, dependent = sp.csr_matrix(operator.kept), sp.csr_matrix(operator.dependent)
-    m, d = operator.shape[0], dependent.shape[0]
-    k_qq = kept[:m, :m].tocsr()
-    ground = grounded_dofs(k_qq, modes) if modes is not None else np.zeros(0, dtype=int)
-    rank = 2 * d + ground.size
-    if d == 0 or 8.0 * m * rank > UPDATE_BYTES:
+    m = operator.shape[0]
+    released = _released(operator, modes)
+    if released is None:
         return None
-    diagonal = k_qq.diagonal()
-    if np.any(diagonal <= 0.0):  # PARDISO may crash on an empty row
-        return None
-    springs = diagonal[ground]
-    b = (k_qq + sp.csr_matrix((springs, (ground, ground)), shape=(m, m))).tocsr()
-    b.sum_duplicates()
-    b.sort_indices()
-    del k_qq
-    storage, stored = pardiso.upper_storage(b), b.nnz
-    del b
-    v = sp.hstack([dependent.T, kept[:m, m:], sp.csr_matrix((np.ones(ground.size), (ground, np.arange(ground.size))),
-                                                            shape=(m, ground.size))]).tocsc()
-    core_inverse = np.zeros((rank, rank))
-    core_inverse[:d, d:2 * d] = core_inverse[d:2 * d, :d] = np.eye(d)
-    core_inverse[d:2 * d, d:2 * d] = -kept[m:, m:].toarray()
-    core_inverse[2 * d:, 2 * d:] = -np.diag(1.0 / springs)
+    storage, v, ground = released.storage, released.v, released.ground
+    rank = released.core_inverse.shape[0]
     if serve is not None:
-        operator = serve(operator, storage, ground, springs)
-    del kept, dependent  # with ``serve``, the whole K' goes here
+        operator = serve(operator, storage, ground, released.springs)  # with ``serve``, the whole K' goes here
     try:
         factor = pardiso.Factorization(storage, two_level=True)
     except PardisoError:
@@ -155,7 +179,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
     y = factor.solve(np.column_stack([v.toarray(), probe]))
     y, probe_x0 = y[:, :rank], y[:, rank:]
-    lu, root = _capacitance(core_inverse, v, y)
+    lu, root = _capacitance(released.core_inverse, v, y)
     if lu is None:
         factor.release(keep_analysis=False)
         return None
@@ -181,4 +205,4 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
                                   rss_before=rss_before, release=factor.release,
                                   factor=(factor.factor_nonzeros, factor.memory_MB + y.nbytes / 2**20,
                                           factor.reused_analysis),
-                                  matrix_nonzeros=stored, condition=condition)
+                                  matrix_nonzeros=released.stored, condition=condition)

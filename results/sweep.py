@@ -50,7 +50,7 @@ from rvcoax.results.torque_path import TorquePaths, torque_paths
 
 __all__ = ["CONDITION_LIMIT", "CaseResult", "EQUILIBRIUM_LIMIT", "GAP_BACKWARD_LIMIT", "LinearStates", "MEASURED_SHAFTS",
            "ModelError", "NonlinearStates", "PreparedModel", "Sweep", "SweepSettings", "check_clearance_model", "check_condition", "check_solution",
-           "check_supports", "prepare_model", "prepare_system", "read_path", "run_gap_sweep",
+           "assemble_model", "check_supports", "prepare_model", "prepare_system", "read_path", "run_gap_sweep",
            "run_sweep", "solve_unit_responses"]
 
 
@@ -353,13 +353,19 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
         The assembled system and its factorisation, to pass to :func:`run_sweep` (or calibration) so that
         several sweeps of one rig assemble and factorise it once.
     """
+    return prepare_system(assemble_model(rig, settings), settings)
+
+
+def assemble_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> RigSystem:
+    """Check supports and memory, and assemble ``rig`` at the settings' fidelity, without setting up a solver
+    (:func:`prepare_model` does both; a study that only re-uses the assembled pieces needs this alone)."""
     check_clearance_model(rig, settings.model)
     check_supports(rig)
     too_big = preflight.memory_problem(rig, settings.model, settings.mesh_size_mm, settings.solver)
     if too_big:
         raise ModelError(too_big)
     options = {} if settings.mesh_size_mm is None else {"mesh_size_mm": settings.mesh_size_mm}
-    return prepare_system(assemble_rig(rig, settings.model, **options), settings)
+    return assemble_rig(rig, settings.model, **options)
 
 
 def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:

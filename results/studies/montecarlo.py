@@ -45,6 +45,7 @@ from rvcoax.results.sweep import (
     ModelError,
     PreparedModel,
     SweepSettings,
+    assemble_model,
     prepare_model,
     prepare_system,
     run_sweep,
@@ -253,7 +254,13 @@ def plan_study(rig: Rig, tolerances: Tolerances, settings: SweepSettings | None 
 
 @dataclass(frozen=True, eq=False)
 class _Nominal:
-    prepared: PreparedModel
+    """What a process keeps of the nominal model: strategy ``loads`` its factorisation, ``frame`` the assembled
+    system and its fixed pieces only (every sample factorises its own matrix, so a factor of the nominal one would
+    be set up for nothing: at the all-solid rig on a 12 mm mesh that was a whole PARDISO analysis, factorisation
+    and condition estimate per worker)."""
+
+    system: RigSystem
+    prepared: PreparedModel | None
     fixed: _FixedStiffness
 
 
@@ -267,14 +274,18 @@ def _pad(matrix: sp.spmatrix, n: int) -> sp.csr_matrix:
 
 
 def _nominal(study: Study) -> _Nominal:
-    """The nominal model of ``study``, assembled and factorised once per process."""
+    """The nominal model of ``study``, assembled (and for strategy ``loads`` factorised) once per process."""
     with _MEMO_LOCK:
         if study.key not in _MEMO:
-            prepared = prepare_model(study.rig, study.settings)
+            if study.strategy == "loads":
+                prepared = prepare_model(study.rig, study.settings)
+                system = prepared.system
+            else:
+                prepared, system = None, assemble_model(study.rig, study.settings)
             if len(_MEMO) >= 2:
                 _MEMO.pop(next(iter(_MEMO)))
-            _MEMO[study.key] = _Nominal(prepared, _fixed_stiffness(prepared.system,
-                                                                   _solid_parts(study.rig, study.settings.model)))
+            _MEMO[study.key] = _Nominal(system, prepared, _fixed_stiffness(system, _solid_parts(study.rig,
+                                                                                                 study.settings.model)))
         return _MEMO[study.key]
 
 
@@ -302,7 +313,7 @@ def evaluate_sample(study: Study, values) -> dict:
         if study.strategy == "loads":
             prepared = nominal.prepared
         else:
-            system = _frame_system(nominal.prepared.system, nominal.fixed, rig)
+            system = _frame_system(nominal.system, nominal.fixed, rig)
             prepared = prepare_system(system, study.settings)
         sweep = run_sweep(rig, study.cases, study.settings, prepared=prepared, engineering=False)
     return {

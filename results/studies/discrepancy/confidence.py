@@ -4,9 +4,10 @@ Synthetic data sets are drawn on the file's own observations (stations, cases, d
 (σ estimated or from the ``sigma_mm`` column, the printed quantum of a table) and a model-form difference up to the
 allowance (each shaft's signal scaled by 1 + ε and, along a paths file's shaft, bent by a quadratic, together up to
 ``model_form_fraction`` of the signal). What is hidden in a draw (:data:`TRUTHS`): nothing; one visible candidate of
-the vocabulary at 2–50 % of the signal (log-uniform, within its physical bounds); two of them; or a generic load
+the vocabulary at 2–50 % of the signal (log-uniform, within its physical bounds); two of them; a generic load
 outside the vocabulary (a force ∝ T2, ∝ T1 or constant, or a moment ∝ T2, at a shaft site where no named effect
-puts its load).
+puts its load); or a linear candidate at 1.5–4 times one of its physical bounds (log-uniform), which is right
+answered anything but ``explained``.
 
 Each draw is judged by a **replay** of the workflow's decisions on the responses already computed for this file (no
 assembly, no solve per draw): the same σ, rows and observation operator; every candidate fitted alone on a grid of
@@ -59,12 +60,21 @@ GRID = 41  # parameter values per candidate, at least
 GRID_MAX = 801  # and at most
 GRID_CELLS = 2e6  # candidates × values × observations the grids may hold (a table's 40 rows: the finest grids)
 PAIR_GRID = 41  # values per candidate in the first look at a pair (then refined by Gauss–Newton steps on the full grids)
-TRUTHS = {"none": 0.15, "single": 0.45, "pair": 0.2, "outside": 0.2}  # what a draw hides, and how often
+# what a draw hides, and how often: nothing, one or two visible candidates within their bounds, a generic load outside
+# the vocabulary, or one linear candidate beyond its physical bound (BEYOND times it, log-uniform)
+TRUTHS = {"none": 0.15, "single": 0.4, "pair": 0.2, "outside": 0.15, "beyond": 0.1}
+BEYOND = (1.5, 4.0)
 # a hidden effect's size: RMS change over RMS signal on the shaft it changes most, log-uniform between half and twice
 # the file's own gap (measured − model, the same ratio), kept within these limits
 FRACTIONS = (0.02, 0.6)
 BEND = 0.5  # a shaft's model-form bend, at most this share of the allowance (its scale: all of it)
 MAX_CELLS = 60e6  # candidates × grid × observations beyond which the replay is not run (memory)
+# the probability model: a logistic regression of "right" on features of each draw's own answer, fitted on the draws
+# that share the file's verdict (never on benchmark outcomes)
+FEATURES = ("log χ²/n before (the gap)", "log χ²/n after", "generic load's BIC gain / 10", "log group size",
+            "margin to the next candidate (ΔBIC) / 10")
+MARGIN_CAP = 60.0  # ΔBIC: a margin or a generic load's gain beyond this says nothing more (the features are capped)
+RIDGE = 1.0  # L2 penalty on the standardised slopes: a unit-variance Gaussian prior on each (a standard default)
 
 
 @dataclass(frozen=True)
@@ -86,6 +96,9 @@ class Confidence:
     seed: int
     seconds: float
     rates: tuple[tuple[str, int, int], ...]
+    logistic: float | None = None  # P(right) of a logistic model in :data:`FEATURES` on the draws with the verdict
+    nearest: float | None = None  # the rate among the nearest of those draws in the same features
+    features: tuple[float, ...] = ()  # the file's own features (:data:`FEATURES`)
 
     def sentence(self, verdict: str) -> str:
         agree = "" if self.replay_verdict == verdict else \
@@ -100,7 +113,10 @@ class Confidence:
                 "replay_verdict": self.replay_verdict, "seed": self.seed, "seconds": round(self.seconds, 3),
                 "method": "Monte Carlo of the workflow's decisions on synthetic data of this file's rig, observations "
                           "and noise (docs/discrepancy.md, 'Confidence')",
-                "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates]}
+                "right_rate_by_verdict": [{"verdict": v, "right": r, "draws": n} for v, r, n in self.rates],
+                "logistic_probability": None if self.logistic is None else round(self.logistic, 4),
+                "nearest_draws_probability": None if self.nearest is None else round(self.nearest, 4),
+                "features": {name: round(v, 4) for name, v in zip(FEATURES, self.features)}}
 
 
 def wilson(right: int, n: int, z: float = 1.959964) -> tuple[float, float]:
@@ -291,6 +307,8 @@ class _Answer:
     quality: float  # χ²/n on the fitted rows after (before, when nothing is added)
     why: str = ""  # the rule that decided
     generic_gain: float = 0.0  # BIC of the named fit (of no effect, when none is named) − BIC of the best generic load
+    gap: float = 0.0  # χ²/n on the fitted rows before any effect: the size of the gap, in σ²
+    margin: float = 0.0  # BIC of the best single effect outside the winner's group − BIC of the winner (0: none won)
 
 
 @dataclass(frozen=True, eq=False)
@@ -360,16 +378,18 @@ class _Replay:
         r_fit = r[rows]
         chi2_0 = float(r_fit @ r_fit)
         generic = float(scan.bic[d].min()) if scan is not None and np.isfinite(scan.bic[d]).any() else np.inf
+        gap = chi2_0 / max(self.n_fit, 1)
         if not self._gap(r_fit):
-            return _Answer("no_gap", (), 0, chi2_0 / max(self.n_fit, 1), "", chi2_0 - generic)
+            return _Answer("no_gap", (), 0, gap, "", chi2_0 - generic, gap)
         bic = singles.chi2[d] + self.ln_n
         valid = singles.physical[d]
         if not valid.any() or chi2_0 - bic[valid].min() < settings.bic_margin:
-            return _Answer("unexplained", (), 0, chi2_0 / max(self.n_fit, 1), "no effect gains the margin",
-                           chi2_0 - generic)
+            return _Answer("unexplained", (), 0, gap, "no effect gains the margin", chi2_0 - generic, gap)
         order = np.flatnonzero(valid)[np.argsort(bic[valid])]
         w = int(order[0])
         group = self._group(w, order, bic, singles=singles, d=d, chi2_0=chi2_0)
+        outside = [float(bic[c]) for c in order if int(c) not in group]
+        margin = (min(outside) - float(bic[w])) if outside else MARGIN_CAP
         w = self._representative(w, group, bic)
         selected = [(w, float(singles.value[d, w]))]
         fit_bic, fit_chi2 = float(bic[w]), float(singles.chi2[d, w])
@@ -392,7 +412,7 @@ class _Replay:
         quality = fit_chi2 / max(self.n_fit, 1)
         verdict, why = self._verdict(r, model, selected, groups, bic=fit_bic, chi2=fit_chi2, singles=singles, d=d, scan=scan,
                                      entry_site=entry_site)
-        return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic)
+        return _Answer(verdict, named, max(len(g) for g in groups), quality, why, fit_bic - generic, gap, margin)
 
     def _group(self, w: int, order, bic, *, singles: _Single, d: int, chi2_0: float) -> list[int]:  # noqa: PLR0913
         settings = self.settings
@@ -535,6 +555,8 @@ class _Replay:
             return "ambiguous", "generic load within the noise"
         if any(len(g) > AMBIGUOUS_GROUP for g in groups):
             return "ambiguous", "group of more than three"
+        if np.any(beyond < bic + settings.ambiguity_margin):
+            return "ambiguous", "beyond a bound as well"
         return "explained", ""
 
     def _opposite(self, selected) -> bool:
@@ -554,7 +576,7 @@ class _Replay:
 
 @dataclass(frozen=True)
 class _Truth:
-    kind: str  # none | single | pair | outside
+    kind: str  # none | single | pair | outside | beyond
     names: tuple[str, ...]
     detectable: bool
 
@@ -664,6 +686,9 @@ class _Drawer:
         kind = kinds[int(self.rng.choice(len(kinds), p=list(TRUTHS.values())))]
         if kind == "outside" and not self.outside_sites:
             kind = "single"
+        beyond = [c for c, curve in enumerate(self.vocabulary.curves) if curve.linear and self._bounds(curve)]
+        if kind == "beyond" and not beyond:
+            kind = "single"
         observed = self.seen.observed
         delta = np.zeros_like(observed.base_paths)
         names: tuple[str, ...] = ()
@@ -676,6 +701,14 @@ class _Drawer:
             names = tuple(curves[int(c)].name for c in picked)
         elif kind == "outside":
             delta = self._outside()
+        elif kind == "beyond":
+            c = beyond[int(self.rng.integers(len(beyond)))]
+            curve = curves[c]
+            bounds = self._bounds(curve)
+            bound = bounds[int(self.rng.integers(len(bounds)))]
+            factor = float(np.exp(self.rng.uniform(*np.log(BEYOND))))
+            delta = self.seen.responses[curve.name].delta([factor * bound])
+            names = (curve.name,)
         else:
             kind = "none"
         true = observed.observe(observed.base_paths + delta)
@@ -695,6 +728,11 @@ class _Drawer:
             values = np.where(q > 0, np.round(values / np.where(q > 0, q, 1.0)) * q, values)
             values = np.abs(values)
         return values, _Truth(kind, names, detectable)
+
+    def _bounds(self, curve: _Curve) -> list[float]:
+        """The candidate's nonzero physical bounds (a draw beyond one: a multiple of it)."""
+        p = self.seen.responses[curve.name].effect.parameters[0]
+        return [float(v) for v in (p.lower, p.upper) if v != 0 and np.isfinite(v)]
 
     def _outside(self) -> np.ndarray:
         family = "moment" if self.rng.uniform() < 0.2 else "force"
@@ -719,6 +757,8 @@ def _right(answer: _Answer, truth: _Truth) -> bool:
         return answer.verdict == "no_gap"
     if truth.kind == "outside":
         return answer.verdict in ("unexplained", "ambiguous")
+    if truth.kind == "beyond":  # beyond its bound: anything but explained (as the benchmark scores it)
+        return answer.verdict != "explained"
     return answer.verdict in ("explained", "ambiguous") and set(truth.names) <= set(answer.named)
 
 
@@ -740,6 +780,82 @@ def _fit_class(verdict: str, quality: float, generic_gain: float, settings) -> s
         return "a generic load fits better by the BIC margin" if generic_gain >= settings.bic_margin else \
             "no generic load fits clearly better"
     return _quality_class(quality)
+
+
+def _features(answers, groups=None, qualities=None) -> np.ndarray:
+    """(answers, :data:`FEATURES`) of the replay's answers; ``groups``/``qualities`` in place of theirs (the file's
+    own answer takes these from the workflow's result)."""
+    groups = [a.group for a in answers] if groups is None else groups
+    qualities = [a.quality for a in answers] if qualities is None else qualities
+    return np.array([[np.log(max(a.gap, 1e-3)), np.log(max(q, 1e-3)),
+                      np.clip(a.generic_gain, -MARGIN_CAP, MARGIN_CAP) / 10.0, np.log(max(g, 1)),
+                      np.clip(a.margin, 0.0, MARGIN_CAP) / 10.0]
+                     for a, g, q in zip(answers, groups, qualities)], dtype=float).reshape(-1, len(FEATURES))
+
+
+@dataclass(frozen=True)
+class _Logistic:
+    intercept: float
+    slopes: np.ndarray
+    mean: np.ndarray
+    scale: np.ndarray
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        z = self.intercept + ((np.atleast_2d(x) - self.mean) / self.scale) @ self.slopes
+        return 1.0 / (1.0 + np.exp(-np.clip(z, -30.0, 30.0)))
+
+
+def _logistic(x: np.ndarray, y: np.ndarray) -> _Logistic:
+    """P(right | x) by penalised maximum likelihood (Newton steps): standardised features, slopes with a unit Gaussian
+    prior (:data:`RIDGE`), the intercept pulled weakly towards the Laplace-smoothed rate, so that a class of draws that
+    is all right (or all wrong) gives a finite, cautious answer."""
+    mean = x.mean(axis=0)
+    scale = x.std(axis=0)
+    scale = np.where(scale > 1e-9, scale, np.inf)  # a feature that does not vary says nothing: its column is zero
+    z = (x - mean) / scale
+    prior = (y.sum() + 1.0) / (y.size + 2.0)
+    centre = np.log(prior / (1.0 - prior))
+    design = np.column_stack([np.ones(y.size), z])
+    penalty = np.full(design.shape[1], RIDGE)
+    penalty[0] = 1e-2
+    target = np.zeros(design.shape[1])
+    target[0] = centre
+    beta = target.copy()
+    for _ in range(25):
+        p = 1.0 / (1.0 + np.exp(-np.clip(design @ beta, -30.0, 30.0)))
+        gradient = design.T @ (p - y) + penalty * (beta - target)
+        hessian = (design * (p * (1 - p))[:, None]).T @ design + np.diag(penalty)
+        step = np.linalg.solve(hessian, gradient)
+        beta -= step
+        if np.max(np.abs(step)) < 1e-8:
+            break
+    return _Logistic(float(beta[0]), beta[1:], mean, scale)
+
+
+def _nearest_rate(x: np.ndarray, y: np.ndarray, mine: np.ndarray) -> float:
+    """The rate of right draws among the nearest third of the draws (at least :data:`MIN_BIN`) to the file's features
+    (standardised over the draws), Jeffreys-smoothed ((right + ½)/(k + 1)): a local rate that cannot extrapolate."""
+    scale = x.std(axis=0)
+    scale = np.where(scale > 1e-9, scale, np.inf)
+    distance = np.linalg.norm((x - np.atleast_2d(mine)) / scale, axis=1)
+    k = int(min(y.size, max(MIN_BIN, int(np.ceil(y.size / 3)))))
+    nearest = np.argsort(distance, kind="stable")[:k]
+    return float((y[nearest].sum() + 0.5) / (k + 1.0))
+
+
+def _finer_models(answers, right: np.ndarray, own: _Answer, mine: tuple[str, int, float]):
+    """(logistic, nearest, features): P(right) of the logistic model and of the nearest draws in :data:`FEATURES`,
+    fitted on the draws that share the file's verdict, at the file's own features (held within the draws' range:
+    never extrapolated; ``mine``: the workflow's verdict, largest group and χ²/n after, the replay's answer ``own``
+    for the rest); (None, None, ()) while fewer than :data:`MIN_BIN` draws share the verdict."""
+    verdict, group, quality = mine
+    same = np.array([a.verdict == verdict for a in answers], dtype=bool)
+    if same.sum() < MIN_BIN:
+        return None, None, ()
+    mine = _features([own], [group], [quality])
+    x, y = _features([a for a, s in zip(answers, same) if s]), right[same].astype(float)
+    logistic = float(_logistic(x, y)(np.clip(mine, x.min(axis=0), x.max(axis=0)))[0])
+    return logistic, _nearest_rate(x, y, mine), tuple(float(v) for v in mine[0])
 
 
 def draw_limit(draws: int) -> int:
@@ -799,9 +915,9 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         probability, (low, high) = 0.5, (0.0, 1.0)
     else:
         probability, (low, high) = k / n, wilson(k, n)
-    label = ", ".join(mine[:depth])
+    logistic, nearest, features = _finer_models(answers, right, own, mine=(verdict, group, quality))
     rates = tuple((v, int(right[[a.verdict == v for a in answers]].sum()), sum(a.verdict == v for a in answers))
                   for v in ("no_gap", "explained", "ambiguous", "unexplained"))
     return Confidence(probability=float(probability), low=low, high=high, right=k, draws=n, total_draws=draws,
-                      bin=label, replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
-                      rates=rates)
+                      bin=", ".join(mine[:depth]), replay_verdict=own.verdict, seed=seed, seconds=time.perf_counter() - start,
+                      rates=rates, logistic=logistic, nearest=nearest, features=features)

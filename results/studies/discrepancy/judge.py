@@ -229,7 +229,9 @@ def qualify(bic: float, *, sentinel, groups, beyond, settings) -> tuple[str, lis
       margin (``beyond``: (reason, BIC) pairs): only a value outside the bounds closes the gap as well;
     - ``ambiguous`` when a generic load (the sentinel the verdict compares with) fits within the noise as well as the
       named effects (its BIC within the ambiguity margin): the data cannot tell a named effect from a load outside
-      the vocabulary; or when a named effect's group has more than :data:`AMBIGUOUS_GROUP` look-alikes;
+      the vocabulary; or when a named effect's group has more than :data:`AMBIGUOUS_GROUP` look-alikes; or when a
+      candidate beyond its physical bound fits within the ambiguity margin as well (an effect beyond its bound is
+      never ``explained`` by in-bounds look-alikes pinned at theirs);
     - ``explained`` otherwise."""
     better = [(reason, b) for reason, b in beyond if b < bic - settings.ambiguity_margin]
     if better:
@@ -242,4 +244,7 @@ def qualify(bic: float, *, sentinel, groups, beyond, settings) -> tuple[str, lis
                        f"BIC {sentinel.bic:.4g} against {bic:.4g}): the data cannot tell them apart")
     reasons += [f"{len(g)} look-alikes explain the gap equally well ({', '.join(g)})" for g in groups
                 if len(g) > AMBIGUOUS_GROUP]
+    reasons += [f"a value beyond a physical bound fits as well (BIC {b:.4g} against {bic:.4g} within the bounds): "
+                f"{reason}; the data cannot tell whether the truth lies within the bounds" for reason, b in beyond
+                if b < bic + settings.ambiguity_margin]
     return ("ambiguous", reasons) if reasons else ("explained", [])

@@ -2,8 +2,9 @@
 
 The files in ``tests/results/studies/data/calculix_solid`` were written by ``benchmarks/calculix_solid.py`` (which
 needs ``ccx``; these tests do not): the reference rig's two measured shafts as C3D10 tetrahedra in CalculiX, their
-bearings, couplings and the reducer joint as springs on points of a ``*RIGID BODY`` with the attachment's face, the
-rest of the line CalculiX beams and springs; Y is the area-weighted mean u_y
+bearings, couplings and the reducer joint as springs on points tied to the attachment's face as the rig file says
+(distributing ``*EQUATION`` ties, RBE3-like), the rest of the line CalculiX beams and springs; Y is the area-weighted
+mean u_y
 of each station's section. Self-weight off, Y from the rig aligned at rest, 7 of paper 000's cases, 6 stations per
 shaft; ``manifest.json`` holds each file's truth. The workflow identifies with the beam model (Timoshenko shafts).
 """
@@ -43,3 +44,14 @@ def test_workflow_on_a_calculix_solid_file_answers_honestly():
     rig = identification_rig()
     result = rvcoax.run_discrepancy(rig, rvcoax.read_measured(FOLDER / entry["file"]), DiscrepancySettings())
     assert_honest_answer(result, set(entry["truth"]))
+
+
+def test_an_effect_beyond_its_bound_in_calculix_solid_data_is_never_explained():
+    """A torque reaction at twice its physical bound (1 % noise, paths): no effect within its bounds may be offered
+    as the explanation; the answer is ``unexplained`` (or ``ambiguous``), never ``explained``."""
+    entry = SETS["beyond_bound_paths_1"]
+    assert entry["group"] == "out_of_bounds"
+    rig = identification_rig()
+    result = rvcoax.run_discrepancy(rig, rvcoax.read_measured(FOLDER / entry["file"]),
+                                    DiscrepancySettings(confidence_draws=0))  # the verdict only: no estimate needed
+    assert result.verdict in ("unexplained", "ambiguous"), (result.verdict, result.reasons)

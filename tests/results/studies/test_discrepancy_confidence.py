@@ -36,6 +36,10 @@ def library():
     return rig, workflow.build_library(rig, paper_cases(), SweepSettings())
 
 
+def document_probability(result, key):
+    return discrepancy_document(result, LENGTHS, None, "test")["confidence"][key]
+
+
 def _run(library, name, draws=DRAWS):
     rig, built = library
     data = rvcoax.read_measured(FOLDER / SETS[name]["file"])
@@ -99,10 +103,30 @@ def test_the_confidence_is_seeded_reported_and_within_its_interval(library):
     assert (again.probability, again.draws, again.bin) == (c.probability, c.draws, c.bin)
     summary = engineering_summary(result, LENGTHS)
     assert summary[-1].startswith(f"confidence: the verdict '{result.verdict}' is right in")
+    assert 0.0 <= document_probability(result, "logistic_probability") <= 1.0
     document = discrepancy_document(result, LENGTHS, None, "test")
     assert document["confidence"]["probability"] == pytest.approx(c.probability, abs=1e-4)
     assert document["confidence"]["draws"] == c.total_draws
     assert json.loads(json.dumps(document))["confidence"]["interval_95"][0] <= c.probability
+
+
+def test_the_logistic_probability_model_recovers_a_known_rate_and_stays_cautious():
+    """The probability model fitted on the draws: on data drawn from a known logistic law P = 1/(1 + e^-(1 + 2x)) it
+    recovers the law's probabilities (to the sampling error of 2000 draws); a feature that never varies is ignored;
+    draws that are all right give a high but not certain probability (the intercept's weak prior). The rate among the
+    nearest draws follows the law too."""
+    rng = np.random.default_rng(3)
+    x = np.column_stack([rng.normal(size=2000), np.zeros(2000), rng.normal(size=2000)])
+    truth = 1.0 / (1.0 + np.exp(-(1.0 + 2.0 * x[:, 0])))
+    y = (rng.uniform(size=2000) < truth).astype(float)
+    model = confidence._logistic(x, y)
+    probe = np.array([[-1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    assert model(probe) == pytest.approx(1.0 / (1.0 + np.exp(-(1.0 + 2.0 * probe[:, 0]))), abs=0.04)
+    assert np.isfinite(model(probe)).all()
+    p = confidence._logistic(x[:40], np.ones(40))(probe[1:2])[0]
+    assert 0.9 < p < 1.0
+    near = confidence._nearest_rate(x, y, probe[2:3])  # the rate among the draws near x = 1: about the law's 0.95
+    assert near == pytest.approx(1.0 / (1.0 + np.exp(-3.0)), abs=0.06)
 
 
 def test_no_confidence_when_asked_for_none(library):

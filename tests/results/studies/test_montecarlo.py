@@ -162,6 +162,10 @@ def test_reused_model_gives_the_fresh_solution_exactly(example, example_study):
     values = sample_values(example.distributions, 3, "lhs", seed=3)
     for row in values:
         assert evaluate_sample(study, row) == evaluate_sample(full, row)
+    from rvcoax.results.studies import montecarlo
+
+    kept = montecarlo._MEMO[study.key]  # every sample factorises its own matrix: no factor of the nominal one is made
+    assert kept.prepared is None and kept.system.stiffness.shape[0] > 0
 
 
 # --- Dask execution ---------------------------------------------------------------------------
