@@ -60,7 +60,7 @@ def test_hybrid_example_gives_the_output_displacement(tmp_path):
 @pytest.mark.slow
 def test_discrepancy_example_names_the_hidden_bearing(tmp_path):
     output = run_example(EXAMPLES / "discrepancy_synthetic.py", tmp_path)
-    assert last_value(output, "named_output_B2") == "True"
+    assert last_value(output, "named_input_B2") == "True"
     assert "verdict: explained" in output
 
 
