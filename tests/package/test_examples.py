@@ -60,8 +60,10 @@ def test_hybrid_example_gives_the_output_displacement(tmp_path):
 @pytest.mark.slow
 def test_discrepancy_example_names_the_hidden_bearing(tmp_path):
     output = run_example(EXAMPLES / "discrepancy_synthetic.py", tmp_path)
-    assert last_value(output, "named_input_B2") == "True"
+    assert last_value(output, "named_output_B2") == "True"
     assert "verdict: explained" in output
+    # hidden: four times softer (log2 factor −2); 1 % noise on 20 cases leaves the fitted factor within a few %
+    assert float(last_value(output, "fitted_stiffness_factor_output_B2")) == pytest.approx(0.25, rel=0.05)
 
 
 def python_blocks(markdown: str) -> list[str]:
