@@ -48,6 +48,11 @@ class LoadCase:
     def label(self) -> str:
         return f"T1={self.input_torque_Nm:g}Nm_T2={self.output_torque_Nm:g}Nm"
 
+    @property
+    def text(self) -> str:
+        """The case as tables, reports and warnings name it: ``"T1 = 0.5 N·m, T2 = 40 N·m"``."""
+        return f"T1 = {self.input_torque_Nm:g} N·m, T2 = {self.output_torque_Nm:g} N·m"
+
 
 def _validated(pairs: list[tuple[float, float]], source: str, where: list[str] | None = None) -> tuple[LoadCase, ...]:
     """Check finiteness, magnitude and uniqueness; ``where`` names each pair's place (default ``case i``)."""

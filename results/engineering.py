@@ -42,6 +42,7 @@ from rvcoax.geometry.bearing_ratings import (
 )
 from rvcoax.geometry.model.springs import ConnectionStates, SpringMotion, with_nonlinear_laws
 from rvcoax.geometry.reducers import ReducerCheck, reducer_check
+from rvcoax.loadcases import LoadCase
 from rvcoax.results.torque_path import rating_sentence
 
 __all__ = ["ALIGNMENT_TOLERANCES", "ALIGNMENT_TOLERANCE_SOURCE", "AlignmentTolerance", "BearingLifeQuantities",
@@ -567,9 +568,9 @@ def case_text(input_torque_Nm: float, output_torque_Nm: float) -> str:
     Returns
     -------
     str
-        ``"T1 = 0.5 N·m, T2 = 40 N·m"`` (``:g`` format).
+        ``"T1 = 0.5 N·m, T2 = 40 N·m"`` (``:g`` format; :attr:`rvcoax.loadcases.LoadCase.text`).
     """
-    return f"T1 = {input_torque_Nm:g} N·m, T2 = {output_torque_Nm:g} N·m"
+    return LoadCase(input_torque_Nm, output_torque_Nm).text
 
 
 def _lives(rig, total: ConnectionStates, input_torque_Nm: float, output_torque_Nm: float):

@@ -38,6 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcoax.loadcases import LoadCase
+
 __all__ = ["LEAK_PERCENT", "ShaftLineTorque", "TorqueExit", "TorquePaths", "TorqueRating", "rating_sentence",
            "shaft_lines", "torque_path_warnings", "torque_paths", "torque_ratings"]
 
@@ -319,7 +321,7 @@ def torque_paths(rig, springs, u_total: np.ndarray, case, *, states=None) -> Tor
 
 
 def _case_text(entry: dict) -> str:
-    return f"T1 = {entry['T1_input_Nm']:g} N·m, T2 = {entry['T2_output_Nm']:g} N·m"
+    return LoadCase(entry["T1_input_Nm"], entry["T2_output_Nm"]).text
 
 
 def torque_path_warnings(entries: list[dict], limit_percent: float = LEAK_PERCENT) -> list[str]:

@@ -29,9 +29,9 @@ def case_label(case) -> str:
     Returns
     -------
     str
-        Its label.
+        Its label (:attr:`rvcoax.loadcases.LoadCase.text`).
     """
-    return f"T1 = {case.input_torque_Nm:g} N·m, T2 = {case.output_torque_Nm:g} N·m"
+    return case.text
 
 
 def sample_rows(study: Study, values: np.ndarray, records: list[dict]) -> list[dict]:
