@@ -263,3 +263,28 @@ def test_the_cholesky_path_serves_the_tied_stiffness_from_its_own_arrays(tied_ba
     assert abs(served.kept @ sparse - whole.kept @ sparse).max() <= 1e-13 * abs(whole.kept).max()
     root = np.sqrt(whole.diagonal())
     assert served.scaled_one_norm(root, 97) == pytest.approx(whole.scaled_one_norm(root, 97), rel=1e-12)
+
+
+@needs_pardiso
+def test_the_stiffness_moved_to_a_file_while_factorising_gives_the_same_solution(tied_bar, monkeypatch):
+    """Above MOVE_OUT_BYTES the saddle-point path moves K into a file mapping once the saddle-point matrix exists:
+    K keeps every entry, and the solution, its residual and the reactions (K u at fixed DOFs) are the same bits."""
+    import mmap
+
+    from rvcoax.fem import system
+
+    k, t, loads, _ = tied_bar
+    kept = prepare_system(k, t, "pardiso")
+    u, residual = kept.solve(loads), kept.relative_residual(kept.solve(loads), loads)
+    monkeypatch.setattr(system, "MOVE_OUT_BYTES", 0)
+    moved_k = k.copy()
+    moved = prepare_system(moved_k, t, "pardiso")
+    base = moved_k.data
+    while isinstance(base, np.ndarray):
+        base = base.base
+    assert isinstance(getattr(base, "obj", base), mmap.mmap)  # K's values now live in the file mapping
+    assert (moved_k != k).nnz == 0 and np.array_equal(moved_k.indptr, k.indptr)
+    v = moved.solve(loads)
+    assert np.array_equal(v, u)
+    assert np.array_equal(moved.relative_residual(v, loads), residual)
+    assert np.array_equal(moved_k @ v, k @ u)
