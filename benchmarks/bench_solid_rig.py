@@ -189,7 +189,7 @@ def _limit_row(figures: dict) -> tuple[tuple[str, str], bool]:
         return (f"  {figures['size_mm']:g} mm: peak resident memory", text), True
     within = peak <= limit
     return ((f"  {figures['size_mm']:g} mm: peak resident memory",
-             f"{text}; issue 27 limit {limit:.0e} bytes: {'met' if within else 'NOT met'} "
+             f"{text}; issue 27 limit {limit / 1e9:g}e9 bytes: {'met' if within else 'NOT met'} "
              f"({(limit - peak) / 1e9:+.2f} GB margin)"), within)
 
 
