@@ -87,10 +87,10 @@ ANALYSIS_POOL_BYTES = 512 << 20
 analysis larger than this is freed with its factor. The hybrid reference rig's holds 158 MB (a process keeps 130 MB
 more after the release than with everything freed; benchmarks/RESULTS.md): a pooled analysis must not raise the peak
 of a large model's later phases, so the cap is a few such models, not a large solid's."""
-TRIM_BEFORE_SOLVE_BYTES = 16 << 20
+TRIM_BEFORE_SOLVE_BYTES = 8 << 20
 """A solve whose right-hand sides fill this much or more gives the heap's free pages back first
-(:func:`rvcoax.fem.memory.return_free_heap`): the all-solid rig's nine unit loads (35 MB at 492 k DOF) need about ten
-times that in MKL's refinement workspace, which the heap's free pages do not serve (benchmarks/RESULTS.md)."""
+(:func:`rvcoax.fem.memory.return_free_heap`): the all-solid rig's three loaded unit loads (12 MB at 492 k DOF) need
+about ten times that in MKL's refinement workspace, which the heap's free pages do not serve (benchmarks/RESULTS.md)."""
 RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
 """Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
 
