@@ -89,10 +89,11 @@ def move_to_file(matrix, folder: str | None = None) -> bool:
     ----------
     matrix : scipy.sparse matrix in CSR, CSC or BSR form
     folder : str, optional
-        Where the temporary file is made (the system's temporary folder by default).
+        Where the temporary file is made (the system's temporary folder by default). On a file system held in memory
+        (tmpfs, ramfs) the file would be memory too: nothing is moved there.
     """
     names = [name for name in ("data", "indices", "indptr") if isinstance(getattr(matrix, name, None), np.ndarray)]
-    if len(names) != 3:
+    if len(names) != 3 or _in_memory_filesystem(folder or tempfile.gettempdir()):
         return False
     arrays = [np.ascontiguousarray(getattr(matrix, name)) for name in names]
     offsets, total = [], 0
@@ -114,3 +115,22 @@ def move_to_file(matrix, folder: str | None = None) -> bool:
     for name, array, offset in zip(names, arrays, offsets):
         setattr(matrix, name, np.frombuffer(mapped, dtype=array.dtype, count=array.size, offset=offset).reshape(array.shape))
     return True
+
+
+def _in_memory_filesystem(folder: str) -> bool:
+    """Whether ``folder`` lies on a file system held in memory (tmpfs, ramfs: /proc/mounts, the longest mount point
+    that contains it); False where that cannot be read."""
+    try:
+        path = str(Path(folder).resolve())
+        best, kind = "", ""
+        for line in Path("/proc/mounts").read_text().splitlines():
+            fields = line.split()
+            if len(fields) < 3:
+                continue
+            mount = fields[1].replace("\\040", " ")
+            inside = path == mount or path.startswith(mount.rstrip("/") + "/")
+            if inside and len(mount) >= len(best):
+                best, kind = mount, fields[2]
+    except OSError:
+        return False
+    return kind in ("tmpfs", "ramfs")

@@ -27,3 +27,13 @@ def test_a_folder_that_cannot_take_the_file_leaves_the_matrix_as_it_was(tmp_path
     data = a.data
     assert not move_to_file(a, folder=str(tmp_path / "missing"))
     assert a.data is data
+
+
+def test_nothing_is_moved_to_a_file_system_held_in_memory(monkeypatch):
+    from rvcoax.fem import memory
+
+    monkeypatch.setattr(memory, "_in_memory_filesystem", lambda folder: True)  # a tmpfs temporary folder
+    a = sp.identity(50, format="csr")
+    data = a.data
+    assert not move_to_file(a)
+    assert a.data is data
