@@ -214,7 +214,16 @@ class ConstrainedStiffness:
         Computed once and kept (a copy is returned): the product K' S it needs is as large as K', and
         the singularity test and the condition estimate ask for it again while the factor is alive.
         """
-        if self._diagonal is None:
+        if self._diagonal is None and sp.issparse(self.kept):
+            # diag(K_qq + K_qp Q + Qᵀ K_pq + Qᵀ K_pp Q), block by block: only Q's columns get the three
+            # corrections, so the product K' S (as large as K') is never formed
+            m, q = self.shape[0], self.dependent
+            kept = self.kept
+            coupled = kept[m:].tocsr()  # [K_pq, K_pp] (d rows)
+            corrections = (sp.csr_matrix(kept[:m, m:].T).multiply(q) + coupled[:, :m].multiply(q)
+                           + (coupled[:, m:] @ q).multiply(q))
+            self._diagonal = kept.diagonal()[:m] + np.asarray(corrections.sum(axis=0)).reshape(-1)
+        elif self._diagonal is None:
             ks = (self.kept @ self._expansion).tocsc()
             self._diagonal = np.asarray(ks.multiply(self._expansion).sum(axis=0)).reshape(-1)
         return self._diagonal.copy()
