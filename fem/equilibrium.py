@@ -78,8 +78,10 @@ class Equilibrium:
     relative_error: float
 
 
-def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, np.ndarray]:
-    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,)."""
+def ground_reactions(model, stiffness, displacement, load, unbalance=None) -> tuple[np.ndarray, np.ndarray]:
+    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,).
+
+    ``unbalance``: K u − f where the caller has it already (else it is formed when there are fixed DOFs)."""
     frame = displacement[: model.n_dofs]
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     # spring_forces is what a spring exerts on its node a (here the ground); the ground
@@ -88,18 +90,20 @@ def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, 
     fixed = np.zeros(displacement.shape[0])
     dofs = np.asarray(model.fixed_dofs, dtype=int)
     if dofs.size:
-        fixed[dofs] = (stiffness @ displacement - load)[dofs]
+        fixed[dofs] = (stiffness @ displacement - load if unbalance is None else unbalance)[dofs]
     return forces, fixed
 
 
-def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None) -> Equilibrium:
+def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None, *,  # noqa: PLR0913
+                      unbalance=None) -> Equilibrium:
     """Compare the resultant of applied loads with the resultant of all ground reactions.
 
     ``model`` is the frame (:class:`rvcoax.fem.model.StructuralModel`) holding the ground springs and fixed
-    DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids).
+    DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids); ``unbalance`` is
+    K u − f where the caller has formed it (the fixed DOFs' reactions are read from it).
     """
     table = dofs if dofs is not None else frame_dof_table(model.coordinates)
-    bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load)
+    bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load, unbalance)
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     points = np.asarray(model.bushings.point_m)[grounded]
     bf = bushing_forces[grounded]

@@ -197,7 +197,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     if serve is not None:
         operator = serve(operator, storage, ground, released.springs)  # with ``serve``, the whole K' goes here
     try:
-        factor = pardiso.Factorization(storage, two_level=True)
+        factor = pardiso.Factorization(storage, two_level=True, reproducible=True)
     except PardisoError:
         return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
     probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
