@@ -391,15 +391,16 @@ class Factorization:
         self._iparm = np.zeros(64, dtype=np.int32)
         iparm = self._iparm
         iparm[0] = 1  # settings below, not MKL's defaults
-        iparm[1] = 3  # METIS nested dissection, OpenMP version
+        iparm[1] = 2 if reproducible else 3  # METIS nested dissection, OpenMP version (serial where reproducible:)
         iparm[9] = 8  # pivot perturbation 1e-8 (not used for SPD)
         iparm[17] = -1  # report the nonzeros of the factor
         iparm[18] = -1 if analysis_only else 0  # the factorisation's MFLOP (it slows the ordering a little)
         iparm[34] = 1  # zero-based indices
         iparm[36] = storage.block_size if storage.block_size > 1 else 0
         iparm[23] = 1 if two_level else 0  # MKL's two-level factorisation (the hybrid rig's Cholesky: 1.7 s CPU, not 2.6)
-        # the same factor, bit for bit, in every run with as many threads (MKL's CNR mode for PARDISO): the hybrid
-        # rig's factor in 3 × 3 blocks differed by 4e-16 between runs without it, and costs no more with it
+        # the same factor, bit for bit, in every run with as many threads (MKL's CNR mode for PARDISO, which MKL's
+        # reference for iparm rules out with the OpenMP ordering): the hybrid rig's factor in 3 × 3 blocks differed
+        # by 4e-16 between runs without it, and costs no more with it
         iparm[33] = _mkl_threads() if reproducible else 0
         if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
             iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
