@@ -75,6 +75,7 @@ def _timed(spent: dict, phase: str, module_name: str, name: str) -> None:
 
 
 def main() -> None:
+    keep = "--no-record" not in sys.argv[1:]
     arguments = [a for a in sys.argv[1:] if a != "--no-record"]
     model = arguments[0] if arguments else "hybrid"
     load_before = os.getloadavg()[0]
@@ -94,7 +95,7 @@ def main() -> None:
                  f"{total[0] - measured[0]:.2f} s CPU, {total[1] - measured[1]:.2f} s wall"))
     rows += [(phase, f"{cpu:.2f} s CPU, {wall:.2f} s wall") for phase, (cpu, wall) in spent.items()]
     publish(f"bench_check_phases.py: `rvcoax check --model {model}` by phase, one process", rows, load_before,
-            keep="--no-record" not in sys.argv)
+            keep=keep)
 
 
 if __name__ == "__main__":
