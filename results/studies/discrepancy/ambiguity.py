@@ -28,8 +28,9 @@ answer says that no measurement in the candidate set splits them, with the best 
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -49,10 +50,10 @@ from rvcoax.results.studies.discrepancy.observability import (
     scenarios,
     signature,
 )
-from rvcoax.results.studies.discrepancy.sentinel import FAMILIES, SLOTS
+from rvcoax.results.studies.discrepancy.sentinel import FAMILIES, LIMITS, SLOTS, sentinel_columns
 
 __all__ = ["AMBIGUOUS_GROUP", "GENERIC", "Ambiguity", "GroupSplit", "MemberSize", "ambiguities", "ambiguity",
-           "best_split", "generic_predictor", "generic_tie", "generic_ties", "needed_sigma", "split_scenarios"]
+           "best_split", "generic_forms", "generic_predictor", "generic_tie", "generic_ties", "needed_sigma", "split_scenarios"]
 
 GENERIC = "generic load"  # the member name of a generic load outside the vocabulary that ties with the named effects
 
@@ -155,6 +156,7 @@ class Ambiguity:
     split: GroupSplit | None
     generic: str | None = None  # the generic load's description, for a tie with one
     unpredicted: tuple[str, ...] = ()  # members left out of the split: no prediction for other measurements
+    forms: tuple = ()  # a tie with a generic load: its forms the data cannot tell apart (:func:`generic_forms`)
 
     def size_range(self) -> str:
         """The fitted sizes across the group, per unit (members beyond their bounds counted apart)."""
@@ -303,19 +305,35 @@ def _side(m: int, edges, cut: tuple[int, int]) -> np.ndarray:
     return side
 
 
-def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, float], model_form_fraction: float,
-               alpha: float = DETECTION_ALPHA) -> GroupSplit | None:
+def _by_class(separations: np.ndarray, index: list[np.ndarray]) -> np.ndarray:
+    """Separations between classes of members: the closest pair of their members (single linkage)."""
+    n = len(index)
+    out = np.zeros((n, n) + separations.shape[2:])
+    for a in range(n):
+        for b in range(a + 1, n):
+            out[a, b] = out[b, a] = separations[np.ix_(index[a], index[b])].min(axis=(0, 1))
+    return out
+
+
+def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, float], *,  # noqa: PLR0913
+               model_form_fraction: float, alpha: float = DETECTION_ALPHA,
+               classes: dict[str, str] | None = None) -> GroupSplit | None:
     """The measurement of :func:`split_scenarios` that splits the members (their predictors) best: the most sets of
     members told apart by the gap test's detection rule, then the largest separation relative to what the test needs
-    (see the module docstring); None with fewer than two members or no engine."""
+    (see the module docstring); None with fewer than two members or no engine. ``classes`` (member → name) makes
+    several members one explanation (the forms of a generic load the data cannot tell apart): a measurement splits
+    two classes only when it tells every member of one from every member of the other."""
     engine = observed.engine
-    if engine is None or len(predictors) < 2:
+    members = list(predictors)
+    labels = [(classes or {}).get(n, n) for n in members]
+    names = list(dict.fromkeys(labels))
+    if engine is None or len(names) < 2:
         return None
-    names = list(predictors)
+    index = [np.array([i for i, label in enumerate(labels) if label == name]) for name in names]
     best = None
     for scenario in split_scenarios(observed.data, observed.from_rest):
         try:
-            paths = np.array([predictors[n](scenario.cases, scenario.from_rest) for n in names])
+            paths = np.array([predictors[n](scenario.cases, scenario.from_rest) for n in members])
         except CANDIDATE_FAILURES:
             continue
         base = engine.full_paths(engine.unit_paths, scenario.cases, scenario.from_rest)
@@ -334,23 +352,25 @@ def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, f
                 options += [((c,), np.abs(difference[:, :, c])) for c in range(k)]
             for used, separations in options:
                 need = needed_sigma(len(used), alpha)
+                between = separations if len(names) == len(members) else _by_class(separations, index)
                 for j in range(separations.shape[2]):
-                    key, parts, pair, w, edges = _judged(separations[:, :, j], need)
+                    key, parts, pair, w, edges = _judged(between[:, :, j], need)
                     if best is None or key > best[0]:
-                        best = (key, scenario, used, shaft, j, w, need, parts, pair, edges, predicted[:, :, j],
-                                scaled[:, :, j])
+                        a, b = _closest(separations[:, :, j], index[pair[0]], index[pair[1]])
+                        best = (key, scenario, used, shaft, j, w, need, parts, pair, edges, (a, b),
+                                predicted[:, :, j], scaled[:, :, j])
     if best is None:
         return None
-    _, scenario, used, shaft, j, w, need, parts, (a, b), edges, predicted, scaled = best
+    _, scenario, used, shaft, j, w, need, parts, pair, edges, (a, b), predicted, scaled = best
     used = list(used)
     worst = used[int(np.argmax(np.abs(predicted[a, used] - predicted[b, used])))]
-    parts = sorted(parts, key=lambda part: float(np.mean(predicted[part, worst])))  # lowest reading first
-    lower, upper = sorted((a, b), key=lambda i: float(predicted[i, worst]))
+    reading = np.array([float(np.mean(predicted[i, worst])) for i in index])  # per class
+    parts = sorted(parts, key=lambda part: float(np.mean(reading[part])))  # lowest reading first
+    lower, upper = sorted(pair, key=lambda c: reading[c])
     if len(parts) > 1:  # the parts reading below the pair's midpoint, and the others
-        middle = 0.5 * (predicted[a, worst] + predicted[b, worst])
         below = np.zeros(len(names), bool)
         for part in parts:
-            below[part] = float(np.mean(predicted[part, worst])) < middle
+            below[part] = float(np.mean(reading[part])) < 0.5 * (reading[lower] + reading[upper])
     else:  # the two sides of the widest gap
         below = _side(len(names), edges, (upper, lower))
     return GroupSplit(
@@ -362,6 +382,23 @@ def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, f
         separation_um=float(1e3 * abs(predicted[a, worst] - predicted[b, worst])), separation_in_sigma=float(w),
         needed_sigma=float(need), spread_um=float(1e3 * np.ptp(predicted[:, worst])),
         spread_in_sigma=float(np.ptp(scaled[:, worst])))
+
+
+def _by_class(separations: np.ndarray, index: list[np.ndarray]) -> np.ndarray:
+    """Separations between classes of members (``index``: each class's members): their closest pair's."""
+    n = len(index)
+    out = np.zeros((n, n, separations.shape[2]))
+    for a in range(n):
+        for b in range(a + 1, n):
+            out[a, b] = out[b, a] = separations[np.ix_(index[a], index[b])].min(axis=(0, 1))
+    return out
+
+
+def _closest(separations: np.ndarray, first: np.ndarray, second: np.ndarray) -> tuple[int, int]:
+    """The closest pair of members of two classes."""
+    block = separations[np.ix_(first, second)]
+    i, j = np.unravel_index(int(np.argmin(block)), block.shape)
+    return int(first[i]), int(second[j])
 
 
 def ambiguity(selected, seen, after: np.ndarray, *, model_form_fraction: float = 0.02,
@@ -376,7 +413,8 @@ def ambiguity(selected, seen, after: np.ndarray, *, model_form_fraction: float =
     sized = _sizes(members, responses, observed, target)
     predictors = {m.effect: p for m, p in sized if p is not None and m.within_bounds}
     return Ambiguity(selected.name, members, _shared(members, seen.effects, seen.rig), tuple(m for m, _ in sized),
-                     best_split(predictors, observed, seen.noise.noise_mm, model_form_fraction, alpha),
+                     best_split(predictors, observed, seen.noise.noise_mm, model_form_fraction=model_form_fraction,
+                                alpha=alpha),
                      unpredicted=tuple(m.effect for m, p in sized if p is None and m.within_bounds))
 
 
@@ -406,22 +444,60 @@ def _selection_predictor(selected, seen) -> Predictor | None:
     return lambda cases, from_rest: sum(p(cases, from_rest) for p in parts)
 
 
-def generic_tie(selected, generic, seen, *, model_form_fraction: float = 0.02,
-                alpha: float = DETECTION_ALPHA) -> Ambiguity:
+def generic_forms(generic, observed, *, bic: float, margin: float, alpha: float) -> list:
+    """Every form of ``generic`` (a :class:`sentinel.SentinelFit`) at its site the data cannot tell from the named
+    effects: each subset of its constant, T1 and T2 parts fitted on the rows used to fit, kept when it ties with the
+    named effects' BIC ``bic`` as the generic load does (:func:`generic_ties`). In cases with one T2/T1 ratio a load
+    ∝ T1 and one ∝ T2 are the same load: a measurement splits the named effects from a generic load only when it
+    splits them from each of its forms. ``generic`` itself comes first."""
+    forms, columns = [generic], {}
+    for part in SLOTS:
+        try:
+            columns[part] = sentinel_columns(replace(generic, parts_fitted=(part,), coefficients=(1.0,)), observed)[:, 0]
+        except KeyError:  # (no constant part when Y is read from the rig at rest)
+            continue
+    rows, sigma = observed.rows, observed.sigma
+    target = ((observed.data.value_mm - observed.before) / sigma)[rows]
+    limits = LIMITS[generic.family]
+    for size in range(1, len(columns) + 1):
+        for subset in itertools.combinations(columns, size):
+            if subset == generic.parts_fitted:
+                continue
+            matrix = np.column_stack([columns[p] for p in subset])
+            coefficients, *_ = np.linalg.lstsq((matrix / sigma[:, None])[rows], target, rcond=None)
+            if np.linalg.matrix_rank((matrix / sigma[:, None])[rows]) < size or any(
+                    abs(c) > limits[0 if p == "constant" else 1] for p, c in zip(subset, coefficients)):
+                continue
+            residual = target - (matrix / sigma[:, None])[rows] @ coefficients
+            form = replace(generic, parts_fitted=subset, coefficients=tuple(float(c) for c in coefficients),
+                           chi2=float(residual @ residual), change=matrix @ coefficients)
+            if generic_ties(form, bic, margin=margin, alpha=alpha):
+                forms.append(form)
+    return forms
+
+
+def generic_tie(selected, generic, seen, *, bic: float, settings) -> Ambiguity:
     """The named explanation (every selected effect at its fitted value) against a generic load (``generic``, a
-    :class:`sentinel.SentinelFit`) that fits as well, and the measurement that splits the two."""
+    :class:`sentinel.SentinelFit`, in every form the data cannot tell apart: :func:`generic_forms`) that fits as
+    well, and the measurement that splits the two."""
     observed, engine = seen.observed, seen.observed.engine
     named = " + ".join(s.name for s in selected)
     sizes = tuple(MemberSize(s.name, float(s.values[0]), seen.effects[s.name].parameters[0].unit, True)
                   for s in selected)
+    forms = generic_forms(generic, observed, bic=bic, margin=settings.ambiguity_margin, alpha=settings.alpha) \
+        if engine is not None else [generic]
+    described = generic.describe() + ("" if len(forms) == 1 else "; as well, in cases of one T2/T1 ratio: " + "; ".join(
+        "+".join(f.parts_fitted) + " (" + ", ".join(f"{c:+.3g}" for c in f.coefficients) + ")" for f in forms[1:]))
     mine = _selection_predictor(selected, seen)
     split = None
     if mine is not None and engine is not None:
-        split = best_split({named: mine, GENERIC: generic_predictor(engine, generic)}, observed,
-                           seen.noise.noise_mm, model_form_fraction, alpha)
+        predictors = {named: mine} | {f"{GENERIC} ({'+'.join(f.parts_fitted)})": generic_predictor(engine, f)
+                                      for f in forms}
+        split = best_split(predictors, observed, seen.noise.noise_mm, model_form_fraction=settings.model_form_fraction,
+                           alpha=settings.alpha, classes={n: GENERIC for n in predictors if n != named})
     return Ambiguity(GENERIC, (named, GENERIC),
                      _shared([s.name for s in selected], seen.effects, seen.rig) + f", or {generic.describe()}", sizes,
-                     split, generic=generic.describe(), unpredicted=() if mine is not None else (named,))
+                     split, generic=described, unpredicted=() if mine is not None else (named,), forms=tuple(forms))
 
 
 def ambiguities(selected, seen, after: np.ndarray, *, verdict: str, generic, bic: float,  # noqa: PLR0913
@@ -434,5 +510,5 @@ def ambiguities(selected, seen, after: np.ndarray, *, verdict: str, generic, bic
     fraction, alpha = settings.model_form_fraction, settings.alpha
     out = [ambiguity(s, seen, after, model_form_fraction=fraction, alpha=alpha) for s in selected if len(s.group) > 1]
     if verdict == "ambiguous" and selected and generic_ties(generic, bic, margin=settings.ambiguity_margin, alpha=alpha):
-        out.append(generic_tie(selected, generic, seen, model_form_fraction=fraction, alpha=alpha))
+        out.append(generic_tie(selected, generic, seen, bic=bic, settings=settings))
     return tuple(out)
