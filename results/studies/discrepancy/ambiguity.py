@@ -15,7 +15,8 @@ Two kinds of tie make an answer ``ambiguous`` (:func:`judge.qualify`), and both 
 made would read (:func:`split_scenarios`: u_y at every station of a measured shaft — signed, for a |Y_max| table — in
 the measured cases, with Y from the other datum, in new load cases with another T1/T2 ratio (T1 alone, T2 alone,
 both reversed, at the largest measured torques: the rig has carried those), and the rig at rest read from the
-unloaded geometry). A candidate measurement is one station read in one case, or in every case of its scenario. Its
+unloaded geometry). A candidate measurement is one station read in one case, or in every case of its scenario (a
+reading the data already hold is not an extra measurement and is left out). Its
 readings are scaled by the σ a new reading would have, the noise of that shaft combined with the model-form
 allowance of the model's path there (:mod:`locate`'s σ), and it *splits* the members into two sides when the
 closest pair across them differs by at least what the gap test needs on that many readings
@@ -182,8 +183,11 @@ class Ambiguity:
                     f"{self.size_range()}")
         if self.split is not None:
             text += "; " + self.split.sentence()
-        elif self.members:
-            text += "; no measurement in the candidate set can be predicted for them (they need real sweeps)"
+        elif self.unpredicted:
+            text += (f"; no split computed: {', '.join(self.unpredicted)} cannot be predicted for other measurements "
+                     "(they need real sweeps)")
+        elif any(not m.within_bounds for m in self.sizes):
+            text += "; no split computed: fewer than two members fit within their physical bounds"
         if self.unpredicted and self.split is not None:
             text += f" (not predicted for other measurements: {', '.join(self.unpredicted)})"
         return text
@@ -305,6 +309,19 @@ def _side(m: int, edges, cut: tuple[int, int]) -> np.ndarray:
     return side
 
 
+def _already_measured(data, scenario: Scenario, shaft: str, stations_mm: np.ndarray) -> np.ndarray:
+    """(cases, stations) of ``scenario``: whether the data already hold that reading (a paths file's own station, within
+    0.5 mm, in a measured case and datum); a |Y_max| table holds no signed u_y."""
+    made = np.zeros((len(scenario.cases), stations_mm.size), bool)
+    if data.schema != "paths" or scenario.new_cases or scenario.other_datum:
+        return made
+    for i in range(len(scenario.cases)):
+        x = data.x_mm[(data.case_index == i) & (data.shaft == shaft)]
+        if x.size:
+            made[i] = np.min(np.abs(stations_mm[:, None] - x[None, :]), axis=1) <= 0.5
+    return made
+
+
 def _by_class(separations: np.ndarray, index: list[np.ndarray]) -> np.ndarray:
     """Separations between classes of members: the closest pair of their members (single linkage)."""
     n = len(index)
@@ -350,10 +367,13 @@ def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, f
             options = [(tuple(range(k)), np.sqrt(np.sum(difference ** 2, axis=2)))]
             if k > 1:
                 options += [((c,), np.abs(difference[:, :, c])) for c in range(k)]
+            made = _already_measured(observed.data, scenario, shaft, engine.stations_mm[shaft])
             for used, separations in options:
                 need = needed_sigma(len(used), alpha)
                 between = separations if len(names) == len(members) else _by_class(separations, index)
                 for j in range(separations.shape[2]):
+                    if made[list(used), j].any():  # not an extra measurement: the data hold that reading
+                        continue
                     key, parts, pair, w, edges = _judged(between[:, :, j], need)
                     if best is None or key > best[0]:
                         a, b = _closest(separations[:, :, j], index[pair[0]], index[pair[1]])
@@ -382,6 +402,19 @@ def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, f
         separation_um=float(1e3 * abs(predicted[a, worst] - predicted[b, worst])), separation_in_sigma=float(w),
         needed_sigma=float(need), spread_um=float(1e3 * np.ptp(predicted[:, worst])),
         spread_in_sigma=float(np.ptp(scaled[:, worst])))
+
+
+def _already_measured(data, scenario: Scenario, shaft: str, stations_mm: np.ndarray) -> np.ndarray:
+    """(cases, stations) of ``scenario``: whether the data already hold that reading (a paths file's own station, within
+    0.5 mm, in a measured case and datum); a |Y_max| table holds no signed u_y."""
+    made = np.zeros((len(scenario.cases), stations_mm.size), bool)
+    if data.schema != "paths" or scenario.new_cases or scenario.other_datum:
+        return made
+    for i in range(len(scenario.cases)):
+        x = data.x_mm[(data.case_index == i) & (data.shaft == shaft)]
+        if x.size:
+            made[i] = np.min(np.abs(stations_mm[:, None] - x[None, :]), axis=1) <= 0.5
+    return made
 
 
 def _by_class(separations: np.ndarray, index: list[np.ndarray]) -> np.ndarray:
