@@ -509,6 +509,13 @@ def generic_forms(generic, observed, *, bic: float, margin: float, alpha: float)
     return forms
 
 
+def _terms(form) -> str:
+    """A generic load's parts in words: '+1.2 N per N·m of T1, −0.3 N' (its unit: N or N·m)."""
+    unit = FAMILIES[form.family][1]
+    return ", ".join(f"{c:+.3g} {unit}" if part == "constant" else f"{c:+.3g} {unit} per N·m of {part}"
+                     for part, c in zip(form.parts_fitted, form.coefficients))
+
+
 def generic_tie(selected, generic, seen, *, bic: float, settings) -> Ambiguity:
     """The named explanation (every selected effect at its fitted value) against a generic load (``generic``, a
     :class:`sentinel.SentinelFit`, in every form the data cannot tell apart: :func:`generic_forms`) that fits as
@@ -519,8 +526,8 @@ def generic_tie(selected, generic, seen, *, bic: float, settings) -> Ambiguity:
                   for s in selected)
     forms = generic_forms(generic, observed, bic=bic, margin=settings.ambiguity_margin, alpha=settings.alpha) \
         if engine is not None else [generic]
-    described = generic.describe() + ("" if len(forms) == 1 else "; as well, in cases of one T2/T1 ratio: " + "; ".join(
-        "+".join(f.parts_fitted) + " (" + ", ".join(f"{c:+.3g}" for c in f.coefficients) + ")" for f in forms[1:]))
+    described = generic.describe() + ("" if len(forms) == 1 else "; as well, the same place and cases: " + "; ".join(
+        _terms(f) for f in forms[1:]))
     mine = _selection_predictor(selected, seen)
     split = None
     if mine is not None and engine is not None:

@@ -179,7 +179,8 @@ def test_a_stiffness_tied_with_a_generic_load_splits_from_none_of_its_forms(libr
     _, result = _run(library, "blind", "bearing_stiffness")
     assert result.verdict == "ambiguous"
     tie = _tie(result)
-    assert "T1" in tie.generic and "T2 (" in tie.generic  # the form ∝ T2, listed "as well"
+    assert "per N·m of T1" in tie.generic.split(";")[0]
+    assert any(f.parts_fitted == ("T2",) for f in tie.forms) and "as well" in tie.generic  # its form ∝ T2 listed
     assert tie.split is not None and not tie.split.splits
     assert "no measurement in the candidate set splits them" in tie.sentence()
     document = ambiguity_document(tie)
