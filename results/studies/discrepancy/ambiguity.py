@@ -53,10 +53,11 @@ from rvcoax.results.studies.discrepancy.observability import (
 )
 from rvcoax.results.studies.discrepancy.sentinel import FAMILIES, LIMITS, SLOTS, sentinel_columns
 
-__all__ = ["AMBIGUOUS_GROUP", "GENERIC", "Ambiguity", "GroupSplit", "MemberSize", "ambiguities", "ambiguity",
-           "best_split", "generic_forms", "generic_predictor", "generic_tie", "generic_ties", "needed_sigma", "split_scenarios"]
+__all__ = ["AMBIGUOUS_GROUP", "BEYOND", "GENERIC", "Ambiguity", "GroupSplit", "MemberSize", "ambiguities", "ambiguity",
+           "best_split", "beyond_tie", "generic_forms", "generic_predictor", "generic_tie", "generic_ties", "needed_sigma", "split_scenarios"]
 
 GENERIC = "generic load"  # the member name of a generic load outside the vocabulary that ties with the named effects
+BEYOND = "beyond its bound"  # the member name of a fit that ties only at a value beyond a physical bound
 
 # a member's prediction of a measurement: (cases, from_rest) → the change of the full paths there (mm)
 Predictor = Callable[[tuple, bool], np.ndarray]
@@ -155,7 +156,7 @@ class Ambiguity:
     shared: str
     sizes: tuple[MemberSize, ...]
     split: GroupSplit | None
-    generic: str | None = None  # the generic load's description, for a tie with one
+    generic: str | None = None  # the other explanation of a tie with the named effects (a generic load, a fit beyond a bound)
     unpredicted: tuple[str, ...] = ()  # members left out of the split: no prediction for other measurements
     forms: tuple = ()  # a tie with a generic load: its forms the data cannot tell apart (:func:`generic_forms`)
 
@@ -176,8 +177,9 @@ class Ambiguity:
         if self.generic is not None:
             sizes = ", ".join(f"{m.effect} at {m.value:+.3g}" + ("" if m.unit in ("", "-") else f" {m.unit}")
                               for m in self.sizes)
-            text = (f"the named explanation ({sizes}) and a generic load outside the vocabulary ({self.generic}) fit "
-                    "the data equally well")
+            other = (f"{self.generic}," if self.effect == BEYOND else
+                     f"a generic load outside the vocabulary ({self.generic})")
+            text = f"the named explanation ({sizes}) and {other} fit the data equally well"
         else:
             text = (f"{len(self.members)} look-alikes explain the gap equally well: {self.shared}; fitted sizes "
                     f"{self.size_range()}")
@@ -462,16 +464,16 @@ def generic_predictor(engine, fit) -> Predictor:
     return _unit_predictor(engine, unit)
 
 
-def _selection_predictor(selected, seen) -> Predictor | None:
-    """The named effects together at their fitted values (exact on the factorisation where it solves them, else from
-    their unit paths, superposed); None when one of them has neither."""
+def _selection_predictor(fitted, seen) -> Predictor | None:
+    """Effects together at their values (``fitted``: (name, values) pairs; exact on the factorisation where it solves
+    them, else from their unit paths, superposed); None when one of them has neither."""
     engine, parts = seen.observed.engine, []
-    for s in selected:
-        effect, response = seen.effects[s.name], seen.library.responses.get(s.name)
+    for name, values in fitted:
+        effect, response = seen.effects[name], seen.library.responses.get(name)
         if _exact_possible(effect, engine):
-            parts.append(_exact_predictor(effect, s.values, engine))
-        elif response is not None and response.unit_at(s.values) is not None:
-            parts.append(_unit_predictor(engine, response.unit_at(s.values)))
+            parts.append(_exact_predictor(effect, values, engine))
+        elif response is not None and response.unit_at(values) is not None:
+            parts.append(_unit_predictor(engine, response.unit_at(values)))
         else:
             return None
     return lambda cases, from_rest: sum(p(cases, from_rest) for p in parts)
@@ -528,7 +530,7 @@ def generic_tie(selected, generic, seen, *, bic: float, settings) -> Ambiguity:
         if engine is not None else [generic]
     described = generic.describe() + ("" if len(forms) == 1 else "; as well, the same place and cases: " + "; ".join(
         _terms(f) for f in forms[1:]))
-    mine = _selection_predictor(selected, seen)
+    mine = _selection_predictor([(s.name, s.values) for s in selected], seen)
     split = None
     if mine is not None and engine is not None:
         predictors = {named: mine} | {f"{GENERIC} ({'+'.join(f.parts_fitted)})": generic_predictor(engine, f)
@@ -540,15 +542,48 @@ def generic_tie(selected, generic, seen, *, bic: float, settings) -> Ambiguity:
                      split, generic=described, unpredicted=() if mine is not None else (named,), forms=tuple(forms))
 
 
+def beyond_tie(selected, fit, seen, *, settings) -> Ambiguity:
+    """The named explanation against ``fit`` (an :class:`identify.Fit` the screen rejected for a value beyond a
+    physical bound, that fits within the ambiguity margin as well), and the measurement that splits the two."""
+    named = " + ".join(s.name for s in selected)
+    sizes = tuple(MemberSize(s.name, float(s.values[0]), seen.effects[s.name].parameters[0].unit, True)
+                  for s in selected)
+    outside = [(n, v) for n, v in zip(fit.names, fit.values) if n not in {s.name for s in selected}] or \
+        list(zip(fit.names, fit.values))
+    said = ", ".join(f"{n} at {float(np.atleast_1d(v)[0]):+.3g} {seen.effects[n].parameters[0].unit}"
+                     for n, v in outside)
+    mine, theirs = _selection_predictor([(s.name, s.values) for s in selected], seen), \
+        _selection_predictor(list(zip(fit.names, fit.values)), seen)
+    split = None
+    if mine is not None and theirs is not None:
+        split = best_split({named: mine, f"{said} ({BEYOND})": theirs}, seen.observed, seen.noise.noise_mm,
+                           model_form_fraction=settings.model_form_fraction, alpha=settings.alpha)
+    return Ambiguity(BEYOND, (named, f"{said} ({BEYOND})"), f"within the bounds, or {said}", sizes, split,
+                     generic=f"{said}, beyond its physical bound",
+                     unpredicted=tuple(m for m, p in ((named, mine), (said, theirs)) if p is None))
+
+
+def _beyond_fit(steps, bic: float, margin: float):
+    """The best fit the screen rejected only for a value beyond a physical bound, when it fits within ``margin`` of
+    ``bic`` (the answer is then ``ambiguous``: :func:`judge.qualify`); None otherwise."""
+    fits = [f for step in steps for f in step.rejected_fits.values()
+            if f.rejected and "outside its physical range" in f.rejected and f.bic < bic + margin]
+    return min(fits, key=lambda f: f.bic) if fits else None
+
+
 def ambiguities(selected, seen, after: np.ndarray, *, verdict: str, generic, bic: float,  # noqa: PLR0913
-                settings) -> tuple[Ambiguity, ...]:
+                settings, steps=()) -> tuple[Ambiguity, ...]:
     """Every tie of an ``explained`` or ``ambiguous`` answer described: each named effect's group of look-alikes
     (more than one member), then, when a generic load ties with the named effects (:func:`generic_ties`; the answer
-    is then ``ambiguous``), the named explanation against it."""
+    is then ``ambiguous``), the named explanation against it, and likewise against a fit that ties only beyond a
+    physical bound (``steps``: the screen's steps, with their rejected fits)."""
     if verdict not in ("explained", "ambiguous"):
         return ()
     fraction, alpha = settings.model_form_fraction, settings.alpha
     out = [ambiguity(s, seen, after, model_form_fraction=fraction, alpha=alpha) for s in selected if len(s.group) > 1]
     if verdict == "ambiguous" and selected and generic_ties(generic, bic, margin=settings.ambiguity_margin, alpha=alpha):
         out.append(generic_tie(selected, generic, seen, bic=bic, settings=settings))
+    beyond = _beyond_fit(steps, bic, settings.ambiguity_margin) if verdict == "ambiguous" and selected else None
+    if beyond is not None:
+        out.append(beyond_tie(selected, beyond, seen, settings=settings))
     return tuple(out)

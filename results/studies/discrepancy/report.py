@@ -8,6 +8,7 @@ import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
+from rvcoax.results.studies.discrepancy.ambiguity import BEYOND, GENERIC
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
 __all__ = ["ambiguous_groups", "discrepancy_document", "engineering_summary", "observation_rows", "plot_discrepancy",
@@ -185,7 +186,8 @@ def ambiguity_document(a) -> dict:
         return float(f"{value:.4g}")
 
     return {"effect": a.effect, "members": list(a.members), "shared": a.shared, "size_range": a.size_range(),
-            "generic_load": a.generic, "not_predicted": list(a.unpredicted),
+            "generic_load": a.generic if a.effect == GENERIC else None,
+            "beyond_bound": a.generic if a.effect == BEYOND else None, "not_predicted": list(a.unpredicted),
             "fitted_sizes": [{"effect": m.effect, "value": g4(m.value), "unit": m.unit,
                               "within_bounds": m.within_bounds} for m in a.sizes],
             "split_by": None if split is None else {

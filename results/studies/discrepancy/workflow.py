@@ -783,7 +783,7 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
                                groups=[s.group for s in selected], beyond=beyond, generic=generic)
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
     ties = ambiguities(final, seen, after, verdict=outcome, generic=generic, settings=settings,
-                       bic=_bic(problem, fitted, after) if fitted else np.inf)
+                       bic=_bic(problem, fitted, after) if fitted else np.inf, steps=named.steps)
     return DiscrepancyResult(
         verdict=outcome, data=data, noise=seen.noise, fit_mask=observed.rows, before=observed.before, after=after,
         test_before=located.test_before, test_after=test_after, test_after_held_out=test_held,

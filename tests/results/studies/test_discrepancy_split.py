@@ -215,3 +215,20 @@ def test_a_group_of_six_on_a_table_is_split_into_sets_by_signed_uy(library):
     assert split.separation_in_sigma >= split.needed_sigma
     assert set(split.low) | set(split.high) == set(predicted) and not set(split.low) & set(split.high)
     assert "signed u_y" in group.sentence()
+
+
+@pytest.mark.slow  # the pair search before an implausible single: about 8 s of CPU
+def test_a_fit_that_ties_only_beyond_its_bound_is_split_from_the_named_explanation(library):
+    """CalculiX |Y_max| table with a mesh force at twice its bound: a torque reaction at about 110 N per N·m (its
+    bound is 20) fits within the ambiguity margin as well as the named effects within their bounds, so the answer is
+    ``ambiguous``; the tie is described with the value beyond the bound and the measurement that splits it."""
+    from rvcoax.results.studies.discrepancy.ambiguity import BEYOND
+
+    _, result = _run(library, "calculix", "beyond_bound_table_1")
+    assert result.verdict == "ambiguous" and any("beyond a physical bound" in r for r in result.reasons)
+    (tie,) = [a for a in result.ambiguities if a.effect == BEYOND]
+    assert "beyond its physical bound" in tie.generic and "N/(N·m)" in tie.generic
+    assert tie.split is not None and tie.split.splits and tie.split.signed
+    assert tie.split.separation_in_sigma >= tie.split.needed_sigma
+    document = ambiguity_document(tie)
+    assert document["beyond_bound"] == tie.generic and document["generic_load"] is None
