@@ -311,29 +311,6 @@ def _side(m: int, edges, cut: tuple[int, int]) -> np.ndarray:
     return side
 
 
-def _already_measured(data, scenario: Scenario, shaft: str, stations_mm: np.ndarray) -> np.ndarray:
-    """(cases, stations) of ``scenario``: whether the data already hold that reading (a paths file's own station, within
-    0.5 mm, in a measured case and datum); a |Y_max| table holds no signed u_y."""
-    made = np.zeros((len(scenario.cases), stations_mm.size), bool)
-    if data.schema != "paths" or scenario.new_cases or scenario.other_datum:
-        return made
-    for i in range(len(scenario.cases)):
-        x = data.x_mm[(data.case_index == i) & (data.shaft == shaft)]
-        if x.size:
-            made[i] = np.min(np.abs(stations_mm[:, None] - x[None, :]), axis=1) <= 0.5
-    return made
-
-
-def _by_class(separations: np.ndarray, index: list[np.ndarray]) -> np.ndarray:
-    """Separations between classes of members: the closest pair of their members (single linkage)."""
-    n = len(index)
-    out = np.zeros((n, n) + separations.shape[2:])
-    for a in range(n):
-        for b in range(a + 1, n):
-            out[a, b] = out[b, a] = separations[np.ix_(index[a], index[b])].min(axis=(0, 1))
-    return out
-
-
 def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, float], *,  # noqa: PLR0913
                model_form_fraction: float, alpha: float = DETECTION_ALPHA,
                classes: dict[str, str] | None = None) -> GroupSplit | None:
