@@ -175,8 +175,7 @@ class Ambiguity:
 
     def sentence(self) -> str:
         if self.generic is not None:
-            sizes = ", ".join(f"{m.effect} at {m.value:+.3g}" + ("" if m.unit in ("", "-") else f" {m.unit}")
-                              for m in self.sizes)
+            sizes = ", ".join(f"{m.effect} at {m.value:+.3g}" + _unit(m.unit) for m in self.sizes)
             other = (f"{self.generic}," if self.effect == BEYOND else
                      f"a generic load outside the vocabulary ({self.generic})")
             text = f"the named explanation ({sizes}) and {other} fit the data equally well"
@@ -190,9 +189,16 @@ class Ambiguity:
                      "(they need real sweeps)")
         elif any(not m.within_bounds for m in self.sizes):
             text += "; no split computed: fewer than two members fit within their physical bounds"
+        else:
+            text += "; no split computed: no measurement considered could be predicted for the members"
         if self.unpredicted and self.split is not None:
             text += f" (not predicted for other measurements: {', '.join(self.unpredicted)})"
         return text
+
+
+def _unit(unit: str) -> str:
+    """' unit' after a value, nothing for a dimensionless one."""
+    return "" if unit in ("", "-") else f" {unit}"
 
 
 def _shared(members, effects: dict, rig) -> str:
@@ -441,13 +447,14 @@ def generic_predictor(engine, fit) -> Predictor:
     return _unit_predictor(engine, unit)
 
 
-def _selection_predictor(fitted, seen) -> Predictor | None:
+def _selection_predictor(fitted, seen, *, exact: bool = True) -> Predictor | None:
     """Effects together at their values (``fitted``: (name, values) pairs; exact on the factorisation where it solves
-    them, else from their unit paths, superposed); None when one of them has neither."""
+    them and ``exact``, else from their unit paths, superposed); None when one of them has neither."""
     engine, parts = seen.observed.engine, []
     for name, values in fitted:
         effect, response = seen.effects[name], seen.library.responses.get(name)
-        if _exact_possible(effect, engine):
+        linear = response is not None and response.kind == "linear" and response.unit_at(values) is not None
+        if _exact_possible(effect, engine) and (exact or not linear):
             parts.append(_exact_predictor(effect, values, engine))
         elif response is not None and response.unit_at(values) is not None:
             parts.append(_unit_predictor(engine, response.unit_at(values)))
@@ -527,10 +534,10 @@ def beyond_tie(selected, fit, seen, *, settings) -> Ambiguity:
                   for s in selected)
     outside = [(n, v) for n, v in zip(fit.names, fit.values) if n not in {s.name for s in selected}] or \
         list(zip(fit.names, fit.values))
-    said = ", ".join(f"{n} at {float(np.atleast_1d(v)[0]):+.3g} {seen.effects[n].parameters[0].unit}"
+    said = ", ".join(f"{n} at {float(np.atleast_1d(v)[0]):+.3g}" + _unit(seen.effects[n].parameters[0].unit)
                      for n, v in outside)
     mine, theirs = _selection_predictor([(s.name, s.values) for s in selected], seen), \
-        _selection_predictor(list(zip(fit.names, fit.values)), seen)
+        _selection_predictor(list(zip(fit.names, fit.values)), seen, exact=False)  # the rig file refuses the value
     split = None
     if mine is not None and theirs is not None:
         split = best_split({named: mine, f"{said} ({BEYOND})": theirs}, seen.observed, seen.noise.noise_mm,
