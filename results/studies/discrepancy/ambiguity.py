@@ -1,30 +1,32 @@
 """When the data cannot say which explanation is right: what the look-alikes share, how large each would be, and the
 one extra measurement that would split them.
 
-Two kinds of tie make an answer ``ambiguous`` (:func:`judge.qualify`), and both are described here:
+Three kinds of tie make an answer ``ambiguous`` (:func:`judge.qualify`), and each is described here:
 
 - a named effect with more than three look-alikes (the effects whose fits on these data are within the ambiguity
   margin of the named one, or within the model-form allowance of its predictions): the group is described by what its
   members do to the rig in engineering words (``Effect.acts``) and where along the rig they act, and each member is
   fitted alone to the gap the named effect explains (linearised at the end of its physical range), so the group's
   fitted sizes are a range;
-- the named explanation and a generic load outside the vocabulary (the sentinel) that fits within the noise as well:
-  the two explanations, each as fitted to the data, are the members.
+- the named explanation and a generic load outside the vocabulary (the sentinel) that fits within the noise as well,
+  the generic load in every form the data cannot tell apart (:func:`generic_forms`: at one T2/T1 ratio a load ∝ T1
+  is the load ∝ T2);
+- the named explanation and a fit as good only at a value beyond a physical bound.
 
 **The split measurement.** Every member predicts, from the engine's unit paths, what any measurement that was not
 made would read (:func:`split_scenarios`: u_y at every station of a measured shaft — signed, for a |Y_max| table — in
 the measured cases, with Y from the other datum, in new load cases with another T1/T2 ratio (T1 alone, T2 alone,
 both reversed, at the largest measured torques: the rig has carried those), and the rig at rest read from the
 unloaded geometry). A candidate measurement is one station read in one case, or in every case of its scenario (a
-reading the data already hold is not an extra measurement and is left out). Its
-readings are scaled by the σ a new reading would have, the noise of that shaft combined with the model-form
-allowance of the model's path there (:mod:`locate`'s σ), and it *splits* the members into two sides when the
-closest pair across them differs by at least what the gap test needs on that many readings
-(:func:`locate.detection_norm`, and at least :data:`observability.REVEAL_SIGMA`: the detection rule of the visibility
-report). The best candidate maximises that separation relative to what the test needs; between more than two
-members the sides are the cut of the widest gap (the longest edge of the minimum spanning tree of their pairwise
-separations: no other cut puts its closest pair further apart). When even the best does not reach the rule, the
-answer says that no measurement in the candidate set splits them, with the best separation found.
+reading the data already hold is not an extra measurement and is left out). Its readings are scaled by the σ a new
+reading would have, the noise of that shaft combined with the model-form allowance of the model's path there
+(:mod:`locate`'s σ). Two members are told apart when their difference over the readings reaches what the gap test
+needs on that many readings (:func:`locate.detection_norm`, and at least :data:`observability.REVEAL_SIGMA`: the
+detection rule of the visibility report); members closer than that form one set (single linkage over the minimum
+spanning tree of their separations), and the members of one explanation (the forms of a generic load) are one class
+that must be told apart as a whole. The best candidate tells the most sets apart, then has the largest separation
+relative to the rule. When even the best tells nothing apart, the answer says that no measurement in the candidate
+set splits them, with the best separation found.
 """
 
 from __future__ import annotations
