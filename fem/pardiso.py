@@ -10,7 +10,8 @@ multipliers, :func:`rvcoax.fem.solvers.prepare_saddle_point`), scalar storage on
   (METIS) then works on the node graph, 9× smaller than the graph of the unknowns: at 52 k DOF the
   analysis takes 0.15 s instead of 0.41 s, and the factorisation is as fast or faster
   (benchmarks/RESULTS.md).
-- **scalar CSR** otherwise (constraint elimination in the hybrid model mixes the unknowns).
+- **scalar CSR** otherwise (constraint elimination in the hybrid model mixes the unknowns; :mod:`rvcoax.fem.woodbury`
+  stores the hybrid model's tie-released B in whole blocks, the entries it lacks as explicit zeros).
 
 Both upper triangles are cut from the full, sorted CSR matrix by masks (no COO round trip:
 ``scipy.sparse.triu`` took 2.1 s on the hybrid model's 34 M nonzeros, this takes 0.2 s).
