@@ -19,12 +19,15 @@ counts every thread of the process (``RUSAGE_CHILDREN`` of the run), wall time i
 
 Run: ``.venv/bin/python benchmarks/bench_condition_share.py [RUN ...] [--samples N] [--no-record]``
 (default: every run but the solid ones, which need ~5 GB and several minutes: name them). Prints a table and
-appends it to benchmarks/RESULTS.md with the machine, the date and the load average.
+appends it to benchmarks/RESULTS.md with the machine, the date and the load average. With
+``RVCOAX_BENCH_COMPARE_FULL=1`` each estimate is also made by the full search (itmax 5, no guessed columns) on the
+same factor, its time taken out of the figures, both values printed.
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import resource
@@ -65,6 +68,8 @@ class _Clock:
         self.calls = []  # per set-up: solve calls (columns) of the estimate with the test
         self.inside = False
         self.part = None  # the cantilever: set-up and solve alone
+        self.values = []  # per estimate: its value, and the full search's (itmax 5, no guesses) on the same factor
+        self.compare = os.environ.get("RVCOAX_BENCH_COMPARE_FULL") == "1"
 
     @staticmethod
     def now():
@@ -111,6 +116,7 @@ def _instrument(clock: _Clock) -> None:
         clock.estimate[0] += max(0.0, both[0] - test[0])
         clock.estimate[1] += max(0.0, both[1] - test[1])
         clock.calls.append(calls)
+        _record(clock, result[2], matrix, solve)
         return result
 
     def timed_alone(*args, **kwargs):
@@ -126,10 +132,20 @@ def _instrument(clock: _Clock) -> None:
         calls = []
         start = clock.now()
         try:
-            return on_request(matrix, counted(solve, calls), *args, **kwargs)
+            value = on_request(matrix, counted(solve, calls), *args, **kwargs)
         finally:
             clock.add(clock.estimate, start)
             clock.calls.append(calls)
+        _record(clock, value, matrix, solve)
+        return value
+
+    def _record(clock, value, matrix, solve):
+        full = None
+        if clock.compare and "speculate" in inspect.signature(on_request).parameters:
+            start = clock.now()
+            full = on_request(matrix, solve, max_iterations=5, speculate=0)
+            clock.add(clock.instrument, start)
+        clock.values.append((float(value), None if full is None else float(full)))
 
     solvers.singularity_and_condition = timed_together
     solvers.scaled_inverse_norm_bound = timed_alone
@@ -178,7 +194,8 @@ def child(name: str, out: str, samples: int) -> None:
             if stop.code not in (0, None, 1, 3):
                 raise
     print("RESULT " + json.dumps({"estimate": clock.estimate, "test": clock.test, "instrument": clock.instrument,
-                                  "calls": clock.calls, "part": clock.part}), flush=True)
+                                  "calls": clock.calls, "part": clock.part,
+                                  "values": clock.values}), flush=True)
 
 
 def measure(name: str, samples: int) -> dict:
@@ -215,6 +232,9 @@ def row(name: str, found: dict) -> tuple[str, str]:
             f"{100 * estimate[1] / whole[1]:.1f} % wall; singularity test {test[0]:.2f} s CPU; "
             f"{setups} estimate(s), the first {len(calls[0])} solve calls of [{pattern}] columns "
             f"(the test's columns included)")
+    values = found.get("values") or []
+    if values:
+        text += f"; estimate {values[0][0]:.6g}" + (f" (full search {values[0][1]:.6g})" if values[0][1] else "")
     if found.get("part"):
         part = found["part"]
         text += (f"; of the set-up and solve alone ({part[0]:.2f} s CPU, {part[1]:.2f} s wall) "

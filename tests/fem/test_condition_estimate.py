@@ -115,3 +115,32 @@ def test_the_singularity_test_carries_the_estimate_in_its_two_solve_calls():
     calls.clear()
     bound, _, _ = singularity_and_condition(sp.csr_matrix(singular), counted_solve(singular + 1e-18 * np.eye(51), calls))
     assert bound > solvers.SINGULAR_INVERSE_NORM
+
+
+@pytest.mark.skipif(not solvers.pardiso_available(), reason="MKL PARDISO not available")
+def test_a_pardiso_set_up_tests_and_estimates_in_two_or_three_solve_calls(monkeypatch):
+    """A 2-D Laplacian (900 unknowns, shifted: SPD): the set-up's singularity test and condition estimate share
+    their solve calls, and the estimate brackets numpy's κ₁; the same matrix without the shift (a free membrane,
+    singular) is refused as before."""
+    from rvcoax.fem import pardiso
+
+    n = 30
+    one_d = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    laplacian = (sp.kron(one_d, sp.identity(n)) + sp.kron(sp.identity(n), one_d)).tocsr()
+    a = (laplacian + 1e-3 * sp.identity(n * n)).tocsr()
+    calls = []
+    original = pardiso.Factorization.solve
+
+    def counted(self, block):
+        calls.append(np.shape(block)[1])
+        return original(self, block)
+
+    monkeypatch.setattr(pardiso.Factorization, "solve", counted)
+    with solvers.prepare(a, "pardiso") as solver:
+        assert 2 <= len(calls) <= 3
+        exact = scaled_condition(a.toarray())
+        assert exact / 3 <= solver.condition_estimate() <= exact * (1 + 1e-8)
+    free = laplacian.tolil()
+    free.setdiag(-np.asarray(laplacian.sum(axis=1)).ravel() + laplacian.diagonal())  # rows summing to zero
+    with pytest.raises(solvers.SingularMatrixError, match="singular"):
+        solvers.prepare(free.tocsr(), "pardiso")
