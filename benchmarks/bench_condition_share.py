@@ -7,8 +7,9 @@ estimate timed from inside (:mod:`rvcoax.fem.solvers`, :mod:`rvcoax.fem.diagnost
 - ``sweep-beam``, ``sweep-hybrid``, ``sweep-solid``: ``rvcoax sweep --model M`` of the reference rig's table;
 - ``sweep-solid-amg``: ``rvcoax sweep --model solid --solver amg`` (no estimate: AMG reports none);
 - ``cantilever``: the clamped solid cantilever (4 mm: 62 k DOF), ``prepare(K, "pardiso")`` and one solve;
-- ``montecarlo-beam``, ``montecarlo-hybrid``: ``rvcoax montecarlo --scheduler serial`` with the example
-  tolerance file and a few samples (``--samples``), each sample a set-up of its own;
+- ``montecarlo-beam``, ``montecarlo-hybrid``, ``montecarlo-solid-12mm``: ``rvcoax montecarlo --scheduler serial``
+  with the example tolerance file and a few samples (``--samples``), each sample a set-up of its own (the
+  all-solid rig on a 12 mm mesh, 155 k DOF);
 - ``calibrate``: the calibration of the hybrid model alone (``rvcoax.calibrate``; ``rvcoax check`` holds one too).
 
 "estimate" is the time the condition estimate adds: where PARDISO makes it at set-up, the time of
@@ -18,7 +19,7 @@ factor, and taken out of the whole process's figures as well); where it is made 
 counts every thread of the process (``RUSAGE_CHILDREN`` of the run), wall time includes Python's start-up.
 
 Run: ``.venv/bin/python benchmarks/bench_condition_share.py [RUN ...] [--samples N] [--no-record]``
-(default: every run but the solid ones, which need ~5 GB and several minutes: name them). Prints a table and
+(default: every run but the solid rig on its default mesh, which needs ~5 GB and several minutes: name those). Prints a table and
 appends it to benchmarks/RESULTS.md with the machine, the date and the load average. With
 ``RVCOAX_BENCH_COMPARE_FULL=1`` each estimate is also made by the full search (itmax 5, no guessed columns) on the
 same factor, its time taken out of the figures, both values printed.
@@ -52,10 +53,12 @@ RUNS = {
     "sweep-solid-amg": ["sweep", "--model", "solid", "--solver", "amg"],
     "montecarlo-beam": ["montecarlo", "--model", "beam", "--scheduler", "serial", "--tolerances", TOLERANCES],
     "montecarlo-hybrid": ["montecarlo", "--model", "hybrid", "--scheduler", "serial", "--tolerances", TOLERANCES],
+    "montecarlo-solid-12mm": ["montecarlo", "--model", "solid", "--mesh-size-mm", "12", "--scheduler", "serial",
+                              "--tolerances", TOLERANCES],
     "cantilever": None,
     "calibrate": None,
 }
-DEFAULT_RUNS = [r for r in RUNS if "solid" not in r]
+DEFAULT_RUNS = [r for r in RUNS if "solid" not in r or r == "montecarlo-solid-12mm"]
 
 
 class _Clock:
