@@ -21,7 +21,7 @@ counts every thread of the process (``RUSAGE_CHILDREN`` of the run), wall time i
 Run: ``.venv/bin/python benchmarks/bench_condition_share.py [RUN ...] [--samples N] [--no-record]``
 (default: every run but the solid rig on its default mesh, which needs ~5 GB and several minutes: name those). Prints a table and
 appends it to benchmarks/RESULTS.md with the machine, the date and the load average. With
-``RVCOAX_BENCH_COMPARE_FULL=1`` each estimate is also made by the full search (itmax 5, no guessed columns) on the
+``RVCOAX_BENCH_COMPARE_FULL=1`` each estimate is also made by the full search (itmax 5, unguided) on the
 same factor, its time taken out of the figures, both values printed.
 """
 
@@ -144,9 +144,9 @@ def _instrument(clock: _Clock) -> None:
 
     def _record(clock, value, matrix, solve):
         full = None
-        if clock.compare and "speculate" in inspect.signature(on_request).parameters:
+        if clock.compare and "guided" in inspect.signature(on_request).parameters:
             start = clock.now()
-            full = on_request(matrix, solve, max_iterations=5, speculate=0)
+            full = on_request(matrix, solve, max_iterations=5, guided=False)
             clock.add(clock.instrument, start)
         clock.values.append((float(value), None if full is None else float(full)))
 

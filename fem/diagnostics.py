@@ -226,17 +226,15 @@ def _unit_columns(n: int, indices) -> np.ndarray:
     return x
 
 
-def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations: int,
-                      speculate: int = 0) -> float:
+def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations: int,  # noqa: C901
+                      hints: tuple[int, ...] = ()) -> float:
     """Steps 2-5 of Higham & Tisseur's Algorithm 2.4 from the first block ``y`` = (scaled A)⁻¹ X and its estimate:
     the largest column 1-norm of (scaled A)⁻¹ found (inf where a solve overflows).
 
-    ``max_iterations`` is their itmax: after the block solve of iteration ``max_iterations + 1`` (the unit vectors
-    the previous one pointed to) the search stops without the solve that would confirm a local maximum. With
-    ``speculate`` > 0, the second solve (of the sign vectors) also solves for the unit vectors of the
-    ``speculate`` largest entries of |y|, the unit vectors that solve is likely to point to: where it does, the
-    next block needs no solve of its own. Every unit vector solved is a column of the inverse, so its 1-norm is
-    a lower bound of the inverse's norm and counts in the estimate.
+    ``hints``: unit vectors solved along with the first sign vectors (their columns of the inverse count in the
+    estimate). ``max_iterations`` is their itmax; with 1 the search ends after the first sign-vector solve,
+    and a unit vector that solve points to is solved only where the gain is certain: ‖A⁻¹ e_j‖₁ ≥ |z_j|
+    (z = A⁻¹ ξ, ξ a sign vector: Hölder), so e_j is solved when |z_j| exceeds the estimate so far.
     """
     n, t = y.shape
     visited = np.zeros(n, dtype=bool)
@@ -244,8 +242,13 @@ def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations
     best = -1
     old_signs = None
     pending: list[int] = []  # the unit vectors of the next block (set at the end of each iteration)
+    z = np.zeros(n)
     for iteration in range(max(max_iterations, 2)):
         if iteration > 0:
+            if max_iterations == 1:  # the last block: only where the gain is certain
+                pending = [k for k in pending if k in known or z[k] > estimate]
+                if not pending:
+                    break
             missing = [k for k in pending if k not in known]
             if missing:
                 solved = inverse(_unit_columns(n, missing))
@@ -263,11 +266,13 @@ def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations
         if old_signs is not None and all(np.any(np.all(signs[:, [j]] == old_signs, axis=0)) for j in range(t)):
             break  # every sign vector seen before: converged (step 4)
         old_signs = signs
-        guesses = []
-        if iteration == 0 and speculate > 0:
-            guesses = [int(k) for k in np.argsort(-np.abs(y).max(axis=1), kind="stable")[:speculate]]
+        guesses = [int(k) for k in dict.fromkeys(hints) if int(k) not in known] if iteration == 0 else []
         solved = inverse(np.column_stack([signs, _unit_columns(n, guesses)]))
         known.update({k: solved[:, t + c] for c, k in enumerate(guesses)})
+        found = np.abs(solved[:, t:]).sum(axis=0)
+        if not np.all(np.isfinite(found)):
+            return float("inf")
+        estimate = max([estimate, *found.tolist()])
         z = np.abs(solved[:, :t]).max(axis=1)
         if iteration > 0 and z.max() == z[best]:  # step 5
             break
@@ -278,14 +283,11 @@ def _block_iterations(inverse, y: np.ndarray, estimate: float, *, max_iterations
         best = int(order[0])
         visited[fresh] = True
         pending = [int(k) for k in fresh]
-    found = [float(np.abs(column).sum()) for column in known.values()]
-    if found and not np.all(np.isfinite(found)):
-        return float("inf")
-    return max([estimate, *found])
+    return estimate
 
 
 def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 1, columns: int = 1, *,  # noqa: PLR0913
-                              riding: _InverseIteration | None = None, speculate: int = 2) -> float:
+                              riding: _InverseIteration | None = None, guided: bool = True) -> float:
     """Estimated 1-norm condition number of the Jacobi-scaled matrix D^-½ A D^-½ (D = diag A).
 
     The scaling removes what only reflects units (N/m next to N·m/rad), so the number measures how
@@ -298,18 +300,21 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
     then ±1 columns), so the estimate is deterministic, unlike ``onenormest``'s random start; Higham's
     alternating vector rides along in the first solve instead of taking one of its own.
 
-    Solve calls, not columns, are what a factor charges for (62 k-DOF solid: 0.085 s of CPU for one column,
-    0.14 s for four), so the search is cut to two calls where it can be: the second call (A⁻¹ of the sign
-    vector) also solves for the unit vectors of the ``speculate`` largest entries of the first solution, which
-    is where the sign vector's solution usually points; and with ``max_iterations`` = 1 (Higham & Tisseur's
-    itmax) the search stops after those unit vectors, without the call that would only confirm a local
-    maximum. Every vector solved is a column of A⁻¹ or a unit-norm probe, so the result is a lower bound of
-    κ₁ in exact arithmetic, exact for a diagonal matrix (1 after the scaling) and for a matrix with a
-    nonnegative inverse (the M-matrices of a spring chain: the sign vector is the vector of ones and its
-    solution points at the largest column); no factor holds for every matrix, but in the literature's
-    experiments the estimate is usually within a factor of 3 of κ₁, most often exact. On the beam and hybrid
-    rigs and the 62 k-DOF solid cantilever it equals the five-iteration search's value to 6 digits, and on 200
-    random graded SPD matrices its worst ratio to κ₁ is the same (benchmarks/RESULTS.md, issue 27, h27cond).
+    Solve calls, not columns, are what a factor charges for (62 k-DOF solid: 0.077 s of CPU for one column,
+    0.13 s for three), so the search is guided into two calls: the first solve also carries the inverse
+    iteration's first step from its fixed random start r (``riding``'s, or the same step of its own), whose
+    largest entry marks where the weakest motion lives, and the largest column of A⁻¹ with it (A⁻¹ ≈ v vᵀ / λ_min
+    when λ_min stands apart); the second solve, of the sign vector, also solves that unit vector. With
+    ``max_iterations`` = 1 (Higham & Tisseur's itmax) the search then ends: the unit vector e_j the sign
+    vector's solution z points to is solved (a third call) only where the gain is certain, |z_j| above the
+    estimate so far (‖A⁻¹ e_j‖₁ ≥ |z_j| by Hölder's inequality). Every vector solved is a column of A⁻¹ or a
+    probe of unit 1-norm, so the result is a lower bound of κ₁ in exact arithmetic; exact for a diagonal matrix
+    (1 after the scaling) and for a matrix with a nonnegative inverse (a spring chain's M-matrix: the sign
+    vector is the vector of ones and its solution points at the largest column). No factor holds for every
+    matrix (Hager 1984; Higham & Tisseur report estimates mostly within a factor of 3). Measured
+    (benchmarks/RESULTS.md, issue 27, h27cond): on the beam, hybrid and all-solid (12 mm) rigs and the 62 k-DOF
+    solid cantilever the value of the full search (itmax 5, unguided: four to six calls) to 6 digits, in two
+    calls; on 200 random graded SPD matrices (κ₁ 1e2 … 1e10) never below 0.53 κ₁ (the full search: 0.47 κ₁).
 
     Parameters
     ----------
@@ -318,15 +323,16 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
     solve : callable
         X = A⁻¹ B for a block B (n, k).
     max_iterations : int
-        Higham & Tisseur's itmax: block solves of unit vectors after the first pair of calls; 1 stops after
-        the first such block (two or three calls in all), 5 is scipy's ``onenormest`` (up to eleven).
+        Higham & Tisseur's itmax: 1 ends the search after the sign vector's solve (two calls, three where a gain
+        is certain); 5 is scipy's ``onenormest`` (up to eleven calls).
     columns : int
         Probe vectors per block (t of Higham & Tisseur).
     riding : optional
         Inverse-iteration steps to take as an extra column of the first solves
         (:func:`singularity_and_condition`).
-    speculate : int
-        Unit vectors solved ahead in the second call (0: none).
+    guided : bool
+        Solve the unit vector the inverse iteration's first step points to (above); False: Higham & Tisseur's
+        search alone.
     """
     n = matrix.shape[0]
     if n == 0:
@@ -348,10 +354,13 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
         return block
 
     t = max(1, min(columns, n))
+    if guided and (riding is None or riding.left == 0):  # the test's first step, or the same step of its own
+        riding = _InverseIteration(n, 1, 0)
     first = inverse(_starting_block(n, t))
     y, extra = first[:, :t], float(np.abs(first[:, t]).sum()) * 2.0 / (3.0 * n)
     estimate = float(np.abs(y).sum(axis=0).max())
     if not np.isfinite(estimate) or not np.isfinite(extra):
         return float("inf")
-    estimate = _block_iterations(inverse, y, estimate, max_iterations=max_iterations, speculate=speculate)
+    hints = (int(np.argmax(np.abs(riding.y))),) if guided and np.all(np.isfinite(riding.y)) else ()
+    estimate = _block_iterations(inverse, y, estimate, max_iterations=max_iterations, hints=hints)
     return max(estimate, extra) * norm

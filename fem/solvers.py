@@ -378,7 +378,7 @@ def refuse_singular(matrix, solve, factor: pardiso.Factorization, *, estimate_co
     estimate_condition : bool
         Also make the condition estimate, its solves carrying the iteration's two steps as one more column
         (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: the same two solve calls where the estimate's
-        guesses hold, one more where not). False: the iteration's two single-column solves alone.
+        search ends there, one more where a larger column is certain). False: the iteration's two single-column solves alone.
 
     Returns
     -------
@@ -639,8 +639,8 @@ def prepare(  # noqa: PLR0913
     accuracy, maxiter : AMG-preconditioned CG stopping rule (:func:`conjugate_gradients`).
     estimate_condition : bool
         PARDISO: make the condition estimate at set-up, as more columns of the singularity test's two solve
-        calls (:func:`rvcoax.fem.diagnostics.singularity_and_condition`; a third call where its guess of the
-        largest column misses). False: the singularity test alone (two single-column solves, the same refusal
+        calls (:func:`rvcoax.fem.diagnostics.singularity_and_condition`; a third call where a larger column is
+        certain). False: the singularity test alone (two single-column solves, the same refusal
         of a singular matrix); :meth:`PreparedSolver.condition_estimate` then makes the estimate when it is
         asked for (two or three solve calls of its own). At 62 k DOF the estimate adds about 0.1 s of CPU time
         to a 2 s set-up and solve (benchmarks/RESULTS.md); SuperLU always estimates on request, AMG never.
