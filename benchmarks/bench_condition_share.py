@@ -5,7 +5,8 @@ estimate timed from inside (:mod:`rvcoax.fem.solvers`, :mod:`rvcoax.fem.diagnost
 
 - ``check-beam``, ``check-hybrid``, ``check-solid``: ``rvcoax check --model M`` (default mesh);
 - ``sweep-beam``, ``sweep-hybrid``, ``sweep-solid``: ``rvcoax sweep --model M`` of the reference rig's table;
-- ``sweep-solid-amg``: ``rvcoax sweep --model solid --solver amg`` (no estimate: AMG reports none);
+- ``sweep-solid-amg``, ``sweep-solid-12mm-amg``: ``rvcoax sweep --model solid --solver amg`` on the default and a
+  12 mm mesh (no estimate: AMG reports none);
 - ``cantilever``: the clamped solid cantilever (4 mm: 62 k DOF), ``prepare(K, "pardiso")`` and one solve;
 - ``montecarlo-beam``, ``montecarlo-hybrid``, ``montecarlo-solid-12mm``: ``rvcoax montecarlo --scheduler serial``
   with the example tolerance file and a few samples (``--samples``), each sample a set-up of its own (the
@@ -51,6 +52,7 @@ RUNS = {
     "sweep-hybrid": ["sweep", "--model", "hybrid"],
     "sweep-solid": ["sweep", "--model", "solid"],
     "sweep-solid-amg": ["sweep", "--model", "solid", "--solver", "amg"],
+    "sweep-solid-12mm-amg": ["sweep", "--model", "solid", "--mesh-size-mm", "12", "--solver", "amg"],
     "montecarlo-beam": ["montecarlo", "--model", "beam", "--scheduler", "serial", "--tolerances", TOLERANCES],
     "montecarlo-hybrid": ["montecarlo", "--model", "hybrid", "--scheduler", "serial", "--tolerances", TOLERANCES],
     "montecarlo-solid-12mm": ["montecarlo", "--model", "solid", "--mesh-size-mm", "12", "--scheduler", "serial",
