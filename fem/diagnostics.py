@@ -312,9 +312,10 @@ def scaled_condition_estimate(matrix: sp.spmatrix, solve, max_iterations: int = 
     (1 after the scaling) and for a matrix with a nonnegative inverse (a spring chain's M-matrix: the sign
     vector is the vector of ones and its solution points at the largest column). No factor holds for every
     matrix (Hager 1984; Higham & Tisseur report estimates mostly within a factor of 3). Measured
-    (benchmarks/RESULTS.md, issue 27, h27cond): on the beam, hybrid and all-solid (12 mm) rigs and the 62 k-DOF
-    solid cantilever the value of the full search (itmax 5, unguided: four to six calls) to 6 digits, in two
-    calls; on 200 random graded SPD matrices (κ₁ 1e2 … 1e10) never below 0.53 κ₁ (the full search: 0.47 κ₁).
+    (benchmarks/RESULTS.md, issue 27, h27cond): on the beam, hybrid and all-solid (default and 12 mm meshes)
+    rigs and the 62 k-DOF solid cantilever the value of the full search (itmax 5, unguided: four to six calls)
+    to 6 digits, in two calls; on 200 random graded SPD matrices (κ₁ 1e2 … 1e10) never below 0.53 κ₁ (the full
+    search: 0.47 κ₁).
 
     Parameters
     ----------
