@@ -214,6 +214,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the subset")
     parser.add_argument("--groups", default="", help="only these classes (vocabulary,faint,none,pair,out_of_vocabulary,out_of_bounds)")
     parser.add_argument("--ids", default="", help="only these set ids (comma-separated)")
+    parser.add_argument("--schemas", default="", help="only these schemas (paths,table)")
+    parser.add_argument("--draws", type=int, default=None, help="synthetic draws of the confidence estimate "
+                        "(default: the workflow's; 0: no estimate, which decides no verdict)")
     parser.add_argument("--max-minutes", type=float, default=None, help="start no run after this many minutes")
     parser.add_argument("--label", default="", help="what is benchmarked (e.g. the branch), for RESULTS.md")
     parser.add_argument("--keep", default="", help="folder to keep each run's discrepancy.json in")
@@ -235,6 +238,8 @@ def main() -> None:
         sets = [s for s in sets if s["group"] in args.groups.split(",")]
     if args.ids:
         sets = [s for s in sets if s["id"] in args.ids.split(",")]
+    if args.schemas:
+        sets = [s for s in sets if s["schema"] in args.schemas.split(",")]
     chosen = stratified(sets, args.limit, args.seed)
     label = args.label or Path(rvcoax.__file__).resolve().parent.name
     if args.rescore:
@@ -243,7 +248,7 @@ def main() -> None:
     keep = Path(args.keep) if args.keep else None
     if keep:
         keep.mkdir(parents=True, exist_ok=True)
-    settings = DiscrepancySettings()
+    settings = DiscrepancySettings() if args.draws is None else DiscrepancySettings(confidence_draws=args.draws)
     accepts_library = "library" in inspect.signature(rvcoax.run_discrepancy).parameters
     rigs = {datum: blind_data.identification_rig(datum) for datum in blind_data.DATUMS}
     libraries, library_seconds = {}, {}
