@@ -775,30 +775,29 @@ def _pairs_as_well(seen: Seen, named: Named, selected: list[SelectedEffect], set
     first = list(dict.fromkeys([m for s in selected for m in s.group]
                                + ([n for n, _ in named.steps[0].ranking[:PAIR_FIRST]] if named.steps else [])))
     first = [n for n in first if n in seen.responses]
-    singles: dict[str, float] = {}
+    singles: dict[str, tuple[float, np.ndarray | None]] = {}
 
     def alone(name: str) -> float:
+        """BIC of ``name`` fitted alone (inf beyond its bounds or unsolvable); its values start the pair fits."""
         if name not in singles:
             try:
                 fit = problem.fit((name,))
-                singles[name] = np.inf if fit.rejected else fit.bic
+                singles[name] = (np.inf if fit.rejected else fit.bic, fit.values[0])
             except CANDIDATE_FAILURES:
-                singles[name] = np.inf
-        return singles[name]
+                singles[name] = (np.inf, None)
+        return singles[name][0]
 
     groups = [list(s.group) for s in selected]
     reasons, tried = [], set()
     for a in first:
-        start = {}
         for b in seen.responses:
             key = frozenset((a, b))
             if b == a or key in tried or ({a, b} <= covered and not (covered_too and not reasons)):
                 continue
             tried.add(key)
+            alone(a), alone(b)
+            start = {n: singles[n][1] for n in (a, b) if singles[n][1] is not None}
             try:
-                if not start:
-                    fit_a = problem.fit((a,))
-                    start = {a: fit_a.values[0]}
                 fit = problem.fit((a, b), start)
             except CANDIDATE_FAILURES:
                 continue
