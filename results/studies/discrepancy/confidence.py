@@ -12,10 +12,10 @@ shaft site where no named effect puts its load, sized like the file's gap). A dr
 :data:`TRUTHS` among the kinds supported, one explanation of that kind, and each value times a factor within
 ±:data:`JITTER`. The draws therefore hide what data like the file's could hide, at its sizes, not any candidate at
 any size: drawn from the whole vocabulary (2–50 % of the signal at random places), the draws were harder than the
-files and the stated probability fell below the observed rate (benchmarks/RESULTS.md, issue 28). A file without a
-gap supports nothing in particular: its draws come from that broad prior (:data:`TRUTHS`: nothing; one or two
-visible candidates at 2–50 % of the signal, log-uniform within their bounds; a generic load; a linear candidate at
-1.5–4 times one of its bounds, right answered anything but ``explained``).
+files and the stated probability fell below the observed rate (benchmarks/RESULTS.md, issue 28). Where nothing is
+supported (the scan cannot run) the draws come from that broad prior (:data:`TRUTHS`: nothing; one or two visible
+candidates at 2–50 % of the signal, log-uniform within their bounds; a generic load; a linear candidate at 1.5–4
+times one of its bounds, right answered anything but ``explained``).
 
 Each draw is judged by a **replay** of the workflow's decisions on the responses already computed for this file (no
 assembly, no solve per draw): the same σ, rows and observation operator; every candidate fitted alone on a grid of
@@ -990,7 +990,7 @@ def verdict_confidence(seen, result, settings, draws: int | None = None, seed: i
         own_replay = _Replay(vocabulary, observed, settings)
         scaled_own = ((observed.data.value_mm - observed.before) / observed.sigma)[None, :]
         own = own_replay.answers(scaled_own)[0]
-        supported = _supported(own_replay, scaled_own, settings) if own.verdict != "no_gap" else []
+        supported = _supported(own_replay, scaled_own, settings)
         drawer = _Drawer(seen, vocabulary, settings, np.random.default_rng(seed), supported)
         sigma = drawer.sigma_draws
         replay = _Replay(vocabulary, replace(observed, sigma=sigma), settings)
