@@ -31,10 +31,11 @@ benchmarks/RESULTS.md with the machine, date and load average (``--no-record``: 
 
 Usage::
 
-    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|solid] [--limit N] [--seed S]
-        [--groups pair,none]
+    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|calculix_solid_full|solid]
+        [--limit N] [--seed S] [--groups pair,none] [--schemas paths,table] [--draws N]
         [--max-minutes M] [--label NAME] [--no-record]
 
+``--draws N`` sets the confidence estimate's draws (0: none; it decides no verdict, so verdicts are scored faster);
 ``--limit N`` runs a subset of N sets stratified over the classes, datums, schemas and noise levels,
 drawn with ``--seed``; ``--max-minutes`` stops starting new runs after M minutes (the report then says
 how many ran). To score another tree's workflow on the same files, run this script with that tree's
@@ -68,6 +69,8 @@ SOURCES = {
     "calculix": (blind_data.CACHE / "calculix", "python benchmarks/calculix_rig.py --full .blindcache/calculix"),
     "calculix_solid": (blind_data.CACHE / "calculix_solid",
                        "python benchmarks/calculix_solid.py --bench .blindcache/calculix_solid"),
+    "calculix_solid_full": (blind_data.CACHE / "calculix_solid_full",
+                            "python benchmarks/calculix_solid.py --full .blindcache/calculix_solid_full"),
     "solid": (blind_data.CACHE / "solid", "python benchmarks/blind_solid.py"),
 }
 
