@@ -169,6 +169,7 @@ class SelectedEffect:
     group: tuple[str, ...]
     round: int
     confident: bool = False
+    pair_members: tuple[str, ...] = ()  # members of ``group`` that only a pair fitting as well brought in (ambiguous)
 
     def parameters(self, effect) -> dict:
         """Per parameter: its value, unit, bounds, and ``at_bound`` (``lower`` or ``upper`` when the fit sits on a
@@ -813,7 +814,8 @@ def _pairs_as_well(seen: Seen, named: Named, selected: list[SelectedEffect], set
                     covered.add(member)
             reasons.append(f"the pair {a} + {b} fits as well (BIC {fit.bic:.4g} against {limit - settings.ambiguity_margin:.4g}"
                            f"; each member alone: {alone(a):.4g}, {alone(b):.4g})")
-    return [replace(s, group=tuple(g)) for s, g in zip(selected, groups)], reasons
+    return [replace(s, group=tuple(g), pair_members=tuple(m for m in g if m not in s.group))
+            for s, g in zip(selected, groups)], reasons
 
 
 def _bic(problem: Problem, fitted, after: np.ndarray) -> float:
