@@ -17,7 +17,7 @@ from rvcoax.results.studies.discrepancy.locate import residual_structure
 from rvcoax.results.studies.discrepancy.observability import signature
 from rvcoax.results.studies.discrepancy.sentinel import scan_spacing_mm
 
-__all__ = ["AMBIGUOUS_GROUP", "FIGHT_RATIO", "STRUCTURE_T", "look_alike_places", "qualify", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
+__all__ = ["AMBIGUOUS_GROUP", "FIGHT_RATIO", "MOST_EFFECTS", "STRUCTURE_T", "look_alike_places", "qualify", "fighting_pairs", "load_regions", "load_x", "opposite_loads", "verdict"]
 
 FIGHT_RATIO = 0.5  # two effects whose sum is less than half the larger of them cancel each other
 STRUCTURE_T = 4.0  # standard errors by which a curvature left along a shaft exceeds the model-form allowance
@@ -195,6 +195,10 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
     if mimic is None or mimic.bic < bic + settings.bic_margin or stats.chi2.sf(mimic.chi2, mimic.n) >= settings.alpha:
         reasons += fighting_pairs(problem, fitted)
     reasons += opposite_loads(fitted, effects or {}, places)
+    if len(fitted) > MOST_EFFECTS:
+        reasons.append(f"only {len(fitted)} effects at once close the gap ({', '.join(name for name, _ in fitted)}): "
+                       f"an explanation is one effect or a pair, and so many sizes fitted together can match rows "
+                       f"that carry few independent numbers (χ² {chi2:.4g} for {rows.size} rows)")
     if fitted:
         better = sentinel is not None and sentinel.bic < bic - settings.bic_margin
         if better:
@@ -220,6 +224,7 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
 
 
 AMBIGUOUS_GROUP = 3  # a group of more than three look-alikes is "one of many", not an explanation
+MOST_EFFECTS = 2  # an explanation names one effect or a pair: more, fitted at once, is a fit, not a finding
 
 
 def generic_ties(generic, bic: float, *, margin: float, alpha: float) -> bool:
