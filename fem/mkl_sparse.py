@@ -216,3 +216,4 @@ class SparseOperator:
             self.release()
         except Exception:  # noqa: BLE001,S110 - interpreter shutdown: the library may be gone
             pass
+
