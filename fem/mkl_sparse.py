@@ -216,4 +216,3 @@ class SparseOperator:
             self.release()
         except Exception:  # noqa: BLE001,S110 - interpreter shutdown: the library may be gone
             pass
-
