@@ -14,8 +14,8 @@ Both codes then start from that mesh:
   displacements from the ``.dat``. Memory: ``/usr/bin/time -v`` (maximum resident set size), or
   ru_maxrss of the child without it.
 - **rvcoax**: basis, stiffness (``rvcoax.fem.solid.stiffness_matrix``: element matrices added in
-  chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (slicing out
-  the clamped DOFs), solver set-up and solve with the method ``"auto"`` picks (the measured cost
+  chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (the clamped
+  DOFs' rows and columns dropped in one pass, ``rvcoax.fem.assembly.keep_rows_and_columns``), solver set-up and solve with the method ``"auto"`` picks (the measured cost
   model of ``rvcoax.fem.solver_cost``: PARDISO or AMG-CG with the rigid-body modes, for one
   right-hand side; PARDISO with its singularity test but no condition estimate, which ccx does
   not make either: ``estimate_condition=False``), tip-face displacements; run in a fresh Python process that loads the cached
@@ -244,6 +244,7 @@ def run_ccx(work: Path, job: str) -> dict:
 def rvcoax_child(label: str, cache_dir: str) -> dict:
     """Mesh (from the cache) to tip displacement in this fresh process; phases timed."""
     from rvcoax.fem import blas_threads, hugepages, solid
+    from rvcoax.fem.assembly import keep_rows_and_columns
     from rvcoax.fem.rigid_body import rigid_body_modes
     from rvcoax.fem.solvers import prepare
     from rvcoax.geometry.meshing import mesh_part
@@ -273,7 +274,7 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
     keep = np.ones(basis.N, dtype=bool)
     keep[dofs[np.abs(coordinates[:, 0]) < PLANE_TOL_M].ravel()] = False
     free = np.flatnonzero(keep)
-    reduced = stiffness[free][:, free]
+    reduced = keep_rows_and_columns(stiffness, keep, overwrite=True)  # one pass, over the stiffness's own arrays
     del stiffness
     lap("constraint elimination")
     # no condition estimate (ccx makes none; rvcoax's sweep asks for one); the singularity test stays on
