@@ -206,3 +206,13 @@ def test_upper_block_triangle_is_pardisos(bar):
     assert (ours.n, ours.block_size) == (theirs.n, theirs.block_size) == (a.shape[0], 3)
     for name in ("indptr", "indices", "data"):
         np.testing.assert_array_equal(getattr(ours, name), getattr(theirs, name))
+
+
+def test_without_mkl_the_hierarchy_is_built_and_solves_the_same(bar, exact, monkeypatch):
+    a, load, modes = bar
+    monkeypatch.setattr(mkl_sparse, "available", lambda: False)
+    solver = prepare(a, "amg", near_null_space=modes)
+    x = solver.solve(load)
+    assert "scipy products" in solver.report.name
+    assert np.sqrt((x - exact) @ (a @ (x - exact)) / (exact @ (a @ exact))) < 1e-6
+    solver.release()
