@@ -343,8 +343,9 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
 
     scipy's two slices hold the matrix, its row slice and the result at once (at 1.14 M DOF: +2.1 GB over
     the 1.07 GB stiffness, benchmarks/RESULTS.md). Here the kept entries are gathered block of rows by
-    block of rows; with ``overwrite`` they are written over the matrix's own arrays, which then shrink in
-    place, so nothing but one block's temporaries is added and ``matrix`` must not be used afterwards.
+    block of rows; with ``overwrite`` they are written over the front of the matrix's own arrays (the
+    result's values and indices are views of them), so nothing but one block's temporaries is added and
+    ``matrix`` must not be used afterwards.
     Order within rows is kept (sorted indices stay sorted); explicit zeros are kept.
 
     Parameters
@@ -390,11 +391,9 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
         new_indptr[rows_done + 1:rows_done + 1 + per_row.size] = written + np.cumsum(per_row)
         written += m
         rows_done += per_row.size
-    if overwrite and data.base is None and indices.base is None:
-        data.resize(written, refcheck=False)  # owned arrays: realloc shrinks in place
-        indices.resize(written, refcheck=False)
-    else:
-        data, indices = data[:written].copy(), indices[:written].copy()
+    # views of the front of the arrays: the dropped entries' tail (the clamped rows' share) stays allocated,
+    # but nothing is copied (scipy's matrices often hold views, which cannot be shrunk in place)
+    data, indices = data[:written], indices[:written]
     result = sp.csr_matrix((data, indices, new_indptr), shape=(kept_rows.size,) * 2, copy=False)
     result.has_sorted_indices = sorted_indices
     return result
