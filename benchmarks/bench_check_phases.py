@@ -3,8 +3,9 @@ factorisation), the sweeps and the calibration, the files, and the picture among
 
 The command runs in this process (as ``rvcoax check --model MODEL --out DIR`` would) with a CPU and a wall
 clock around each phase; CPU time counts both BLAS threads, so it can exceed the wall time. Run:
-``.venv/bin/python benchmarks/bench_check_phases.py [beam|hybrid]`` (default hybrid); prints the figures and
-appends them to benchmarks/RESULTS.md with the machine, the date and the load average.
+``.venv/bin/python benchmarks/bench_check_phases.py [beam|hybrid] [--no-record]`` (default hybrid); prints the
+figures and (without ``--no-record``) appends them to benchmarks/RESULTS.md with the machine, the date and the load
+average. Indented rows are parts of the phase above them; a function called several times adds up.
 """
 
 from __future__ import annotations
@@ -30,11 +31,30 @@ PHASES = {  # phase → (module, function); the CLI reaches each through its mod
     "write_check (all files, the picture included)": ("rvcoax.results.reports.check_files", "write_check"),
     "the picture (plot_y_vs_torque, matplotlib import included)": ("rvcoax.results.io.pictures", "plot_y_vs_torque"),
 }
+PARTS = {  # within the phases above: where the preparation and the check spend it
+    "  preparation: assembly (meshes, stiffness, ties, loads, probes)": ("rvcoax.results.sweep", "assemble_model"),
+    "  preparation: solver set-up (factorisation, update, checks)": ("rvcoax.fem.system", "prepare_system"),
+    "    set-up: PARDISO analysis and factorisation": ("rvcoax.fem.pardiso", "Factorization.__init__"),
+    "    set-up: singularity test and condition estimate": ("rvcoax.fem.solvers", "refuse_singular"),
+    "  run_check: calibration": ("rvcoax.results.studies.check_run", "calibrate"),
+    "    calibration: its sweeps of the fitting rows": ("rvcoax.results.studies.calibration", "run_sweep"),
+    "  run_check: the blind and calibrated sweeps": ("rvcoax.results.studies.check_run", "run_sweep"),
+    "  every solve call (PARDISO, the update, the residual check)": ("rvcoax.fem.solvers", "PreparedSolver.solve"),
+}
 
 
 def _timed(spent: dict, phase: str, module_name: str, name: str) -> None:
-    module = importlib.import_module(module_name)
-    function = getattr(module, name)
+    """Wrap ``module_name.name`` (``Class.method`` too) to add its CPU and wall time to ``spent[phase]``; a name
+    the module lacks (a private one made public later) is looked up with a leading underscore."""
+    owner = importlib.import_module(module_name)
+    module = owner
+    *path, name = name.split(".")
+    for part in path:
+        owner = getattr(owner, part)
+    if not hasattr(owner, name):
+        name = "_" + name
+    function = getattr(owner, name)
+    spent.setdefault(phase, (0.0, 0.0))
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
@@ -42,9 +62,12 @@ def _timed(spent: dict, phase: str, module_name: str, name: str) -> None:
         try:
             return function(*args, **kwargs)
         finally:
-            spent[phase] = (time.process_time() - cpu, time.perf_counter() - wall)
+            before = spent[phase]
+            spent[phase] = (before[0] + time.process_time() - cpu, before[1] + time.perf_counter() - wall)
 
-    setattr(module, name, wrapper)
+    setattr(owner, name, wrapper)
+    if owner is not module:
+        return
     import rvcoax
 
     if name in getattr(rvcoax, "__all__", ()) or hasattr(rvcoax, name):
@@ -52,12 +75,14 @@ def _timed(spent: dict, phase: str, module_name: str, name: str) -> None:
 
 
 def main() -> None:
-    model = sys.argv[1] if len(sys.argv) > 1 else "hybrid"
+    keep = "--no-record" not in sys.argv[1:]
+    arguments = [a for a in sys.argv[1:] if a != "--no-record"]
+    model = arguments[0] if arguments else "hybrid"
     load_before = os.getloadavg()[0]
     from rvcoax.results.cli.app import run
 
     spent: dict[str, tuple[float, float]] = {}
-    for phase, (module_name, name) in PHASES.items():
+    for phase, (module_name, name) in {**PHASES, **PARTS}.items():
         _timed(spent, phase, module_name, name)
     out = Path(tempfile.mkdtemp()) / "out"
     sys.argv = ["rvcoax", "check", "--model", model, "--out", str(out)]
@@ -69,7 +94,8 @@ def main() -> None:
     rows.append(("start-up, imports, rig and table (the rest)",
                  f"{total[0] - measured[0]:.2f} s CPU, {total[1] - measured[1]:.2f} s wall"))
     rows += [(phase, f"{cpu:.2f} s CPU, {wall:.2f} s wall") for phase, (cpu, wall) in spent.items()]
-    publish(f"bench_check_phases.py: `rvcoax check --model {model}` by phase, one process", rows, load_before)
+    publish(f"bench_check_phases.py: `rvcoax check --model {model}` by phase, one process", rows, load_before,
+            keep=keep)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ Works on any DOF layout: each DOF has a position and a component (0–2 force al
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +24,19 @@ class DofTable:
     position: np.ndarray
     component: np.ndarray
 
+    @functools.cached_property
+    def extent_m(self) -> float:
+        """The largest extent of the DOF positions along x, y or z (m); at least 1 m (the moment scale of
+        :func:`check_equilibrium`)."""
+        return max(float(np.ptp(self.position, axis=0).max()), 1.0) if len(self.position) else 1.0
+
+    @functools.cached_property
+    def _by_component(self) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+        """The DOFs of each component (0–5), and the positions (3, k) of the force DOFs (components 0–2). A sweep checks
+        the equilibrium of every case on one table: found once, not per vector."""
+        dofs = tuple(np.flatnonzero(self.component == c) for c in range(6))
+        return dofs, tuple(np.ascontiguousarray(self.position[dofs[c]].T) for c in range(3))
+
 
 def frame_dof_table(coordinates: np.ndarray) -> DofTable:
     """Six DOFs per node, in node order."""
@@ -31,15 +45,23 @@ def frame_dof_table(coordinates: np.ndarray) -> DofTable:
 
 
 def resultant_of(table: DofTable, vector: np.ndarray) -> np.ndarray:
-    """Total force and moment about the origin of a vector of DOF forces/moments (6,)."""
+    """Total force and moment about the origin of a vector of DOF forces/moments (6,).
+
+    The moment of a force f_c (component c) at position p is p × f_c e_c: a force along x at (x, y, z) gives
+    (0, z f, −y f), along y (−z f, 0, x f), along z (y f, −x f, 0).
+    """
     v = np.asarray(vector)
-    unit = np.zeros((v.size, 3))
-    translational = table.component < 3
-    unit[translational, table.component[translational]] = v[translational]
-    moment = np.cross(table.position, unit).sum(axis=0)
-    for axis in range(3):
-        moment[axis] += v[table.component == 3 + axis].sum()
-    return np.concatenate([unit.sum(axis=0), moment])
+    dofs, at = table._by_component
+    f = [v[dofs[c]] for c in range(3)]
+    force = np.array([f[c].sum() for c in range(3)])
+
+    def moment_of(c: int, axis: int) -> float:  # Σ p_axis f_c (multiplied and summed: no threaded BLAS call)
+        return float(np.sum(at[c][axis] * f[c]))
+
+    moment = np.array([moment_of(2, 1) - moment_of(1, 2), moment_of(0, 2) - moment_of(2, 0),
+                       moment_of(1, 0) - moment_of(0, 1)])
+    moment += [v[dofs[3 + axis]].sum() for axis in range(3)]
+    return np.concatenate([force, moment])
 
 
 def resultant(coordinates: np.ndarray, nodal_vector: np.ndarray) -> np.ndarray:
@@ -56,8 +78,10 @@ class Equilibrium:
     relative_error: float
 
 
-def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, np.ndarray]:
-    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,)."""
+def ground_reactions(model, stiffness, displacement, load, unbalance=None) -> tuple[np.ndarray, np.ndarray]:
+    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,).
+
+    ``unbalance``: K u − f where the caller has it already (else it is formed when there are fixed DOFs)."""
     frame = displacement[: model.n_dofs]
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     # spring_forces is what a spring exerts on its node a (here the ground); the ground
@@ -66,18 +90,20 @@ def ground_reactions(model, stiffness, displacement, load) -> tuple[np.ndarray, 
     fixed = np.zeros(displacement.shape[0])
     dofs = np.asarray(model.fixed_dofs, dtype=int)
     if dofs.size:
-        fixed[dofs] = (stiffness @ displacement - load)[dofs]
+        fixed[dofs] = (stiffness @ displacement - load if unbalance is None else unbalance)[dofs]
     return forces, fixed
 
 
-def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None) -> Equilibrium:
+def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | None = None, *,  # noqa: PLR0913
+                      unbalance=None) -> Equilibrium:
     """Compare the resultant of applied loads with the resultant of all ground reactions.
 
     ``model`` is the frame (:class:`rvcoax.fem.model.StructuralModel`) holding the ground springs and fixed
-    DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids).
+    DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids); ``unbalance`` is
+    K u − f where the caller has formed it (the fixed DOFs' reactions are read from it).
     """
     table = dofs if dofs is not None else frame_dof_table(model.coordinates)
-    bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load)
+    bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load, unbalance)
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     points = np.asarray(model.bushings.point_m)[grounded]
     bf = bushing_forces[grounded]
@@ -88,7 +114,7 @@ def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | Non
     magnitude = np.abs(np.asarray(load))
     forces = magnitude[table.component < 3].sum()
     moments = magnitude[table.component >= 3].sum()
-    extent = max(float(np.ptp(table.position, axis=0).max()), 1.0)
+    extent = table.extent_m
     # force scale includes applied moments over the model size: a pure-moment load has reaction
     # forces that are zero only up to rounding
     scale = max(forces + moments / extent, 1e-300)

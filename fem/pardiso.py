@@ -10,7 +10,8 @@ multipliers, :func:`rvcoax.fem.solvers.prepare_saddle_point`), scalar storage on
   (METIS) then works on the node graph, 9× smaller than the graph of the unknowns: at 52 k DOF the
   analysis takes 0.15 s instead of 0.41 s, and the factorisation is as fast or faster
   (benchmarks/RESULTS.md).
-- **scalar CSR** otherwise (constraint elimination in the hybrid model mixes the unknowns).
+- **scalar CSR** otherwise (constraint elimination in the hybrid model mixes the unknowns; :mod:`rvcoax.fem.woodbury`
+  stores the hybrid model's tie-released B in whole blocks, the entries it lacks as explicit zeros).
 
 Both upper triangles are cut from the full, sorted CSR matrix by masks (no COO round trip:
 ``scipy.sparse.triu`` took 2.1 s on the hybrid model's 34 M nonzeros, this takes 0.2 s).
@@ -114,6 +115,12 @@ def _library():
                                                                          ctypes.c_void_p, int_p]
     pardiso.restype = None
     return pardiso
+
+
+def _mkl_threads() -> int:
+    """MKL's thread count for its next parallel region (``MKL_Get_Max_Threads``)."""
+    _library()
+    return max(1, int(ctypes.CDLL(mkl_runtime_path()).MKL_Get_Max_Threads()))
 
 
 def available() -> bool:
@@ -359,8 +366,8 @@ class Factorization:
     20 succeeded), so a caller that must know tests the factor (:mod:`rvcoax.fem.solvers` does).
     """
 
-    def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False, *,
-                 reuse_analysis: bool = True, two_level: bool = False):
+    def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False, *,  # noqa: PLR0913
+                 reuse_analysis: bool = True, two_level: bool = False, reproducible: bool = False):
         self._pardiso = _library()
         self.storage = storage
         self.mtype = _INDEFINITE if indefinite else _SPD
@@ -385,13 +392,17 @@ class Factorization:
         self._iparm = np.zeros(64, dtype=np.int32)
         iparm = self._iparm
         iparm[0] = 1  # settings below, not MKL's defaults
-        iparm[1] = 3  # METIS nested dissection, OpenMP version
+        iparm[1] = 2 if reproducible else 3  # METIS nested dissection, OpenMP version (serial where reproducible:)
         iparm[9] = 8  # pivot perturbation 1e-8 (not used for SPD)
         iparm[17] = -1  # report the nonzeros of the factor
         iparm[18] = -1 if analysis_only else 0  # the factorisation's MFLOP (it slows the ordering a little)
         iparm[34] = 1  # zero-based indices
         iparm[36] = storage.block_size if storage.block_size > 1 else 0
         iparm[23] = 1 if two_level else 0  # MKL's two-level factorisation (the hybrid rig's Cholesky: 1.7 s CPU, not 2.6)
+        # the same factor, bit for bit, in every run with as many threads (MKL's CNR mode for PARDISO, which MKL's
+        # reference for iparm rules out with the OpenMP ordering): the hybrid rig's factor in 3 × 3 blocks differed
+        # by 4e-16 between runs without it, and costs no more with it
+        iparm[33] = _mkl_threads() if reproducible else 0
         if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
             iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
             iparm[12] = 1  # pivots perturbed to 1e-8 (iparm[9]) are made good by iterative refinement

@@ -369,10 +369,10 @@ def _locate_among(basis, points: np.ndarray, n_candidates: int, outside_toleranc
     n_candidates = min(n_candidates, mesh.t.shape[1])
     _, candidates = tree.query(points, n_candidates)
     candidates = np.asarray(candidates).reshape(len(points), n_candidates)
-    tind = candidates.ravel()
-    x = np.repeat(points.T, n_candidates, axis=1)[:, :, None]  # (3, k·c, 1)
+    point_of, tind = _plausible_candidates(mesh, points, candidates)
+    x = points.T[:, point_of, None]  # (3, candidates, 1)
     ref = np.full(x.shape, 0.25)
-    group_of = np.repeat(groups, n_candidates)
+    group_of = groups[point_of]
     active = np.ones(int(groups.max()) + 1 if groups.size else 0, dtype=bool)
     for _ in range(30):
         moving = np.flatnonzero(active[group_of])
@@ -390,11 +390,38 @@ def _locate_among(basis, points: np.ndarray, n_candidates: int, outside_toleranc
     ref = ref[:, :, 0]
     barycentric = np.vstack([1.0 - ref.sum(axis=0), ref])
     worst = np.where(mismatch <= 1e-10 * extent, barycentric.min(axis=0), -np.inf)
-    worst = worst.reshape(len(points), n_candidates)
-    best = worst.argmax(axis=1)
-    outside = worst[np.arange(len(points)), best] < -outside_tolerance
-    chosen = np.arange(len(points)) * n_candidates + best
+    # each point's best candidate (the first of equals, in the order of the nearest centroids)
+    order = np.lexsort((-worst, point_of))
+    chosen = order[np.searchsorted(point_of[order], np.arange(len(points)))]
+    outside = worst[chosen] < -outside_tolerance
     return tind[chosen], ref[:, chosen], outside
+
+
+STRAIGHT_MARGIN = 0.25
+"""How far outside a candidate tet's straight-sided (P1) version a point may lie, in barycentric coordinates, and
+the candidate still be iterated on: a P2 tet's curved edges move it from its straight version by far less
+(a cylinder of radius R meshed at size h: the sagitta h²/(8R), 1/8 of the tet at h = R)."""
+
+
+def _plausible_candidates(mesh, points: np.ndarray, candidates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(point index, tet) of the candidates worth Newton's iteration: those whose straight-sided tet holds the point
+    within :data:`STRAIGHT_MARGIN`, in the candidates' order; every candidate of a point that none holds.
+
+    The others cannot be the point's tet, and they are the costly ones: from far outside a tet Newton on its curved
+    mapping converges slowly or not at all, and kept every point of their group iterating to the limit."""
+    k, c = candidates.shape
+    corners = mesh.p[:, mesh.t[:4, candidates.ravel()]]  # (3, 4, k·c)
+    edges = np.moveaxis(corners[:, 1:] - corners[:, :1], 2, 0)  # (k·c, 3 coordinates, 3 edges)
+    offset = (np.repeat(points, c, axis=0) - corners[:, 0].T)[:, :, None]
+    try:
+        local = np.linalg.solve(edges, offset)[:, :, 0]
+    except np.linalg.LinAlgError:  # a flat tet among them: no shortcut
+        local = np.zeros((k * c, 3))
+    nearest = np.minimum(local.min(axis=1), 1.0 - local.sum(axis=1)).reshape(k, c)
+    keep = nearest >= -STRAIGHT_MARGIN  # NaN (a flat tet) is dropped
+    keep[~keep.any(axis=1)] = True
+    point_of, slot = np.nonzero(keep)
+    return point_of, candidates[point_of, slot]
 
 
 def _locate(basis, points: np.ndarray, outside_tolerance: float, groups: np.ndarray):

@@ -82,14 +82,18 @@ class UpperTriangleOperator:
     Parameters
     ----------
     storage : rvcoax.fem.pardiso.UpperStorage
-        Scalar CSR, whose leading ``size`` rows and columns are K's upper triangle.
+        Scalar CSR, whose leading ``size`` rows and columns are K's upper triangle; or 3 × 3 blocks (the
+        Cholesky path's B, :mod:`rvcoax.fem.woodbury`), of which a scalar upper triangle is made once (the
+        blocks' own arrays are PARDISO's).
     size : int
     """
 
     def __init__(self, storage: pardiso.UpperStorage, size: int):
-        if storage.block_size != 1:
-            raise ValueError("expected a scalar (block size 1) upper triangle")
         n = storage.n
+        if storage.block_size != 1:
+            blocks = sp.bsr_matrix((storage.data, storage.indices, storage.indptr), shape=(n, n)).tocsr()
+            blocks.sort_indices()
+            storage = pardiso.upper_csr(blocks)  # the diagonal blocks are stored whole: their lower entries go
         self._upper = sp.csr_matrix((storage.data, storage.indices, storage.indptr), shape=(n, n), copy=False)
         self.shape = (size, size)
         self.dtype = np.dtype(float)
@@ -210,7 +214,16 @@ class ConstrainedStiffness:
         Computed once and kept (a copy is returned): the product K' S it needs is as large as K', and
         the singularity test and the condition estimate ask for it again while the factor is alive.
         """
-        if self._diagonal is None:
+        if self._diagonal is None and sp.issparse(self.kept):
+            # diag(K_qq + K_qp Q + Qᵀ K_pq + Qᵀ K_pp Q), block by block: only Q's columns get the three
+            # corrections, so the product K' S (as large as K') is never formed
+            m, q = self.shape[0], self.dependent
+            kept = self.kept
+            coupled = kept[m:].tocsr()  # [K_pq, K_pp] (d rows)
+            corrections = (sp.csr_matrix(kept[:m, m:].T).multiply(q) + coupled[:, :m].multiply(q)
+                           + (coupled[:, m:] @ q).multiply(q))
+            self._diagonal = kept.diagonal()[:m] + np.asarray(corrections.sum(axis=0)).reshape(-1)
+        elif self._diagonal is None:
             ks = (self.kept @ self._expansion).tocsc()
             self._diagonal = np.asarray(ks.multiply(self._expansion).sum(axis=0)).reshape(-1)
         return self._diagonal.copy()
@@ -347,10 +360,7 @@ def reduced_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, symm
 
 def _serve(operator: ConstrainedStiffness, storage: pardiso.UpperStorage, ground: np.ndarray,
            springs: np.ndarray) -> ConstrainedStiffness:
-    """``operator`` with K' applied from B's upper triangle ``storage`` (:class:`ReleasedStiffness`); unchanged
-    when ``storage`` is in 3 × 3 blocks (:class:`UpperTriangleOperator` reads scalar storage)."""
-    if storage.block_size != 1:
-        return operator
+    """``operator`` with K' applied from B's upper triangle ``storage`` (:class:`ReleasedStiffness`)."""
     m = operator.shape[0]
     kept = operator.kept
     return operator.served_by(ReleasedStiffness(UpperTriangleOperator(storage, m), ground, springs,

@@ -3,7 +3,7 @@
 import numpy as np
 from frames import model, polyline, stiffness_matrix
 
-from rvcoax.fem.equilibrium import frame_dof_table
+from rvcoax.fem.equilibrium import DofTable, frame_dof_table, resultant_of
 from rvcoax.fem.rigid_body import rigid_body_modes
 from rvcoax.fem.sections import CircularSection
 
@@ -30,3 +30,18 @@ def test_a_rotation_moves_points_as_theta_cross_r_and_turns_the_rotation_dofs():
     # default: centre at the mean position, components interleaved x, y, z
     default = rigid_body_modes(position[6:] + 1.0)
     np.testing.assert_array_equal(default[:, :3], np.eye(3))
+
+
+def test_resultant_is_the_sum_of_forces_and_of_their_moments_about_the_origin():
+    """resultant_of: (Σ f, Σ p × f + Σ m) over a DOF table of mixed three- and six-DOF nodes, from per-table DOF lists."""
+    rng = np.random.default_rng(11)
+    position = rng.normal(size=(300, 3))
+    component = rng.integers(0, 6, 300)
+    table = DofTable(position, component)
+    vector = rng.normal(size=300)
+    force = np.zeros((300, 3))
+    force[component < 3, component[component < 3]] = vector[component < 3]
+    moment = np.cross(position, force).sum(axis=0) + [vector[component == 3 + a].sum() for a in range(3)]
+    np.testing.assert_allclose(resultant_of(table, vector), np.concatenate([force.sum(axis=0), moment]),
+                               rtol=0, atol=1e-12 * np.abs(vector).sum() * np.abs(position).max())
+    assert table.extent_m == max(float(np.ptp(position, axis=0).max()), 1.0)

@@ -184,6 +184,24 @@ def test_probe_matrix_groups_give_the_rows_of_separate_calls_bit_for_bit(stepped
         solid.probe_matrix(basis, rings[0], groups=[0, 1])
 
 
+def test_probe_matrix_iterates_only_on_plausible_tets_and_finds_the_same_ones(stepped, monkeypatch):
+    """Newton's iteration runs on the candidate tets whose straight-sided version holds the point (within
+    STRAIGHT_MARGIN); every candidate iterated (an infinite margin) gives the same tets and, to rounding, the
+    same interpolation: the dropped candidates could not have held the point."""
+    _, _, basis = stepped
+    rng = np.random.default_rng(7)
+    x = rng.uniform(0.002, 0.118, 40)
+    radius = 1e-3 * np.where(x < 0.1, rng.uniform(6.0, 12.0, 40), rng.uniform(1.0, 11.0, 40))
+    angle = rng.uniform(0.0, 2 * np.pi, 40)
+    points = np.column_stack([x, radius * np.cos(angle), radius * np.sin(angle)])
+    pruned = solid.probe_matrix(basis, points)
+    monkeypatch.setattr(solid, "STRAIGHT_MARGIN", np.inf)
+    every = solid.probe_matrix(basis, points)
+    assert abs(pruned - every).max() <= 1e-12
+    point_of, _ = solid._plausible_candidates(basis.mesh, points, np.tile(np.arange(16), (len(points), 1)))
+    assert point_of.size == 16 * len(points)  # infinite margin: nothing dropped
+
+
 def test_stress_of_uniform_strain(stepped):
     """u = ε x gives σ = λ tr(ε) I + 2 μ ε at every node; von Mises from the deviator."""
     _, _, basis = stepped

@@ -263,3 +263,21 @@ def test_the_cholesky_path_serves_the_tied_stiffness_from_its_own_arrays(tied_ba
     assert abs(served.kept @ sparse - whole.kept @ sparse).max() <= 1e-13 * abs(whole.kept).max()
     root = np.sqrt(whole.diagonal())
     assert served.scaled_one_norm(root, 97) == pytest.approx(whole.scaled_one_norm(root, 97), rel=1e-12)
+
+
+def test_the_released_stiffness_is_stored_in_whole_3x3_blocks(tied_bar_and_modes):
+    """B in PARDISO's block storage is B: the blocks expanded give B's upper triangle, the entries B lacks as zeros."""
+    from rvcoax.fem.woodbury import _upper_blocks
+
+    k, t, _, _, _ = tied_bar_and_modes
+    operator = constrained_stiffness(k, t, tied_rows(k, t))
+    m = operator.shape[0]
+    b = operator.kept[:m, :m].tocsr()
+    b.sum_duplicates()
+    b.sort_indices()
+    stored = _upper_blocks(b)
+    assert m % 3 == 0 and stored.block_size == 3  # 3 DOFs per solid node; the reference nodes' 6 are left out and stored.data.shape[1:] == (3, 3)
+    whole = sp.bsr_matrix((stored.data, stored.indices, stored.indptr), shape=(m, m)).toarray()
+    assert np.array_equal(np.triu(whole), np.triu(b.toarray()))
+    block_rows = np.repeat(np.arange(m // 3), np.diff(stored.indptr))
+    assert np.all(stored.indices >= block_rows)  # the upper block triangle only

@@ -222,6 +222,12 @@ def verdict(problem: Problem, fitted: list[tuple[str, np.ndarray]], after: np.nd
 AMBIGUOUS_GROUP = 3  # a group of more than three look-alikes is "one of many", not an explanation
 
 
+def generic_ties(generic, bic: float, *, margin: float, alpha: float) -> bool:
+    """Whether a generic load fits within the noise (its χ² test finds no gap at ``alpha``) and within the ambiguity
+    ``margin`` of the named effects' BIC ``bic``: the data cannot tell them apart."""
+    return generic is not None and generic.bic < bic + margin and stats.chi2.sf(generic.chi2, generic.n) >= alpha
+
+
 def qualify(bic: float, *, sentinel, groups, beyond, settings) -> tuple[str, list[str]]:
     """What a fit that leaves no gap and passes every rule may claim (the vocabulary's BIC is ``bic``):
 
@@ -238,8 +244,7 @@ def qualify(bic: float, *, sentinel, groups, beyond, settings) -> tuple[str, lis
         return "unexplained", [f"only a value beyond a physical bound closes the gap as well: {reason} (BIC {b:.4g} "
                                f"against {bic:.4g} within the bounds)" for reason, b in better]
     reasons = []
-    if sentinel is not None and sentinel.bic < bic + settings.ambiguity_margin \
-            and stats.chi2.sf(sentinel.chi2, sentinel.n) >= settings.alpha:
+    if generic_ties(sentinel, bic, margin=settings.ambiguity_margin, alpha=settings.alpha):
         reasons.append(f"a single generic load fits within the noise as well as the named effects ({sentinel.describe()}; "
                        f"BIC {sentinel.bic:.4g} against {bic:.4g}): the data cannot tell them apart")
     reasons += [f"{len(g)} look-alikes explain the gap equally well ({', '.join(g)})" for g in groups

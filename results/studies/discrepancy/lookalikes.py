@@ -24,17 +24,19 @@ from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES
 __all__ = ["exact_change", "exact_fit"]
 
 
-def exact_change(effect, value: float, engine, cases) -> np.ndarray | None:
-    """The exact change of the full paths (every case, the engine's datum) made by one-parameter ``effect`` at
-    ``value``: a clearance on a linear rig by its condensed law, a load or spring on the factorisation; None when
-    neither applies (the effect needs real sweeps)."""
+def exact_change(effect, value, engine, cases, from_rest: bool | None = None) -> np.ndarray | None:
+    """The exact change of the full paths (every case; Y from rest or from the unloaded geometry as ``from_rest``
+    says, the engine's datum by default) made by ``effect`` at ``value`` (a number, or one per parameter): a
+    clearance on a linear rig by its condensed law, a load or spring on the factorisation; None when neither applies
+    (the effect needs real sweeps)."""
     if engine is None or not engine.linear:
         return None
-    base = engine.full_paths(engine.unit_paths, cases)
+    values = [float(v) for v in np.atleast_1d(value)]
+    base = engine.full_paths(engine.unit_paths, cases, from_rest)
     if effect.response == "clearance":
-        return engine.clearance_paths(effect.location, float(value), cases) - base
+        return engine.clearance_paths(effect.location, values[0], cases, from_rest) - base
     if engine.supports(effect):
-        return engine.full_paths(engine.unit_paths + engine.unit_change([(effect, [float(value)])]), cases) - base
+        return engine.full_paths(engine.unit_paths + engine.unit_change([(effect, values)]), cases, from_rest) - base
     return None
 
 

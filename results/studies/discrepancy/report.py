@@ -8,6 +8,7 @@ import numpy as np
 
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results.io.writers import write_png_atomic
+from rvcoax.results.studies.discrepancy.ambiguity import BEYOND, GENERIC
 from rvcoax.results.studies.discrepancy.workflow import DiscrepancyResult
 
 __all__ = ["ambiguous_groups", "discrepancy_document", "engineering_summary", "observation_rows", "plot_discrepancy",
@@ -177,16 +178,28 @@ def pair_search_document(p) -> dict | None:
 
 
 def ambiguity_document(a) -> dict:
-    """One named effect's group of look-alikes: what they share, their fitted sizes, the measurement that splits them."""
+    """One tie the data cannot break (a named effect's group of look-alikes, or the named explanation and a generic
+    load): what they share, their fitted sizes, and the measurement that would split them."""
     split = a.split
+
+    def g4(value: float) -> float:
+        return float(f"{value:.4g}")
+
     return {"effect": a.effect, "members": list(a.members), "shared": a.shared, "size_range": a.size_range(),
-            "fitted_sizes": [{"effect": m.effect, "value": float(f"{m.value:.4g}"), "unit": m.unit,
+            "generic_load": a.generic if a.effect == GENERIC else None,
+            "beyond_bound": a.generic if a.effect == BEYOND else None, "not_predicted": list(a.unpredicted),
+            "fitted_sizes": [{"effect": m.effect, "value": g4(m.value), "unit": m.unit,
                               "within_bounds": m.within_bounds} for m in a.sizes],
             "split_by": None if split is None else {
                 "T1_input_Nm": split.case.input_torque_Nm, "T2_output_Nm": split.case.output_torque_Nm,
+                "cases": [{"T1_input_Nm": c.input_torque_Nm, "T2_output_Nm": c.output_torque_Nm} for c in split.cases],
                 "shaft": split.shaft, "x_mm": split.x_mm, "new_load_case": split.new_case,
-                "datum": "unloaded" if split.other_datum else "as measured",
-                "spread_um": float(f"{split.spread_um:.4g}"), "spread_in_sigma": float(f"{split.spread_in_sigma:.4g}"),
+                "datum": "unloaded" if not split.from_rest else "aligned_at_rest",
+                "other_datum": split.other_datum, "signed_uy": split.signed,
+                "separation_um": g4(split.separation_um), "separation_in_sigma": g4(split.separation_in_sigma),
+                "needed_in_sigma": g4(split.needed_sigma), "splits": split.splits,
+                "spread_um": g4(split.spread_um), "spread_in_sigma": g4(split.spread_in_sigma),
+                "parts": [list(part) for part in split.parts], "closest_pair": list(split.pair),
                 "low": list(split.low), "high": list(split.high), "text": split.sentence()},
             "text": a.sentence()}
 

@@ -27,7 +27,7 @@ from scipy.optimize import least_squares
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.geometry.effects import candidate_effects
 from rvcoax.loadcases.cases import LoadCase
-from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguity
+from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguities
 from rvcoax.results.studies.discrepancy.confidence import Confidence, verdict_confidence
 from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
@@ -775,15 +775,15 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
     kinds = [seen.effects[n].kind for n, _ in fitted]
     places = load_x(seen.effects, seen.rig) if len(kinds) > len(set(kinds)) else None  # one load at two places
     beyond = _beyond_bounds(named)
+    generic = _generic_elsewhere(seen, located.sentinel, selected) \
+        or _generic_elsewhere(seen, elsewhere if at else None, selected)
     outcome, reasons = verdict(problem, list(fitted), after, data=data, tests=(located.test_before, test_after),
                                sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
                                settings=settings, effects=seen.effects, places=places,
-                               groups=[s.group for s in selected], beyond=beyond,
-                               generic=_generic_elsewhere(seen, located.sentinel, selected)
-                               or _generic_elsewhere(seen, elsewhere if at else None, selected))
+                               groups=[s.group for s in selected], beyond=beyond, generic=generic)
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
-    ambiguities = tuple(ambiguity(s, seen, after) for s in final if len(s.group) > 1) \
-        if outcome in ("explained", "ambiguous") else ()
+    ties = ambiguities(final, seen, after, verdict=outcome, generic=generic, settings=settings,
+                       bic=_bic(problem, fitted, after) if fitted else np.inf, steps=named.steps)
     return DiscrepancyResult(
         verdict=outcome, data=data, noise=seen.noise, fit_mask=observed.rows, before=observed.before, after=after,
         test_before=located.test_before, test_after=test_after, test_after_held_out=test_held,
@@ -793,7 +793,7 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
         parallel_groups=seen.groups, sentinel=located.sentinel, cross_validation=cv,
         sentinel_cross_validation=located.sentinel_cv, reasons=tuple(reasons),
         vocabulary_chi2=float(np.sum(scaled_after[observed.rows] ** 2)) if fitted else None,
-        sentinel_elsewhere=elsewhere, sentinel_at=at, ambiguities=ambiguities, pair_search=named.pair_search,
+        sentinel_elsewhere=elsewhere, sentinel_at=at, ambiguities=ties, pair_search=named.pair_search,
         beyond_bounds=tuple(reason for reason, b in beyond if fitted and b < _bic(problem, fitted, after)
                             + settings.ambiguity_margin))
 
