@@ -24,7 +24,8 @@ for sizes whose factorisation would not fit or not finish.
 
 Run: ``.venv/bin/python benchmarks/bench_solid_rig.py [--sizes 4.5,3] [--analyse-only] [--analyse-sizes 2.8]``; run it
 alone (it may need several GB). Prints the figures and appends them to benchmarks/RESULTS.md
-(``--no-record``: print only).
+(``--no-record``: print only). The peak resident memory is judged against issue 27's hard limits
+(:data:`PEAK_LIMITS`, decimal bytes); the script exits 1 when a run misses its limit.
 """
 
 from __future__ import annotations
@@ -44,6 +45,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from machine import publish  # noqa: E402
 
 PHASES = ("mesh", "assembly", "ties", "probes", "set-up", "condition", "solves", "results")
+PEAK_LIMITS = ((600_000, 4.0e9), (1_200_000, 12.0e9))
+"""Issue 27's hard limits on the sweep's peak resident memory, bytes (decimal GB): up to 600 k DOF (the default 4 mm
+mesh, 492 k DOF) 4 GB, up to 1.2 M DOF (2.8 mm, 1.04 M DOF) 12 GB. A run above its limit makes the script exit 1."""
+
+
+def peak_limit(dofs: int) -> float | None:
+    """The peak-memory limit (bytes) for a model of ``dofs`` DOF, or None above the sizes the issue names."""
+    return next((limit for most, limit in PEAK_LIMITS if dofs <= most), None)
 
 
 def peak_rss_mb() -> float:
@@ -171,6 +180,19 @@ def child(size_mm: float, analyse: bool) -> dict:
     return out
 
 
+def _limit_row(figures: dict) -> tuple[tuple[str, str], bool]:
+    """The peak against :data:`PEAK_LIMITS`, in bytes: (row, whether within the limit)."""
+    peak = figures["peak_MB"] * 2**20  # VmHWM is in KiB
+    limit = peak_limit(figures["dofs"]) if "solver" in figures else None
+    text = f"{peak:.4g} bytes = {peak / 2**30:.2f} GiB (VmHWM {round(figures['peak_MB'] * 1024):,} kB)"
+    if limit is None:
+        return (f"  {figures['size_mm']:g} mm: peak resident memory", text), True
+    within = peak <= limit
+    return ((f"  {figures['size_mm']:g} mm: peak resident memory",
+             f"{text}; issue 27 limit {limit / 1e9:g}e9 bytes: {'met' if within else 'NOT met'} "
+             f"({(limit - peak) / 1e9:+.2f} GB margin)"), within)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="4.5,3", help="global mesh sizes, mm, comma-separated")
@@ -183,7 +205,7 @@ def main() -> None:
         print(json.dumps(child(args.child, args.analyse_only)))
         return
     load_before = os.getloadavg()[0]
-    rows = []
+    rows, all_within = [], True
     runs = [(float(text), args.analyse_only) for text in args.sizes.split(",") if text]
     runs += [(float(text), True) for text in args.analyse_sizes.split(",") if text]
     for size, analyse in runs:
@@ -195,6 +217,9 @@ def main() -> None:
             continue
         figures = json.loads(done.stdout.strip().splitlines()[-1])
         rows.append(_summary_row(figures))
+        row, within = _limit_row(figures)
+        rows.append(row)
+        all_within &= within
         for phase, f in figures["phases"].items():
             if f["wall_s"] or f["rise_MB"]:
                 rows.append((f"  {size:g} mm: {phase}", f"{f['wall_s']:.1f} s wall, {f['cpu_s']:.1f} s CPU, "
@@ -207,6 +232,8 @@ def main() -> None:
                          f"(analysis {a['analysis_peak_MB'] / 1e3:.2f} GB)"))
     publish("bench_solid_rig.py: the all-solid reference rig, 20 paper cases, per phase", rows, load_before,
             not args.no_record)
+    if not all_within:
+        sys.exit(1)
 
 
 def _summary_row(figures: dict) -> tuple[str, str]:

@@ -1,14 +1,21 @@
-"""How much memory this process may still use (Linux: /proc/meminfo and the cgroup v2 limit), and giving
-freed heap memory back to the operating system before a large allocation."""
+"""How much memory this process may still use (Linux: /proc/meminfo and the cgroup v2 limit), giving
+freed heap memory back to the operating system before a large allocation, and moving a large matrix that is not
+read for a while out of resident memory into a file."""
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
 import functools
+import mmap
+import tempfile
 from pathlib import Path
 
-__all__ = ["available_memory_bytes", "return_free_heap"]
+import numpy as np
+
+__all__ = ["available_memory_bytes", "move_to_file", "return_free_heap"]
+
+_ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 
 
 @functools.cache
@@ -65,3 +72,65 @@ def available_memory_bytes() -> float | None:
     except (OSError, ValueError):
         pass
     return available
+
+
+def move_to_file(matrix, folder: str | None = None) -> bool:
+    """Move a scipy sparse matrix's arrays (``data``, ``indices``, ``indptr``) into a private memory map of an unlinked
+    temporary file, in place; True when done, False (the matrix untouched) where the file cannot be written.
+
+    The matrix stays what it was, entry for entry, and usable as before: its pages are read back from the page cache
+    (or the disk) when an operation reads them, and a write changes this process's copy only (copy-on-write), never
+    the file. Until then they are not part of the process's resident memory, and under memory pressure the system can
+    drop them without swap. For a matrix that is not read for a long, memory-hungry stretch: the all-solid reference
+    rig's stiffness K (492 k DOF, 0.46 GB) while PARDISO factorises and solves the tied saddle-point matrix, which
+    does not read K (benchmarks/RESULTS.md). The file goes when the last array that maps it goes.
+
+    Parameters
+    ----------
+    matrix : scipy.sparse matrix in CSR, CSC or BSR form
+    folder : str, optional
+        Where the temporary file is made (the system's temporary folder by default). On a file system held in memory
+        (tmpfs, ramfs) the file would be memory too: nothing is moved there.
+    """
+    names = [name for name in ("data", "indices", "indptr") if isinstance(getattr(matrix, name, None), np.ndarray)]
+    if len(names) != 3 or _in_memory_filesystem(folder or tempfile.gettempdir()):
+        return False
+    arrays = [np.ascontiguousarray(getattr(matrix, name)) for name in names]
+    offsets, total = [], 0
+    for array in arrays:
+        offsets.append(total)
+        total += -(-array.nbytes // _ALIGNMENT) * _ALIGNMENT
+    if total == 0:
+        return False
+    try:
+        with tempfile.TemporaryFile(dir=folder) as handle:
+            for array, offset in zip(arrays, offsets):
+                handle.seek(offset)
+                array.tofile(handle)
+            handle.truncate(total)
+            handle.flush()
+            mapped = mmap.mmap(handle.fileno(), total, access=mmap.ACCESS_COPY)
+    except (OSError, ValueError):
+        return False
+    for name, array, offset in zip(names, arrays, offsets):
+        setattr(matrix, name, np.frombuffer(mapped, dtype=array.dtype, count=array.size, offset=offset).reshape(array.shape))
+    return True
+
+
+def _in_memory_filesystem(folder: str) -> bool:
+    """Whether ``folder`` lies on a file system held in memory (tmpfs, ramfs: /proc/mounts, the longest mount point
+    that contains it); False where that cannot be read."""
+    try:
+        path = str(Path(folder).resolve())
+        best, kind = "", ""
+        for line in Path("/proc/mounts").read_text().splitlines():
+            fields = line.split()
+            if len(fields) < 3:
+                continue
+            mount = fields[1].replace("\\040", " ")
+            inside = path == mount or path.startswith(mount.rstrip("/") + "/")
+            if inside and len(mount) >= len(best):
+                best, kind = mount, fields[2]
+    except OSError:
+        return False
+    return kind in ("tmpfs", "ramfs")

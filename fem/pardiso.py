@@ -60,7 +60,8 @@ import scipy.sparse as sp
 from rvcoax.fem.errors import PardisoError
 from rvcoax.fem.memory import return_free_heap
 
-__all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "UpperStorage", "ZERO_PIVOT",
+__all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "TRIM_BEFORE_SOLVE_BYTES",
+           "UpperStorage", "ZERO_PIVOT",
            "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
            "set_analysis_reuse", "stored_nonzeros", "upper_csr", "upper_saddle_point", "upper_storage"]
 
@@ -87,6 +88,10 @@ ANALYSIS_POOL_BYTES = 512 << 20
 analysis larger than this is freed with its factor. The hybrid reference rig's holds 158 MB (a process keeps 130 MB
 more after the release than with everything freed; benchmarks/RESULTS.md): a pooled analysis must not raise the peak
 of a large model's later phases, so the cap is a few such models, not a large solid's."""
+TRIM_BEFORE_SOLVE_BYTES = 8 << 20
+"""A solve whose right-hand sides fill this much or more gives the heap's free pages back first
+(:func:`rvcoax.fem.memory.return_free_heap`): the all-solid rig's three loaded unit loads (12 MB at 492 k DOF) need
+about ten times that in MKL's refinement workspace, which the heap's free pages do not serve (benchmarks/RESULTS.md)."""
 RESOURCE_ERRORS = frozenset({-2, -8, -9, -10, -11})
 """Codes that say nothing about the matrix's values (memory, integer size, out-of-core files)."""
 
@@ -462,6 +467,8 @@ class Factorization:
         if not self._alive:
             raise RuntimeError("the PARDISO factorisation was released")
         rhs = np.asfortranarray(block, dtype=float)
+        if rhs.nbytes >= TRIM_BEFORE_SOLVE_BYTES:
+            return_free_heap()  # MKL's solve workspace grows with the columns: what the heap holds free goes first
         return np.ascontiguousarray(self._call(33, rhs, "solve"))
 
     def release(self, keep_analysis: bool = True) -> None:

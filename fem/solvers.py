@@ -400,7 +400,7 @@ def _factorise_saddle_point(operator, upper: pardiso.UpperStorage, d: int, *, re
     # MKL refines each solve on the saddle-point matrix (iparm[7]); PreparedSolver.solve refines against
     # A itself where a column's residual needs it (REFINE_ABOVE).
     def solve(block):
-        padded = np.zeros((total, block.shape[1]))
+        padded = np.zeros((total, block.shape[1]), order="F")  # PARDISO's column order: no second copy for it
         padded[:m] = block
         try:
             return factor.solve(padded)[:m], (), ()

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from rvcoax.fem import pardiso, solvers, woodbury
+from rvcoax.fem import memory, pardiso, solvers, woodbury
 
 __all__ = ["LONG_ROW", "ConstrainedStiffness", "ReducedSystem", "ReleasedStiffness", "UpperTriangleOperator", "constrained_stiffness",
            "factorize", "independent_modes", "long_rows", "prepare_system", "reduced_stiffness", "tied_rows"]
@@ -367,6 +367,21 @@ def _serve(operator: ConstrainedStiffness, storage: pardiso.UpperStorage, ground
                                                 kept[:m, m:].tocsr(), kept[m:, m:].tocsr()))
 
 
+MOVE_OUT_BYTES = 256 * 2**20
+"""A stiffness K larger than this (its CSR arrays) goes to a file while PARDISO factorises and solves the tied
+saddle-point matrix (:func:`_move_out_while_factorising`)."""
+
+
+def _move_out_while_factorising(stiffness: sp.csr_matrix) -> bool:
+    """Move K (above :data:`MOVE_OUT_BYTES`) out of resident memory (:func:`rvcoax.fem.memory.move_to_file`) once the
+    saddle-point matrix is built from it: the factorisation, the singularity test and the solves read only that matrix
+    (A is applied from its upper triangle), and K is next read by the caller's residuals and reactions, after the
+    solves. The all-solid reference rig at 492 k DOF: K 0.46 GB less at the peak (benchmarks/RESULTS.md). K's values
+    are unchanged; where no temporary file can be written it stays in memory."""
+    size = sum(getattr(stiffness, name).nbytes for name in ("data", "indices", "indptr"))
+    return size > MOVE_OUT_BYTES and memory.move_to_file(stiffness)
+
+
 def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",  # noqa: PLR0913
                    near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False,
                    *, n_rhs: int = 1) -> ReducedSystem:
@@ -394,14 +409,19 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
     long = tied_rows(stiffness, elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
-        modes = independent_modes(elimination, near_null_space()) if near_null_space is not None else None
-        # no reference kept here: the Cholesky path lets K' go once it serves K' from its own arrays
-        updated = woodbury.prepare_tied(constrained_stiffness(stiffness, elimination, long), modes, serve=_serve)
-        if updated is not None:
-            return ReducedSystem(stiffness, elimination, updated)
+        # the low-rank update's Y has m × (2 d + grounded DOFs) entries: past UPDATE_BYTES with 2 d already, the
+        # Cholesky path refuses after K' is formed (the all-solid rig: 156 multipliers, 2 s of K' for nothing)
+        if 16.0 * elimination.shape[1] * long.size <= woodbury.UPDATE_BYTES:
+            modes = independent_modes(elimination, near_null_space()) if near_null_space is not None else None
+            # no reference kept here: the Cholesky path lets K' go once it serves K' from its own arrays
+            updated = woodbury.prepare_tied(constrained_stiffness(stiffness, elimination, long), modes, serve=_serve)
+            del modes
+            if updated is not None:
+                return ReducedSystem(stiffness, elimination, updated)
         operator = constrained_stiffness(stiffness, elimination, long)
         upper = operator.saddle_point_upper()
         operator = operator.served_from(upper)  # K' itself is freed here, before PARDISO allocates its factor
+        _move_out_while_factorising(stiffness)
         return ReducedSystem(stiffness, elimination, solvers.prepare_saddle_point(operator, upper))
     reduced = reduced_stiffness(stiffness, elimination, symmetrize)
     modes = elimination.T @ near_null_space() if chosen == "amg" and near_null_space is not None else None

@@ -126,8 +126,9 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
                         store.save(i, case_hashes[i], record)
                     done[i] = record
 
+                # a linear sweep is solved in one call: its factorisation goes once the unit loads are solved
                 return run_sweep(rig, tuple(cases[i] for i in indices), settings, progress=report, prepared=prepared,
-                                 on_case=save)
+                                 on_case=save, release_solver=linear)
 
             to_solve = sorted(set(missing) | set(checked))
             result = solve(to_solve, progress)

@@ -281,3 +281,28 @@ def test_the_released_stiffness_is_stored_in_whole_3x3_blocks(tied_bar_and_modes
     assert np.array_equal(np.triu(whole), np.triu(b.toarray()))
     block_rows = np.repeat(np.arange(m // 3), np.diff(stored.indptr))
     assert np.all(stored.indices >= block_rows)  # the upper block triangle only
+
+
+@needs_pardiso
+def test_the_stiffness_moved_to_a_file_while_factorising_gives_the_same_solution(tied_bar, monkeypatch):
+    """Above MOVE_OUT_BYTES the saddle-point path moves K into a file mapping once the saddle-point matrix exists:
+    K keeps every entry, and the solution, its residual and the reactions (K u at fixed DOFs) are the same bits."""
+    import mmap
+
+    from rvcoax.fem import system
+
+    k, t, loads, _ = tied_bar
+    kept = prepare_system(k, t, "pardiso")
+    u, residual = kept.solve(loads), kept.relative_residual(kept.solve(loads), loads)
+    monkeypatch.setattr(system, "MOVE_OUT_BYTES", 0)
+    moved_k = k.copy()
+    moved = prepare_system(moved_k, t, "pardiso")
+    base = moved_k.data
+    while isinstance(base, np.ndarray):
+        base = base.base
+    assert isinstance(getattr(base, "obj", base), mmap.mmap)  # K's values now live in the file mapping
+    assert (moved_k != k).nnz == 0 and np.array_equal(moved_k.indptr, k.indptr)
+    v = moved.solve(loads)
+    assert np.array_equal(v, u)
+    assert np.array_equal(moved.relative_residual(v, loads), residual)
+    assert np.array_equal(moved_k @ v, k @ u)

@@ -37,3 +37,25 @@ def test_a_load_parameter_change_solves_only_the_changed_load_vectors():
                 np.testing.assert_allclose(a.paths[shaft].uy_mm, b.paths[shaft].uy_mm, rtol=1e-12,
                                            atol=1e-12 * np.abs(b.paths[shaft].uy_mm).max())
     assert not np.allclose(changed.cases[-1].paths["output"].uy_mm, first.cases[-1].paths["output"].uy_mm)
+
+
+def test_a_released_model_still_serves_its_cached_unit_loads_and_nothing_else():
+    """run_sweep(release_solver=True) frees the factorisation after the unit loads and gives the same sweep; the
+    released model answers the same loads from its cache and refuses a new solve."""
+    import pytest
+
+    from rvcoax.fem.errors import SolverError
+
+    rig = load_rig()
+    cases = paper_cases()[:2]
+    kept = run_sweep(rig, cases, prepared=prepare_model(rig), engineering=False)
+    prepared = prepare_model(rig)
+    released = run_sweep(rig, cases, prepared=prepared, engineering=False, release_solver=True)
+    for a, b in zip(released.cases, kept.cases):
+        assert a.residual == b.residual
+        for shaft in a.paths:
+            assert np.array_equal(a.paths[shaft].uy_mm, b.paths[shaft].uy_mm)
+    again = run_sweep(rig, cases, prepared=prepared, engineering=False)  # every unit load from the cache
+    assert np.array_equal(again.cases[-1].paths["output"].uy_mm, kept.cases[-1].paths["output"].uy_mm)
+    with pytest.raises(SolverError, match="released"):
+        prepared.solve(np.ones(prepared.system.n_dofs))
