@@ -31,10 +31,11 @@ benchmarks/RESULTS.md with the machine, date and load average (``--no-record``: 
 
 Usage::
 
-    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|solid] [--limit N] [--seed S]
-        [--groups pair,none]
+    python benchmarks/bench_discrepancy_blind.py [--source hybrid|calculix|calculix_solid|calculix_solid_full|solid]
+        [--limit N] [--seed S] [--groups pair,none] [--schemas paths,table] [--draws N]
         [--max-minutes M] [--label NAME] [--no-record]
 
+``--draws N`` sets the confidence estimate's draws (0: none; it decides no verdict, so verdicts are scored faster);
 ``--limit N`` runs a subset of N sets stratified over the classes, datums, schemas and noise levels,
 drawn with ``--seed``; ``--max-minutes`` stops starting new runs after M minutes (the report then says
 how many ran). To score another tree's workflow on the same files, run this script with that tree's
@@ -68,6 +69,8 @@ SOURCES = {
     "calculix": (blind_data.CACHE / "calculix", "python benchmarks/calculix_rig.py --full .blindcache/calculix"),
     "calculix_solid": (blind_data.CACHE / "calculix_solid",
                        "python benchmarks/calculix_solid.py --bench .blindcache/calculix_solid"),
+    "calculix_solid_full": (blind_data.CACHE / "calculix_solid_full",
+                            "python benchmarks/calculix_solid.py --full .blindcache/calculix_solid_full"),
     "solid": (blind_data.CACHE / "solid", "python benchmarks/blind_solid.py"),
 }
 
@@ -214,6 +217,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the subset")
     parser.add_argument("--groups", default="", help="only these classes (vocabulary,faint,none,pair,out_of_vocabulary,out_of_bounds)")
     parser.add_argument("--ids", default="", help="only these set ids (comma-separated)")
+    parser.add_argument("--schemas", default="", help="only these schemas (paths,table)")
+    parser.add_argument("--draws", type=int, default=None, help="synthetic draws of the confidence estimate "
+                        "(default: the workflow's; 0: no estimate, which decides no verdict)")
     parser.add_argument("--max-minutes", type=float, default=None, help="start no run after this many minutes")
     parser.add_argument("--label", default="", help="what is benchmarked (e.g. the branch), for RESULTS.md")
     parser.add_argument("--keep", default="", help="folder to keep each run's discrepancy.json in")
@@ -235,6 +241,8 @@ def main() -> None:
         sets = [s for s in sets if s["group"] in args.groups.split(",")]
     if args.ids:
         sets = [s for s in sets if s["id"] in args.ids.split(",")]
+    if args.schemas:
+        sets = [s for s in sets if s["schema"] in args.schemas.split(",")]
     chosen = stratified(sets, args.limit, args.seed)
     label = args.label or Path(rvcoax.__file__).resolve().parent.name
     if args.rescore:
@@ -243,7 +251,7 @@ def main() -> None:
     keep = Path(args.keep) if args.keep else None
     if keep:
         keep.mkdir(parents=True, exist_ok=True)
-    settings = DiscrepancySettings()
+    settings = DiscrepancySettings() if args.draws is None else DiscrepancySettings(confidence_draws=args.draws)
     accepts_library = "library" in inspect.signature(rvcoax.run_discrepancy).parameters
     rigs = {datum: blind_data.identification_rig(datum) for datum in blind_data.DATUMS}
     libraries, library_seconds = {}, {}

@@ -44,7 +44,8 @@ from rvcoax.fem.solver_cost import COST_MODEL, NONZEROS_PER_ROW, SolverCostModel
 
 __all__ = ["AMG_ACCURACY", "AMG_ERROR_DELAY", "AMG_RESIDUAL_LIMIT", "DIRECT_RESIDUAL_LIMIT", "METHODS",
            "PreparedSolver", "SINGULAR_INVERSE_NORM", "SINGULAR_PIVOT_RATIO", "SUPERLU_MAX_DOFS", "SolverReport",
-           "choose_method", "conjugate_gradients", "pardiso_available", "prepare", "prepare_saddle_point"]
+           "choose_method", "conjugate_gradients", "pardiso_available", "peak_rss_mb", "prepare", "prepare_saddle_point",
+           "refuse_singular"]
 
 METHODS = ("superlu", "pardiso", "amg")
 SUPERLU_MAX_DOFS = 20_000
@@ -118,7 +119,12 @@ class SolverReport:
     analysis_reused: bool = False
 
 
-def _peak_rss_mb() -> float:
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process so far, MiB (``ru_maxrss``; C and Fortran allocations included).
+
+    A process-wide high-water mark: the solvers take it before and after a set-up to report how much it rose
+    (:attr:`SolverReport.peak_memory_increase_MB`).
+    """
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
 
 
@@ -177,7 +183,7 @@ class PreparedSolver:
         self._condition = condition  # PARDISO: estimated at set-up, in the singularity test's solves
         # library memory outside Python (PARDISO's factor) is freed when this object goes away
         self._finalizer = weakref.finalize(self, release) if release is not None else None
-        peak = _peak_rss_mb()
+        peak = peak_rss_mb()
         self._report = SolverReport(name=name, n_dofs=matrix.shape[0], setup_seconds=setup_seconds, solve_seconds=0.0,
                                     peak_memory_MB=peak, peak_memory_increase_MB=max(0.0, peak - rss_before),
                                     matrix_nonzeros=int(matrix.nnz if matrix_nonzeros is None else matrix_nonzeros),
@@ -208,10 +214,11 @@ class PreparedSolver:
     def condition_estimate(self) -> float | None:
         """Estimated condition number of the Jacobi-scaled matrix (:func:`rvcoax.fem.diagnostics.scaled_condition_estimate`).
 
-        SuperLU: four solves with the factorisation, computed on the first call. PARDISO: computed at set-up
-        in the singularity test's solves (:func:`rvcoax.fem.diagnostics.singularity_and_condition`), or on the
-        first call when :func:`prepare` was told not to (``estimate_condition=False``). None for AMG, where every solve is a full CG run (a preconditioned solve that converges is its own
-        evidence of conditioning).
+        SuperLU: two or three solve calls with the factorisation, made on the first call. PARDISO: made at
+        set-up in the singularity test's two solve calls (:func:`rvcoax.fem.diagnostics.singularity_and_condition`),
+        or on the first call when :func:`prepare` was told not to (``estimate_condition=False``). None for AMG,
+        where every solve is a full CG run (a preconditioned solve that converges is its own evidence of
+        conditioning).
         """
         if not self._direct:
             return None
@@ -274,7 +281,7 @@ class PreparedSolver:
                 f"{self._report.name}: relative residual {residuals.max():.1e} after a direct solve; "
                 "the matrix is numerically singular (a part can move without deforming?)"
             )
-        peak = _peak_rss_mb()
+        peak = peak_rss_mb()
         self._report = replace(
             self._report,
             solve_seconds=elapsed,
@@ -345,19 +352,46 @@ def _setup_pardiso(a: sp.csr_matrix, estimate_condition: bool = True):
     # A singular matrix may also factorise, its rigid-body pivots rounded to tiny positive values
     # (it does so at random: the threaded factorisation does not round the same way every time);
     # two solves of inverse iteration tell it apart from any usable matrix, every time.
-    condition = _refuse_singular(a, solve, factor, estimate_condition=estimate_condition)
+    condition = refuse_singular(a, solve, factor, estimate_condition=estimate_condition)
 
     blocks = " 3×3 blocks," if storage.block_size == 3 else ""
     return (f"pardiso (MKL PARDISO, SPD,{blocks} mtype=2)", solve, factor.release,
             (factor.factor_nonzeros, factor.memory_MB, factor.reused_analysis), condition)
 
 
-def _refuse_singular(matrix, solve, factor: pardiso.Factorization, *, estimate_condition: bool = True) -> float | None:
-    """Release ``factor`` and raise :class:`SingularMatrixError` when inverse iteration finds 1/λ_min of the
-    Jacobi-scaled ``matrix`` above :data:`SINGULAR_INVERSE_NORM` (:func:`rvcoax.fem.diagnostics.scaled_inverse_norm_bound`);
-    else return the condition estimate, whose solves carry the iteration's steps as one more column
-    (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: two solve calls fewer than apart), or None
-    without ``estimate_condition`` (the iteration's two solves alone; the estimate is then made on request)."""
+def refuse_singular(matrix, solve, factor: pardiso.Factorization, *, estimate_condition: bool = True) -> float | None:
+    """The singularity test of a PARDISO set-up, with the condition estimate in the same solves.
+
+    Inverse iteration (two solves, :func:`rvcoax.fem.diagnostics.scaled_inverse_norm_bound`) bounds 1/λ_min of
+    the Jacobi-scaled ``matrix``; above :data:`SINGULAR_INVERSE_NORM` the matrix is singular whatever the factor
+    says (a singular matrix may factorise, its rigid-body pivots rounded to tiny positive values).
+
+    Parameters
+    ----------
+    matrix : sparse (n, n), or an operator with ``shape``, ``diagonal()``, ``@`` and ``scaled_one_norm(root)``
+        The SPD matrix ``solve`` solves with.
+    solve : callable
+        ``solve(block)`` → (X, iterations, estimates), X = matrix⁻¹ block for a block (n, k), as a set-up's
+        solve function returns.
+    factor : rvcoax.fem.pardiso.Factorization
+        Released (analysis included) when the matrix is refused or a solve fails.
+    estimate_condition : bool
+        Also make the condition estimate, its solves carrying the iteration's two steps as one more column
+        (:func:`rvcoax.fem.diagnostics.singularity_and_condition`: the same two solve calls where the estimate's
+        search ends there, one more where a larger column is certain). False: the iteration's two single-column solves alone.
+
+    Returns
+    -------
+    float or None
+        The condition estimate of the Jacobi-scaled matrix, or None without ``estimate_condition``.
+
+    Raises
+    ------
+    SingularMatrixError
+        The bound is above :data:`SINGULAR_INVERSE_NORM` (the message names the equation that moves most).
+    SolverError
+        A solve failed.
+    """
     try:
         if estimate_condition:
             bound, equation, condition = singularity_and_condition(matrix, lambda b: solve(b)[0])
@@ -413,7 +447,7 @@ def _factorise_saddle_point(operator, upper: pardiso.UpperStorage, d: int, *, re
             factor.release(keep_analysis=False)
             raise SingularMatrixError(f"PARDISO: the constrained stiffness has {m + d - positive} non-positive "
                                       f"eigenvalue(s) of {m}: the matrix is singular or not positive definite")
-        condition = _refuse_singular(operator, solve, factor)
+        condition = refuse_singular(operator, solve, factor)
     except SingularMatrixError as error:
         if factor.reused_analysis:
             raise _RefusedOnReusedAnalysis() from error
@@ -449,7 +483,7 @@ def prepare_saddle_point(operator, augmented: sp.csr_matrix | pardiso.UpperStora
     SolverError
         MKL missing, or a library error.
     """
-    rss_before = _peak_rss_mb()
+    rss_before = peak_rss_mb()
     if not pardiso.available():
         raise SolverError("method 'pardiso' needs Intel MKL (x86-64 only): pip install mkl")
     start = time.perf_counter()
@@ -604,12 +638,12 @@ def prepare(  # noqa: PLR0913
         ``"auto"``: memory to plan with; the machine's available memory when None.
     accuracy, maxiter : AMG-preconditioned CG stopping rule (:func:`conjugate_gradients`).
     estimate_condition : bool
-        PARDISO: make the condition estimate at set-up, its solves carrying the singularity test's
-        (:func:`rvcoax.fem.diagnostics.singularity_and_condition`). False: the singularity test alone (two
-        single-column solves, the same refusal of a singular matrix); :meth:`PreparedSolver.condition_estimate`
-        then makes the estimate when it is asked for (about four solve calls more than at set-up). Set it False
-        where the estimate is not wanted (a single solve: 0.25 s of CPU time at 62 k DOF,
-        benchmarks/RESULTS.md); SuperLU always estimates on request, AMG never.
+        PARDISO: make the condition estimate at set-up, as more columns of the singularity test's two solve
+        calls (:func:`rvcoax.fem.diagnostics.singularity_and_condition`; a third call where a larger column is
+        certain). False: the singularity test alone (two single-column solves, the same refusal
+        of a singular matrix); :meth:`PreparedSolver.condition_estimate` then makes the estimate when it is
+        asked for (two or three solve calls of its own). At 62 k DOF the estimate adds about 0.1 s of CPU time
+        to a 2 s set-up and solve (benchmarks/RESULTS.md); SuperLU always estimates on request, AMG never.
 
     Raises
     ------
@@ -618,7 +652,7 @@ def prepare(  # noqa: PLR0913
     SolverError
         Unknown method, MKL missing for ``"pardiso"``, or a solver library error.
     """
-    rss_before = _peak_rss_mb()
+    rss_before = peak_rss_mb()
     a = _symmetric_csr(matrix)
     if not 0.0 < accuracy < 1.0:
         raise SolverError(f"AMG accuracy must lie in (0, 1), got {accuracy!r}")

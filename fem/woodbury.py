@@ -186,7 +186,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     SingularMatrixError
         A is singular (the inverse iteration of :func:`rvcoax.fem.diagnostics.singularity_and_condition` on A).
     """
-    rss_before = solvers._peak_rss_mb()
+    rss_before = solvers.peak_rss_mb()
     start = time.perf_counter()
     m = operator.shape[0]
     released = _released(operator, modes)
@@ -222,7 +222,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     if not residual <= solvers.REFINE_ABOVE:
         factor.release(keep_analysis=False)
         return None
-    condition = solvers._refuse_singular(operator, solve, factor)
+    condition = solvers.refuse_singular(operator, solve, factor)
     name = (f"pardiso (MKL PARDISO, SPD, mtype=2: Cholesky of the stiffness with the ties released and "
             f"{ground.size} DOF(s) grounded, ties and groundings as a rank-{rank} update)")
     return solvers.PreparedSolver(operator, name, solve, setup_seconds=time.perf_counter() - start,

@@ -464,10 +464,9 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         Also compute each case's coupling, bearing and reaction tables
         (:func:`rvcoax.results.engineering.case_engineering`; off for sweeps that only need Y, e.g. a fit).
     release_solver : bool
-        Free ``prepared``'s factorisation as soon as this sweep needs it no more (a superposition sweep: after its
-        unit loads are solved, before the cases' residuals and reactions read K), for a caller that solves nothing
-        more on ``prepared`` (:meth:`PreparedModel.release`). A model this function prepares itself is always freed
-        so. On the all-solid reference rig the factor (2 GB at 492 k DOF) and K are then never resident together.
+        Free ``prepared``'s factorisation once its unit loads are solved, before the cases' residuals and reactions
+        read K (superposition sweeps; :meth:`PreparedModel.release`), for a caller that solves nothing more on it. A
+        model this function prepares is always freed so: the factor (2 GB at 492 k DOF) and K are never both resident.
 
     Returns
     -------

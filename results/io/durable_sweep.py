@@ -125,7 +125,6 @@ def run_durable_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSett
                     if i not in done or i in disagreed:
                         store.save(i, case_hashes[i], record)
                     done[i] = record
-
                 # a linear sweep is solved in one call: its factorisation goes once the unit loads are solved
                 return run_sweep(rig, tuple(cases[i] for i in indices), settings, progress=report, prepared=prepared,
                                  on_case=save, release_solver=linear)

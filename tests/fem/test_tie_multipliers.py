@@ -182,7 +182,7 @@ def test_a_refusal_on_a_reused_analysis_is_judged_again_on_a_fresh_one(tied_bar,
     k, t, loads, _ = tied_bar
     pardiso.clear_analysis_pool()
     prepare_system(k, t, "pardiso").solver.release()  # leaves its analysis in the pool
-    original = solvers._refuse_singular
+    original = solvers.refuse_singular
     judged = []
 
     def refuse_on_reused(matrix, solve, factor):
@@ -191,7 +191,7 @@ def test_a_refusal_on_a_reused_analysis_is_judged_again_on_a_fresh_one(tied_bar,
             raise SingularMatrixError("refused on the reused analysis (made up for the test)")
         return original(matrix, solve, factor)
 
-    monkeypatch.setattr(solvers, "_refuse_singular", refuse_on_reused)
+    monkeypatch.setattr(solvers, "refuse_singular", refuse_on_reused)
     system = prepare_system(k, t, "pardiso")
     assert judged == [True, False]
     assert not system.solver.report.analysis_reused

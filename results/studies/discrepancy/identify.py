@@ -57,6 +57,10 @@ class Step:
     rejected_fits: dict[str, Fit] = field(default_factory=dict)
 
 
+SCAN_POINTS = 61  # values of a linear effect's scan on a table (:meth:`Problem._scan_starts`), both signs
+SCAN_KEEP = 3  # the best of them kept as starts (with zero)
+
+
 class Problem:
     """The least-squares problem: measured values, σ, base paths, observation operator, responses."""
 
@@ -93,7 +97,10 @@ class Problem:
         exact = self._linear_fit(names, sizes, lower, upper)
         if exact is not None:
             return exact
-        choices = [[start[n]] if n in start else self.responses[n].start_values() for n in names]
+        new = [n for n in names if n not in start]
+        choices = [[start[n]] if n in start else
+                   self._scan_starts(n, names, start) if len(new) == 1 else self.responses[n].start_values()
+                   for n in names]
         starts = [np.concatenate(c) for c in _product(choices, limit=64)]
         if len(starts) > 2:  # a coarse look first: start from the two best grid points only
             split_starts = [tuple(np.array(p) for p in np.split(x0, np.cumsum(sizes)[:-1])) for x0 in starts]
@@ -123,6 +130,33 @@ class Problem:
                 best = (chi2, result.x)
         values = split(best[1])
         return Fit(tuple(names), values, best[0], int(self.rows.size), _out_of_bounds(self.responses, names, values))
+
+    def _scan_starts(self, name: str, names, start: dict) -> list[np.ndarray]:
+        """Starts for the one new effect of a fit: its own (zero for a linear effect, every grid value for a nonlinear
+        one), and, for a linear one-parameter effect seen through observations that are not linear in the paths (a
+        |Y_max| table), the best values of a scan of its search range. On a table the χ² of a linear effect has
+        several valleys (|Y| folds a path's sign: an offset of +0.5 µm and one of −0.3 µm may both lower it), so a
+        start at zero may end in the wrong one: the scan, geometric from 10⁻⁴ of its physical span to its search
+        bound on either side (:data:`SCAN_POINTS` values, about 1.5 apart), finds the valley each fit starts in."""
+        response = self.responses[name]
+        own = response.start_values()
+        if response.kind != "linear" or response.n_params != 1 or hasattr(self.observe, "matrix"):
+            return own
+        lower, upper = (float(b[0]) for b in response.search_bounds())
+        span = max(abs(lower), abs(upper)) / 10.0
+        side = np.geomspace(1e-4 * span, 10.0 * span, SCAN_POINTS // 2)
+        values = np.concatenate([-side[::-1], [0.0], side])
+        values = values[(values >= lower) & (values <= upper)]
+        others = tuple(n for n in names if n != name)
+        fixed = tuple(np.atleast_1d(start[n]) for n in others)
+        base = self.paths(others, fixed)
+        columns = response.columns[0]
+        costs = []
+        for v in values:
+            r = ((self.measured - self.observe(base + v * columns)) / self.sigma)[self.rows]
+            costs.append(float(r @ r))
+        best = [values[i] for i in np.argsort(costs)[:SCAN_KEEP]]
+        return own + [np.array([v]) for v in best if v != 0.0]
 
     def _observed_columns(self, name: str) -> np.ndarray:
         """Scaled observed change per unit of each parameter of a linear effect (paths data: exact), cached."""

@@ -31,7 +31,15 @@ from rvcoax.results.studies.discrepancy.ambiguity import Ambiguity, ambiguities
 from rvcoax.results.studies.discrepancy.confidence import Confidence, verdict_confidence
 from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES, Engine, prepare_engine, rig_is_linear
 from rvcoax.results.studies.discrepancy.identify import Fit, Problem, Step, forward_backward
-from rvcoax.results.studies.discrepancy.judge import STRUCTURE_T, load_regions, load_x, look_alike_places, verdict
+from rvcoax.results.studies.discrepancy.judge import (
+    STRUCTURE_T,
+    fighting_pairs,
+    load_regions,
+    load_x,
+    look_alike_places,
+    opposite_loads,
+    verdict,
+)
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
     NoiseEstimate,
@@ -161,6 +169,7 @@ class SelectedEffect:
     group: tuple[str, ...]
     round: int
     confident: bool = False
+    pair_members: tuple[str, ...] = ()  # members of ``group`` that only a pair fitting as well brought in (ambiguous)
 
     def parameters(self, effect) -> dict:
         """Per parameter: its value, unit, bounds, and ``at_bound`` (``lower`` or ``upper`` when the fit sits on a
@@ -737,6 +746,78 @@ def _generic_elsewhere(seen: Seen, sentinel: SentinelFit | None, selected) -> Se
     return None if any(site_in((sentinel.part, sentinel.x_mm), r) for r in places.values()) else sentinel
 
 
+# the verdict's reasons that reject a fit for its form (two effects cancelling, one load at two places with opposite
+# signs), not for what it leaves: a pair of the vocabulary that fits as well without that form makes the answer
+# ambiguous (the data cannot tell the vocabulary pair from a load the couple mimics)
+MIMICS = ("cancel each other", "opposite signs")
+PAIR_FIRST = 8  # the best single candidates of the first step that may open a pair alternative (with the groups)
+
+
+def _pairs_as_well(seen: Seen, named: Named, selected: list[SelectedEffect], settings: DiscrepancySettings, *,  # noqa: PLR0913
+                   places: dict | None = None, covered_too: bool = False):
+    """An ``ambiguous`` answer names every candidate the data cannot exclude, pairs included: two effects that together
+    fit as well as the selection (BIC within the ambiguity margin of its BIC), each earning its parameter (the pair's
+    BIC below that of either member alone, the criterion by which the screen adds an effect), are both added to the
+    groups, unless both are there already. A pair whose second member is small (a torque reaction of a tenth of a
+    N per N·m beside a mesh force) fits a table as well as one look-alike of the first and gains less than the screen's
+    margin, so the screen stops at one effect: without this the group excluded a truth the data cannot exclude.
+
+    The first member comes from the named groups and the best single candidates of the first step
+    (:data:`PAIR_FIRST`), the second from every candidate seen. Returns the groups (each new member joins the group
+    that holds its partner, else the first) and a reason per pair added. A pair that cancels itself or is one load at
+    two neighbouring places with opposite signs (:func:`judge.opposite_loads`, ``places``) is no alternative.
+    ``covered_too``: look at pairs of members already named too, until one is found (the named fit was refused for its
+    form, so its groups are no answer yet)."""
+    problem = named.problem
+    if not named.fitted:
+        return selected, []
+    limit = _bic(problem, named.fitted, named.after) + settings.ambiguity_margin
+    covered = {m for s in selected for m in s.group}
+    first = list(dict.fromkeys([m for s in selected for m in s.group]
+                               + ([n for n, _ in named.steps[0].ranking[:PAIR_FIRST]] if named.steps else [])))
+    first = [n for n in first if n in seen.responses]
+    singles: dict[str, tuple[float, np.ndarray | None]] = {}
+
+    def alone(name: str) -> float:
+        """BIC of ``name`` fitted alone (inf beyond its bounds or unsolvable); its values start the pair fits."""
+        if name not in singles:
+            try:
+                fit = problem.fit((name,))
+                singles[name] = (np.inf if fit.rejected else fit.bic, fit.values[0])
+            except CANDIDATE_FAILURES:
+                singles[name] = (np.inf, None)
+        return singles[name][0]
+
+    groups = [list(s.group) for s in selected]
+    reasons, tried = [], set()
+    for a in first:
+        for b in seen.responses:
+            key = frozenset((a, b))
+            if b == a or key in tried or ({a, b} <= covered and not (covered_too and not reasons)):
+                continue
+            tried.add(key)
+            alone(a), alone(b)
+            start = {n: singles[n][1] for n in (a, b) if singles[n][1] is not None}
+            try:
+                fit = problem.fit((a, b), start)
+            except CANDIDATE_FAILURES:
+                continue
+            if fit.rejected is not None or fit.bic >= limit or fit.bic >= alone(a) or fit.bic >= alone(b):
+                continue
+            pair = list(zip(fit.names, fit.values))
+            if fighting_pairs(problem, pair) or opposite_loads(pair, seen.effects, places):
+                continue
+            for member, partner in ((a, b), (b, a)):
+                if member not in covered:
+                    home = next((g for g in groups if partner in g), groups[0])
+                    home.append(member)
+                    covered.add(member)
+            reasons.append(f"the pair {a} + {b} fits as well (BIC {fit.bic:.4g} against {limit - settings.ambiguity_margin:.4g}"
+                           f"; each member alone: {alone(a):.4g}, {alone(b):.4g})")
+    return [replace(s, group=tuple(g), pair_members=tuple(m for m in g if m not in s.group))
+            for s, g in zip(selected, groups)], reasons
+
+
 def _bic(problem: Problem, fitted, after: np.ndarray) -> float:
     """The vocabulary's BIC on the rows used to fit, with the true model's ``after``."""
     scaled = ((problem.measured - after) / problem.sigma)[problem.rows]
@@ -781,6 +862,13 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
                                sentinel=elsewhere if at else located.sentinel, mimic=located.sentinel, cv=cv,
                                settings=settings, effects=seen.effects, places=places,
                                groups=[s.group for s in selected], beyond=beyond, generic=generic)
+    mimicked = outcome == "unexplained" and bool(reasons) and all(any(m in r for m in MIMICS) for r in reasons)
+    if outcome == "ambiguous" or mimicked:
+        groups, pairs = _pairs_as_well(seen, named, selected, settings, places=load_x(seen.effects, seen.rig),
+                                       covered_too=mimicked)
+        if outcome == "ambiguous" or pairs:  # a couple the vocabulary also explains without one: not unexplained
+            outcome, selected = "ambiguous", groups
+            reasons = list(reasons) + pairs
     final = tuple(replace(s, confident=outcome == "explained" and len(s.group) == 1) for s in selected)
     ties = ambiguities(final, seen, after, verdict=outcome, generic=generic, settings=settings,
                        bic=_bic(problem, fitted, after) if fitted else np.inf, steps=named.steps)

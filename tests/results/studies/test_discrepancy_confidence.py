@@ -133,3 +133,28 @@ def test_no_confidence_when_asked_for_none(library):
     _, _, _, result = _run(library, "none_paths_1", draws=0)
     assert result.confidence is None
     assert not any(line.startswith("confidence") for line in engineering_summary(result, LENGTHS))
+
+
+@pytest.mark.parametrize("name", ["mesh_force_paths_5", "oov_paths_1"])
+def test_the_draws_hide_what_the_files_own_fit_supports(library, name):
+    """The draws hide the explanations the file's data do not exclude (BIC within the workflow's margin of the best):
+    the effect the workflow names on a CalculiX mesh-force file, a generic load on a file with a load outside the
+    vocabulary; the drawn truths are among them."""
+    rig, data, settings, result = _run(library, name, draws=0)
+    seen = workflow._observe(rig, data, settings, library[1] if library[1].cases == tuple(data.cases) else None, None)
+    vocabulary = confidence._vocabulary(seen)
+    replay = confidence._Replay(vocabulary, seen.observed, settings)
+    scaled = ((data.value_mm - seen.observed.before) / seen.observed.sigma)[None, :]
+    supported = confidence._supported(replay, scaled, settings)
+    best = min(h.bic for h in supported)
+    assert all(h.bic <= best + settings.bic_margin for h in supported)
+    kinds = {h.kind for h in supported}
+    named = {replay.names[c] for h in supported for c, _ in h.members}
+    if SETS[name]["group"] == "out_of_vocabulary":
+        assert result.verdict == "unexplained" and "outside" in kinds
+    else:
+        assert result.verdict == "explained" and result.selected[0].name in named and "none" not in kinds
+    drawer = confidence._Drawer(seen, vocabulary, settings, np.random.default_rng(1), supported)
+    for _ in range(20):
+        _, truth = drawer.draw()
+        assert truth.kind in kinds and set(truth.names) <= named
