@@ -14,8 +14,8 @@ Both codes then start from that mesh:
   displacements from the ``.dat``. Memory: ``/usr/bin/time -v`` (maximum resident set size), or
   ru_maxrss of the child without it.
 - **rvcoax**: basis, stiffness (``rvcoax.fem.solid.stiffness_matrix``: element matrices added in
-  chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (slicing out
-  the clamped DOFs), solver set-up and solve with the method ``"auto"`` picks (the measured cost
+  chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (the clamped
+  DOFs' rows and columns dropped in one pass, ``rvcoax.fem.assembly.keep_rows_and_columns``), solver set-up and solve with the method ``"auto"`` picks (the measured cost
   model of ``rvcoax.fem.solver_cost``: PARDISO or AMG-CG with the rigid-body modes, for one
   right-hand side; PARDISO with its singularity test but no condition estimate, which ccx does
   not make either: ``estimate_condition=False``), tip-face displacements; run in a fresh Python process that loads the cached
@@ -35,7 +35,8 @@ Each code runs ``--repeat`` times (default 3) per size, taking turns, each run i
 the median times are compared and every run is listed (on these virtual machines a run's time
 varies by up to 30 %, mostly with how long fresh memory takes to fault in).
 
-Run: ``.venv/bin/python benchmarks/bench_calculix.py [--sizes 50k,300k] [--repeat 3]``; needs ``ccx``
+Run: ``.venv/bin/python benchmarks/bench_calculix.py [--sizes 50k,300k] [--repeat 3] [--method auto]``
+(``--method amg`` or ``pardiso``: rvcoax's solver forced instead of the cost model's choice); needs ``ccx``
 (Debian: ``apt-get install calculix-ccx``), else it exits with status 2. Prints the figures and
 appends them to benchmarks/RESULTS.md (``--no-record``: print only). ``--keep DIR`` keeps the
 ``.inp``/``.dat`` files.
@@ -241,9 +242,10 @@ def run_ccx(work: Path, job: str) -> dict:
 # ------------------------------------------------------------------------------------- rvcoax side
 
 
-def rvcoax_child(label: str, cache_dir: str) -> dict:
+def rvcoax_child(label: str, cache_dir: str, method: str = "auto") -> dict:
     """Mesh (from the cache) to tip displacement in this fresh process; phases timed."""
     from rvcoax.fem import blas_threads, hugepages, solid
+    from rvcoax.fem.assembly import keep_rows_and_columns
     from rvcoax.fem.rigid_body import rigid_body_modes
     from rvcoax.fem.solvers import prepare
     from rvcoax.geometry.meshing import mesh_part
@@ -273,11 +275,11 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
     keep = np.ones(basis.N, dtype=bool)
     keep[dofs[np.abs(coordinates[:, 0]) < PLANE_TOL_M].ravel()] = False
     free = np.flatnonzero(keep)
-    reduced = stiffness[free][:, free]
+    reduced = keep_rows_and_columns(stiffness, keep, overwrite=True)  # one pass, over the stiffness's own arrays
     del stiffness
     lap("constraint elimination")
     # no condition estimate (ccx makes none; rvcoax's sweep asks for one); the singularity test stays on
-    solver = prepare(reduced, method="auto", near_null_space=rigid_body_modes(basis.doflocs.T)[free],
+    solver = prepare(reduced, method=method, near_null_space=rigid_body_modes(basis.doflocs.T)[free],
                      estimate_condition=False)
     lap("solver set-up")
     q = solver.solve(force[free])
@@ -309,9 +311,10 @@ def rvcoax_child(label: str, cache_dir: str) -> dict:
 # ---------------------------------------------------------------------------------------------- main
 
 
-def run_rvcoax(label: str, cache_dir: Path, tip: np.ndarray) -> dict:
+def run_rvcoax(label: str, cache_dir: Path, tip: np.ndarray, method: str = "auto") -> dict:
     """One rvcoax run in a fresh Python process (:func:`rvcoax_child`)."""
-    completed = subprocess.run([sys.executable, __file__, "--child", label, "--cache-dir", str(cache_dir)],
+    completed = subprocess.run([sys.executable, __file__, "--child", label, "--cache-dir", str(cache_dir),
+                                "--method", method],
                                capture_output=True, text=True)
     if completed.returncode != 0:
         raise RuntimeError(f"rvcoax child failed:\n{completed.stderr}")
@@ -353,7 +356,8 @@ def runs_text(runs: list[dict], key: str) -> str:
     return ", ".join(f"{run[key]:.2f}" for run in runs) + " s"
 
 
-def compare_size(label: str, cache_dir: Path, keep: Path | None, repeat: int) -> tuple[list[tuple[str, str]], bool]:
+def compare_size(label: str, cache_dir: Path, keep: Path | None, repeat: int,  # noqa: PLR0913
+                 method: str = "auto") -> tuple[list[tuple[str, str]], bool]:
     from skfem.quadrature import get_quadrature
     from skfem.refdom import RefTet
 
@@ -388,7 +392,7 @@ def compare_size(label: str, cache_dir: Path, keep: Path | None, repeat: int) ->
     # the two codes take turns, each run in a fresh process; the medians are compared
     ours_runs, ccx_runs = [], []
     for _ in range(repeat):
-        ours_runs.append(run_rvcoax(label, cache_dir, tip))
+        ours_runs.append(run_rvcoax(label, cache_dir, tip, method))
         ccx_runs.append(run_calculix(label, keep, coordinates, connectivity, fixed, tip, nodal_forces))
     ours = median_run(ours_runs, "seconds")
     ccx = median_run(ccx_runs, "total")
@@ -446,11 +450,13 @@ def main() -> None:
                         help="runs of each code per size, taking turns; the medians are compared (default 3)")
     parser.add_argument("--no-record", action="store_true", help="print only, do not append to RESULTS.md")
     parser.add_argument("--keep", type=Path, help="copy the .inp, .dat and ccx log files into this folder")
+    parser.add_argument("--method", default="auto", choices=("auto", "pardiso", "amg"),
+                        help="rvcoax's solver (default auto: the cost model's choice, as the rvcoax command makes it)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--cache-dir", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(rvcoax_child(args.child, args.cache_dir)))
+        print(json.dumps(rvcoax_child(args.child, args.cache_dir, args.method)))
         return
     if shutil.which("ccx") is None:
         print("bench_calculix: CalculiX 'ccx' is not installed. On Debian/Ubuntu: sudo apt-get install calculix-ccx",
@@ -465,6 +471,8 @@ def main() -> None:
                   f"{-TIP_FORCE_N[1]:.0f} N tip load as identical nodal forces; same curved P2/C3D10 mesh for both"),
         ("CalculiX", subprocess.run(["dpkg-query", "-W", "-f=${Package} ${Version}", "calculix-ccx"],
                                     capture_output=True, text=True).stdout.strip() or "ccx (version unknown)"),
+        ("rvcoax's solver", "the cost model's choice (method auto)" if args.method == "auto"
+         else f"{args.method}, forced (--method {args.method})"),
         ("load average (1 min) at start", f"{os.getloadavg()[0]:.2f}"),
         ("machine: allocate + fill 1 GiB", "{:.2f} s new to the process, {:.2f} s reused at once "
                                            "(both codes pay the first figure for their peak memory)"
@@ -478,7 +486,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="rvcoax_meshes_") as cache_dir:
         for label in labels:
             try:
-                rows, agrees = compare_size(label, Path(cache_dir), args.keep, args.repeat)
+                rows, agrees = compare_size(label, Path(cache_dir), args.keep, args.repeat, args.method)
                 failed = failed or not agrees
             except RuntimeError as error:
                 rows = [(f"{label}: FAILED", str(error).splitlines()[0] if str(error) else repr(error))]

@@ -24,6 +24,8 @@ curvature test would tell otherwise).
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,6 +43,11 @@ SMOOTHING_RANGE = 30.0  # the smoother damps eigenvalues of D⁻¹A in [λ_max /
 LAMBDA_MARGIN = 1.1
 LANCZOS_STEPS = 15
 PRECISION = np.float32
+PROLONGATION_OMEGA = 4.0 / 3.0  # pyamg's Jacobi prolongation smoother: P = (I − ω/ρ(D⁻¹A) D⁻¹A) T
+MAX_COARSE = 10  # pyamg's default: coarsen until a level has at most this many nodes (blocks of k candidates) ...
+MAX_LEVELS = 10  # ... or there are this many levels
+NODE_BLOCK = 3  # unknowns per node of the fine level (a solid's u_x, u_y, u_z), used where its matrix has such blocks
+PARALLEL_FROM = 1_000_000  # stored values of a level from which its set-up products run on threads
 
 
 def _largest_eigenvalue(operator: SparseOperator, inverse_sqrt_diagonal: np.ndarray, steps: int = LANCZOS_STEPS) -> float:
@@ -168,8 +175,191 @@ class Hierarchy:
         self._levels = []
 
 
+def _threads() -> int:
+    try:
+        return max(1, min(len(os.sched_getaffinity(0)), 8))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, min(os.cpu_count() or 1, 8))
+
+
+def _node_blocks(a: sp.csr_matrix, size: int) -> sp.bsr_matrix | None:
+    """``a`` as ``size`` × ``size`` blocks (BSR) if it is exactly made of aligned blocks, else None.
+
+    A solid's stiffness is (one 3 × 3 block per pair of nodes); the smoothed-aggregation products with its
+    blocks run 2–3× faster than with the scalar matrix (benchmarks/RESULTS.md). scipy's conversion fills
+    partly stored blocks with zeros: none was filled exactly when the blocks hold as many values as ``a``.
+    """
+    if size == 1 or a.shape[0] % size:
+        return None
+    blocks = a.tobsr(blocksize=(size, size))
+    return blocks if blocks.data.size == a.nnz else None
+
+
+def _upper(blocks: sp.bsr_matrix) -> pardiso.UpperStorage:
+    """The upper block triangle of a symmetric BSR matrix with sorted block indices, as PARDISO stores it."""
+    rows = np.repeat(np.arange(blocks.indptr.size - 1), np.diff(blocks.indptr))
+    keep = blocks.indices >= rows
+    indptr = np.zeros(blocks.indptr.size, dtype=np.int32)
+    np.cumsum(np.bincount(rows[keep], minlength=indptr.size - 1), out=indptr[1:])
+    return pardiso.UpperStorage(blocks.shape[0], blocks.blocksize[0], indptr, blocks.indices[keep].astype(np.int32),
+                                blocks.data[keep])
+
+
+def _row_block(a, r0: int, r1: int):
+    """(Block) rows r0:r1 of a CSR or BSR matrix, its values and indices views of ``a``'s."""
+    s, e = int(a.indptr[r0]), int(a.indptr[r1])
+    if isinstance(a, sp.bsr_matrix):
+        rows, _ = a.blocksize
+        return sp.bsr_matrix((a.data[s:e], a.indices[s:e], a.indptr[r0:r1 + 1] - s),
+                             shape=((r1 - r0) * rows, a.shape[1]), blocksize=a.blocksize, copy=False)
+    return sp.csr_matrix((a.data[s:e], a.indices[s:e], a.indptr[r0:r1 + 1] - s), shape=(r1 - r0, a.shape[1]),
+                         copy=False)
+
+
+def _row_ranges(a, parts: int) -> list[tuple[int, int]]:
+    """``parts`` ranges of (block) rows of ``a`` with about equal numbers of stored blocks."""
+    stored = int(a.indptr[-1])
+    targets = np.arange(1, parts) * (stored / parts)
+    bounds = np.unique(np.concatenate([[0], np.searchsorted(a.indptr, targets), [a.indptr.size - 1]]))
+    return [(int(r0), int(r1)) for r0, r1 in zip(bounds[:-1], bounds[1:])]
+
+
+def _stack_rows(blocks: list, shape: tuple[int, int]):
+    """Row blocks (all CSR or all BSR of one block size, in order) joined into one matrix."""
+    if len(blocks) == 1:
+        return blocks[0]
+    offsets = np.cumsum([0] + [int(b.indptr[-1]) for b in blocks])
+    indptr = np.concatenate([[0]] + [b.indptr[1:].astype(np.int64) + o for b, o in zip(blocks, offsets[:-1])])
+    arrays = (np.concatenate([b.data for b in blocks]), np.concatenate([b.indices for b in blocks]), indptr)
+    if isinstance(blocks[0], sp.bsr_matrix):
+        return sp.bsr_matrix(arrays, shape=shape, blocksize=blocks[0].blocksize)
+    return sp.csr_matrix(arrays, shape=shape)
+
+
+def _prolongator(matrix, aggregates, inverse_diagonal: np.ndarray, rho: float, candidates: np.ndarray, *,  # noqa: PLR0913
+                 pool: ThreadPoolExecutor, parts: int):
+    """Smoothed-aggregation prolongator P = (I − ω/ρ D⁻¹A) T and the coarse candidates (pyamg's building blocks).
+
+    ``matrix``: the level's matrix, CSR or in ``block`` × ``block`` blocks (BSR). Aggregates: pyamg's
+    standard aggregation of the matrix graph; on a coarse level, the graph of its ``block`` × ``block`` blocks
+    (one block per pair of coarse aggregates, as pyamg's BSR levels). Its default strength of connection
+    (symmetric, θ = 0) keeps every stored entry, so the graph is the matrix's own pattern, and computing the
+    strength matrix (two copies of the matrix and a row scaling: a third of pyamg's set-up) changes nothing.
+    T: pyamg's fit of the candidates on each aggregate (QR). ρ: the largest eigenvalue of D⁻¹A, the same
+    Lanczos estimate the Chebyshev smoother uses (pyamg estimates it again, by Arnoldi on a scaled copy).
+    The product A T runs on ``pool`` by blocks of rows (scipy's product releases the GIL); with a blocked
+    matrix, P is stored in blocks of (block rows × candidates): the rows of one node share their pattern.
+    """
+    from pyamg.aggregation import fit_candidates
+
+    k = candidates.shape[1]
+    tentative, coarse_candidates = fit_candidates(aggregates, candidates)
+    rows_per_block = matrix.blocksize[0] if isinstance(matrix, sp.bsr_matrix) else 1
+    tentative = (sp.bsr_matrix(tentative, blocksize=(rows_per_block, k)) if rows_per_block > 1
+                 else sp.csr_matrix(tentative))
+    weights = (PROLONGATION_OMEGA / rho) * inverse_diagonal
+
+    def rows(bounds):
+        r0, r1 = bounds
+        smoothing = _row_block(matrix, r0, r1) @ tentative
+        if rows_per_block > 1:
+            smoothing = sp.bsr_matrix(smoothing, blocksize=(rows_per_block, k))
+            scale = weights[r0 * rows_per_block:r1 * rows_per_block].reshape(-1, rows_per_block)
+            smoothing.data *= np.repeat(scale, np.diff(smoothing.indptr), axis=0)[:, :, None]  # ω/ρ D⁻¹ A T
+        else:
+            smoothing = sp.csr_matrix(smoothing)
+            smoothing.data *= np.repeat(weights[r0:r1], np.diff(smoothing.indptr))
+        result = _row_block(tentative, r0, r1) - smoothing
+        result = sp.bsr_matrix(result, blocksize=(rows_per_block, k)) if rows_per_block > 1 else sp.csr_matrix(result)
+        result.sort_indices()
+        return result
+
+    prolongation = _stack_rows(list(pool.map(rows, _row_ranges(matrix, parts))), tentative.shape)
+    return prolongation, coarse_candidates
+
+
+def _aggregates(matrix: sp.csr_matrix, blocks: sp.bsr_matrix | None, block: int):
+    """pyamg's standard aggregation of the matrix's graph (CSR) or, on a coarse level (``block`` > 1), of
+    the graph of its ``block`` × ``block`` blocks (``blocks``: the matrix in such blocks, or None)."""
+    from pyamg.aggregation import standard_aggregation
+
+    if block == 1:
+        graph = matrix
+    else:
+        if blocks is None or blocks.blocksize != (block, block):
+            blocks = sp.bsr_matrix(matrix, blocksize=(block, block))
+        graph = sp.csr_matrix((np.ones(blocks.indices.size), blocks.indices, blocks.indptr),
+                              shape=(matrix.shape[0] // block,) * 2)
+    aggregates, _ = standard_aggregation(sp.csr_array(graph))
+    return aggregates
+
+
+def _galerkin(matrix, prolongation, pool: ThreadPoolExecutor, parts: int) -> sp.csr_matrix:
+    """The coarse matrix Pᵀ A P (CSR), summed over blocks of rows of A on ``pool``: Σ P[rows]ᵀ (A[rows] P).
+
+    No A P of the whole matrix is held (at a million unknowns it would be about as large as A).
+    """
+    def part(bounds):
+        r0, r1 = bounds
+        return _row_block(prolongation, r0, r1).T @ (_row_block(matrix, r0, r1) @ prolongation)
+
+    coarse = None
+    for term in pool.map(part, _row_ranges(matrix, parts)):
+        coarse = term if coarse is None else coarse + term
+    coarse = sp.csr_matrix(coarse)
+    coarse.sum_duplicates()
+    coarse.sort_indices()
+    return coarse
+
+
+def _operators(matrix: sp.csr_matrix, blocks: sp.bsr_matrix | None, dtype):
+    """The level's product in float64 (for λ_max, and CG's on the fine level) and its upper (block)
+    triangle's arrays for the cycle's product in ``dtype`` (None without MKL: the scipy fallback)."""
+    if not mkl_sparse.available():
+        return SparseOperator.symmetric(matrix, np.float64), None
+    upper = pardiso.upper_storage(matrix) if blocks is None else _upper(blocks)
+    return SparseOperator.from_upper(upper, np.float64), upper  # float64 values: no copy, not optimised
+
+
+def _coarsen(matrix: sp.csr_matrix, candidates: np.ndarray, *, index: int, block: int, dtype,  # noqa: PLR0913
+             pool: ThreadPoolExecutor):
+    """One level: its operators, Chebyshev interval, prolongator and the next level's matrix and candidates.
+
+    ``index``: the level's number (0: the fine level); ``block``: unknowns per node of its aggregation graph.
+    Returns (level, float64 product of this level's matrix, coarse matrix, coarse candidates). The
+    matrix's blocks are held only while the products need them; the cycle's optimised product (an MKL copy)
+    is made after they are dropped, which keeps the peak memory at a million unknowns down.
+    """
+    diagonal = _checked_diagonal(matrix, index)
+    blocks = _node_blocks(matrix, NODE_BLOCK if index == 0 else block)
+    exact, upper = _operators(matrix, blocks, dtype)
+    inverse_diagonal = np.divide(1.0, diagonal, out=np.zeros_like(diagonal), where=diagonal > 0.0)
+    rho = _largest_eigenvalue(exact, np.sqrt(inverse_diagonal))
+    parts = _threads() if matrix.nnz >= PARALLEL_FROM else 1
+    factors = matrix if blocks is None else blocks
+    prolongation, coarse_candidates = _prolongator(factors, _aggregates(matrix, blocks, block), inverse_diagonal,
+                                                   rho, candidates, pool=pool, parts=parts)
+    coarse = _galerkin(factors, prolongation, pool, 4 * parts)
+    del factors, blocks
+    operator = (SparseOperator.symmetric(matrix, dtype, optimize=True) if upper is None
+                else SparseOperator.from_upper(upper, dtype, optimize=True))
+    prolongation = sp.csr_matrix(prolongation)
+    lam = rho * LAMBDA_MARGIN
+    low = lam / SMOOTHING_RANGE
+    level = _Level(operator, inverse_diagonal.astype(dtype), 0.5 * (lam + low), 0.5 * (lam - low),
+                   SparseOperator.general(prolongation, dtype), SparseOperator.general(prolongation.T.tocsr(), dtype))
+    return level, exact, coarse, coarse_candidates
+
+
 def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECISION) -> Hierarchy:
     """Set up the V-cycle for the symmetric positive definite ``a`` (CSR, sorted indices).
+
+    The hierarchy is pyamg's smoothed aggregation with its defaults (symmetric strength θ = 0, standard
+    aggregation, Jacobi prolongation smoother ω = 4/3 of degree 1, no candidate improvement, coarsening
+    down to :data:`MAX_COARSE` nodes), built here level by level from pyamg's aggregation and candidate
+    fit, with the products on the solid's 3 × 3 blocks and on both cores, and each level's largest
+    eigenvalue estimated once (:func:`_prolongator`, :func:`_galerkin`). pyamg's own driver took 4.9 s of
+    a 10.3 s solve at 345 k DOF on one core (benchmarks/RESULTS.md).
 
     Parameters
     ----------
@@ -179,47 +369,30 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
     dtype : numpy float type
         Precision of the cycle's matrices and vectors.
     """
-    import pyamg
-
-    b = None if near_null_space is None else np.asarray(near_null_space, dtype=float).reshape(a.shape[0], -1)
-    # improve_candidates=None: the rigid-body modes are exact near-null vectors, so pyamg's default
-    # Gauss–Seidel sweeps over them cost set-up time (30 % at 158 k DOF) and save no iteration.
-    # The smoother pyamg would attach is not used (presmoother/postsmoother None: nothing to set up).
-    hierarchy = pyamg.smoothed_aggregation_solver(a, B=b, symmetry="symmetric", improve_candidates=None,
-                                                  presmoother=None, postsmoother=None, coarse_solver="splu")
-    complexity = float(hierarchy.operator_complexity())
-    sizes = [int(level.A.shape[0]) for level in hierarchy.levels]
+    n = a.shape[0]
+    candidates = (np.ones((n, 1)) if near_null_space is None
+                  else np.asarray(near_null_space, dtype=float).reshape(n, -1))
     levels = []
+    sizes = [n]
+    stored = [a.nnz]
     fine = None  # float64 product with A for the conjugate-gradient iteration
-    for i, level in enumerate(hierarchy.levels[:-1]):
-        matrix = a if i == 0 else sp.csr_matrix(level.A)
-        matrix.sum_duplicates()
-        matrix.sort_indices()
-        diagonal = _checked_diagonal(matrix, i)
-        if i == 0 and mkl_sparse.available():
-            upper = pardiso.upper_storage(matrix)  # once for both precisions
-            fine = SparseOperator.from_upper(upper, np.float64)  # CG's product: not optimised (no MKL copy)
-            operator = SparseOperator.from_upper(upper, dtype, optimize=True)
-            del upper
-        else:
-            operator = SparseOperator.symmetric(matrix, dtype, optimize=True)
-            if i == 0:
-                fine = SparseOperator.symmetric(matrix, np.float64)
-        del matrix
-        inverse_diagonal = np.divide(1.0, diagonal, out=np.zeros_like(diagonal), where=diagonal > 0.0).astype(dtype)
-        lam = _largest_eigenvalue(operator, np.sqrt(inverse_diagonal)) * LAMBDA_MARGIN
-        low = lam / SMOOTHING_RANGE
-        levels.append(_Level(operator, inverse_diagonal, 0.5 * (lam + low), 0.5 * (lam - low),
-                             SparseOperator.general(level.P, dtype), SparseOperator.general(level.R, dtype)))
-        level.P = level.R = None
-        if i > 0:
-            level.A = None
-    coarse = hierarchy.levels[-1].A.toarray()
-    active = np.flatnonzero(_checked_diagonal(sp.csr_matrix(coarse), len(hierarchy.levels) - 1) > 0.0)
+    matrix = a
+    block = 1  # unknowns per node of the aggregation graph: 1 on the fine level, k candidates on coarse ones
+    with ThreadPoolExecutor(_threads()) as pool:
+        while matrix.shape[0] // block > MAX_COARSE and len(sizes) < MAX_LEVELS:
+            level, exact, matrix, candidates = _coarsen(matrix, candidates, index=len(levels), block=block,
+                                                         dtype=dtype, pool=pool)
+            levels.append(level)
+            fine = exact if fine is None else fine
+            block = candidates.shape[1]
+            sizes.append(matrix.shape[0])
+            stored.append(matrix.nnz)
+    coarse = matrix.toarray()
+    active = np.flatnonzero(_checked_diagonal(matrix, len(levels)) > 0.0)
     try:
         factor = _CoarseFactor(active, scipy.linalg.cho_factor(coarse[np.ix_(active, active)]), coarse.shape[0])
     except np.linalg.LinAlgError as error:
         raise SolverError(f"AMG coarsest level ({coarse.shape[0]} unknowns) is not positive definite: {error}") from error
     if fine is None:  # a single level: the whole matrix is the coarsest
         fine = SparseOperator.symmetric(a, np.float64)
-    return Hierarchy(fine, levels, factor, complexity, sizes)
+    return Hierarchy(fine, levels, factor, float(sum(stored)) / float(stored[0]), sizes)

@@ -1,4 +1,5 @@
-"""MKL sparse products and the AMG V-cycle: products equal scipy's, the cycle is a symmetric positive operator."""
+"""MKL sparse products and the AMG V-cycle: products equal scipy's, the hierarchy is pyamg's smoothed aggregation,
+the cycle is a symmetric positive operator."""
 
 from __future__ import annotations
 
@@ -148,3 +149,70 @@ def test_threaded_and_single_thread_products_agree(bar, monkeypatch):
     monkeypatch.setattr(mkl_sparse, "THREADED_FROM", 0)
     threaded = SparseOperator.symmetric(a, np.float64) @ x
     assert np.linalg.norm(threaded - single) < 1e-13 * np.linalg.norm(single)
+
+
+def test_hierarchy_has_pyamgs_levels_and_aggregates(bar):
+    """The set-up is pyamg's smoothed aggregation with its defaults: the same aggregates and level sizes."""
+    import pyamg
+    from pyamg.aggregation import standard_aggregation
+    from pyamg.strength import symmetric_strength_of_connection
+
+    a, _, modes = bar
+    theirs = pyamg.smoothed_aggregation_solver(a, B=modes, symmetry="symmetric", improve_candidates=None,
+                                               presmoother=None, postsmoother=None, keep=True)
+    ours = amg.smoothed_aggregation(a, modes)
+    assert ours.sizes == [level.A.shape[0] for level in theirs.levels]
+    # θ = 0: every stored entry is a strong connection, so the matrix's own pattern gives pyamg's aggregates
+    expected, _ = standard_aggregation(symmetric_strength_of_connection(sp.csr_array(a), 0.0))
+    assert (amg._aggregates(a, None, 1) != expected).nnz == 0
+    assert (amg._aggregates(a, None, 1) != theirs.levels[0].AggOp).nnz == 0
+    # a coarse level is aggregated node by node (blocks of the 6 modes), as pyamg's BSR levels: same count
+    # (which neighbour a left-over node joins depends on the order of a row's indices, unsorted in pyamg's)
+    coarse = amg._aggregates(sp.csr_matrix(theirs.levels[1].A), None, modes.shape[1])
+    assert coarse.shape == theirs.levels[1].AggOp.shape
+
+
+def test_blocked_threaded_products_equal_scipys_formula(bar):
+    """P = T − ω/ρ D⁻¹ A T and Pᵀ A P by 3 × 3 blocks and row ranges on threads, against plain scipy."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pyamg.aggregation import fit_candidates
+
+    a, _, modes = bar
+    aggregates = amg._aggregates(a, None, 1)
+    inverse_diagonal = 1.0 / a.diagonal()
+    rho = 3.0
+    tentative, coarse_modes = fit_candidates(aggregates, modes)
+    tentative = sp.csr_matrix(tentative)
+    expected = tentative - sp.diags(amg.PROLONGATION_OMEGA / rho * inverse_diagonal) @ (a @ tentative)
+    blocks = amg._node_blocks(a, 3)
+    assert blocks is not None and blocks.blocksize == (3, 3)
+    assert amg._node_blocks(a[:, :-1].tocsr()[:-1], 3) is None  # not made of whole blocks
+    with ThreadPoolExecutor(2) as pool:
+        for matrix in (a, blocks):
+            p, candidates = amg._prolongator(matrix, aggregates, inverse_diagonal, rho, modes, pool=pool, parts=3)
+            np.testing.assert_array_equal(candidates, coarse_modes)
+            assert abs(sp.csr_matrix(p) - expected).max() <= 1e-14 * abs(expected).max()
+            coarse = amg._galerkin(matrix, p, pool, 5)
+            reference = expected.T @ a @ expected
+            assert abs(coarse - reference).max() <= 1e-12 * abs(reference).max()
+
+
+def test_upper_block_triangle_is_pardisos(bar):
+    from rvcoax.fem import pardiso
+
+    a, _, _ = bar
+    ours, theirs = amg._upper(amg._node_blocks(a, 3)), pardiso.upper_storage(a)
+    assert (ours.n, ours.block_size) == (theirs.n, theirs.block_size) == (a.shape[0], 3)
+    for name in ("indptr", "indices", "data"):
+        np.testing.assert_array_equal(getattr(ours, name), getattr(theirs, name))
+
+
+def test_without_mkl_the_hierarchy_is_built_and_solves_the_same(bar, exact, monkeypatch):
+    a, load, modes = bar
+    monkeypatch.setattr(mkl_sparse, "available", lambda: False)
+    solver = prepare(a, "amg", near_null_space=modes)
+    x = solver.solve(load)
+    assert "scipy products" in solver.report.name
+    assert np.sqrt((x - exact) @ (a @ (x - exact)) / (exact @ (a @ exact))) < 1e-6
+    solver.release()

@@ -9,7 +9,13 @@ import pytest
 import scipy.sparse as sp
 
 from rvcoax.fem import solid
-from rvcoax.fem.assembly import add_element_matrices, assemble_matrix, block_diagonal, block_pattern
+from rvcoax.fem.assembly import (
+    add_element_matrices,
+    assemble_matrix,
+    block_diagonal,
+    block_pattern,
+    keep_rows_and_columns,
+)
 from rvcoax.fem.pieces import Contribution, assemble, solid_contribution
 from rvcoax.geometry.meshing import SolidPartGeometry, mesh_part
 
@@ -86,3 +92,39 @@ def test_pieces_with_a_solid_block_equal_the_triplet_sum(basis):
     added = assemble(n, [inside, solid_contribution(basis, STEEL, offset, gravity_direction=(0, -1, 0))])
     expected = assemble_matrix(n, [inside.stiffness, triplets])
     assert abs(added.stiffness - expected).max() <= 1e-15 * abs(expected).max()
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_keeping_rows_and_columns_equals_scipys_slices(basis, overwrite):
+    stiffness = solid.stiffness_matrix(basis, 2.1e11, 0.28)
+    clamped = np.flatnonzero(basis.doflocs[0] < 0.01)  # the DOFs of the first 10 mm
+    keep = np.ones(basis.N, dtype=bool)
+    keep[clamped] = False
+    expected = stiffness[keep][:, keep]
+    given = stiffness.copy() if overwrite else stiffness
+    kept = keep_rows_and_columns(given, keep, overwrite=overwrite, chunk=1000)  # several blocks of rows
+    assert kept.shape == expected.shape and kept.has_sorted_indices
+    assert np.array_equal(kept.indptr, expected.indptr) and np.array_equal(kept.indices, expected.indices)
+    assert np.array_equal(kept.data, expected.data)
+    np.testing.assert_array_equal(keep_rows_and_columns(stiffness, np.flatnonzero(keep)).data, expected.data)
+    if not overwrite:
+        assert np.array_equal(stiffness.data, solid.stiffness_matrix(basis, 2.1e11, 0.28).data)  # left alone
+
+
+def test_keeping_rows_and_columns_overwrites_without_a_second_matrix(basis):
+    stiffness = solid.stiffness_matrix(basis, 2.1e11, 0.28)
+    size = stiffness.data.nbytes + stiffness.indices.nbytes
+    tracemalloc.start()
+    kept = keep_rows_and_columns(stiffness, basis.doflocs[0] >= 0.01, overwrite=True, chunk=256)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    # one block of rows' temporaries (scipy's slices add the row slice and the result: 1.7× the matrix)
+    assert peak < 0.2 * size
+    assert np.shares_memory(kept.data, stiffness.data)
+
+
+def test_keeping_rows_and_columns_refuses_what_it_cannot_slice():
+    with pytest.raises(ValueError, match="square CSR"):
+        keep_rows_and_columns(sp.csr_matrix((3, 4)), np.ones(3, dtype=bool))
+    with pytest.raises(ValueError, match="3 entries"):
+        keep_rows_and_columns(sp.identity(3, format="csr"), np.ones(4, dtype=bool))
