@@ -182,8 +182,8 @@ class Ambiguity:
                      f"a generic load outside the vocabulary ({self.generic})")
             text = f"the named explanation ({sizes}) and {other} fit the data equally well"
         else:
-            text = (f"{len(self.members)} look-alikes explain the gap equally well: {self.shared}; fitted sizes "
-                    f"{self.size_range()}")
+            text = (f"{len(self.members)} candidate effects explain the gap equally well (alone, or as the member of a "
+                    f"pair that fits as well): {self.shared}; fitted sizes {self.size_range()}")
         if self.split is not None:
             text += "; " + self.split.sentence()
         elif self.unpredicted:
