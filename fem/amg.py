@@ -24,7 +24,6 @@ curvature test would tell otherwise).
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -33,6 +32,7 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from rvcoax.fem import mkl_sparse, pardiso
+from rvcoax.fem.assembly import worker_threads
 from rvcoax.fem.errors import SolverError
 from rvcoax.fem.mkl_sparse import SparseOperator
 
@@ -175,13 +175,6 @@ class Hierarchy:
         self._levels = []
 
 
-def _threads() -> int:
-    try:
-        return max(1, min(len(os.sched_getaffinity(0)), 8))
-    except AttributeError:  # pragma: no cover - not Linux
-        return max(1, min(os.cpu_count() or 1, 8))
-
-
 def _node_blocks(a: sp.csr_matrix, size: int) -> sp.bsr_matrix | None:
     """``a`` as ``size`` × ``size`` blocks (BSR) if it is exactly made of aligned blocks, else None.
 
@@ -193,16 +186,6 @@ def _node_blocks(a: sp.csr_matrix, size: int) -> sp.bsr_matrix | None:
         return None
     blocks = a.tobsr(blocksize=(size, size))
     return blocks if blocks.data.size == a.nnz else None
-
-
-def _upper(blocks: sp.bsr_matrix) -> pardiso.UpperStorage:
-    """The upper block triangle of a symmetric BSR matrix with sorted block indices, as PARDISO stores it."""
-    rows = np.repeat(np.arange(blocks.indptr.size - 1), np.diff(blocks.indptr))
-    keep = blocks.indices >= rows
-    indptr = np.zeros(blocks.indptr.size, dtype=np.int32)
-    np.cumsum(np.bincount(rows[keep], minlength=indptr.size - 1), out=indptr[1:])
-    return pardiso.UpperStorage(blocks.shape[0], blocks.blocksize[0], indptr, blocks.indices[keep].astype(np.int32),
-                                blocks.data[keep])
 
 
 def _row_block(a, r0: int, r1: int):
@@ -317,7 +300,7 @@ def _operators(matrix: sp.csr_matrix, blocks: sp.bsr_matrix | None, dtype):
     triangle's arrays for the cycle's product in ``dtype`` (None without MKL: the scipy fallback)."""
     if not mkl_sparse.available():
         return SparseOperator.symmetric(matrix, np.float64), None
-    upper = pardiso.upper_storage(matrix) if blocks is None else _upper(blocks)
+    upper = pardiso.upper_storage(matrix) if blocks is None else pardiso.upper_block_storage(blocks)
     return SparseOperator.from_upper(upper, np.float64), upper  # float64 values: no copy, not optimised
 
 
@@ -335,7 +318,7 @@ def _coarsen(matrix: sp.csr_matrix, candidates: np.ndarray, *, index: int, block
     exact, upper = _operators(matrix, blocks, dtype)
     inverse_diagonal = np.divide(1.0, diagonal, out=np.zeros_like(diagonal), where=diagonal > 0.0)
     rho = _largest_eigenvalue(exact, np.sqrt(inverse_diagonal))
-    parts = _threads() if matrix.nnz >= PARALLEL_FROM else 1
+    parts = worker_threads() if matrix.nnz >= PARALLEL_FROM else 1
     factors = matrix if blocks is None else blocks
     prolongation, coarse_candidates = _prolongator(factors, _aggregates(matrix, blocks, block), inverse_diagonal,
                                                    rho, candidates, pool=pool, parts=parts)
@@ -378,7 +361,7 @@ def smoothed_aggregation(a: sp.csr_matrix, near_null_space=None, *, dtype=PRECIS
     fine = None  # float64 product with A for the conjugate-gradient iteration
     matrix = a
     block = 1  # unknowns per node of the aggregation graph: 1 on the fine level, k candidates on coarse ones
-    with ThreadPoolExecutor(_threads()) as pool:
+    with ThreadPoolExecutor(worker_threads()) as pool:
         while matrix.shape[0] // block > MAX_COARSE and len(sizes) < MAX_LEVELS:
             level, exact, matrix, candidates = _coarsen(matrix, candidates, index=len(levels), block=block,
                                                          dtype=dtype, pool=pool)

@@ -36,7 +36,7 @@ import scipy.sparse as sp
 from rvcoax.fem.compat import sparse_kernels
 
 __all__ = ["BlockPattern", "PARALLEL_MIN_TRIPLETS", "add_element_matrices", "assemble_matrix", "block_diagonal",
-           "block_pattern", "keep_rows_and_columns"]
+           "block_pattern", "keep_rows_and_columns", "worker_threads"]
 
 # scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
 _KERNELS = sparse_kernels()
@@ -47,7 +47,8 @@ PARALLEL_MIN_TRIPLETS = 1_000_000
 """Below this many triplets everything runs in the calling thread."""
 
 
-def _threads() -> int:
+def worker_threads() -> int:
+    """Threads for work split over the cores this process may run on (its CPU affinity), at most 8."""
     try:
         available = len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not Linux
@@ -111,7 +112,7 @@ def assemble_matrix(n_dofs: int, pieces: Iterable[tuple[np.ndarray, np.ndarray, 
     if coo_tocsr is None:  # pragma: no cover
         return _scipy_assembly(n_dofs, rows, cols, vals)
 
-    threads = _threads() if nnz >= PARALLEL_MIN_TRIPLETS else 1
+    threads = worker_threads() if nnz >= PARALLEL_MIN_TRIPLETS else 1
     if threads == 1:
         return _assemble(n_dofs, nnz, rows, cols, vals, pool=_InlinePool(), threads=1)
     with ThreadPoolExecutor(threads) as pool:

@@ -63,7 +63,8 @@ from rvcoax.fem.memory import return_free_heap
 __all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "TRIM_BEFORE_SOLVE_BYTES",
            "UpperStorage", "ZERO_PIVOT",
            "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
-           "set_analysis_reuse", "stored_nonzeros", "upper_csr", "upper_saddle_point", "upper_storage"]
+           "set_analysis_reuse", "stored_nonzeros", "upper_block_storage", "upper_csr", "upper_saddle_point",
+           "upper_storage"]
 
 BLOCK_SIZE = 3
 _SPD = 2  # PARDISO matrix type: real symmetric positive definite
@@ -188,14 +189,29 @@ def _upper_blocks(a: sp.csr_matrix, size: int) -> UpperStorage | None:
     return UpperStorage(n, size, indptr, block_column[upper].astype(np.int32), data)
 
 
+def _upper_pattern(indptr: np.ndarray, indices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(indptr of the upper triangle, mask of the stored entries (or blocks) it keeps) of a CSR (or BSR) pattern."""
+    n = indptr.size - 1
+    rows = np.repeat(np.arange(n, dtype=np.int32), np.diff(indptr))
+    keep = indices >= rows
+    upper = np.zeros(n + 1, dtype=np.int32)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=upper[1:])
+    return upper, keep
+
+
 def upper_csr(a: sp.csr_matrix) -> UpperStorage:
     """Upper triangle (diagonal included) of a CSR matrix with sorted indices, as scalar CSR."""
-    n = a.shape[0]
-    rows = np.repeat(np.arange(n, dtype=np.int32), np.diff(a.indptr))
-    keep = a.indices >= rows
-    indptr = np.zeros(n + 1, dtype=np.int32)
-    np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
-    return UpperStorage(n, 1, indptr, a.indices[keep].astype(np.int32), a.data[keep])
+    indptr, keep = _upper_pattern(a.indptr, a.indices)
+    return UpperStorage(a.shape[0], 1, indptr, a.indices[keep].astype(np.int32), a.data[keep])
+
+
+def upper_block_storage(blocks: sp.bsr_matrix) -> UpperStorage:
+    """Upper block triangle (diagonal blocks whole) of a symmetric BSR matrix with sorted block indices, in
+    PARDISO's block storage; blocks that are only partly filled are stored whole, their missing entries as zeros
+    (the hybrid model's tie-released B, :mod:`rvcoax.fem.woodbury`; the AMG levels, :mod:`rvcoax.fem.amg`)."""
+    indptr, keep = _upper_pattern(blocks.indptr, blocks.indices)
+    return UpperStorage(blocks.shape[0], blocks.blocksize[0], indptr, blocks.indices[keep].astype(np.int32),
+                        blocks.data[keep])
 
 
 def upper_saddle_point(kept: sp.csr_matrix, constraint: sp.csr_matrix) -> UpperStorage:

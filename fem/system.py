@@ -409,9 +409,9 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
     long = tied_rows(stiffness, elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
-        # the low-rank update's Y has m × (2 d + grounded DOFs) entries: past UPDATE_BYTES with 2 d already, the
-        # Cholesky path refuses after K' is formed (the all-solid rig: 156 multipliers, 2 s of K' for nothing)
-        if 16.0 * elimination.shape[1] * long.size <= woodbury.UPDATE_BYTES:
+        # too large an update with the ties alone: the Cholesky path would refuse only after K' is formed (the
+        # all-solid rig: 156 multipliers, 2 s of K' for nothing)
+        if woodbury.update_fits(elimination.shape[1], 2 * long.size):
             modes = independent_modes(elimination, near_null_space()) if near_null_space is not None else None
             # no reference kept here: the Cholesky path lets K' go once it serves K' from its own arrays
             updated = woodbury.prepare_tied(constrained_stiffness(stiffness, elimination, long), modes, serve=_serve)

@@ -37,11 +37,17 @@ from scipy.sparse.csgraph import connected_components
 from rvcoax.fem import pardiso, solvers
 from rvcoax.fem.errors import PardisoError, SolverError
 
-__all__ = ["FLOATING_TOLERANCE", "UPDATE_BYTES", "grounded_dofs", "prepare_tied"]
+__all__ = ["FLOATING_TOLERANCE", "UPDATE_BYTES", "grounded_dofs", "prepare_tied", "update_fits"]
 
 UPDATE_BYTES = 64 * 2**20
 """Largest Y = B⁻¹ V (m × r doubles) this path keeps; larger models use the saddle-point form (the hybrid reference
 rig: 108 k × 50 columns, 43 MB; a 500 k-DOF solid rig with twice the ties would need 0.4 GB more at its peak)."""
+
+
+def update_fits(m: int, rank: int) -> bool:
+    """Whether Y = B⁻¹ V of ``m`` unknowns and a rank-``rank`` update (2 per tie, 1 per grounded DOF) stays within
+    :data:`UPDATE_BYTES`; with ``rank`` = 2 × ties (no grounding yet), whether this path can apply at all."""
+    return 8.0 * m * rank <= UPDATE_BYTES
 
 FLOATING_TOLERANCE = 1e-8
 """A component floats in a rigid mode n when ‖K_cc n‖ ≤ this × max|diag K_cc| × ‖n‖ (rounding leaves ~1e-13)."""
@@ -106,18 +112,11 @@ def _upper_blocks(b: sp.csr_matrix) -> pardiso.UpperStorage:
     mixed into the solids' (u_x, u_y, u_z) triples by the constraint elimination do not form whole blocks by
     themselves, so :func:`rvcoax.fem.pardiso.upper_storage` alone would keep it scalar.
     """
-    m = b.shape[0]
-    if m % pardiso.BLOCK_SIZE:
+    if b.shape[0] % pardiso.BLOCK_SIZE:
         return pardiso.upper_storage(b)
     blocks = b.tobsr(blocksize=(pardiso.BLOCK_SIZE, pardiso.BLOCK_SIZE))
     blocks.sort_indices()
-    count = m // pardiso.BLOCK_SIZE
-    rows = np.repeat(np.arange(count, dtype=np.int32), np.diff(blocks.indptr))
-    upper = blocks.indices >= rows
-    indptr = np.zeros(count + 1, dtype=np.int32)
-    np.cumsum(np.bincount(rows[upper], minlength=count), out=indptr[1:])
-    return pardiso.UpperStorage(m, pardiso.BLOCK_SIZE, indptr, blocks.indices[upper].astype(np.int32),
-                                np.ascontiguousarray(blocks.data[upper]))
+    return pardiso.upper_block_storage(blocks)
 
 
 @dataclass(frozen=True)
@@ -140,7 +139,7 @@ def _released(operator, modes: np.ndarray | None) -> _Released | None:
     k_qq = kept[:m, :m].tocsr()
     ground = grounded_dofs(k_qq, modes) if modes is not None else np.zeros(0, dtype=int)
     rank = 2 * d + ground.size
-    if d == 0 or 8.0 * m * rank > UPDATE_BYTES:
+    if d == 0 or not update_fits(m, rank):
         return None
     diagonal = k_qq.diagonal()
     if np.any(diagonal <= 0.0):  # PARDISO may crash on an empty row

@@ -202,7 +202,7 @@ def test_upper_block_triangle_is_pardisos(bar):
     from rvcoax.fem import pardiso
 
     a, _, _ = bar
-    ours, theirs = amg._upper(amg._node_blocks(a, 3)), pardiso.upper_storage(a)
+    ours, theirs = pardiso.upper_block_storage(amg._node_blocks(a, 3)), pardiso.upper_storage(a)
     assert (ours.n, ours.block_size) == (theirs.n, theirs.block_size) == (a.shape[0], 3)
     for name in ("indptr", "indices", "data"):
         np.testing.assert_array_equal(getattr(ours, name), getattr(theirs, name))
