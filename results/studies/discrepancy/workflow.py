@@ -586,13 +586,12 @@ def _pair_search(problem: Problem, single: Fit, steps, seen: Seen, settings: Dis
     name, value = single.names[0], float(np.atleast_1d(single.values[0])[0])
     p = seen.effects[name].parameters[0]
     bound = p.upper if value > 0 else p.lower
-    implausible = bound != 0.0 and value / bound >= IMPLAUSIBLE_FRACTION
+    if not (bound != 0.0 and value / bound >= IMPLAUSIBLE_FRACTION):  # a plausible size: no search
+        return None
     observed = seen.observed
     residual = observed.data.value_mm - observed.observe(problem.paths(single.names, single.values))
     structure = [f for f in residual_structure(observed.data, residual, observed.sigma, threshold=STRUCTURE_T,
                                                model_form_fraction=settings.model_form_fraction) if f.significant]
-    if not implausible:
-        return None
     why = (f"{name} alone at {value:.4g} {p.unit}, {100 * value / bound:.0f} % of its bound {bound:g} {p.unit}"
            + (f", leaving structure ({structure[0].shaft} shaft: {structure[0].test})" if structure else ""))
     found = PairSearch(name, value, float(single.bic), why)
