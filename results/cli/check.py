@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 from typing import Annotated
 
@@ -12,6 +13,7 @@ from rich.table import Table
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results import case_text
 from rvcoax.results.cli import support
+from rvcoax.results.io.picture_process import PictureProcess
 
 __all__ = ["COMMANDS", "check"]
 
@@ -54,13 +56,20 @@ def check(
 
     Exit status: 0 within tolerance with every fitted parameter plausible; 3 within tolerance but only with a fitted parameter outside its plausible range (the model fits the table without explaining it); 1 outside tolerance; 2 a user error.
     """
+    with contextlib.ExitStack() as stack:
+        # the picture's process imports matplotlib on the core that assembly and calibration leave idle
+        pictures = stack.enter_context(PictureProcess()) if out is not None else None
+        _check(model_choice, out, measured, (uncertainty_um, uncertainty_percent), pictures)
+
+
+def _check(model_choice, out: Path | None, measured: Path | None, uncertainty, pictures) -> None:
+    """The body of :func:`check` (``pictures``: the picture's worker process where files are written)."""
     from rvcoax import run_check, write_check
     from rvcoax.results.studies import CHECK_QUANTITIES, EXIT_OUTSIDE, EXIT_WITHIN, CalibrationError, fit_output_torques
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
-    rows, table_name, tolerance = _table_to_compare(model_choice, rig, measured,
-                                                    uncertainty=(uncertainty_um, uncertainty_percent))
+    rows, table_name, tolerance = _table_to_compare(model_choice, rig, measured, uncertainty=uncertainty)
     prepared = support.prepare_with_status(rig, settings)
     with support.progress_bar() as progress:
         tasks = {}
@@ -100,7 +109,8 @@ def check(
         support.report_written(write_check(out, run, source, text, picture_name=f"check_{model_choice.model}.png",
                                            title=f"{rig.rig.name}: {model_choice.model} model vs {table_name}",
                                            table_label=table_name, measured=measured is not None,
-                                           tolerance=None if tolerance is None else tolerance.description))
+                                           tolerance=None if tolerance is None else tolerance.description,
+                                           pictures=pictures))
     raise typer.Exit(code=outcome.exit_code)
 
 

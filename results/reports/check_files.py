@@ -15,7 +15,7 @@ __all__ = ["check_rows", "write_check"]
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,  # noqa: PLR0913
                 *, title: str | None = None, table_label: str = "published (paper 000)",
-                tolerance: str | None = None, measured: bool = False) -> list[Path]:
+                tolerance: str | None = None, measured: bool = False, pictures=None) -> list[Path]:
     """Write the check's files in ``out``, atomically.
 
     Parameters
@@ -37,6 +37,9 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
     measured : bool
         The table is the user's measured data: ``check.csv`` names its columns ``measured_*`` instead of
         ``published_*``.
+    pictures : rvcoax.results.io.picture_process.PictureProcess, optional
+        A worker process started earlier (matplotlib imported meanwhile): it draws the picture while this
+        process writes the other files; the same PNG as without it, its errors raised here.
 
     Returns
     -------
@@ -44,6 +47,14 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         ``check.csv``, ``check_verdict.json``, the calibrated and blind sweeps' files and the picture.
     """
     result = run.calibrated_verdict
+    picture = None
+    if picture_name is not None:
+        drawing = {"model_rows": {"blind": run.blind, "calibrated": run.calibrated}, "path_png": out / picture_name,
+                   "published": run.rows, "title": title, "micro": True, "published_label": table_label}
+        if pictures is not None:
+            from rvcoax.results.io.picture_process import picture_request
+
+            pictures.submit(picture_request(**drawing))  # drawn there while the files below are written
     written = [
         write_csv_atomic(out / "check.csv", check_rows(run.comparison_blind, run.comparison_calibrated,
                                                        run.rows, run.calibration.fit_rows,
@@ -58,10 +69,13 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
     written += write_sweep(out, run.calibrated, rig_source, rig_text, run.calibration)
     written += write_sweep(out, run.blind, rig_source, rig_text, stem="blind_sweep")
     if picture_name is not None:
-        from rvcoax.results.io.pictures import plot_y_vs_torque
+        if pictures is not None:
+            picture = pictures.result()
+        else:
+            from rvcoax.results.io.pictures import plot_y_vs_torque
 
-        written.append(plot_y_vs_torque({"blind": run.blind, "calibrated": run.calibrated}, out / picture_name,
-                                        published=run.rows, title=title, micro=True, published_label=table_label))
+            picture = plot_y_vs_torque(drawing.pop("model_rows"), drawing.pop("path_png"), **drawing)
+        written.append(picture)
     return written
 
 
