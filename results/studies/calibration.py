@@ -18,6 +18,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from rvcoax.geometry import MEASURED_SHAFTS
+from rvcoax.geometry.gear_loads import gear_contact_torques
 from rvcoax.geometry.model.loads import UNIT_LOADS
 from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
@@ -188,19 +189,82 @@ def _affine_surrogate(rig, parameters, rows, shaft, prepared, *, scale):  # noqa
     return surrogate
 
 
+AFFINE_LOADS_RTOL = 1e-10
+"""Largest difference, relative to the largest load entry, between the unit loads of a trial rig and their affine
+prediction from the reference and one-parameter steps, for the loads to count as affine in the parameters (the
+combination's rounding is ~1e-15; a load law that is not affine misses by far more)."""
+
+
+def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *, scale: np.ndarray):
+    """Where the unit loads are affine in every parameter (scaled by ``scale``), a function x → {shaft: paths} at the
+    fitting rows that is exact, from 1 + n sweeps and one solve call; else None.
+
+    Affinity is checked on the load vectors themselves, at a random point of all the parameters together: a solution
+    is linear in its load (one factorisation) and a path in its solution, so affine loads give affine paths, whatever
+    the solve's accuracy (:func:`_affine_surrogate` checks the solved paths instead, at 1e-6, for each shaft's pair
+    of parameters and solves again at the other shaft's fitted values). The case weights must not depend on the
+    parameters either (the gear meshes' full-contact torques). One surrogate serves both shafts: the second shaft's
+    fit sees the first's fitted values through their slopes.
+    """
+    reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
+
+    def trial(x):
+        return with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
+
+    probe = reference + np.random.default_rng(0).uniform(-2.0, 2.0, len(parameters))
+    points = [reference, *(reference + np.eye(len(parameters))[j] for j in range(len(parameters))), probe]
+    rigs = [trial(x) for x in points]
+    if check_clearance_model(rig, prepared.system.kind) or len({gear_contact_torques(r) for r in rigs}) > 1:
+        return None
+    loads = [prepared.system.with_loads_of(r).unit_loads for r in rigs]
+    for name in UNIT_LOADS:
+        predicted = loads[0][name] + sum((probe[j] - reference[j]) * (loads[1 + j][name] - loads[0][name])
+                                         for j in range(len(parameters)))
+        size = max(np.abs(loads[-1][name]).max(initial=0.0), np.abs(loads[0][name]).max(initial=0.0))
+        if np.abs(predicted - loads[-1][name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
+            return None
+    # every column the sweeps below need, in one solve call (the reference rig's are usually cached: the blind sweep)
+    prepared.solve_unit_loads(np.column_stack([load[k] for load in loads[:-1] for k in UNIT_LOADS]))
+    del loads
+
+    def both(r):
+        sweep = run_sweep(r, tuple(row.case for row in rows), prepared=prepared, engineering=False)
+        return {shaft: np.array([c.paths[shaft].uy_mm for c in sweep.cases]) for shaft in MEASURED_SHAFTS}
+
+    base = both(rigs[0])
+    slopes = [{shaft: paths[shaft] - base[shaft] for shaft in MEASURED_SHAFTS}
+              for paths in (both(r) for r in rigs[1:-1])]
+
+    def surrogate(x, shaft):
+        return base[shaft] + sum((x[j] - reference[j]) * slopes[j][shaft] for j in range(len(parameters)))
+
+    return surrogate
+
+
 def _published(rows: list[PublishedRow], shaft: str) -> np.ndarray:
     return np.array([r.y_input_mm if shaft == "input" else r.y_output_mm for r in rows])
 
 
-def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[PublishedRow], shaft: str, prepared=None):
-    """All exact solutions for one shaft's parameters (list of value arrays, best first by cost)."""
+def _fit_shaft(rig: Rig, parameters: list[CalibrationParameter], rows: list[PublishedRow], shaft: str,  # noqa: PLR0913
+               prepared=None, *, joint=None):
+    """All exact solutions for one shaft's parameters (list of value arrays, best first by cost).
+
+    ``joint``: ``(surrogate, x_of)`` — :func:`_joint_surrogate` of every calibrated parameter, and the function that
+    places this shaft's (scaled) values among the others' (the ones fitted already at their values, the rest at
+    their reference); without it, the shaft's own surrogate (:func:`_affine_surrogate`) or trial sweeps."""
     target = _published(rows, shaft)
     scale = np.array([p.scale for p in parameters])
     lower = np.array([p.bounds[0] for p in parameters]) / scale
     upper = np.array([p.bounds[1] for p in parameters]) / scale
     reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
 
-    surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale=scale) if prepared is not None else None
+    if joint is not None:
+        every, x_of = joint
+
+        def surrogate(x):
+            return every(x_of(x), shaft)
+    else:
+        surrogate = _affine_surrogate(rig, parameters, rows, shaft, prepared, scale=scale) if prepared is not None else None
 
     def residual(x):
         if surrogate is not None:
@@ -273,11 +337,24 @@ def calibrate(  # noqa: PLR0913
     current = rig
     for shaft in MEASURED_SHAFTS:
         own = [p for p in parameters if p.shaft == shaft]
-        if not own:
-            continue
         if len(own) > 2:
             raise ValueError(f"at most two calibrated parameters per shaft; {shaft} has {len(own)}")
-        solutions, cost = _fit_shaft(current, own, rows, shaft, prepared)
+    scale = np.array([p.scale for p in parameters])
+    every = _joint_surrogate(rig, parameters, rows, prepared, scale=scale) if prepared is not None else None
+    for shaft in MEASURED_SHAFTS:
+        own = [p for p in parameters if p.shaft == shaft]
+        if not own:
+            continue
+        joint = None
+        if every is not None:
+            mine = [parameters.index(p) for p in own]
+
+            def x_of(x, mine=mine):  # every parameter, scaled: this shaft's x, the others fitted or at reference
+                full = np.array([chosen.get(p.address, get_parameter(rig, p.address)) for p in parameters]) / scale
+                full[mine] = x
+                return full
+            joint = (every, x_of)
+        solutions, cost = _fit_shaft(current, own, rows, shaft, prepared, joint=joint)
         worst = max(worst, cost)
         reference = np.array([get_parameter(rig, p.address) for p in own])
         width = np.array([p.plausible[1] - p.plausible[0] for p in own])
@@ -292,8 +369,11 @@ def calibrate(  # noqa: PLR0913
     fitted = tuple(FittedParameter(p, get_parameter(rig, p.address), chosen[p.address]) for p in parameters
                    if p.address in chosen)
     final = with_parameters(rig, chosen)
+    # both shafts from one sweep of the calibrated rig (the check's calibrated sweep then finds its solutions cached)
+    sweep = run_sweep(final, tuple(r.case for r in rows), prepared=prepared, engineering=False)
     residual = max(
-        float(np.max(np.abs((_y_max(final, rows, s, prepared) - _published(rows, s)) / _published(rows, s))))
+        float(np.max(np.abs((_row_y(final, rows, s, np.array([c.paths[s].uy_mm for c in sweep.cases]))
+                             - _published(rows, s)) / _published(rows, s))))
         for s in MEASURED_SHAFTS
     )
     return Calibration(final, fitted, fit_rows, residual, tuple(alternatives))
