@@ -83,6 +83,13 @@ def _check(model_choice, out: Path | None, measured: Path | None, uncertainty, p
             run = run_check(rig, rows, settings, prepared=prepared, progress=show, tolerance=tolerance)
         except CalibrationError as error:
             raise support.UserError(f"rig file {model_choice.rig_text()[0]}: {error}") from None
+    if pictures is not None:  # drawn while the tables below are printed and the files written
+        from rvcoax.results.io.picture_process import picture_request
+        from rvcoax.results.reports.check_files import check_picture
+
+        pictures.submit(picture_request(**check_picture(run, out / _picture_name(model_choice),
+                                                        title=_picture_title(rig, model_choice, table_name),
+                                                        table_label=table_name)))
     blind_result, result, held_out = run.blind_verdict, run.calibrated_verdict, run.held_out
     for shaft in MEASURED_SHAFTS:
         support.console.print(_check_table(shaft, run.comparison_blind, run.comparison_calibrated, run.calibration.fit_rows,
@@ -106,12 +113,20 @@ def _check(model_choice, out: Path | None, measured: Path | None, uncertainty, p
     support.console.print(f"[bold {colour}]{escape(outcome.text)}[/]")
     if out is not None:
         source, text = model_choice.rig_text()
-        support.report_written(write_check(out, run, source, text, picture_name=f"check_{model_choice.model}.png",
-                                           title=f"{rig.rig.name}: {model_choice.model} model vs {table_name}",
+        support.report_written(write_check(out, run, source, text, picture_name=_picture_name(model_choice),
+                                           title=_picture_title(rig, model_choice, table_name),
                                            table_label=table_name, measured=measured is not None,
                                            tolerance=None if tolerance is None else tolerance.description,
                                            pictures=pictures))
     raise typer.Exit(code=outcome.exit_code)
+
+
+def _picture_name(model_choice) -> str:
+    return f"check_{model_choice.model}.png"
+
+
+def _picture_title(rig, model_choice, table_name: str) -> str:
+    return f"{rig.rig.name}: {model_choice.model} model vs {table_name}"
 
 
 def _table_to_compare(model_choice, rig, measured: Path | None, *, uncertainty: tuple[float | None, float | None]):

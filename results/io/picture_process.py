@@ -135,8 +135,15 @@ class PictureProcess:
     def __exit__(self, *_exc) -> None:
         self.close()
 
+    @property
+    def submitted(self) -> bool:
+        """Whether a request was submitted."""
+        return self._request is not None
+
     def submit(self, request: dict) -> None:
-        """Send ``request`` (:func:`picture_request`); the worker draws it while the caller goes on."""
+        """Send ``request`` (:func:`picture_request`); the worker draws it while the caller goes on (once only)."""
+        if self._request is not None:
+            raise ValueError("a picture was submitted already: one process draws one picture")
         self._request = request
         if self._process is None:
             return

@@ -10,7 +10,7 @@ from rvcoax.results.io.writers import write_csv_atomic, write_json_atomic
 from rvcoax.results.studies.check import CHECK_QUANTITIES, Comparison
 from rvcoax.results.studies.check_run import CheckRun
 
-__all__ = ["check_rows", "write_check"]
+__all__ = ["check_picture", "check_rows", "write_check"]
 
 
 def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, picture_name: str | None = None,  # noqa: PLR0913
@@ -39,7 +39,8 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
         ``published_*``.
     pictures : rvcoax.results.io.picture_process.PictureProcess, optional
         A worker process started earlier (matplotlib imported meanwhile): it draws the picture while this
-        process writes the other files; the same PNG as without it, its errors raised here.
+        process writes the other files (or since the caller submitted :func:`check_picture` itself); the same PNG
+        as without it, its errors raised here.
 
     Returns
     -------
@@ -49,9 +50,8 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
     result = run.calibrated_verdict
     picture = None
     if picture_name is not None:
-        drawing = {"model_rows": {"blind": run.blind, "calibrated": run.calibrated}, "path_png": out / picture_name,
-                   "published": run.rows, "title": title, "micro": True, "published_label": table_label}
-        if pictures is not None:
+        drawing = check_picture(run, out / picture_name, title=title, table_label=table_label)
+        if pictures is not None and not pictures.submitted:
             from rvcoax.results.io.picture_process import picture_request
 
             pictures.submit(picture_request(**drawing))  # drawn there while the files below are written
@@ -77,6 +77,14 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
             picture = plot_y_vs_torque(drawing.pop("model_rows"), drawing.pop("path_png"), **drawing)
         written.append(picture)
     return written
+
+
+def check_picture(run: CheckRun, path_png: Path, *, title: str | None = None,
+                  table_label: str = "published (paper 000)") -> dict:
+    """The arguments of :func:`rvcoax.results.io.pictures.plot_y_vs_torque` for the check's picture: Y against
+    torque, blind and calibrated, with the table's points (µm and µrad)."""
+    return {"model_rows": {"blind": run.blind, "calibrated": run.calibrated}, "path_png": path_png,
+            "published": run.rows, "title": title, "micro": True, "published_label": table_label}
 
 
 def check_rows(comparison_blind: Comparison, comparison_calibrated: Comparison, rows, fit_rows,

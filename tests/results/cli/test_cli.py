@@ -358,6 +358,15 @@ def test_check_writes_the_calibrated_sweep(check_run):
     _, out = check_run
     for name in ("sweep.csv", "sweep.json", "sweep_paths.csv", "blind_sweep.csv", "blind_sweep.json"):
         assert (out / name).is_file(), name
+
+
+def test_check_picture_comes_from_its_process_whole(check_run):
+    """The picture is drawn by a second process (rvcoax.results.io.picture_process): it is there, a whole PNG,
+    and no temporary file of its atomic write is left beside it."""
+    _, out = check_run
+    picture = out / "check_beam.png"
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and picture.stat().st_size > 10_000
+    assert not [p.name for p in out.iterdir() if ".tmp" in p.name]
     document = json.loads((out / "sweep.json").read_text(encoding="utf-8"))
     calibration = document["calibration"]
     assert calibration is not None

@@ -55,7 +55,11 @@ def test_a_file_that_cannot_be_written_is_the_serial_oserror(tmp_path, sweep):
 def test_any_other_error_of_the_drawing_is_raised_with_its_message(tmp_path):
     request = {"model_rows": {"T1_input_Nm": [1.0]}, "path_png": str(tmp_path / "y.png"), "published": None}
     with PictureProcess() as pictures, pytest.raises(PictureProcessError, match="rows lack T2_output_Nm"):
+        assert not pictures.submitted
         pictures.submit(request)
+        assert pictures.submitted
+        with pytest.raises(ValueError, match="one process draws one picture"):
+            pictures.submit(request)
         pictures.result()
     assert not (tmp_path / "y.png").exists()
 
