@@ -306,7 +306,8 @@ class PreparedModel:
 
     def solve_unit_loads(self, columns: np.ndarray) -> np.ndarray:
         """Solutions of the load vectors ``columns`` (n, m): those solved before are taken from the cache, the
-        others are solved together in one call (the first sweep of a model solves them all at once)."""
+        others are solved together in one call (the first sweep of a model solves them all at once), each distinct
+        vector once."""
         # SHA-256 of each column's bytes, the columns read as rows of one transposed copy (half the CPU time of a
         # copy and a BLAKE2 digest per column: the CPU's SHA instructions)
         keys = [hashlib.sha256(row).digest() for row in np.ascontiguousarray(np.asarray(columns, dtype=float).T)]
@@ -315,15 +316,22 @@ class PreparedModel:
         # not solved (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a third
         # of MKL's workspace, benchmarks/RESULTS.md)
         loaded = [j for j in missing if np.any(columns[:, j])]
-        if len(loaded) == len(keys):
+        # a vector repeated in the block (the loads a calibration's trial rigs share) is solved once
+        first: dict[bytes, int] = {}
+        for j in loaded:
+            first.setdefault(keys[j], j)
+        unique = list(first.values())
+        if len(unique) == len(keys):
             solutions = np.asarray(self.solve(columns))
         else:
             solutions = np.zeros_like(columns, dtype=float)
-            if loaded:
-                solutions[:, loaded] = np.asarray(self.solve(columns[:, loaded])).reshape(len(columns), -1)
+            if unique:
+                solutions[:, unique] = np.asarray(self.solve(columns[:, unique])).reshape(len(columns), -1)
             for j, key in enumerate(keys):
                 if j not in missing:
                     solutions[:, j] = self.solved[key]
+                elif first.get(key, j) != j:
+                    solutions[:, j] = solutions[:, first[key]]
         room = max(columns.shape[1], min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(len(columns), 1)))
         for j in missing:
             self.solved[keys[j]] = solutions[:, j].copy()

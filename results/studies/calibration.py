@@ -26,7 +26,8 @@ from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.studies.check import y_at_stations
 from rvcoax.results.sweep import SweepSettings, check_clearance_model, prepare_model, run_sweep
 
-__all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate"]
+__all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate",
+           "solve_with_trials"]
 
 
 @dataclass(frozen=True)
@@ -195,6 +196,30 @@ prediction from the reference and one-parameter steps, for the loads to count as
 combination's rounding is ~1e-15; a load law that is not affine misses by far more)."""
 
 
+def _joint_trials(rig: Rig, parameters, scale: np.ndarray) -> tuple[np.ndarray, list[Rig]]:
+    """(the parameters' scaled reference values, the rigs :func:`_joint_surrogate` sweeps: the reference and one
+    step of 1 (scaled) in each parameter)."""
+    reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
+    steps = [reference + np.eye(len(parameters))[j] for j in range(len(parameters))]
+    return reference, [with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
+                       for x in (reference, *steps)]
+
+
+def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS) -> None:
+    """Solve the unit loads of ``rig`` and of the rigs :func:`calibrate` will sweep on ``prepared`` in one solve call,
+    into ``prepared``'s cache of solutions (a caller that sweeps ``rig`` and then calibrates it: each solve call reads
+    the whole factor, so one call instead of two saves a pass; the hybrid reference rig: ~0.1 s, benchmarks/RESULTS.md).
+
+    Does nothing where :func:`calibrate` would not use the one-surrogate path (a parameter that is not a load
+    parameter, or nonlinear bearings).
+    """
+    if not all(p.address.startswith(LOAD_GROUPS) for p in parameters) or check_clearance_model(rig, prepared.system.kind):
+        return
+    _, rigs = _joint_trials(rig, parameters, np.array([p.scale for p in parameters]))
+    loads = [prepared.system.with_loads_of(r).unit_loads for r in (rig, *rigs)]
+    prepared.solve_unit_loads(np.column_stack([load[k] for load in loads for k in UNIT_LOADS]))
+
+
 def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *, scale: np.ndarray):
     """Where the unit loads are affine in every parameter (scaled by ``scale``), a function x → {shaft: paths} at the
     fitting rows that is exact, from 1 + n sweeps and one solve call; else None.
@@ -206,14 +231,9 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
     parameters either (the gear meshes' full-contact torques). One surrogate serves both shafts: the second shaft's
     fit sees the first's fitted values through their slopes.
     """
-    reference = np.array([get_parameter(rig, p.address) for p in parameters]) / scale
-
-    def trial(x):
-        return with_parameters(rig, {p.address: v for p, v in zip(parameters, x * scale)})
-
+    reference, rigs = _joint_trials(rig, parameters, scale)
     probe = reference + np.random.default_rng(0).uniform(-2.0, 2.0, len(parameters))
-    points = [reference, *(reference + np.eye(len(parameters))[j] for j in range(len(parameters))), probe]
-    rigs = [trial(x) for x in points]
+    rigs.append(with_parameters(rig, {p.address: v for p, v in zip(parameters, probe * scale)}))
     if check_clearance_model(rig, prepared.system.kind) or len({gear_contact_torques(r) for r in rigs}) > 1:
         return None
     loads = [prepared.system.with_loads_of(r).unit_loads for r in rigs]

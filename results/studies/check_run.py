@@ -15,7 +15,7 @@ from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table
-from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate
+from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate, solve_with_trials
 from rvcoax.results.studies.check import CheckVerdict, Comparison, Tolerance, Verdict, check_verdict, compare, verdict
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
@@ -153,6 +153,7 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
         report = None if progress is None else (lambda i, n: progress(stage, i, n))
         return run_sweep(on, cases, settings, progress=report, prepared=prepared)
 
+    solve_with_trials(rig, prepared)  # the blind rig's and the calibration's unit loads in one solve call
     blind = sweep(rig, "blind sweep")
     if progress is not None:
         progress("calibrating", 0, 1)

@@ -59,3 +59,25 @@ def test_a_released_model_still_serves_its_cached_unit_loads_and_nothing_else():
     assert np.array_equal(again.cases[-1].paths["output"].uy_mm, kept.cases[-1].paths["output"].uy_mm)
     with pytest.raises(SolverError, match="released"):
         prepared.solve(np.ones(prepared.system.n_dofs))
+
+
+def test_a_vector_repeated_in_one_block_is_solved_once():
+    """The unit loads that several trial rigs share, asked for in one call, are solved once and copied."""
+    rig = load_rig()
+    base = prepare_model(rig)
+    solved = []
+
+    def counting(columns):
+        solved.append(np.shape(columns)[1])
+        return base.solve(columns)
+
+    prepared = PreparedModel(base.system, counting, base.solver_name, base.report)
+    loads = base.system.unit_loads
+    names = [k for k in loads if np.any(loads[k])]
+    block = np.column_stack([loads[k] for k in names] + [loads[names[0]], 2.0 * loads[names[-1]], loads[names[0]]])
+    solutions = prepared.solve_unit_loads(block)
+    assert solved == [len(names) + 1]  # the distinct vectors: each unit load once, and the doubled one
+    np.testing.assert_array_equal(solutions[:, len(names)], solutions[:, 0])
+    np.testing.assert_array_equal(solutions[:, -1], solutions[:, 0])
+    np.testing.assert_allclose(solutions[:, len(names) + 1], 2.0 * solutions[:, len(names) - 1], rtol=1e-12,
+                               atol=1e-12 * np.abs(solutions[:, len(names) - 1]).max())

@@ -262,3 +262,18 @@ def test_the_verdict_names_an_implausible_fit_and_its_exit_status(passed, fitted
         assert outcome.text == "VERDICT: outside tolerance (5 held-out value(s))"
     else:
         assert outcome.text == "VERDICT: within tolerance"
+
+
+def test_one_surrogate_of_every_parameter_fits_what_each_shafts_own_surrogate_fits(rig, table, monkeypatch):
+    """All four parameters from one affine surrogate (checked on the load vectors, solved in one call) give the
+    fit of the per-shaft surrogates (solved again at the first shaft's fitted values), to rounding; a load that
+    misses its affine prediction (here: any, the tolerance made negative) falls back to the per-shaft path."""
+    from rvcoax.results.studies import calibration
+    from rvcoax.results.sweep import prepare_model
+
+    joint = calibrate(rig, table, prepared=prepare_model(rig))
+    monkeypatch.setattr(calibration, "AFFINE_LOADS_RTOL", -1.0)
+    per_shaft = calibrate(rig, table, prepared=prepare_model(rig))
+    assert relative_difference(joint.values(), per_shaft.values()) < 1e-9
+    assert joint.fit_relative_residual < 1e-6 and per_shaft.fit_relative_residual < 1e-6
+    assert [p.parameter.address for p in joint.parameters] == [p.address for p in DEFAULT_PARAMETERS]
