@@ -211,11 +211,14 @@ def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter
     the whole factor, so one call instead of two saves a pass; the hybrid reference rig: ~0.1 s, benchmarks/RESULTS.md).
 
     Does nothing where :func:`calibrate` would not use the one-surrogate path (a parameter that is not a load
-    parameter, or nonlinear bearings).
+    parameter, or nonlinear bearings); only ``rig``'s own where it lacks a parameter.
     """
     if not all(p.address.startswith(LOAD_GROUPS) for p in parameters) or check_clearance_model(rig, prepared.system.kind):
         return
-    _, rigs = _joint_trials(rig, parameters, np.array([p.scale for p in parameters]))
+    try:
+        _, rigs = _joint_trials(rig, parameters, np.array([p.scale for p in parameters]))
+    except KeyError:  # the rig lacks a parameter: calibrate() says so, after the sweep of the rig as built
+        rigs = []
     loads = [prepared.system.with_loads_of(r).unit_loads for r in (rig, *rigs)]
     prepared.solve_unit_loads(np.column_stack([load[k] for load in loads for k in UNIT_LOADS]))
 
