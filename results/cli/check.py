@@ -13,7 +13,7 @@ from rich.table import Table
 from rvcoax.geometry import MEASURED_SHAFTS
 from rvcoax.results import case_text
 from rvcoax.results.cli import support
-from rvcoax.results.io.picture_process import PictureProcess
+from rvcoax.results.io import PictureProcess
 
 __all__ = ["COMMANDS", "check"]
 
@@ -84,8 +84,8 @@ def _check(model_choice, out: Path | None, measured: Path | None, uncertainty, p
         except CalibrationError as error:
             raise support.UserError(f"rig file {model_choice.rig_text()[0]}: {error}") from None
     if pictures is not None:  # drawn while the tables below are printed and the files written
-        from rvcoax.results.io.picture_process import picture_request
-        from rvcoax.results.reports.check_files import check_picture
+        from rvcoax.results.io import picture_request
+        from rvcoax.results.reports import check_picture
 
         pictures.submit(picture_request(**check_picture(run, out / _picture_name(model_choice),
                                                         title=_picture_title(rig, model_choice, table_name),

@@ -16,6 +16,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.io.durable_sweep": ("run_durable_sweep",),
     "rvcoax.results.io.fields": ("sweep_field_cases", "sweep_field_mesh", "write_vtu", "write_xdmf_series"),
     "rvcoax.results.io.pictures": ("RenderingUnavailableError", "plot_y_vs_torque", "render_deformed"),
+    "rvcoax.results.io.picture_process": ("PictureProcess", "PictureProcessError", "picture_request"),
     "rvcoax.results.io.sweep_pictures": ("draw_sweep_pictures",),
     "rvcoax.results.io.bending_line": ("plot_bending_line",),
     "rvcoax.results.io.mode_pictures": ("plot_interference", "render_mode"),

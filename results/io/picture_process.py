@@ -57,9 +57,19 @@ def _plain(rows) -> dict[str, list[float]] | list:
 def picture_request(model_rows, path_png: str | Path, *, published=None, **options) -> dict:
     """The arguments of :func:`rvcoax.results.io.pictures.plot_y_vs_torque` as plain numbers (a JSON document).
 
-    ``model_rows`` and ``published`` as that function takes them (Sweeps, CaseResults, PublishedRows, …) become
-    arrays; the path lengths a Sweep carries become ``path_lengths_mm``, so the worker draws what the serial call
-    would. ``options`` are that function's keyword arguments.
+    Parameters
+    ----------
+    model_rows, path_png, published
+        As :func:`rvcoax.results.io.pictures.plot_y_vs_torque` takes them (Sweeps, CaseResults, PublishedRows, …);
+        the rows become arrays, and the path lengths a Sweep carries become ``path_lengths_mm``, so the worker
+        draws what the serial call would.
+    **options
+        That function's keyword arguments (``title``, ``micro``, ``published_label``, …).
+
+    Returns
+    -------
+    dict
+        The request for :meth:`PictureProcess.submit`.
     """
     from rvcoax.geometry import MEASURED_SHAFTS
     from rvcoax.results.io.pictures import _KEYS, _series

@@ -9,7 +9,7 @@ from rvcoax._lazy import lazy_names
 
 # the module that defines each public name
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
-    "rvcoax.results.reports.check_files": ("write_check",),
+    "rvcoax.results.reports.check_files": ("check_picture", "write_check"),
     "rvcoax.results.reports.report": ("PAPER_SIZES", "read_discrepancy", "write_report"),
     "rvcoax.results.reports.report_pdf": ("print_pdf",),
 })

@@ -82,7 +82,25 @@ def write_check(out: Path, run: CheckRun, rig_source: str, rig_text: str, pictur
 def check_picture(run: CheckRun, path_png: Path, *, title: str | None = None,
                   table_label: str = "published (paper 000)") -> dict:
     """The arguments of :func:`rvcoax.results.io.pictures.plot_y_vs_torque` for the check's picture: Y against
-    torque, blind and calibrated, with the table's points (µm and µrad)."""
+    torque, blind and calibrated, with the table's points (µm and µrad).
+
+    Parameters
+    ----------
+    run : CheckRun
+        The result of :func:`rvcoax.run_check`.
+    path_png : Path
+        Where the picture goes.
+    title : str, optional
+        The picture's title.
+    table_label : str
+        The legend of the table's points.
+
+    Returns
+    -------
+    dict
+        Keyword arguments of ``plot_y_vs_torque`` (``model_rows``, ``path_png``, ``published``, …), or of
+        :func:`rvcoax.results.io.picture_process.picture_request`.
+    """
     return {"model_rows": {"blind": run.blind, "calibrated": run.calibrated}, "path_png": path_png,
             "published": run.rows, "title": title, "micro": True, "published_label": table_label}
 

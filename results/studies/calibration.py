@@ -368,15 +368,7 @@ def calibrate(  # noqa: PLR0913
         own = [p for p in parameters if p.shaft == shaft]
         if not own:
             continue
-        joint = None
-        if every is not None:
-            mine = [parameters.index(p) for p in own]
-
-            def x_of(x, mine=mine):  # every parameter, scaled: this shaft's x, the others fitted or at reference
-                full = np.array([chosen.get(p.address, get_parameter(rig, p.address)) for p in parameters]) / scale
-                full[mine] = x
-                return full
-            joint = (every, x_of)
+        joint = None if every is None else (every, _placing(rig, parameters, own, chosen, scale))
         solutions, cost = _fit_shaft(current, own, rows, shaft, prepared, joint=joint)
         worst = max(worst, cost)
         reference = np.array([get_parameter(rig, p.address) for p in own])
@@ -392,11 +384,28 @@ def calibrate(  # noqa: PLR0913
     fitted = tuple(FittedParameter(p, get_parameter(rig, p.address), chosen[p.address]) for p in parameters
                    if p.address in chosen)
     final = with_parameters(rig, chosen)
-    # both shafts from one sweep of the calibrated rig (the check's calibrated sweep then finds its solutions cached)
+    return Calibration(final, fitted, fit_rows, _fit_residual(final, rows, prepared), tuple(alternatives))
+
+
+def _placing(rig: Rig, parameters, own, chosen: dict, scale: np.ndarray):
+    """x → every parameter, scaled: ``own``'s (one shaft's) values x, the others as fitted so far (``chosen``, read
+    when called) or at their reference."""
+    mine = [parameters.index(p) for p in own]
+
+    def x_of(x):
+        full = np.array([chosen.get(p.address, get_parameter(rig, p.address)) for p in parameters]) / scale
+        full[mine] = x
+        return full
+
+    return x_of
+
+
+def _fit_residual(final: Rig, rows: list[PublishedRow], prepared) -> float:
+    """The largest relative miss of the calibrated rig at the fitting rows, both shafts from one sweep (the check's
+    calibrated sweep then finds its solutions cached)."""
     sweep = run_sweep(final, tuple(r.case for r in rows), prepared=prepared, engineering=False)
-    residual = max(
+    return max(
         float(np.max(np.abs((_row_y(final, rows, s, np.array([c.paths[s].uy_mm for c in sweep.cases]))
                              - _published(rows, s)) / _published(rows, s))))
         for s in MEASURED_SHAFTS
     )
-    return Calibration(final, fitted, fit_rows, residual, tuple(alternatives))
