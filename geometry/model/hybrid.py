@@ -44,7 +44,7 @@ from rvcoax.geometry.thermal import part_strain
 from rvcoax.geometry.units import MM
 
 __all__ = ["Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
-           "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
+           "assemble_with_solids", "attachments", "face_at", "face_nodes", "forget_mapping", "mesh_size_of", "ring_probe",
            "select_facets", "solid_geometry"]
 
 RING_POINTS = 8
@@ -315,6 +315,19 @@ class SolidLoads:
         return pieces
 
 
+def forget_mapping(mesh) -> None:
+    """Let go of the reference mapping that scikit-fem keeps on a curved mesh, with every Jacobian it has computed.
+
+    scikit-fem's isoparametric mapping (``MeshTet2``) is made once per mesh and caches the Jacobian entries of every
+    set of points it is asked about: the quadrature points of each basis built on the mesh (stiffness, weight, DOF
+    table), each loaded or tied face's quadrature points and the probe rings. Nothing reads them after the assembly,
+    and they stay as long as the mesh: 144 MB on the example rig's all-solid model at 627 k DOF, resident through its
+    factorisation and solves (benchmarks/RESULTS.md). The next basis, traction or probe on the mesh makes a new
+    mapping, with the same values.
+    """
+    mesh.__dict__.pop("_cached_mapping", None)
+
+
 def _dof_table(structure, solids: dict[str, SolidPart], bases: dict) -> DofTable:
     """Where each DOF sits and which component it is: the frame's, then each solid part's in order."""
     frame_table = frame_dof_table(structure.coordinates)
@@ -385,5 +398,9 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
             probes[which] = frame_path_probe(frame, which, n)
 
     table = _dof_table(structure, solids, bases)
+    unit_loads = loads(rig)
+    del bases
+    for s in solids.values():
+        forget_mapping(s.mesh)
     return RigSystem(rig=rig, kind=kind, frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
-                     unit_loads=loads(rig), probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)
+                     unit_loads=unit_loads, probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)
