@@ -43,8 +43,8 @@ from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.thermal import part_strain
 from rvcoax.geometry.units import MM
 
-__all__ = ["Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
-           "assemble_with_solids", "attachments", "face_at", "face_nodes", "forget_mapping", "mesh_size_of", "ring_probe",
+__all__ = ["DERIVED_MESH_DATA", "Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
+           "assemble_with_solids", "attachments", "face_at", "face_nodes", "forget_derived", "mesh_size_of", "ring_probe",
            "select_facets", "solid_geometry"]
 
 RING_POINTS = 8
@@ -315,17 +315,24 @@ class SolidLoads:
         return pieces
 
 
-def forget_mapping(mesh) -> None:
-    """Let go of the reference mapping that scikit-fem keeps on a curved mesh, with every Jacobian it has computed.
+DERIVED_MESH_DATA = ("_cached_mapping", "_dofs", "_facets", "_t2f", "_f2t", "_f2e", "_edges", "_t2e")
+"""What scikit-fem derives from a mesh's nodes and elements and keeps on the mesh (attribute names), each built again
+when it is next asked for."""
 
-    scikit-fem's isoparametric mapping (``MeshTet2``) is made once per mesh and caches the Jacobian entries of every
-    set of points it is asked about: the quadrature points of each basis built on the mesh (stiffness, weight, DOF
-    table), each loaded or tied face's quadrature points and the probe rings. Nothing reads them after the assembly,
-    and they stay as long as the mesh: 144 MB on the example rig's all-solid model at 627 k DOF, resident through its
-    factorisation and solves (benchmarks/RESULTS.md). The next basis, traction or probe on the mesh makes a new
-    mapping, with the same values.
+
+def forget_derived(mesh) -> None:
+    """Let go of what scikit-fem derived from ``mesh`` and keeps on it (:data:`DERIVED_MESH_DATA`).
+
+    Above all the isoparametric mapping of a curved mesh (``MeshTet2``): made once per mesh, it caches the Jacobian
+    entries of every set of points it is asked about, the quadrature points of each basis built on the mesh
+    (stiffness, weight, DOF table), each loaded or tied face's quadrature points and the probe rings; then the facets,
+    edges and their incidence arrays. Nothing reads them between the assembly and the field output, and they stayed
+    as long as the mesh, resident through the factorisation and the solves: 144 MB of Jacobians and 25 MB of entity
+    arrays on the example rig's all-solid model at 627 k DOF (benchmarks/RESULTS.md). The next basis, traction or
+    probe on the mesh derives them again, with the same values.
     """
-    mesh.__dict__.pop("_cached_mapping", None)
+    for name in DERIVED_MESH_DATA:
+        mesh.__dict__.pop(name, None)
 
 
 def _dof_table(structure, solids: dict[str, SolidPart], bases: dict) -> DofTable:
@@ -401,6 +408,6 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
     unit_loads = loads(rig)
     del bases
     for s in solids.values():
-        forget_mapping(s.mesh)
+        forget_derived(s.mesh)
     return RigSystem(rig=rig, kind=kind, frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
                      unit_loads=unit_loads, probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)
