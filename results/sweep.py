@@ -321,7 +321,8 @@ class PreparedModel:
         # of MKL's workspace, benchmarks/RESULTS.md)
         loaded = [j for j in missing if np.any(vectors[j])]
         # only the loaded vectors are copied for the solver, and the (n, m) result is made once the solver has given
-        # its workspace back: at 492 k DOF 58 MB less at the process's peak (the all-solid rig's unit solve)
+        # its workspace back: the all-solid rig's 9-column copy and zero-filled result (2 × 35 MB at 492 k DOF) are
+        # no longer held through MKL's solve, the process's peak
         solved = np.asarray(self.solve(np.column_stack([vectors[j] for j in loaded]))).reshape(n, -1) if loaded else None
         if len(loaded) == m:
             solutions = solved
