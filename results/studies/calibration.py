@@ -24,7 +24,7 @@ from rvcoax.geometry.parameters import get_parameter, with_parameters
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow
 from rvcoax.results.studies.check import y_at_stations
-from rvcoax.results.sweep import SweepSettings, check_clearance_model, load_columns, prepare_model, run_sweep
+from rvcoax.results.sweep import SweepSettings, check_clearance_model, prepare_model, run_sweep
 
 __all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate",
            "solve_with_trials"]
@@ -146,7 +146,7 @@ def _solve_together(prepared, rigs: list[Rig]) -> None:
         return
     for first in range(0, len(rigs), RIGS_PER_CALL):  # the load vectors of a few rigs at a time: 8 MB per rig
         loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs[first:first + RIGS_PER_CALL]]
-        prepared.solve_unit_loads(load_columns([load[k] for load in loads for k in UNIT_LOADS]))
+        prepared.solve_unit_loads([load[k] for load in loads for k in UNIT_LOADS])
 
 
 def _row_y(rig: Rig, rows: list[PublishedRow], shaft: str, paths: np.ndarray) -> np.ndarray:
@@ -220,7 +220,7 @@ def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter
     except KeyError:  # the rig lacks a parameter: calibrate() says so, after the sweep of the rig as built
         rigs = []
     loads = [prepared.system.with_loads_of(r).unit_loads for r in (rig, *rigs)]
-    prepared.solve_unit_loads(load_columns([load[k] for load in loads for k in UNIT_LOADS]))
+    prepared.solve_unit_loads([load[k] for load in loads for k in UNIT_LOADS])
 
 
 def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *, scale: np.ndarray):
@@ -247,7 +247,7 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
         if np.abs(predicted - loads[-1][name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
             return None
     # every column the sweeps below need, in one solve call (the reference rig's are usually cached: the blind sweep)
-    prepared.solve_unit_loads(load_columns([load[k] for load in loads[:-1] for k in UNIT_LOADS]))
+    prepared.solve_unit_loads([load[k] for load in loads[:-1] for k in UNIT_LOADS])
     del loads
 
     def both(r):

@@ -81,3 +81,26 @@ def test_a_vector_repeated_in_one_block_is_solved_once():
     np.testing.assert_array_equal(solutions[:, -1], solutions[:, 0])
     np.testing.assert_allclose(solutions[:, len(names) + 1], 2.0 * solutions[:, len(names) - 1], rtol=1e-12,
                                atol=1e-12 * np.abs(solutions[:, len(names) - 1]).max())
+
+
+def test_unit_loads_given_as_vectors_or_as_columns_are_the_same_loads():
+    """solve_unit_loads takes an (n, m) array or m vectors: the same solutions, one cache, zero vectors never handed
+    to the solver (their solution is 0 exactly)."""
+    rig = load_rig()
+    base = prepare_model(rig)
+    handed = []
+
+    def counting(columns):
+        handed.append(np.array(columns, copy=True))
+        return base.solve(columns)
+
+    loads = base.system.unit_loads
+    vectors = [loads[k] for k in loads] + [np.zeros(base.system.n_dofs)]
+    from_vectors = PreparedModel(base.system, counting, base.solver_name, base.report).solve_unit_loads(vectors)
+    assert len(handed) == 1 and all(np.any(column) for column in handed[0].T)
+    assert not np.any(from_vectors[:, -1])
+    prepared = PreparedModel(base.system, counting, base.solver_name, base.report)
+    from_columns = prepared.solve_unit_loads(np.column_stack(vectors))
+    assert np.array_equal(from_vectors, from_columns)
+    assert np.array_equal(prepared.solve_unit_loads(vectors[::-1]), from_columns[:, ::-1])  # from the cache alone
+    assert len(handed) == 2
