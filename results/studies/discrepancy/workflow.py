@@ -461,7 +461,7 @@ def _observe(rig, data: MeasuredData, settings: DiscrepancySettings, library: Ca
         observe = observe_of(library.layout)
         library_base = library.base_paths
     observed = Observed(data=data, sigma=sigma, base_paths=library.base_paths, observe=observe, rows=held_out_mask(data, settings.hold_out_every),
-                        from_rest=from_rest, engine=library.engine)
+                        from_rest=from_rest, engine=library.engine, noise=noise)
     set_aside: dict[str, str] = dict(library.failed)
     seen = {}
     for name, response in library.responses.items():
@@ -482,7 +482,7 @@ def _locate(seen: Seen, settings: DiscrepancySettings) -> Located:
     """The χ² test of the gap, its structure, and the best generic load with its cross-validation."""
     observed = seen.observed
     data, sigma, before = observed.data, observed.sigma, observed.before
-    test_before = gap_test(observed.scaled_before, settings.alpha)  # every row, as the test after the fit
+    test_before = gap_test(observed.scaled_before, settings.alpha, observed.dof())  # every row, as the test after the fit
     structure = residual_structure(data, data.value_mm - before, sigma,
                                    model_form_fraction=settings.model_form_fraction)
     folds = case_folds(data)
@@ -845,9 +845,9 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
         rejected.update(step.rejected)
     selected, discriminations = _groups(seen, named, settings)
     scaled_after = (data.value_mm - after) / sigma
-    test_after = gap_test(scaled_after, settings.alpha)
+    test_after = gap_test(scaled_after, settings.alpha, observed.dof())
     held = ~observed.rows
-    test_held = gap_test(scaled_after[held], settings.alpha) if held.any() else None
+    test_held = gap_test(scaled_after[held], settings.alpha, observed.dof(held)) if held.any() else None
     cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), observed.scaled_before, located.folds) \
         if fitted and all(n in seen.responses for n, _ in fitted) else None
     set_aside = dict(named.set_aside)
