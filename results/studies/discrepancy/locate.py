@@ -88,15 +88,20 @@ def _paths_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
 OUTLIER_ALPHA = 0.01  # the chance that a table's sweep without a kink loses a value to the outlier test
 
 
+def _neighbour_weights(t: np.ndarray):
+    """(i, w) of every value with a neighbour on each side along the sweep: the line through them predicts
+    w·y[i − 1] + (1 − w)·y[i + 1] at t[i]."""
+    for i in range(1, t.size - 1):
+        span = t[i + 1] - t[i - 1]
+        if span > 0:
+            yield i, (t[i + 1] - t[i]) / span
+
+
 def _neighbour_residuals(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each value's miss of the line through its two neighbours along the sweep, scaled to the noise's σ (for equal
     noise the miss has variance σ²·(1 + w² + (1 − w)²)), and the index of that value."""
     misses, middles = [], []
-    for i in range(1, t.size - 1):
-        span = t[i + 1] - t[i - 1]
-        if span <= 0:
-            continue
-        w = (t[i + 1] - t[i]) / span
+    for i, w in _neighbour_weights(t):
         predicted = w * y[i - 1] + (1 - w) * y[i + 1]
         misses.append(abs(y[i] - predicted) / np.sqrt(1 + w ** 2 + (1 - w) ** 2))
         middles.append(i)
@@ -109,11 +114,7 @@ def _misses_dof(t: np.ndarray) -> float:
     square is not χ²_m/m: its two moments match χ²_ν/ν with ν = (tr C)²/tr(C²), C their correlation matrix (ν ≈ 2.9
     for the 5 misses of a 7-case sweep, 9.5 for 18 misses of 20 cases)."""
     rows = []
-    for i in range(1, t.size - 1):
-        span = t[i + 1] - t[i - 1]
-        if span <= 0:
-            continue
-        w = (t[i + 1] - t[i]) / span
+    for i, w in _neighbour_weights(t):
         row = np.zeros(t.size)
         row[i - 1:i + 2] = -w, 1.0, -(1 - w)
         rows.append(row / np.linalg.norm(row))
