@@ -686,6 +686,21 @@ def _fits_as_well(seen: Seen, named: Named, name: str, member: str, settings: Di
     return bool(within_model_form and not seen_by_the_test)
 
 
+def _earns_beside(named: Named, member: str) -> bool:
+    """Whether ``member`` added beside the final selection earns its parameter (the BIC with it lower than without,
+    within its physical bounds: the criterion by which :func:`_pairs_as_well` takes a pair's second member): the data
+    cannot exclude it as a companion of the named effects."""
+    problem, names = named.problem, tuple(n for n, _ in named.fitted)
+    if member in names:
+        return False
+    start = dict(named.fitted)
+    try:
+        current, trial = problem.fit(names, start), problem.fit(names + (member,), start)
+    except CANDIDATE_FAILURES:
+        return True  # cannot tell: keep it in the group
+    return trial.rejected is None and trial.bic < current.bic
+
+
 def _groups(seen: Seen, named: Named, settings: DiscrepancySettings) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
     """Each effect added with its group: the candidates of its step (within the ambiguity margin of the winner there,
     or with a nearly parallel signature) and of its signature group, each kept only when, in place of the effect with
@@ -694,8 +709,12 @@ def _groups(seen: Seen, named: Named, settings: DiscrepancySettings) -> tuple[li
 
     Every member is judged in the final selection, also when effects were pruned since its step: the step's group was
     formed beside companions that no longer explain the data, so only the final selection says which members the
-    data still cannot tell apart (a step's group kept whole had made a pair 'ambiguous' with members 60 BIC worse)."""
+    data still cannot tell apart (a step's group kept whole had made a pair 'ambiguous' with members 60 BIC worse).
+    A member of such a step leaves the group only when the data exclude it both in place of the effect and beside
+    it (:func:`_earns_beside`): a member the screen met beside companions that it pruned since may be the second of a
+    pair whose other member the final selection names."""
     gains = {step.added: step for step in named.steps}
+    pruned = any(step.pruned for step in named.steps) or {n for n, _ in named.fitted} != {s.added for s in named.steps}
     selected = []
     for name, values in named.fitted:
         step = gains.get(name)
@@ -705,7 +724,8 @@ def _groups(seen: Seen, named: Named, settings: DiscrepancySettings) -> tuple[li
             if name in members:
                 considered += [m for m in members if m not in considered and m not in group and m in seen.responses]
         group += [m for m in considered if m not in group and m in seen.responses
-                  and _fits_as_well(seen, named, name, m, settings)]
+                  and (_fits_as_well(seen, named, name, m, settings)
+                       or (pruned and step is not None and m in step.group and _earns_beside(named, m)))]
         selected.append(SelectedEffect(name, tuple(float(v) for v in values),
                                        step.delta_bic if step is not None else 0.0, tuple(group), 1))
     pairs = [(s.name, m) for s in selected for m in s.group[1:]]
