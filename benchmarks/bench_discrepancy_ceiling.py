@@ -1,0 +1,417 @@
+"""How much can the blind benchmark's data carry? An oracle that knows the truth, beside the workflow's answers.
+
+For every blind data set (``bench_discrepancy_blind.py``'s sets: hybrid, CalculiX beam, CalculiX solid shafts) the
+oracle asks whether *any* honest rule could give an informative answer on these data (issue 28: the truth named
+alone, in a named pair, or in an ``explained`` group of at most three; ``unexplained`` for a load outside the
+vocabulary or a truth beyond its bounds; ``no_gap`` when nothing is hidden). It uses the workflow's own functions
+(read-only) and its own settings:
+
+1. **detectable**: the truth's noise-free change, in units of the workflow's σ (noise estimated from the file, the
+   rounding of its printed digits and the 2 % model-form allowance, ``locate.estimate_noise``), must reach the gap
+   test's detection norm on the rows used to fit (``locate.detection_norm``: the χ² it adds lifts the expected χ² to
+   the test's critical value). The change is the identification model's change at the true value (manifest); for a
+   load outside the vocabulary, the best generic load's fit (the sentinel, ``sentinel.fit_sentinel``); with nothing
+   hidden, the data must pass the gap test itself;
+2. **separable**: the truth fitted at its best size (``identify.Problem.fit``, started from the true value too) is
+   compared with every hypothesis that excludes it: every single candidate the workflow screens, within its physical
+   bounds; every pair of candidates that earns both its parameters (the pair's BIC below either member's alone, the
+   screen's criterion) and is no mimicked shape (``judge.fighting_pairs``, ``judge.opposite_loads``); and the
+   workflow's generic load (the sentinel, compared as the verdict compares it: ``judge.generic_ties``, away from the
+   truth's own load site). An alternative "fits as well" by the workflow's group rule (``workflow._fits_as_well``): its
+   BIC within the ambiguity margin (6) of the truth's, or its predictions within the model-form allowance (2 % of the
+   signal) of the truth's. The smallest group an honest rule could name holds the truth and every alternative's
+   effects (for a pair, each member's group holds the effects that replace it with the other member kept; an
+   alternative that replaces both joins both groups).
+
+A set is **informative-possible** when detectable and every group that holds the truth has at most three effects, and
+no generic load ties (a set whose hidden change is below the noise by construction, ``detectable`` false in the
+manifest, is possible too: nothing added is informative there). Out of vocabulary: detectable and no vocabulary
+hypothesis within the margin of the generic load. Beyond bounds: the truth's fit beyond its bound better than every
+in-bounds hypothesis by more than the margin (``judge.qualify``'s rule).
+
+Pairs are searched with the first member among the best :data:`PAIR_FIRST` single candidates and the second among all,
+each started from the members' single fits: an alternative outside that search is missed, so the ceiling is an upper
+bound (it can only be lower).
+
+Prints per source, schema and class the ceiling (informative-possible fraction) beside the workflow's informative
+rate, and the sets where the workflow is below the oracle (its real misses) and above it. The workflow's answers are
+read from documents kept by ``bench_discrepancy_blind.py --keep DIR`` (``--docs DIR``) or computed here (``--draws
+0``, no confidence estimate). Appends the figures to benchmarks/RESULTS.md (``--no-record``: print only).
+
+Usage::
+
+    python benchmarks/bench_discrepancy_ceiling.py [--source hybrid|calculix|calculix_solid_full] [--limit N]
+        [--seed S] [--docs DIR] [--max-minutes M] [--no-record]
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+PAIR_FIRST = 12  # the best single candidates that open a pair alternative (the workflow's own search opens 8)
+GROUP_LIMIT = 3  # issue 28: an explained group of at most three is informative (judge.AMBIGUOUS_GROUP)
+
+
+@dataclass(frozen=True)
+class Ceiling:
+    """What an honest rule could say on one data set, knowing what the oracle knows.
+
+    ``norm_sigma`` is the truth's noise-free change in σ on the rows used to fit, ``threshold`` the gap test's
+    detection norm there; ``truth_bic`` the truth's best BIC; ``alternatives`` the hypotheses that exclude the truth
+    and fit as well, with their BIC; ``groups`` the smallest group an honest rule could name per truth member;
+    ``generic`` whether the workflow's generic load ties with the truth."""
+
+    detectable: bool
+    norm_sigma: float
+    threshold: float
+    truth_bic: float
+    alternatives: tuple[tuple[tuple[str, ...], float], ...]
+    groups: tuple[tuple[str, ...], ...]
+    generic: bool
+    possible: bool
+    why: str
+    parsimonious: bool | None = None  # possible when pairs do not count against a true single effect
+
+    @property
+    def group_size(self) -> int:
+        return max((len(g) for g in self.groups), default=0)
+
+
+def detectable(signature_on_rows: np.ndarray, alpha: float) -> tuple[bool, float, float]:
+    """(detectable, ‖s‖, threshold): the gap test's rule for a noise-free change ``s`` (in σ, rows used to fit)."""
+    from rvcoax.results.studies.discrepancy.locate import detection_norm
+
+    norm = float(np.linalg.norm(signature_on_rows))
+    threshold = detection_norm(int(signature_on_rows.size), alpha)
+    return norm >= threshold, norm, threshold
+
+
+def _equivalent(problem, fit, truth_predicted, truth_bic: float, settings, signal_norm: float) -> bool:
+    """``workflow._fits_as_well``'s rule: BIC within the ambiguity margin, or predictions within the model-form
+    allowance of the truth's (RMS of their difference at most that fraction of the signal, rows used to fit)."""
+    if fit.bic - truth_bic < settings.ambiguity_margin:
+        return True
+    predicted = problem.observe(problem.paths(fit.names, fit.values))[problem.rows]
+    return bool(np.linalg.norm(predicted - truth_predicted) <= settings.model_form_fraction * signal_norm)
+
+
+def alternatives(problem, truth: tuple[str, ...], candidates, settings, *, reference, effects=None, places=None,  # noqa: PLR0913
+                 in_bounds_only: bool = True, pair_first: int = PAIR_FIRST):
+    """Every hypothesis that excludes ``truth`` (single candidates, pairs that earn both parameters) and fits as well
+    as the truth: [(names, bic), …], best first. ``reference`` is the truth's (BIC, predicted observations on the rows
+    used to fit). A pair that holds one member of a true pair and swaps the other counts (it excludes the truth pair),
+    a pair that holds a true single effect does not; ``in_bounds_only``: fits beyond a physical bound are no
+    alternative."""
+    from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES
+    from rvcoax.results.studies.discrepancy.judge import fighting_pairs, opposite_loads
+
+    signal = problem.observe(problem.base_paths)[problem.rows]
+    signal_norm = float(np.linalg.norm(signal))
+    truth_bic, truth_predicted = float(reference[0]), reference[1]
+    found = []
+    singles = {}
+    for name in candidates:
+        try:
+            fit = problem.fit((name,))
+        except CANDIDATE_FAILURES:
+            continue
+        usable = not (in_bounds_only and fit.rejected)
+        singles[name] = (fit.bic if usable else np.inf, fit)
+        if (name,) != tuple(truth) and usable and _equivalent(problem, fit, truth_predicted, truth_bic, settings,
+                                                               signal_norm):
+            found.append(((name,), float(fit.bic)))
+    first = sorted(singles, key=lambda n: singles[n][0])[:pair_first]
+    tried = set()
+    for a in first:
+        for b in candidates:
+            key = frozenset((a, b))
+            if a == b or key in tried or key == frozenset(truth) or (len(truth) == 1 and truth[0] in key):
+                continue
+            tried.add(key)
+            start = {n: singles[n][1].values[0] for n in (a, b) if n in singles}
+            try:
+                fit = problem.fit((a, b), start)
+            except CANDIDATE_FAILURES:
+                continue
+            if (in_bounds_only and fit.rejected) or fit.bic >= singles.get(a, (np.inf,))[0] \
+                    or fit.bic >= singles.get(b, (np.inf,))[0]:
+                continue  # a member that does not earn its parameter: the single is the hypothesis
+            if not _equivalent(problem, fit, truth_predicted, truth_bic, settings, signal_norm):
+                continue
+            pair = list(zip(fit.names, fit.values))
+            if fighting_pairs(problem, pair) or opposite_loads(pair, effects or {}, places):
+                continue  # a mimicked shape: no explanation by the workflow's own rules
+            found.append(((a, b), float(fit.bic)))
+    return sorted(found, key=lambda item: item[1])
+
+
+NOTHING = "(nothing)"  # a member of a true pair that the data do not need: its group holds "nothing"
+
+
+def groups_of(truth: tuple[str, ...], found) -> tuple[tuple[str, ...], ...]:
+    """The smallest group an honest rule could name for each truth member: the member and the effects that replace
+    it. An alternative that keeps one member of a true pair adds its other effect to the other member's group; one that
+    replaces a true pair by two effects adds one to each member's group (the assignment that adds fewer new members); a
+    single effect that replaces a whole true pair joins one group and puts :data:`NOTHING` in the other (the data do not
+    show that there are two effects); every alternative of a true single effect joins its group."""
+    groups = {m: [m] for m in truth}
+    later = []
+    for names, _ in found:
+        kept = [m for m in truth if m in names]
+        others = [n for n in names if n not in truth]
+        if len(truth) == 1:
+            groups[truth[0]] += [n for n in others if n not in groups[truth[0]]]
+        elif kept:
+            for m in (m for m in truth if m not in kept):
+                groups[m] += [n for n in others or [NOTHING] if n not in groups[m]]
+        else:
+            later.append(others)
+    for others in later:  # alternatives that replace a whole true pair, after the swaps that pin members down
+        options = []
+        fill = others if len(others) == 2 else [others[0], NOTHING]
+        for order in (fill, fill[::-1]):
+            trial = {m: groups[m] + [n] if n not in groups[m] else groups[m] for m, n in zip(truth, order)}
+            added = sum(len(trial[m]) - len(groups[m]) for m in truth)
+            options.append((added, max(len(g) for g in trial.values()), trial))
+        groups = min(options, key=lambda o: o[:2])[2]
+    return tuple(tuple(groups[m]) for m in truth)
+
+
+def truth_fit(problem, truth: tuple[str, ...], values: dict):
+    """The truth at its best size: the better of the workflow's fit and a fit started at the true values."""
+    fits = [problem.fit(truth)]
+    start = {n: np.atleast_1d(np.asarray(values[n], float)) for n in truth if n in values}
+    if len(start) == len(truth):
+        fits.append(problem.fit(truth, start))
+    return min(fits, key=lambda f: f.chi2)
+
+
+# ---- one blind data set ------------------------------------------------------------------------------------------
+
+def _sentinel_tie(seen, observed, truth, group_members, bic: float, settings) -> bool:
+    """Whether the workflow's generic load ties with the truth, compared as the verdict compares it: away from the
+    truth's own load site (``workflow._sentinel_away``), and not at the place of a load among the group's members
+    (``workflow._generic_elsewhere``)."""
+    from rvcoax.results.studies.discrepancy.judge import generic_ties, load_regions
+    from rvcoax.results.studies.discrepancy.sentinel import fit_sentinel, site_in
+    from rvcoax.results.studies.discrepancy.workflow import SelectedEffect, _generic_elsewhere
+
+    engine = seen.library.engine
+    sentinel = fit_sentinel(observed)
+    if sentinel is None:
+        return False
+    regions = load_regions(seen.effects, seen.rig, list(truth), engine.sentinel_sites())
+    if any(site_in((sentinel.part, sentinel.x_mm), r) for r in regions.values()):
+        sentinel = fit_sentinel(observed, exclude=tuple(x for r in regions.values() for x in r))
+    selected = [SelectedEffect(truth[0], (), 0.0, tuple(group_members), 1)]
+    generic = _generic_elsewhere(seen, sentinel, selected)
+    return generic_ties(generic, bic, margin=settings.ambiguity_margin, alpha=settings.alpha)
+
+
+def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
+    """The :class:`Ceiling` of one blind data set (see the module docstring); ``seen`` is the workflow's observe stage
+    on it (``workflow._observe``)."""
+    from rvcoax.results.studies.discrepancy.identify import Problem
+    from rvcoax.results.studies.discrepancy.judge import load_x
+    from rvcoax.results.studies.discrepancy.locate import gap_test
+    from rvcoax.results.studies.discrepancy.sentinel import fit_sentinel
+
+    observed = seen.observed
+    group = dataset["group"]
+    if group == "none":
+        test = gap_test(observed.scaled_before[observed.rows], settings.alpha)
+        return Ceiling(True, float(np.sqrt(test.chi2)), 0.0, np.nan, (), (), False, not test.gap,
+                       "no gap on the data" if not test.gap else f"the data show a gap with nothing hidden "
+                       f"({test.describe()}): model form beyond the allowance", not test.gap)
+    truth = tuple(dataset["truth"])
+    responses = dict(seen.responses)
+    for name in truth:
+        responses.setdefault(name, seen.library.responses[name])
+    problem = Problem(observed.data.value_mm, observed.sigma, observed.base_paths, observed.observe, responses,
+                      rows=observed.rows)
+    candidates = list(seen.responses)
+    places = load_x(seen.effects, seen.rig)
+    if group == "out_of_vocabulary":
+        sentinel = fit_sentinel(observed)
+        change = sentinel.change[observed.rows] / observed.sigma[observed.rows] if sentinel is not None else \
+            np.zeros(int(observed.rows.sum()))
+        seen_, norm, threshold = detectable(change, settings.alpha)
+        if sentinel is None:
+            return Ceiling(seen_, norm, threshold, np.nan, (), (), False, False, "no generic load fits")
+
+        reference = (float(sentinel.bic), (observed.before + sentinel.change)[observed.rows])
+        found = alternatives(problem, (), candidates, settings, reference=reference, effects=seen.effects,
+                             places=places)
+        possible = (seen_ and not found) or not dataset.get("detectable", True)
+        why = ("below the gap test" if not seen_ else
+               f"{len(found)} vocabulary hypotheses fit as well as the generic load: {_names(found)}" if found else
+               "only the generic load fits: unexplained is informative") + _by_construction(dataset)
+        return Ceiling(seen_, norm, threshold, float(sentinel.bic), tuple(found), (), False, possible, why, possible)
+    values = dataset.get("values", {})
+    change = problem.observe(problem.paths(truth, [np.atleast_1d(values[n]) for n in truth])) \
+        - problem.observe(problem.base_paths)
+    seen_, norm, threshold = detectable((change / problem.sigma)[problem.rows], settings.alpha)
+    fit = truth_fit(problem, truth, values)
+    beyond = group == "out_of_bounds"
+    reference = (float(fit.bic), problem.observe(problem.paths(fit.names, fit.values))[problem.rows])
+    found = alternatives(problem, truth, candidates, settings, reference=reference, effects=seen.effects,
+                         places=places)
+    groups = groups_of(truth, found)
+    members = list(dict.fromkeys(m for g in groups for m in g if m != NOTHING))
+    tie = False if beyond else _sentinel_tie(seen, observed, truth, members, float(fit.bic), settings)
+    hidden = not dataset.get("detectable", True)
+    singles = [f for f in found if len(f[0]) == 1] if len(truth) == 1 else found  # pairs against a single: parsimony
+    if beyond:  # informative is 'unexplained': the beyond-bound fit must beat every in-bounds hypothesis
+        possible, parsimonious = seen_ and not found, seen_ and not singles
+        why = ("below the gap test" if not seen_ else
+               f"{len(found)} in-bounds hypotheses fit as well as the truth beyond its bound: {_names(found)}"
+               if found else "only a value beyond the bound fits: unexplained is informative")
+    else:
+        def small(gs):
+            return all(len(g) <= GROUP_LIMIT and NOTHING not in g for g in gs)
+
+        possible = (seen_ and small(groups) and not tie) or hidden
+        parsimonious = (seen_ and small(groups_of(truth, singles)) and not tie) or hidden
+        size = max(len(g) for g in groups)
+        parts = ([] if seen_ else ["below the gap test"]) + (["a generic load ties with the truth"] if tie else []) \
+            + [f"smallest group {size}" + (f" ({_names(found)})" if found else "")]
+        why = "; ".join(parts) + _by_construction(dataset)
+    return Ceiling(seen_, norm, threshold, float(fit.bic), tuple(found), groups, tie, possible, why, parsimonious)
+
+
+def _by_construction(dataset: dict) -> str:
+    return "" if dataset.get("detectable", True) else " (below the noise by construction: nothing added is informative)"
+
+
+def _names(found, most: int = 6) -> str:
+    text = ", ".join("+".join(n.split("@")[0] + ("@" + n.split("@")[1] if "@" in n else "") for n in names)
+                     for names, _ in found[:most])
+    return text + (f", … ({len(found)} in all)" if len(found) > most else "")
+
+
+CLASSES = {"vocabulary": "one effect", "faint": "one effect (faint)", "pair": "pair",
+           "out_of_vocabulary": "out of vocabulary", "out_of_bounds": "beyond bounds", "none": "none"}
+
+
+def main() -> None:  # noqa: PLR0915
+    import bench_discrepancy_blind as blind
+    import blind_data
+    from machine import record
+
+    import rvcoax
+    from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, _observe, build_library
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--source", choices=("hybrid", "calculix", "calculix_solid_full"), default="hybrid")
+    parser.add_argument("--limit", type=int, default=None, help="a stratified subset of this many sets")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the subset")
+    parser.add_argument("--ids", default="", help="only these set ids (comma-separated)")
+    parser.add_argument("--docs", default="", help="the workflow's discrepancy.json documents kept by "
+                        "bench_discrepancy_blind.py --keep (default: run the workflow here, no confidence draws)")
+    parser.add_argument("--max-minutes", type=float, default=None, help="start no set after this many minutes")
+    parser.add_argument("--no-record", action="store_true")
+    args = parser.parse_args()
+
+    folder = blind.SOURCES[args.source][0]
+    sets, _ = blind.load_sets(folder)
+    if args.ids:
+        sets = [s for s in sets if s["id"] in args.ids.split(",")]
+    chosen = blind.stratified(sets, args.limit, args.seed)
+    settings = DiscrepancySettings(confidence_draws=0)
+    rigs = {datum: blind_data.identification_rig(datum) for datum in blind_data.DATUMS}
+    libraries = {}
+    rows = []
+    cpu0, start = time.process_time(), time.perf_counter()
+    for dataset in chosen:
+        if args.max_minutes is not None and time.perf_counter() - start > 60 * args.max_minutes:
+            print(f"stopped after {args.max_minutes:g} min: {len(rows)} of {len(chosen)} sets", flush=True)
+            break
+        rig = rigs[dataset["datum"]]
+        if dataset["datum"] not in libraries:
+            libraries[dataset["datum"]] = build_library(rig, blind_data.paper_cases(), settings.sweep)
+        data = rvcoax.read_measured(folder / dataset["file"])
+        t = time.process_time()
+        seen = _observe(rig, data, settings, libraries[dataset["datum"]], None)
+        ceiling = oracle(dataset, seen, settings)
+        seconds = time.process_time() - t
+        if args.docs:
+            kept = Path(args.docs) / f"{dataset['id']}.json"
+            document = json.loads(kept.read_text()) if kept.exists() else None
+        else:
+            result = rvcoax.run_discrepancy(rig, data, settings, library=libraries[dataset["datum"]])
+            document = blind._document(result, rig)
+        reading = blind.criteria(document, dataset) if document and "error" not in document else None
+        rows.append((dataset, ceiling, reading, document))
+        answer = "—" if reading is None else ("informative" if reading["informative"] else
+                                              f"{document.get('verdict')}, not informative")
+        print(f"{dataset['id']} {dataset['group']:17s} {dataset['schema']:5s} {100 * dataset['noise']:g}% "
+              f"{','.join(dataset['truth']) or dataset['load'] or 'none':55s} oracle "
+              f"{'possible' if ceiling.possible else 'not possible'} ({ceiling.why}; ‖s‖ {ceiling.norm_sigma:.3g} σ "
+              f"of {ceiling.threshold:.3g}) | workflow {answer} [{seconds:.1f} s CPU]", flush=True)
+    lines = summary(rows, args.source, len(sets), time.process_time() - cpu0, time.perf_counter() - start)
+    print()
+    for name, value in lines:
+        print(f"{name}: {value}")
+    if not args.no_record and rows:
+        record(f"bench_discrepancy_ceiling.py: what the blind data can carry ({args.source} data), the oracle's "
+               "ceiling beside the workflow", lines)
+
+
+def summary(rows, source: str, total: int, cpu: float, wall: float) -> list[tuple[str, str]]:
+    load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
+    lines = [("data sets", f"{len(rows)} of {total} ({source}); oracle CPU {cpu / 60:.1f} min, wall {wall / 60:.1f} min, "
+                           f"load average at the end {load}")]
+    table: dict = collections.defaultdict(collections.Counter)
+    for dataset, ceiling, reading, _ in rows:
+        for key in (f"{dataset['schema']} all", f"{dataset['schema']} {CLASSES[dataset['group']]}"):
+            table[key]["n"] += 1
+            table[key]["possible"] += ceiling.possible
+            table[key]["parsimonious"] += bool(ceiling.parsimonious)
+            table[key]["scored"] += reading is not None
+            table[key]["informative"] += bool(reading and reading["informative"])
+    for key in sorted(table, key=lambda k: (k.split()[0], not k.endswith(" all"), k)):
+        c = table[key]
+        lines.append((f"ceiling vs workflow, {key}", f"informative-possible {c['possible']}/{c['n']} "
+                      f"({100 * c['possible'] / c['n']:.1f} %; pairs not counted against a single effect "
+                      f"{100 * c['parsimonious'] / c['n']:.1f} %), workflow informative {c['informative']}/{c['scored']} "
+                      f"({100 * c['informative'] / max(c['scored'], 1):.1f} %)"))
+    sizes = [c.group_size for d, c, _, _ in rows if d["group"] in ("vocabulary", "faint") and c.detectable]
+    for schema in ("paths", "table"):
+        s = [c.group_size for d, c, _, _ in rows if d["group"] in ("vocabulary", "faint") and c.detectable
+             and d["schema"] == schema]
+        if s:
+            lines.append((f"smallest honest group, one effect, detectable, {schema}",
+                          f"median {np.median(s):g}, max {max(s)}; groups of 1: {s.count(1)}, ≤ 3: "
+                          f"{sum(x <= 3 for x in s)} of {len(s)}"))
+    del sizes
+    below = [(d, c, r, doc) for d, c, r, doc in rows if r is not None and c.possible and not r["informative"]]
+    above = [(d, c, r, doc) for d, c, r, doc in rows if r is not None and not c.possible and r["informative"]]
+    lines.append(("workflow below the oracle (informative possible, not given)",
+                  f"{len(below)}: " + "; ".join(_miss(d, c, doc) for d, c, _, doc in below)))
+    lines.append(("workflow above the oracle (informative although the oracle says impossible)",
+                  f"{len(above)}: " + "; ".join(_miss(d, c, doc) for d, c, _, doc in above)))
+    return lines
+
+
+def _miss(dataset: dict, ceiling: Ceiling, document: dict) -> str:
+    selected = document.get("selected") or []
+    said = ", ".join(f"{e['effect']}[{len(e.get('group') or [e['effect']])}]" for e in selected)
+    return (f"{dataset['id']} ({CLASSES[dataset['group']]}, {dataset['schema']}, "
+            f"{','.join(dataset['truth']) or dataset['load'] or 'none'}): oracle {ceiling.why}; workflow "
+            f"{document.get('verdict')} {said}")
+
+
+if __name__ == "__main__":
+    main()
