@@ -308,7 +308,6 @@ CLASSES = {"vocabulary": "one effect", "faint": "one effect (faint)", "pair": "p
 def main() -> None:  # noqa: PLR0915
     import bench_discrepancy_blind as blind
     import blind_data
-    from machine import record
 
     import rvcoax
     from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, _observe, build_library
@@ -321,8 +320,20 @@ def main() -> None:  # noqa: PLR0915
     parser.add_argument("--docs", default="", help="the workflow's discrepancy.json documents kept by "
                         "bench_discrepancy_blind.py --keep (default: run the workflow here, no confidence draws)")
     parser.add_argument("--max-minutes", type=float, default=None, help="start no set after this many minutes")
+    parser.add_argument("--save", default="", help="write every set's ceiling and the workflow's reading to this JSON "
+                        "file (--summary reads it back)")
+    parser.add_argument("--summary", default="", help="print (and record) the figures of a file written by --save, "
+                        "without running anything")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
+    if args.summary:
+        saved = json.loads(Path(args.summary).read_text())
+        rows = [(r["dataset"], Ceiling(**{k: tuple(tuple(g) if isinstance(g, list) else g for g in v)
+                                          if isinstance(v, list) else v for k, v in r["ceiling"].items()}),
+                 r["reading"], r["document"]) for r in saved["rows"]]
+        lines = summary(rows, saved["source"], saved["total"], saved["cpu_s"], saved["wall_s"])
+        _finish(lines, saved["source"], args.no_record)
+        return
 
     folder = blind.SOURCES[args.source][0]
     sets, _ = blind.load_sets(folder)
@@ -360,12 +371,29 @@ def main() -> None:  # noqa: PLR0915
               f"{','.join(dataset['truth']) or dataset['load'] or 'none':55s} oracle "
               f"{'possible' if ceiling.possible else 'not possible'} ({ceiling.why}; ‖s‖ {ceiling.norm_sigma:.3g} σ "
               f"of {ceiling.threshold:.3g}) | workflow {answer} [{seconds:.1f} s CPU]", flush=True)
-    lines = summary(rows, args.source, len(sets), time.process_time() - cpu0, time.perf_counter() - start)
+    cpu, wall = time.process_time() - cpu0, time.perf_counter() - start
+    if args.save:
+        Path(args.save).write_text(json.dumps({
+            "source": args.source, "total": len(sets), "cpu_s": cpu, "wall_s": wall,
+            "rows": [{"dataset": d, "ceiling": c.__dict__, "reading": r,
+                      "document": {k: doc.get(k) for k in ("verdict", "selected")} if doc else None}
+                     for d, c, r, doc in rows]}, default=_plain))
+    _finish(summary(rows, args.source, len(sets), cpu, wall), args.source, args.no_record or not rows)
+
+
+def _plain(value):
+    return value.tolist() if isinstance(value, np.ndarray) else float(value) if isinstance(value, np.floating) \
+        else bool(value) if isinstance(value, np.bool_) else str(value)
+
+
+def _finish(lines, source: str, no_record: bool) -> None:
+    from machine import record
+
     print()
     for name, value in lines:
         print(f"{name}: {value}")
-    if not args.no_record and rows:
-        record(f"bench_discrepancy_ceiling.py: what the blind data can carry ({args.source} data), the oracle's "
+    if not no_record:
+        record(f"bench_discrepancy_ceiling.py: what the blind data can carry ({source} data), the oracle's "
                "ceiling beside the workflow", lines)
 
 
@@ -396,6 +424,14 @@ def summary(rows, source: str, total: int, cpu: float, wall: float) -> list[tupl
                           f"median {np.median(s):g}, max {max(s)}; groups of 1: {s.count(1)}, ≤ 3: "
                           f"{sum(x <= 3 for x in s)} of {len(s)}"))
     del sizes
+    twins: dict = collections.defaultdict(list)
+    for d, c, _, _ in rows:
+        if d["schema"] == "paths":
+            twins[_twin(d)].append(c.possible)
+    blocked = [d for d, c, _, _ in rows if d["schema"] == "table" and not c.possible and _twin(d) in twins]
+    if blocked:
+        lines.append(("tables where no honest rule is informative, whose paths twin is informative-possible (the same "
+                      "values, datum and noise)", f"{sum(any(twins[_twin(d)]) for d in blocked)} of {len(blocked)}"))
     below = [(d, c, r, doc) for d, c, r, doc in rows if r is not None and c.possible and not r["informative"]]
     above = [(d, c, r, doc) for d, c, r, doc in rows if r is not None and not c.possible and r["informative"]]
     lines.append(("workflow below the oracle (informative possible, not given)",
@@ -403,6 +439,12 @@ def summary(rows, source: str, total: int, cpu: float, wall: float) -> list[tupl
     lines.append(("workflow above the oracle (informative although the oracle says impossible)",
                   f"{len(above)}: " + "; ".join(_miss(d, c, doc) for d, c, _, doc in above)))
     return lines
+
+
+def _twin(dataset: dict) -> tuple:
+    """What a paths file and a table of the same hidden truth share (the same values, datum and noise)."""
+    values = tuple(sorted((k, float(f"{v:.6g}")) for k, v in dataset.get("values", {}).items()))
+    return dataset["group"], tuple(dataset["truth"]), dataset["load"], dataset["datum"], dataset["noise"], values
 
 
 def _miss(dataset: dict, ceiling: Ceiling, document: dict) -> str:
