@@ -83,6 +83,7 @@ class Ceiling:
     possible: bool
     why: str
     parsimonious: bool | None = None  # possible when pairs do not count against a true single effect
+    with_form: bool | None = None  # possible when the model-form clause of the group rule counts too
 
     @property
     def group_size(self) -> int:
@@ -98,22 +99,33 @@ def detectable(signature_on_rows: np.ndarray, alpha: float) -> tuple[bool, float
     return norm >= threshold, norm, threshold
 
 
-def _equivalent(problem, fit, truth_predicted, truth_bic: float, settings, signal_norm: float) -> bool:
-    """``workflow._fits_as_well``'s rule: BIC within the ambiguity margin, or predictions within the model-form
-    allowance of the truth's (RMS of their difference at most that fraction of the signal, rows used to fit)."""
-    if fit.bic - truth_bic < settings.ambiguity_margin:
-        return True
+def _equivalent(problem, fit, truth_predicted, truth_bic: float, settings, signal_norm: float) -> tuple[bool, bool]:
+    """(by the margin, by the model form): the BIC of ``fit`` within the ambiguity margin of the truth's (the margin the
+    workflow forms groups by); its predictions within the model-form allowance of the truth's (RMS of their difference
+    at most that fraction of the signal on the rows used to fit: the second clause of ``workflow._fits_as_well``)."""
+    margin = bool(fit.bic - truth_bic < settings.ambiguity_margin)
     predicted = problem.observe(problem.paths(fit.names, fit.values))[problem.rows]
-    return bool(np.linalg.norm(predicted - truth_predicted) <= settings.model_form_fraction * signal_norm)
+    form = bool(np.linalg.norm(predicted - truth_predicted) <= settings.model_form_fraction * signal_norm)
+    return margin, form
 
 
 def alternatives(problem, truth: tuple[str, ...], candidates, settings, *, reference, effects=None, places=None,  # noqa: PLR0913
-                 in_bounds_only: bool = True, pair_first: int = PAIR_FIRST):
+                 in_bounds_only: bool = True, pair_first: int = PAIR_FIRST, model_form: bool = False):
     """Every hypothesis that excludes ``truth`` (single candidates, pairs that earn both parameters) and fits as well
     as the truth: [(names, bic), …], best first. ``reference`` is the truth's (BIC, predicted observations on the rows
-    used to fit). A pair that holds one member of a true pair and swaps the other counts (it excludes the truth pair),
-    a pair that holds a true single effect does not; ``in_bounds_only``: fits beyond a physical bound are no
-    alternative."""
+    used to fit); "as well" is the BIC within the ambiguity margin, or (``model_form``) predictions within the
+    model-form allowance too. A pair that holds one member of a true pair and swaps the other counts (it excludes the
+    truth pair), a pair that holds a true single effect does not; ``in_bounds_only``: fits beyond a physical bound are
+    no alternative."""
+    found = _alternatives(problem, truth, candidates, settings, reference=reference, effects=effects, places=places,
+                          in_bounds_only=in_bounds_only, pair_first=pair_first)
+    return [(names, bic) for names, bic, margin in found if margin or model_form]
+
+
+def _alternatives(problem, truth, candidates, settings, *, reference, effects, places, in_bounds_only,  # noqa: PLR0913
+                  pair_first):
+    """:func:`alternatives` with both clauses: [(names, bic, within the BIC margin), …] of every hypothesis that fits
+    as well by either."""
     from rvcoax.results.studies.discrepancy.engine import CANDIDATE_FAILURES
     from rvcoax.results.studies.discrepancy.judge import fighting_pairs, opposite_loads
 
@@ -129,9 +141,10 @@ def alternatives(problem, truth: tuple[str, ...], candidates, settings, *, refer
             continue
         usable = not (in_bounds_only and fit.rejected)
         singles[name] = (fit.bic if usable else np.inf, fit)
-        if (name,) != tuple(truth) and usable and _equivalent(problem, fit, truth_predicted, truth_bic, settings,
-                                                               signal_norm):
-            found.append(((name,), float(fit.bic)))
+        if (name,) != tuple(truth) and usable:
+            margin, form = _equivalent(problem, fit, truth_predicted, truth_bic, settings, signal_norm)
+            if margin or form:
+                found.append(((name,), float(fit.bic), margin))
     first = sorted(singles, key=lambda n: singles[n][0])[:pair_first]
     tried = set()
     for a in first:
@@ -148,12 +161,13 @@ def alternatives(problem, truth: tuple[str, ...], candidates, settings, *, refer
             if (in_bounds_only and fit.rejected) or fit.bic >= singles.get(a, (np.inf,))[0] \
                     or fit.bic >= singles.get(b, (np.inf,))[0]:
                 continue  # a member that does not earn its parameter: the single is the hypothesis
-            if not _equivalent(problem, fit, truth_predicted, truth_bic, settings, signal_norm):
+            margin, form = _equivalent(problem, fit, truth_predicted, truth_bic, settings, signal_norm)
+            if not (margin or form):
                 continue
             pair = list(zip(fit.names, fit.values))
             if fighting_pairs(problem, pair) or opposite_loads(pair, effects or {}, places):
                 continue  # a mimicked shape: no explanation by the workflow's own rules
-            found.append(((a, b), float(fit.bic)))
+            found.append(((a, b), float(fit.bic), margin))
     return sorted(found, key=lambda item: item[1])
 
 
@@ -234,7 +248,7 @@ def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
         test = gap_test(observed.scaled_before[observed.rows], settings.alpha)
         return Ceiling(True, float(np.sqrt(test.chi2)), 0.0, np.nan, (), (), False, not test.gap,
                        "no gap on the data" if not test.gap else f"the data show a gap with nothing hidden "
-                       f"({test.describe()}): model form beyond the allowance", not test.gap)
+                       f"({test.describe()}): model form beyond the allowance", not test.gap, not test.gap)
     truth = tuple(dataset["truth"])
     responses = dict(seen.responses)
     for name in truth:
@@ -252,13 +266,16 @@ def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
             return Ceiling(seen_, norm, threshold, np.nan, (), (), False, False, "no generic load fits")
 
         reference = (float(sentinel.bic), (observed.before + sentinel.change)[observed.rows])
-        found = alternatives(problem, (), candidates, settings, reference=reference, effects=seen.effects,
-                             places=places)
+        every = _alternatives(problem, (), candidates, settings, reference=reference, effects=seen.effects,
+                              places=places, in_bounds_only=True, pair_first=PAIR_FIRST)
+        found = [(names, bic) for names, bic, margin in every if margin]
         possible = (seen_ and not found) or not dataset.get("detectable", True)
+        with_form = (seen_ and not every) or not dataset.get("detectable", True)
         why = ("below the gap test" if not seen_ else
                f"{len(found)} vocabulary hypotheses fit as well as the generic load: {_names(found)}" if found else
                "only the generic load fits: unexplained is informative") + _by_construction(dataset)
-        return Ceiling(seen_, norm, threshold, float(sentinel.bic), tuple(found), (), False, possible, why, possible)
+        return Ceiling(seen_, norm, threshold, float(sentinel.bic), tuple(found), (), False, possible, why, possible,
+                       with_form)
     values = dataset.get("values", {})
     change = problem.observe(problem.paths(truth, [np.atleast_1d(values[n]) for n in truth])) \
         - problem.observe(problem.base_paths)
@@ -266,15 +283,17 @@ def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
     fit = truth_fit(problem, truth, values)
     beyond = group == "out_of_bounds"
     reference = (float(fit.bic), problem.observe(problem.paths(fit.names, fit.values))[problem.rows])
-    found = alternatives(problem, truth, candidates, settings, reference=reference, effects=seen.effects,
-                         places=places)
+    every = _alternatives(problem, truth, candidates, settings, reference=reference, effects=seen.effects,
+                          places=places, in_bounds_only=True, pair_first=PAIR_FIRST)
+    found = [(names, bic) for names, bic, margin in every if margin]
+    formed = [(names, bic) for names, bic, _ in every]
     groups = groups_of(truth, found)
     members = list(dict.fromkeys(m for g in groups for m in g if m != NOTHING))
     tie = False if beyond else _sentinel_tie(seen, observed, truth, members, float(fit.bic), settings)
     hidden = not dataset.get("detectable", True)
     singles = [f for f in found if len(f[0]) == 1] if len(truth) == 1 else found  # pairs against a single: parsimony
     if beyond:  # informative is 'unexplained': the beyond-bound fit must beat every in-bounds hypothesis
-        possible, parsimonious = seen_ and not found, seen_ and not singles
+        possible, parsimonious, with_form = seen_ and not found, seen_ and not singles, seen_ and not formed
         why = ("below the gap test" if not seen_ else
                f"{len(found)} in-bounds hypotheses fit as well as the truth beyond its bound: {_names(found)}"
                if found else "only a value beyond the bound fits: unexplained is informative")
@@ -284,11 +303,13 @@ def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
 
         possible = (seen_ and small(groups) and not tie) or hidden
         parsimonious = (seen_ and small(groups_of(truth, singles)) and not tie) or hidden
+        with_form = (seen_ and small(groups_of(truth, formed)) and not tie) or hidden
         size = max(len(g) for g in groups)
         parts = ([] if seen_ else ["below the gap test"]) + (["a generic load ties with the truth"] if tie else []) \
             + [f"smallest group {size}" + (f" ({_names(found)})" if found else "")]
         why = "; ".join(parts) + _by_construction(dataset)
-    return Ceiling(seen_, norm, threshold, float(fit.bic), tuple(found), groups, tie, possible, why, parsimonious)
+    return Ceiling(seen_, norm, threshold, float(fit.bic), tuple(found), groups, tie, possible, why, parsimonious,
+                   with_form)
 
 
 def _by_construction(dataset: dict) -> str:
@@ -324,8 +345,15 @@ def main() -> None:  # noqa: PLR0915
                         "file (--summary reads it back)")
     parser.add_argument("--summary", default="", help="print (and record) the figures of a file written by --save, "
                         "without running anything")
+    parser.add_argument("--what-if", action="store_true", help="which extra measurement would let the data carry "
+                        "more: for every one-effect table of the source, data made by the identification model itself "
+                        "(the truth's change at its true value, the file's noise level) as the table, the table with "
+                        "three cases at other torque ratios, and a paths file, each given to the oracle")
     parser.add_argument("--no-record", action="store_true")
     args = parser.parse_args()
+    if args.what_if:
+        _finish(what_if(args), args.source + ", what if", args.no_record)
+        return
     if args.summary:
         saved = json.loads(Path(args.summary).read_text())
         rows = [(r["dataset"], Ceiling(**{k: tuple(tuple(g) if isinstance(g, list) else g for g in v)
@@ -397,6 +425,84 @@ def _finish(lines, source: str, no_record: bool) -> None:
                "ceiling beside the workflow", lines)
 
 
+def extra_cases(cases) -> tuple:
+    """The cases an engineer adds to a table to change its torque ratio: T1 alone, T2 alone and both reversed, at the
+    table's largest torques (the same new cases the workflow's observability report considers)."""
+    from rvcoax.loadcases.cases import LoadCase
+
+    t1 = max(abs(c.input_torque_Nm) for c in cases)
+    t2 = max(abs(c.output_torque_Nm) for c in cases)
+    return (LoadCase(t1, 0.0), LoadCase(0.0, t2), LoadCase(-t1, -t2))
+
+
+def _made_data(library, truth: dict, schema: str, noise: float, seed: int):
+    """Data of the identification model with ``truth`` (name → value) at the library's cases, noise σ = ``noise`` × RMS
+    of each shaft's values (|Y_max| for a table)."""
+    from dataclasses import replace
+
+    import blind_data
+
+    from rvcoax.geometry import MEASURED_SHAFTS
+    from rvcoax.results.studies.discrepancy.responses import Observation
+    from rvcoax.results.studies.discrepancy.synthetic import observation_layout
+
+    template = observation_layout(library.cases, blind_data.STATIONS, blind_data.LENGTHS, schema)
+    paths = library.base_paths + sum(library.responses[n].delta(np.atleast_1d(v)) for n, v in truth.items())
+    values = Observation(template, library.layout)(paths)
+    rng = np.random.default_rng(seed)
+    sigma = np.zeros_like(values)
+    for shaft in MEASURED_SHAFTS:
+        mask = template.shaft == shaft
+        sigma[mask] = noise * np.sqrt(np.mean(values[mask] ** 2))
+    noisy = values + rng.normal(size=values.size) * sigma
+    return replace(template, value_mm=np.abs(noisy) if schema == "table" else noisy, source="what-if")
+
+
+def what_if(args) -> list[tuple[str, str]]:
+    """The oracle on the same truths measured three ways (see ``--what-if``); returns the figures."""
+    import bench_discrepancy_blind as blind
+    import blind_data
+
+    from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, _observe, build_library
+
+    sets, _ = blind.load_sets(blind.SOURCES[args.source][0])
+    sets = [s for s in sets if s["group"] == "vocabulary" and s["schema"] == "table"]
+    chosen = blind.stratified(sets, args.limit, args.seed)
+    settings = DiscrepancySettings(confidence_draws=0)
+    ways = {"table (the paper's 20 cases)": ("table", False), "table + T1 alone, T2 alone, both reversed": ("table", True),
+            "paths file (11 stations per shaft, 20 cases)": ("paths", False)}
+    libraries: dict = {}
+    counts: dict = collections.defaultdict(collections.Counter)
+    cpu0, start = time.process_time(), time.perf_counter()
+    for dataset in chosen:
+        rig = blind_data.identification_rig(dataset["datum"])
+        outcome = []
+        for way, (schema, extra) in ways.items():
+            key = (dataset["datum"], extra)
+            if key not in libraries:
+                cases = blind_data.paper_cases()
+                libraries[key] = build_library(rig, cases + extra_cases(cases) if extra else cases, settings.sweep)
+            library = libraries[key]
+            data = _made_data(library, dataset["values"], schema, dataset["noise"], int(dataset["id"]))
+            ceiling = oracle(dict(dataset, schema=schema, detectable=True), _observe(rig, data, settings, library, None),
+                             settings)
+            counts[way]["n"] += 1
+            counts[way]["possible"] += ceiling.possible
+            counts[way]["detectable"] += ceiling.detectable
+            counts[way]["group"] += ceiling.group_size if ceiling.detectable else 0
+            outcome.append(f"{'possible' if ceiling.possible else 'not'} (group {ceiling.group_size})")
+        print(f"{dataset['id']} {dataset['truth'][0]:45s} {100 * dataset['noise']:g}% " + " | ".join(outcome), flush=True)
+    load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
+    lines = [("what if (data of the identification model, the truths of the one-effect tables)",
+              f"{len(chosen)} truths of the {args.source} tables; CPU {(time.process_time() - cpu0) / 60:.1f} min, wall "
+              f"{(time.perf_counter() - start) / 60:.1f} min, load average at the end {load}")]
+    for way, c in counts.items():
+        lines.append((f"what if, {way}", f"informative-possible {c['possible']}/{c['n']} "
+                      f"({100 * c['possible'] / c['n']:.1f} %), detectable {c['detectable']}/{c['n']}, mean smallest "
+                      f"group when detectable {c['group'] / max(c['detectable'], 1):.1f}"))
+    return lines
+
+
 def summary(rows, source: str, total: int, cpu: float, wall: float) -> list[tuple[str, str]]:
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
     lines = [("data sets", f"{len(rows)} of {total} ({source}); oracle CPU {cpu / 60:.1f} min, wall {wall / 60:.1f} min, "
@@ -407,13 +513,15 @@ def summary(rows, source: str, total: int, cpu: float, wall: float) -> list[tupl
             table[key]["n"] += 1
             table[key]["possible"] += ceiling.possible
             table[key]["parsimonious"] += bool(ceiling.parsimonious)
+            table[key]["with_form"] += bool(ceiling.with_form)
             table[key]["scored"] += reading is not None
             table[key]["informative"] += bool(reading and reading["informative"])
     for key in sorted(table, key=lambda k: (k.split()[0], not k.endswith(" all"), k)):
         c = table[key]
         lines.append((f"ceiling vs workflow, {key}", f"informative-possible {c['possible']}/{c['n']} "
                       f"({100 * c['possible'] / c['n']:.1f} %; pairs not counted against a single effect "
-                      f"{100 * c['parsimonious'] / c['n']:.1f} %), workflow informative {c['informative']}/{c['scored']} "
+                      f"{100 * c['parsimonious'] / c['n']:.1f} %; the model-form clause counted too "
+                      f"{100 * c['with_form'] / c['n']:.1f} %), workflow informative {c['informative']}/{c['scored']} "
                       f"({100 * c['informative'] / max(c['scored'], 1):.1f} %)"))
     sizes = [c.group_size for d, c, _, _ in rows if d["group"] in ("vocabulary", "faint") and c.detectable]
     for schema in ("paths", "table"):
