@@ -110,3 +110,24 @@ def test_groups_of_a_true_pair(ceiling):
     assert ceiling.groups_of(truth, [(("a", "x"), 0.0), (("y", "x"), 0.0)]) == (("a", "y"), ("b", "x"))
     groups = ceiling.groups_of(truth, [(("z",), 0.0)])
     assert ceiling.NOTHING in groups[0] + groups[1]
+
+
+def test_the_model_form_clause_groups_what_the_margin_separates(ceiling):
+    """On a large signal (‖base‖ = 632 σ) a look-alike a + 2d (d ⟂ a, ‖a‖ = 20, ‖d‖ = 5) fitted to 0.5 a stops at
+    0.4 and leaves 0.1 a − 0.8 d: χ² = 4 + 16 = 20, excluded by the BIC margin (6), but its predictions are √20 = 4.5 σ
+    from the truth's, within the model-form clause (2 % of 632 σ = 12.6 σ)."""
+    x = np.linspace(0.0, 1.0, N)
+    a = np.sin(np.pi * x)
+    a *= 20.0 / np.linalg.norm(a)
+    d = np.cos(np.pi * x) - (np.cos(np.pi * x) @ a) / (a @ a) * a
+    d *= 5.0 / np.linalg.norm(d)
+    base = np.full(N, 100.0)
+    columns = {"truth": a, "near": a + 2.0 * d}
+    problem = Problem(base + 0.5 * a, np.ones(N), base, DirectReading(N), {n: _response(n, v) for n, v in columns.items()})
+    fit = ceiling.truth_fit(problem, ("truth",), {"truth": 0.5})
+    reference = (fit.bic, problem.observe(problem.paths(fit.names, fit.values)))
+    near = problem.fit(("near",))
+    assert near.chi2 == pytest.approx(20.0, rel=1e-9) and float(near.values[0][0]) == pytest.approx(0.4)
+    assert ceiling.alternatives(problem, ("truth",), ["near"], SETTINGS, reference=reference) == []
+    assert [n for n, _ in ceiling.alternatives(problem, ("truth",), ["near"], SETTINGS, reference=reference,
+                                               model_form=True)] == [("near",)]
