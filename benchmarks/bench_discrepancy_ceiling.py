@@ -61,6 +61,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 PAIR_FIRST = 12  # the best single candidates that open a pair alternative (the workflow's own search opens 8)
+VERSION = "2"  # of the saved files (--save): files of an earlier version are judged again where it judged otherwise
 GROUP_LIMIT = 3  # issue 28: an explained group of at most three is informative (judge.AMBIGUOUS_GROUP)
 
 
@@ -215,9 +216,11 @@ def truth_fit(problem, truth: tuple[str, ...], values: dict):
 # ---- one blind data set ------------------------------------------------------------------------------------------
 
 def _sentinel_tie(seen, observed, truth, group_members, bic: float, settings) -> bool:
-    """Whether the workflow's generic load ties with the truth, compared as the verdict compares it: away from the
-    truth's own load site (``workflow._sentinel_away``), and not at the place of a load among the group's members
-    (``workflow._generic_elsewhere``)."""
+    """Whether the workflow's generic load ties with the truth, as ``workflow._judge`` passes it to ``judge.qualify``:
+    the best generic load, unless it acts where a load among the group's members acts (``workflow._generic_elsewhere``:
+    there it is that look-alike); else, when it acts at the truth's own load site, the best one away from there
+    (``workflow._sentinel_away``). A generic load at a stiffness's or clearance's place is no load of the group: the data
+    must tell the two apart."""
     from rvcoax.results.studies.discrepancy.judge import generic_ties, load_regions
     from rvcoax.results.studies.discrepancy.sentinel import fit_sentinel, site_in
     from rvcoax.results.studies.discrepancy.workflow import SelectedEffect, _generic_elsewhere
@@ -226,11 +229,13 @@ def _sentinel_tie(seen, observed, truth, group_members, bic: float, settings) ->
     sentinel = fit_sentinel(observed)
     if sentinel is None:
         return False
-    regions = load_regions(seen.effects, seen.rig, list(truth), engine.sentinel_sites())
-    if any(site_in((sentinel.part, sentinel.x_mm), r) for r in regions.values()):
-        sentinel = fit_sentinel(observed, exclude=tuple(x for r in regions.values() for x in r))
     selected = [SelectedEffect(truth[0], (), 0.0, tuple(group_members), 1)]
     generic = _generic_elsewhere(seen, sentinel, selected)
+    if generic is None:
+        regions = load_regions(seen.effects, seen.rig, list(truth), engine.sentinel_sites())
+        if any(site_in((sentinel.part, sentinel.x_mm), r) for r in regions.values()):
+            away = fit_sentinel(observed, exclude=tuple(x for r in regions.values() for x in r))
+            generic = _generic_elsewhere(seen, away, selected)
     return generic_ties(generic, bic, margin=settings.ambiguity_margin, alpha=settings.alpha)
 
 
@@ -303,7 +308,11 @@ def oracle(dataset: dict, seen, settings) -> Ceiling:  # noqa: PLR0914
             return all(len(g) <= GROUP_LIMIT and NOTHING not in g for g in gs)
 
         possible = (seen_ and small(groups) and not tie) or hidden
-        parsimonious = (seen_ and small(groups_of(truth, singles)) and not tie) or hidden
+        lean = groups_of(truth, singles)
+        lean_members = list(dict.fromkeys(m for g in lean for m in g if m != NOTHING))
+        lean_tie = tie if lean_members == members else \
+            _sentinel_tie(seen, observed, truth, lean_members, float(fit.bic), settings)
+        parsimonious = (seen_ and small(lean) and not lean_tie) or hidden
         with_form = (seen_ and small(groups_of(truth, formed)) and not tie) or hidden
         size = max(len(g) for g in groups)
         parts = ([] if seen_ else ["below the gap test"]) + (["a generic load ties with the truth"] if tie else []) \
@@ -363,7 +372,7 @@ def main() -> None:  # noqa: PLR0915
         rows = [(r["dataset"], Ceiling(**{k: tuple(tuple(g) if isinstance(g, list) else g for g in v)
                                           if isinstance(v, list) else v for k, v in r["ceiling"].items()}),
                  r["reading"], r["document"]) for r in saved["rows"]]
-        rows = _hidden_again(rows, saved["source"])
+        rows = _hidden_again(rows, saved["source"], saved.get("version", ""))
         lines = summary(rows, saved["source"], saved["total"], saved["cpu_s"], saved["wall_s"])
         _finish(lines, saved["source"], args.no_record)
         return
@@ -407,34 +416,59 @@ def main() -> None:  # noqa: PLR0915
     cpu, wall = time.process_time() - cpu0, time.perf_counter() - start
     if args.save:
         Path(args.save).write_text(json.dumps({
-            "source": args.source, "total": len(sets), "cpu_s": cpu, "wall_s": wall,
+            "version": VERSION, "source": args.source, "total": len(sets), "cpu_s": cpu, "wall_s": wall,
             "rows": [{"dataset": d, "ceiling": c.__dict__, "reading": r,
                       "document": {k: doc.get(k) for k in ("verdict", "selected")} if doc else None}
                      for d, c, r, doc in rows]}, default=_plain))
     _finish(summary(rows, args.source, len(sets), cpu, wall), args.source, args.no_record or not rows)
 
 
-def _hidden_again(rows, source: str):
-    """The oracle run again on the sets whose hidden change is below the noise by construction (a file saved before
-    their data's own gap test decided whether nothing added is informative); the others as saved."""
+def _hidden_again(rows, source: str, saved_version: str):
+    """Sets of a file saved by an earlier version, judged again where that version judged otherwise (the others as
+    saved): the generic load compared as ``workflow._judge`` compares it, with the group the saved alternatives make
+    (strict, and single effects alone), and a hidden change below the noise by construction counted as informative only
+    where the data pass the gap test. The alternatives are not fitted again; the model-form variant keeps its saved
+    value unless the strict group's generic load now ties."""
+    from dataclasses import replace
+
     import bench_discrepancy_blind as blind
     import blind_data
 
     import rvcoax
+    from rvcoax.results.studies.discrepancy.locate import gap_test
     from rvcoax.results.studies.discrepancy.workflow import DiscrepancySettings, _observe, build_library
 
+    if saved_version == VERSION:
+        return rows
     settings = DiscrepancySettings(confidence_draws=0)
     libraries, out = {}, []
     for dataset, ceiling, reading, document in rows:
-        if not dataset.get("detectable", True) and dataset["group"] != "none" and "the data show" not in ceiling.why \
-                and "no gap on the data" not in ceiling.why:
+        hidden_set = not dataset.get("detectable", True)
+        if dataset["group"] in ("vocabulary", "faint", "pair") and (ceiling.possible or ceiling.parsimonious or hidden_set):
             rig = blind_data.identification_rig(dataset["datum"])
             if dataset["datum"] not in libraries:
                 libraries[dataset["datum"]] = build_library(rig, blind_data.paper_cases(), settings.sweep)
             data = rvcoax.read_measured(blind.SOURCES[source][0] / dataset["file"])
-            ceiling = oracle(dataset, _observe(rig, data, settings, libraries[dataset["datum"]], None), settings)
+            seen = _observe(rig, data, settings, libraries[dataset["datum"]], None)
+            observed, truth = seen.observed, tuple(dataset["truth"])
+            hidden = hidden_set and not gap_test(observed.scaled_before[observed.rows], settings.alpha).gap
+            found = [(tuple(n), b) for n, b in ceiling.alternatives]
+            singles = [f for f in found if len(f[0]) == 1] if len(truth) == 1 else found
+            possible, tie = _judged_again(seen, ceiling, groups_of(truth, found), hidden, settings)
+            parsimonious, _ = _judged_again(seen, ceiling, groups_of(truth, singles), hidden, settings)
+            ceiling = replace(ceiling, possible=possible, parsimonious=parsimonious, generic=tie,
+                              with_form=bool(ceiling.with_form) and (not tie or hidden))
         out.append((dataset, ceiling, reading, document))
     return out
+
+
+def _judged_again(seen, ceiling: Ceiling, groups, hidden: bool, settings) -> tuple[bool, bool]:
+    """(informative-possible, the generic load ties) of a saved ceiling with ``groups``."""
+    truth = tuple(g[0] for g in groups)
+    members = list(dict.fromkeys(m for g in groups for m in g if m != NOTHING))
+    small = all(len(g) <= GROUP_LIMIT and NOTHING not in g for g in groups)
+    tie = small and ceiling.detectable and _sentinel_tie(seen, seen.observed, truth, members, ceiling.truth_bic, settings)
+    return (ceiling.detectable and small and not tie) or hidden, tie
 
 
 def _plain(value):
