@@ -36,7 +36,7 @@ import scipy.sparse as sp
 from rvcoax.fem.compat import sparse_kernels
 
 __all__ = ["BlockPattern", "PARALLEL_MIN_TRIPLETS", "add_element_matrices", "assemble_matrix", "block_diagonal",
-           "block_pattern", "keep_rows_and_columns", "worker_threads"]
+           "block_pattern", "element_positions", "keep_rows_and_columns", "worker_threads"]
 
 # scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
 _KERNELS = sparse_kernels()
@@ -273,30 +273,38 @@ def block_pattern(element_nodes: np.ndarray, n_nodes: int, chunk: int = 65536) -
     del graph, node_rows
     nnz = 9 * node_cols.size
     index_type = np.int32 if max(nnz, 3 * n_nodes) < _INT32_MAX else np.int64
-    # scalar row 3 i + a holds, for every neighbour j of i in order, the columns 3 j, 3 j + 1, 3 j + 2
+    # scalar rows 3 i, 3 i + 1, 3 i + 2 each hold, for every neighbour j of i in order, the columns 3 j, 3 j + 1,
+    # 3 j + 2: node i's rows start at 9 · node_indptr[i] and are its column triples three times over
     row_length = np.repeat(3 * degree, 3)
     indptr = np.zeros(3 * n_nodes + 1, dtype=index_type)
     np.cumsum(row_length, out=indptr[1:])
     indices = np.empty(nnz, dtype=index_type)
+    triples = indices.reshape(-1, 3)  # one row per (scalar row's) neighbour
     for i0 in range(0, n_nodes, chunk):
         i1 = min(i0 + chunk, n_nodes)
-        cols = node_cols[node_indptr[i0]:node_indptr[i1]]
-        triple = (3 * cols[:, None] + np.arange(3)).reshape(-1).astype(index_type)  # one node row's columns
-        lengths = 3 * degree[i0:i1]
-        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-        for a in range(3):  # rows 3 i + a repeat the node row's columns
-            rows = 3 * np.arange(i0, i1) + a
-            out = np.repeat(indptr[rows].astype(np.int64) - starts, lengths) + np.arange(triple.size)
-            indices[out] = triple
+        p0, p1 = int(node_indptr[i0]), int(node_indptr[i1])
+        cols = (3 * node_cols[p0:p1]).astype(index_type)
+        # triple row g = 3 p_i + a deg_i + s (copy a, neighbour s) takes neighbour p_i + s = g − (2 p_i + a deg_i)
+        shift = (2 * node_indptr[i0:i1, None] + np.arange(3) * degree[i0:i1, None]).reshape(-1)
+        source = np.arange(3 * p0, 3 * p1) - np.repeat(shift, np.repeat(degree[i0:i1], 3)) - p0
+        for d in range(3):
+            np.add(cols[source], d, out=triples[3 * p0:3 * p1, d])
     return BlockPattern(int(n_nodes), node_indptr, node_keys, indptr, indices)
 
 
-def add_element_matrices(pattern: BlockPattern, element_nodes: np.ndarray, matrices: np.ndarray,
-                         data: np.ndarray) -> None:
-    """Add element matrices (n, 3k, 3k), local unknown 3 a + c of node a, into ``data`` (the pattern's values).
+def element_positions(pattern: BlockPattern, element_nodes: np.ndarray) -> np.ndarray:
+    """Where the entries of element matrices go in the pattern's values, in element order.
 
-    Each element entry is located by its node pair's block (binary search in ``node_keys``) and added
-    in element order (``np.add.at``), so the result does not depend on how the elements are chunked.
+    Returns, for elements with nodes ``element_nodes`` (n, k), the positions (n · 9 k²,) in ``data`` of their
+    matrices' entries (n, 3k, 3k), local unknown 3 a + c of node a: entry (3 a + c, 3 b + d) of node pair
+    (i, j) lies at ``9 p_i + 3 (q − p_i) + 3 c deg_i + d`` with p_i = ``node_indptr[i]``, deg_i node i's
+    neighbours and q the pair's place in ``node_keys`` (binary search): node i's three scalar rows are
+    contiguous and each holds 3 deg_i entries. int32 while the pattern's size allows.
+
+    Raises
+    ------
+    ValueError
+        An element couples two nodes that are not in the pattern.
     """
     element_nodes = np.asarray(element_nodes, dtype=np.int64)
     n, k = element_nodes.shape
@@ -305,13 +313,25 @@ def add_element_matrices(pattern: BlockPattern, element_nodes: np.ndarray, matri
     if np.any(pair >= pattern.node_keys.size) or np.any(pattern.node_keys[np.minimum(pair, pattern.node_keys.size - 1)]
                                                         != keys):
         raise ValueError("an element couples two nodes that are not in the pattern")
-    row_node = keys // pattern.n_nodes
-    offset = pair - pattern.node_indptr[row_node]  # position of the block in its node row
-    # entry (3 a + c, 3 b + d) of an element: scalar row 3 i + c, column slot 3 · offset + d
-    row_start = pattern.indptr[(3 * row_node)[:, None] + np.arange(3)].astype(np.int64)  # (n k k, 3)
-    position = (row_start[:, :, None] + 3 * offset[:, None, None] + np.arange(3)).reshape(n, k, k, 3, 3)
-    position = position.transpose(0, 1, 3, 2, 4).reshape(-1)  # element order: (e, a, c, b, d)
-    np.add.at(data, position, np.asarray(matrices, dtype=float).reshape(-1))  # in element order
+    index_type = pattern.indices.dtype
+    start = pattern.node_indptr[element_nodes]  # (n, k): p_i of each element's nodes (rows)
+    degree = (pattern.node_indptr[element_nodes + 1] - start).astype(index_type)
+    base = (3 * pair.reshape(n, k, k) + 6 * start[:, :, None]).astype(index_type)  # (n, a, b): 9 p_i + 3 (q − p_i)
+    row_step = 3 * degree[:, :, None] * np.arange(3, dtype=index_type)  # (n, a, c): 3 c deg_i
+    position = np.empty((n, k, 3, k, 3), dtype=index_type)  # element order: (e, a, c, b, d)
+    np.add(base[:, :, None, :, None], row_step[:, :, :, None, None], out=position)
+    position += np.arange(3, dtype=index_type)
+    return position.reshape(-1)
+
+
+def add_element_matrices(pattern: BlockPattern, element_nodes: np.ndarray, matrices: np.ndarray,
+                         data: np.ndarray) -> None:
+    """Add element matrices (n, 3k, 3k), local unknown 3 a + c of node a, into ``data`` (the pattern's values).
+
+    Each element entry is located by its node pair's block (:func:`element_positions`) and added in element order
+    (``np.add.at``), so the result does not depend on how the elements are chunked.
+    """
+    np.add.at(data, element_positions(pattern, element_nodes), np.asarray(matrices, dtype=float).reshape(-1))
 
 
 def block_diagonal(n_dofs: int, blocks: list[tuple[int, sp.csr_matrix]]) -> sp.csr_matrix:
