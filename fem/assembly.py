@@ -25,6 +25,7 @@ are kept (the sparsity pattern is that of the triplets), as with scipy's convers
 
 from __future__ import annotations
 
+import collections
 import os
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
@@ -36,7 +37,7 @@ import scipy.sparse as sp
 from rvcoax.fem.compat import sparse_kernels
 
 __all__ = ["BlockPattern", "PARALLEL_MIN_TRIPLETS", "add_element_matrices", "assemble_matrix", "block_diagonal",
-           "block_pattern", "element_positions", "keep_rows_and_columns", "worker_threads"]
+           "block_pattern", "element_positions", "in_order", "keep_rows_and_columns", "worker_threads"]
 
 # scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
 _KERNELS = sparse_kernels()
@@ -54,6 +55,27 @@ def worker_threads() -> int:
     except AttributeError:  # pragma: no cover - not Linux
         available = os.cpu_count() or 1
     return max(1, min(available, 8))
+
+
+def in_order(produce, items, consume, threads: int) -> None:
+    """``consume(produce(item))`` for every item, consumed in order in the calling thread.
+
+    With ``threads`` > 1 the items are produced on that many worker threads (numpy's array operations release
+    the GIL), at most ``threads`` items ahead of the one consumed, so at most ``threads + 1`` results are held.
+    """
+    items = list(items)
+    if threads <= 1 or len(items) < 2:
+        for item in items:
+            consume(produce(item))
+        return
+    with ThreadPoolExecutor(threads) as pool:
+        pending: collections.deque = collections.deque()
+        for item in items:
+            pending.append(pool.submit(produce, item))
+            if len(pending) > threads:
+                consume(pending.popleft().result())
+        while pending:
+            consume(pending.popleft().result())
 
 
 def _as_index_array(a) -> np.ndarray:
@@ -358,7 +380,8 @@ def block_diagonal(n_dofs: int, blocks: list[tuple[int, sp.csr_matrix]]) -> sp.c
     return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))
 
 
-def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = False, chunk: int = 8192) -> sp.csr_matrix:
+def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = False, chunk: int = 8192,
+                          threads: int | None = None) -> sp.csr_matrix:
     """``matrix[keep][:, keep]`` of a square CSR matrix in one pass over its rows: the constraint elimination
     of fixed unknowns.
 
@@ -377,6 +400,9 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
         Reuse (and consume) ``matrix``'s arrays.
     chunk : int
         Rows per block (8192 rows of a P2 solid: about 16 MB of temporaries).
+    threads : int, optional
+        Worker threads that gather the next blocks while the calling thread writes (:func:`in_order`; the same
+        result); default :func:`worker_threads` from :data:`PARALLEL_MIN_TRIPLETS` stored entries on, else one.
     """
     n = matrix.shape[0]
     if matrix.shape != (n, n) or not (sp.isspmatrix_csr(matrix) or isinstance(matrix, sp.csr_array)):
@@ -396,22 +422,36 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
     renumber = np.full(n, -1, dtype=matrix.indices.dtype)
     renumber[kept_rows] = np.arange(kept_rows.size, dtype=renumber.dtype)
     new_indptr = np.zeros(kept_rows.size + 1, dtype=indptr.dtype)
-    written = rows_done = 0
-    for r0 in range(0, n, chunk):
+
+    def kept_part(r0: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Rows r0 … r0 + chunk: the kept entries' values and new columns (copies), and each kept row's count."""
         r1 = min(r0 + chunk, n)
         s, e = int(indptr[r0]), int(indptr[r1])
         columns = matrix.indices[s:e]
         local_row = np.repeat(np.arange(r1 - r0), np.diff(indptr[r0:r1 + 1]))
         selected = keep[columns] & keep[r0:r1][local_row]
-        m = int(np.count_nonzero(selected))
-        values = matrix.data[s:e][selected]  # copies: safe to write over the same arrays below (written ≤ s)
-        new_columns = renumber[columns[selected]]
+        per_row = np.bincount(local_row[selected], minlength=r1 - r0)[keep[r0:r1]]
+        return matrix.data[s:e][selected], renumber[columns[selected]], per_row
+
+    written = rows_done = 0
+
+    def write(part) -> None:
+        nonlocal written, rows_done
+        values, new_columns, per_row = part
+        m = values.size
         data[written:written + m] = values
         indices[written:written + m] = new_columns
-        per_row = np.bincount(local_row[selected], minlength=r1 - r0)[keep[r0:r1]]
         new_indptr[rows_done + 1:rows_done + 1 + per_row.size] = written + np.cumsum(per_row)
         written += m
         rows_done += per_row.size
+
+    # Blocks are written in order. Writing block k touches the arrays only below the end of its rows (at most as
+    # many entries are kept as there were), so reading later blocks while it is written is safe with overwrite:
+    # worker threads read (gather and renumber) the next blocks while the calling thread writes.
+    starts = range(0, n, chunk)
+    if threads is None:
+        threads = worker_threads() if matrix.nnz >= PARALLEL_MIN_TRIPLETS else 1
+    in_order(kept_part, starts, write, threads)
     # views of the front of the arrays: the dropped entries' tail (the clamped rows' share) stays allocated,
     # but nothing is copied (scipy's matrices often hold views, which cannot be shrunk in place)
     data, indices = data[:written], indices[:written]

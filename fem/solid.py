@@ -23,9 +23,7 @@ solid's DOF offset when placing them in a larger model.
 
 from __future__ import annotations
 
-import collections
 import logging
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -193,7 +191,7 @@ def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float, *, threads
     their places in the pattern (numpy's array operations release the GIL) while the calling thread adds
     the finished blocks in element order, at most ``threads`` blocks ahead: the same floats as one thread.
     """
-    from rvcoax.fem.assembly import add_element_matrices, block_pattern, element_positions, worker_threads
+    from rvcoax.fem.assembly import add_element_matrices, block_pattern, element_positions, in_order, worker_threads
 
     _check_vector_p2(basis)
     lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
@@ -218,14 +216,7 @@ def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float, *, threads
             _element_stiffness_into(values, np.stack([g[:, block, :] for g in gradients]), basis.dx[block], lam, mu)
             return element_positions(pattern, element_nodes[block]), values.reshape(-1)
 
-        with ThreadPoolExecutor(threads) as pool:
-            pending: collections.deque = collections.deque()
-            for block in blocks:
-                pending.append(pool.submit(element_block, block))
-                if len(pending) > threads:
-                    np.add.at(data, *pending.popleft().result())
-            while pending:
-                np.add.at(data, *pending.popleft().result())
+        in_order(element_block, blocks, lambda placed: np.add.at(data, *placed), threads)
     return sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(basis.N, basis.N))
 
 
