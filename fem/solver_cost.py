@@ -78,7 +78,10 @@ COST_MODEL = SolverCostModel(
     # (1.96 s / 45 it. at 341 k, 8.94 s / 52 it. at 1.14 M DOF), but the constant stays at 1.2e-8: the model
     # is fitted on the cantilever alone, and with 1.7e-9 it would send one right-hand side to AMG from 42 k DOF
     # and the rig sweeps' nine unit loads from 335 k DOF (the all-solid rig's tied matrix, whose AMG iterations
-    # nobody has measured) instead of 257 k and 4.7 M DOF (benchmarks/RESULTS.md, h27amg). 29.5 bytes per
+    # nobody had measured) instead of 257 k and 4.7 M DOF (benchmarks/RESULTS.md, h27amg). Measured since (h27c62):
+    # that sweep forced onto AMG (`rvcoax sweep --model solid --solver amg`, 492 k DOF, one case) peaked at 10.3 GB
+    # and had not finished after 176 s of CPU time (stopped), where PARDISO's whole sweep takes 26.8 s and 4.14 GB:
+    # the refit would make that choice much worse, and the sizes alone cannot tell the two systems apart. 29.5 bytes per
     # nonzero above the matrix at 341 k DOF (pyamg's driver: 37.5).
     amg_setup_s_per_nnz=0.9e-7, amg_iteration_s_per_nnz=1.2e-8, amg_iterations=45.0, amg_iteration_exponent=0.15,
     amg_bytes_per_nnz=30.0,
