@@ -14,7 +14,7 @@ Both codes then start from that mesh:
   displacements from the ``.dat``. Memory: ``/usr/bin/time -v`` (maximum resident set size), or
   ru_maxrss of the child without it.
 - **rvcoax**: basis, stiffness (``rvcoax.fem.solid.stiffness_matrix``: element matrices added in
-  chunks straight into the 3 × 3-block pattern), load vector, constraint elimination (the clamped
+  chunks straight into the 3 × 3-block pattern, the chunks computed on worker threads), load vector, constraint elimination (the clamped
   DOFs' rows and columns dropped in one pass, ``rvcoax.fem.assembly.keep_rows_and_columns``), solver set-up and solve with the method ``"auto"`` picks (the measured cost
   model of ``rvcoax.fem.solver_cost``: PARDISO or AMG-CG with the rigid-body modes, for one
   right-hand side; PARDISO with its singularity test but no condition estimate, which ccx does
@@ -39,7 +39,8 @@ Run: ``.venv/bin/python benchmarks/bench_calculix.py [--sizes 50k,300k] [--repea
 (``--method amg`` or ``pardiso``: rvcoax's solver forced instead of the cost model's choice); needs ``ccx``
 (Debian: ``apt-get install calculix-ccx``), else it exits with status 2. Prints the figures and
 appends them to benchmarks/RESULTS.md (``--no-record``: print only). ``--keep DIR`` keeps the
-``.inp``/``.dat`` files.
+``.inp``/``.dat`` files. rvcoax's phases are listed with their wall and CPU time (all threads): on a loaded
+machine the CPU time is the figure that compares.
 """
 
 from __future__ import annotations
