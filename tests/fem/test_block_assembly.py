@@ -153,3 +153,17 @@ def test_keeping_rows_and_columns_refuses_what_it_cannot_slice():
         keep_rows_and_columns(sp.csr_matrix((3, 4)), np.ones(3, dtype=bool))
     with pytest.raises(ValueError, match="3 entries"):
         keep_rows_and_columns(sp.identity(3, format="csr"), np.ones(4, dtype=bool))
+
+
+def test_element_positions_on_rows_of_many_lengths():
+    # elements of 2 to 6 nodes' rows of very different lengths: every place against a dense lookup
+    rng = np.random.default_rng(3)
+    nodes = np.array([rng.choice(40, size=4, replace=False) for _ in range(60)])
+    pattern = block_pattern(nodes, 40)
+    scalar = sp.csr_matrix((np.arange(pattern.nnz, dtype=float), pattern.indices, pattern.indptr)).toarray()
+    position = element_positions(pattern, nodes).reshape(len(nodes), 4, 3, 4, 3)
+    dofs = 3 * nodes[:, :, None] + np.arange(3)  # (e, a, c)
+    expected = scalar[dofs[:, :, :, None, None], dofs[:, None, None, :, :]]
+    assert np.array_equal(position, expected)
+    with pytest.raises(ValueError, match="not in the pattern"):
+        element_positions(block_pattern(nodes[:30], 40), nodes[30:])
