@@ -122,6 +122,11 @@ def test_upper_triangle_is_built_without_the_whole_saddle_point_matrix(tied_bar)
     assert abs(served.kept @ sparse - operator.kept @ sparse).max() <= 1e-13 * abs(operator.kept).max()
     root = np.sqrt(operator.diagonal())
     assert served.scaled_one_norm(root, 97) == pytest.approx(operator.scaled_one_norm(root, 97), rel=1e-12)
+    # |K'| x taken by absolute value a chunk of rows at a time (no copy of the whole triangle): the same product
+    v = np.random.default_rng(4).standard_normal(operator.kept.shape[0])
+    whole_abs = abs(operator.kept) @ v
+    for chunk in (1, 1000, 1 << 21):
+        assert np.allclose(served.kept.absolute_product(v, chunk), whole_abs, rtol=0, atol=1e-13 * np.abs(whole_abs).max())
 
 
 @needs_pardiso

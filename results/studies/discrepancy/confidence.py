@@ -389,7 +389,7 @@ class _Replay:
         chi2_0 = float(r_fit @ r_fit)
         generic = float(scan.bic[d].min()) if scan is not None and np.isfinite(scan.bic[d]).any() else np.inf
         gap = chi2_0 / max(self.n_fit, 1)
-        if not self._gap(r_fit):
+        if not self._gap(r):  # the workflow's test before any fit reads every row
             return _Answer("no_gap", (), 0, gap, "", chi2_0 - generic, gap)
         bic = singles.chi2[d] + self.ln_n
         valid = singles.physical[d]

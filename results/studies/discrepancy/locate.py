@@ -9,7 +9,7 @@ data alone, independent of any model:
 - *paths*: the scatter about a cubic in x fitted to each (case, shaft) path with at least six
   stations (a beam deflection between supports is a cubic), pooled per shaft;
 - *table*: the scatter of each value about the line through its two neighbours along the torque
-  sweep (robust median estimate), never below the rounding of the printed digits.
+  sweep (their RMS, a value far off the line left out), never below the rounding of the printed digits.
 """
 
 from __future__ import annotations
@@ -63,6 +63,46 @@ def _paths_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
         "assumed 1 % of the RMS signal (fewer than six stations per path)"
 
 
+OUTLIER_ALPHA = 0.01  # the chance that a table's sweep without a kink loses a value to the outlier test
+
+
+def _neighbour_residuals(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each value's miss of the line through its two neighbours along the sweep, scaled to the noise's σ (for equal
+    noise the miss has variance σ²·(1 + w² + (1 − w)²)), and the index of that value."""
+    misses, middles = [], []
+    for i in range(1, t.size - 1):
+        span = t[i + 1] - t[i - 1]
+        if span <= 0:
+            continue
+        w = (t[i + 1] - t[i]) / span
+        predicted = w * y[i - 1] + (1 - w) * y[i + 1]
+        misses.append(abs(y[i] - predicted) / np.sqrt(1 + w ** 2 + (1 - w) ** 2))
+        middles.append(i)
+    return np.array(misses), np.array(middles, dtype=int)
+
+
+def _sweep_scatter(t: np.ndarray, y: np.ndarray) -> tuple[float, int, int]:
+    """σ of values along a sweep: the RMS of their misses of the line through their neighbours, after leaving out, one
+    at a time, a value whose miss the others' RMS makes improbable (beyond Student's t with m − 1 degrees of freedom at
+    :data:`OUTLIER_ALPHA`, shared over the m misses): a misread value or a sharp kink of |Y_max| (the station of the
+    maximum switching) would otherwise set σ. The RMS keeps the precision of every miss: their median (37 % efficient
+    for normal noise) misjudges σ by more than a factor 0.6 or 1.6 in one file of ten from the 18 misses of a 20-case
+    sweep, the RMS by 0.65 or 1.35. Returns (σ, misses used, values left out)."""
+    keep = np.ones(t.size, bool)
+    while True:
+        misses, middles = _neighbour_residuals(t[keep], y[keep])
+        m = misses.size
+        if m < 4:
+            break
+        worst = int(np.argmax(misses))
+        others = float(np.sqrt((misses @ misses - misses[worst] ** 2) / (m - 1)))
+        if not (others > 0 and misses[worst] > stats.t.isf(OUTLIER_ALPHA / (2 * m), m - 1) * others):
+            break
+        keep[np.flatnonzero(keep)[middles[worst]]] = False
+    sigma = float(np.sqrt(np.mean(misses ** 2))) if misses.size else 0.0
+    return sigma, int(misses.size), int(t.size - keep.sum())
+
+
 def _table_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
     mask = data.shaft == shaft
     torque = np.array([c.input_torque_Nm if shaft == "input" else c.output_torque_Nm for c in data.cases])
@@ -71,18 +111,10 @@ def _table_noise(data: MeasuredData, shaft: str) -> tuple[float, str]:
     t, y = t[order], y[order]
     quantum = (data.quantum_mm or {}).get(shaft, 0.0)
     floor = quantum / np.sqrt(12.0)
-    scaled = []
-    for i in range(1, t.size - 1):
-        span = t[i + 1] - t[i - 1]
-        if span <= 0:
-            continue
-        w = (t[i + 1] - t[i]) / span
-        predicted = w * y[i - 1] + (1 - w) * y[i + 1]
-        scaled.append(abs(y[i] - predicted) / np.sqrt(1 + w ** 2 + (1 - w) ** 2))
-    if len(scaled) >= 3:
-        robust = 1.4826 * float(np.median(scaled))
-        if robust > floor:
-            return robust, f"scatter about neighbours along the sweep ({len(scaled)} points, robust)"
+    estimate, used, left_out = _sweep_scatter(t, y)
+    if used >= 3 and estimate > floor:
+        return estimate, (f"scatter about neighbours along the sweep ({used} points, RMS"
+                          + (f"; {left_out} value(s) far off the line left out)" if left_out else ")"))
     return floor, "rounding of the printed digits" if floor > 0 else "none detectable"
 
 

@@ -172,9 +172,9 @@ def observability(responses: dict, observed: Observed, alpha: float = DETECTION_
     """The :class:`Visibility` of every response; for an invisible one, the measurement that would reveal it.
 
     ``visible`` (‖s‖ ≥ :data:`VISIBLE_NORM`) decides which candidates are screened; ``detectable`` whether the gap
-    test at ``alpha`` would find the effect alone on these data (:func:`detection_norm` of the rows used to fit):
+    test at ``alpha`` would find the effect alone on these data (:func:`detection_norm` of every row, as the test reads them):
     what the report calls "can reveal"."""
-    threshold = detection_norm(int(np.count_nonzero(observed.rows)), alpha)
+    threshold = detection_norm(int(observed.data.n), alpha)  # the gap test reads every row (held-out ones too)
     shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
     options = scenarios(observed.data, observed.from_rest)
     out = {}
@@ -182,7 +182,7 @@ def observability(responses: dict, observed: Observed, alpha: float = DETECTION_
         values, s = _strongest(response, observed, None)
         norm, largest = float(np.linalg.norm(s)), float(np.max(np.abs(s))) if s.size else 0.0
         visible = norm >= VISIBLE_NORM
-        detectable = float(np.linalg.norm(s[observed.rows])) >= threshold
+        detectable = norm >= threshold
         suggestion = None
         if not detectable:
             unit = response.unit_at(values)

@@ -482,7 +482,7 @@ def _locate(seen: Seen, settings: DiscrepancySettings) -> Located:
     """The χ² test of the gap, its structure, and the best generic load with its cross-validation."""
     observed = seen.observed
     data, sigma, before = observed.data, observed.sigma, observed.before
-    test_before = gap_test(observed.scaled_before[observed.rows], settings.alpha)
+    test_before = gap_test(observed.scaled_before, settings.alpha)  # every row, as the test after the fit
     structure = residual_structure(data, data.value_mm - before, sigma,
                                    model_form_fraction=settings.model_form_fraction)
     folds = case_folds(data)
