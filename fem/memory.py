@@ -1,6 +1,6 @@
 """How much memory this process may still use (Linux: /proc/meminfo and the cgroup v2 limit), giving
-freed heap memory back to the operating system before a large allocation, and moving a large matrix that is not
-read for a while out of resident memory into a file."""
+freed heap memory back to the operating system before a large allocation, and moving large arrays (a matrix) that are
+not read for a while out of resident memory into a file."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["available_memory_bytes", "move_to_file", "return_free_heap"]
+__all__ = ["arrays_to_file", "available_memory_bytes", "move_to_file", "return_free_heap"]
 
 _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 
@@ -78,30 +78,53 @@ def move_to_file(matrix, folder: str | None = None) -> bool:
     """Move a scipy sparse matrix's arrays (``data``, ``indices``, ``indptr``) into a private memory map of an unlinked
     temporary file, in place; True when done, False (the matrix untouched) where the file cannot be written.
 
-    The matrix stays what it was, entry for entry, and usable as before: its pages are read back from the page cache
-    (or the disk) when an operation reads them, and a write changes this process's copy only (copy-on-write), never
-    the file. Until then they are not part of the process's resident memory, and under memory pressure the system can
-    drop them without swap. For a matrix that is not read for a long, memory-hungry stretch: the all-solid reference
-    rig's stiffness K (492 k DOF, 0.46 GB) while PARDISO factorises and solves the tied saddle-point matrix, which
-    does not read K (benchmarks/RESULTS.md). The file goes when the last array that maps it goes.
+    The matrix stays what it was, entry for entry, and usable as before (:func:`arrays_to_file`). For a matrix that is
+    not read for a long, memory-hungry stretch: the all-solid reference rig's stiffness K (492 k DOF, 0.46 GB) while
+    PARDISO factorises and solves the tied saddle-point matrix, which does not read K (benchmarks/RESULTS.md).
 
     Parameters
     ----------
     matrix : scipy.sparse matrix in CSR, CSC or BSR form
     folder : str, optional
-        Where the temporary file is made (the system's temporary folder by default). On a file system held in memory
-        (tmpfs, ramfs) the file would be memory too: nothing is moved there.
+        As for :func:`arrays_to_file`.
     """
     names = [name for name in ("data", "indices", "indptr") if isinstance(getattr(matrix, name, None), np.ndarray)]
-    if len(names) != 3 or _in_memory_filesystem(folder or tempfile.gettempdir()):
+    if len(names) != 3:
         return False
-    arrays = [np.ascontiguousarray(getattr(matrix, name)) for name in names]
+    moved = arrays_to_file([getattr(matrix, name) for name in names], folder)
+    if moved is None:
+        return False
+    for name, array in zip(names, moved):
+        setattr(matrix, name, array)
+    return True
+
+
+def arrays_to_file(arrays, folder: str | None = None) -> list[np.ndarray] | None:
+    """Copies of ``arrays`` (same values, dtypes and shapes, C order) in a private memory map of one unlinked temporary
+    file; None where the file cannot be written, or where it would be memory too.
+
+    The copies are usable as the arrays were: their pages are read back from the page cache (or the disk) when
+    something reads them, and a write changes this process's copy only (copy-on-write), never the file. Until then
+    they are not part of the process's resident memory, and under memory pressure the system can drop them without
+    swap. For arrays that are not read for a long, memory-hungry stretch (a factorisation and its solves). The file
+    goes when the last array that maps it goes.
+
+    Parameters
+    ----------
+    arrays : sequence of numpy arrays
+    folder : str, optional
+        Where the temporary file is made (the system's temporary folder by default). On a file system held in memory
+        (tmpfs, ramfs) the file would be memory too: nothing is made there.
+    """
+    arrays = [np.ascontiguousarray(array) for array in arrays]
+    if _in_memory_filesystem(folder or tempfile.gettempdir()):
+        return None
     offsets, total = [], 0
     for array in arrays:
         offsets.append(total)
         total += -(-array.nbytes // _ALIGNMENT) * _ALIGNMENT
     if total == 0:
-        return False
+        return None
     try:
         with tempfile.TemporaryFile(dir=folder) as handle:
             for array, offset in zip(arrays, offsets):
@@ -111,10 +134,9 @@ def move_to_file(matrix, folder: str | None = None) -> bool:
             handle.flush()
             mapped = mmap.mmap(handle.fileno(), total, access=mmap.ACCESS_COPY)
     except (OSError, ValueError):
-        return False
-    for name, array, offset in zip(names, arrays, offsets):
-        setattr(matrix, name, np.frombuffer(mapped, dtype=array.dtype, count=array.size, offset=offset).reshape(array.shape))
-    return True
+        return None
+    return [np.frombuffer(mapped, dtype=array.dtype, count=array.size, offset=offset).reshape(array.shape)
+            for array, offset in zip(arrays, offsets)]
 
 
 def _in_memory_filesystem(folder: str) -> bool:

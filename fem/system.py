@@ -102,13 +102,28 @@ class UpperTriangleOperator:
     def diagonal(self) -> np.ndarray:
         return self._diagonal.copy()
 
-    def absolute_product(self, x: np.ndarray) -> np.ndarray:
-        """|K'| x for a vector x (entries of K' by absolute value), from the same upper triangle."""
+    def absolute_product(self, x: np.ndarray, nonzeros_per_chunk: int = 1 << 21) -> np.ndarray:
+        """|K'| x for a vector x (entries of K' by absolute value), from the same upper triangle, taken by absolute
+        value ``nonzeros_per_chunk`` entries (whole rows) at a time.
+
+        Not |U| whole: that copy of the upper triangle (0.24 GB at 492 k DOF) was made next to PARDISO's factor, at
+        the singularity test's start, and was the all-solid rig's peak there (benchmarks/RESULTS.md). Each row's part
+        is the same sum as before; the transposed part's sums are grouped by chunk (rounding differences only).
+        """
         k, n = self.shape[0], self._upper.shape[0]
-        upper = abs(self._upper)
+        upper = self._upper
         padded = np.zeros(n)
         padded[:k] = x
-        return (upper @ padded)[:k] + (upper.T @ padded)[:k] - np.abs(self._diagonal) * x
+        rows_part, columns_part = np.zeros(n), np.zeros(n)
+        bounds = np.searchsorted(upper.indptr, np.arange(0, upper.indptr[-1], nonzeros_per_chunk), side="right") - 1
+        bounds = np.unique(np.append(bounds, n))
+        for start, stop in zip(bounds[:-1], bounds[1:]):
+            first, last = upper.indptr[start], upper.indptr[stop]
+            chunk = sp.csr_matrix((np.abs(upper.data[first:last]), upper.indices[first:last],
+                                   upper.indptr[start:stop + 1] - first), shape=(stop - start, n))
+            rows_part[start:stop] = chunk @ padded
+            columns_part += chunk.T @ padded[start:stop]
+        return rows_part[:k] + columns_part[:k] - np.abs(self._diagonal) * x
 
     def __matmul__(self, x):
         k, n = self.shape[0], self._upper.shape[0]
@@ -406,7 +421,10 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     rvcoax.fem.errors.SingularMatrixError
         A direct factorisation found Tᵀ K T singular.
     """
-    chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
+    # a DOF tied to several others (a row of T with more than one entry) makes this a rig's tied system, not the
+    # plain elasticity whose AMG iterations the cost model knows (rvcoax.fem.solver_cost)
+    chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs,
+                                    amg_cost_known=long_rows(elimination, 1).size == 0) if method == "auto" else method)
     long = tied_rows(stiffness, elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
         # too large an update with the ties alone: the Cholesky path would refuse only after K' is formed (the

@@ -304,27 +304,37 @@ class PreparedModel:
         if self.release_solver is not None:
             self.release_solver()
 
-    def solve_unit_loads(self, columns: np.ndarray) -> np.ndarray:
-        """Solutions of the load vectors ``columns`` (n, m): those solved before are taken from the cache, the
-        others are solved together in one call (the first sweep of a model solves them all at once)."""
-        # SHA-256 of each column's bytes, the columns read as rows of one transposed copy (half the CPU time of a
-        # copy and a BLAKE2 digest per column: the CPU's SHA instructions)
-        keys = [hashlib.sha256(row).digest() for row in np.ascontiguousarray(np.asarray(columns, dtype=float).T)]
+    def solve_unit_loads(self, columns) -> np.ndarray:
+        """Solutions of the load vectors ``columns`` (an (n, m) array, or m vectors of length n), as an (n, m) array:
+        those solved before are taken from the cache, the others are solved together in one call (the first sweep of a
+        model solves them all at once)."""
+        vectors = columns.T if isinstance(columns, np.ndarray) and columns.ndim == 2 else columns
+        n, m = len(vectors[0]), len(vectors)
+        # SHA-256 of each vector's bytes: the columns of an array read as rows of one transposed copy (half the CPU
+        # time of a copy and a BLAKE2 digest per column: the CPU's SHA instructions); vectors given apart, as they are
+        rows = np.ascontiguousarray(np.asarray(columns, dtype=float).T) if vectors is not columns else None
+        keys = [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() for v in (vectors if rows is None else rows)]
+        del rows
         missing = [j for j, key in enumerate(keys) if key not in self.solved]
         # a load vector of zeros (a rig without a force table, thermal load or gear contact) has the solution 0 exactly:
         # not solved (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a third
         # of MKL's workspace, benchmarks/RESULTS.md)
-        loaded = [j for j in missing if np.any(columns[:, j])]
-        if len(loaded) == len(keys):
-            solutions = np.asarray(self.solve(columns))
+        loaded = [j for j in missing if np.any(vectors[j])]
+        # only the loaded vectors are copied for the solver, and the (n, m) result is made once the solver has given
+        # its workspace back: the all-solid rig's 9-column copy and zero-filled result (2 × 35 MB at 492 k DOF) are
+        # no longer held through MKL's solve, the process's peak
+        solved = np.asarray(self.solve(np.column_stack([vectors[j] for j in loaded]))).reshape(n, -1) if loaded else None
+        if len(loaded) == m:
+            solutions = solved
         else:
-            solutions = np.zeros_like(columns, dtype=float)
-            if loaded:
-                solutions[:, loaded] = np.asarray(self.solve(columns[:, loaded])).reshape(len(columns), -1)
-            for j, key in enumerate(keys):
-                if j not in missing:
-                    solutions[:, j] = self.solved[key]
-        room = max(columns.shape[1], min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(len(columns), 1)))
+            solutions = np.zeros((n, m))
+            for i, j in enumerate(loaded):
+                solutions[:, j] = solved[:, i]
+        del solved
+        for j, key in enumerate(keys):
+            if j not in missing:
+                solutions[:, j] = self.solved[key]
+        room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
         for j in missing:
             self.solved[keys[j]] = solutions[:, j].copy()
         while len(self.solved) > room:
@@ -395,7 +405,7 @@ def _relative_residual(system: RigSystem, unbalance: np.ndarray, load: np.ndarra
 
 def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, dict, np.ndarray]:
     """The solutions of every unit load (as columns and by name) and of the loads present at rest."""
-    unit = prepared.solve_unit_loads(np.column_stack([loads[k] for k in UNIT_LOADS]))
+    unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
     return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
 

@@ -12,13 +12,14 @@ probe points at mid-wall radius (the axis of a hollow shaft lies in its bore).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from rvcoax.errors import RvcoaxError
-from rvcoax.fem import solid, ties
+from rvcoax.fem import memory, solid, ties
 from rvcoax.fem.equilibrium import DofTable, frame_dof_table
 from rvcoax.fem.pieces import (
     Contribution,
@@ -43,8 +44,8 @@ from rvcoax.geometry.schema import Part, Rig
 from rvcoax.geometry.thermal import part_strain
 from rvcoax.geometry.units import MM
 
-__all__ = ["Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
-           "assemble_with_solids", "attachments", "face_at", "face_nodes", "mesh_size_of", "ring_probe",
+__all__ = ["DERIVED_MESH_DATA", "READ_LATER_TO_FILE_BYTES", "Attachment", "FaceSpec", "RING_POINTS", "SolidLoads", "SolidModelError", "SolidPart", "TOL_MM",
+           "assemble_with_solids", "attachments", "face_at", "face_nodes", "forget_derived", "mesh_size_of", "ring_probe",
            "select_facets", "solid_geometry"]
 
 RING_POINTS = 8
@@ -288,6 +289,17 @@ class SolidLoads:
             self._unit[key] = np.column_stack(columns)
         return self._unit[key]
 
+    def cached_tractions(self) -> dict[tuple, np.ndarray]:
+        """The traction vectors kept so far, by face (a copy of the cache's index; the arrays are the cache's)."""
+        return dict(self._unit)
+
+    def use_cached_tractions(self, tractions: dict[tuple, np.ndarray]) -> None:
+        """Keep ``tractions`` (the faces of :meth:`cached_tractions`, their vectors stored elsewhere) instead; the
+        values are not read here (a file map's pages stay on disk until a load is rebuilt)."""
+        if tractions.keys() != self._unit.keys():
+            raise ValueError("the traction vectors given are not those of the cached faces")
+        self._unit = dict(tractions)
+
     def contributions(self, frame: RigModel, name: str, loads: list[LocatedLoad]) -> list[Contribution]:
         """``loads`` as entries of load ``name``: nodal on frame parts, then a face traction per load on a solid part."""
         pieces = [located_contribution(frame, name, [ld for ld in loads if ld.part not in self._solids])]
@@ -313,6 +325,53 @@ class SolidLoads:
                 pieces.append(dense_load_contribution("prestrain", solid.thermal_strain_vector(
                     part.basis, part.youngs_modulus_Pa, part.poisson, strain), part.offset))
         return pieces
+
+
+DERIVED_MESH_DATA = ("_cached_mapping", "_dofs", "_facets", "_t2f", "_f2t", "_f2e", "_edges", "_t2e")
+"""What scikit-fem derives from a mesh's nodes and elements and keeps on the mesh (attribute names), each built again
+when it is next asked for."""
+
+
+def forget_derived(mesh) -> None:
+    """Let go of what scikit-fem derived from ``mesh`` and keeps on it (:data:`DERIVED_MESH_DATA`).
+
+    Above all the isoparametric mapping of a curved mesh (``MeshTet2``): made once per mesh, it caches the Jacobian
+    entries of every set of points it is asked about, the quadrature points of each basis built on the mesh
+    (stiffness, weight, DOF table), each loaded or tied face's quadrature points and the probe rings; then the facets,
+    edges and their incidence arrays. Nothing reads them between the assembly and the field output, and they stayed
+    as long as the mesh, resident through the factorisation and the solves: 144 MB of Jacobians and 25 MB of entity
+    arrays on the example rig's all-solid model at 627 k DOF (benchmarks/RESULTS.md). The next basis, traction or
+    probe on the mesh derives them again, with the same values.
+    """
+    for name in DERIVED_MESH_DATA:
+        mesh.__dict__.pop(name, None)
+
+
+READ_LATER_TO_FILE_BYTES = 16 << 20
+"""The arrays of an assembled solid or hybrid model that a solve does not read (:func:`_read_later_from_file`) go to a
+file when they hold more than this together: the all-solid reference rig at 492 k DOF has 32 MB of them."""
+
+
+def _read_later_from_file(table: DofTable, loads: UnitLoadBuilder) -> tuple[DofTable, UnitLoadBuilder]:
+    """The same DOF table and load builder, their arrays (DOF positions and components, the weight per g, the cached
+    face tractions) in a private map of a temporary file (:func:`rvcoax.fem.memory.arrays_to_file`) where they hold
+    more than :data:`READ_LATER_TO_FILE_BYTES`.
+
+    Nothing reads them while the model is factorised and solved: the table serves the equilibrium check after the
+    solves, the others a rebuild of the unit loads for other load parameters. Their pages come back when read; until
+    then they are not resident memory at the peak of a large model's solve (benchmarks/RESULTS.md). Values unchanged;
+    where no file can be written they stay in memory.
+    """
+    tractions = loads.solid_loads.cached_tractions() if loads.solid_loads is not None else {}
+    arrays = [table.position, table.component, loads.weight_per_g, *tractions.values()]
+    if sum(array.nbytes for array in arrays) <= READ_LATER_TO_FILE_BYTES:
+        return table, loads
+    moved = memory.arrays_to_file(arrays)
+    if moved is None:
+        return table, loads
+    if tractions:
+        loads.solid_loads.use_cached_tractions(dict(zip(tractions, moved[3:])))
+    return DofTable(moved[0], moved[1]), dataclasses.replace(loads, weight_per_g=moved[2])
 
 
 def _dof_table(structure, solids: dict[str, SolidPart], bases: dict) -> DofTable:
@@ -385,5 +444,10 @@ def assemble_with_solids(rig: Rig, kind: str, mesh_size_mm: float | None = None,
             probes[which] = frame_path_probe(frame, which, n)
 
     table = _dof_table(structure, solids, bases)
+    unit_loads = loads(rig)
+    del bases
+    for s in solids.values():
+        forget_derived(s.mesh)
+    table, loads = _read_later_from_file(table, loads)
     return RigSystem(rig=rig, kind=kind, frame=frame, stiffness=assembled.stiffness, elimination=assembled.elimination,
-                     unit_loads=loads(rig), probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)
+                     unit_loads=unit_loads, probes=probes, dofs=table, solids=tuple(solids.values()), load_builder=loads)

@@ -37,3 +37,18 @@ def test_nothing_is_moved_to_a_file_system_held_in_memory(monkeypatch):
     data = a.data
     assert not move_to_file(a)
     assert a.data is data
+
+
+def test_arrays_moved_to_a_file_are_the_same_arrays():
+    from rvcoax.fem.memory import arrays_to_file
+
+    rng = np.random.default_rng(5)
+    arrays = [rng.standard_normal((7, 3)), np.arange(11, dtype=np.int8), np.asfortranarray(rng.integers(0, 9, (4, 5))),
+              np.zeros(0)]
+    moved = arrays_to_file(arrays)
+    assert moved is not None
+    for before, after in zip(arrays, moved):
+        assert after.dtype == before.dtype and after.shape == before.shape and np.array_equal(after, before)
+        assert not after.flags.owndata  # a view of the mapping
+    moved[0][0, 0] += 1.0  # copy-on-write, the original untouched
+    assert moved[0][0, 0] == arrays[0][0, 0] + 1.0

@@ -122,6 +122,11 @@ def test_upper_triangle_is_built_without_the_whole_saddle_point_matrix(tied_bar)
     assert abs(served.kept @ sparse - operator.kept @ sparse).max() <= 1e-13 * abs(operator.kept).max()
     root = np.sqrt(operator.diagonal())
     assert served.scaled_one_norm(root, 97) == pytest.approx(operator.scaled_one_norm(root, 97), rel=1e-12)
+    # |K'| x taken by absolute value a chunk of rows at a time (no copy of the whole triangle): the same product
+    v = np.random.default_rng(4).standard_normal(operator.kept.shape[0])
+    whole_abs = abs(operator.kept) @ v
+    for chunk in (1, 1000, 1 << 21):
+        assert np.allclose(served.kept.absolute_product(v, chunk), whole_abs, rtol=0, atol=1e-13 * np.abs(whole_abs).max())
 
 
 @needs_pardiso
@@ -306,3 +311,26 @@ def test_the_stiffness_moved_to_a_file_while_factorising_gives_the_same_solution
     assert np.array_equal(v, u)
     assert np.array_equal(moved.relative_residual(v, loads), residual)
     assert np.array_equal(moved_k @ v, k @ u)
+
+
+def test_auto_chooses_for_a_tied_system_without_the_plain_elasticity_amg_constants(tied_bar, monkeypatch):
+    """The AMG cost constants were measured on plain elasticity (rvcoax.fem.solver_cost); a system with ties (a row
+    of T with several entries) is chosen for with ``amg_cost_known=False``, a support elimination alone without."""
+    from rvcoax.fem import solvers
+
+    k, t, _, _ = tied_bar
+    seen = []
+
+    class Chosen(Exception):
+        pass
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs.get("amg_cost_known", True))
+        raise Chosen  # the choice is what this test reads; nothing is solved
+
+    monkeypatch.setattr(solvers, "choose_method", spy)
+    supports = sp.eye(k.shape[0], format="csr")[:, 12:]  # the reference nodes' DOFs held: no ties left
+    for elimination in (t, supports):
+        with pytest.raises(Chosen):
+            prepare_system(k, elimination, "auto")
+    assert seen == [False, True]

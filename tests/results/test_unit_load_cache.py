@@ -59,3 +59,26 @@ def test_a_released_model_still_serves_its_cached_unit_loads_and_nothing_else():
     assert np.array_equal(again.cases[-1].paths["output"].uy_mm, kept.cases[-1].paths["output"].uy_mm)
     with pytest.raises(SolverError, match="released"):
         prepared.solve(np.ones(prepared.system.n_dofs))
+
+
+def test_unit_loads_given_as_vectors_or_as_columns_are_the_same_loads():
+    """solve_unit_loads takes an (n, m) array or m vectors: the same solutions, one cache, zero vectors never handed
+    to the solver (their solution is 0 exactly)."""
+    rig = load_rig()
+    base = prepare_model(rig)
+    handed = []
+
+    def counting(columns):
+        handed.append(np.array(columns, copy=True))
+        return base.solve(columns)
+
+    loads = base.system.unit_loads
+    vectors = [loads[k] for k in loads] + [np.zeros(base.system.n_dofs)]
+    from_vectors = PreparedModel(base.system, counting, base.solver_name, base.report).solve_unit_loads(vectors)
+    assert len(handed) == 1 and all(np.any(column) for column in handed[0].T)
+    assert not np.any(from_vectors[:, -1])
+    prepared = PreparedModel(base.system, counting, base.solver_name, base.report)
+    from_columns = prepared.solve_unit_loads(np.column_stack(vectors))
+    assert np.array_equal(from_vectors, from_columns)
+    assert np.array_equal(prepared.solve_unit_loads(vectors[::-1]), from_columns[:, ::-1])  # from the cache alone
+    assert len(handed) == 2

@@ -178,3 +178,34 @@ def test_solid_parts_hold_meshes_not_bases(prepared):
         np.testing.assert_array_equal(basis.doflocs.T, prepared.system.dofs.position[rows])
     first, second = prepared.system.solids[:2]
     assert second.offset == first.offset + first.n_dofs
+
+
+def test_solid_meshes_keep_no_jacobians_and_what_is_read_later_is_kept_in_a_file(rig, prepared, monkeypatch):
+    """After the assembly (issue 27: what a solve does not read is not resident at its peak):
+
+    - the meshes let go of what scikit-fem derived from them (its mapping with the Jacobians, facets, edges: 169 MB at
+      627 k DOF); the path probe built afresh on a mesh equals the assembled one (the basis's DOF positions:
+      test_solid_parts_hold_meshes_not_bases);
+    - the DOF table, the weight per g and the cached face tractions are in a file map (here with the size limit at 0;
+      the module's model, below it, keeps them in memory): the same values, and the unit loads rebuilt from them equal.
+    """
+    from rvcoax.geometry.model import hybrid
+
+    monkeypatch.setattr(hybrid, "READ_LATER_TO_FILE_BYTES", 0)
+    from rvcoax.results.sweep import assemble_model
+
+    system = assemble_model(rig, HYBRID)  # its own: the module's model has had bases built on its meshes since
+    assert not [name for part in system.solids for name in hybrid.DERIVED_MESH_DATA if name in vars(part.mesh)]
+    reference = prepared.system
+    for mapped, kept in ((system.dofs.position, reference.dofs.position), (system.dofs.component, reference.dofs.component),
+                         (system.load_builder.weight_per_g, reference.load_builder.weight_per_g)):
+        assert not mapped.flags.owndata and kept.flags.owndata
+        assert mapped.dtype == kept.dtype and np.array_equal(mapped, kept)
+    rebuilt = system.load_builder(rig)
+    assert all(np.array_equal(rebuilt[k], reference.unit_loads[k]) for k in UNIT_LOADS)
+    path = rig.paths.output
+    part = next(p for p in system.solids if p.name == path.part)
+    stations = np.linspace(0.0, path.length_mm, path.stations)
+    uy, rz = hybrid.ring_probe(part, path.x_start_mm + stations, system.n_dofs)
+    assert "_cached_mapping" in vars(part.mesh)  # the probe made a new mapping: the assembly's was gone
+    assert (uy != system.probes["output"].uy).nnz == 0 and (rz != system.probes["output"].rotation_z).nnz == 0
