@@ -25,6 +25,7 @@ are kept (the sparsity pattern is that of the triplets), as with scipy's convers
 
 from __future__ import annotations
 
+import collections
 import os
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
@@ -36,7 +37,7 @@ import scipy.sparse as sp
 from rvcoax.fem.compat import sparse_kernels
 
 __all__ = ["BlockPattern", "PARALLEL_MIN_TRIPLETS", "add_element_matrices", "assemble_matrix", "block_diagonal",
-           "block_pattern", "keep_rows_and_columns", "worker_threads"]
+           "block_pattern", "element_positions", "in_order", "keep_rows_and_columns", "worker_threads"]
 
 # scipy's compiled sparse kernels (private: rvcoax.fem.compat); the public conversion without them
 _KERNELS = sparse_kernels()
@@ -54,6 +55,27 @@ def worker_threads() -> int:
     except AttributeError:  # pragma: no cover - not Linux
         available = os.cpu_count() or 1
     return max(1, min(available, 8))
+
+
+def in_order(produce, items, consume, threads: int) -> None:
+    """``consume(produce(item))`` for every item, consumed in order in the calling thread.
+
+    With ``threads`` > 1 the items are produced on that many worker threads (numpy's array operations release
+    the GIL), at most ``threads`` items ahead of the one consumed, so at most ``threads + 1`` results are held.
+    """
+    items = list(items)
+    if threads <= 1 or len(items) < 2:
+        for item in items:
+            consume(produce(item))
+        return
+    with ThreadPoolExecutor(threads) as pool:
+        pending: collections.deque = collections.deque()
+        for item in items:
+            pending.append(pool.submit(produce, item))
+            if len(pending) > threads:
+                consume(pending.popleft().result())
+        while pending:
+            consume(pending.popleft().result())
 
 
 def _as_index_array(a) -> np.ndarray:
@@ -223,15 +245,15 @@ class BlockPattern:
     """The sparsity of a matrix of 3 × 3 blocks, one block per pair of nodes that share an element.
 
     Unknowns are interleaved per node (3 i + c). The scalar CSR pattern (``indptr``, ``indices``) is
-    that of the assembled matrix; ``node_keys`` (i · n_nodes + j, ascending) locate a node pair's block.
+    that of the assembled matrix; the node graph (``node_indptr``, ``node_cols``) locates a node pair's block.
 
     Attributes
     ----------
     n_nodes : int
     node_indptr : (n_nodes + 1,) int64 array
         Row pointers of the node graph.
-    node_keys : (n_pairs,) int64 array
-        i · n_nodes + j of every node pair, ascending.
+    node_cols : (n_pairs,) array
+        Neighbours of every node, ascending within its row (int32 while the sizes allow).
     indptr : (3 n_nodes + 1,) array
     indices : (9 n_pairs,) array
         int32 while the sizes allow.
@@ -239,7 +261,7 @@ class BlockPattern:
 
     n_nodes: int
     node_indptr: np.ndarray
-    node_keys: np.ndarray
+    node_cols: np.ndarray
     indptr: np.ndarray
     indices: np.ndarray
 
@@ -268,50 +290,82 @@ def block_pattern(element_nodes: np.ndarray, n_nodes: int, chunk: int = 65536) -
     node_indptr = graph.indptr.astype(np.int64)
     node_cols = graph.indices.astype(np.int64)
     degree = np.diff(node_indptr)
-    node_rows = np.repeat(np.arange(n_nodes, dtype=np.int64), degree)
-    node_keys = node_rows * n_nodes + node_cols
-    del graph, node_rows
+    del graph
     nnz = 9 * node_cols.size
     index_type = np.int32 if max(nnz, 3 * n_nodes) < _INT32_MAX else np.int64
-    # scalar row 3 i + a holds, for every neighbour j of i in order, the columns 3 j, 3 j + 1, 3 j + 2
+    # scalar rows 3 i, 3 i + 1, 3 i + 2 each hold, for every neighbour j of i in order, the columns 3 j, 3 j + 1,
+    # 3 j + 2: node i's rows start at 9 · node_indptr[i] and are its column triples three times over
     row_length = np.repeat(3 * degree, 3)
     indptr = np.zeros(3 * n_nodes + 1, dtype=index_type)
     np.cumsum(row_length, out=indptr[1:])
     indices = np.empty(nnz, dtype=index_type)
+    triples = indices.reshape(-1, 3)  # one row per (scalar row's) neighbour
     for i0 in range(0, n_nodes, chunk):
         i1 = min(i0 + chunk, n_nodes)
-        cols = node_cols[node_indptr[i0]:node_indptr[i1]]
-        triple = (3 * cols[:, None] + np.arange(3)).reshape(-1).astype(index_type)  # one node row's columns
-        lengths = 3 * degree[i0:i1]
-        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-        for a in range(3):  # rows 3 i + a repeat the node row's columns
-            rows = 3 * np.arange(i0, i1) + a
-            out = np.repeat(indptr[rows].astype(np.int64) - starts, lengths) + np.arange(triple.size)
-            indices[out] = triple
-    return BlockPattern(int(n_nodes), node_indptr, node_keys, indptr, indices)
+        p0, p1 = int(node_indptr[i0]), int(node_indptr[i1])
+        cols = (3 * node_cols[p0:p1]).astype(index_type)
+        # triple row g = 3 p_i + a deg_i + s (copy a, neighbour s) takes neighbour p_i + s = g − (2 p_i + a deg_i)
+        shift = (2 * node_indptr[i0:i1, None] + np.arange(3) * degree[i0:i1, None]).reshape(-1)
+        source = np.arange(3 * p0, 3 * p1) - np.repeat(shift, np.repeat(degree[i0:i1], 3)) - p0
+        for d in range(3):
+            np.add(cols[source], d, out=triples[3 * p0:3 * p1, d])
+    return BlockPattern(int(n_nodes), node_indptr, node_cols.astype(index_type), indptr, indices)
+
+
+def element_positions(pattern: BlockPattern, element_nodes: np.ndarray) -> np.ndarray:
+    """Where the entries of element matrices go in the pattern's values, in element order.
+
+    Returns, for elements with nodes ``element_nodes`` (n, k), the positions (n · 9 k²,) in ``data`` of their
+    matrices' entries (n, 3k, 3k), local unknown 3 a + c of node a: entry (3 a + c, 3 b + d) of node pair
+    (i, j) lies at ``9 p_i + 3 (q − p_i) + 3 c deg_i + d`` with p_i = ``node_indptr[i]``, deg_i node i's
+    neighbours and q the place of j among them: node i's three scalar rows are contiguous and each holds
+    3 deg_i entries. q is found by bisection within node i's row of the node graph (a few steps over a few
+    cache lines; a binary search over all node pairs cost twice as much at 1 M DOF). int32 while the pattern's
+    size allows.
+
+    Raises
+    ------
+    ValueError
+        An element couples two nodes that are not in the pattern.
+    """
+    element_nodes = np.asarray(element_nodes, dtype=np.int64)
+    n, k = element_nodes.shape
+    index_type = pattern.indices.dtype
+    start = pattern.node_indptr[element_nodes]  # (n, k): p_i of each element's nodes (rows)
+    end = pattern.node_indptr[element_nodes + 1]
+    # lower bound of j in node_cols[p_i : p_i + deg_i] for every (e, a, b)
+    low = np.repeat(start.astype(index_type), k, axis=1).reshape(-1)
+    high = np.repeat(end.astype(index_type), k, axis=1).reshape(-1)
+    row_end = high.copy()
+    wanted = np.broadcast_to(element_nodes[:, None, :], (n, k, k)).reshape(-1).astype(pattern.node_cols.dtype)
+    middle = np.empty_like(low)
+    # as many steps as the longest row needs; a search that has ended (low = high) moves on only where its row
+    # lacks j and the next row's entry is smaller, which the check below refuses either way
+    for _ in range(int((end - start).max(initial=0)).bit_length()):
+        np.add(low, high, out=middle)
+        middle >>= 1
+        right = pattern.node_cols.take(middle, mode="clip") < wanted
+        np.add(middle, 1, out=low, where=right)
+        np.copyto(high, middle, where=~right)
+    if np.any(low >= row_end) or np.any(pattern.node_cols.take(low, mode="clip") != wanted):
+        raise ValueError("an element couples two nodes that are not in the pattern")
+    degree = (end - start).astype(index_type)
+    base = (3 * low.reshape(n, k, k) + (6 * start[:, :, None]).astype(index_type))  # (n, a, b): 9 p_i + 3 (q − p_i)
+    row_step = 3 * degree[:, :, None] * np.arange(3, dtype=index_type)  # (n, a, c): 3 c deg_i
+    position = np.empty((n, k, 3, k, 3), dtype=index_type)  # element order: (e, a, c, b, d)
+    np.add(base[:, :, None, :, None], row_step[:, :, :, None, None], out=position)
+    position += np.arange(3, dtype=index_type)
+    return position.reshape(-1)
 
 
 def add_element_matrices(pattern: BlockPattern, element_nodes: np.ndarray, matrices: np.ndarray,
                          data: np.ndarray) -> None:
     """Add element matrices (n, 3k, 3k), local unknown 3 a + c of node a, into ``data`` (the pattern's values).
 
-    Each element entry is located by its node pair's block (binary search in ``node_keys``) and added
-    in element order (``np.add.at``), so the result does not depend on how the elements are chunked.
+    Each element entry is located by its node pair's block (:func:`element_positions`) and added in element order
+    (``np.add.at``), so the result does not depend on how the elements are chunked.
     """
-    element_nodes = np.asarray(element_nodes, dtype=np.int64)
-    n, k = element_nodes.shape
-    keys = (element_nodes[:, :, None] * pattern.n_nodes + element_nodes[:, None, :]).reshape(-1)
-    pair = np.searchsorted(pattern.node_keys, keys)
-    if np.any(pair >= pattern.node_keys.size) or np.any(pattern.node_keys[np.minimum(pair, pattern.node_keys.size - 1)]
-                                                        != keys):
-        raise ValueError("an element couples two nodes that are not in the pattern")
-    row_node = keys // pattern.n_nodes
-    offset = pair - pattern.node_indptr[row_node]  # position of the block in its node row
-    # entry (3 a + c, 3 b + d) of an element: scalar row 3 i + c, column slot 3 · offset + d
-    row_start = pattern.indptr[(3 * row_node)[:, None] + np.arange(3)].astype(np.int64)  # (n k k, 3)
-    position = (row_start[:, :, None] + 3 * offset[:, None, None] + np.arange(3)).reshape(n, k, k, 3, 3)
-    position = position.transpose(0, 1, 3, 2, 4).reshape(-1)  # element order: (e, a, c, b, d)
-    np.add.at(data, position, np.asarray(matrices, dtype=float).reshape(-1))  # in element order
+    np.add.at(data, element_positions(pattern, element_nodes), np.asarray(matrices, dtype=float).reshape(-1))
 
 
 def block_diagonal(n_dofs: int, blocks: list[tuple[int, sp.csr_matrix]]) -> sp.csr_matrix:
@@ -338,7 +392,8 @@ def block_diagonal(n_dofs: int, blocks: list[tuple[int, sp.csr_matrix]]) -> sp.c
     return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))
 
 
-def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = False, chunk: int = 8192) -> sp.csr_matrix:
+def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = False, chunk: int = 8192,
+                          threads: int | None = None) -> sp.csr_matrix:
     """``matrix[keep][:, keep]`` of a square CSR matrix in one pass over its rows: the constraint elimination
     of fixed unknowns.
 
@@ -357,6 +412,9 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
         Reuse (and consume) ``matrix``'s arrays.
     chunk : int
         Rows per block (8192 rows of a P2 solid: about 16 MB of temporaries).
+    threads : int, optional
+        Worker threads that gather the next blocks while the calling thread writes (:func:`in_order`; the same
+        result); default :func:`worker_threads` from :data:`PARALLEL_MIN_TRIPLETS` stored entries on, else one.
     """
     n = matrix.shape[0]
     if matrix.shape != (n, n) or not (sp.isspmatrix_csr(matrix) or isinstance(matrix, sp.csr_array)):
@@ -376,22 +434,36 @@ def keep_rows_and_columns(matrix: sp.csr_matrix, keep, *, overwrite: bool = Fals
     renumber = np.full(n, -1, dtype=matrix.indices.dtype)
     renumber[kept_rows] = np.arange(kept_rows.size, dtype=renumber.dtype)
     new_indptr = np.zeros(kept_rows.size + 1, dtype=indptr.dtype)
-    written = rows_done = 0
-    for r0 in range(0, n, chunk):
+
+    def kept_part(r0: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Rows r0 … r0 + chunk: the kept entries' values and new columns (copies), and each kept row's count."""
         r1 = min(r0 + chunk, n)
         s, e = int(indptr[r0]), int(indptr[r1])
         columns = matrix.indices[s:e]
         local_row = np.repeat(np.arange(r1 - r0), np.diff(indptr[r0:r1 + 1]))
         selected = keep[columns] & keep[r0:r1][local_row]
-        m = int(np.count_nonzero(selected))
-        values = matrix.data[s:e][selected]  # copies: safe to write over the same arrays below (written ≤ s)
-        new_columns = renumber[columns[selected]]
+        per_row = np.bincount(local_row[selected], minlength=r1 - r0)[keep[r0:r1]]
+        return matrix.data[s:e][selected], renumber[columns[selected]], per_row
+
+    written = rows_done = 0
+
+    def write(part) -> None:
+        nonlocal written, rows_done
+        values, new_columns, per_row = part
+        m = values.size
         data[written:written + m] = values
         indices[written:written + m] = new_columns
-        per_row = np.bincount(local_row[selected], minlength=r1 - r0)[keep[r0:r1]]
         new_indptr[rows_done + 1:rows_done + 1 + per_row.size] = written + np.cumsum(per_row)
         written += m
         rows_done += per_row.size
+
+    # Blocks are written in order. Writing block k touches the arrays only below the end of its rows (at most as
+    # many entries are kept as there were), so reading later blocks while it is written is safe with overwrite:
+    # worker threads read (gather and renumber) the next blocks while the calling thread writes.
+    starts = range(0, n, chunk)
+    if threads is None:
+        threads = worker_threads() if matrix.nnz >= PARALLEL_MIN_TRIPLETS else 1
+    in_order(kept_part, starts, write, threads)
     # views of the front of the arrays: the dropped entries' tail (the clamped rows' share) stays allocated,
     # but nothing is copied (scipy's matrices often hold views, which cannot be shrunk in place)
     data, indices = data[:written], indices[:written]

@@ -162,27 +162,35 @@ class UpperStorage:
 
 
 def _upper_blocks(a: sp.csr_matrix, size: int) -> UpperStorage | None:
-    """Upper block triangle of ``a`` if it is exactly made of aligned ``size`` × ``size`` blocks, else None."""
+    """Upper block triangle of ``a`` if it is exactly made of aligned ``size`` × ``size`` blocks, else None.
+
+    Worked on whole blocks: when the ``size`` rows of block row I have the same length ``size · d_I``, its
+    entries are ``size`` rows of d_I groups of ``size`` columns each, so block s of the block row has its row r at
+    group ``size · p_I + r d_I + s`` (p_I: blocks before I); the checks and the gather of the upper blocks' values
+    are a few passes over the blocks, not over the entries.
+    """
     n = a.shape[0]
     if n % size or a.nnz % size:
         return None
-    lengths = np.diff(a.indptr)
-    per_block_row = lengths.reshape(-1, size)
-    if np.any(per_block_row % size) or np.any(per_block_row != per_block_row[:, :1]):
+    lengths = np.diff(a.indptr).reshape(-1, size)
+    if np.any(lengths % size) or np.any(lengths != lengths[:, :1]):
         return None
     columns = a.indices.reshape(-1, size)  # rows hold whole groups of `size` columns, so groups never straddle rows
     first = columns[:, 0]
     if np.any(first % size) or any(np.any(columns[:, k] - first != k) for k in range(1, size)):
         return None
-    row_of_group = np.repeat(np.arange(n, dtype=np.int32), lengths // size)
-    phase = row_of_group % size
-    groups = [np.flatnonzero(phase == r) for r in range(size)]  # row r of every block, block by block
-    if any(not np.array_equal(first[g], first[groups[0]]) for g in groups[1:]):
+    degree = lengths[:, 0].astype(np.int64) // size  # blocks per block row
+    block_ptr = np.zeros(n // size + 1, dtype=np.int64)
+    np.cumsum(degree, out=block_ptr[1:])
+    repeated = np.repeat(degree, degree)  # d_I of each block
+    group = np.arange(int(block_ptr[-1])) + np.repeat((size - 1) * block_ptr[:-1], degree)  # row 0 of each block
+    block_column = first[group]
+    if any(not np.array_equal(first[group + r * repeated], block_column) for r in range(1, size)):
         return None
-    block_column = first[groups[0]] // size
-    block_row = row_of_group[groups[0]] // size
-    upper = np.flatnonzero(block_column >= block_row)
-    rows_of_block = np.stack([g[upper] for g in groups], axis=1)  # (n_blocks, size): groups holding each block's rows
+    block_column //= size
+    block_row = np.repeat(np.arange(n // size, dtype=np.int32), degree)
+    upper = block_column >= block_row
+    rows_of_block = group[upper, None] + repeated[upper, None] * np.arange(size)  # groups holding each block's rows
     data = a.data.reshape(-1, size)[rows_of_block]  # (n_blocks, row in block, column in block)
     indptr = np.zeros(n // size + 1, dtype=np.int32)
     np.cumsum(np.bincount(block_row[upper], minlength=n // size), out=indptr[1:])

@@ -32,7 +32,7 @@ import skfem
 from scipy.spatial import cKDTree
 
 __all__ = ["DEFAULT_INTORDER", "ElasticMaterial", "FACET_INTORDER", "body_force_vector", "dof_components", "dof_locations",
-           "facet_basis", "force_traction_vector", "lame_parameters", "logger", "mass_matrix", "MASS_INTORDER",
+           "facet_basis", "force_traction_vector", "lame_parameters", "logger", "mass_matrix", "MASS_INTORDER", "PARALLEL_MIN_ELEMENTS",
            "probe_matrix", "solid_basis", "stiffness_matrix", "stiffness_triplets", "stress_at_nodes",
            "torque_traction_vector", "von_mises", "von_mises_at_nodes"]
 
@@ -43,6 +43,8 @@ MASS_INTORDER = 4  # ρ Nₐ N_b is of degree 4 on a straight P2 tet: the 4-poin
 FACET_INTORDER = 4  # surface integrals are cheap: integrate curved facets accurately
 _N_P2 = 10  # scalar P2 functions per tet
 _CHUNK_ELEMENTS = 512  # element matrices are computed in blocks of this many tets (~4 MB temporaries)
+PARALLEL_MIN_ELEMENTS = 4 * _CHUNK_ELEMENTS
+"""From this many tets on, :func:`stiffness_matrix` computes its blocks on worker threads."""
 
 
 @dataclass(frozen=True)
@@ -175,16 +177,21 @@ def stiffness_triplets(basis, youngs_modulus_Pa: float, poisson: float, dof_offs
     return rows, cols, values.ravel()
 
 
-def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float) -> sp.csr_matrix:
+def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float, *, threads: int | None = None) -> sp.csr_matrix:
     """Stiffness (N × N, CSR) assembled in blocks of elements straight into its 3 × 3-block pattern.
 
     No triplet arrays: the pattern (:func:`rvcoax.fem.assembly.block_pattern`) is built from the
     element–node incidence and each block of :data:`_CHUNK_ELEMENTS` element matrices is added into
     the values in place, so the peak memory of the assembly is the matrix plus the pattern's node
-    keys and one block's temporaries (benchmarks/RESULTS.md, bench_assembly_memory.py). Equal to
-    ``assemble_matrix(N, [stiffness_triplets(...)])`` up to the order of summation (rounding).
+    keys and a few blocks' temporaries (benchmarks/RESULTS.md, bench_assembly_memory.py). Equal to
+    ``assemble_matrix(N, [stiffness_triplets(...)])`` bit for bit: the same additions in element order.
+
+    With more than one thread (default: :func:`rvcoax.fem.assembly.worker_threads` from
+    :data:`PARALLEL_MIN_ELEMENTS` elements on) worker threads compute the blocks' element matrices and
+    their places in the pattern (numpy's array operations release the GIL) while the calling thread adds
+    the finished blocks in element order, at most ``threads`` blocks ahead: the same floats as one thread.
     """
-    from rvcoax.fem.assembly import add_element_matrices, block_pattern
+    from rvcoax.fem.assembly import add_element_matrices, block_pattern, element_positions, in_order, worker_threads
 
     _check_vector_p2(basis)
     lam, mu = lame_parameters(youngs_modulus_Pa, poisson)
@@ -193,13 +200,23 @@ def stiffness_matrix(basis, youngs_modulus_Pa: float, poisson: float) -> sp.csr_
     pattern = block_pattern(element_nodes, basis.N // 3)
     data = np.zeros(pattern.nnz)
     n = element_nodes.shape[0]
-    chunk = np.empty((_CHUNK_ELEMENTS, 9 * _N_P2 * _N_P2))
-    for start in range(0, n, _CHUNK_ELEMENTS):
-        block = slice(start, min(start + _CHUNK_ELEMENTS, n))
-        values = chunk[: block.stop - block.start]
-        grads = np.stack([g[:, block, :] for g in gradients])
-        _element_stiffness_into(values, grads, basis.dx[block], lam, mu)
-        add_element_matrices(pattern, element_nodes[block], values, data)
+    blocks = [slice(start, min(start + _CHUNK_ELEMENTS, n)) for start in range(0, n, _CHUNK_ELEMENTS)]
+    if threads is None:
+        threads = worker_threads() if n >= PARALLEL_MIN_ELEMENTS else 1
+    if threads <= 1:
+        chunk = np.empty((_CHUNK_ELEMENTS, 9 * _N_P2 * _N_P2))
+        for block in blocks:
+            values = chunk[: block.stop - block.start]
+            grads = np.stack([g[:, block, :] for g in gradients])
+            _element_stiffness_into(values, grads, basis.dx[block], lam, mu)
+            add_element_matrices(pattern, element_nodes[block], values, data)
+    else:
+        def element_block(block: slice) -> tuple[np.ndarray, np.ndarray]:
+            values = np.empty((block.stop - block.start, 9 * _N_P2 * _N_P2))
+            _element_stiffness_into(values, np.stack([g[:, block, :] for g in gradients]), basis.dx[block], lam, mu)
+            return element_positions(pattern, element_nodes[block]), values.reshape(-1)
+
+        in_order(element_block, blocks, lambda placed: np.add.at(data, *placed), threads)
     return sp.csr_matrix((data, pattern.indices, pattern.indptr), shape=(basis.N, basis.N))
 
 

@@ -73,14 +73,15 @@ COST_MODEL = SolverCostModel(
     factor_bytes=0.57e9, factor_memory_exponent=1.38,
     # AMG-CG with the default stopping rule: 42, 46 and 52 iterations at 61 k, 341 k and 1.14 M DOF (fem/amg.py's
     # Chebyshev cycle). Set-up: 0.9e-7 s per nonzero, estimated for an idle machine from CPU times under load
-    # (341 k DOF: 3.2 s CPU, where pyamg's driver took 6.0-6.8 s CPU and 4.94 s idle wall; 61 k DOF: 0.57 s CPU);
-    # the lead's idle runs refit it. One iteration: the cantilever's idle runs give 1.6-1.8e-9 s per nonzero
-    # (1.96 s / 45 it. at 341 k, 8.94 s / 52 it. at 1.14 M DOF), but the constant stays at 1.2e-8: the model
-    # is fitted on the cantilever alone, and with 1.7e-9 it would send one right-hand side to AMG from 42 k DOF
-    # and the rig sweeps' nine unit loads from 335 k DOF (the all-solid rig's tied matrix, whose AMG iterations
-    # nobody has measured) instead of 257 k and 4.7 M DOF (benchmarks/RESULTS.md, h27amg). 29.5 bytes per
-    # nonzero above the matrix at 341 k DOF (pyamg's driver: 37.5).
-    amg_setup_s_per_nnz=0.9e-7, amg_iteration_s_per_nnz=1.2e-8, amg_iterations=45.0, amg_iteration_exponent=0.15,
+    # (341 k DOF: 3.2 s CPU, where pyamg's driver took 6.0-6.8 s CPU and 4.94 s idle wall; 61 k DOF: 0.57 s CPU).
+    # One iteration: 1.7e-9 s per nonzero, the cantilever's idle runs (1.6-1.8e-9: 1.96 s / 45 it. at 341 k,
+    # 8.94 s / 52 it. at 1.14 M DOF). These constants hold for plain elasticity (a part with its supports
+    # eliminated), the system they were measured on. A rig's tied system is not such a system: the all-solid rig
+    # forced onto AMG (`rvcoax sweep --model solid --solver amg`, 492 k DOF, one case) peaked at 10.3 GB and had not
+    # finished after 176 s of CPU time (stopped), where PARDISO's whole sweep takes 26.8 s and 4.14 GB; so
+    # rvcoax.fem.system.prepare_system chooses for it with ``amg_cost_known=False`` (AMG only where PARDISO's
+    # memory does not fit). 29.5 bytes per nonzero above the matrix at 341 k DOF (pyamg's driver: 37.5).
+    amg_setup_s_per_nnz=0.9e-7, amg_iteration_s_per_nnz=1.7e-9, amg_iterations=45.0, amg_iteration_exponent=0.15,
     amg_bytes_per_nnz=30.0,
 )
 """Fitted to benchmarks/RESULTS.md, block "bench_solver_choice.py" (see the module docstring)."""

@@ -141,6 +141,7 @@ def choose_method(  # noqa: PLR0913
     *,
     superlu_max_dofs: int = SUPERLU_MAX_DOFS,
     cost_model: SolverCostModel = COST_MODEL,
+    amg_cost_known: bool = True,
 ) -> str:
     """The ``"auto"`` choice for a system of ``n_dofs`` unknowns.
 
@@ -158,6 +159,10 @@ def choose_method(  # noqa: PLR0913
     n_rhs : int
         Right-hand sides the set-up will serve.
     available_bytes : float, optional
+    amg_cost_known : bool
+        False for a system unlike the one the AMG constants were measured on (plain elasticity, supports
+        eliminated): a rig's system with ties, whose CG iterations the cost model does not know. AMG is then
+        chosen only where PARDISO's memory does not fit.
     """
     if n_dofs < superlu_max_dofs:
         return "superlu"
@@ -167,6 +172,8 @@ def choose_method(  # noqa: PLR0913
     room = available_memory_bytes() if available_bytes is None else available_bytes
     if room is not None and cost_model.pardiso_bytes(n_dofs, nnz) > MEMORY_HEADROOM * room:
         return "amg"
+    if not amg_cost_known:
+        return "pardiso"
     return "pardiso" if cost_model.pardiso_seconds(n_dofs, n_rhs) <= cost_model.amg_seconds(nnz, n_rhs, n_dofs) else "amg"
 
 

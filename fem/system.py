@@ -421,7 +421,10 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
     rvcoax.fem.errors.SingularMatrixError
         A direct factorisation found Tᵀ K T singular.
     """
-    chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs) if method == "auto" else method)
+    # a DOF tied to several others (a row of T with more than one entry) makes this a rig's tied system, not the
+    # plain elasticity whose AMG iterations the cost model knows (rvcoax.fem.solver_cost)
+    chosen = (solvers.choose_method(elimination.shape[1], stiffness.nnz, n_rhs,
+                                    amg_cost_known=long_rows(elimination, 1).size == 0) if method == "auto" else method)
     long = tied_rows(stiffness, elimination) if chosen == "pardiso" and solvers.pardiso_available() else np.zeros(0, dtype=int)
     if long.size:
         # too large an update with the ties alone: the Cholesky path would refuse only after K' is formed (the

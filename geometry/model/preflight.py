@@ -466,7 +466,8 @@ def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, sol
     size = rig.solid.mesh_size_mm if mesh_size_mm is None else mesh_size_mm
     part_dofs = _solid_dofs(rig, model, size)
     dofs = int(sum(part_dofs.values()))
-    method = choose_method(dofs, n_rhs=len(UNIT_LOADS)) if solver == "auto" else solver
+    # a rig's hybrid or solid model is a tied system: prepare_system chooses for it with amg_cost_known=False
+    method = choose_method(dofs, n_rhs=len(UNIT_LOADS), amg_cost_known=False) if solver == "auto" else solver
     needed = BASE_BYTES + BYTES_PER_DOF[method] * dofs
     from rvcoax.geometry.model.workload import available_memory_bytes
 

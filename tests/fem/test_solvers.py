@@ -200,13 +200,19 @@ def test_the_cost_model_choice_flips_where_its_constants_say():
     assert solvers.choose_method(2 * one, n_rhs=40, available_bytes=plenty) == "pardiso"
     # memory: PARDISO is dropped where its factor would not fit
     needed = model.pardiso_bytes(100_000, solvers.NONZEROS_PER_ROW * 100_000)
-    assert solvers.choose_method(100_000, available_bytes=2 * needed) == "pardiso"
-    assert solvers.choose_method(100_000, available_bytes=0.5 * needed) == "amg"
+    assert solvers.choose_method(100_000, n_rhs=9, available_bytes=2 * needed) == "pardiso"
+    assert solvers.choose_method(100_000, n_rhs=9, available_bytes=0.5 * needed) == "amg"
     # nonzeros: a denser matrix makes every CG iteration dearer
     assert solvers.choose_method(one, nonzeros=10 * solvers.NONZEROS_PER_ROW * one, available_bytes=plenty) == "pardiso"
-    # the defaults on this machine class: small systems unchanged, a 100 k system factorised
+    # the defaults on this machine class: small systems unchanged; a 100 k system factorised for a sweep's nine
+    # unit loads, solved by AMG-CG for one right-hand side (the cantilever's measured constants)
     assert solvers.choose_method(19_999) == "superlu"
-    assert solvers.choose_method(100_000, available_bytes=plenty) == "pardiso"
+    assert solvers.choose_method(100_000, n_rhs=9, available_bytes=plenty) == "pardiso"
+    assert solvers.choose_method(100_000, available_bytes=plenty) == "amg"
+    # a system the AMG constants were not measured on (a rig's ties): AMG only where PARDISO does not fit
+    assert solvers.choose_method(100_000, available_bytes=plenty, amg_cost_known=False) == "pardiso"
+    assert solvers.choose_method(10 * one, n_rhs=1, available_bytes=plenty, amg_cost_known=False) == "pardiso"
+    assert solvers.choose_method(100_000, available_bytes=0.5 * needed, amg_cost_known=False) == "amg"
 
 
 @pytest.mark.parametrize("method", [m for m in METHODS if m != "amg"])

@@ -311,3 +311,26 @@ def test_the_stiffness_moved_to_a_file_while_factorising_gives_the_same_solution
     assert np.array_equal(v, u)
     assert np.array_equal(moved.relative_residual(v, loads), residual)
     assert np.array_equal(moved_k @ v, k @ u)
+
+
+def test_auto_chooses_for_a_tied_system_without_the_plain_elasticity_amg_constants(tied_bar, monkeypatch):
+    """The AMG cost constants were measured on plain elasticity (rvcoax.fem.solver_cost); a system with ties (a row
+    of T with several entries) is chosen for with ``amg_cost_known=False``, a support elimination alone without."""
+    from rvcoax.fem import solvers
+
+    k, t, _, _ = tied_bar
+    seen = []
+
+    class Chosen(Exception):
+        pass
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs.get("amg_cost_known", True))
+        raise Chosen  # the choice is what this test reads; nothing is solved
+
+    monkeypatch.setattr(solvers, "choose_method", spy)
+    supports = sp.eye(k.shape[0], format="csr")[:, 12:]  # the reference nodes' DOFs held: no ties left
+    for elimination in (t, supports):
+        with pytest.raises(Chosen):
+            prepare_system(k, elimination, "auto")
+    assert seen == [False, True]

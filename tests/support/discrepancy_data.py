@@ -29,11 +29,11 @@ def discrepancy_rig(reference: Rig | None = None) -> Rig:
 
 
 
-def identification_rig() -> Rig:
-    """The beam model the workflow identifies CalculiX data with: Timoshenko shafts (CalculiX's elements deform in
-    shear), Y from the rig aligned at rest."""
+def identification_rig(datum: str = "aligned_at_rest") -> Rig:
+    """The beam model the workflow identifies CalculiX and hybrid-model data with: Timoshenko shafts (their elements and
+    solid shafts deform in shear), Y from ``datum`` (default: the rig aligned at rest)."""
     data = discrepancy_rig().model_dump(by_alias=True)
-    data["paths"]["measured_from"] = "aligned_at_rest"
+    data["paths"]["measured_from"] = datum
     data["beam"]["shear_deformation"] = True
     return Rig.model_validate(data)
 

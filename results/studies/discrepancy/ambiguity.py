@@ -75,11 +75,11 @@ class MemberSize:
     within_bounds: bool
 
 
-def needed_sigma(readings: int, alpha: float = DETECTION_ALPHA) -> float:
+def needed_sigma(readings: int, alpha: float = DETECTION_ALPHA, dof: float = np.inf) -> float:
     """What a difference read ``readings`` times (its norm in σ) must reach to split two members: the gap test's
     detection norm on that many observations, and at least :data:`REVEAL_SIGMA` (the visibility report's rule for a
     measurement that reveals an effect)."""
-    return max(detection_norm(readings, alpha), REVEAL_SIGMA)
+    return max(detection_norm(readings, alpha, dof), REVEAL_SIGMA)
 
 
 @dataclass(frozen=True)
@@ -356,7 +356,7 @@ def best_split(predictors: dict[str, Predictor], observed, noise_mm: dict[str, f
                 options += [((c,), np.abs(difference[:, :, c])) for c in range(k)]
             made = _already_measured(observed.data, scenario, shaft, engine.stations_mm[shaft])
             for used, separations in options:
-                need = needed_sigma(len(used), alpha)
+                need = needed_sigma(len(used), alpha, observed.dof())
                 between = separations if len(names) == len(members) else _by_class(separations, index)
                 for j in range(separations.shape[2]):
                     if made[list(used), j].any():  # not an extra measurement: the data hold that reading

@@ -56,6 +56,7 @@ from rvcoax.results.studies.discrepancy.judge import (
     load_x,
     look_alike_places,
 )
+from rvcoax.results.studies.discrepancy.locate import detection_norm
 from rvcoax.results.studies.discrepancy.sentinel import FAMILIES, SLOTS, sentinel_scan, site_in
 
 __all__ = ["DRAWS", "MIN_BIN", "TRUTHS", "Confidence", "verdict_confidence", "wilson"]
@@ -365,6 +366,7 @@ class _Replay:
                       / s_fit[None, :] for c in self.curves]
         self.norms = [np.einsum("ji,ji->j", g, g) for g in self.grids]
         self.model_form_norm = settings.model_form_fraction * float(np.linalg.norm(observed.before[self.rows]))
+        self.detection = detection_norm(self.n_fit, settings.alpha)  # a difference the gap test sees (in σ)
         self._cross: dict[int, list[np.ndarray]] = {}
 
     # -- one data set ----------------------------------------------------------------------------------------
@@ -442,9 +444,11 @@ class _Replay:
             elif chi2_0 - bic[c] >= settings.bic_margin:
                 sc = _at(self.curves[c], singles.value[d, c])[self.rows] / self.sigma[self.rows]
                 norm = np.linalg.norm(sw) * np.linalg.norm(sc)
-                # a parallel look-alike stays only within the model-form allowance of the winner (the workflow's rule)
+                # a parallel look-alike stays only within the model-form allowance of the winner and below what the gap
+                # test detects (the workflow's rule, workflow._fits_as_well)
                 if norm > 0 and abs(float(sw @ sc)) / norm > settings.parallel_cosine \
-                        and np.linalg.norm((sc - sw) * self.sigma[self.rows]) <= self.model_form_norm:
+                        and np.linalg.norm((sc - sw) * self.sigma[self.rows]) <= self.model_form_norm \
+                        and np.linalg.norm(sc - sw) < self.detection:
                     group.append(c)
         return group
 

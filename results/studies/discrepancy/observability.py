@@ -60,12 +60,13 @@ class Suggestion:
     other_datum: bool
     series_in_sigma: float = 0.0
     cases_in_series: int = 1
+    dof: float = np.inf  # of the σ² that scales the readings (the file's: ∞ when σ is known)
 
     @property
     def reveals(self) -> bool:
         """Whether measuring u_y at this station in every case of the suggestion (``cases_in_series``) would make
         the gap test fire on those measurements alone (:func:`detection_norm`)."""
-        return self.series_in_sigma >= max(detection_norm(self.cases_in_series, DETECTION_ALPHA), REVEAL_SIGMA)
+        return self.series_in_sigma >= max(detection_norm(self.cases_in_series, DETECTION_ALPHA, self.dof), REVEAL_SIGMA)
 
     def sentence(self) -> str:
         datum = "Y from the unloaded geometry" if self.other_datum else "Y as now"
@@ -139,7 +140,7 @@ def scenarios(data, from_rest: bool) -> list[Scenario]:
     return out
 
 
-def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) -> Suggestion | None:
+def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict, dof: float = np.inf) -> Suggestion | None:
     paths = engine.full_paths(unit_change, scenario.cases, scenario.from_rest)
     layout = engine.layout(len(scenario.cases))
     best, where = None, None
@@ -156,7 +157,7 @@ def _best_station(engine, unit_change, scenario: Scenario, shaft_sigma: dict) ->
         return None
     shaft, j = where  # the same station measured in every case of the scenario: what a gap test would see
     series = np.array([paths[layout.block(i, shaft)][j] for i in range(len(scenario.cases))]) / shaft_sigma[shaft]
-    return replace(best, series_in_sigma=float(np.linalg.norm(series)), cases_in_series=len(scenario.cases))
+    return replace(best, series_in_sigma=float(np.linalg.norm(series)), cases_in_series=len(scenario.cases), dof=dof)
 
 
 def shaft_sigmas(data, sigma) -> dict:
@@ -174,7 +175,7 @@ def observability(responses: dict, observed: Observed, alpha: float = DETECTION_
     ``visible`` (‖s‖ ≥ :data:`VISIBLE_NORM`) decides which candidates are screened; ``detectable`` whether the gap
     test at ``alpha`` would find the effect alone on these data (:func:`detection_norm` of every row, as the test reads them):
     what the report calls "can reveal"."""
-    threshold = detection_norm(int(observed.data.n), alpha)  # the gap test reads every row (held-out ones too)
+    threshold = detection_norm(int(observed.data.n), alpha, observed.dof())  # the gap test reads every row
     shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
     options = scenarios(observed.data, observed.from_rest)
     out = {}
@@ -188,7 +189,7 @@ def observability(responses: dict, observed: Observed, alpha: float = DETECTION_
             unit = response.unit_at(values)
             candidates = []
             if unit is not None:
-                candidates = [_best_station(observed.engine, unit, scenario, shaft_sigma) for scenario in options]
+                candidates = [_best_station(observed.engine, unit, scenario, shaft_sigma, observed.dof()) for scenario in options]
             candidates = [c for c in candidates if c is not None]
             if candidates:
                 suggestion = max(candidates, key=lambda c: c.in_sigma)
@@ -249,7 +250,7 @@ def discriminate(first, second, observed: Observed) -> Suggestion | None:
         return None
     scale = float(sa @ sb) / float(sb @ sb)
     shaft_sigma = shaft_sigmas(observed.data, observed.sigma)
-    found = [_best_station(observed.engine, ua - scale * ub, scenario, shaft_sigma)
+    found = [_best_station(observed.engine, ua - scale * ub, scenario, shaft_sigma, observed.dof())
              for scenario in scenarios(observed.data, observed.from_rest)]
     found = [f for f in found if f is not None]
     return max(found, key=lambda f: f.in_sigma) if found else None

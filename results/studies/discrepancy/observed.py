@@ -29,6 +29,8 @@ class Observed:
         Y is read from the rig at rest (``paths.measured_from = "aligned_at_rest"``).
     engine : Engine or None
         The factorised base model (None when a library was given without one).
+    noise : NoiseEstimate or None
+        How σ was obtained (its degrees of freedom: :meth:`dof`); None counts σ as known.
     """
 
     data: object
@@ -38,6 +40,11 @@ class Observed:
     rows: np.ndarray
     from_rest: bool
     engine: object = None
+    noise: object = None
+
+    def dof(self, rows: np.ndarray | None = None) -> float:
+        """Degrees of freedom of the σ² that scales the observations ``rows`` (every one when None): ∞ for a known σ."""
+        return np.inf if self.noise is None else self.noise.degrees_of_freedom(rows, self.data.shaft)
 
     @property
     def before(self) -> np.ndarray:

@@ -43,6 +43,7 @@ from rvcoax.results.studies.discrepancy.judge import (
 from rvcoax.results.studies.discrepancy.locate import (
     GapTest,
     NoiseEstimate,
+    detection_norm,
     estimate_noise,
     gap_test,
     residual_structure,
@@ -461,7 +462,7 @@ def _observe(rig, data: MeasuredData, settings: DiscrepancySettings, library: Ca
         observe = observe_of(library.layout)
         library_base = library.base_paths
     observed = Observed(data=data, sigma=sigma, base_paths=library.base_paths, observe=observe, rows=held_out_mask(data, settings.hold_out_every),
-                        from_rest=from_rest, engine=library.engine)
+                        from_rest=from_rest, engine=library.engine, noise=noise)
     set_aside: dict[str, str] = dict(library.failed)
     seen = {}
     for name, response in library.responses.items():
@@ -482,7 +483,7 @@ def _locate(seen: Seen, settings: DiscrepancySettings) -> Located:
     """The χ² test of the gap, its structure, and the best generic load with its cross-validation."""
     observed = seen.observed
     data, sigma, before = observed.data, observed.sigma, observed.before
-    test_before = gap_test(observed.scaled_before, settings.alpha)  # every row, as the test after the fit
+    test_before = gap_test(observed.scaled_before, settings.alpha, observed.dof())  # every row, as the test after the fit
     structure = residual_structure(data, data.value_mm - before, sigma,
                                    model_form_fraction=settings.model_form_fraction)
     folds = case_folds(data)
@@ -659,9 +660,12 @@ def _fits_as_well(seen: Seen, named: Named, name: str, member: str, settings: Di
     data as well as the selection: its BIC within the ambiguity margin of the selection's, or its predictions within the
     model-form allowance of the selection's (RMS of their difference at most that fraction of the RMS signal on the
     rows used to fit: the identification model itself is trusted no closer, so a difference smaller than that does not
-    tell them apart, whatever the χ² says). A look-alike that the data tell apart by more than both is not in the
-    group, however parallel its signature. A clearance read off its interpolated response is confirmed with its exact
-    law on the factorisation (:func:`lookalikes.exact_fit`), not the spline between its grid values."""
+    tell them apart, whatever the χ² says) and below the gap test's detection rule (the norm of their difference in σ
+    of the rows used to fit, :func:`locate.detection_norm`: σ already holds the model-form allowance of each row, so a
+    difference the gap test would find as a gap is one the data see, wherever along the sweep it lies, however small
+    beside the largest readings). A look-alike that the data tell apart is not in the group, however parallel its
+    signature. A clearance read off its interpolated response is confirmed with its exact law on the factorisation
+    (:func:`lookalikes.exact_fit`), not the spline between its grid values."""
     problem, names = named.problem, tuple(n for n, _ in named.fitted)
     start = dict(named.fitted)
     try:
@@ -676,31 +680,52 @@ def _fits_as_well(seen: Seen, named: Named, name: str, member: str, settings: Di
     if trial_bic - current_bic < settings.ambiguity_margin:
         return True
     rows = problem.rows
-    signal = seen.observed.before[rows]
-    return bool(np.linalg.norm((trial_predicted - current_predicted)[rows]) <= settings.model_form_fraction * np.linalg.norm(signal))
+    difference = (trial_predicted - current_predicted)[rows]
+    within_model_form = np.linalg.norm(difference) <= settings.model_form_fraction * np.linalg.norm(seen.observed.before[rows])
+    seen_by_the_test = np.linalg.norm(difference / problem.sigma[rows]) >= detection_norm(rows.size, settings.alpha)
+    return bool(within_model_form and not seen_by_the_test)
+
+
+def _earns_beside(named: Named, member: str) -> bool:
+    """Whether ``member`` added beside the final selection earns its parameter (the BIC with it lower than without,
+    within its physical bounds: the criterion by which :func:`_pairs_as_well` takes a pair's second member): the data
+    cannot exclude it as a companion of the named effects."""
+    problem, names = named.problem, tuple(n for n, _ in named.fitted)
+    if member in names:
+        return False
+    start = dict(named.fitted)
+    try:
+        current, trial = problem.fit(names, start), problem.fit(names + (member,), start)
+    except CANDIDATE_FAILURES:
+        return True  # cannot tell: keep it in the group
+    return trial.rejected is None and trial.bic < current.bic
 
 
 def _groups(seen: Seen, named: Named, settings: DiscrepancySettings) -> tuple[list[SelectedEffect], tuple[Discrimination, ...]]:
     """Each effect added with its group: the candidates of its step (within the ambiguity margin of the winner there,
     or with a nearly parallel signature) and of its signature group, each kept only when, in place of the effect with
-    the other effects added, it explains the data as well (:func:`_fits_as_well`; a step's candidates are kept whole
-    when the selection was pruned since that step); and the measurements that tell the members apart, the closest
-    look-alikes first, each pair once."""
+    the other effects added, it explains the data as well (:func:`_fits_as_well`); and the measurements that tell the
+    members apart, the closest look-alikes first, each pair once.
+
+    Every member is judged in the final selection, also when effects were pruned since its step: the step's group was
+    formed beside companions that no longer explain the data, so only the final selection says which members the
+    data still cannot tell apart (a step's group kept whole had made a pair 'ambiguous' with members 60 BIC worse).
+    A member of such a step leaves the group only when the data exclude it both in place of the effect and beside
+    it (:func:`_earns_beside`): a member the screen met beside companions that it pruned since may be the second of a
+    pair whose other member the final selection names."""
     gains = {step.added: step for step in named.steps}
-    # a step's look-alikes are judged again in the final selection only when it is the steps' own (nothing pruned): a
-    # member of a step whose companions were pruned since was a look-alike in a context that no longer exists
-    same = not any(step.pruned for step in named.steps) and \
-        {n for n, _ in named.fitted} == {step.added for step in named.steps}
+    pruned = any(step.pruned for step in named.steps) or {n for n, _ in named.fitted} != {s.added for s in named.steps}
     selected = []
     for name, values in named.fitted:
         step = gains.get(name)
-        group = list(step.group) if step is not None and not same else [name]
-        considered = list(step.group) if step is not None and same else []
+        group = [name]
+        considered = list(step.group) if step is not None else []
         for members in seen.groups:  # nearly parallel signatures on these data
             if name in members:
                 considered += [m for m in members if m not in considered and m not in group and m in seen.responses]
         group += [m for m in considered if m not in group and m in seen.responses
-                  and _fits_as_well(seen, named, name, m, settings)]
+                  and (_fits_as_well(seen, named, name, m, settings)
+                       or (pruned and step is not None and m in step.group and _earns_beside(named, m)))]
         selected.append(SelectedEffect(name, tuple(float(v) for v in values),
                                        step.delta_bic if step is not None else 0.0, tuple(group), 1))
     pairs = [(s.name, m) for s in selected for m in s.group[1:]]
@@ -845,9 +870,9 @@ def _judge(seen: Seen, located: Located, named: Named, settings: DiscrepancySett
         rejected.update(step.rejected)
     selected, discriminations = _groups(seen, named, settings)
     scaled_after = (data.value_mm - after) / sigma
-    test_after = gap_test(scaled_after, settings.alpha)
+    test_after = gap_test(scaled_after, settings.alpha, observed.dof())
     held = ~observed.rows
-    test_held = gap_test(scaled_after[held], settings.alpha) if held.any() else None
+    test_held = gap_test(scaled_after[held], settings.alpha, observed.dof(held)) if held.any() else None
     cv = _vocabulary_cv(problem, tuple(n for n, _ in fitted), dict(fitted), observed.scaled_before, located.folds) \
         if fitted and all(n in seen.responses for n, _ in fitted) else None
     set_aside = dict(named.set_aside)

@@ -29,11 +29,6 @@ MANIFEST = json.loads((FOLDER / "manifest.json").read_text())
 SETS = {s["id"]: s for s in MANIFEST["sets"]}
 # what the workflow gets wrong on these files today (reported to the workflow's owners; not tuned here)
 KNOWN_WRONG = {
-    "none_table_5": "a 7-case 5 % table with nothing hidden: σ from 5 misses per shaft, and this draw's misses put "
-                    "it at 0.86 and 0.48 of the noise's, so the gap test fires (χ² 31.3 on 14 rows) and a mesh "
-                    "position error is named alone. On 2000 synthetic draws of such a table the gap test fires on "
-                    "noise alone 8 % of the time with σ from the misses' RMS, 12 % with their median (which passed "
-                    "this draw by luck): σ of so short a sweep is the limit",
     "torque_reaction_table_1": "a 1 % table with a hidden torque reaction (detectability 1.5 σ) gives no_gap",
     "pair_table_5": "a 5 % table with two hidden effects (detectability 3.0 σ) is 'ambiguous' with a group of 6 "
                     "torque reactions that holds neither (it was 'explained' before issue 28)",

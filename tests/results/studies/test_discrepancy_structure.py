@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 
 import numpy as np
+import pytest
 
 from rvcoax.loadcases.cases import LoadCase
 from rvcoax.results.studies.discrepancy.locate import curvature_beyond_allowance, estimate_noise, residual_structure
@@ -124,3 +125,51 @@ def test_a_table_noise_estimate_keeps_the_precision_of_every_neighbour_and_leave
     kinked = noisy.copy()
     kinked[12] += 30 * sigma
     assert abs(estimate_noise(_table(kinked), 0.0).noise_mm["input"] / clean - 1.0) < 0.25
+
+
+def test_the_misses_mean_square_has_the_degrees_of_freedom_of_its_correlated_terms():
+    """Closed form for an even sweep: the scaled misses (y_i − (y_{i−1} + y_{i+1})/2)/√1.5 have unit variance,
+    correlation −2/3 with a neighbour and 1/6 two apart, so for m misses tr C = m and
+    tr C² = m + 2(m − 1)(2/3)² + 2(m − 2)(1/6)²: ν = m²/tr C² (2.87 for the 5 misses of 7 cases, not 5)."""
+    from rvcoax.results.studies.discrepancy.locate import _misses_dof
+
+    for cases in (7, 20):
+        m = cases - 2
+        closed = m ** 2 / (m + 2 * (m - 1) * (2 / 3) ** 2 + 2 * (m - 2) * (1 / 6) ** 2)
+        assert abs(_misses_dof(np.linspace(10.0, 200.0, cases)) - closed) < 1e-9 * closed
+
+
+def _two_shaft_table(torques: np.ndarray, value_mm: np.ndarray) -> MeasuredData:
+    cases = tuple(LoadCase(t / 140.0, t) for t in torques)
+    n = len(cases)
+    return MeasuredData("table", cases, np.tile(np.arange(n), 2), np.array(["input"] * n + ["output"] * n),
+                        np.full(2 * n, np.nan), value_mm, None, "closed form")
+
+
+@pytest.mark.parametrize("cases", [7, 20])
+def test_the_gap_test_with_sigma_from_the_misses_does_not_fire_on_noise_beyond_its_alpha(cases):
+    """A noise-only |Y_max| table (two shafts, 5 % noise, a model exact up to the noise, no model-form allowance):
+    the gap test reads χ²/n against F(n, ν) with σ's ν, so it fires at most at its α (1200 seeded draws, 3 Monte-Carlo
+    standard errors), where the χ² test as if σ were known fires far more often (17 % at α = 1 % on 7 cases, 7 % on
+    20). The misses are second differences of the same values as the residual, so a small σ̂ comes with a small χ²:
+    the test is conservative (0.5 % at α = 1 % on 7 cases, 0.4 % on 20; 3.7 % and 1.6 % at α = 5 %)."""
+    from rvcoax.results.studies.discrepancy.locate import gap_test
+
+    torques = np.linspace(10.0, 200.0, cases)
+    line = np.concatenate([1e-4 * torques / 200.0 + 2e-6, 3e-4 * torques / 200.0 + 1e-6])
+    sigma = np.repeat([0.05 * np.sqrt(np.mean(line[:cases] ** 2)), 0.05 * np.sqrt(np.mean(line[cases:] ** 2))], cases)
+    rng = np.random.default_rng(11)
+    draws = 1200
+    f_p, chi2_p = np.empty(draws), np.empty(draws)
+    for k in range(draws):
+        noise = sigma * rng.standard_normal(line.size)
+        data = _two_shaft_table(torques, line + noise)
+        estimate = estimate_noise(data, 0.0)
+        scaled = noise / estimate.sigma_mm
+        f_p[k] = gap_test(scaled, 0.01, estimate.degrees_of_freedom(None, data.shaft)).p_value
+        chi2_p[k] = gap_test(scaled, 0.01).p_value
+    for alpha in (0.01, 0.05):
+        error = np.sqrt(alpha * (1 - alpha) / draws)
+        assert np.mean(f_p < alpha) <= alpha + 3 * error, (alpha, np.mean(f_p < alpha))
+        assert np.mean(f_p < alpha) >= alpha / 5, (alpha, np.mean(f_p < alpha))  # not a test that never fires
+        assert np.mean(chi2_p < alpha) > alpha + 5 * error  # σ taken as known over-rejects
