@@ -20,10 +20,13 @@ What the user sees does not change with the process:
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
 import subprocess
 import sys
+import threading
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -38,6 +41,24 @@ ANSWER_TIMEOUT_S = 300.0
 
 _WORKER = "from rvcoax.results.io.picture_process import _serve; _serve()"
 _ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
+
+
+@contextlib.contextmanager
+def _broken_pipe_as_error():
+    """Writing to a worker that has ended raises ``BrokenPipeError`` inside this block, never SIGPIPE.
+
+    Python ignores SIGPIPE at start-up, but a host program or a library may restore its default action (the
+    test runner's worker processes had it), and then a write to a gone worker would end this process silently.
+    Signal actions can be set in the main thread only; elsewhere the action is left as it is.
+    """
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGPIPE"):
+        yield
+        return
+    previous = signal.signal(signal.SIGPIPE, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGPIPE, previous)
 
 
 class PictureProcessError(RvcoaxError, RuntimeError):
@@ -157,13 +178,17 @@ class PictureProcess:
         self._request = request
         if self._process is None:
             return
-        try:
-            self._process.stdin.write(json.dumps(request) + "\n")
-            self._process.stdin.flush()
-        except OSError:  # the worker is gone already (BrokenPipeError): result() draws here
-            self._end()
-            return
-        self._close_input(self._process)
+        with _broken_pipe_as_error():
+            try:
+                if self._process.poll() is not None:
+                    raise BrokenPipeError("the picture process has ended")
+                self._process.stdin.write(json.dumps(request) + "\n")
+                self._process.stdin.flush()
+            except OSError:  # the worker is gone already (BrokenPipeError): result() draws here
+                self._close_input(self._process)  # the unsent request is dropped here, not flushed later
+                self._end()
+                return
+            self._close_input(self._process)
 
     @staticmethod
     def _close_input(process: subprocess.Popen) -> None:

@@ -80,3 +80,22 @@ def test_closing_without_a_picture_ends_the_worker(tmp_path):
     pictures.close()  # twice: nothing left to do
     with pytest.raises(ValueError, match="no picture was submitted"):
         pictures.result()
+
+
+def test_a_worker_gone_under_the_default_sigpipe_action_is_not_the_end_of_this_process(tmp_path, sweep):
+    """A host may restore SIGPIPE's default action (it ends a process that writes to a closed pipe): the request to a
+    worker that has ended must still fall back to drawing here, and the action is restored afterwards."""
+    import signal
+
+    previous = signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+    try:
+        with PictureProcess() as pictures:
+            pictures._process.kill()
+            pictures._process.wait()
+            pictures._process.poll = lambda: None  # as if it ended between the check and the write
+            pictures.submit(picture_request(**_drawing(sweep, tmp_path / "y.png")))
+            assert pictures.result().stat().st_size > 10_000
+        assert signal.getsignal(signal.SIGPIPE) == signal.SIG_DFL
+    finally:
+        signal.signal(signal.SIGPIPE, previous)
+
