@@ -136,16 +136,18 @@ the hybrid reference rig (4 rigs raised the check's peak by 0.14 GB, so it was 2
 (:mod:`rvcoax.fem.woodbury`) refines nothing, and 4 rigs a call leave the peak where it was (benchmarks/RESULTS.md)."""
 
 
-def _solve_together(prepared, rigs: list[Rig]) -> None:
-    """Solve the unit loads of ``rigs`` on ``prepared``, :data:`RIGS_PER_CALL` rigs a call, into its cache of solutions.
+def _solve_together(prepared, rigs: list[Rig], per_call: int | None = RIGS_PER_CALL) -> None:
+    """Solve the unit loads of ``rigs`` on ``prepared``, ``per_call`` rigs a call (None: all in one), into its cache of
+    solutions.
 
     Each solve call on a factor has a fixed cost, a pass over the whole factor (the hybrid reference rig's Cholesky:
     about 0.09 s CPU for one column, 0.02 s per added column); the sweeps that follow find every column solved.
     """
-    if check_clearance_model(rigs[0], prepared.system.kind):  # nonlinear: solved case by case, not by unit loads
+    if not rigs or check_clearance_model(rigs[0], prepared.system.kind):  # nonlinear: solved case by case
         return
-    for first in range(0, len(rigs), RIGS_PER_CALL):  # the load vectors of a few rigs at a time: 8 MB per rig
-        loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs[first:first + RIGS_PER_CALL]]
+    step = len(rigs) if per_call is None else per_call
+    for first in range(0, len(rigs), step):  # the load vectors of a few rigs at a time: 8 MB per rig
+        loads = [prepared.system.with_loads_of(rig).unit_loads for rig in rigs[first:first + step]]
         prepared.solve_unit_loads([load[k] for load in loads for k in UNIT_LOADS])
 
 
@@ -219,8 +221,8 @@ def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter
         _, rigs = _joint_trials(rig, parameters, np.array([p.scale for p in parameters]))
     except KeyError:  # the rig lacks a parameter: calibrate() says so, after the sweep of the rig as built
         rigs = []
-    loads = [prepared.system.with_loads_of(r).unit_loads for r in (rig, *rigs)]
-    prepared.solve_unit_loads([load[k] for load in loads for k in UNIT_LOADS])
+    # one call: the trial rigs share most of their loads with the rig, and a repeated vector is solved once
+    _solve_together(prepared, [rig, *rigs], per_call=None)
 
 
 def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *, scale: np.ndarray):
@@ -246,7 +248,7 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
         size = max(np.abs(loads[-1][name]).max(initial=0.0), np.abs(loads[0][name]).max(initial=0.0))
         if np.abs(predicted - loads[-1][name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
             return None
-    # every column the sweeps below need, in one solve call (the reference rig's are usually cached: the blind sweep)
+    # every column the sweeps below need, in one solve call (usually cached already: solve_with_trials)
     prepared.solve_unit_loads([load[k] for load in loads[:-1] for k in UNIT_LOADS])
     del loads
 

@@ -124,7 +124,7 @@ def _misses_dof(t: np.ndarray) -> float:
     return float(np.trace(c) ** 2 / np.sum(c ** 2))
 
 
-def _sweep_scatter(t: np.ndarray, y: np.ndarray) -> tuple[float, int, int]:
+def _sweep_scatter(t: np.ndarray, y: np.ndarray) -> tuple[float, int, int, float]:
     """σ of values along a sweep: the RMS of their misses of the line through their neighbours, after leaving out, one
     at a time, a value whose miss the others' RMS makes improbable (beyond Student's t with m − 1 degrees of freedom at
     :data:`OUTLIER_ALPHA`, shared over the m misses): a misread value or a sharp kink of |Y_max| (the station of the
