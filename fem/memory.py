@@ -1,6 +1,21 @@
 """How much memory this process may still use (Linux: /proc/meminfo and the cgroup v2 limit), giving
-freed heap memory back to the operating system before a large allocation, and moving large arrays (a matrix) that are
-not read for a while out of resident memory into a file."""
+freed heap memory back to the operating system before a large allocation (or keeping it for reuse where a model is
+small against the memory available), and moving large arrays (a matrix) that are not read for a while out of resident
+memory into a file.
+
+**Keeping freed memory.** glibc gives an array above its mmap threshold (at most 32 MB) pages of its own, mapped
+afresh and returned when the array is freed, and it returns the free top of its heap above a trim threshold; each
+first touch of such a page is a page fault. A model's assembly and factorisation allocate and free arrays of hundreds
+of MB many times, so the hybrid reference rig's ``rvcoax check`` took 434 k faults, 0.78 s of system time, while its
+peak is 1.0 GB (benchmarks/RESULTS.md). :func:`keep_freed_heap` raises both thresholds (``mallopt``) so that freed
+memory stays in the heap and serves the next array, and :func:`return_free_heap` gives nothing back meanwhile: 262 k
+faults, 0.41 s, the same results to the bit (an allocator places arrays, it changes no arithmetic). The price is a
+higher peak (resident memory no longer shrinks between phases: 1.13 GB against 1.04 GB there), so
+:func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is at most :data:`KEEP_HEAP_SHARE`
+of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour and every
+:func:`return_free_heap`. Like numpy's huge-page requests (:mod:`rvcoax.fem.hugepages`) this is a process-wide setting:
+the library never changes it by itself, the ``rvcoax`` command applies the policy to the model it prepares.
+"""
 
 from __future__ import annotations
 
@@ -9,13 +24,33 @@ import ctypes.util
 import functools
 import mmap
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["arrays_to_file", "available_memory_bytes", "move_to_file", "return_free_heap"]
+__all__ = ["KEEP_HEAP_SHARE", "HeapPolicy", "apply_heap_policy", "arrays_to_file", "available_memory_bytes",
+           "heap_kept", "heap_policy", "keep_freed_heap", "move_to_file", "return_free_heap"]
 
 _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
+
+KEEP_HEAP_SHARE = 0.25
+"""A model keeps freed heap memory (:func:`apply_heap_policy`) when its estimated peak is at most this share of the
+memory available. Keeping raises the peak by at most what the heap held free when the factor was allocated (the heap
+and the factor's memory add up instead of the one replacing the other), less than the peak again; the estimates
+(:mod:`rvcoax.geometry.model.preflight`) are 1.8 times the measured peaks of the reference rig's hybrid and solid
+models, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB estimated) keeps
+it from 7.5 GB available on; the all-solid rig (7.1 GB) would need 29 GB, and on a 24 GB machine keeps glibc's
+behaviour."""
+_M_TRIM_THRESHOLD = -1  # glibc's mallopt parameters (malloc.h)
+_M_MMAP_THRESHOLD = -3
+_KEPT_THRESHOLD = 2**31 - 1
+"""Both thresholds while freed memory is kept: the largest value ``mallopt`` takes (an int, 2 GB). An array above it
+still gets its own pages."""
+_GLIBC_THRESHOLDS = {_M_MMAP_THRESHOLD: 32 << 20, _M_TRIM_THRESHOLD: 64 << 20}
+"""The thresholds given back by :func:`keep_freed_heap` ``(False)``: glibc's dynamic ones stop moving once set, and
+these are where they settle (mmap 32 MB, trim twice that) after the first large array is freed."""
+_heap = {"kept": False}
 
 
 @functools.cache
@@ -34,7 +69,8 @@ def _malloc_trim():
 
 def return_free_heap() -> bool:
     """Give the free pages of the C heap back to the operating system (glibc ``malloc_trim(0)``); False where
-    there is no such call.
+    there is no such call, or while the heap keeps freed memory for reuse (:func:`keep_freed_heap`: pages given back
+    there would be faulted in again by the next allocation).
 
     Arrays below glibc's mmap threshold (which grows to 32 MB as large blocks are freed) live on the heap, and
     what they leave when freed stays resident: the chunked assembly of a solid leaves hundreds of MB (all-solid
@@ -44,10 +80,93 @@ def return_free_heap() -> bool:
     pages are mapped afresh if the heap grows again.
     """
     trim = _malloc_trim()
-    if trim is None:
+    if trim is None or _heap["kept"]:
         return False
     trim(0)
     return True
+
+
+@functools.cache
+def _mallopt():
+    """glibc's ``mallopt``, or None (another C library, or not Linux)."""
+    if _malloc_trim() is None:  # ``malloc_trim`` is glibc's own: a C library that has it has glibc's mallopt
+        return None
+    try:
+        setter = ctypes.CDLL(ctypes.util.find_library("c")).mallopt
+    except (OSError, AttributeError):
+        return None
+    setter.argtypes = [ctypes.c_int, ctypes.c_int]
+    setter.restype = ctypes.c_int
+    return setter
+
+
+def heap_kept() -> bool:
+    """Whether the C heap keeps freed memory for reuse (:func:`keep_freed_heap`)."""
+    return _heap["kept"]
+
+
+def keep_freed_heap(keep: bool = True) -> bool:
+    """Make the C heap keep freed memory for the next allocation (``keep``), or give it back as glibc does; True when
+    the heap now behaves so, False where it cannot be told (no glibc ``mallopt``: the heap is left as it is).
+
+    Keeping raises glibc's mmap and trim thresholds to 2 GB (``mallopt(M_MMAP_THRESHOLD)``, ``M_TRIM_THRESHOLD``), so
+    that arrays below that size come from the heap and what they leave is not returned, and makes
+    :func:`return_free_heap` do nothing (module text). Giving back sets the thresholds to where glibc's dynamic ones
+    settle (32 MB and 64 MB: they cannot be made dynamic again) and returns the heap's free pages. Nothing is called
+    when the heap already behaves as asked: a process that never keeps runs on glibc's defaults throughout.
+    """
+    keep = bool(keep)
+    if _heap["kept"] == keep:
+        return True
+    setter = _mallopt()
+    if setter is None:
+        return False
+    if keep and all(setter(parameter, _KEPT_THRESHOLD) for parameter in _GLIBC_THRESHOLDS):
+        _heap["kept"] = True
+        return True
+    # giving back, or a glibc that refused a value: glibc's thresholds, and return_free_heap works again
+    restored = all([setter(parameter, value) for parameter, value in _GLIBC_THRESHOLDS.items()])
+    _heap["kept"] = False
+    return_free_heap()
+    return restored and not keep
+
+
+@dataclass(frozen=True)
+class HeapPolicy:
+    """What :func:`heap_policy` decided for a model: whether the heap keeps freed memory, and why.
+
+    Attributes
+    ----------
+    keep : bool
+    reason : str
+        One sentence, with the estimated peak and the memory available.
+    """
+
+    keep: bool
+    reason: str
+
+
+def heap_policy(peak_bytes: float | None, available_bytes: float | None) -> HeapPolicy:
+    """Whether a model of estimated peak ``peak_bytes`` should keep freed heap memory: where the peak is at most
+    :data:`KEEP_HEAP_SHARE` of ``available_bytes``. Unknown peak or memory: no."""
+    if peak_bytes is None or available_bytes is None or not available_bytes > 0:
+        return HeapPolicy(False, "the model's peak or the memory available is unknown: freed memory goes back")
+    share = peak_bytes / available_bytes
+    sizes = f"estimated peak {peak_bytes / 1e9:.3g} GB, {available_bytes / 1e9:.3g} GB available"
+    if share <= KEEP_HEAP_SHARE:
+        return HeapPolicy(True, f"{sizes}: freed memory is kept for reuse")
+    return HeapPolicy(False, f"{sizes} (more than {KEEP_HEAP_SHARE:g} of it): freed memory goes back")
+
+
+def apply_heap_policy(peak_bytes: float | None, available_bytes: float | None = None) -> HeapPolicy:
+    """Decide (:func:`heap_policy`, the memory available read from the machine when None) and set the heap so
+    (:func:`keep_freed_heap`). Where the C library cannot be told (not glibc), the policy says so and nothing changes.
+    """
+    room = available_memory_bytes() if available_bytes is None else available_bytes
+    policy = heap_policy(peak_bytes, room)
+    if keep_freed_heap(policy.keep):
+        return policy
+    return HeapPolicy(False, "the C library does not take glibc's mallopt settings: the heap keeps its own behaviour")
 
 
 def available_memory_bytes() -> float | None:

@@ -10,7 +10,8 @@
 - :func:`sag_warnings`: a part that hangs only on couplings, or sags absurdly under its own weight
   (not singular, but not a test rig either).
 - :func:`estimate_memory`: DOFs and memory of a solid or hybrid model from the rig alone, before
-  any meshing, against the memory this machine has available.
+  any meshing, against the memory this machine has available; :func:`peak_memory_bytes` the peak of any model
+  (the ``rvcoax`` command sets the C heap's policy by it: :func:`rvcoax.fem.memory.apply_heap_policy`).
 
 All three work on the rig's beam model, assembled as the solve assembles it (a ``[[housings]]`` entry's
 condensed stiffness read from its cache), or on its geometry only: milliseconds, at any fidelity.
@@ -36,7 +37,7 @@ from rvcoax.geometry.schema import Rig
 __all__ = ["BASE_BYTES", "BYTES_PER_DOF", "CLASS_SHARE", "COMPONENT_NAMES", "CONDITION_LIMIT", "DIRECTIONS",
            "FREE_BODY_SHARE", "MECHANISM_BOUND", "FreeBody", "MemoryEstimate", "SAG_WARNING_MM",
            "SHORT_ELEMENT_FRACTION", "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
-           "free_body", "memory_problem", "motion_class", "sag_warnings", "short_segment_note", "support_problem"]
+           "free_body", "memory_problem", "peak_memory_bytes", "motion_class", "sag_warnings", "short_segment_note", "support_problem"]
 
 # A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
 # as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
@@ -473,6 +474,17 @@ def estimate_memory(rig: Rig, model: str, mesh_size_mm: float | None = None, sol
 
     return MemoryEstimate(model=model, mesh_size_mm=size, dofs=dofs, part_dofs=part_dofs, solver=method,
                           bytes_needed=needed, bytes_available=available_memory_bytes())
+
+
+def peak_memory_bytes(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> float:
+    """Estimated peak memory of solving ``rig``'s model, bytes: a beam model's counted from its geometry
+    (:func:`rvcoax.geometry.model.workload.beam_size`), a solid or hybrid model's by :func:`estimate_memory`
+    (``mesh_size_mm`` and ``solver`` as there)."""
+    if model == "beam":
+        from rvcoax.geometry.model.workload import beam_size
+
+        return beam_size(rig).workload(rig.mesh.max_element_length_mm).bytes_needed
+    return estimate_memory(rig, model, mesh_size_mm, solver).bytes_needed
 
 
 def memory_problem(rig: Rig, model: str, mesh_size_mm: float | None = None, solver: str = "auto") -> str | None:

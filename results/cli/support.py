@@ -436,8 +436,10 @@ def condense_housings(rig) -> None:
 
 
 def prepare_with_status(rig, settings):
-    """Assemble the model and set up its solver, with a status line and the sag warnings."""
+    """Assemble the model and set up its solver, with a status line and the sag warnings; a model small against the
+    memory available keeps freed heap memory for reuse (:func:`rvcoax.fem.memory.apply_heap_policy`)."""
     from rvcoax import prepare_model
+    from rvcoax.fem.memory import apply_heap_policy
     from rvcoax.geometry import plausibility_warnings
     from rvcoax.geometry.model import (
         REPORT_AFTER_S,
@@ -447,6 +449,7 @@ def prepare_with_status(rig, settings):
         rig_problem,
         sag_warnings,
     )
+    from rvcoax.geometry.model.preflight import peak_memory_bytes
 
     condense_housings(rig)  # first: the size and sag checks below assemble the condensed housings too
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
@@ -461,6 +464,8 @@ def prepare_with_status(rig, settings):
                               "cache when these dimensions were condensed before)", highlight=False)
     for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
+    # process-wide, so the command sets it, not the library: a small model keeps freed heap memory (fem/memory.py)
+    apply_heap_policy(peak_memory_bytes(rig, settings.model, settings.mesh_size_mm, settings.solver))
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
         prepared = prepare_model(rig, settings)
     system = prepared.system
