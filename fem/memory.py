@@ -6,15 +6,16 @@ memory into a file.
 **Keeping freed memory.** glibc gives an array above its mmap threshold (at most 32 MB) pages of its own, mapped
 afresh and returned when the array is freed, and it returns the free top of its heap above a trim threshold; each
 first touch of such a page is a page fault. A model's assembly and factorisation allocate and free arrays of hundreds
-of MB many times, so the hybrid reference rig's ``rvcoax check`` took 434 k faults, 0.78 s of system time, while its
-peak is 1.0 GB (benchmarks/RESULTS.md). :func:`keep_freed_heap` raises both thresholds (``mallopt``) so that freed
-memory stays in the heap and serves the next array, and :func:`return_free_heap` gives nothing back meanwhile: 262 k
-faults, 0.41 s, the same results to the bit (an allocator places arrays, it changes no arithmetic). The price is a
-higher peak (resident memory no longer shrinks between phases: 1.13 GB against 1.04 GB there), so
-:func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is at most :data:`KEEP_HEAP_SHARE`
-of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour and every
-:func:`return_free_heap`. Like numpy's huge-page requests (:mod:`rvcoax.fem.hugepages`) this is a process-wide setting:
-the library never changes it by itself, the ``rvcoax`` command applies the policy to the model it prepares.
+of MB many times, so the hybrid reference rig's ``rvcoax check`` took 477 k faults, 0.86–0.92 s of system time, with a
+peak of 1.07e9 bytes (benchmarks/RESULTS.md). :func:`keep_freed_heap` raises both thresholds (``mallopt``) so that
+freed memory stays in the heap and serves the next array, and :func:`return_free_heap` gives nothing back meanwhile:
+302 k faults, 0.55–0.63 s, and every file of the check the same to the byte (measured: the allocator places the
+arrays, the arithmetic is the same). The price is a higher peak (resident memory no longer shrinks between phases, and
+a large block that fits in no freed hole extends the heap: 1.18e9 bytes there; the all-solid rig's 3.97e9 would become
+5.0e9), so :func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is at most
+:data:`KEEP_HEAP_SHARE` of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour and
+every :func:`return_free_heap`. Like numpy's huge-page requests (:mod:`rvcoax.fem.hugepages`) this is a process-wide
+setting: the library never changes it by itself, the ``rvcoax`` command applies the policy to the model it prepares.
 """
 
 from __future__ import annotations
@@ -36,10 +37,10 @@ _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 
 KEEP_HEAP_SHARE = 0.25
 """A model keeps freed heap memory (:func:`apply_heap_policy`) when its estimated peak is at most this share of the
-memory available. Keeping raises the peak by at most what the heap held free when the factor was allocated (the heap
-and the factor's memory add up instead of the one replacing the other), less than the peak again; the estimates
-(:mod:`rvcoax.geometry.model.preflight`) are 1.8 times the measured peaks of the reference rig's hybrid and solid
-models, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB estimated) keeps
+memory available. Keeping raises the peak by what the heap holds free where a larger block is allocated (the two add up
+instead of the one replacing the other), less than the peak again (measured: +10 % on the hybrid reference rig, +26 %
+on the all-solid one); the estimates (:mod:`rvcoax.geometry.model.preflight`) are 1.75 and 1.8 times those models'
+measured peaks, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB estimated) keeps
 it from 7.5 GB available on; the all-solid rig (7.1 GB) would need 29 GB, and on a 24 GB machine keeps glibc's
 behaviour."""
 _M_TRIM_THRESHOLD = -1  # glibc's mallopt parameters (malloc.h)

@@ -42,3 +42,15 @@ def _mesh_cache(tmp_path_factory):
         os.environ.pop("RVCOAX_CACHE_DIR", None)
     else:
         os.environ["RVCOAX_CACHE_DIR"] = previous
+
+
+@pytest.fixture(autouse=True)
+def _heap_policy_per_test():
+    """A test that runs a command in this process may leave the C heap keeping freed memory (the policy the command
+    sets for a small model, rvcoax.fem.memory): glibc's behaviour again after it, so that no later test of this worker
+    inherits it."""
+    yield
+    from rvcoax.fem import memory
+
+    if memory.heap_kept():
+        memory.keep_freed_heap(False)
