@@ -25,13 +25,15 @@ import ctypes.util
 import functools
 import mmap
 import tempfile
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["KEEP_HEAP_SHARE", "HeapPolicy", "apply_heap_policy", "arrays_to_file", "available_memory_bytes",
-           "heap_kept", "heap_policy", "keep_freed_heap", "move_to_file", "return_free_heap"]
+__all__ = ["KEEP_HEAP_SHARE", "PREFAULT_BYTES", "PREFAULT_SHARE", "HeapPolicy", "apply_heap_policy", "arrays_to_file",
+           "available_memory_bytes", "heap_kept", "heap_policy", "keep_freed_heap", "move_to_file", "prefault_bytes",
+           "prefault_heap", "return_free_heap"]
 
 _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 
@@ -51,7 +53,16 @@ still gets its own pages."""
 _GLIBC_THRESHOLDS = {_M_MMAP_THRESHOLD: 32 << 20, _M_TRIM_THRESHOLD: 64 << 20}
 """The thresholds given back by :func:`keep_freed_heap` ``(False)``: glibc's dynamic ones stop moving once set, and
 these are where they settle (mmap 32 MB, trim twice that) after the first large array is freed."""
-_heap = {"kept": False}
+PREFAULT_SHARE = 0.35
+"""Share of a kept model's estimated peak that :func:`prefault_heap` maps ahead (:func:`prefault_bytes`): below what its
+heap then uses, so that no page is mapped for nothing (the hybrid reference rig: 1.87e9 estimated, a heap of 1.13e9
+at its factorisation; 0.35 of the estimate is 0.65e9)."""
+PREFAULT_BYTES = (128 << 20, 1 << 30)
+"""What :func:`prefault_heap` maps ahead at least (below, a model's pages are too few to pay for the thread: the beam
+model) and at most (bytes)."""
+_PREFAULT_CHUNK = 64 << 20  # faulted in per call, so that a stop request waits for one chunk at most
+_MADV_POPULATE_WRITE = 23  # Linux 5.14 and later (mman-common.h)
+_heap = {"kept": False, "prefault": None}
 
 
 @functools.cache
@@ -125,6 +136,7 @@ def keep_freed_heap(keep: bool = True) -> bool:
     if keep and all(setter(parameter, _KEPT_THRESHOLD) for parameter in _GLIBC_THRESHOLDS):
         _heap["kept"] = True
         return True
+    _stop_prefault()
     # giving back, or a glibc that refused a value: glibc's thresholds, and return_free_heap works again
     restored = all([setter(parameter, value) for parameter, value in _GLIBC_THRESHOLDS.items()])
     _heap["kept"] = False
@@ -161,13 +173,91 @@ def heap_policy(peak_bytes: float | None, available_bytes: float | None) -> Heap
 
 def apply_heap_policy(peak_bytes: float | None, available_bytes: float | None = None) -> HeapPolicy:
     """Decide (:func:`heap_policy`, the memory available read from the machine when None) and set the heap so
-    (:func:`keep_freed_heap`). Where the C library cannot be told (not glibc), the policy says so and nothing changes.
+    (:func:`keep_freed_heap`); a kept heap gets :func:`prefault_bytes` of the peak mapped ahead (:func:`prefault_heap`).
+    Where the C library cannot be told (not glibc), the policy says so and nothing changes.
     """
     room = available_memory_bytes() if available_bytes is None else available_bytes
     policy = heap_policy(peak_bytes, room)
     if keep_freed_heap(policy.keep):
+        if policy.keep:
+            prefault_heap(prefault_bytes(peak_bytes))
         return policy
     return HeapPolicy(False, "the C library does not take glibc's mallopt settings: the heap keeps its own behaviour")
+
+
+def prefault_bytes(peak_bytes: float | None) -> int:
+    """How much of a kept heap :func:`apply_heap_policy` maps ahead for a model of estimated peak ``peak_bytes``:
+    :data:`PREFAULT_SHARE` of it, at most ``PREFAULT_BYTES[1]``; 0 below ``PREFAULT_BYTES[0]`` or when unknown."""
+    if peak_bytes is None or not peak_bytes > 0:
+        return 0
+    wanted = min(PREFAULT_SHARE * peak_bytes, PREFAULT_BYTES[1])
+    return int(wanted) if wanted >= PREFAULT_BYTES[0] else 0
+
+
+def prefault_heap(n_bytes: int) -> threading.Thread | None:
+    """Map ``n_bytes`` at the top of the kept heap and have a background thread fault their pages in, so that the arrays
+    the heap serves from them next (a model's assembly) find their pages mapped; the thread, or None where nothing was
+    done (the heap not kept, ``n_bytes`` 0, no glibc).
+
+    The block is allocated and freed at once (on the main thread, whose heap is the one kept: elsewhere nothing is
+    done): it stays in the kept heap (:func:`keep_freed_heap`) as free memory that the next allocations take. The
+    thread asks the kernel to map its pages writable without writing to them (``madvise(MADV_POPULATE_WRITE)``, Linux
+    5.14 and later; on an older kernel it stops at the first refusal), so that nothing the allocator or an array keeps
+    there changes, whoever touches a page first. Each page costs a page fault either way; on this thread, on a core
+    the single-threaded assembly leaves idle, it is not on the main thread's path (the hybrid reference rig's check:
+    the main thread's page faults 266–277 k → 62–69 k, its system time 0.39–0.42 s → 0.13–0.15 s;
+    benchmarks/RESULTS.md). Giving the heap back (:func:`keep_freed_heap` ``(False)``) stops the thread first.
+    """
+    libc = _heap_calls()
+    # the main thread's allocations come from the heap that is kept (another thread's this large are mapped apart)
+    if n_bytes <= 0 or not _heap["kept"] or libc is None or threading.current_thread() is not threading.main_thread():
+        return None
+    _stop_prefault()
+    malloc, free, madvise = libc
+    address = malloc(n_bytes)
+    if not address:
+        return None
+    free(address)  # free memory of the kept heap from here on: only its pages are asked for, never its contents
+    page = mmap.PAGESIZE
+    start = -(-address // page) * page  # the block's whole pages
+    end = (address + n_bytes) // page * page
+    stop = threading.Event()
+
+    def fault_in() -> None:
+        for first in range(start, end, _PREFAULT_CHUNK):
+            if stop.is_set() or madvise(first, min(_PREFAULT_CHUNK, end - first), _MADV_POPULATE_WRITE) != 0:
+                return
+
+    thread = threading.Thread(target=fault_in, name="rvcoax-heap-prefault", daemon=True)
+    _heap["prefault"] = (thread, stop)
+    thread.start()
+    return thread
+
+
+def _stop_prefault() -> None:
+    """Stop a :func:`prefault_heap` thread (after the chunk it is on) and wait for it."""
+    running = _heap.get("prefault")
+    _heap["prefault"] = None
+    if running is not None:
+        thread, stop = running
+        stop.set()
+        thread.join()
+
+
+@functools.cache
+def _heap_calls():
+    """glibc's ``malloc``, ``free`` and ``madvise`` (as one C library's), or None where :func:`_mallopt` is None."""
+    if _mallopt() is None:
+        return None
+    try:
+        library = ctypes.CDLL(ctypes.util.find_library("c"))
+        malloc, free, madvise = library.malloc, library.free, library.madvise
+    except (OSError, AttributeError):
+        return None
+    malloc.argtypes, malloc.restype = [ctypes.c_size_t], ctypes.c_void_p
+    free.argtypes, free.restype = [ctypes.c_void_p], None
+    madvise.argtypes, madvise.restype = [ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int], ctypes.c_int
+    return malloc, free, madvise
 
 
 def available_memory_bytes() -> float | None:
