@@ -15,8 +15,9 @@ a large block that fits in no freed hole extends the heap: 1.18e9 bytes there; t
 5.0e9), so :func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is at most
 :data:`KEEP_HEAP_SHARE` of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour and
 every :func:`return_free_heap`. A kept heap also gets a share of the model's estimated peak mapped ahead by a
-background thread (:func:`prefault_heap`), off the main thread's path. Like numpy's huge-page requests (:mod:`rvcoax.fem.hugepages`) this is a process-wide
-setting: the library never changes it by itself, the ``rvcoax`` command applies the policy to the model it prepares.
+background thread (:func:`prefault_heap`), off the main thread's path. Like numpy's huge-page requests
+(:mod:`rvcoax.fem.hugepages`) this is a process-wide setting: the library never changes it by itself, the ``rvcoax``
+command applies the policy to the model it prepares.
 """
 
 from __future__ import annotations
