@@ -435,9 +435,10 @@ def condense_housings(rig) -> None:
                              + " (rvcoax rig show: every load pattern)"))
 
 
-def prepare_with_status(rig, settings):
-    """Assemble the model and set up its solver, with a status line and the sag warnings; a model small against the
-    memory available keeps freed heap memory for reuse (:func:`rvcoax.fem.memory.apply_heap_policy`)."""
+def prepare_with_status(rig, settings, *, loads_ahead=None):
+    """Assemble the model and set up its solver, with a status line and the sag warnings (``loads_ahead``: see
+    :func:`rvcoax.results.sweep.prepare_model`); a model small against the memory available keeps freed heap memory
+    for reuse (:func:`rvcoax.fem.memory.apply_heap_policy`)."""
     from rvcoax import prepare_model
     from rvcoax.fem.memory import apply_heap_policy
     from rvcoax.geometry import plausibility_warnings
@@ -467,7 +468,7 @@ def prepare_with_status(rig, settings):
     # process-wide, so the command sets it, not the library: a small model keeps freed heap memory (fem/memory.py)
     apply_heap_policy(peak_memory_bytes(rig, settings.model, settings.mesh_size_mm, settings.solver))
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
-        prepared = prepare_model(rig, settings)
+        prepared = prepare_model(rig, settings, loads_ahead=loads_ahead)
     system = prepared.system
     console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
                   + (f", {len(system.solids)} solid part(s)" if system.solids else ""))
