@@ -6,15 +6,15 @@ memory into a file.
 **Keeping freed memory.** glibc gives an array above its mmap threshold (at most 32 MB) pages of its own, mapped
 afresh and returned when the array is freed, and it returns the free top of its heap above a trim threshold; each
 first touch of such a page is a page fault. A model's assembly and factorisation allocate and free arrays of hundreds
-of MB many times, so the hybrid reference rig's ``rvcoax check`` took 477 k faults, 0.86–0.92 s of system time, with a
-peak of 1.07e9 bytes (benchmarks/RESULTS.md). :func:`keep_freed_heap` raises both thresholds (``mallopt``) so that
-freed memory stays in the heap and serves the next array, and :func:`return_free_heap` gives nothing back meanwhile:
-302 k faults, 0.55–0.63 s, and every file of the check the same to the byte (measured: the allocator places the
-arrays, the arithmetic is the same). The price is a higher peak (resident memory no longer shrinks between phases, and
-a large block that fits in no freed hole extends the heap: 1.18e9 bytes there; the all-solid rig's 3.97e9 would become
-5.0e9), so :func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is at most
-:data:`KEEP_HEAP_SHARE` of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour and
-every :func:`return_free_heap`. A kept heap also gets a share of the model's estimated peak mapped ahead by a
+of MB many times, so the hybrid reference rig's ``rvcoax check`` took 477 k faults, 0.76–0.92 s of system time, with a
+peak of 1.07–1.10e9 bytes (benchmarks/RESULTS.md). :func:`keep_freed_heap` raises both thresholds (``mallopt``) so
+that freed memory stays in the heap and serves the next array, and :func:`return_free_heap` gives nothing back
+meanwhile: 302–303 k faults, 0.55–0.63 s, and every file of the check the same to the byte (measured: the allocator
+places the arrays, the arithmetic is the same). The price is a higher peak (resident memory no longer shrinks between
+phases, and a large block that fits in no freed hole extends the heap: 1.18–1.29e9 bytes there; the all-solid rig's
+3.97e9 would become 5.0e9), so :func:`apply_heap_policy` keeps freed memory only for a model whose estimated peak is
+at most :data:`KEEP_HEAP_SHARE` of the memory available; a large model (the all-solid rig) keeps glibc's own behaviour
+and every :func:`return_free_heap`. A kept heap also gets a share of the model's estimated peak mapped ahead by a
 background thread (:func:`prefault_heap`), off the main thread's path. Like numpy's huge-page requests
 (:mod:`rvcoax.fem.hugepages`) this is a process-wide setting: the library never changes it by itself, the ``rvcoax``
 command applies the policy to the model it prepares.
