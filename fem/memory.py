@@ -42,8 +42,8 @@ _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 KEEP_HEAP_SHARE = 0.25
 """A model keeps freed heap memory (:func:`apply_heap_policy`) when its estimated peak is at most this share of the
 memory available. Keeping raises the peak by what the heap holds free where a larger block is allocated (the two add
-up instead of the one replacing the other), less than the peak again (measured: +10 % on the hybrid reference rig,
-+26 % on the all-solid one); the estimates (:mod:`rvcoax.geometry.model.preflight`) are 1.75 and 1.8 times those models'
+up instead of the one replacing the other), less than the peak again (measured: +10–17 % on the hybrid reference
+rig, +26 % on the all-solid one); the estimates (:mod:`rvcoax.geometry.model.preflight`) are 1.75 and 1.8 times those models'
 measured peaks, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB
 estimated) keeps it from 7.5 GB available on; the all-solid rig (7.1 GB) would need 29 GB, and on a 24 GB machine
 keeps glibc's behaviour."""
@@ -207,7 +207,7 @@ def prefault_heap(n_bytes: int) -> threading.Thread | None:
     5.14 and later; on an older kernel it stops at the first refusal), so that nothing the allocator or an array keeps
     there changes, whoever touches a page first. Each page costs a page fault either way; on this thread, on a core
     the single-threaded assembly leaves idle, it is not on the main thread's path (the hybrid reference rig's check:
-    the main thread's page faults 266–277 k → 62–69 k, its system time 0.39–0.42 s → 0.13–0.15 s;
+    the main thread's page faults 266–293 k → 62–107 k, its system time 0.39–0.42 s → 0.13–0.23 s;
     benchmarks/RESULTS.md). Giving the heap back (:func:`keep_freed_heap` ``(False)``) stops the thread first.
     """
     libc = _heap_calls()
