@@ -42,9 +42,9 @@ _ALIGNMENT = 64  # bytes: each array of a moved matrix starts on a cache line
 KEEP_HEAP_SHARE = 0.25
 """A model keeps freed heap memory (:func:`apply_heap_policy`) when its estimated peak is at most this share of the
 memory available. Keeping raises the peak by what the heap holds free where a larger block is allocated (the two add
-up instead of the one replacing the other), less than the peak again (measured: +10–17 % on the hybrid reference
-rig, +26 % on the all-solid one); the estimates (:mod:`rvcoax.geometry.model.preflight`) are 1.75 and 1.8 times those models'
-measured peaks, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB
+up instead of the one replacing the other), less than the peak again (measured: +10–17 % on the hybrid reference rig,
++26 % on the all-solid one); the estimates (:mod:`rvcoax.geometry.model.preflight`) are 1.7–1.75 and 1.8 times those
+models' measured peaks, so a kept heap stays below a third of the memory available. The hybrid reference rig (1.9 GB
 estimated) keeps it from 7.5 GB available on; the all-solid rig (7.1 GB) would need 29 GB, and on a 24 GB machine
 keeps glibc's behaviour."""
 _M_TRIM_THRESHOLD = -1  # glibc's mallopt parameters (malloc.h)
