@@ -189,6 +189,7 @@ def test_a_stop_request_ends_the_thread_after_its_chunk(heap_calls):
     assert not thread.is_alive() and len(madvise.calls) == 1  # 16 chunks asked for, one done
 
 
+@pytest.mark.subprocess
 @pytest.mark.skipif(not sys.platform.startswith("linux") or memory._mallopt() is None, reason="glibc only")
 def test_a_kept_heap_serves_the_next_array_without_page_faults():
     """In a fresh process: a 64 MB array allocated and freed 8 times faults its pages in each time with glibc's
