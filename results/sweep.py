@@ -361,12 +361,24 @@ class PreparedModel:
                 solutions[:, j] = self.solved[key]
             elif first.get(key, j) != j:
                 solutions[:, j] = solutions[:, first[key]]
-        room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
-        for j in missing:
-            self.solved[keys[j]] = solutions[:, j].copy()
+        self._keep([keys[j] for j in missing], [solutions[:, j] for j in missing])
+        return solutions
+
+    def _keep(self, keys: list[bytes], solutions: list[np.ndarray]) -> None:
+        """Cache ``solutions`` by their load vectors' ``keys``, within :data:`CACHED_SOLUTIONS` (the oldest go first)."""
+        n = self.system.n_dofs
+        room = max(len(keys), min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
+        for key, solution in zip(keys, solutions):
+            self.solved[key] = np.array(solution, dtype=float)
         while len(self.solved) > room:
             del self.solved[next(iter(self.solved))]
-        return solutions
+
+    def remember(self, vectors, solutions) -> None:
+        """Keep ``solutions`` (one per load vector of ``vectors``, full DOF numbering) as if :meth:`solve_unit_loads` had
+        solved them: a caller that found them otherwise, exactly (a calibration's affine combination of solved unit
+        loads, :func:`rvcoax.results.studies.calibration.calibrate`). The sweeps that use them check every case's
+        residual against the stiffness as always."""
+        self._keep(_load_keys(vectors), list(solutions))
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
