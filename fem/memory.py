@@ -174,9 +174,24 @@ def heap_policy(peak_bytes: float | None, available_bytes: float | None) -> Heap
 
 
 def apply_heap_policy(peak_bytes: float | None, available_bytes: float | None = None) -> HeapPolicy:
-    """Decide (:func:`heap_policy`, the memory available read from the machine when None) and set the heap so
-    (:func:`keep_freed_heap`); a kept heap gets :func:`prefault_bytes` of the peak mapped ahead (:func:`prefault_heap`).
-    Where the C library cannot be told (not glibc), the policy says so and nothing changes.
+    """Decide whether the C heap keeps freed memory for the model about to be prepared, and set it so.
+
+    Decided by :func:`heap_policy`, set by :func:`keep_freed_heap`; a kept heap gets :func:`prefault_bytes` of the
+    peak mapped ahead (:func:`prefault_heap`). A process-wide setting (module text): call it before preparing the
+    model, with its estimated peak (:func:`rvcoax.geometry.model.peak_memory_bytes`).
+
+    Parameters
+    ----------
+    peak_bytes : float or None
+        The model's estimated peak memory, bytes (None: unknown, nothing kept).
+    available_bytes : float, optional
+        The memory available, bytes; read from the machine (:func:`available_memory_bytes`) when None.
+
+    Returns
+    -------
+    HeapPolicy
+        Whether the heap now keeps freed memory, and why; where the C library cannot be told (not glibc), not kept,
+        with that reason, and nothing changed.
     """
     room = available_memory_bytes() if available_bytes is None else available_bytes
     policy = heap_policy(peak_bytes, room)

@@ -14,7 +14,7 @@ _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.geometry.model.beam": ("build_rig_model",),
     "rvcoax.geometry.model.housings": ("SeatStiffness", "housing_condensation", "seat_stiffness"),
     "rvcoax.geometry.gear_loads": ("gear_contact_torques", "gear_mesh_forces"),
-    "rvcoax.geometry.model.preflight": ("sag_warnings",),
+    "rvcoax.geometry.model.preflight": ("peak_memory_bytes", "sag_warnings"),
     "rvcoax.geometry.model.workload": ("REPORT_AFTER_S", "Workload", "WorkloadError", "beam_size", "check_cases",
                                        "check_study", "check_workers", "check_workload", "count_text",
                                        "housing_problem", "housing_workload", "rig_problem", "sweep_workload"),

@@ -440,17 +440,17 @@ def prepare_with_status(rig, settings, *, loads_ahead=None):
     :func:`rvcoax.results.sweep.prepare_model`); a model small against the memory available keeps freed heap memory
     for reuse (:func:`rvcoax.fem.memory.apply_heap_policy`)."""
     from rvcoax import prepare_model
-    from rvcoax.fem.memory import apply_heap_policy
+    from rvcoax.fem import apply_heap_policy
     from rvcoax.geometry import plausibility_warnings
     from rvcoax.geometry.model import (
         REPORT_AFTER_S,
         beam_size,
         housing_problem,
         housing_workload,
+        peak_memory_bytes,
         rig_problem,
         sag_warnings,
     )
-    from rvcoax.geometry.model.preflight import peak_memory_bytes
 
     condense_housings(rig)  # first: the size and sag checks below assemble the condensed housings too
     if settings.model == "beam" and rig_problem(rig) is None:  # (a rig too large is refused below)
