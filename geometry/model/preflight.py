@@ -37,7 +37,8 @@ from rvcoax.geometry.schema import Rig
 __all__ = ["BASE_BYTES", "BYTES_PER_DOF", "CLASS_SHARE", "COMPONENT_NAMES", "CONDITION_LIMIT", "DIRECTIONS",
            "FREE_BODY_SHARE", "MECHANISM_BOUND", "FreeBody", "MemoryEstimate", "SAG_WARNING_MM",
            "SHORT_ELEMENT_FRACTION", "SPRING_KINDS", "STANDARD_GRAVITY", "TYPICAL_MODULI", "estimate_memory",
-           "free_body", "memory_problem", "peak_memory_bytes", "motion_class", "sag_warnings", "short_segment_note", "support_problem"]
+           "free_body", "memory_problem", "motion_class", "peak_memory_bytes", "sag_warnings", "short_segment_note",
+           "support_problem"]
 
 # A "topological" copy of the beam model: every beam made of steel (Pa) and every non-zero spring as stiff
 # as the stiffest beam term (N/m; N·m/rad over the model's length), so that only zeros can leave a part free.
