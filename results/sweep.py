@@ -286,7 +286,9 @@ class PreparedModel:
 
     The solutions of the unit loads are kept (the last :data:`CACHED_SOLUTIONS`, within
     :data:`CACHED_SOLUTION_FLOATS` numbers) by the bytes of each load vector, so that a sweep whose rig differs only in some
-    load parameters (a calibration's trial, a tolerance sample) solves only the vectors that changed.
+    load parameters (a calibration's trial, a tolerance sample) solves only the vectors that changed. The products
+    K u of those solutions are kept the same way, by the bytes of each solution u (:meth:`stiffness_products`): a
+    superposition sweep checks every case's K u − f as the same superposition of the unit solutions' K u_k − f_k.
     """
 
     system: RigSystem
@@ -296,6 +298,7 @@ class PreparedModel:
     solved: dict = field(default_factory=dict, repr=False)
     reduced_solve: object = field(default=None, repr=False)  # x → (Tᵀ K T)⁻¹ x on the independent DOFs (modes)
     release_solver: object = field(default=None, repr=False)  # frees the factorisation (PARDISO's factor) now
+    products: dict = field(default_factory=dict, repr=False)  # SHA-256 of a solution u's bytes → K u
 
     def release(self) -> None:
         """Free the solver's factorisation now, for a caller that solves nothing more on this model: the unit-load
@@ -308,21 +311,15 @@ class PreparedModel:
         """Solutions of the load vectors ``columns`` (an (n, m) array, or m vectors of length n), as an (n, m) array:
         those solved before are taken from the cache, the others are solved together in one call (the first sweep of a
         model solves them all at once), each distinct vector once."""
-        vectors = columns.T if isinstance(columns, np.ndarray) and columns.ndim == 2 else columns
+        vectors, keys = _vector_keys(columns)
         n, m = len(vectors[0]), len(vectors)
-        # SHA-256 of each vector's bytes: the columns of an array read as rows of one transposed copy (half the CPU
-        # time of a copy and a BLAKE2 digest per column: the CPU's SHA instructions); vectors given apart, as they are
-        rows = np.ascontiguousarray(np.asarray(columns, dtype=float).T) if vectors is not columns else None
-        keys = [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() for v in (vectors if rows is None else rows)]
-        del rows
-        missing = [j for j, key in enumerate(keys) if key not in self.solved]
         # a load vector of zeros (a rig without a force table, thermal load or gear contact) has the solution 0 exactly:
-        # not solved (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a third
-        # of MKL's workspace, benchmarks/RESULTS.md)
-        loaded = [j for j in missing if np.any(vectors[j])]
+        # neither solved nor kept (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a
+        # third of MKL's workspace, benchmarks/RESULTS.md)
+        missing = [j for j, key in enumerate(keys) if key is not None and key not in self.solved]
         # a vector repeated in the block (the loads a calibration's trial rigs share) is solved once
         first: dict[bytes, int] = {}
-        for j in loaded:
+        for j in missing:
             first.setdefault(keys[j], j)
         unique = list(first.values())
         # only the distinct loaded vectors are copied for the solver, and the (n, m) result is made once the solver has
@@ -336,17 +333,70 @@ class PreparedModel:
             for i, j in enumerate(unique):
                 solutions[:, j] = solved[:, i]
         del solved
+        new = set(missing)
         for j, key in enumerate(keys):
-            if j not in missing:
+            if key is None:
+                continue
+            if j not in new:
                 solutions[:, j] = self.solved[key]
-            elif first.get(key, j) != j:
+            elif first[key] != j:
                 solutions[:, j] = solutions[:, first[key]]
-        room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
-        for j in missing:
-            self.solved[keys[j]] = solutions[:, j].copy()
-        while len(self.solved) > room:
-            del self.solved[next(iter(self.solved))]
+        _keep(self.solved, {keys[j]: solutions[:, j] for j in missing}, n, m)
         return solutions
+
+    def stiffness_products(self, solutions: np.ndarray) -> np.ndarray:
+        """K u of each column u of ``solutions`` (n, m), as an (n, m) array: those formed before are taken from the
+        cache (by the bytes of u, so a product always belongs to the very vector it is asked for), the others are formed
+        here, each distinct vector once; a vector of zeros has the product 0.
+
+        A superposition sweep's case is u = Σ w_k u_k, so its K u − f is Σ w_k (K u_k − f_k): the unit solutions'
+        products, formed once per model, replace one product with K per case (the hybrid reference rig's K, 8.3 M
+        nonzeros: 4 ms CPU each)."""
+        vectors, keys = _vector_keys(solutions)
+        n, m = len(vectors[0]), len(vectors)
+        first: dict[bytes, int] = {}
+        for j, key in enumerate(keys):
+            if key is not None and key not in self.products:
+                first.setdefault(key, j)
+        unique = list(first.values())
+        stiffness = self.system.stiffness
+        formed = (stiffness @ np.column_stack([vectors[j] for j in unique]) if len(unique) >= BLOCK_PRODUCT_FROM else
+                  [stiffness @ vectors[j] for j in unique])
+        new = {keys[j]: np.asarray(formed[:, i] if isinstance(formed, np.ndarray) else formed[i])
+               for i, j in enumerate(unique)}
+        products = np.zeros((n, m), order="F")
+        for j, key in enumerate(keys):
+            if key is not None:
+                products[:, j] = new[key] if key in new else self.products[key]
+        _keep(self.products, new, n, m)
+        return products
+
+
+BLOCK_PRODUCT_FROM = 8
+"""Fewest vectors whose K u is formed as one block product: scipy's product with a block costs more per nonzero of K
+than with one vector (the hybrid rig's K, 8.3 M nonzeros: 21 ms for 2 columns, 47 ms for 20, 5 ms for one vector);
+per column the same sums in the same order as K u alone."""
+
+
+def _vector_keys(columns) -> tuple[list | np.ndarray, list[bytes | None]]:
+    """The vectors of ``columns`` (an (n, m) array's columns, or m vectors), and the SHA-256 of each one's bytes (None
+    for a vector of zeros, whose solution and product are 0 exactly: neither hashed nor kept)."""
+    vectors = columns.T if isinstance(columns, np.ndarray) and columns.ndim == 2 else columns
+    # the columns of an array read as rows of one transposed copy (half the CPU time of a copy and a BLAKE2 digest per
+    # column: the CPU's SHA instructions); vectors given apart, as they are. A test for zeros costs an eighth of a digest
+    rows = np.ascontiguousarray(np.asarray(columns, dtype=float).T) if vectors is not columns else vectors
+    keys = [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() if np.any(v) else None for v in rows]
+    return vectors, keys
+
+
+def _keep(cache: dict, new: dict, n: int, m: int) -> None:
+    """Add the vectors ``new`` (key → (n,) array, copied) to ``cache``, keeping the newest :data:`CACHED_SOLUTIONS`
+    within :data:`CACHED_SOLUTION_FLOATS` numbers, and at least the ``m`` of the call that adds them."""
+    room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
+    for key, vector in new.items():
+        cache[key] = np.array(vector, dtype=float)
+    while len(cache) > room:
+        del cache[next(iter(cache))]
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
@@ -417,6 +467,13 @@ def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, d
     return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
 
 
+def _unit_unbalances(prepared: PreparedModel, loads: dict, unit: np.ndarray) -> dict:
+    """K u_k − f_k of every unit load k (by name) from its solution u_k (the columns of ``unit``): the unbalance a case
+    superposes (K products kept by the model: :meth:`PreparedModel.stiffness_products`)."""
+    products = prepared.stiffness_products(unit)
+    return {k: products[:, i] - loads[k] for i, k in enumerate(UNIT_LOADS)}
+
+
 def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
     """Hand case ``i`` of ``n`` to ``on_case`` (to save it at once) and report the progress, where asked."""
     if on_case is not None:
@@ -425,33 +482,24 @@ def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
         progress(i + 1, n)
 
 
-PRODUCT_FLOATS = 2**22
-"""Largest block of displacements (DOFs × cases, 32 MB) whose K u a superposition sweep forms in one product."""
-BLOCK_PRODUCT_FROM = 8
-"""Fewest cases formed as one block product: scipy's product with a block costs more per nonzero of K than with one
-vector (the hybrid rig's K, 8.3 M nonzeros: 21 ms for 2 columns, 47 ms for 20, 5 ms for one vector)."""
+def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | None], contact, *, solve=None):
+    """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads, the unit
+    responses and their unbalances K u_k − f_k (:func:`_unit_unbalances`), by name.
 
-
-def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict], contact, *, solve=None):
-    """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads and
-    the unit responses, by name.
-
-    By superposition of the unit responses (``solve`` None), K u of several cases is one product, K read once
-    for all of them (:data:`PRODUCT_FLOATS`; per column the same sums in the same order as K u alone); with
-    ``solve`` (the direct method) each case is solved, and handed on, before the next.
+    By superposition of the unit responses (``solve`` None), u = Σ w_k u_k and K u − f = Σ w_k (K u_k − f_k), the
+    same weights (:func:`rvcoax.geometry.model.loads.superpose`): no product with K per case. With ``solve`` (the direct
+    method) each case is solved, its K u − f formed, and handed on before the next.
     """
-    loads, unit_by_name = responses
-    per_block = 1 if solve is not None else max(1, PRODUCT_FLOATS // max(system.n_dofs, 1))
-    for first in range(0, len(cases), per_block):
-        block = cases[first:first + per_block]
-        applied = [superpose(loads, c.input_torque_Nm, c.output_torque_Nm, False, contact) for c in block]
-        moved = [solve(f) if solve is not None else
-                 superpose(unit_by_name, c.input_torque_Nm, c.output_torque_Nm, False, contact)
-                 for c, f in zip(block, applied)]
-        products = (system.stiffness @ np.column_stack(moved) if len(moved) >= BLOCK_PRODUCT_FROM else
-                    np.column_stack([system.stiffness @ u for u in moved]))
-        for j, (case, f, u) in enumerate(zip(block, applied, moved)):
-            yield first + j, case, f, u, products[:, j] - f
+    loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
+    for i, case in enumerate(cases):
+        torques = case.input_torque_Nm, case.output_torque_Nm
+        f = superpose(loads, *torques, False, contact)
+        if solve is not None:
+            u = solve(f)
+            yield i, case, f, u, system.stiffness @ u - f
+        else:
+            yield (i, case, f, superpose(unit_by_name, *torques, False, contact),
+                   superpose(unbalance_by_name, *torques, False, contact))
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
@@ -504,16 +552,19 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
                              on_case=on_case, engineering=engineering)
     loads = system.unit_loads
     unit, unit_by_name, rest = _unit_solutions(prepared, loads)
-    if release_solver and settings.method == "superposition":
+    direct = settings.method == "direct"
+    if release_solver and not direct:
         prepared.release()
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
+    unbalances = None if direct else _unit_unbalances(prepared, loads, unit)
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
-    rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
+    rest_unbalance = (system.stiffness @ rest - sum(loads[k] for k in REST_LOADS) if direct else
+                      sum(unbalances[k] for k in REST_LOADS))
     results = []
-    for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name), contact,
-                                                     solve=solve if settings.method == "direct" else None):
+    for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name, unbalances), contact,
+                                                     solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
                                               unbalance=unbalance)
         residual = _relative_residual(system, unbalance, load)

@@ -104,3 +104,68 @@ def test_unit_loads_given_as_vectors_or_as_columns_are_the_same_loads():
     assert np.array_equal(from_vectors, from_columns)
     assert np.array_equal(prepared.solve_unit_loads(vectors[::-1]), from_columns[:, ::-1])  # from the cache alone
     assert len(handed) == 2
+
+
+def test_a_case_unbalance_superposed_from_the_unit_products_is_k_times_its_displacement():
+    """A superposition sweep checks K u − f of a case as Σ w_k (K u_k − f_k) (linearity): the superposed products equal
+    K times the superposed displacement to 1e-12 of the largest entry, and a product is formed once per distinct
+    solution (a column of zeros has the product 0 without one)."""
+    from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques, superpose
+
+    rig = load_rig()
+    prepared = prepare_model(rig)
+    loads = prepared.system.unit_loads
+    unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
+    formed = []
+    stiffness = prepared.system.stiffness
+
+    class Counting:  # K as the model holds it, counting the vectors multiplied
+        shape = stiffness.shape
+
+        def __matmul__(self, other):
+            formed.append(1 if np.ndim(other) == 1 else np.shape(other)[1])
+            return stiffness @ other
+
+    import dataclasses
+
+    counted = dataclasses.replace(prepared, system=dataclasses.replace(prepared.system, stiffness=Counting()))
+    products = counted.stiffness_products(unit)
+    nonzero = [i for i in range(unit.shape[1]) if np.any(unit[:, i])]
+    assert sum(formed) == len(nonzero) and 0 < len(nonzero) < len(UNIT_LOADS)
+    again = counted.stiffness_products(np.column_stack([unit, unit[:, nonzero[0]]]))
+    assert sum(formed) == len(nonzero)  # every product from the cache, the repeated column too
+    assert np.array_equal(again[:, :-1], products) and np.array_equal(again[:, -1], products[:, nonzero[0]])
+    assert not np.any(products[:, [i for i in range(unit.shape[1]) if i not in nonzero]])
+    by_name = {k: products[:, i] for i, k in enumerate(UNIT_LOADS)}
+    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
+    contact = gear_contact_torques(rig)
+    for case in paper_cases()[::6]:
+        u = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+        direct = stiffness @ u
+        superposed = superpose(by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+        # relative to the terms K u is summed from, |K| |u| (what floating point resolves: K u ≈ f cancels ~1e4 of
+        # them on this rig), not to K u itself
+        terms = np.abs(stiffness) @ np.abs(u)
+        assert np.abs(superposed - direct).max() <= 1e-12 * terms.max()
+        assert not np.allclose(superposed, stiffness @ (1.001 * u), rtol=1e-9, atol=1e-9 * terms.max())
+
+
+def test_a_corrupted_cached_unit_solution_is_still_refused():
+    """The K u kept per unit solution belongs to the very bytes of that solution: a cached solution changed after its
+    product was formed gives a new product, and the case's residual check refuses it with the message (and residual)
+    it gave when K u was formed per case."""
+    import hashlib
+
+    import pytest
+
+    from rvcoax.results.sweep import ModelError
+
+    rig = load_rig()
+    cases = paper_cases()[:2]
+    prepared = prepare_model(rig)
+    good = run_sweep(rig, cases, prepared=prepared, engineering=False)
+    assert prepared.products and good.cases[-1].residual < 1e-9
+    key = hashlib.sha256(np.ascontiguousarray(prepared.system.unit_loads["T2"])).digest()
+    prepared.solved[key] *= 1.01  # a unit solution 1 % off, after the sweep formed its K u
+    with pytest.raises(ModelError, match=r"case T1=1.43Nm_T2=200Nm: relative residual 0.0098 exceeds 1e-06"):
+        run_sweep(rig, cases, prepared=prepared, engineering=False)
