@@ -468,10 +468,26 @@ def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, d
 
 
 def _unit_unbalances(prepared: PreparedModel, loads: dict, unit: np.ndarray) -> dict:
-    """K u_k − f_k of every unit load k (by name) from its solution u_k (the columns of ``unit``): the unbalance a case
-    superposes (K products kept by the model: :meth:`PreparedModel.stiffness_products`)."""
-    products = prepared.stiffness_products(unit)
-    return {k: products[:, i] - loads[k] for i, k in enumerate(UNIT_LOADS)}
+    """K u_k − f_k of every unit load k whose load or solution is not zero (by name), from its solution u_k (the columns
+    of ``unit``): the unbalance a case superposes (K products kept by the model:
+    :meth:`PreparedModel.stiffness_products`); a unit load left out has K u_k − f_k = 0 exactly."""
+    kept = [i for i, k in enumerate(UNIT_LOADS) if np.any(loads[k]) or np.any(unit[:, i])]
+    products = prepared.stiffness_products(unit[:, kept])
+    return {UNIT_LOADS[i]: products[:, j] - loads[UNIT_LOADS[i]] for j, i in enumerate(kept)}
+
+
+def _superposed(vectors: dict, weights: dict, n: int) -> np.ndarray:
+    """Σ w_k v_k over the vectors ``vectors`` holds (by name; the weights of
+    :func:`rvcoax.geometry.model.loads.case_weights`), in :data:`UNIT_LOADS` order.
+
+    Bit for bit what :func:`rvcoax.geometry.model.loads.superpose` gives (``from_rest`` False) when the vectors left
+    out are zeros: its sum starts from 0, so no entry of the running total is −0, and adding w · 0 = ±0 (finite w) to
+    such a total changes nothing; only the work is left out (the reference rig: 6 of its 9 unit loads are zero)."""
+    total = np.zeros(n)
+    for name in UNIT_LOADS:
+        if name in vectors:
+            total += weights[name] * vectors[name]
+    return total
 
 
 def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
@@ -486,20 +502,24 @@ def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | 
     """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads, the unit
     responses and their unbalances K u_k − f_k (:func:`_unit_unbalances`), by name.
 
-    By superposition of the unit responses (``solve`` None), u = Σ w_k u_k and K u − f = Σ w_k (K u_k − f_k), the
-    same weights (:func:`rvcoax.geometry.model.loads.superpose`): no product with K per case. With ``solve`` (the direct
+    By superposition of the unit responses (``solve`` None), f = Σ w_k f_k, u = Σ w_k u_k and K u − f =
+    Σ w_k (K u_k − f_k), the same weights (:func:`rvcoax.geometry.model.loads.case_weights`, :func:`_superposed`): no
+    product with K per case. With ``solve`` (the direct
     method) each case is solved, its K u − f formed, and handed on before the next.
     """
     loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
+    if solve is None:  # the zero vectors left out of the sums (:func:`_superposed`), found once
+        loads, unit_by_name = ({k: v for k, v in vectors.items() if np.any(v)} for vectors in (loads, unit_by_name))
     for i, case in enumerate(cases):
         torques = case.input_torque_Nm, case.output_torque_Nm
-        f = superpose(loads, *torques, False, contact)
         if solve is not None:
+            f = superpose(loads, *torques, False, contact)
             u = solve(f)
             yield i, case, f, u, system.stiffness @ u - f
         else:
-            yield (i, case, f, superpose(unit_by_name, *torques, False, contact),
-                   superpose(unbalance_by_name, *torques, False, contact))
+            weights = case_weights(*torques, include_rest=True, contact_torques_Nm=contact)  # as superpose weighs them
+            yield (i, case, _superposed(loads, weights, system.n_dofs), _superposed(unit_by_name, weights, system.n_dofs),
+                   _superposed(unbalance_by_name, weights, system.n_dofs))
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
@@ -522,7 +542,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         ``progress(i, n)`` after each case.
     prepared : PreparedModel, optional
         An assembled, factorised model whose structure is ``rig``'s, to reuse (only load parameters may
-        differ: the unit loads are rebuilt from ``rig``).
+        differ: the unit loads are rebuilt from ``rig``, unless ``prepared.system`` holds this very rig's).
     on_case : callable, optional
         ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
     engineering : bool
@@ -544,8 +564,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         prepared = prepare_model(rig, settings)
         system = prepared.system
         release_solver = True  # nobody else holds this model
-    else:
-        system = prepared.system.with_loads_of(rig)
+    else:  # the loads of ``rig`` (frozen) are rebuilt unless the prepared system holds them already
+        system = prepared.system if prepared.system.rig is rig else prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
         return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
@@ -561,7 +581,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     unbalances = None if direct else _unit_unbalances(prepared, loads, unit)
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
     rest_unbalance = (system.stiffness @ rest - sum(loads[k] for k in REST_LOADS) if direct else
-                      sum(unbalances[k] for k in REST_LOADS))
+                      _superposed(unbalances, {k: float(k in REST_LOADS) for k in UNIT_LOADS}, system.n_dofs))
     results = []
     for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name, unbalances), contact,
                                                      solve=solve if direct else None):

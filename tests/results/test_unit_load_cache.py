@@ -150,6 +150,29 @@ def test_a_case_unbalance_superposed_from_the_unit_products_is_k_times_its_displ
         assert not np.allclose(superposed, stiffness @ (1.001 * u), rtol=1e-9, atol=1e-9 * terms.max())
 
 
+def test_a_sum_that_leaves_out_the_zero_unit_vectors_is_superpose_bit_for_bit():
+    """The sweep superposes only the unit vectors that are not zero; its f and u are superpose()'s, bit for bit (signed
+    zeros included), for every case of the paper's table and for negative torques."""
+    from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights, gear_contact_torques, superpose
+    from rvcoax.loadcases.cases import LoadCase
+    from rvcoax.results.sweep import _superposed
+
+    rig = load_rig()
+    prepared = prepare_model(rig)
+    loads = prepared.system.unit_loads
+    unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
+    contact = gear_contact_torques(rig)
+    n = prepared.system.n_dofs
+    for vectors in (loads, {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}):
+        nonzero = {k: v for k, v in vectors.items() if np.any(v)}
+        assert 0 < len(nonzero) < len(vectors)
+        for case in (*paper_cases(), LoadCase(-1.2, -150.0), LoadCase(0.0, 0.0)):
+            torques = case.input_torque_Nm, case.output_torque_Nm
+            mine = _superposed(nonzero, case_weights(*torques, include_rest=True, contact_torques_Nm=contact), n)
+            theirs = superpose(vectors, *torques, False, contact)
+            assert mine.tobytes() == theirs.tobytes()
+
+
 def test_a_corrupted_cached_unit_solution_is_still_refused():
     """The K u kept per unit solution belongs to the very bytes of that solution: a cached solution changed after its
     product was formed gives a new product, and the case's residual check refuses it with the message (and residual)
