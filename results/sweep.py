@@ -454,10 +454,11 @@ def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
     return PreparedModel(system, solve, name, report, reduced_solve=reduced_solve, release_solver=release)
 
 
-def _relative_residual(system: RigSystem, unbalance: np.ndarray, load: np.ndarray) -> float:
-    """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖: the relative residual of a linear case on the constrained DOFs (0 without load)."""
-    scale = np.linalg.norm(system.elimination.T @ load)
-    return float(np.linalg.norm(system.elimination.T @ unbalance) / scale) if scale > 0 else 0.0
+def _relative_residual(reduce, unbalance: np.ndarray, load: np.ndarray) -> float:
+    """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖: the relative residual of a linear case on the constrained DOFs (0 without load);
+    ``reduce`` is Tᵀ (``system.elimination.T``, made once per sweep: scipy builds and checks a new matrix each time)."""
+    scale = np.linalg.norm(reduce @ load)
+    return float(np.linalg.norm(reduce @ unbalance) / scale) if scale > 0 else 0.0
 
 
 def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, dict, np.ndarray]:
@@ -582,12 +583,12 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
     rest_unbalance = (system.stiffness @ rest - sum(loads[k] for k in REST_LOADS) if direct else
                       _superposed(unbalances, {k: float(k in REST_LOADS) for k in UNIT_LOADS}, system.n_dofs))
-    results = []
+    results, reduce = [], system.elimination.T
     for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name, unbalances), contact,
                                                      solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
                                               unbalance=unbalance)
-        residual = _relative_residual(system, unbalance, load)
+        residual = _relative_residual(reduce, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)
         measured = u - rest if from_rest else u
         results.append(CaseResult(
