@@ -477,17 +477,20 @@ def _unit_unbalances(prepared: PreparedModel, loads: dict, unit: np.ndarray) -> 
     return {UNIT_LOADS[i]: products[:, j] - loads[UNIT_LOADS[i]] for j, i in enumerate(kept)}
 
 
-def _superposed(vectors: dict, weights: dict, n: int) -> np.ndarray:
+def _superposed(vectors: dict, weights: dict, n: int, scratch: np.ndarray | None = None) -> np.ndarray:
     """Σ w_k v_k over the vectors ``vectors`` holds (by name; the weights of
     :func:`rvcoax.geometry.model.loads.case_weights`), in :data:`UNIT_LOADS` order.
 
     Bit for bit what :func:`rvcoax.geometry.model.loads.superpose` gives (``from_rest`` False) when the vectors left
     out are zeros: its sum starts from 0, so no entry of the running total is −0, and adding w · 0 = ±0 (finite w) to
-    such a total changes nothing; only the work is left out (the reference rig: 6 of its 9 unit loads are zero)."""
+    such a total changes nothing; only the work is left out (the reference rig: 6 of its 9 unit loads are zero).
+    ``scratch``, an (n,) array, holds each term w_k v_k (the same numbers, without a new array for each: on the hybrid
+    rig a temporary of 0.9 MB costs more than the product it holds)."""
     total = np.zeros(n)
+    scratch = np.empty(n) if scratch is None else scratch
     for name in UNIT_LOADS:
         if name in vectors:
-            total += weights[name] * vectors[name]
+            total += np.multiply(vectors[name], weights[name], out=scratch)
     return total
 
 
@@ -511,6 +514,7 @@ def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | 
     loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
     if solve is None:  # the zero vectors left out of the sums (:func:`_superposed`), found once
         loads, unit_by_name = ({k: v for k, v in vectors.items() if np.any(v)} for vectors in (loads, unit_by_name))
+        scratch = np.empty(system.n_dofs)
     for i, case in enumerate(cases):
         torques = case.input_torque_Nm, case.output_torque_Nm
         if solve is not None:
@@ -519,8 +523,8 @@ def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | 
             yield i, case, f, u, system.stiffness @ u - f
         else:
             weights = case_weights(*torques, include_rest=True, contact_torques_Nm=contact)  # as superpose weighs them
-            yield (i, case, _superposed(loads, weights, system.n_dofs), _superposed(unit_by_name, weights, system.n_dofs),
-                   _superposed(unbalance_by_name, weights, system.n_dofs))
+            yield (i, case, *(_superposed(vectors, weights, system.n_dofs, scratch)
+                              for vectors in (loads, unit_by_name, unbalance_by_name)))
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
@@ -590,13 +594,14 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
                                               unbalance=unbalance)
         residual = _relative_residual(reduce, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)
-        measured = u - rest if from_rest else u
+        change = u - rest
+        measured = change if from_rest else u
         results.append(CaseResult(
             case=case,
             paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             equilibrium_error=check.relative_error, residual=residual,
-            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
+            engineering=case_engineering(rig, system.frame, u, change, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
                                          fixed_change=unbalance - rest_unbalance) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
