@@ -344,10 +344,11 @@ class PreparedModel:
         _keep(self.solved, {keys[j]: solutions[:, j] for j in missing}, n, m)
         return solutions
 
-    def stiffness_products(self, solutions: np.ndarray) -> np.ndarray:
-        """K u of each column u of ``solutions`` (n, m), as an (n, m) array: those formed before are taken from the
-        cache (by the bytes of u, so a product always belongs to the very vector it is asked for), the others are formed
-        here, each distinct vector once; a vector of zeros has the product 0.
+    def stiffness_products(self, solutions) -> np.ndarray:
+        """K u of each vector u of ``solutions`` (an (n, m) array's columns, or m vectors of length n), as an (n, m)
+        array: those formed before are taken from the cache (by the bytes of u, so a product always belongs to the very
+        vector it is asked for), the others are formed here, each distinct vector once; a vector of zeros has the
+        product 0.
 
         A superposition sweep's case is u = Σ w_k u_k, so its K u − f is Σ w_k (K u_k − f_k): the unit solutions'
         products, formed once per model, replace one product with K per case (the hybrid reference rig's K, 8.3 M
@@ -362,13 +363,13 @@ class PreparedModel:
         stiffness = self.system.stiffness
         formed = (stiffness @ np.column_stack([vectors[j] for j in unique]) if len(unique) >= BLOCK_PRODUCT_FROM else
                   [stiffness @ vectors[j] for j in unique])
-        new = {keys[j]: np.asarray(formed[:, i] if isinstance(formed, np.ndarray) else formed[i])
+        new = {keys[j]: formed[:, i].copy() if isinstance(formed, np.ndarray) else formed[i]  # each its own array
                for i, j in enumerate(unique)}
         products = np.zeros((n, m), order="F")
         for j, key in enumerate(keys):
             if key is not None:
                 products[:, j] = new[key] if key in new else self.products[key]
-        _keep(self.products, new, n, m)
+        _keep(self.products, new, n, m, copy=False)
         return products
 
 
@@ -389,12 +390,13 @@ def _vector_keys(columns) -> tuple[list | np.ndarray, list[bytes | None]]:
     return vectors, keys
 
 
-def _keep(cache: dict, new: dict, n: int, m: int) -> None:
-    """Add the vectors ``new`` (key → (n,) array, copied) to ``cache``, keeping the newest :data:`CACHED_SOLUTIONS`
-    within :data:`CACHED_SOLUTION_FLOATS` numbers, and at least the ``m`` of the call that adds them."""
+def _keep(cache: dict, new: dict, n: int, m: int, *, copy: bool = True) -> None:
+    """Add the vectors ``new`` (key → (n,) array; copied unless ``copy`` is False: arrays of their own) to ``cache``,
+    keeping the newest :data:`CACHED_SOLUTIONS` within :data:`CACHED_SOLUTION_FLOATS` numbers, and at least the ``m``
+    of the call that adds them."""
     room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
     for key, vector in new.items():
-        cache[key] = np.array(vector, dtype=float)
+        cache[key] = np.array(vector, dtype=float) if copy else vector
     while len(cache) > room:
         del cache[next(iter(cache))]
 
@@ -473,7 +475,7 @@ def _unit_unbalances(prepared: PreparedModel, loads: dict, unit: np.ndarray) -> 
     of ``unit``): the unbalance a case superposes (K products kept by the model:
     :meth:`PreparedModel.stiffness_products`); a unit load left out has K u_k − f_k = 0 exactly."""
     kept = [i for i, k in enumerate(UNIT_LOADS) if np.any(loads[k]) or np.any(unit[:, i])]
-    products = prepared.stiffness_products(unit[:, kept])
+    products = prepared.stiffness_products([unit[:, i] for i in kept])  # the columns as they are, not a copy
     return {UNIT_LOADS[i]: products[:, j] - loads[UNIT_LOADS[i]] for j, i in enumerate(kept)}
 
 
