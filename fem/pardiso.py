@@ -45,6 +45,7 @@ solid in scalar storage: 2 runs of 120 differed, by 4.4e-16 relative).
 from __future__ import annotations
 
 import collections
+import contextlib
 import ctypes
 import ctypes.util
 import functools
@@ -62,7 +63,7 @@ from rvcoax.fem.memory import return_free_heap
 
 __all__ = ["ANALYSIS_POOL_BYTES", "BLOCK_SIZE", "Factorization", "RESOURCE_ERRORS", "TRIM_BEFORE_SOLVE_BYTES",
            "UpperStorage", "ZERO_PIVOT",
-           "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
+           "add_to_diagonal", "analyse", "available", "clear_analysis_pool", "mkl_runtime_path", "pattern_key", "pooled_analyses",
            "set_analysis_reuse", "stored_nonzeros", "upper_block_storage", "upper_csr", "upper_saddle_point",
            "upper_storage"]
 
@@ -220,6 +221,28 @@ def upper_block_storage(blocks: sp.bsr_matrix) -> UpperStorage:
     indptr, keep = _upper_pattern(blocks.indptr, blocks.indices)
     return UpperStorage(blocks.shape[0], blocks.blocksize[0], indptr, blocks.indices[keep].astype(np.int32),
                         blocks.data[keep])
+
+
+def add_to_diagonal(storage: UpperStorage, rows: np.ndarray, values: np.ndarray) -> None:
+    """Add ``values`` to the diagonal entries ``rows`` (distinct) of ``storage``, in place.
+
+    Each such entry must be stored: in the upper triangle with sorted indices it is the first entry (block) of its
+    row; a ValueError says which is missing. The sum is the one a matrix with the values added before it was stored
+    has, bit for bit (one addition per entry).
+    """
+    rows = np.asarray(rows, dtype=np.int64)
+    if rows.size == 0:
+        return
+    size = storage.block_size
+    first = storage.indptr[rows // size].astype(np.int64)
+    stored = first < storage.indptr[rows // size + 1]
+    if not np.all(stored) or np.any(storage.indices[first[stored]] != rows[stored] // size):
+        missing = int(rows[~stored][0] if not np.all(stored) else rows[storage.indices[first] != rows // size][0])
+        raise ValueError(f"the diagonal entry of row {missing} is not stored")
+    if size == 1:
+        storage.data[first] += values
+    else:
+        storage.data[first, rows % size, rows % size] += values
 
 
 def upper_saddle_point(kept: sp.csr_matrix, constraint: sp.csr_matrix) -> UpperStorage:
@@ -384,6 +407,51 @@ def _phase(handle: np.ndarray, iparm: np.ndarray, mtype: int, phase: int, s: Upp
     return x, error.value
 
 
+def _settings(storage: UpperStorage, indefinite: bool, *, analysis_only: bool, two_level: bool,
+              reproducible: bool) -> np.ndarray:
+    """PARDISO's ``iparm`` for a fresh analysis of ``storage``."""
+    iparm = np.zeros(64, dtype=np.int32)
+    iparm[0] = 1  # settings below, not MKL's defaults
+    iparm[1] = 2 if reproducible else 3  # METIS nested dissection, OpenMP version (serial where reproducible:)
+    iparm[9] = 8  # pivot perturbation 1e-8 (not used for SPD)
+    iparm[17] = -1  # report the nonzeros of the factor
+    iparm[18] = -1 if analysis_only else 0  # the factorisation's MFLOP (it slows the ordering a little)
+    iparm[34] = 1  # zero-based indices
+    iparm[36] = storage.block_size if storage.block_size > 1 else 0
+    iparm[23] = 1 if two_level else 0  # MKL's two-level factorisation (the hybrid rig's Cholesky: 1.7 s CPU, not 2.6)
+    # the same factor, bit for bit, in every run with as many threads (MKL's CNR mode for PARDISO, which MKL's
+    # reference for iparm rules out with the OpenMP ordering): the hybrid rig's factor in 3 × 3 blocks differed
+    # by 4e-16 between runs without it, and costs no more with it
+    iparm[33] = _mkl_threads() if reproducible else 0
+    if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
+        iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
+        iparm[12] = 1  # pivots perturbed to 1e-8 (iparm[9]) are made good by iterative refinement
+        iparm[7] = 2  # two refinement steps on the saddle-point matrix (MKL stops earlier at rounding)
+    return iparm
+
+
+class _Worker:
+    """``work()`` run on a thread of its own; :meth:`result` waits for it and raises what it raised."""
+
+    def __init__(self, work):
+        self._outcome: list = []
+        self._thread = threading.Thread(target=self._run, args=(work,), name="rvcoax-pardiso-analysis", daemon=True)
+        self._thread.start()
+
+    def _run(self, work) -> None:
+        try:
+            self._outcome.append((work(), None))
+        except BaseException as error:  # noqa: BLE001 - handed to the waiting caller as it is
+            self._outcome.append((None, error))
+
+    def result(self):
+        self._thread.join()
+        value, error = self._outcome[0]
+        if error is not None:
+            raise error
+        return value
+
+
 class Factorization:
     """PARDISO's factor of an SPD matrix (its upper triangle :class:`UpperStorage`); solves any number of columns.
 
@@ -396,7 +464,13 @@ class Factorization:
     """
 
     def __init__(self, storage: UpperStorage, indefinite: bool = False, analysis_only: bool = False, *,  # noqa: PLR0913
-                 reuse_analysis: bool = True, two_level: bool = False, reproducible: bool = False):
+                 reuse_analysis: bool = True, two_level: bool = False, reproducible: bool = False,
+                 defer: bool = False):
+        """``defer``: start the analysis (ordering and symbolic factorisation, the pattern only) on a worker thread
+        and return at once; :meth:`factorise` waits for it and factorises the storage's values as they are then (a
+        caller may change them in place, the pattern kept, once :meth:`wait_for_analysis` has returned). The
+        caller's Python work meanwhile runs beside MKL's serial ordering, which holds neither the interpreter's
+        lock nor the second core (:mod:`rvcoax.fem.woodbury`)."""
         self._pardiso = _library()
         self.storage = storage
         self.mtype = _INDEFINITE if indefinite else _SPD
@@ -405,42 +479,81 @@ class Factorization:
         self.reused_analysis = False
         """Whether the numerical factorisation ran on a pooled analysis of an earlier matrix of the same pattern."""
         self._alive = True
+        self._analysis: _Worker | None = None  # the deferred analysis, until factorise() has waited for it
+        self._pending = defer  # the numerical factorisation is still to come (factorise())
+        self._fresh_settings = _settings(storage, indefinite, analysis_only=analysis_only, two_level=two_level,
+                                         reproducible=reproducible)
         pooled = _take(self._key) if self._key is not None and not analysis_only else None
-        no_rhs = np.zeros((storage.n, 1), order="F")
+        self._handle_is_pooled = pooled is not None
         if pooled is not None:
             self._handle, self._iparm = pooled.handle, pooled.iparm
-            try:
-                return_free_heap()  # the factor is mapped apart from the heap: give back what the heap holds free
-                self._call(22, no_rhs, "factorisation")
-                self.reused_analysis = True
-                self._keep_analysis = True
+            if defer or self._factorise_pooled():
                 return
-            except PardisoError:  # the values do not suit the analysis of other values: start afresh
-                _free(pooled.handle, pooled.iparm, self.mtype)
+            self._handle_is_pooled = False
         self._handle = np.zeros(64, dtype=np.int64)
-        self._iparm = np.zeros(64, dtype=np.int32)
-        iparm = self._iparm
-        iparm[0] = 1  # settings below, not MKL's defaults
-        iparm[1] = 2 if reproducible else 3  # METIS nested dissection, OpenMP version (serial where reproducible:)
-        iparm[9] = 8  # pivot perturbation 1e-8 (not used for SPD)
-        iparm[17] = -1  # report the nonzeros of the factor
-        iparm[18] = -1 if analysis_only else 0  # the factorisation's MFLOP (it slows the ordering a little)
-        iparm[34] = 1  # zero-based indices
-        iparm[36] = storage.block_size if storage.block_size > 1 else 0
-        iparm[23] = 1 if two_level else 0  # MKL's two-level factorisation (the hybrid rig's Cholesky: 1.7 s CPU, not 2.6)
-        # the same factor, bit for bit, in every run with as many threads (MKL's CNR mode for PARDISO, which MKL's
-        # reference for iparm rules out with the OpenMP ordering): the hybrid rig's factor in 3 × 3 blocks differed
-        # by 4e-16 between runs without it, and costs no more with it
-        iparm[33] = _mkl_threads() if reproducible else 0
-        if indefinite:  # MKL's advice for saddle-point matrices: symmetric weighted matching and scaling,
-            iparm[10] = 1  # so that the zero block of the multipliers pairs with the constraint columns;
-            iparm[12] = 1  # pivots perturbed to 1e-8 (iparm[9]) are made good by iterative refinement
-            iparm[7] = 2  # two refinement steps on the saddle-point matrix (MKL stops earlier at rounding)
+        self._iparm = self._fresh_settings
+        no_rhs = np.zeros((storage.n, 1), order="F")
+        if defer:
+            self._analysis = _Worker(lambda: self._call(11, no_rhs, "analysis"))
+            return
         try:
             self._call(11, no_rhs, "analysis")  # ordering and symbolic factorisation: the pattern only
             if not analysis_only:
                 return_free_heap()  # what the assembly and the analysis left free on the heap (fem.memory)
                 self._call(22, no_rhs, "factorisation")  # numerical: a failure here is about the values
+            self._keep_analysis = True
+        except PardisoError:
+            self.release()
+            raise
+
+    def _factorise_pooled(self) -> bool:
+        """Phase 22 on a pooled analysis; False (the analysis freed) where the values do not suit it."""
+        try:
+            return_free_heap()  # the factor is mapped apart from the heap: give back what the heap holds free
+            self._call(22, np.zeros((self.storage.n, 1), order="F"), "factorisation")
+        except PardisoError:  # the values do not suit the analysis of other values: start afresh
+            _free(self._handle, self._iparm, self.mtype)
+            return False
+        self.reused_analysis = True
+        self._keep_analysis = True
+        return True
+
+    def wait_for_analysis(self) -> None:
+        """Wait for a deferred analysis (``defer=True``) to end; afterwards the caller may change the storage's values
+        in place (the pattern unchanged) before :meth:`factorise`. Raises :class:`PardisoError` where it failed (this
+        factorisation is then released)."""
+        if self._analysis is None:
+            return
+        analysis, self._analysis = self._analysis, None
+        try:
+            analysis.result()
+        except PardisoError:
+            self.release()
+            raise
+
+    def factorise(self) -> None:
+        """The numerical factorisation of a deferred set-up (``defer=True``), once: waits for the analysis, then
+        factorises the storage's values as they are now. An SPD analysis depends on the pattern alone, so the factor
+        is the one an undeferred set-up of these values gives, bit for bit.
+
+        Raises
+        ------
+        PardisoError
+            The analysis or the factorisation failed (this factorisation is then released).
+        """
+        if not self._pending:
+            raise RuntimeError("factorise() is for a Factorization made with defer=True, once")
+        self._pending = False
+        self.wait_for_analysis()
+        try:
+            if not self._keep_analysis and self._handle_is_pooled:
+                if self._factorise_pooled():
+                    return
+                self._handle = np.zeros(64, dtype=np.int64)
+                self._iparm = self._fresh_settings
+                self._call(11, np.zeros((self.storage.n, 1), order="F"), "analysis")
+            return_free_heap()  # what the assembly and the analysis left free on the heap (fem.memory)
+            self._call(22, np.zeros((self.storage.n, 1), order="F"), "factorisation")
             self._keep_analysis = True
         except PardisoError:
             self.release()
@@ -490,6 +603,8 @@ class Factorization:
         """Solution X of A X = B for B of shape (n, m), as a C-ordered (n, m) array."""
         if not self._alive:
             raise RuntimeError("the PARDISO factorisation was released")
+        if self._pending:
+            raise RuntimeError("the PARDISO factorisation was deferred: call factorise() first")
         rhs = np.asfortranarray(block, dtype=float)
         if rhs.nbytes >= TRIM_BEFORE_SOLVE_BYTES:
             return_free_heap()  # MKL's solve workspace grows with the columns: what the heap holds free goes first
@@ -505,6 +620,10 @@ class Factorization:
         if not self._alive:
             return
         self._alive = False
+        if self._analysis is not None:  # a deferred analysis still running: MKL's handle is its until it ends
+            analysis, self._analysis = self._analysis, None
+            with contextlib.suppress(PardisoError):
+                analysis.result()
         if keep_analysis and self._keep_analysis and self._key is not None and _reuse["enabled"]:
             self._call(0, np.zeros((self.storage.n, 1), order="F"), "release")  # the numerical factor only
             _give(_Analysis(self._key, self._handle, self._iparm, 1024 * int(self._iparm[15])))

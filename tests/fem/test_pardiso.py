@@ -190,3 +190,65 @@ def test_indefinite_saddle_point_on_a_reused_analysis_agrees_with_a_fresh_one(em
     fresh.release()
     # the matching and scaling are those of the first matrix: the same solution to rounding
     assert np.abs(x - reference).max() <= 1e-10 * np.abs(reference).max()
+
+
+@pytest.mark.parametrize("blocks", [True, False])
+def test_a_deferred_factorisation_of_values_changed_after_its_analysis_is_the_plain_factor_bit_for_bit(blocks):
+    """The analysis runs on a worker thread with other values of the same pattern (the tie-released K_qq before its
+    grounding springs); the factor of the values then in the storage is the one a plain set-up of them gives."""
+    a = spd_block_matrix(60, seed=4)
+    if not blocks:
+        a = sp.block_diag([a, sp.identity(1) * 5.0], format="csr")  # odd size: scalar storage
+    rows, springs = np.array([0, 7, 95]), np.array([3.0, 1.5, 0.25])
+    final = a + sp.csr_matrix((springs, (rows, rows)), shape=a.shape)
+    final.sort_indices()
+    b = np.random.default_rng(5).standard_normal((a.shape[0], 2))
+    plain = pardiso.Factorization(pardiso.upper_storage(final), reuse_analysis=False, reproducible=True)
+    expected = plain.solve(b)
+    plain.release()
+    storage = pardiso.upper_storage(a)
+    assert storage.block_size == (3 if blocks else 1)
+    deferred = pardiso.Factorization(storage, reuse_analysis=False, reproducible=True, defer=True)
+    with pytest.raises(RuntimeError, match="deferred"):
+        deferred.solve(b)
+    deferred.wait_for_analysis()
+    pardiso.add_to_diagonal(storage, rows, springs)
+    np.testing.assert_array_equal(expand(storage), np.triu(final.toarray()))
+    deferred.factorise()
+    np.testing.assert_array_equal(deferred.solve(b), expected)
+    with pytest.raises(RuntimeError, match="once"):
+        deferred.factorise()
+    deferred.release()
+
+
+def test_a_deferred_factorisation_released_before_its_analysis_ends_frees_it_and_a_failure_is_raised_on_factorise():
+    a = spd_block_matrix(80, seed=6)
+    pending = pardiso.Factorization(pardiso.upper_storage(a), reuse_analysis=False, defer=True)
+    pending.release()  # waits for the worker thread, then frees MKL's memory
+    pending.release()
+    singular = sp.csr_matrix(a.shape)
+    singular = singular + sp.csr_matrix((np.r_[-1.0, np.ones(a.shape[0] - 1)], (np.arange(a.shape[0]),) * 2))
+    failing = pardiso.Factorization(pardiso.upper_storage(singular.tocsr()), reuse_analysis=False, defer=True)
+    with pytest.raises(pardiso.PardisoError):
+        failing.factorise()  # a negative pivot: released, as an undeferred set-up would be
+
+
+def test_adding_to_a_diagonal_entry_that_is_not_stored_names_its_row():
+    a = sp.csr_matrix(np.array([[2.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 3.0]]))
+    a.eliminate_zeros()
+    storage = pardiso.upper_storage(a)
+    with pytest.raises(ValueError, match="row 1"):
+        pardiso.add_to_diagonal(storage, np.array([1]), np.array([1.0]))
+
+
+def test_a_deferred_factorisation_takes_a_pooled_analysis_of_its_pattern(empty_pool):
+    a = spd_block_matrix(50, seed=8)
+    first = pardiso.Factorization(pardiso.upper_storage(a))
+    first.release()  # its analysis goes to the pool
+    other = perturbed(a, seed=9)
+    b = np.ones((a.shape[0], 1))
+    deferred = pardiso.Factorization(pardiso.upper_storage(other), defer=True)
+    deferred.factorise()
+    assert deferred.reused_analysis
+    np.testing.assert_allclose(deferred.solve(b), spla.spsolve(other.tocsc(), b).reshape(-1, 1), rtol=1e-10)
+    deferred.release()
