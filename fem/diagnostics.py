@@ -18,7 +18,8 @@ from rvcoax.fem import DOFS_PER_NODE
 from rvcoax.fem.equilibrium import frame_dof_table
 from rvcoax.fem.rigid_body import rigid_body_modes
 
-__all__ = ["FreeMotion", "MOTION_NAMES", "constraint_penalty", "find_free_motions", "scaled_condition_estimate",
+__all__ = ["FreeMotion", "MOTION_NAMES", "constraint_penalty", "find_free_motions", "first_solve_block",
+           "scaled_condition_estimate",
            "scaled_inverse_norm_bound", "singularity_and_condition"]
 
 MOTION_NAMES = ("translation x", "translation y", "translation z", "rotation about x",
@@ -195,6 +196,16 @@ def singularity_and_condition(matrix, solve, steps: int = 2, seed: int = 0) -> t
     root = np.sqrt(_diagonal(matrix))
     iteration.finish(lambda b: root * np.asarray(solve(root[:, None] * b[:, None]), dtype=float).reshape(-1))
     return iteration.bound, iteration.equation, kappa
+
+
+def first_solve_block(matrix, seed: int = 0) -> np.ndarray:
+    """The block :func:`singularity_and_condition` (its default steps and ``seed``) asks ``solve`` for first: the
+    condition estimate's starting vectors and the inverse iteration's first step, scaled, the same numbers. A set-up
+    with a solve call of its own to make can carry these columns and serve them back when they are asked for
+    (:class:`rvcoax.fem.solvers.SolvedAhead`): one solve call fewer."""
+    n = matrix.shape[0]
+    root = np.sqrt(_diagonal(matrix))
+    return root[:, None] * np.column_stack([_starting_block(n, 1), _InverseIteration(n, 1, seed).column()])
 
 
 def _scaled_one_norm(matrix, root: np.ndarray) -> float:

@@ -399,7 +399,7 @@ def _move_out_while_factorising(stiffness: sp.csr_matrix) -> bool:
 
 def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method: str = "auto",  # noqa: PLR0913
                    near_null_space: Callable[[], np.ndarray] | None = None, symmetrize: bool = False,
-                   *, n_rhs: int = 1) -> ReducedSystem:
+                   *, n_rhs: int = 1, ahead: Callable[[], np.ndarray | None] | None = None) -> ReducedSystem:
     """Reduce K with T and set up ``method`` for Tᵀ K T.
 
     Parameters
@@ -415,6 +415,11 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
         See :func:`reduced_stiffness`.
     n_rhs : int
         How many right-hand sides the set-up will serve (a sweep: its unit loads).
+    ahead : callable, optional
+        Returns the load vectors (n, k), full DOF numbering, or None, that the caller will solve next; called only
+        where the set-up makes a solve call of its own (the tied Cholesky path,
+        :func:`rvcoax.fem.woodbury.prepare_tied`): they ride along in it, and :meth:`ReducedSystem.solve` serves them
+        from there. Elsewhere they are solved when asked for, as any load.
 
     Raises
     ------
@@ -432,7 +437,12 @@ def prepare_system(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, method:
         if woodbury.update_fits(elimination.shape[1], 2 * long.size):
             modes = independent_modes(elimination, near_null_space()) if near_null_space is not None else None
             # no reference kept here: the Cholesky path lets K' go once it serves K' from its own arrays
-            updated = woodbury.prepare_tied(constrained_stiffness(stiffness, elimination, long), modes, serve=_serve)
+            loads = None if ahead is None else ahead()
+            reduced_ahead = None if loads is None else np.asarray(elimination.T @ loads).reshape(elimination.shape[1], -1)
+            del loads
+            updated = woodbury.prepare_tied(constrained_stiffness(stiffness, elimination, long), modes, serve=_serve,
+                                            ahead=reduced_ahead)
+            del reduced_ahead
             del modes
             if updated is not None:
                 return ReducedSystem(stiffness, elimination, updated)

@@ -34,7 +34,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from rvcoax.fem import pardiso, solvers
+from rvcoax.fem import diagnostics, pardiso, solvers
 from rvcoax.fem.errors import PardisoError, SolverError
 
 __all__ = ["FLOATING_TOLERANCE", "UPDATE_BYTES", "grounded_dofs", "prepare_tied", "update_fits"]
@@ -162,7 +162,8 @@ def _update(operator, k_qq: sp.csr_matrix, modes: np.ndarray | None) -> _Update 
     return _Update(v, core_inverse, ground, springs)
 
 
-def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.PreparedSolver | None:
+def prepare_tied(operator, modes: np.ndarray | None, *, serve=None,
+                 ahead: np.ndarray | None = None) -> solvers.PreparedSolver | None:
     """Set up A = Sᵀ K' S (``operator``) by Cholesky of the tie-released K_qq plus a low-rank update.
 
     Parameters
@@ -175,6 +176,10 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
         ``serve(operator, storage, ground, springs)`` → the same A with K' applied from B's upper triangle
         ``storage`` (:func:`rvcoax.fem.system._serve`), so that the whole K' is freed before PARDISO's factor is
         allocated (a caller that keeps no reference of its own to ``operator``).
+    ahead : (m, k) array, optional
+        Right-hand sides the caller will ask for (a sweep's unit loads, reduced): solved in the set-up's own solve
+        call, with the update's columns and the singularity test's first block, and served from there
+        (:class:`rvcoax.fem.solvers.SolvedAhead`) instead of costing solve calls of their own.
 
     Returns
     -------
@@ -219,8 +224,10 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
         factor.release(keep_analysis=False)  # waits for the analysis thread, frees MKL's memory
         raise
     probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
-    y = factor.solve(np.column_stack([v.toarray(), probe]))
-    y, probe_x0 = y[:, :rank], y[:, rank:]
+    # so do the singularity test's first block and the caller's loads: the solve call is a pass over the whole factor
+    early = np.column_stack([diagnostics.first_solve_block(operator), *([] if ahead is None else [ahead])])
+    y = factor.solve(np.column_stack([v.toarray(), probe, early]))
+    y, probe_x0, early_x0 = y[:, :rank], y[:, rank:rank + 1], y[:, rank + 1:]
     lu, root = _capacitance(released.core_inverse, v, y)
     if lu is None:
         factor.release(keep_analysis=False)
@@ -230,7 +237,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
         x -= y @ (root[:, None] * la.lu_solve(lu, root[:, None] * (v.T @ x), check_finite=False))
         return x
 
-    def solve(block):
+    def solve_with_factor(block):
         try:
             return update(factor.solve(block)), (), ()
         except PardisoError as error:
@@ -240,6 +247,7 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None) -> solvers.P
     if not residual <= solvers.REFINE_ABOVE:
         factor.release(keep_analysis=False)
         return None
+    solve = solvers.SolvedAhead(solve_with_factor, early, update(early_x0))
     condition = solvers.refuse_singular(operator, solve, factor)
     name = (f"pardiso (MKL PARDISO, SPD, mtype=2: Cholesky of the stiffness with the ties released and "
             f"{ground.size} DOF(s) grounded, ties and groundings as a rank-{rank} update)")

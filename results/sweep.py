@@ -257,23 +257,42 @@ def check_solution(label: str, u: np.ndarray, equilibrium_error: float, residual
                              "trustworthy (ill-conditioned stiffness?)")
 
 
-def _prepare(system: RigSystem, settings: SweepSettings):
+def _prepare(system: RigSystem, settings: SweepSettings, ahead=None):
     """The system's solver: returns (solve function, solver name, summary dict, the solve of Tᵀ K T itself).
 
     A beam model with the automatic or SuperLU solver is factorised by SuperLU in symmetric mode (the
     reduced matrix symmetrised); everything else goes to the method ``settings.solver`` names or, for
-    ``auto``, the one its size calls for, AMG with the rigid-body modes as near-null space.
+    ``auto``, the one its size calls for, AMG with the rigid-body modes as near-null space. ``ahead``: a callable
+    returning the load vectors to solve in the set-up's own solve call where it makes one
+    (:func:`rvcoax.fem.system.prepare_system`).
     """
     beam_superlu = system.kind == "beam" and settings.solver in ("auto", "superlu")
     try:
         reduced = fem_system.prepare_system(
             system.stiffness, system.elimination, "superlu" if beam_superlu else settings.solver,
             near_null_space=lambda: rigid_body_modes(system.dofs.position, system.dofs.component),
-            symmetrize=beam_superlu, n_rhs=len(UNIT_LOADS))
+            symmetrize=beam_superlu, n_rhs=len(UNIT_LOADS), ahead=ahead)
     except SingularModelError as error:
         raise ModelError(f"the model is singular ({error}); check that every part is supported") from None
     check_condition(reduced.condition_estimate(), system.frame.rig)
     return reduced.solve, reduced.solver_name, reduced.summary(), reduced.solver.solve, reduced.solver.release
+
+
+def _first_of_each(keys: list[bytes | None], among) -> dict[bytes, int]:
+    """Of the vectors ``among`` (indices), the first of each distinct one that is not zeros, by key
+    (:func:`_vector_keys`): a vector repeated (the loads a calibration's trial rigs share) is solved once."""
+    first: dict[bytes, int] = {}
+    for j in among:
+        if keys[j] is not None:
+            first.setdefault(keys[j], j)
+    return first
+
+
+def _distinct_loaded(vectors) -> list[int]:
+    """Indices of the distinct load vectors of ``vectors`` that are not all zeros, each the first of its kind: the
+    columns a solve of them all needs (:meth:`PreparedModel.solve_unit_loads`)."""
+    keys = _vector_keys(vectors)[1]
+    return list(_first_of_each(keys, range(len(keys))).values())
 
 
 CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)
@@ -317,10 +336,7 @@ class PreparedModel:
         # neither solved nor kept (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a
         # third of MKL's workspace, benchmarks/RESULTS.md)
         missing = [j for j, key in enumerate(keys) if key is not None and key not in self.solved]
-        # a vector repeated in the block (the loads a calibration's trial rigs share) is solved once
-        first: dict[bytes, int] = {}
-        for j in missing:
-            first.setdefault(keys[j], j)
+        first = _first_of_each(keys, missing)
         unique = list(first.values())
         # only the distinct loaded vectors are copied for the solver, and the (n, m) result is made once the solver has
         # given its workspace back: the all-solid rig's 9-column copy and zero-filled result (2 × 35 MB at 492 k DOF)
@@ -355,10 +371,7 @@ class PreparedModel:
         nonzeros: 4 ms CPU each)."""
         vectors, keys = _vector_keys(solutions)
         n, m = len(vectors[0]), len(vectors)
-        first: dict[bytes, int] = {}
-        for j, key in enumerate(keys):
-            if key is not None and key not in self.products:
-                first.setdefault(key, j)
+        first = _first_of_each(keys, [j for j, key in enumerate(keys) if key not in self.products])
         unique = list(first.values())
         stiffness = self.system.stiffness
         formed = (stiffness @ np.column_stack([vectors[j] for j in unique]) if len(unique) >= BLOCK_PRODUCT_FROM else
@@ -419,7 +432,7 @@ def check_clearance_model(rig: Rig, kind: str) -> list[str]:
     return nonlinear_bearing_names(rig)
 
 
-def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> PreparedModel:
+def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings(), *, loads_ahead=None) -> PreparedModel:
     """Check supports, assemble ``rig`` at the settings' fidelity and set up its solver.
 
     Parameters
@@ -428,6 +441,10 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
         A validated rig (:func:`rvcoax.load_rig`).
     settings : SweepSettings
         The model (beam, hybrid, solid), the solver and the solid mesh size.
+    loads_ahead : callable, optional
+        ``loads_ahead(system)`` → more load vectors (each of the assembled system's length) that the caller will solve
+        on this model, besides the rig's own unit loads (a calibration's trial rigs:
+        :func:`rvcoax.results.studies.calibration.loads_with_trials`); see :func:`prepare_system`.
 
     Returns
     -------
@@ -435,7 +452,8 @@ def prepare_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> Prepar
         The assembled system and its factorisation, to pass to :func:`run_sweep` (or calibration) so that
         several sweeps of one rig assemble and factorise it once.
     """
-    return prepare_system(assemble_model(rig, settings), settings)
+    system = assemble_model(rig, settings)
+    return prepare_system(system, settings, loads_ahead=None if loads_ahead is None else (lambda: loads_ahead(system)))
 
 
 def assemble_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> RigSystem:
@@ -450,9 +468,19 @@ def assemble_model(rig: Rig, settings: SweepSettings = SweepSettings()) -> RigSy
     return assemble_rig(rig, settings.model, **options)
 
 
-def prepare_system(system: RigSystem, settings: SweepSettings) -> PreparedModel:
-    """Set up the solver of an already assembled system (e.g. one whose springs a sample changed)."""
-    solve, name, report, reduced_solve, release = _prepare(system, settings)
+def prepare_system(system: RigSystem, settings: SweepSettings, *, loads_ahead=None) -> PreparedModel:
+    """Set up the solver of an already assembled system (e.g. one whose springs a sample changed).
+
+    Where the set-up makes a solve call of its own (the tied Cholesky path of the hybrid model), the system's unit
+    loads, and those ``loads_ahead()`` returns, ride along in it: the sweeps that follow find them solved
+    (:class:`rvcoax.fem.solvers.SolvedAhead`) instead of making a solve call, a pass over the whole factor, of their own.
+    """
+    def ahead() -> np.ndarray | None:
+        vectors = [system.unit_loads[k] for k in UNIT_LOADS] + list(() if loads_ahead is None else loads_ahead())
+        distinct = _distinct_loaded(vectors)
+        return np.column_stack([vectors[j] for j in distinct]) if distinct else None
+
+    solve, name, report, reduced_solve, release = _prepare(system, settings, ahead)
     return PreparedModel(system, solve, name, report, reduced_solve=reduced_solve, release_solver=release)
 
 

@@ -65,12 +65,19 @@ def check(
 def _check(model_choice, out: Path | None, measured: Path | None, uncertainty, pictures) -> None:
     """The body of :func:`check` (``pictures``: the picture's worker process where files are written)."""
     from rvcoax import run_check, write_check
-    from rvcoax.results.studies import CHECK_QUANTITIES, EXIT_OUTSIDE, EXIT_WITHIN, CalibrationError, fit_output_torques
+    from rvcoax.results.studies import (
+        CHECK_QUANTITIES,
+        EXIT_OUTSIDE,
+        EXIT_WITHIN,
+        CalibrationError,
+        check_loads_ahead,
+        fit_output_torques,
+    )
 
     settings = model_choice.settings()
     rig = model_choice.load_rig()
     rows, table_name, tolerance = _table_to_compare(model_choice, rig, measured, uncertainty=uncertainty)
-    prepared = support.prepare_with_status(rig, settings)
+    prepared = support.prepare_with_status(rig, settings, loads_ahead=check_loads_ahead(rig))
     with support.progress_bar() as progress:
         tasks = {}
 

@@ -435,8 +435,9 @@ def condense_housings(rig) -> None:
                              + " (rvcoax rig show: every load pattern)"))
 
 
-def prepare_with_status(rig, settings):
-    """Assemble the model and set up its solver, with a status line and the sag warnings."""
+def prepare_with_status(rig, settings, *, loads_ahead=None):
+    """Assemble the model and set up its solver, with a status line and the sag warnings (``loads_ahead``: see
+    :func:`rvcoax.results.sweep.prepare_model`)."""
     from rvcoax import prepare_model
     from rvcoax.geometry import plausibility_warnings
     from rvcoax.geometry.model import (
@@ -462,7 +463,7 @@ def prepare_with_status(rig, settings):
     for message in plausibility_warnings(rig) + sag_warnings(rig):
         warn(message)
     with console.status(f"assembling the {settings.model} model and setting up the solver"):
-        prepared = prepare_model(rig, settings)
+        prepared = prepare_model(rig, settings, loads_ahead=loads_ahead)
     system = prepared.system
     console.print(f"{settings.model} model: {system.n_dofs} DOF, solver {prepared.solver_name}"
                   + (f", {len(system.solids)} solid part(s)" if system.solids else ""))

@@ -11,7 +11,8 @@ from rvcoax._lazy import lazy_names
 _WHERE, __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), {
     "rvcoax.results.studies.check": ("CHECK_QUANTITIES", "EXIT_IMPLAUSIBLE_FIT", "EXIT_OUTSIDE", "EXIT_WITHIN",
                                      "measured_rows", "measurement_tolerance"),
-    "rvcoax.results.studies.check_run": ("CalibrationError", "CheckRun", "NO_TABLE_HELP", "fit_output_torques", "run_check"),
+    "rvcoax.results.studies.check_run": ("CalibrationError", "CheckRun", "NO_TABLE_HELP", "check_loads_ahead",
+                                          "fit_output_torques", "run_check"),
     "rvcoax.results.studies.calibration": ("calibrate",),
     "rvcoax.results.studies.chain_error": ("ChainDataError", "Coaxiality", "evaluate_chain_error", "load_chain_model",
                                            "read_stage_forces", "torsion_constant_deg_per_m"),

@@ -28,7 +28,7 @@ from rvcoax.results.studies.check import y_at_stations
 from rvcoax.results.sweep import SweepSettings, check_clearance_model, prepare_model, run_sweep
 
 __all__ = ["Calibration", "CalibrationParameter", "DEFAULT_PARAMETERS", "FittedParameter", "LOAD_GROUPS", "calibrate",
-           "solve_with_trials"]
+           "loads_with_trials", "solve_with_trials"]
 
 
 @dataclass(frozen=True)
@@ -208,22 +208,35 @@ def _joint_trials(rig: Rig, parameters, scale: np.ndarray) -> tuple[np.ndarray, 
                        for x in (reference, *steps)]
 
 
-def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS) -> None:
-    """Solve the unit loads of ``rig`` and of the rigs :func:`calibrate` will sweep on ``prepared`` in one solve call,
-    into ``prepared``'s cache of solutions (a caller that sweeps ``rig`` and then calibrates it: each solve call reads
-    the whole factor, so one call instead of two saves a pass; the hybrid reference rig: ~0.1 s, benchmarks/RESULTS.md).
+def loads_with_trials(rig: Rig, system, parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS) -> list:
+    """The unit-load vectors of ``rig`` and of the rigs :func:`calibrate` will sweep, on ``system`` (an assembled
+    :class:`rvcoax.geometry.model.RigSystem` of ``rig``): what a check solves after the set-up, for
+    :func:`rvcoax.results.sweep.prepare_model`'s ``loads_ahead``.
 
-    Does nothing where :func:`calibrate` would not use the one-surrogate path (a parameter that is not a load
-    parameter, or nonlinear bearings); only ``rig``'s own where it lacks a parameter.
+    Empty where :func:`calibrate` would not use the one-surrogate path (a parameter that is not a load parameter, or
+    nonlinear bearings); only ``rig``'s own where it lacks a parameter.
     """
-    if not all(p.address.startswith(LOAD_GROUPS) for p in parameters) or check_clearance_model(rig, prepared.system.kind):
-        return
+    if not all(p.address.startswith(LOAD_GROUPS) for p in parameters) or check_clearance_model(rig, system.kind):
+        return []
     try:
         _, rigs = _joint_trials(rig, parameters, np.array([p.scale for p in parameters]))
     except KeyError:  # the rig lacks a parameter: calibrate() says so, after the sweep of the rig as built
         rigs = []
-    # one call: the trial rigs share most of their loads with the rig, and a repeated vector is solved once
-    _solve_together(prepared, [rig, *rigs], per_call=None)
+    return [load[k] for load in (system.with_loads_of(r).unit_loads for r in [rig, *rigs]) for k in UNIT_LOADS]
+
+
+def solve_with_trials(rig: Rig, prepared, parameters: tuple[CalibrationParameter, ...] = DEFAULT_PARAMETERS) -> None:
+    """Solve the unit loads of ``rig`` and of the rigs :func:`calibrate` will sweep on ``prepared`` in one solve call,
+    into ``prepared``'s cache of solutions (a caller that sweeps ``rig`` and then calibrates it: each solve call reads
+    the whole factor, so one call instead of two saves a pass; the hybrid reference rig: ~0.1 s, benchmarks/RESULTS.md).
+    None at all where ``prepared`` was set up with them (:func:`loads_with_trials` as its ``loads_ahead``).
+
+    Does nothing where :func:`calibrate` would not use the one-surrogate path (a parameter that is not a load
+    parameter, or nonlinear bearings); only ``rig``'s own where it lacks a parameter.
+    """
+    vectors = loads_with_trials(rig, prepared.system, parameters)
+    if vectors:  # one call: the trial rigs share most of their loads with the rig, and a repeated vector is solved once
+        prepared.solve_unit_loads(vectors)
 
 
 def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *, scale: np.ndarray):

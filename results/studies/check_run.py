@@ -6,6 +6,7 @@ Dask worker all call :func:`run_check`; writing the files is :func:`rvcoax.resul
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -15,7 +16,13 @@ from rvcoax.errors import RvcoaxError
 from rvcoax.geometry.builtin import is_reference_rig
 from rvcoax.geometry.schema import Rig
 from rvcoax.loadcases.cases import PublishedRow, paper_table
-from rvcoax.results.studies.calibration import DEFAULT_PARAMETERS, Calibration, calibrate, solve_with_trials
+from rvcoax.results.studies.calibration import (
+    DEFAULT_PARAMETERS,
+    Calibration,
+    calibrate,
+    loads_with_trials,
+    solve_with_trials,
+)
 from rvcoax.results.studies.check import CheckVerdict, Comparison, Tolerance, Verdict, check_verdict, compare, verdict
 from rvcoax.results.sweep import PreparedModel, Sweep, SweepSettings, prepare_model, run_sweep
 
@@ -106,6 +113,13 @@ def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
     return mask
 
 
+def check_loads_ahead(rig: Rig):
+    """``loads_ahead`` for :func:`rvcoax.results.sweep.prepare_model` of a model that :func:`run_check` will check: the
+    rig's unit loads and those of the calibration's trial rigs, solved in the set-up's own solve call where it makes
+    one (the hybrid model: two solve calls, passes over the whole factor, fewer)."""
+    return functools.partial(loads_with_trials, rig)
+
+
 def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: SweepSettings | None = None,  # noqa: PLR0913
               prepared: PreparedModel | None = None, *,
               progress: Callable[[str, int, int], None] | None = None,
@@ -122,7 +136,8 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
     settings : SweepSettings, optional
         Model fidelity, solver and mesh size (the beam model's defaults when omitted).
     prepared : PreparedModel, optional
-        An assembled, factorised model of ``rig`` to reuse.
+        An assembled, factorised model of ``rig`` to reuse (set up with :func:`check_loads_ahead`'s loads, it has
+        them solved already).
     progress : callable, optional
         ``progress(stage, done, total)`` with stage ``"blind sweep"``, ``"calibrating"`` or
         ``"calibrated sweep"``.
@@ -147,7 +162,7 @@ def run_check(rig: Rig, rows: tuple[PublishedRow, ...] | None = None, settings: 
         rows = paper_table()
     settings = SweepSettings() if settings is None else settings
     cases = tuple(r.case for r in rows)
-    prepared = prepare_model(rig, settings) if prepared is None else prepared
+    prepared = prepare_model(rig, settings, loads_ahead=check_loads_ahead(rig)) if prepared is None else prepared
 
     def sweep(on: Rig, stage: str) -> Sweep:
         report = None if progress is None else (lambda i, n: progress(stage, i, n))

@@ -331,3 +331,28 @@ def test_free_heap_memory_goes_back_to_the_system():
     if retained > 200.0:
         assert resident_mb() - baseline < retained - 200.0
     assert kept.sum() == 499_500.0 and all(s.sum() == 12_000.0 for s in survivors)
+
+
+def test_solved_ahead_serves_the_columns_it_knows_and_solves_the_others_in_one_call():
+    from rvcoax.fem.solvers import SolvedAhead
+
+    rng = np.random.default_rng(3)
+    known_rhs = rng.standard_normal((10, 3))
+    calls = []
+
+    def solve(block):
+        calls.append(block.shape[1])
+        return 2.0 * block, (7,), (0.5,)
+
+    solve_ahead = SolvedAhead(solve, known_rhs, 2.0 * known_rhs)
+    x, iterations, estimates = solve_ahead(known_rhs[:, [2, 0]])
+    np.testing.assert_array_equal(x, 2.0 * known_rhs[:, [2, 0]])
+    assert calls == [] and iterations == () and estimates == ()
+    fresh = rng.standard_normal((10, 2))
+    block = np.column_stack([fresh[:, 0], known_rhs[:, 1], fresh[:, 1]])
+    x, iterations, _ = solve_ahead(block)
+    np.testing.assert_array_equal(x, 2.0 * block)
+    assert calls == [2] and iterations == (7,)  # the two unknown columns, in one call
+    nearly = known_rhs[:, :1] * (1.0 + 1e-16 * rng.standard_normal((10, 1)) + 2.3e-16)
+    solve_ahead(nearly)  # other numbers, however close: solved
+    assert calls == [2, 1]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from rvcoax.fem import pardiso, solid
 from rvcoax.fem.assembly import assemble_matrix
@@ -334,3 +335,51 @@ def test_auto_chooses_for_a_tied_system_without_the_plain_elasticity_amg_constan
         with pytest.raises(Chosen):
             prepare_system(k, elimination, "auto")
     assert seen == [False, True]
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="MKL PARDISO not available")
+def test_loads_solved_ahead_ride_in_the_set_ups_solve_call_and_equal_a_solve_of_their_own(tied_bar_and_modes, monkeypatch):
+    """The Cholesky path's set-up solves the update's columns, the singularity test's first block and the caller's
+    loads in one PARDISO call; solving those loads afterwards makes no call, and gives what a set-up without them
+    solves (to the rounding of a different number of right-hand sides)."""
+    k, t, loads, _, modes = tied_bar_and_modes
+    calls = []
+    phase = pardiso._phase
+
+    def counting(handle, iparm, mtype, step, storage, *, rhs):
+        if step == 33:
+            calls.append(rhs.shape[1])
+        return phase(handle, iparm, mtype, step, storage, rhs=rhs)
+
+    monkeypatch.setattr(pardiso, "_phase", counting)
+    plain = prepare_system(k, t, "pardiso", near_null_space=lambda: modes)
+    assert plain.solver_name.startswith("pardiso (MKL PARDISO, SPD")  # the Cholesky path, not the multipliers
+    plain_calls = list(calls)
+    assert len(plain_calls) == 2  # the update's columns with the singularity test's first block; its second block
+    expected = plain.solve(loads)
+    calls.clear()
+    ahead = prepare_system(k, t, "pardiso", near_null_space=lambda: modes, ahead=lambda: loads)
+    assert calls == [plain_calls[0] + loads.shape[1], plain_calls[1]]  # more columns, no more calls
+    set_up = len(calls)
+    served = ahead.solve(loads)
+    assert len(calls) == set_up  # no solve call of their own
+    np.testing.assert_allclose(served, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+    assert ahead.condition_estimate() == pytest.approx(plain.condition_estimate(), rel=1e-8)
+    other = ahead.solve(loads[:, ::-1] * 2.0)  # columns it has not seen: one call, solved as any load
+    assert len(calls) == set_up + 1
+    np.testing.assert_allclose(other, 2.0 * expected[:, ::-1], rtol=0, atol=1e-12 * np.abs(expected).max())
+
+
+def test_the_first_block_the_singularity_test_solves_is_the_one_a_set_up_can_solve_ahead():
+    from rvcoax.fem.diagnostics import first_solve_block, singularity_and_condition
+
+    a = sp.diags([np.full(40, -1.0), np.linspace(2.5, 40.0, 41), np.full(40, -1.0)], [-1, 0, 1], format="csc")
+    asked = []
+
+    def solve(block):
+        asked.append(np.array(block))
+        return spla.spsolve(a, block).reshape(block.shape)
+
+    singularity_and_condition(a, solve)
+    np.testing.assert_array_equal(asked[0], first_solve_block(a))
+    assert len(asked) >= 2 and asked[1].shape[1] >= 2  # its second block depends on the first's solution

@@ -209,3 +209,31 @@ def test_solid_meshes_keep_no_jacobians_and_what_is_read_later_is_kept_in_a_file
     uy, rz = hybrid.ring_probe(part, path.x_start_mm + stations, system.n_dofs)
     assert "_cached_mapping" in vars(part.mesh)  # the probe made a new mapping: the assembly's was gone
     assert (uy != system.probes["output"].uy).nnz == 0 and (rz != system.probes["output"].rotation_z).nnz == 0
+
+
+def test_a_check_set_up_with_its_loads_ahead_solves_only_the_calibrated_rig_and_agrees(rig, prepared, monkeypatch):
+    """The rig's and the calibration's trial rigs' unit loads ride in the set-up's own solve call
+    (rvcoax.results.studies.check_loads_ahead): the check then makes one PARDISO solve call (the calibrated rig's
+    loads), and its values are those of a check on a model set up without them, to the rounding of the solves."""
+    from rvcoax.fem import pardiso
+    from rvcoax.results.studies import check_loads_ahead, run_check
+
+    if not pardiso.available():
+        pytest.skip("MKL PARDISO not available")
+    reference = run_check(rig, settings=HYBRID, prepared=prepared)
+    ahead = prepare_model(rig, HYBRID, loads_ahead=check_loads_ahead(rig))
+    calls = []
+    phase = pardiso._phase
+
+    def counting(handle, iparm, mtype, step, storage, *, rhs):
+        calls.append((step, rhs.shape[1]))
+        return phase(handle, iparm, mtype, step, storage, rhs=rhs)
+
+    monkeypatch.setattr(pardiso, "_phase", counting)
+    checked = run_check(rig, settings=HYBRID, prepared=ahead)
+    assert [c for c in calls if c[0] == 33] == [(33, 4)]  # the calibrated rig's four loaded unit loads
+    for shaft in MEASURED_SHAFTS:
+        for sweep_ahead, sweep in ((checked.blind, reference.blind), (checked.calibrated, reference.calibrated)):
+            got = np.array([c.paths[shaft].uy_mm for c in sweep_ahead.cases])
+            expected = np.array([c.paths[shaft].uy_mm for c in sweep.cases])
+            np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
