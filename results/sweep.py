@@ -498,13 +498,12 @@ def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, d
     return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
 
 
-def _unit_unbalances(prepared: PreparedModel, loads: dict, unit: np.ndarray) -> dict:
-    """K u_k − f_k of every unit load k whose load or solution is not zero (by name), from its solution u_k (the columns
-    of ``unit``): the unbalance a case superposes (K products kept by the model:
-    :meth:`PreparedModel.stiffness_products`); a unit load left out has K u_k − f_k = 0 exactly."""
-    kept = [i for i, k in enumerate(UNIT_LOADS) if np.any(loads[k]) or np.any(unit[:, i])]
-    products = prepared.stiffness_products([unit[:, i] for i in kept])  # the columns as they are, not a copy
-    return {UNIT_LOADS[i]: products[:, j] - loads[UNIT_LOADS[i]] for j, i in enumerate(kept)}
+def _unit_unbalances(prepared: PreparedModel, loads: dict, unit_by_name: dict) -> dict:
+    """K u_k − f_k of the unit loads ``loads`` (by name; those that are not zeros: a load of zeros has the solution 0
+    exactly, :meth:`PreparedModel.solve_unit_loads`, and K u_k − f_k = 0) from their solutions ``unit_by_name``: the
+    unbalance a case superposes (K products kept by the model: :meth:`PreparedModel.stiffness_products`)."""
+    products = prepared.stiffness_products([unit_by_name[k] for k in loads])  # the columns as they are, not a copy
+    return {k: products[:, j] - load for j, (k, load) in enumerate(loads.items())}
 
 
 def _superposed(vectors: dict, weights: dict, n: int, scratch: np.ndarray | None = None) -> np.ndarray:
@@ -534,7 +533,8 @@ def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
 
 def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | None], contact, *, solve=None):
     """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads, the unit
-    responses and their unbalances K u_k − f_k (:func:`_unit_unbalances`), by name.
+    responses and their unbalances K u_k − f_k (:func:`_unit_unbalances`), by name (by superposition: only the unit
+    loads that are not zeros, and their responses; with ``solve``: every unit load).
 
     By superposition of the unit responses (``solve`` None), f = Σ w_k f_k, u = Σ w_k u_k and K u − f =
     Σ w_k (K u_k − f_k), the same weights (:func:`rvcoax.geometry.model.loads.case_weights`, :func:`_superposed`): no
@@ -542,9 +542,7 @@ def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | 
     method) each case is solved, its K u − f formed, and handed on before the next.
     """
     loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
-    if solve is None:  # the zero vectors left out of the sums (:func:`_superposed`), found once
-        loads, unit_by_name = ({k: v for k, v in vectors.items() if np.any(v)} for vectors in (loads, unit_by_name))
-        scratch = np.empty(system.n_dofs)
+    scratch = np.empty(system.n_dofs) if solve is None else None
     for i, case in enumerate(cases):
         torques = case.input_torque_Nm, case.output_torque_Nm
         if solve is not None:
@@ -613,13 +611,15 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
-    unbalances = None if direct else _unit_unbalances(prepared, loads, unit)
+    # the unit loads that are not zeros (the reference rig: 3 of 9), whose solutions, products and weights a case sums
+    loaded = {k: loads[k] for k in UNIT_LOADS if np.any(loads[k])}
+    unbalances = None if direct else _unit_unbalances(prepared, loaded, unit_by_name)
     # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
     rest_unbalance = (system.stiffness @ rest - sum(loads[k] for k in REST_LOADS) if direct else
                       _superposed(unbalances, {k: float(k in REST_LOADS) for k in UNIT_LOADS}, system.n_dofs))
     results, reduce = [], system.elimination.T
-    for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name, unbalances), contact,
-                                                     solve=solve if direct else None):
+    responses = (loads, unit_by_name, None) if direct else (loaded, {k: unit_by_name[k] for k in loaded}, unbalances)
+    for i, case, load, u, unbalance in _solved_cases(system, cases, responses, contact, solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
                                               unbalance=unbalance)
         residual = _relative_residual(reduce, unbalance, load)
