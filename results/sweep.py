@@ -360,6 +360,15 @@ class PreparedModel:
         _keep(self.solved, {keys[j]: solutions[:, j] for j in missing}, n, m)
         return solutions
 
+    def remember(self, vectors, solutions) -> None:
+        """Keep ``solutions`` (one per load vector of ``vectors``, full DOF numbering) as if :meth:`solve_unit_loads` had
+        solved them: a caller that found them otherwise, exactly (a calibration's affine combination of solved unit
+        loads, :func:`rvcoax.results.studies.calibration.calibrate`). The sweeps that use them check every case's
+        residual against the stiffness as always (a vector of zeros is not kept: its solution is 0)."""
+        keys = _vector_keys(vectors)[1]
+        kept = {key: solution for key, solution in zip(keys, solutions) if key is not None}
+        _keep(self.solved, kept, self.system.n_dofs, len(kept))
+
     def stiffness_products(self, solutions) -> np.ndarray:
         """K u of each vector u of ``solutions`` (an (n, m) array's columns, or m vectors of length n), as an (n, m)
         array: those formed before are taken from the cache (by the bytes of u, so a product always belongs to the very

@@ -283,6 +283,37 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
     return surrogate
 
 
+def _remember_fitted(prepared, rig: Rig, parameters, final: Rig, *, scale: np.ndarray) -> None:
+    """Keep the unit-load solutions of the calibrated rig ``final`` in ``prepared``'s cache as the affine combination of
+    the trial rigs' (:func:`_joint_trials`, solved already) that its loads are, so that its sweeps need no solve call
+    (a pass over the whole factor: the hybrid reference rig, ~0.1 s).
+
+    Each of ``final``'s load vectors must equal the same combination of the trial rigs' vectors to
+    :data:`AFFINE_LOADS_RTOL` of its size (what :func:`_joint_surrogate` checked at a random point), or nothing is
+    kept and the sweep solves as before; the sweeps check every case's residual K u − f against the stiffness as
+    always, which the combination has to pass like a solve.
+    """
+    reference, rigs = _joint_trials(rig, parameters, scale)
+    steps = np.array([get_parameter(final, p.address) for p in parameters]) / scale - reference
+    system = prepared.system
+    loads = [system.with_loads_of(r).unit_loads for r in rigs]
+    target = system.with_loads_of(final).unit_loads
+    names = []
+    for name in UNIT_LOADS:
+        base = loads[0][name]
+        predicted = base + sum(c * (load[name] - base) for c, load in zip(steps, loads[1:]))
+        size = max(np.abs(target[name]).max(initial=0.0), np.abs(base).max(initial=0.0))
+        if np.abs(predicted - target[name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
+            return
+        if np.any(target[name]):
+            names.append(name)
+    combinations = []
+    for name in names:
+        solved = prepared.solve_unit_loads([load[name] for load in loads])  # the trial rigs': in the cache already
+        combinations.append(solved[:, 0] + sum(c * (solved[:, 1 + j] - solved[:, 0]) for j, c in enumerate(steps)))
+    prepared.remember([target[name] for name in names], combinations)
+
+
 def _published(rows: list[PublishedRow], shaft: str) -> np.ndarray:
     return np.array([r.y_input_mm if shaft == "input" else r.y_output_mm for r in rows])
 
@@ -403,6 +434,8 @@ def calibrate(  # noqa: PLR0913
     fitted = tuple(FittedParameter(p, get_parameter(rig, p.address), chosen[p.address]) for p in parameters
                    if p.address in chosen)
     final = with_parameters(rig, chosen)
+    if every is not None:
+        _remember_fitted(prepared, rig, parameters, final, scale=scale)
     return Calibration(final, fitted, fit_rows, _fit_residual(final, rows, prepared), tuple(alternatives))
 
 

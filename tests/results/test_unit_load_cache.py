@@ -192,3 +192,35 @@ def test_a_corrupted_cached_unit_solution_is_still_refused():
     prepared.solved[key] *= 1.01  # a unit solution 1 % off, after the sweep formed its K u
     with pytest.raises(ModelError, match=r"case T1=1.43Nm_T2=200Nm: relative residual 0.0098 exceeds 1e-06"):
         run_sweep(rig, cases, prepared=prepared, engineering=False)
+
+
+def test_solutions_remembered_from_elsewhere_are_served_and_still_checked_against_the_stiffness():
+    """PreparedModel.remember keeps solutions found without a solve (a calibration's affine combination); a sweep
+    uses them, and its residual check K u - f refuses them when they are not solutions."""
+    import pytest
+
+    from rvcoax.results.sweep import ModelError
+
+    rig = load_rig()
+    cases = paper_cases()[:2]
+    base = prepare_model(rig)
+    reference = run_sweep(rig, cases, prepared=base, engineering=False)
+    loads = [base.system.unit_loads[k] for k in base.system.unit_loads]
+    loaded = [v for v in loads if v.any()]
+    exact = base.solve_unit_loads(loaded)
+    calls = []
+
+    def counting(columns):
+        calls.append(np.shape(columns))
+        return base.solve(columns)
+
+    served = PreparedModel(base.system, counting, base.solver_name, base.report)
+    served.remember(loaded, exact.T)
+    again = run_sweep(rig, cases, prepared=served, engineering=False)
+    assert calls == []
+    for a, b in zip(again.cases, reference.cases):
+        np.testing.assert_array_equal(a.paths["output"].uy_mm, b.paths["output"].uy_mm)
+    wrong = PreparedModel(base.system, counting, base.solver_name, base.report)
+    wrong.remember(loaded, (1.01 * exact).T)
+    with pytest.raises(ModelError, match="residual|equilibrium"):
+        run_sweep(rig, cases, prepared=wrong, engineering=False)
