@@ -540,28 +540,79 @@ def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
         progress(i + 1, n)
 
 
+@dataclass(frozen=True, eq=False)
+class _CaseChecks:
+    """What a superposition sweep checks each case with, from the unit loads that are not zeros (by name), formed once:
+    their unbalances K u_k − f_k at the frame's fixed DOFs (the fixed supports' reactions) and on the constrained DOFs,
+    Tᵀ(K u_k − f_k), with the loads there, Tᵀ f_k. A case with weights w_k sums them
+    (:func:`rvcoax.geometry.model.loads.case_weights`)."""
+
+    fixed: np.ndarray  # the frame's fixed DOFs
+    at_fixed: dict  # name → (K u_k − f_k)[fixed]
+    reduced_unbalances: dict  # name → Tᵀ(K u_k − f_k)
+    reduced_loads: dict  # name → Tᵀ f_k
+    n_dofs: int
+
+    @classmethod
+    def of(cls, system: RigSystem, loads: dict, unbalances: dict) -> _CaseChecks:
+        """From the unit loads ``loads`` and their unbalances ``unbalances`` (:func:`_unit_unbalances`), by name."""
+        fixed = np.asarray(system.frame.structure.fixed_dofs, dtype=int)
+        reduce = system.elimination.T
+        return cls(fixed, {k: r[fixed] for k, r in unbalances.items()},
+                   {k: np.asarray(reduce @ r) for k, r in unbalances.items()},
+                   {k: np.asarray(reduce @ f) for k, f in loads.items()}, system.n_dofs)
+
+    def residual(self, weights: dict, scratch: np.ndarray) -> float:
+        """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖ of the case (:func:`_relative_residual`), each a sum of the units' (``scratch``: a
+        vector of the constrained DOFs' length)."""
+        m = len(scratch)
+        scale = np.linalg.norm(_superposed(self.reduced_loads, weights, m, scratch))
+        return float(np.linalg.norm(_superposed(self.reduced_unbalances, weights, m, scratch)) / scale) if scale > 0 else 0.0
+
+    def at_fixed_dofs(self, weights: dict) -> np.ndarray | None:
+        """A vector of the model's length holding the case's K u − f at the fixed DOFs (zeros elsewhere: the reactions
+        :func:`rvcoax.fem.equilibrium.check_equilibrium` and the housings' beds read); None without fixed DOFs."""
+        if not self.fixed.size:
+            return None
+        vector = np.zeros(self.n_dofs)
+        vector[self.fixed] = _superposed(self.at_fixed, weights, self.fixed.size)
+        return vector
+
+
 def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | None], contact, *, solve=None):
-    """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads, the unit
-    responses and their unbalances K u_k − f_k (:func:`_unit_unbalances`), by name (by superposition: only the unit
-    loads that are not zeros, and their responses; with ``solve``: every unit load).
+    """(index, case, load f, displacement u, relative residual, K u − f, its change since rest) of every case, in
+    order; ``responses``: the unit loads, the unit responses and their unbalances K u_k − f_k
+    (:func:`_unit_unbalances`), by name (by superposition: only the unit loads that are not zeros, and their responses;
+    with ``solve``: every unit load).
 
     By superposition of the unit responses (``solve`` None), f = Σ w_k f_k, u = Σ w_k u_k and K u − f =
     Σ w_k (K u_k − f_k), the same weights (:func:`rvcoax.geometry.model.loads.case_weights`, :func:`_superposed`): no
-    product with K per case. With ``solve`` (the direct
-    method) each case is solved, its K u − f formed, and handed on before the next.
+    product with K per case. K u − f is then summed where it is read, at the fixed DOFs (a vector of zeros elsewhere,
+    :meth:`_CaseChecks.at_fixed_dofs`; None without fixed DOFs), and the residual from its reduction Tᵀ(K u − f).
+    With ``solve`` (the direct method) each case is solved, its K u − f formed, and handed on before the next.
     """
     loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
-    scratch = np.empty(system.n_dofs) if solve is None else None
-    for i, case in enumerate(cases):
-        torques = case.input_torque_Nm, case.output_torque_Nm
-        if solve is not None:
-            f = superpose(loads, *torques, False, contact)
+    rest_weights = {k: float(k in REST_LOADS) for k in UNIT_LOADS}
+    if solve is not None:
+        reduce = system.elimination.T
+        rest = sum(unit_by_name[k] for k in REST_LOADS)
+        rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
+        for i, case in enumerate(cases):
+            f = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
             u = solve(f)
-            yield i, case, f, u, system.stiffness @ u - f
-        else:
-            weights = case_weights(*torques, include_rest=True, contact_torques_Nm=contact)  # as superpose weighs them
-            yield (i, case, *(_superposed(vectors, weights, system.n_dofs, scratch)
-                              for vectors in (loads, unit_by_name, unbalance_by_name)))
+            unbalance = system.stiffness @ u - f
+            yield i, case, f, u, _relative_residual(reduce, unbalance, f), unbalance, unbalance - rest_unbalance
+        return
+    checks = _CaseChecks.of(system, loads, unbalance_by_name)
+    rest_unbalance = checks.at_fixed_dofs(rest_weights)
+    scratch, reduced_scratch = np.empty(system.n_dofs), np.empty(system.elimination.shape[1])
+    for i, case in enumerate(cases):
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
+                               contact_torques_Nm=contact)  # as superpose weighs them
+        unbalance = checks.at_fixed_dofs(weights)
+        yield (i, case, _superposed(loads, weights, system.n_dofs, scratch),
+               _superposed(unit_by_name, weights, system.n_dofs, scratch), checks.residual(weights, reduced_scratch),
+               unbalance, None if unbalance is None else unbalance - rest_unbalance)
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
@@ -622,16 +673,15 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     contact = gear_contact_torques(rig)
     # the unit loads that are not zeros (the reference rig: 3 of 9), whose solutions, products and weights a case sums
     loaded = {k: loads[k] for k in UNIT_LOADS if np.any(loads[k])}
-    unbalances = None if direct else _unit_unbalances(prepared, loaded, unit_by_name)
-    # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
-    rest_unbalance = (system.stiffness @ rest - sum(loads[k] for k in REST_LOADS) if direct else
-                      _superposed(unbalances, {k: float(k in REST_LOADS) for k in UNIT_LOADS}, system.n_dofs))
-    results, reduce = [], system.elimination.T
-    responses = (loads, unit_by_name, None) if direct else (loaded, {k: unit_by_name[k] for k in loaded}, unbalances)
-    for i, case, load, u, unbalance in _solved_cases(system, cases, responses, contact, solve=solve if direct else None):
+    responses = ((loads, unit_by_name, None) if direct else
+                 (loaded, {k: unit_by_name[k] for k in loaded}, _unit_unbalances(prepared, loaded, unit_by_name)))
+    results = []
+    # K u − f's entries at the fixed DOFs are the fixed supports' reactions (condensed housings' beds), in total and
+    # since the rest state
+    for i, case, load, u, residual, unbalance, since_rest in _solved_cases(system, cases, responses, contact,
+                                                                           solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
                                               unbalance=unbalance)
-        residual = _relative_residual(reduce, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)
         change = u - rest
         measured = change if from_rest else u
@@ -642,7 +692,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
             equilibrium_error=check.relative_error, residual=residual,
             engineering=case_engineering(rig, system.frame, u, change, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
-                                         fixed_change=unbalance - rest_unbalance) if engineering else None,
+                                         fixed_change=since_rest) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
             torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         _announce(i, len(cases), results[-1], on_case, progress)
