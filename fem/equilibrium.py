@@ -115,7 +115,7 @@ def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | Non
 
     ``model`` is the frame (:class:`rvcoax.fem.model.StructuralModel`) holding the ground springs and fixed
     DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids); ``unbalance`` is
-    K u − f where the caller has formed it (the fixed DOFs' reactions are read from it).
+    K u − f where the caller has formed it, at least at the fixed DOFs: only those entries, their reactions, are read.
     """
     table = dofs if dofs is not None else frame_dof_table(model.coordinates)
     bushing_forces = _bushing_reactions(model, displacement)
