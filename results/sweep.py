@@ -515,6 +515,16 @@ def _unit_unbalances(prepared: PreparedModel, loads: dict, unit_by_name: dict) -
     return {k: products[:, j] - load for j, (k, load) in enumerate(loads.items())}
 
 
+def _case_responses(prepared: PreparedModel, loads: dict, unit_by_name: dict, direct: bool) -> tuple:
+    """The unit loads, their responses and unbalances K u_k − f_k (by name) that a sweep's cases are formed from
+    (:func:`_solved_cases`): with the direct method every unit load and no unbalances; by superposition the unit loads
+    that are not zeros (the reference rig: 3 of 9), whose solutions, products and weights a case sums."""
+    if direct:
+        return loads, unit_by_name, None
+    loaded = {k: loads[k] for k in UNIT_LOADS if np.any(loads[k])}
+    return loaded, {k: unit_by_name[k] for k in loaded}, _unit_unbalances(prepared, loaded, unit_by_name)
+
+
 def _superposed(vectors: dict, weights: dict, n: int, scratch: np.ndarray | None = None) -> np.ndarray:
     """Σ w_k v_k over the vectors ``vectors`` holds (by name; the weights of
     :func:`rvcoax.geometry.model.loads.case_weights`), in :data:`UNIT_LOADS` order.
@@ -671,13 +681,8 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
-    # the unit loads that are not zeros (the reference rig: 3 of 9), whose solutions, products and weights a case sums
-    loaded = {k: loads[k] for k in UNIT_LOADS if np.any(loads[k])}
-    responses = ((loads, unit_by_name, None) if direct else
-                 (loaded, {k: unit_by_name[k] for k in loaded}, _unit_unbalances(prepared, loaded, unit_by_name)))
-    results = []
-    # K u − f's entries at the fixed DOFs are the fixed supports' reactions (condensed housings' beds), in total and
-    # since the rest state
+    responses, results = _case_responses(prepared, loads, unit_by_name, direct), []
+    # K u − f at the fixed DOFs: the fixed supports' reactions (condensed housings' beds), in total and since rest
     for i, case, load, u, residual, unbalance, since_rest in _solved_cases(system, cases, responses, contact,
                                                                            solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
