@@ -511,6 +511,8 @@ def _unit_unbalances(prepared: PreparedModel, loads: dict, unit_by_name: dict) -
     """K u_k − f_k of the unit loads ``loads`` (by name; those that are not zeros: a load of zeros has the solution 0
     exactly, :meth:`PreparedModel.solve_unit_loads`, and K u_k − f_k = 0) from their solutions ``unit_by_name``: the
     unbalance a case superposes (K products kept by the model: :meth:`PreparedModel.stiffness_products`)."""
+    if not loads:
+        return {}
     products = prepared.stiffness_products([unit_by_name[k] for k in loads])  # the columns as they are, not a copy
     return {k: products[:, j] - load for j, (k, load) in enumerate(loads.items())}
 
