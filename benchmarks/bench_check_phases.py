@@ -92,7 +92,7 @@ def main() -> None:
     out = Path(tempfile.mkdtemp()) / "out"
     sys.argv = ["rvcoax", "check", "--model", model, "--out", str(out)]
     with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
-        run()
+        run(end_process=False)
     total = (time.process_time() - START_CPU, time.perf_counter() - START_WALL)
     measured = sum(spent[p][0] for p in list(PHASES)[:3]), sum(spent[p][1] for p in list(PHASES)[:3])
     times = os.times()  # the picture's worker process, waited for: its CPU (imports and drawing), on the other core

@@ -130,8 +130,12 @@ def main(
     """rvcoax command line."""
 
 
-def run() -> None:
-    """Console-script entry point."""
+def run(*, end_process: bool = True) -> None:
+    """Console-script entry point.
+
+    ``end_process``: end the process when the command has finished (:func:`_end_process`); False raises the
+    command's ``SystemExit`` instead (a caller that times the command in its own process, ``benchmarks/``).
+    """
     from rvcoax.fem import avoid_compaction_stalls, single_threaded_openblas
 
     avoid_compaction_stalls()  # process-wide numpy setting: see fem/hugepages.py
@@ -148,6 +152,8 @@ def run() -> None:
             sys.stderr.write(f"error: {write_error_text(error)}\n")
             sys.exit(2)
     except SystemExit as finished:
+        if not end_process:
+            raise
         _end_process(finished)
 
 
