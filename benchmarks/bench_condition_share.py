@@ -194,7 +194,7 @@ def child(name: str, out: str, samples: int) -> None:
         extra = ["--samples", str(samples)] if name.startswith("montecarlo") else []
         sys.argv = ["rvcoax", *RUNS[name], *extra, "--out", out]
         try:
-            run()
+            run(end_process=False)
         except SystemExit as stop:  # check: 0, 1 or 3 are verdicts on the table, 2 a user error
             if stop.code not in (0, None, 1, 3):
                 raise

@@ -37,6 +37,16 @@ class DofTable:
         dofs = tuple(np.flatnonzero(self.component == c) for c in range(6))
         return dofs, tuple(np.ascontiguousarray(self.position[dofs[c]].T) for c in range(3))
 
+    @functools.cached_property
+    def _force_and_moment(self) -> tuple[np.ndarray, np.ndarray]:
+        """Masks of the force DOFs (components 0–2) and of the moments: the load scale of :func:`check_equilibrium`
+        (every case of a sweep on one table)."""
+        return self.component < 3, self.component >= 3
+
+    def restricted(self, dofs: np.ndarray) -> DofTable:
+        """The table of the DOFs ``dofs`` alone (a vector's resultant over only the entries that may be nonzero)."""
+        return DofTable(self.position[dofs], self.component[dofs])
+
 
 def frame_dof_table(coordinates: np.ndarray) -> DofTable:
     """Six DOFs per node, in node order."""
@@ -78,15 +88,20 @@ class Equilibrium:
     relative_error: float
 
 
-def ground_reactions(model, stiffness, displacement, load, unbalance=None) -> tuple[np.ndarray, np.ndarray]:
-    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,).
-
-    ``unbalance``: K u − f where the caller has it already (else it is formed when there are fixed DOFs)."""
+def _bushing_reactions(model, displacement) -> np.ndarray:
+    """Per ground bushing the force/moment exerted by the ground (n, 6); zero for the others."""
     frame = displacement[: model.n_dofs]
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     # spring_forces is what a spring exerts on its node a (here the ground); the ground
     # therefore pushes the structure with the opposite
-    forces = np.where(grounded[:, None], -bushing.spring_forces(model.coordinates, model.bushings, frame), 0.0)
+    return np.where(grounded[:, None], -bushing.spring_forces(model.coordinates, model.bushings, frame), 0.0)
+
+
+def ground_reactions(model, stiffness, displacement, load, unbalance=None) -> tuple[np.ndarray, np.ndarray]:
+    """Per ground bushing force/moment exerted by the ground (n, 6), and the fixed-DOF reactions (n_dofs,).
+
+    ``unbalance``: K u − f where the caller has it already (else it is formed when there are fixed DOFs)."""
+    forces = _bushing_reactions(model, displacement)
     fixed = np.zeros(displacement.shape[0])
     dofs = np.asarray(model.fixed_dofs, dtype=int)
     if dofs.size:
@@ -100,20 +115,27 @@ def check_equilibrium(model, stiffness, displacement, load, dofs: DofTable | Non
 
     ``model`` is the frame (:class:`rvcoax.fem.model.StructuralModel`) holding the ground springs and fixed
     DOFs; ``dofs`` describes the whole DOF vector when it holds more than the frame (solids); ``unbalance`` is
-    K u − f where the caller has formed it (the fixed DOFs' reactions are read from it).
+    K u − f where the caller has formed it, at least at the fixed DOFs: only those entries, their reactions, are read.
     """
     table = dofs if dofs is not None else frame_dof_table(model.coordinates)
-    bushing_forces, fixed = ground_reactions(model, stiffness, displacement, load, unbalance)
+    bushing_forces = _bushing_reactions(model, displacement)
+    # the fixed DOFs' reactions (K u − f there) summed over those DOFs alone, not over a vector of zeros elsewhere
+    fixed = np.asarray(model.fixed_dofs, dtype=int)
+    if fixed.size:
+        values = (stiffness @ displacement - load if unbalance is None else unbalance)[fixed]
+        reaction = resultant_of(table.restricted(fixed), values)
+    else:
+        reaction = np.zeros(6)
     grounded = np.asarray(model.bushings.node_a) == bushing.GROUND
     points = np.asarray(model.bushings.point_m)[grounded]
     bf = bushing_forces[grounded]
-    reaction = resultant_of(table, fixed)
     reaction[:3] += bf[:, :3].sum(axis=0)
     reaction[3:] += (np.cross(points, bf[:, :3]) + bf[:, 3:]).sum(axis=0)
     applied = resultant_of(table, load)
     magnitude = np.abs(np.asarray(load))
-    forces = magnitude[table.component < 3].sum()
-    moments = magnitude[table.component >= 3].sum()
+    is_force, is_moment = table._force_and_moment
+    forces = magnitude[is_force].sum()
+    moments = magnitude[is_moment].sum()
     extent = table.extent_m
     # force scale includes applied moments over the model size: a pure-moment load has reaction
     # forces that are zero only up to rounding

@@ -162,6 +162,38 @@ def _update(operator, k_qq: sp.csr_matrix, modes: np.ndarray | None) -> _Update 
     return _Update(v, core_inverse, ground, springs)
 
 
+def _factorise_released(operator, modes: np.ndarray | None, serve):
+    """PARDISO's Cholesky factor of B = K_qq + G with the update's pieces: (factor, ``operator`` as served, the
+    :class:`_Update`, B's stored nonzeros), or None where this path does not apply (:func:`prepare_tied`)."""
+    k_qq = _tie_released(operator)
+    if k_qq is None:
+        return None
+    storage, stored = _upper_blocks(k_qq), k_qq.nnz
+    # PARDISO's ordering needs B's pattern only, K_qq's: it runs on a worker thread (serial METIS, one core) while
+    # this one grounds the floating parts, forms V and N⁻¹ and A's diagonal (the hybrid rig: 0.27 s of ordering beside
+    # ~0.25 s)
+    factor = pardiso.Factorization(storage, two_level=True, reproducible=True, defer=True)
+    try:
+        released = _update(operator, k_qq, modes)
+        del k_qq
+        if released is None:
+            factor.release(keep_analysis=False)
+            return None
+        operator.diagonal()  # A's diagonal (the singularity test's scaling), kept by the operator: also beside it
+        factor.wait_for_analysis()
+        pardiso.add_to_diagonal(storage, released.ground, released.springs)  # B = K_qq + G
+        if serve is not None:  # with ``serve``, the whole K' goes here (it reads B's values: after the springs)
+            operator = serve(operator, storage, released.ground, released.springs)
+        factor.factorise()
+    except PardisoError:
+        factor.release(keep_analysis=False)
+        return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
+    except BaseException:
+        factor.release(keep_analysis=False)  # waits for the analysis thread, frees MKL's memory
+        raise
+    return factor, operator, released, stored
+
+
 def prepare_tied(operator, modes: np.ndarray | None, *, serve=None,
                  ahead: np.ndarray | None = None) -> solvers.PreparedSolver | None:
     """Set up A = Sᵀ K' S (``operator``) by Cholesky of the tie-released K_qq plus a low-rank update.
@@ -195,34 +227,12 @@ def prepare_tied(operator, modes: np.ndarray | None, *, serve=None,
     rss_before = solvers.peak_rss_mb()
     start = time.perf_counter()
     m = operator.shape[0]
-    k_qq = _tie_released(operator)
-    if k_qq is None:
+    factorised = _factorise_released(operator, modes, serve)
+    if factorised is None:
         return None
-    storage, stored = _upper_blocks(k_qq), k_qq.nnz
-    # PARDISO's ordering needs B's pattern only, K_qq's: it runs on a worker thread (serial METIS, one core) while
-    # this one grounds the floating parts, forms V and N⁻¹ and A's diagonal (the hybrid rig: 0.27 s of ordering beside
-    # ~0.25 s)
-    factor = pardiso.Factorization(storage, two_level=True, reproducible=True, defer=True)
-    try:
-        released = _update(operator, k_qq, modes)
-        del k_qq
-        if released is None:
-            factor.release(keep_analysis=False)
-            return None
-        v, ground = released.v, released.ground
-        rank = released.core_inverse.shape[0]
-        operator.diagonal()  # A's diagonal (the singularity test's scaling), kept by the operator: also beside it
-        factor.wait_for_analysis()
-        pardiso.add_to_diagonal(storage, ground, released.springs)  # B = K_qq + G
-        if serve is not None:  # with ``serve``, the whole K' goes here (it reads B's values: after the springs)
-            operator = serve(operator, storage, ground, released.springs)
-        factor.factorise()
-    except PardisoError:
-        factor.release(keep_analysis=False)
-        return None  # not positive definite: some part still floats (modes missing or not rigid-body modes)
-    except BaseException:
-        factor.release(keep_analysis=False)  # waits for the analysis thread, frees MKL's memory
-        raise
+    factor, operator, released, stored = factorised
+    v, ground = released.v, released.ground
+    rank = released.core_inverse.shape[0]
     probe = np.random.default_rng(0).standard_normal((m, 1))  # rides along: is the update accurate?
     # so do the singularity test's first block and the caller's loads: the solve call is a pass over the whole factor
     early = np.column_stack([diagnostics.first_solve_block(operator), *([] if ahead is None else [ahead])])

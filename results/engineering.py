@@ -849,9 +849,9 @@ def case_engineering(rig, model, u_total: np.ndarray, u_change: np.ndarray, meas
     case : LoadCase, optional
         The case's torques: with them, the bearing lives and the reducer checks.
     fixed_total, fixed_change : (n_dofs,) arrays, optional
-        K u − f of the total state and of the change since rest: their entries at fixed DOFs are the
-        reactions of the fixed supports (the bed nodes of condensed housings). Without them the
-        housings have no row in the reaction table.
+        K u − f of the total state and of the change since rest: their entries at fixed DOFs, the only ones
+        read, are the reactions of the fixed supports (the bed nodes of condensed housings). Without them
+        the housings have no row in the reaction table.
     nonlinear : NonlinearBearings, optional
         The condensed nonlinear bearings of a nonlinear sweep; with ``rest_total`` (the rest state from
         the unloaded geometry), their forces and operating stiffness come from their laws.

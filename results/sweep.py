@@ -278,29 +278,21 @@ def _prepare(system: RigSystem, settings: SweepSettings, ahead=None):
     return reduced.solve, reduced.solver_name, reduced.summary(), reduced.solver.solve, reduced.solver.release
 
 
-def _load_keys(vectors) -> list[bytes]:
-    """SHA-256 of each load vector's bytes (the key of :class:`PreparedModel`'s cache of solutions)."""
-    return [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() for v in vectors]
-
-
-def _first_loaded(vectors, keys: list[bytes], among) -> dict[bytes, int]:
-    """Of the vectors ``among`` (indices), the first of each distinct loaded one, by key.
-
-    A load vector of zeros (a rig without a force table, thermal load or gear contact) has the solution 0 exactly:
-    not solved (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a third of MKL's
-    workspace, benchmarks/RESULTS.md); a vector repeated (the loads a calibration's trial rigs share) is solved once.
-    """
+def _first_of_each(keys: list[bytes | None], among) -> dict[bytes, int]:
+    """Of the vectors ``among`` (indices), the first of each distinct one that is not zeros, by key
+    (:func:`_vector_keys`): a vector repeated (the loads a calibration's trial rigs share) is solved once."""
     first: dict[bytes, int] = {}
     for j in among:
-        if keys[j] not in first and np.any(vectors[j]):
-            first[keys[j]] = j
+        if keys[j] is not None:
+            first.setdefault(keys[j], j)
     return first
 
 
 def _distinct_loaded(vectors) -> list[int]:
     """Indices of the distinct load vectors of ``vectors`` that are not all zeros, each the first of its kind: the
     columns a solve of them all needs (:meth:`PreparedModel.solve_unit_loads`)."""
-    return list(_first_loaded(vectors, _load_keys(vectors), range(len(vectors))).values())
+    keys = _vector_keys(vectors)[1]
+    return list(_first_of_each(keys, range(len(keys))).values())
 
 
 CACHED_SOLUTIONS = 64  # unit-load solutions kept per prepared model, and at most 2**25 numbers (256 MB)
@@ -313,7 +305,9 @@ class PreparedModel:
 
     The solutions of the unit loads are kept (the last :data:`CACHED_SOLUTIONS`, within
     :data:`CACHED_SOLUTION_FLOATS` numbers) by the bytes of each load vector, so that a sweep whose rig differs only in some
-    load parameters (a calibration's trial, a tolerance sample) solves only the vectors that changed.
+    load parameters (a calibration's trial, a tolerance sample) solves only the vectors that changed. The products
+    K u of those solutions are kept the same way, by the bytes of each solution u (:meth:`stiffness_products`): a
+    superposition sweep checks every case's K u − f as the same superposition of the unit solutions' K u_k − f_k.
     """
 
     system: RigSystem
@@ -323,6 +317,7 @@ class PreparedModel:
     solved: dict = field(default_factory=dict, repr=False)
     reduced_solve: object = field(default=None, repr=False)  # x → (Tᵀ K T)⁻¹ x on the independent DOFs (modes)
     release_solver: object = field(default=None, repr=False)  # frees the factorisation (PARDISO's factor) now
+    products: dict = field(default_factory=dict, repr=False)  # SHA-256 of a solution u's bytes → K u
 
     def release(self) -> None:
         """Free the solver's factorisation now, for a caller that solves nothing more on this model: the unit-load
@@ -335,15 +330,13 @@ class PreparedModel:
         """Solutions of the load vectors ``columns`` (an (n, m) array, or m vectors of length n), as an (n, m) array:
         those solved before are taken from the cache, the others are solved together in one call (the first sweep of a
         model solves them all at once), each distinct vector once."""
-        vectors = columns.T if isinstance(columns, np.ndarray) and columns.ndim == 2 else columns
+        vectors, keys = _vector_keys(columns)
         n, m = len(vectors[0]), len(vectors)
-        # SHA-256 of each vector's bytes: the columns of an array read as rows of one transposed copy (half the CPU
-        # time of a copy and a BLAKE2 digest per column: the CPU's SHA instructions); vectors given apart, as they are
-        rows = np.ascontiguousarray(np.asarray(columns, dtype=float).T) if vectors is not columns else None
-        keys = [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() for v in (vectors if rows is None else rows)]
-        del rows
-        missing = [j for j, key in enumerate(keys) if key not in self.solved]
-        first = _first_loaded(vectors, keys, missing)
+        # a load vector of zeros (a rig without a force table, thermal load or gear contact) has the solution 0 exactly:
+        # neither solved nor kept (the reference rig: 6 of its 9 unit loads; the all-solid rig's solve call then needs a
+        # third of MKL's workspace, benchmarks/RESULTS.md)
+        missing = [j for j, key in enumerate(keys) if key is not None and key not in self.solved]
+        first = _first_of_each(keys, missing)
         unique = list(first.values())
         # only the distinct loaded vectors are copied for the solver, and the (n, m) result is made once the solver has
         # given its workspace back: the all-solid rig's 9-column copy and zero-filled result (2 × 35 MB at 492 k DOF)
@@ -356,29 +349,78 @@ class PreparedModel:
             for i, j in enumerate(unique):
                 solutions[:, j] = solved[:, i]
         del solved
+        new = set(missing)
         for j, key in enumerate(keys):
-            if j not in missing:
+            if key is None:
+                continue
+            if j not in new:
                 solutions[:, j] = self.solved[key]
-            elif first.get(key, j) != j:
+            elif first[key] != j:
                 solutions[:, j] = solutions[:, first[key]]
-        self._keep([keys[j] for j in missing], [solutions[:, j] for j in missing])
+        _keep(self.solved, {keys[j]: solutions[:, j] for j in missing}, n, m)
         return solutions
-
-    def _keep(self, keys: list[bytes], solutions: list[np.ndarray]) -> None:
-        """Cache ``solutions`` by their load vectors' ``keys``, within :data:`CACHED_SOLUTIONS` (the oldest go first)."""
-        n = self.system.n_dofs
-        room = max(len(keys), min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
-        for key, solution in zip(keys, solutions):
-            self.solved[key] = np.array(solution, dtype=float)
-        while len(self.solved) > room:
-            del self.solved[next(iter(self.solved))]
 
     def remember(self, vectors, solutions) -> None:
         """Keep ``solutions`` (one per load vector of ``vectors``, full DOF numbering) as if :meth:`solve_unit_loads` had
         solved them: a caller that found them otherwise, exactly (a calibration's affine combination of solved unit
         loads, :func:`rvcoax.results.studies.calibration.calibrate`). The sweeps that use them check every case's
-        residual against the stiffness as always."""
-        self._keep(_load_keys(vectors), list(solutions))
+        residual against the stiffness as always (a vector of zeros is not kept: its solution is 0)."""
+        keys = _vector_keys(vectors)[1]
+        kept = {key: solution for key, solution in zip(keys, solutions) if key is not None}
+        _keep(self.solved, kept, self.system.n_dofs, len(kept))
+
+    def stiffness_products(self, solutions) -> np.ndarray:
+        """K u of each vector u of ``solutions`` (an (n, m) array's columns, or m vectors of length n), as an (n, m)
+        array: those formed before are taken from the cache (by the bytes of u, so a product always belongs to the very
+        vector it is asked for), the others are formed here, each distinct vector once; a vector of zeros has the
+        product 0.
+
+        A superposition sweep's case is u = Σ w_k u_k, so its K u − f is Σ w_k (K u_k − f_k): the unit solutions'
+        products, formed once per model, replace one product with K per case (the hybrid reference rig's K, 8.3 M
+        nonzeros: 4 ms CPU each)."""
+        vectors, keys = _vector_keys(solutions)
+        n, m = len(vectors[0]), len(vectors)
+        first = _first_of_each(keys, [j for j, key in enumerate(keys) if key not in self.products])
+        unique = list(first.values())
+        stiffness = self.system.stiffness
+        formed = (stiffness @ np.column_stack([vectors[j] for j in unique]) if len(unique) >= BLOCK_PRODUCT_FROM else
+                  [stiffness @ vectors[j] for j in unique])
+        new = {keys[j]: formed[:, i].copy() if isinstance(formed, np.ndarray) else formed[i]  # each its own array
+               for i, j in enumerate(unique)}
+        products = np.zeros((n, m), order="F")
+        for j, key in enumerate(keys):
+            if key is not None:
+                products[:, j] = new[key] if key in new else self.products[key]
+        _keep(self.products, new, n, m, copy=False)
+        return products
+
+
+BLOCK_PRODUCT_FROM = 8
+"""Fewest vectors whose K u is formed as one block product: scipy's product with a block costs more per nonzero of K
+than with one vector (the hybrid rig's K, 8.3 M nonzeros: 21 ms for 2 columns, 47 ms for 20, 5 ms for one vector);
+per column the same sums in the same order as K u alone."""
+
+
+def _vector_keys(columns) -> tuple[list | np.ndarray, list[bytes | None]]:
+    """The vectors of ``columns`` (an (n, m) array's columns, or m vectors), and the SHA-256 of each one's bytes (None
+    for a vector of zeros, whose solution and product are 0 exactly: neither hashed nor kept)."""
+    vectors = columns.T if isinstance(columns, np.ndarray) and columns.ndim == 2 else columns
+    # the columns of an array read as rows of one transposed copy (half the CPU time of a copy and a BLAKE2 digest per
+    # column: the CPU's SHA instructions); vectors given apart, as they are. A test for zeros costs an eighth of a digest
+    rows = np.ascontiguousarray(np.asarray(columns, dtype=float).T) if vectors is not columns else vectors
+    keys = [hashlib.sha256(np.ascontiguousarray(v, dtype=float)).digest() if np.any(v) else None for v in rows]
+    return vectors, keys
+
+
+def _keep(cache: dict, new: dict, n: int, m: int, *, copy: bool = True) -> None:
+    """Add the vectors ``new`` (key → (n,) array; copied unless ``copy`` is False: arrays of their own) to ``cache``,
+    keeping the newest :data:`CACHED_SOLUTIONS` within :data:`CACHED_SOLUTION_FLOATS` numbers, and at least the ``m``
+    of the call that adds them."""
+    room = max(m, min(CACHED_SOLUTIONS, CACHED_SOLUTION_FLOATS // max(n, 1)))
+    for key, vector in new.items():
+        cache[key] = np.array(vector, dtype=float) if copy else vector
+    while len(cache) > room:
+        del cache[next(iter(cache))]
 
 
 def check_clearance_model(rig: Rig, kind: str) -> list[str]:
@@ -451,10 +493,11 @@ def prepare_system(system: RigSystem, settings: SweepSettings, *, loads_ahead=No
     return PreparedModel(system, solve, name, report, reduced_solve=reduced_solve, release_solver=release)
 
 
-def _relative_residual(system: RigSystem, unbalance: np.ndarray, load: np.ndarray) -> float:
-    """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖: the relative residual of a linear case on the constrained DOFs (0 without load)."""
-    scale = np.linalg.norm(system.elimination.T @ load)
-    return float(np.linalg.norm(system.elimination.T @ unbalance) / scale) if scale > 0 else 0.0
+def _relative_residual(reduce, unbalance: np.ndarray, load: np.ndarray) -> float:
+    """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖: the relative residual of a linear case on the constrained DOFs (0 without load);
+    ``reduce`` is Tᵀ (``system.elimination.T``, made once per sweep: scipy builds and checks a new matrix each time)."""
+    scale = np.linalg.norm(reduce @ load)
+    return float(np.linalg.norm(reduce @ unbalance) / scale) if scale > 0 else 0.0
 
 
 def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, dict, np.ndarray]:
@@ -462,6 +505,43 @@ def _unit_solutions(prepared: PreparedModel, loads: dict) -> tuple[np.ndarray, d
     unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
     unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
     return unit, unit_by_name, sum(unit_by_name[k] for k in REST_LOADS)
+
+
+def _unit_unbalances(prepared: PreparedModel, loads: dict, unit_by_name: dict) -> dict:
+    """K u_k − f_k of the unit loads ``loads`` (by name; those that are not zeros: a load of zeros has the solution 0
+    exactly, :meth:`PreparedModel.solve_unit_loads`, and K u_k − f_k = 0) from their solutions ``unit_by_name``: the
+    unbalance a case superposes (K products kept by the model: :meth:`PreparedModel.stiffness_products`)."""
+    if not loads:
+        return {}
+    products = prepared.stiffness_products([unit_by_name[k] for k in loads])  # the columns as they are, not a copy
+    return {k: products[:, j] - load for j, (k, load) in enumerate(loads.items())}
+
+
+def _case_responses(prepared: PreparedModel, loads: dict, unit_by_name: dict, direct: bool) -> tuple:
+    """The unit loads, their responses and unbalances K u_k − f_k (by name) that a sweep's cases are formed from
+    (:func:`_solved_cases`): with the direct method every unit load and no unbalances; by superposition the unit loads
+    that are not zeros (the reference rig: 3 of 9), whose solutions, products and weights a case sums."""
+    if direct:
+        return loads, unit_by_name, None
+    loaded = {k: loads[k] for k in UNIT_LOADS if np.any(loads[k])}
+    return loaded, {k: unit_by_name[k] for k in loaded}, _unit_unbalances(prepared, loaded, unit_by_name)
+
+
+def _superposed(vectors: dict, weights: dict, n: int, scratch: np.ndarray | None = None) -> np.ndarray:
+    """Σ w_k v_k over the vectors ``vectors`` holds (by name; the weights of
+    :func:`rvcoax.geometry.model.loads.case_weights`), in :data:`UNIT_LOADS` order.
+
+    Bit for bit what :func:`rvcoax.geometry.model.loads.superpose` gives (``from_rest`` False) when the vectors left
+    out are zeros: its sum starts from 0, so no entry of the running total is −0, and adding w · 0 = ±0 (finite w) to
+    such a total changes nothing; only the work is left out (the reference rig: 6 of its 9 unit loads are zero).
+    ``scratch``, an (n,) array, holds each term w_k v_k (the same numbers, without a new array for each: on the hybrid
+    rig a temporary of 0.9 MB costs more than the product it holds)."""
+    total = np.zeros(n)
+    scratch = np.empty(n) if scratch is None else scratch
+    for name in UNIT_LOADS:
+        if name in vectors:
+            total += np.multiply(vectors[name], weights[name], out=scratch)
+    return total
 
 
 def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
@@ -472,33 +552,79 @@ def _announce(i: int, n: int, result: CaseResult, on_case, progress) -> None:
         progress(i + 1, n)
 
 
-PRODUCT_FLOATS = 2**22
-"""Largest block of displacements (DOFs × cases, 32 MB) whose K u a superposition sweep forms in one product."""
-BLOCK_PRODUCT_FROM = 8
-"""Fewest cases formed as one block product: scipy's product with a block costs more per nonzero of K than with one
-vector (the hybrid rig's K, 8.3 M nonzeros: 21 ms for 2 columns, 47 ms for 20, 5 ms for one vector)."""
+@dataclass(frozen=True, eq=False)
+class _CaseChecks:
+    """What a superposition sweep checks each case with, from the unit loads that are not zeros (by name), formed once:
+    their unbalances K u_k − f_k at the frame's fixed DOFs (the fixed supports' reactions) and on the constrained DOFs,
+    Tᵀ(K u_k − f_k), with the loads there, Tᵀ f_k. A case with weights w_k sums them
+    (:func:`rvcoax.geometry.model.loads.case_weights`)."""
+
+    fixed: np.ndarray  # the frame's fixed DOFs
+    at_fixed: dict  # name → (K u_k − f_k)[fixed]
+    reduced_unbalances: dict  # name → Tᵀ(K u_k − f_k)
+    reduced_loads: dict  # name → Tᵀ f_k
+    n_dofs: int
+
+    @classmethod
+    def of(cls, system: RigSystem, loads: dict, unbalances: dict) -> _CaseChecks:
+        """From the unit loads ``loads`` and their unbalances ``unbalances`` (:func:`_unit_unbalances`), by name."""
+        fixed = np.asarray(system.frame.structure.fixed_dofs, dtype=int)
+        reduce = system.elimination.T
+        return cls(fixed, {k: r[fixed] for k, r in unbalances.items()},
+                   {k: np.asarray(reduce @ r) for k, r in unbalances.items()},
+                   {k: np.asarray(reduce @ f) for k, f in loads.items()}, system.n_dofs)
+
+    def residual(self, weights: dict, scratch: np.ndarray) -> float:
+        """‖Tᵀ(K u − f)‖ / ‖Tᵀ f‖ of the case (:func:`_relative_residual`), each a sum of the units' (``scratch``: a
+        vector of the constrained DOFs' length)."""
+        m = len(scratch)
+        scale = np.linalg.norm(_superposed(self.reduced_loads, weights, m, scratch))
+        return float(np.linalg.norm(_superposed(self.reduced_unbalances, weights, m, scratch)) / scale) if scale > 0 else 0.0
+
+    def at_fixed_dofs(self, weights: dict) -> np.ndarray | None:
+        """A vector of the model's length holding the case's K u − f at the fixed DOFs (zeros elsewhere: the reactions
+        :func:`rvcoax.fem.equilibrium.check_equilibrium` and the housings' beds read); None without fixed DOFs."""
+        if not self.fixed.size:
+            return None
+        vector = np.zeros(self.n_dofs)
+        vector[self.fixed] = _superposed(self.at_fixed, weights, self.fixed.size)
+        return vector
 
 
-def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict], contact, *, solve=None):
-    """(index, case, load f, displacement u, K u − f) of every case, in order; ``responses``: the unit loads and
-    the unit responses, by name.
+def _solved_cases(system: RigSystem, cases, responses: tuple[dict, dict, dict | None], contact, *, solve=None):
+    """(index, case, load f, displacement u, relative residual, K u − f, its change since rest) of every case, in
+    order; ``responses``: the unit loads, the unit responses and their unbalances K u_k − f_k
+    (:func:`_unit_unbalances`), by name (by superposition: only the unit loads that are not zeros, and their responses;
+    with ``solve``: every unit load).
 
-    By superposition of the unit responses (``solve`` None), K u of several cases is one product, K read once
-    for all of them (:data:`PRODUCT_FLOATS`; per column the same sums in the same order as K u alone); with
-    ``solve`` (the direct method) each case is solved, and handed on, before the next.
+    By superposition of the unit responses (``solve`` None), f = Σ w_k f_k, u = Σ w_k u_k and K u − f =
+    Σ w_k (K u_k − f_k), the same weights (:func:`rvcoax.geometry.model.loads.case_weights`, :func:`_superposed`): no
+    product with K per case. K u − f is then summed where it is read, at the fixed DOFs (a vector of zeros elsewhere,
+    :meth:`_CaseChecks.at_fixed_dofs`; None without fixed DOFs), and the residual from its reduction Tᵀ(K u − f).
+    With ``solve`` (the direct method) each case is solved, its K u − f formed, and handed on before the next.
     """
-    loads, unit_by_name = responses
-    per_block = 1 if solve is not None else max(1, PRODUCT_FLOATS // max(system.n_dofs, 1))
-    for first in range(0, len(cases), per_block):
-        block = cases[first:first + per_block]
-        applied = [superpose(loads, c.input_torque_Nm, c.output_torque_Nm, False, contact) for c in block]
-        moved = [solve(f) if solve is not None else
-                 superpose(unit_by_name, c.input_torque_Nm, c.output_torque_Nm, False, contact)
-                 for c, f in zip(block, applied)]
-        products = (system.stiffness @ np.column_stack(moved) if len(moved) >= BLOCK_PRODUCT_FROM else
-                    np.column_stack([system.stiffness @ u for u in moved]))
-        for j, (case, f, u) in enumerate(zip(block, applied, moved)):
-            yield first + j, case, f, u, products[:, j] - f
+    loads, unit_by_name, unbalance_by_name = responses  # the last None with ``solve``
+    rest_weights = {k: float(k in REST_LOADS) for k in UNIT_LOADS}
+    if solve is not None:
+        reduce = system.elimination.T
+        rest = sum(unit_by_name[k] for k in REST_LOADS)
+        rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
+        for i, case in enumerate(cases):
+            f = superpose(loads, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+            u = solve(f)
+            unbalance = system.stiffness @ u - f
+            yield i, case, f, u, _relative_residual(reduce, unbalance, f), unbalance, unbalance - rest_unbalance
+        return
+    checks = _CaseChecks.of(system, loads, unbalance_by_name)
+    rest_unbalance = checks.at_fixed_dofs(rest_weights)
+    scratch, reduced_scratch = np.empty(system.n_dofs), np.empty(system.elimination.shape[1])
+    for i, case in enumerate(cases):
+        weights = case_weights(case.input_torque_Nm, case.output_torque_Nm, include_rest=True,
+                               contact_torques_Nm=contact)  # as superpose weighs them
+        unbalance = checks.at_fixed_dofs(weights)
+        yield (i, case, _superposed(loads, weights, system.n_dofs, scratch),
+               _superposed(unit_by_name, weights, system.n_dofs, scratch), checks.residual(weights, reduced_scratch),
+               unbalance, None if unbalance is None else unbalance - rest_unbalance)
 
 
 def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = SweepSettings(), progress=None,  # noqa: PLR0913
@@ -521,7 +647,7 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         ``progress(i, n)`` after each case.
     prepared : PreparedModel, optional
         An assembled, factorised model whose structure is ``rig``'s, to reuse (only load parameters may
-        differ: the unit loads are rebuilt from ``rig``).
+        differ: the unit loads are rebuilt from ``rig``, unless ``prepared.system`` holds this very rig's).
     on_case : callable, optional
         ``on_case(i, CaseResult)`` as soon as case ``i`` is solved (to save it before the sweep ends).
     engineering : bool
@@ -543,37 +669,37 @@ def run_sweep(rig: Rig, cases: tuple[LoadCase, ...], settings: SweepSettings = S
         prepared = prepare_model(rig, settings)
         system = prepared.system
         release_solver = True  # nobody else holds this model
-    else:
-        system = prepared.system.with_loads_of(rig)
+    else:  # the loads of ``rig`` (frozen) are rebuilt unless the prepared system holds them already
+        system = prepared.system if prepared.system.rig is rig else prepared.system.with_loads_of(rig)
     solve, solver_name, report = prepared.solve, prepared.solver_name, prepared.report
     if gapped:
         return run_gap_sweep(cases, settings, dataclasses.replace(prepared, system=system), progress=progress,
                              on_case=on_case, engineering=engineering)
     loads = system.unit_loads
     unit, unit_by_name, rest = _unit_solutions(prepared, loads)
-    if release_solver and settings.method == "superposition":
+    direct = settings.method == "direct"
+    if release_solver and not direct:
         prepared.release()
     from_rest = rig.paths.measured_from == "aligned_at_rest"
     springs = SpringMotion.of(system.frame, rig) if engineering else None
     contact = gear_contact_torques(rig)
-    # K u − f at rest: its fixed-DOF entries are the fixed supports' reactions (condensed housings' beds)
-    rest_unbalance = system.stiffness @ rest - sum(loads[k] for k in REST_LOADS)
-    results = []
-    for i, case, load, u, unbalance in _solved_cases(system, cases, (loads, unit_by_name), contact,
-                                                     solve=solve if settings.method == "direct" else None):
+    responses, results = _case_responses(prepared, loads, unit_by_name, direct), []
+    # K u − f at the fixed DOFs: the fixed supports' reactions (condensed housings' beds), in total and since rest
+    for i, case, load, u, residual, unbalance, since_rest in _solved_cases(system, cases, responses, contact,
+                                                                           solve=solve if direct else None):
         check = equilibrium.check_equilibrium(system.frame.structure, system.stiffness, u, load, system.dofs,
                                               unbalance=unbalance)
-        residual = _relative_residual(system, unbalance, load)
         check_solution(case.label, u, check.relative_error, residual)
-        measured = u - rest if from_rest else u
+        change = u - rest
+        measured = change if from_rest else u
         results.append(CaseResult(
             case=case,
             paths={s: read_path(system, measured, s) for s in MEASURED_SHAFTS},
             absolute_paths={s: read_path(system, u, s) for s in MEASURED_SHAFTS},
             equilibrium_error=check.relative_error, residual=residual,
-            engineering=case_engineering(rig, system.frame, u, u - rest, from_rest, applied=check.applied,
+            engineering=case_engineering(rig, system.frame, u, change, from_rest, applied=check.applied,
                                          reactions=check.reactions, springs=springs, case=case, fixed_total=unbalance,
-                                         fixed_change=unbalance - rest_unbalance) if engineering else None,
+                                         fixed_change=since_rest) if engineering else None,
             shaft_strength=shaft_strength(rig, system.frame, u) if engineering else None,
             torque_paths=torque_paths(rig, springs, u, case) if engineering else None))
         _announce(i, len(cases), results[-1], on_case, progress)

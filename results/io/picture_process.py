@@ -39,7 +39,9 @@ __all__ = ["ANSWER_TIMEOUT_S", "PictureProcess", "PictureProcessError", "picture
 ANSWER_TIMEOUT_S = 300.0
 """Longest wait for the worker's answer once the request is sent (the reference picture takes about 0.2 s)."""
 
-_WORKER = "from rvcoax.results.io.picture_process import _serve; _serve()"
+# the worker ends without the interpreter's teardown of matplotlib and numpy (about 0.1 s): the parent waits for its end
+_WORKER = ("import os, sys; from rvcoax.results.io.picture_process import _serve; _serve(); "
+           "sys.stdout.flush(); sys.stderr.flush(); os._exit(0)")
 _ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
 
 

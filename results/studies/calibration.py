@@ -11,6 +11,7 @@ reported.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass
 
@@ -254,7 +255,8 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
     rigs.append(with_parameters(rig, {p.address: v for p, v in zip(parameters, probe * scale)}))
     if check_clearance_model(rig, prepared.system.kind) or len({gear_contact_torques(r) for r in rigs}) > 1:
         return None
-    loads = [prepared.system.with_loads_of(r).unit_loads for r in rigs]
+    systems = [prepared.system.with_loads_of(r) for r in rigs]  # each rig's loads built once, for the sweeps too
+    loads = [system.unit_loads for system in systems]
     for name in UNIT_LOADS:
         predicted = loads[0][name] + sum((probe[j] - reference[j]) * (loads[1 + j][name] - loads[0][name])
                                          for j in range(len(parameters)))
@@ -263,15 +265,17 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
             return None
     # every column the sweeps below need, in one solve call (usually cached already: solve_with_trials)
     prepared.solve_unit_loads([load[k] for load in loads[:-1] for k in UNIT_LOADS])
-    del loads
+    del loads, systems[-1]  # the probe is not swept
 
-    def both(r):
-        sweep = run_sweep(r, tuple(row.case for row in rows), prepared=prepared, engineering=False)
+    def both(system):
+        sweep = run_sweep(system.rig, tuple(row.case for row in rows), prepared=dataclasses.replace(prepared, system=system),
+                          engineering=False)
         return {shaft: np.array([c.paths[shaft].uy_mm for c in sweep.cases]) for shaft in MEASURED_SHAFTS}
 
-    base = both(rigs[0])
+    # each system let go once swept: no more load vectors held at once than the affinity check above held
+    base = both(systems.pop(0))
     slopes = [{shaft: paths[shaft] - base[shaft] for shaft in MEASURED_SHAFTS}
-              for paths in (both(r) for r in rigs[1:-1])]
+              for paths in (both(systems.pop(0)) for _ in parameters)]
 
     def surrogate(x, shaft):
         return base[shaft] + sum((x[j] - reference[j]) * slopes[j][shaft] for j in range(len(parameters)))

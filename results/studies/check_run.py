@@ -114,9 +114,22 @@ def held_out_mask(n_rows: int, fit_rows) -> np.ndarray:
 
 
 def check_loads_ahead(rig: Rig):
-    """``loads_ahead`` for :func:`rvcoax.results.sweep.prepare_model` of a model that :func:`run_check` will check: the
-    rig's unit loads and those of the calibration's trial rigs, solved in the set-up's own solve call where it makes
-    one (the hybrid model: two solve calls, passes over the whole factor, fewer)."""
+    """``loads_ahead`` for :func:`rvcoax.results.sweep.prepare_model` of a model that :func:`run_check` will check.
+
+    The rig's unit loads and those of the calibration's trial rigs are then solved in the set-up's own solve call
+    where it makes one (the hybrid model: two solve calls, passes over the whole factor, fewer).
+
+    Parameters
+    ----------
+    rig : Rig
+        The rig to be checked, as :func:`rvcoax.load_rig` returns it.
+
+    Returns
+    -------
+    callable
+        ``loads_ahead(system)`` → the load vectors on an assembled system of ``rig``
+        (:func:`rvcoax.results.studies.calibration.loads_with_trials`).
+    """
     return functools.partial(loads_with_trials, rig)
 
 

@@ -106,6 +106,94 @@ def test_unit_loads_given_as_vectors_or_as_columns_are_the_same_loads():
     assert len(handed) == 2
 
 
+def test_a_case_unbalance_superposed_from_the_unit_products_is_k_times_its_displacement():
+    """A superposition sweep checks K u − f of a case as Σ w_k (K u_k − f_k) (linearity): the superposed products equal
+    K times the superposed displacement to 1e-12 of the largest entry, and a product is formed once per distinct
+    solution (a column of zeros has the product 0 without one)."""
+    from rvcoax.geometry.model.loads import UNIT_LOADS, gear_contact_torques, superpose
+
+    rig = load_rig()
+    prepared = prepare_model(rig)
+    loads = prepared.system.unit_loads
+    unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
+    formed = []
+    stiffness = prepared.system.stiffness
+
+    class Counting:  # K as the model holds it, counting the vectors multiplied
+        shape = stiffness.shape
+
+        def __matmul__(self, other):
+            formed.append(1 if np.ndim(other) == 1 else np.shape(other)[1])
+            return stiffness @ other
+
+    import dataclasses
+
+    counted = dataclasses.replace(prepared, system=dataclasses.replace(prepared.system, stiffness=Counting()))
+    products = counted.stiffness_products(unit)
+    nonzero = [i for i in range(unit.shape[1]) if np.any(unit[:, i])]
+    assert sum(formed) == len(nonzero) and 0 < len(nonzero) < len(UNIT_LOADS)
+    again = counted.stiffness_products(np.column_stack([unit, unit[:, nonzero[0]]]))
+    assert sum(formed) == len(nonzero)  # every product from the cache, the repeated column too
+    assert np.array_equal(again[:, :-1], products) and np.array_equal(again[:, -1], products[:, nonzero[0]])
+    assert not np.any(products[:, [i for i in range(unit.shape[1]) if i not in nonzero]])
+    by_name = {k: products[:, i] for i, k in enumerate(UNIT_LOADS)}
+    unit_by_name = {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}
+    contact = gear_contact_torques(rig)
+    for case in paper_cases()[::6]:
+        u = superpose(unit_by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+        direct = stiffness @ u
+        superposed = superpose(by_name, case.input_torque_Nm, case.output_torque_Nm, False, contact)
+        # relative to the terms K u is summed from, |K| |u| (what floating point resolves: K u ≈ f cancels ~1e4 of
+        # them on this rig), not to K u itself
+        terms = np.abs(stiffness) @ np.abs(u)
+        assert np.abs(superposed - direct).max() <= 1e-12 * terms.max()
+        assert not np.allclose(superposed, stiffness @ (1.001 * u), rtol=1e-9, atol=1e-9 * terms.max())
+
+
+def test_a_sum_that_leaves_out_the_zero_unit_vectors_is_superpose_bit_for_bit():
+    """The sweep superposes only the unit vectors that are not zero; its f and u are superpose()'s, bit for bit (signed
+    zeros included), for every case of the paper's table and for negative torques."""
+    from rvcoax.geometry.model.loads import UNIT_LOADS, case_weights, gear_contact_torques, superpose
+    from rvcoax.loadcases.cases import LoadCase
+    from rvcoax.results.sweep import _superposed
+
+    rig = load_rig()
+    prepared = prepare_model(rig)
+    loads = prepared.system.unit_loads
+    unit = prepared.solve_unit_loads([loads[k] for k in UNIT_LOADS])
+    contact = gear_contact_torques(rig)
+    n = prepared.system.n_dofs
+    for vectors in (loads, {k: unit[:, i] for i, k in enumerate(UNIT_LOADS)}):
+        nonzero = {k: v for k, v in vectors.items() if np.any(v)}
+        assert 0 < len(nonzero) < len(vectors)
+        for case in (*paper_cases(), LoadCase(-1.2, -150.0), LoadCase(0.0, 0.0)):
+            torques = case.input_torque_Nm, case.output_torque_Nm
+            mine = _superposed(nonzero, case_weights(*torques, include_rest=True, contact_torques_Nm=contact), n)
+            theirs = superpose(vectors, *torques, False, contact)
+            assert mine.tobytes() == theirs.tobytes()
+
+
+def test_a_corrupted_cached_unit_solution_is_still_refused():
+    """The K u kept per unit solution belongs to the very bytes of that solution: a cached solution changed after its
+    product was formed gives a new product, and the case's residual check refuses it with the message (and residual)
+    it gave when K u was formed per case."""
+    import hashlib
+
+    import pytest
+
+    from rvcoax.results.sweep import ModelError
+
+    rig = load_rig()
+    cases = paper_cases()[:2]
+    prepared = prepare_model(rig)
+    good = run_sweep(rig, cases, prepared=prepared, engineering=False)
+    assert prepared.products and good.cases[-1].residual < 1e-9
+    key = hashlib.sha256(np.ascontiguousarray(prepared.system.unit_loads["T2"])).digest()
+    prepared.solved[key] *= 1.01  # a unit solution 1 % off, after the sweep formed its K u
+    with pytest.raises(ModelError, match=r"case T1=1.43Nm_T2=200Nm: relative residual 0.0098 exceeds 1e-06"):
+        run_sweep(rig, cases, prepared=prepared, engineering=False)
+
+
 def test_solutions_remembered_from_elsewhere_are_served_and_still_checked_against_the_stiffness():
     """PreparedModel.remember keeps solutions found without a solve (a calibration's affine combination); a sweep
     uses them, and its residual check K u - f refuses them when they are not solutions."""
@@ -136,3 +224,38 @@ def test_solutions_remembered_from_elsewhere_are_served_and_still_checked_agains
     wrong.remember(loaded, (1.01 * exact).T)
     with pytest.raises(ModelError, match="residual|equilibrium"):
         run_sweep(rig, cases, prepared=wrong, engineering=False)
+
+
+def test_a_rig_with_fixed_dofs_gets_the_same_reactions_by_superposition_as_solved_case_by_case():
+    """With a condensed housing the frame has fixed DOFs (the housing's bed): a superposition sweep sums the case's
+    K u − f there from the unit solutions' and its residual from their reductions Tᵀ(K u_k − f_k); the bed's reaction
+    rows and Y agree with the direct method's, which forms K u − f per case, and both checks pass."""
+    import tomllib
+
+    from rvcoax.geometry.rigfile import parse_rig, reference_rig_text
+    from rvcoax.results.sweep import SweepSettings
+
+    data = tomllib.loads(reference_rig_text())
+    data["mounts"] = [m for m in data["mounts"] if m["name"] != "input_block_base"]
+    data["housings"] = [{  # the reference rig's input bearing block from geometry (docs/rig-file.md)
+        "name": "input_block", "part": "input_bearing_block", "material": "HT200", "x_mm": [248.0, 320.0],
+        "width_mm": 90.0, "height_above_bed_mm": 100.0, "top_above_axis_mm": 45.0, "bore_diameter_mm": 47.0,
+        "foot_thickness_mm": 15.0, "foot_width_mm": 150.0, "attachments_x_mm": [255.0, 315.0],
+        "attachment_width_mm": 14.0, "mesh_size_mm": 20.0}]
+    rig = parse_rig(data, "test")
+    cases = paper_cases()[::5]
+    prepared = prepare_model(rig)
+    assert prepared.system.frame.structure.fixed_dofs.size
+    superposed = run_sweep(rig, cases, prepared=prepared)
+    direct = run_sweep(rig, cases, SweepSettings(method="direct"), prepared=prepared)
+    for a, b in zip(superposed.cases, direct.cases):
+        scale = max(abs(v) for r in b.engineering.reactions for v in (*r.force_N, *r.force_change_N))
+        rows = {r.name: r for r in a.engineering.reactions}
+        bed = rows["input_block"]
+        assert bed.kind == "housing" and max(abs(v) for v in bed.force_N) > 1e-3 * scale
+        for r in b.engineering.reactions:
+            for x, y in zip((*rows[r.name].force_N, *rows[r.name].force_change_N), (*r.force_N, *r.force_change_N)):
+                assert abs(x - y) <= 1e-12 * scale
+        assert a.equilibrium_error < 1e-9 and a.residual < 1e-9
+        np.testing.assert_allclose(a.paths["output"].uy_mm, b.paths["output"].uy_mm, rtol=1e-9,
+                                   atol=1e-9 * np.abs(b.paths["output"].uy_mm).max())
