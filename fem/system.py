@@ -313,7 +313,9 @@ def constrained_stiffness(stiffness: sp.csr_matrix, elimination: sp.csr_matrix, 
     short = sp.diags(keep.astype(float)) @ t  # T with the long rows emptied
     unit = sp.csr_matrix((np.ones(rows.size), (rows, np.arange(rows.size))), shape=(n, rows.size))
     expanded = sp.hstack([short, unit]).tocsr()  # T'
-    kept = (expanded.T @ stiffness @ expanded).tocsr()
+    # K T' first, then T'ᵀ as a CSR matrix: scipy's product of T'ᵀ (CSC) with K went through conversions (the hybrid
+    # rig: 0.17-0.4 s, this way 0.08 s; the same pattern, the values to the rounding of the sums' order)
+    kept = (expanded.T.tocsr() @ (stiffness @ expanded)).tocsr()
     return ConstrainedStiffness(kept, t[rows])
 
 
