@@ -151,8 +151,8 @@ def child(size_mm: float, analyse: bool) -> dict:
     else:
         original = sweep_module.prepare_system
 
-        def keep(system, settings):
-            captured["prepared"] = prepared = original(system, settings)
+        def keep(system, settings, **options):
+            captured["prepared"] = prepared = original(system, settings, **options)
             return prepared
 
         sweep_module.prepare_system = keep
@@ -162,7 +162,7 @@ def child(size_mm: float, analyse: bool) -> dict:
         sys.argv = ["rvcoax", "sweep", "--model", "solid", "--solver", "pardiso", "--mesh-size-mm", str(size_mm),
                     "--out", folder]
         try:
-            phases.run("results", run)
+            phases.run("results", functools.partial(run, end_process=False))
         except SystemExit as exit_:
             if exit_.code not in (0, None):
                 raise
