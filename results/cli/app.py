@@ -174,15 +174,10 @@ def _end_process(finished: SystemExit) -> None:
         raise finished
     if any(t.is_alive() and not t.daemon for t in threading.enumerate() if t is not threading.main_thread()):
         raise finished  # a thread the interpreter would wait for
-    try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except OSError:
-        raise finished from None
     run_exit_functions = getattr(atexit, "_run_exitfuncs", None)
     if run_exit_functions is None:  # pragma: no cover - another interpreter
         raise finished
-    run_exit_functions()
+    run_exit_functions()  # and forgets them: the interpreter's own exit below, where it takes over, runs none twice
     try:
         sys.stdout.flush()
         sys.stderr.flush()

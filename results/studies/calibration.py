@@ -199,6 +199,25 @@ prediction from the reference and one-parameter steps, for the loads to count as
 combination's rounding is ~1e-15; a load law that is not affine misses by far more)."""
 
 
+def _combination(base, steps, coefficients):
+    """base + Σ c_j (step_j − base): the affine combination of a reference (``base``) and its one-parameter steps
+    (:func:`_joint_trials`) at the scaled parameter changes ``coefficients``, for load vectors and solutions alike."""
+    return base + sum(c * (step - base) for c, step in zip(coefficients, steps))
+
+
+def _affine_at(loads: list[dict], coefficients, target: dict) -> bool:
+    """Whether every unit load of ``target`` (by name) is the combination (:func:`_combination`) of the trial rigs'
+    ``loads`` (the reference's first, then one per parameter step) at ``coefficients``, to :data:`AFFINE_LOADS_RTOL` of
+    its size."""
+    for name in UNIT_LOADS:
+        base = loads[0][name]
+        predicted = _combination(base, [load[name] for load in loads[1:]], coefficients)
+        size = max(np.abs(target[name]).max(initial=0.0), np.abs(base).max(initial=0.0))
+        if np.abs(predicted - target[name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
+            return False
+    return True
+
+
 def _joint_trials(rig: Rig, parameters, scale: np.ndarray) -> tuple[np.ndarray, list[Rig]]:
     """(the parameters' scaled reference values, the rigs :func:`_joint_surrogate` sweeps: the reference and one
     step of 1 (scaled) in each parameter)."""
@@ -257,12 +276,8 @@ def _joint_surrogate(rig: Rig, parameters, rows: list[PublishedRow], prepared, *
         return None
     systems = [prepared.system.with_loads_of(r) for r in rigs]  # each rig's loads built once, for the sweeps too
     loads = [system.unit_loads for system in systems]
-    for name in UNIT_LOADS:
-        predicted = loads[0][name] + sum((probe[j] - reference[j]) * (loads[1 + j][name] - loads[0][name])
-                                         for j in range(len(parameters)))
-        size = max(np.abs(loads[-1][name]).max(initial=0.0), np.abs(loads[0][name]).max(initial=0.0))
-        if np.abs(predicted - loads[-1][name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
-            return None
+    if not _affine_at(loads[:-1], probe - reference, loads[-1]):
+        return None
     # every column the sweeps below need, in one solve call (usually cached already: solve_with_trials)
     prepared.solve_unit_loads([load[k] for load in loads[:-1] for k in UNIT_LOADS])
     del loads, systems[-1]  # the probe is not swept
@@ -298,19 +313,13 @@ def _remember_fitted(prepared, rig: Rig, parameters, final: Rig, *, scale: np.nd
     system = prepared.system
     loads = [system.with_loads_of(r).unit_loads for r in rigs]
     target = system.with_loads_of(final).unit_loads
-    names = []
-    for name in UNIT_LOADS:
-        base = loads[0][name]
-        predicted = base + sum(c * (load[name] - base) for c, load in zip(steps, loads[1:]))
-        size = max(np.abs(target[name]).max(initial=0.0), np.abs(base).max(initial=0.0))
-        if np.abs(predicted - target[name]).max(initial=0.0) > AFFINE_LOADS_RTOL * size:
-            return
-        if np.any(target[name]):
-            names.append(name)
+    if not _affine_at(loads, steps, target):
+        return
+    names = [name for name in UNIT_LOADS if np.any(target[name])]
     combinations = []
     for name in names:
         solved = prepared.solve_unit_loads([load[name] for load in loads])  # the trial rigs': in the cache already
-        combinations.append(solved[:, 0] + sum(c * (solved[:, 1 + j] - solved[:, 0]) for j, c in enumerate(steps)))
+        combinations.append(_combination(solved[:, 0], solved[:, 1:].T, steps))
     prepared.remember([target[name] for name in names], combinations)
 
 
